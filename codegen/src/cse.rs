@@ -1,0 +1,69 @@
+//! Common-subexpression scheduling for straight-line code.
+//!
+//! The DAG already shares every repeated subexpression (hash-consing); what is
+//! left is to decide which shared nodes get a `let` and in which order. A node
+//! becomes a temporary when it is used more than once among the outputs'
+//! subgraph (or by a power emitted as repeated multiplication); everything
+//! else is inlined into its single user. Temporaries come in arena order,
+//! which is topological, so the output is deterministic and every temporary
+//! is defined before its first use.
+
+use crate::expr::{Graph, Id, Node};
+
+/// Powers up to this integer exponent are emitted as repeated multiplication
+/// (`x * x * x`), which is faster than `powi` and exact.
+pub const MAX_UNROLLED_POWER: i64 = 4;
+
+/// Which nodes of an output set are bound to temporaries, in emission order.
+pub struct Schedule {
+    /// Nodes that get a `let`, in topological order.
+    pub temporaries: Vec<Id>,
+    is_temporary: Vec<bool>,
+}
+
+impl Schedule {
+    /// Schedules the nodes reachable from `roots`.
+    pub fn new(g: &Graph, roots: &[Id]) -> Schedule {
+        let reachable = g.reachable(roots);
+        let mut uses = vec![0usize; g.len()];
+        for &r in roots {
+            uses[r.index()] += 1;
+        }
+        for &id in &reachable {
+            if let Node::Mul(factors) = g.node(id) {
+                for (base, e) in factors.iter() {
+                    let copies = e
+                        .as_integer()
+                        .map(i64::unsigned_abs)
+                        .filter(|&k| k <= MAX_UNROLLED_POWER as u64)
+                        .unwrap_or(1);
+                    uses[base.index()] += copies as usize;
+                }
+            } else {
+                for c in g.children(id) {
+                    uses[c.index()] += 1;
+                }
+            }
+        }
+        let mut is_temporary = vec![false; g.len()];
+        let temporaries: Vec<Id> = reachable
+            .into_iter()
+            .filter(|&id| {
+                let leaf = matches!(g.node(id), Node::Num(_) | Node::Sym(_));
+                !leaf && uses[id.index()] > 1
+            })
+            .collect();
+        for t in &temporaries {
+            is_temporary[t.index()] = true;
+        }
+        Schedule {
+            temporaries,
+            is_temporary,
+        }
+    }
+
+    /// Whether `id` is bound to a temporary.
+    pub fn is_temporary(&self, id: Id) -> bool {
+        self.is_temporary.get(id.index()).copied().unwrap_or(false)
+    }
+}

@@ -1,0 +1,39 @@
+//! Stage 3: [`System`] → [`Equations`]: the constraints differentiated into
+//! `A q̈ = b` by the total-derivative rule (MATH.md, "From constraints to A q̈ = b").
+
+use crate::diff::Differentiator;
+use crate::expr::Id;
+use crate::model::{Level, System};
+
+/// A system together with its derived constraint equations.
+pub struct Equations {
+    /// The checked input.
+    pub system: System,
+    /// `A`, k × n: `Aᵢⱼ = ∂ψᵢ/∂q̈ⱼ`.
+    pub a: Vec<Vec<Id>>,
+    /// `b`, k: `bᵢ = −ψᵢ|_{q̈=0}`.
+    pub b: Vec<Id>,
+}
+
+/// Differentiates every constraint: velocity-level φ once, position-level φ
+/// twice (`ψ = D φ` or `ψ = D(D φ)`), and splits `ψ` into `A q̈ − b`.
+///
+/// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
+/// written, so that a user's scaling of φ shows up unchanged (API.md).
+pub fn constraint_equations(mut system: System) -> Equations {
+    let n = system.dof();
+    let mut d = Differentiator::new();
+    let g = &mut system.graph;
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for c in &system.constraints {
+        let velocity_level = match c.level {
+            Level::Velocity => c.phi,
+            // φ has no q̇, so D φ = Σ ∂φ/∂qⱼ q̇ⱼ + ∂φ/∂t has no q̈ term.
+            Level::Position => d.time_derivative(g, c.phi, n).1,
+        };
+        let (row, rest) = d.time_derivative(g, velocity_level, n);
+        a.push(row);
+        b.push(g.neg(rest));
+    }
+    Equations { system, a, b }
+}

@@ -1,0 +1,221 @@
+//! Exact symbolic differentiation on the DAG, and the total time derivative.
+
+use crate::expr::{Func, Graph, Id, Node, Sym};
+use crate::num::Num;
+use std::collections::HashMap;
+
+/// Memoised partial derivatives `∂e/∂v`; one per graph, reused across calls so
+/// that shared subexpressions are differentiated once.
+#[derive(Default)]
+pub struct Differentiator {
+    memo: HashMap<(Id, Sym), Id>,
+}
+
+impl Differentiator {
+    /// A differentiator with an empty memo.
+    pub fn new() -> Differentiator {
+        Differentiator::default()
+    }
+
+    /// `∂e/∂v`.
+    pub fn partial(&mut self, g: &mut Graph, e: Id, v: Sym) -> Id {
+        if let Some(&d) = self.memo.get(&(e, v)) {
+            return d;
+        }
+        let d = self.partial_uncached(g, e, v);
+        self.memo.insert((e, v), d);
+        d
+    }
+
+    fn partial_uncached(&mut self, g: &mut Graph, e: Id, v: Sym) -> Id {
+        match g.node(e).clone() {
+            Node::Num(_) => g.int(0),
+            Node::Sym(s) => g.int(i64::from(s == v)),
+            Node::Add(terms, _) => {
+                let items: Vec<(Id, Num)> = terms
+                    .iter()
+                    .map(|&(t, c)| (self.partial(g, t, v), c))
+                    .collect();
+                g.linear_combination(items)
+            }
+            // ∂(Π bᵢ^eᵢ) = Σᵢ eᵢ·∂bᵢ · bᵢ^(eᵢ−1) · Π_{j≠i} bⱼ^eⱼ
+            Node::Mul(factors) => {
+                let mut terms = Vec::with_capacity(factors.len());
+                for (i, &(b, k)) in factors.iter().enumerate() {
+                    let db = self.partial(g, b, v);
+                    if g.is_zero(db) {
+                        continue;
+                    }
+                    let mut items: Vec<(Id, Num)> = factors.to_vec();
+                    items[i].1 = k.add(Num::MINUS_ONE);
+                    items.push((db, Num::ONE));
+                    let term = g.product(items);
+                    terms.push((term, k));
+                }
+                g.linear_combination(terms)
+            }
+            // ∂(b^p) = b^p · (∂p·ln b + p·∂b / b)
+            Node::Pow(b, p) => {
+                let (db, dp) = (self.partial(g, b, v), self.partial(g, p, v));
+                let ln_b = g.func(Func::Ln, b);
+                let t1 = g.mul2(dp, ln_b);
+                let t2 = g.product([(p, Num::ONE), (db, Num::ONE), (b, Num::MINUS_ONE)]);
+                let inner = g.add2(t1, t2);
+                g.mul2(e, inner)
+            }
+            Node::Func(f, a) => {
+                let da = self.partial(g, a, v);
+                let outer = function_derivative(g, f, a, e);
+                g.mul2(outer, da)
+            }
+            // ∂atan2(y, x) = (x·∂y − y·∂x) / (x² + y²)
+            Node::Atan2(y, x) => {
+                let (dy, dx) = (self.partial(g, y, v), self.partial(g, x, v));
+                let a = g.mul2(x, dy);
+                let b = g.mul2(y, dx);
+                let num = g.sub(a, b);
+                let x2 = g.pown(x, Num::int(2));
+                let y2 = g.pown(y, Num::int(2));
+                let den = g.add2(x2, y2);
+                g.div(num, den)
+            }
+        }
+    }
+
+    /// The total time derivative of `e(q, q̇, t)` split as `D e = Σⱼ rowⱼ·q̈ⱼ + rest`:
+    /// `rowⱼ = ∂e/∂q̇ⱼ` and `rest = Σⱼ ∂e/∂qⱼ·q̇ⱼ + ∂e/∂t` (MATH.md, "From
+    /// constraints to A q̈ = b"). `D e` is affine in `q̈` because `e` has no `q̈`.
+    pub fn time_derivative(&mut self, g: &mut Graph, e: Id, n: usize) -> (Vec<Id>, Id) {
+        let row: Vec<Id> = (0..n).map(|j| self.partial(g, e, Sym::Vel(j))).collect();
+        let mut rest: Vec<Id> = Vec::with_capacity(n + 1);
+        for j in 0..n {
+            let dq = self.partial(g, e, Sym::Coord(j));
+            let qd = g.sym(Sym::Vel(j));
+            rest.push(g.mul2(dq, qd));
+        }
+        rest.push(self.partial(g, e, Sym::Time));
+        (row, g.add(&rest))
+    }
+}
+
+/// `f'(a)`, where `fa` is the node `f(a)` itself (reused by exp, tan, tanh).
+fn function_derivative(g: &mut Graph, f: Func, a: Id, fa: Id) -> Id {
+    let one = g.int(1);
+    let a2 = g.pown(a, Num::int(2));
+    match f {
+        Func::Sin => g.func(Func::Cos, a),
+        Func::Cos => {
+            let s = g.func(Func::Sin, a);
+            g.neg(s)
+        }
+        // 1 + tan²a
+        Func::Tan => {
+            let t2 = g.pown(fa, Num::int(2));
+            g.add2(one, t2)
+        }
+        // ±1/√(1 − a²)
+        Func::Asin | Func::Acos => {
+            let d = g.sub(one, a2);
+            let inv_sqrt = g.pown(d, Num::ratio(-1, 2));
+            if f == Func::Asin {
+                inv_sqrt
+            } else {
+                g.neg(inv_sqrt)
+            }
+        }
+        Func::Atan => {
+            let d = g.add2(one, a2);
+            g.pown(d, Num::MINUS_ONE)
+        }
+        Func::Sinh => g.func(Func::Cosh, a),
+        Func::Cosh => g.func(Func::Sinh, a),
+        // 1 − tanh²a
+        Func::Tanh => {
+            let t2 = g.pown(fa, Num::int(2));
+            g.sub(one, t2)
+        }
+        Func::Exp => fa,
+        Func::Ln => g.pown(a, Num::MINUS_ONE),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Table test: d/dx of each function at x = 0.3 against its known value.
+    #[test]
+    fn derivative_table() {
+        let x0: f64 = 0.3;
+        let cases: [(Func, f64); 11] = [
+            (Func::Sin, x0.cos()),
+            (Func::Cos, -x0.sin()),
+            (Func::Tan, 1.0 / x0.cos().powi(2)),
+            (Func::Asin, 1.0 / (1.0 - x0 * x0).sqrt()),
+            (Func::Acos, -1.0 / (1.0 - x0 * x0).sqrt()),
+            (Func::Atan, 1.0 / (1.0 + x0 * x0)),
+            (Func::Sinh, x0.cosh()),
+            (Func::Cosh, x0.sinh()),
+            (Func::Tanh, 1.0 - x0.tanh().powi(2)),
+            (Func::Exp, x0.exp()),
+            (Func::Ln, 1.0 / x0),
+        ];
+        for (f, expected) in cases {
+            let mut g = Graph::new();
+            let x = g.sym(Sym::Coord(0));
+            let e = g.func(f, x);
+            let d = Differentiator::new().partial(&mut g, e, Sym::Coord(0));
+            let v = g.eval(&[d], &|_| x0)[0];
+            assert!((v - expected).abs() < 1e-14, "{f:?}: {v} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn atan2_and_pow() {
+        let mut g = Graph::new();
+        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let a = g.atan2(y, x);
+        let p = g.pow(x, y);
+        let mut d = Differentiator::new();
+        let (dax, day) = (
+            d.partial(&mut g, a, Sym::Coord(0)),
+            d.partial(&mut g, a, Sym::Coord(1)),
+        );
+        let (dpx, dpy) = (
+            d.partial(&mut g, p, Sym::Coord(0)),
+            d.partial(&mut g, p, Sym::Coord(1)),
+        );
+        let (x0, y0): (f64, f64) = (1.3, 0.7);
+        let v = g.eval(&[dax, day, dpx, dpy], &|s| {
+            if s == Sym::Coord(0) {
+                x0
+            } else {
+                y0
+            }
+        });
+        let r2 = x0 * x0 + y0 * y0;
+        let expected = [
+            -y0 / r2,
+            x0 / r2,
+            y0 * x0.powf(y0 - 1.0),
+            x0.powf(y0) * x0.ln(),
+        ];
+        for (a, b) in v.iter().zip(expected) {
+            assert!((a - b).abs() < 1e-14, "{a} vs {b}");
+        }
+    }
+
+    /// Appell's constraint: D[(ẋ² + ẏ² − ż²)/2] has row [ẋ, ẏ, −ż] and no rest.
+    #[test]
+    fn time_derivative_of_appell_constraint() {
+        let mut g = Graph::new();
+        let v: Vec<Id> = (0..3).map(|i| g.sym(Sym::Vel(i))).collect();
+        let sq: Vec<Id> = v.iter().map(|&vi| g.pown(vi, Num::int(2))).collect();
+        let half = Num::ratio(1, 2);
+        let phi = g.linear_combination([(sq[0], half), (sq[1], half), (sq[2], half.neg())]);
+        let (row, rest) = Differentiator::new().time_derivative(&mut g, phi, 3);
+        let minus_zd = g.neg(v[2]);
+        assert_eq!(row, vec![v[0], v[1], minus_zd]);
+        assert!(g.is_zero(rest));
+    }
+}

@@ -1,0 +1,294 @@
+//! Numbers of the symbolic core: exact rationals, with `f64` as the fallback.
+//!
+//! DSL literals such as `9.81` or `0.5` are decimal and so exact rationals
+//! (`981/100`, `1/2`). Keeping them exact keeps simplification exact
+//! (`x/2 + x/2` is `x`, not `0.9999…x`), keeps the derivation text readable and
+//! lets sympy compare the macro's expressions with its own exactly. Only when a
+//! rational would overflow `i128` (or a literal is not a short decimal) does a
+//! number become a float, and a float absorbs whatever it is combined with.
+
+use std::cmp::Ordering;
+use std::fmt;
+use std::hash::{Hash, Hasher};
+
+/// A constant: an exact rational `num/den` (reduced, `den > 0`) or a float.
+#[derive(Clone, Copy, Debug)]
+pub enum Num {
+    /// Exact rational `numerator / denominator`, reduced, denominator positive.
+    Rational(i128, i128),
+    /// Inexact fallback.
+    Float(f64),
+}
+
+impl PartialEq for Num {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Num::Rational(a, b), Num::Rational(c, d)) => a == c && b == d,
+            (Num::Float(a), Num::Float(b)) => a.to_bits() == b.to_bits(),
+            _ => false,
+        }
+    }
+}
+impl Eq for Num {}
+
+impl Hash for Num {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        match self {
+            Num::Rational(a, b) => (0u8, a, b).hash(state),
+            Num::Float(f) => (1u8, f.to_bits()).hash(state),
+        }
+    }
+}
+
+fn gcd(mut a: i128, mut b: i128) -> i128 {
+    a = a.abs();
+    b = b.abs();
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+impl Num {
+    /// Zero.
+    pub const ZERO: Num = Num::Rational(0, 1);
+    /// One.
+    pub const ONE: Num = Num::Rational(1, 1);
+    /// Minus one.
+    pub const MINUS_ONE: Num = Num::Rational(-1, 1);
+
+    /// The integer `n`.
+    pub fn int(n: i64) -> Num {
+        Num::Rational(n.into(), 1)
+    }
+
+    /// `num/den` reduced; a float when `den` is zero (`±inf` or NaN, as `f64` says).
+    pub fn ratio(num: i128, den: i128) -> Num {
+        if den == 0 {
+            return Num::Float(num as f64 / 0.0);
+        }
+        let g = gcd(num, den);
+        let (mut n, mut d) = (num / g, den / g);
+        if d < 0 {
+            match (n.checked_neg(), d.checked_neg()) {
+                (Some(nn), Some(dd)) => (n, d) = (nn, dd),
+                _ => return Num::Float(num as f64 / den as f64),
+            }
+        }
+        Num::Rational(n, d)
+    }
+
+    /// Parses a decimal literal (`12`, `0.5`, `1e-3`, `2.5E+2`) exactly when it
+    /// fits, as a float otherwise. `None` when it is not a number at all.
+    pub fn parse_decimal(text: &str) -> Option<Num> {
+        let value: f64 = text.parse().ok()?;
+        let (mantissa, exponent) = match text.find(['e', 'E']) {
+            Some(i) => (&text[..i], text[i + 1..].parse::<i32>().ok()?),
+            None => (text, 0),
+        };
+        let (int_part, frac_part) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+        let digits = format!("{int_part}{frac_part}");
+        let scale = exponent - frac_part.len() as i32;
+        let exact = digits.parse::<i128>().ok().and_then(|n| {
+            let p = 10i128.checked_pow(scale.unsigned_abs())?;
+            if scale >= 0 {
+                Some(Num::ratio(n.checked_mul(p)?, 1))
+            } else {
+                Some(Num::ratio(n, p))
+            }
+        });
+        Some(exact.unwrap_or(Num::Float(value)))
+    }
+
+    /// The value as `f64`.
+    pub fn to_f64(self) -> f64 {
+        match self {
+            Num::Rational(n, d) => n as f64 / d as f64,
+            Num::Float(f) => f,
+        }
+    }
+
+    /// Whether this is exactly zero.
+    pub fn is_zero(self) -> bool {
+        self == Num::ZERO || matches!(self, Num::Float(f) if f == 0.0)
+    }
+
+    /// Whether this is exactly one.
+    pub fn is_one(self) -> bool {
+        self == Num::ONE || matches!(self, Num::Float(f) if f == 1.0)
+    }
+
+    /// Whether this is negative.
+    pub fn is_negative(self) -> bool {
+        self.to_f64() < 0.0
+    }
+
+    /// The value as an integer, when it is an exact integer.
+    pub fn as_integer(self) -> Option<i64> {
+        match self {
+            Num::Rational(n, 1) => i64::try_from(n).ok(),
+            _ => None,
+        }
+    }
+
+    fn combine(
+        self,
+        other: Num,
+        exact: impl Fn(i128, i128, i128, i128) -> Option<(i128, i128)>,
+        float: impl Fn(f64, f64) -> f64,
+    ) -> Num {
+        if let (Num::Rational(a, b), Num::Rational(c, d)) = (self, other) {
+            if let Some((n, m)) = exact(a, b, c, d) {
+                return Num::ratio(n, m);
+            }
+        }
+        Num::Float(float(self.to_f64(), other.to_f64()))
+    }
+
+    /// `self + other`.
+    pub fn add(self, other: Num) -> Num {
+        self.combine(
+            other,
+            |a, b, c, d| {
+                Some((
+                    a.checked_mul(d)?.checked_add(c.checked_mul(b)?)?,
+                    b.checked_mul(d)?,
+                ))
+            },
+            |x, y| x + y,
+        )
+    }
+
+    /// `self * other`.
+    pub fn mul(self, other: Num) -> Num {
+        self.combine(
+            other,
+            |a, b, c, d| {
+                // Cross-reduce first so that products of reduced fractions overflow late.
+                let (g1, g2) = (gcd(a, d).max(1), gcd(c, b).max(1));
+                Some(((a / g1).checked_mul(c / g2)?, (b / g2).checked_mul(d / g1)?))
+            },
+            |x, y| x * y,
+        )
+    }
+
+    /// `-self`.
+    pub fn neg(self) -> Num {
+        self.mul(Num::MINUS_ONE)
+    }
+
+    /// `1 / self`.
+    pub fn recip(self) -> Num {
+        match self {
+            Num::Rational(n, d) => Num::ratio(d, n),
+            Num::Float(f) => Num::Float(1.0 / f),
+        }
+    }
+
+    /// `self / other`.
+    pub fn div(self, other: Num) -> Num {
+        self.mul(other.recip())
+    }
+
+    /// `self ^ exponent` when the result is known exactly (integer exponent, or
+    /// a perfect square under a half-integer exponent) or either is a float;
+    /// `None` when it must stay symbolic (`2^(1/2)`).
+    pub fn pow(self, exponent: Num) -> Option<Num> {
+        if let (Num::Float(_), _) | (_, Num::Float(_)) = (self, exponent) {
+            return Some(Num::Float(self.to_f64().powf(exponent.to_f64())));
+        }
+        if let Some(e) = exponent.as_integer() {
+            return self.powi(e);
+        }
+        if let (Num::Rational(n, d), Num::Rational(p, 2)) = (self, exponent) {
+            let (rn, rd) = (exact_sqrt(n)?, exact_sqrt(d)?);
+            return Num::ratio(rn, rd).powi(i64::try_from(p).ok()?);
+        }
+        None
+    }
+
+    fn powi(self, e: i64) -> Option<Num> {
+        let Num::Rational(n, d) = self else {
+            return Some(Num::Float(self.to_f64().powi(e as i32)));
+        };
+        if n == 0 && e < 0 {
+            return Some(Num::Float(f64::INFINITY));
+        }
+        let k = u32::try_from(e.unsigned_abs()).ok()?;
+        let exact = n.checked_pow(k).zip(d.checked_pow(k));
+        let value = match exact {
+            Some((nn, dd)) => Num::ratio(nn, dd),
+            None => Num::Float((n as f64 / d as f64).powi(k as i32)),
+        };
+        Some(if e < 0 { value.recip() } else { value })
+    }
+}
+
+fn exact_sqrt(n: i128) -> Option<i128> {
+    if n < 0 {
+        return None;
+    }
+    let r = (n as f64).sqrt().round() as i128;
+    (r.checked_mul(r) == Some(n)).then_some(r)
+}
+
+impl PartialOrd for Num {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        self.to_f64().partial_cmp(&other.to_f64())
+    }
+}
+
+impl fmt::Display for Num {
+    /// Integers as `3`, rationals as `3/4`, floats in Rust's shortest round-trip form.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Num::Rational(n, 1) => write!(f, "{n}"),
+            Num::Rational(n, d) => write!(f, "{n}/{d}"),
+            Num::Float(x) => write!(f, "{x:?}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Num;
+
+    #[test]
+    fn decimal_literals_are_exact() {
+        assert_eq!(Num::parse_decimal("9.81"), Some(Num::Rational(981, 100)));
+        assert_eq!(Num::parse_decimal("0.5"), Some(Num::Rational(1, 2)));
+        assert_eq!(Num::parse_decimal("2"), Some(Num::Rational(2, 1)));
+        assert_eq!(Num::parse_decimal("1e-3"), Some(Num::Rational(1, 1000)));
+        assert_eq!(Num::parse_decimal("2.5E+2"), Some(Num::Rational(250, 1)));
+        assert_eq!(Num::parse_decimal("1e300"), Some(Num::Float(1e300)));
+        assert_eq!(Num::parse_decimal("x"), None);
+    }
+
+    #[test]
+    fn arithmetic_is_exact_and_reduced() {
+        let third = Num::ratio(1, 3);
+        assert_eq!(third.add(third).add(third), Num::ONE);
+        assert_eq!(Num::ratio(2, -4), Num::Rational(-1, 2));
+        assert_eq!(Num::ratio(3, 4).mul(Num::ratio(8, 9)), Num::Rational(2, 3));
+        assert_eq!(
+            Num::ratio(9, 4).pow(Num::ratio(1, 2)),
+            Some(Num::Rational(3, 2))
+        );
+        assert_eq!(
+            Num::ratio(9, 4).pow(Num::ratio(-3, 2)),
+            Some(Num::Rational(8, 27))
+        );
+        assert_eq!(Num::int(2).pow(Num::ratio(1, 2)), None);
+        assert_eq!(Num::int(2).pow(Num::int(-3)), Some(Num::Rational(1, 8)));
+    }
+
+    #[test]
+    fn overflow_falls_back_to_float() {
+        let big = Num::Rational(i128::MAX / 2, 1);
+        assert!(matches!(big.add(big).add(big), Num::Float(_)));
+        assert!(matches!(
+            Num::int(10).pow(Num::int(60)),
+            Some(Num::Float(_))
+        ));
+    }
+}

@@ -1,0 +1,209 @@
+//! Stage 1: tokens → [`SystemInput`], the syntax of the DSL (API.md).
+//!
+//! Only the shape is checked here; names, lengths and meaning are checked by
+//! [`crate::model`], which sees the whole input and reports every error at once.
+
+use proc_macro2::Span;
+use syn::parse::{Parse, ParseStream};
+use syn::punctuated::Punctuated;
+use syn::{braced, bracketed, Attribute, Expr, Ident, Token, Visibility};
+
+/// Section keywords.
+pub mod kw {
+    syn::custom_keyword!(coordinates);
+    syn::custom_keyword!(parameters);
+    syn::custom_keyword!(mass);
+    syn::custom_keyword!(forces);
+    syn::custom_keyword!(definitions);
+    syn::custom_keyword!(constraints);
+    syn::custom_keyword!(eliminate);
+    syn::custom_keyword!(diag);
+}
+
+/// ```text
+/// system := attribute* visibility `struct` Ident `{` section (`,` section)* `,`? `}`
+/// ```
+pub struct SystemInput {
+    /// Doc comments and attributes, forwarded to the struct.
+    pub attrs: Vec<Attribute>,
+    /// Visibility of the struct.
+    pub vis: Visibility,
+    /// Name of the struct.
+    pub name: Ident,
+    /// The sections in source order (duplicates are rejected by `model`).
+    pub sections: Vec<Section>,
+}
+
+/// A list in brackets, with the span of the brackets for length errors.
+pub struct List<T> {
+    /// The items.
+    pub items: Vec<T>,
+    /// Span of the whole `[...]`.
+    pub span: Span,
+}
+
+/// ```text
+/// section := `coordinates` `:` `[` Ident,* `]`
+///          | `parameters`  `:` `[` Ident,* `]`
+///          | `mass`        `:` (`diag` `[` expr,* `]` | `[` (`[` expr,* `]`),* `]`)
+///          | `forces`      `:` `[` expr,* `]`
+///          | `definitions` `:` `[` (Ident `=` expr),* `]`
+///          | `constraints` `:` `[` (expr `==` expr | expr),* `]`
+///          | `eliminate`   `:` `[` Ident,* `]`
+/// ```
+pub enum Section {
+    /// Generalised coordinates.
+    Coordinates(Ident, List<Ident>),
+    /// Parameters (become struct fields).
+    Parameters(Ident, List<Ident>),
+    /// The mass matrix.
+    Mass(Ident, MassInput),
+    /// Impressed forces.
+    Forces(Ident, List<Expr>),
+    /// Named intermediate expressions.
+    Definitions(Ident, List<(Ident, Expr)>),
+    /// Constraints φ = 0.
+    Constraints(Ident, List<ConstraintInput>),
+    /// The Gibbs–Appell partition.
+    Eliminate(Ident, List<Ident>),
+}
+
+impl Section {
+    /// The section's keyword, for duplicate-section errors.
+    pub fn keyword(&self) -> &Ident {
+        match self {
+            Section::Coordinates(k, _)
+            | Section::Parameters(k, _)
+            | Section::Mass(k, _)
+            | Section::Forces(k, _)
+            | Section::Definitions(k, _)
+            | Section::Constraints(k, _)
+            | Section::Eliminate(k, _) => k,
+        }
+    }
+}
+
+/// The mass matrix as written.
+pub enum MassInput {
+    /// `diag[m₁, …, mₙ]`.
+    Diagonal(List<Expr>),
+    /// `[[m₁₁, …], …]`, row by row.
+    Full(List<List<Expr>>),
+}
+
+/// One constraint as written: `lhs == rhs`, or `expr` meaning `expr = 0`.
+pub struct ConstraintInput {
+    /// Left-hand side.
+    pub lhs: Expr,
+    /// Right-hand side, when written with `==`.
+    pub rhs: Option<Expr>,
+    /// The whole constraint's tokens, to span errors over all of it.
+    pub tokens: proc_macro2::TokenStream,
+}
+
+impl Parse for SystemInput {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let attrs = input.call(Attribute::parse_outer)?;
+        let vis: Visibility = input.parse()?;
+        input.parse::<Token![struct]>()?;
+        let name: Ident = input.parse()?;
+        let body;
+        braced!(body in input);
+        let sections = Punctuated::<Section, Token![,]>::parse_terminated(&body)?;
+        Ok(SystemInput {
+            attrs,
+            vis,
+            name,
+            sections: sections.into_iter().collect(),
+        })
+    }
+}
+
+fn list<T>(input: ParseStream, item: fn(ParseStream) -> syn::Result<T>) -> syn::Result<List<T>> {
+    let content;
+    let bracket = bracketed!(content in input);
+    let items = Punctuated::<T, Token![,]>::parse_terminated_with(&content, item)?;
+    Ok(List {
+        items: items.into_iter().collect(),
+        span: bracket.span.join(),
+    })
+}
+
+impl Parse for Section {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let lookahead = input.lookahead1();
+        macro_rules! keyword {
+            ($kw:ident) => {{
+                let k: kw::$kw = input.parse()?;
+                input.parse::<Token![:]>()?;
+                Ident::new(stringify!($kw), k.span)
+            }};
+        }
+        if lookahead.peek(kw::coordinates) {
+            let k = keyword!(coordinates);
+            Ok(Section::Coordinates(k, list(input, Ident::parse)?))
+        } else if lookahead.peek(kw::parameters) {
+            let k = keyword!(parameters);
+            Ok(Section::Parameters(k, list(input, Ident::parse)?))
+        } else if lookahead.peek(kw::mass) {
+            let k = keyword!(mass);
+            Ok(Section::Mass(k, input.parse()?))
+        } else if lookahead.peek(kw::forces) {
+            let k = keyword!(forces);
+            Ok(Section::Forces(k, list(input, Expr::parse)?))
+        } else if lookahead.peek(kw::definitions) {
+            let k = keyword!(definitions);
+            Ok(Section::Definitions(k, list(input, parse_definition)?))
+        } else if lookahead.peek(kw::constraints) {
+            let k = keyword!(constraints);
+            Ok(Section::Constraints(
+                k,
+                list(input, ConstraintInput::parse)?,
+            ))
+        } else if lookahead.peek(kw::eliminate) {
+            let k = keyword!(eliminate);
+            Ok(Section::Eliminate(k, list(input, Ident::parse)?))
+        } else {
+            Err(lookahead.error())
+        }
+    }
+}
+
+impl Parse for MassInput {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let lookahead = input.lookahead1();
+        if lookahead.peek(kw::diag) {
+            input.parse::<kw::diag>()?;
+            Ok(MassInput::Diagonal(list(input, Expr::parse)?))
+        } else if lookahead.peek(syn::token::Bracket) {
+            Ok(MassInput::Full(list(input, |row| list(row, Expr::parse))?))
+        } else {
+            Err(lookahead.error())
+        }
+    }
+}
+
+fn parse_definition(input: ParseStream) -> syn::Result<(Ident, Expr)> {
+    let name: Ident = input.parse()?;
+    input.parse::<Token![=]>()?;
+    Ok((name, input.parse()?))
+}
+
+impl Parse for ConstraintInput {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let expr: Expr = input.parse()?;
+        let tokens = quote::ToTokens::to_token_stream(&expr);
+        Ok(match expr {
+            Expr::Binary(b) if matches!(b.op, syn::BinOp::Eq(_)) => ConstraintInput {
+                lhs: *b.left,
+                rhs: Some(*b.right),
+                tokens,
+            },
+            lhs => ConstraintInput {
+                lhs,
+                rhs: None,
+                tokens,
+            },
+        })
+    }
+}

@@ -1,0 +1,326 @@
+//! Expressions as text: Unicode mathematics for `DERIVATION`, sympy syntax
+//! for `SYMBOLIC`. One precedence-aware printer serves both styles.
+
+use crate::expr::{Graph, Id, Node, Sym};
+use crate::num::Num;
+
+/// How to write an expression.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// `ẋ² − α·sin(t)`: for people.
+    Unicode,
+    /// `dot(x)**2 - alpha*sin(t)`: for `sympy.sympify`.
+    Sympy,
+}
+
+/// Binding strength of the outermost operator of a printed expression.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Prec {
+    Sum,
+    Product,
+    Power,
+    Atom,
+}
+
+/// Prints expressions of one graph with the names of one system.
+pub struct Printer<'a> {
+    graph: &'a Graph,
+    coordinates: &'a [String],
+    parameters: &'a [String],
+    style: Style,
+}
+
+impl<'a> Printer<'a> {
+    /// A printer for `graph` naming variables after `coordinates` and `parameters`.
+    pub fn new(
+        graph: &'a Graph,
+        coordinates: &'a [String],
+        parameters: &'a [String],
+        style: Style,
+    ) -> Self {
+        Printer {
+            graph,
+            coordinates,
+            parameters,
+            style,
+        }
+    }
+
+    /// `id` as text.
+    pub fn print(&self, id: Id) -> String {
+        self.render(id).0
+    }
+
+    fn times(&self) -> &'static str {
+        match self.style {
+            Style::Unicode => "·",
+            Style::Sympy => "*",
+        }
+    }
+
+    fn minus(&self) -> &'static str {
+        match self.style {
+            Style::Unicode => "−",
+            Style::Sympy => "-",
+        }
+    }
+
+    /// The name of a velocity: `ẋ` for one-letter names, `dot(name)` otherwise
+    /// (a combining dot over a long name would sit on its last letter only).
+    fn velocity(&self, i: usize) -> String {
+        let name = &self.coordinates[i];
+        match self.style {
+            Style::Unicode if name.chars().count() == 1 => dotted(name),
+            _ => format!("dot({name})"),
+        }
+    }
+
+    fn wrap(&self, (text, prec): (String, Prec), at_least: Prec) -> String {
+        if prec < at_least {
+            format!("({text})")
+        } else {
+            text
+        }
+    }
+
+    fn number(&self, n: Num) -> (String, Prec) {
+        match n {
+            Num::Rational(_, 1) | Num::Float(_) if !n.is_negative() => (n.to_string(), Prec::Atom),
+            Num::Rational(_, 1) | Num::Float(_) => {
+                (format!("{}{}", self.minus(), n.neg()), Prec::Sum)
+            }
+            Num::Rational(p, q) => {
+                let sign = if p < 0 { self.minus() } else { "" };
+                (
+                    format!("{sign}{}/{q}", p.unsigned_abs()),
+                    if p < 0 { Prec::Sum } else { Prec::Product },
+                )
+            }
+        }
+    }
+
+    fn render(&self, id: Id) -> (String, Prec) {
+        match self.graph.node(id) {
+            Node::Num(n) => self.number(*n),
+            Node::Sym(s) => (
+                match *s {
+                    Sym::Coord(i) => self.coordinates[i].clone(),
+                    Sym::Vel(i) => self.velocity(i),
+                    Sym::Param(i) => self.parameters[i].clone(),
+                    Sym::Time => "t".to_string(),
+                },
+                Prec::Atom,
+            ),
+            Node::Add(terms, c0) => {
+                let mut out = String::new();
+                let constant = (!c0.is_zero()).then_some(*c0);
+                let parts = terms
+                    .iter()
+                    .map(|&(t, c)| (Some(t), c))
+                    .chain(constant.map(|c| (None, c)));
+                for (i, (term, c)) in parts.enumerate() {
+                    let magnitude = if c.is_negative() { c.neg() } else { c };
+                    let text = match term {
+                        Some(t) => self.scaled(t, magnitude),
+                        None => magnitude.to_string(),
+                    };
+                    match (i, c.is_negative()) {
+                        (0, false) => out.push_str(&text),
+                        (0, true) => out.push_str(&format!("{}{text}", self.minus())),
+                        (_, false) => out.push_str(&format!(" + {text}")),
+                        (_, true) => out.push_str(&format!(" {} {text}", self.minus())),
+                    }
+                }
+                let single_positive =
+                    terms.len() == 1 && constant.is_none() && !terms[0].1.is_negative();
+                (
+                    out,
+                    if single_positive {
+                        Prec::Product
+                    } else {
+                        Prec::Sum
+                    },
+                )
+            }
+            Node::Mul(factors) => {
+                let (mut num, mut den) = (Vec::new(), Vec::new());
+                for &(b, e) in factors.iter() {
+                    if e.is_negative() {
+                        den.push(self.power(b, e.neg()));
+                    } else {
+                        num.push(self.power(b, e));
+                    }
+                }
+                let num_text = if num.is_empty() {
+                    "1".to_string()
+                } else {
+                    num.join(self.times())
+                };
+                if den.is_empty() {
+                    return (
+                        num_text,
+                        if num.len() == 1 {
+                            Prec::Power
+                        } else {
+                            Prec::Product
+                        },
+                    );
+                }
+                let den_text = if den.len() == 1 {
+                    den.remove(0)
+                } else {
+                    format!("({})", den.join(self.times()))
+                };
+                (format!("{num_text}/{den_text}"), Prec::Product)
+            }
+            Node::Pow(b, e) => {
+                let base = self.wrap(self.render(*b), Prec::Atom);
+                let exponent = self.wrap(self.render(*e), Prec::Atom);
+                let op = if self.style == Style::Sympy {
+                    "**"
+                } else {
+                    "^"
+                };
+                (format!("{base}{op}{exponent}"), Prec::Power)
+            }
+            Node::Func(f, a) => (format!("{}({})", f.name(), self.print(*a)), Prec::Atom),
+            Node::Atan2(y, x) => (
+                format!("atan2({}, {})", self.print(*y), self.print(*x)),
+                Prec::Atom,
+            ),
+        }
+    }
+
+    /// `c·t` for a positive coefficient `c`: `t`, `3·t`, `t/2`, `3·t/4`.
+    fn scaled(&self, t: Id, c: Num) -> String {
+        let term = self.wrap(self.render(t), Prec::Product);
+        match c {
+            Num::Rational(1, 1) => term,
+            Num::Rational(1, q) => format!("{term}/{q}"),
+            Num::Rational(p, 1) => format!("{p}{}{term}", self.times()),
+            Num::Rational(p, q) => format!("{p}{}{term}/{q}", self.times()),
+            Num::Float(x) => format!("{x:?}{}{term}", self.times()),
+        }
+    }
+
+    /// `b^e` for a positive exponent.
+    fn power(&self, b: Id, e: Num) -> String {
+        if e.is_one() {
+            return self.wrap(self.render(b), Prec::Power);
+        }
+        let half = Num::ratio(1, 2);
+        match self.style {
+            Style::Unicode if e == half => format!("√{}", self.wrap(self.render(b), Prec::Atom)),
+            Style::Sympy if e == half => format!("sqrt({})", self.print(b)),
+            Style::Unicode if e.as_integer().is_some() => {
+                format!(
+                    "{}{}",
+                    self.wrap(self.render(b), Prec::Atom),
+                    superscript(&e.to_string())
+                )
+            }
+            Style::Unicode => format!("{}^({e})", self.wrap(self.render(b), Prec::Atom)),
+            Style::Sympy if e.as_integer().is_some() => {
+                format!("{}**{e}", self.wrap(self.render(b), Prec::Atom))
+            }
+            Style::Sympy => format!("{}**({e})", self.wrap(self.render(b), Prec::Atom)),
+        }
+    }
+}
+
+/// A one-letter name with a dot above, precomposed where Unicode has the
+/// letter (NFC, so that `ẋ` in the text equals the `ẋ` a user types).
+fn dotted(letter: &str) -> String {
+    const PRECOMPOSED: &[(char, char)] = &[
+        ('a', 'ȧ'),
+        ('b', 'ḃ'),
+        ('c', 'ċ'),
+        ('d', 'ḋ'),
+        ('e', 'ė'),
+        ('f', 'ḟ'),
+        ('g', 'ġ'),
+        ('h', 'ḣ'),
+        ('m', 'ṁ'),
+        ('n', 'ṅ'),
+        ('o', 'ȯ'),
+        ('p', 'ṗ'),
+        ('r', 'ṙ'),
+        ('s', 'ṡ'),
+        ('t', 'ṫ'),
+        ('w', 'ẇ'),
+        ('x', 'ẋ'),
+        ('y', 'ẏ'),
+        ('z', 'ż'),
+    ];
+    let c = letter.chars().next().unwrap_or(' ');
+    match PRECOMPOSED.iter().find(|(plain, _)| *plain == c) {
+        Some((_, dotted)) => dotted.to_string(),
+        None => format!("{letter}\u{307}"),
+    }
+}
+
+/// `12` → `¹²`.
+pub fn superscript(digits: &str) -> String {
+    digits
+        .chars()
+        .map(|c| match c {
+            '0' => '⁰',
+            '1' => '¹',
+            '2' => '²',
+            '3' => '³',
+            '4' => '⁴',
+            '5' => '⁵',
+            '6' => '⁶',
+            '7' => '⁷',
+            '8' => '⁸',
+            '9' => '⁹',
+            '-' => '⁻',
+            other => other,
+        })
+        .collect()
+}
+
+/// `12` → `₁₂`.
+pub fn subscript(n: usize) -> String {
+    n.to_string()
+        .chars()
+        .map(|c| char::from_u32(0x2080 + c.to_digit(10).unwrap_or(0)).unwrap_or(c))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names() -> (Vec<String>, Vec<String>) {
+        (vec!["x".into(), "theta".into()], vec!["alpha".into()])
+    }
+
+    #[test]
+    fn both_styles() {
+        let mut g = Graph::new();
+        let (x, th) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let (xd, thd) = (g.sym(Sym::Vel(0)), g.sym(Sym::Vel(1)));
+        let alpha = g.sym(Sym::Param(0));
+        let sx = g.func(crate::expr::Func::Sin, x);
+        let xd2 = g.pown(xd, Num::int(2));
+        let half_xd2 = g.scale(xd2, Num::ratio(1, 2));
+        let a_sin = g.mul2(alpha, sx);
+        let root = g.sqrt(th);
+        let q = g.div(thd, root);
+        let e = g.add(&[half_xd2, q]);
+        let e = g.sub(e, a_sin);
+        let (c, p) = names();
+        let uni = Printer::new(&g, &c, &p, Style::Unicode).print(e);
+        let sym = Printer::new(&g, &c, &p, Style::Sympy).print(e);
+        // Terms in canonical (creation) order.
+        assert_eq!(uni, "\u{1e8b}²/2 − alpha·sin(x) + dot(theta)/√theta");
+        assert_eq!(sym, "dot(x)**2/2 - alpha*sin(x) + dot(theta)/sqrt(theta)");
+    }
+
+    #[test]
+    fn scripts() {
+        assert_eq!(superscript("-12"), "⁻¹²");
+        assert_eq!(subscript(10), "₁₀");
+    }
+}

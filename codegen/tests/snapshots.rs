@@ -1,0 +1,29 @@
+//! Snapshots of every reference model: the formatted expansion (what the
+//! compiler sees) and the derivation (what a reviewer reads). A change in the
+//! symbolic core shows up here as a diff of generated code and mathematics.
+
+mod common;
+
+#[test]
+fn expansions_and_derivations() {
+    let models = common::model_invocations();
+    assert!(
+        models.len() >= 8,
+        "expected every reference model, found {}",
+        models.len()
+    );
+    for model in models {
+        let expanded = constrained_codegen::expand(model.tokens.clone())
+            .unwrap_or_else(|e| panic!("{} fails to expand: {e}", model.name));
+        let file: syn::File = syn::parse2(expanded).expect("expansion is valid Rust");
+        insta::assert_snapshot!(
+            format!("{}_expansion", model.name),
+            prettyplease::unparse(&file)
+        );
+        let equations = constrained_codegen::analyse(model.tokens).expect("analyses");
+        insta::assert_snapshot!(
+            format!("{}_derivation", model.name),
+            constrained_codegen::derivation::text(&equations)
+        );
+    }
+}

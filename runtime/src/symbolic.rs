@@ -1,0 +1,27 @@
+/// A constrained system as text in sympy syntax, emitted by `constrained_system!`
+/// as the associated constant `SYMBOLIC`.
+///
+/// Every expression is a `&'static str` that `sympy.sympify` reads once the
+/// names below are declared as symbols: powers are `**`, velocities are written
+/// `dot(q)`, time is `t`, rationals are exact (`1/2`). Definitions are already
+/// substituted. The strings are the macro's own simplified forms, so an
+/// independent derivation (see `tests/sympy/`) can compare against them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SymbolicSystem {
+    /// Name of the generated struct.
+    pub name: &'static str,
+    /// Generalised coordinates `q`, in order.
+    pub coordinates: &'static [&'static str],
+    /// Parameters (struct fields), in order.
+    pub parameters: &'static [&'static str],
+    /// Mass matrix `M(q, t)`, row by row (n × n).
+    pub mass: &'static [&'static [&'static str]],
+    /// Impressed forces `F(q, q̇, t)` (n).
+    pub forces: &'static [&'static str],
+    /// Constraints `φ(q, q̇, t) = 0` (k), as written (`lhs - rhs` for `lhs == rhs`).
+    pub constraints: &'static [&'static str],
+    /// `A` of `A q̈ = b`, row by row (k × n).
+    pub a_matrix: &'static [&'static [&'static str]],
+    /// `b` of `A q̈ = b` (k).
+    pub b_vector: &'static [&'static str],
+}

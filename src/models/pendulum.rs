@@ -1,0 +1,46 @@
+use crate::constrained_system;
+
+constrained_system! {
+    /// A spherical pendulum in Cartesian coordinates: a point mass `m` on a
+    /// massless rod of length `l` pivoting at the origin, gravity along −z.
+    pub struct SphericalPendulum {
+        coordinates: [x, y, z],
+        parameters: [m, g, l],
+        mass: diag[m, m, m],
+        forces: [0.0, 0.0, -m * g],
+        constraints: [x.powi(2) + y.powi(2) + z.powi(2) == l.powi(2)],
+    }
+}
+
+constrained_system! {
+    /// A planar double pendulum in Cartesian coordinates: point masses `m1`,
+    /// `m2` on rods `l1` (pivot to mass 1) and `l2` (mass 1 to mass 2),
+    /// gravity along −y.
+    pub struct DoublePendulum {
+        coordinates: [x1, y1, x2, y2],
+        parameters: [m1, m2, l1, l2, g],
+        mass: diag[m1, m1, m2, m2],
+        forces: [0.0, -m1 * g, 0.0, -m2 * g],
+        constraints: [
+            x1.powi(2) + y1.powi(2) == l1.powi(2),
+            (x2 - x1).powi(2) + (y2 - y1).powi(2) == l2.powi(2),
+        ],
+    }
+}
+
+constrained_system! {
+    /// The double pendulum with a redundant third constraint
+    /// `φ₃ = (1 + x₂²) φ₁ + φ₂` (MATH.md): its row of `A` depends on the other
+    /// two only on the constraint surface, so rank decisions need a tolerance.
+    pub struct RedundantDoublePendulum {
+        coordinates: [x1, y1, x2, y2],
+        parameters: [m1, m2, l1, l2, g],
+        mass: diag[m1, m1, m2, m2],
+        forces: [0.0, -m1 * g, 0.0, -m2 * g],
+        definitions: [
+            phi1 = x1.powi(2) + y1.powi(2) - l1.powi(2),
+            phi2 = (x2 - x1).powi(2) + (y2 - y1).powi(2) - l2.powi(2),
+        ],
+        constraints: [phi1, phi2, (1.0 + x2.powi(2)) * phi1 + phi2],
+    }
+}
