@@ -57,20 +57,31 @@ impl Differentiator {
             // ∂(b^p) = b^p · (∂p·ln b + p·∂b / b)
             Node::Pow(b, p) => {
                 let (db, dp) = (self.partial(g, b, v), self.partial(g, p, v));
+                if g.is_zero(db) && g.is_zero(dp) {
+                    return g.int(0);
+                }
                 let ln_b = g.func(Func::Ln, b);
                 let t1 = g.mul2(dp, ln_b);
                 let t2 = g.product([(p, Num::ONE), (db, Num::ONE), (b, Num::MINUS_ONE)]);
                 let inner = g.add2(t1, t2);
                 g.mul2(e, inner)
             }
+            // A zero inner derivative gives zero even where f' is singular
+            // (`asin(1)`), so the outer derivative is not even built.
             Node::Func(f, a) => {
                 let da = self.partial(g, a, v);
+                if g.is_zero(da) {
+                    return da;
+                }
                 let outer = function_derivative(g, f, a, e);
                 g.mul2(outer, da)
             }
             // ∂atan2(y, x) = (x·∂y − y·∂x) / (x² + y²)
             Node::Atan2(y, x) => {
                 let (dy, dx) = (self.partial(g, y, v), self.partial(g, x, v));
+                if g.is_zero(dy) && g.is_zero(dx) {
+                    return g.int(0);
+                }
                 let a = g.mul2(x, dy);
                 let b = g.mul2(y, dx);
                 let num = g.sub(a, b);

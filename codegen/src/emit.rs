@@ -10,6 +10,7 @@ use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derivation;
 use crate::derive::Equations;
 use crate::expr::{Graph, Id, Node, Sym};
+use crate::model::Level;
 use crate::num::Num;
 use crate::print::{Printer, Style};
 use proc_macro2::{Literal, Span, TokenStream};
@@ -91,6 +92,10 @@ pub fn system(eq: &Equations) -> TokenStream {
         &phi,
     );
     let matrices = constraint_matrices(eq);
+    let levels = sys.constraints.iter().map(|c| match c.level {
+        Level::Position => quote!(::constrained::ConstraintLevel::Position),
+        Level::Velocity => quote!(::constrained::ConstraintLevel::Velocity),
+    });
     let derivation = derivation::text(eq);
     let symbolic = symbolic(eq);
 
@@ -115,6 +120,9 @@ pub fn system(eq: &Equations) -> TokenStream {
             pub const DOF: usize = #n_lit;
             /// Number of constraints `k` (rows of `A`, redundant ones included).
             pub const CONSTRAINTS: usize = #k_lit;
+            /// For each constraint, whether it was differentiated twice
+            /// (position level) or once (velocity level).
+            pub const CONSTRAINT_LEVELS: [::constrained::ConstraintLevel; #k_lit] = [#(#levels),*];
             /// The derivation, as the paper would write it: M, F, φ, A and b.
             pub const DERIVATION: &'static str = #derivation;
             /// The system in sympy syntax, for independent verification.

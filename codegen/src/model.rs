@@ -460,6 +460,9 @@ impl Lowerer<'_> {
                 };
                 // Lower both sides even if one fails, to report both.
                 let (l, r) = (self.lower(&b.left), self.try_lower(&b.right)?);
+                if matches!(op, BinOp::Div(_)) && self.graph.is_zero(r) {
+                    return err(&b.right, "division by zero");
+                }
                 Ok(match op {
                     BinOp::Add(_) => self.graph.add2(l, r),
                     BinOp::Sub(_) => self.graph.sub(l, r),

@@ -7,8 +7,10 @@
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![deny(missing_docs)]
 
+mod level;
 mod symbolic;
 
+pub use level::ConstraintLevel;
 pub use symbolic::SymbolicSystem;
 
 /// Converts a compile-time `f64` literal of generated code into the scalar `T`.

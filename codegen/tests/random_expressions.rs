@@ -1,0 +1,217 @@
+//! Property tests of the symbolic core on randomly generated expressions:
+//! canonical simplification preserves the value, and every symbolic
+//! derivative agrees with a finite difference. The reference is a plain tree
+//! evaluator written here, independent of the DAG.
+
+use constrained_codegen::diff::Differentiator;
+use constrained_codegen::expr::{Func, Graph, Id, Sym};
+use constrained_codegen::num::Num;
+use proptest::prelude::*;
+
+#[derive(Clone, Debug)]
+enum Tree {
+    Var(usize),
+    Const(i64, i64),
+    Add(Box<Tree>, Box<Tree>),
+    Sub(Box<Tree>, Box<Tree>),
+    Mul(Box<Tree>, Box<Tree>),
+    Div(Box<Tree>, Box<Tree>),
+    Neg(Box<Tree>),
+    Powi(Box<Tree>, i64),
+    Sqrt(Box<Tree>),
+    Powf(Box<Tree>, Box<Tree>),
+    Func(Func, Box<Tree>),
+    Atan2(Box<Tree>, Box<Tree>),
+}
+
+impl Tree {
+    /// The value, or NaN when any intermediate value is not finite (the
+    /// expression is then outside its domain, e.g. `x / 0`). Zero carries no
+    /// sign (`+ 0.0` turns −0 into +0): the symbolic core's numbers are
+    /// exact, and `atan2(−0, −1) = −π` is an artefact of IEEE arithmetic.
+    fn eval(&self, x: &[f64; 3]) -> f64 {
+        let v = self.eval_node(x) + 0.0;
+        if v.is_finite() {
+            v
+        } else {
+            f64::NAN
+        }
+    }
+
+    fn eval_node(&self, x: &[f64; 3]) -> f64 {
+        match self {
+            Tree::Var(i) => x[*i],
+            Tree::Const(p, q) => *p as f64 / *q as f64,
+            Tree::Add(a, b) => a.eval(x) + b.eval(x),
+            Tree::Sub(a, b) => a.eval(x) - b.eval(x),
+            Tree::Mul(a, b) => a.eval(x) * b.eval(x),
+            Tree::Div(a, b) => a.eval(x) / b.eval(x),
+            Tree::Neg(a) => -a.eval(x),
+            Tree::Powi(a, k) => a.eval(x).powi(*k as i32),
+            // Points on the boundary of a function's real domain (√0, 0^p,
+            // asin(±1), …) are left out: the derivative does not exist there.
+            Tree::Sqrt(a) => interior(a.eval(x), |v| v > 0.0).sqrt(),
+            Tree::Powf(a, b) => interior(a.eval(x), |v| v > 0.0).powf(b.eval(x)),
+            Tree::Func(f, a) => {
+                let v = match f {
+                    Func::Ln => interior(a.eval(x), |v| v > 0.0),
+                    Func::Asin | Func::Acos => interior(a.eval(x), |v| v.abs() < 1.0),
+                    _ => a.eval(x),
+                };
+                match f {
+                    Func::Sin => v.sin(),
+                    Func::Cos => v.cos(),
+                    Func::Tan => v.tan(),
+                    Func::Asin => v.asin(),
+                    Func::Acos => v.acos(),
+                    Func::Atan => v.atan(),
+                    Func::Sinh => v.sinh(),
+                    Func::Cosh => v.cosh(),
+                    Func::Tanh => v.tanh(),
+                    Func::Exp => v.exp(),
+                    Func::Ln => v.ln(),
+                }
+            }
+            Tree::Atan2(a, b) => {
+                let (y, x) = (a.eval(x), b.eval(x));
+                if y == 0.0 && x == 0.0 {
+                    f64::NAN
+                } else {
+                    y.atan2(x)
+                }
+            }
+        }
+    }
+
+    fn build(&self, g: &mut Graph) -> Id {
+        match self {
+            Tree::Var(i) => g.sym(Sym::Coord(*i)),
+            Tree::Const(p, q) => g.num(Num::ratio((*p).into(), (*q).into())),
+            Tree::Add(a, b) => {
+                let (a, b) = (a.build(g), b.build(g));
+                g.add2(a, b)
+            }
+            Tree::Sub(a, b) => {
+                let (a, b) = (a.build(g), b.build(g));
+                g.sub(a, b)
+            }
+            Tree::Mul(a, b) => {
+                let (a, b) = (a.build(g), b.build(g));
+                g.mul2(a, b)
+            }
+            Tree::Div(a, b) => {
+                let (a, b) = (a.build(g), b.build(g));
+                g.div(a, b)
+            }
+            Tree::Neg(a) => {
+                let a = a.build(g);
+                g.neg(a)
+            }
+            Tree::Powi(a, k) => {
+                let a = a.build(g);
+                g.pown(a, Num::int(*k))
+            }
+            Tree::Sqrt(a) => {
+                let a = a.build(g);
+                g.sqrt(a)
+            }
+            Tree::Powf(a, b) => {
+                let (a, b) = (a.build(g), b.build(g));
+                g.pow(a, b)
+            }
+            Tree::Func(f, a) => {
+                let a = a.build(g);
+                g.func(*f, a)
+            }
+            Tree::Atan2(a, b) => {
+                let (a, b) = (a.build(g), b.build(g));
+                g.atan2(a, b)
+            }
+        }
+    }
+}
+
+/// `v` when `inside(v)`, NaN otherwise.
+fn interior(v: f64, inside: impl Fn(f64) -> bool) -> f64 {
+    if inside(v) {
+        v
+    } else {
+        f64::NAN
+    }
+}
+
+fn tree() -> impl Strategy<Value = Tree> {
+    let leaf = prop_oneof![
+        3 => (0..3usize).prop_map(Tree::Var),
+        1 => (-5..=5i64, 1..=4i64).prop_map(|(p, q)| Tree::Const(p, q)),
+    ];
+    leaf.prop_recursive(5, 40, 2, |inner| {
+        let b = |t: Tree| Box::new(t);
+        prop_oneof![
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Add(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Sub(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Mul(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Div(b(x), b(y))),
+            inner.clone().prop_map(move |x| Tree::Neg(b(x))),
+            (inner.clone(), -3..=4i64).prop_map(move |(x, k)| Tree::Powi(b(x), k)),
+            inner.clone().prop_map(move |x| Tree::Sqrt(b(x))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Powf(b(x), b(y))),
+            (inner.clone(), prop::sample::select(Func::ALL.to_vec()))
+                .prop_map(move |(x, f)| Tree::Func(f, b(x))),
+            (inner.clone(), inner).prop_map(move |(x, y)| Tree::Atan2(b(x), b(y))),
+        ]
+    })
+}
+
+fn point() -> impl Strategy<Value = [f64; 3]> {
+    prop::array::uniform3(0.2..0.9f64)
+}
+
+fn env(x: [f64; 3]) -> impl Fn(Sym) -> f64 {
+    move |s| match s {
+        Sym::Coord(i) => x[i],
+        _ => f64::NAN,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    #[test]
+    fn simplification_preserves_value(t in tree(), x in point()) {
+        let expected = t.eval(&x);
+        prop_assume!(expected.is_finite() && expected.abs() < 1e8);
+        let mut g = Graph::new();
+        let id = t.build(&mut g);
+        let actual = g.eval(&[id], &env(x))[0];
+        prop_assert!(
+            (actual - expected).abs() <= 1e-9 * expected.abs().max(1.0),
+            "{t:?} at {x:?}: graph {actual} vs tree {expected}"
+        );
+    }
+
+    #[test]
+    fn derivatives_agree_with_finite_differences(t in tree(), x in point(), var in 0..3usize) {
+        let f = |h: f64| {
+            let mut y = x;
+            y[var] += h;
+            t.eval(&y)
+        };
+        let central = |h: f64| (f(h) - f(-h)) / (2.0 * h);
+        let (coarse, fine) = (central(1e-4), central(5e-5));
+        // Richardson extrapolation; skip points where f is not smooth at this
+        // scale (near a pole or a branch point), where differences mislead.
+        let fd = (4.0 * fine - coarse) / 3.0;
+        // |f| must be moderate too: f(x ± h) of size 1e54 cancel to nothing.
+        prop_assume!(fd.is_finite() && fd.abs() < 1e6 && f(0.0).abs() < 1e6);
+        prop_assume!((fine - coarse).abs() < 1e-3 * fd.abs().max(1.0));
+        let mut g = Graph::new();
+        let id = t.build(&mut g);
+        let d = Differentiator::new().partial(&mut g, id, Sym::Coord(var));
+        let symbolic = g.eval(&[d], &env(x))[0];
+        prop_assert!(
+            (symbolic - fd).abs() <= 1e-5 * fd.abs().max(1.0),
+            "d/dx{var} of {t:?} at {x:?}: symbolic {symbolic} vs finite difference {fd}"
+        );
+    }
+}
