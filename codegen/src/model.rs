@@ -30,6 +30,13 @@ impl Errors {
         self.0.push(syn::Error::new(span, message));
     }
 
+    /// How many errors have been recorded; checks that build on lowered
+    /// expressions compare it before and after, to skip follow-on errors
+    /// caused by a placeholder.
+    pub fn count(&self) -> usize {
+        self.0.len()
+    }
+
     /// `Ok` when nothing was recorded, else all errors combined into one.
     pub fn finish(self) -> syn::Result<()> {
         let mut errors = self.0.into_iter();
@@ -220,7 +227,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .unwrap_or_default();
     let forces = match sections.forces {
         Some(list) => {
-            lower.check_len(list.span, "forces", list.items.len(), n);
+            lower.check_len(list.span, "`forces`", list.items.len(), n);
             let mut f: Vec<Id> = list.items.iter().map(|e| lower.lower(e)).collect();
             f.resize(n, lower.graph.int(0));
             f
@@ -277,40 +284,39 @@ impl Lowerer<'_> {
         }
     }
 
+    /// Requires `len == n`; with no coordinates declared (already an error)
+    /// every length would be wrong, so nothing more is said.
     fn check_len(&mut self, span: Span, what: &str, len: usize, n: usize) {
-        if len != n {
+        if len != n && n > 0 {
             self.errors.at(
                 span,
-                format!("`{what}` has {len} entries but there are {n} coordinates"),
+                format!(
+                    "{what} has {} but there {}",
+                    entries(len),
+                    coordinates_count(n)
+                ),
             );
         }
     }
 
     fn mass(&mut self, keyword: &Ident, input: &MassInput, n: usize) -> Vec<Vec<Id>> {
+        let before = self.errors.count();
         let zero = self.graph.int(0);
         let mut m = vec![vec![zero; n]; n];
         let mut sources: Vec<Vec<Option<&Expr>>> = vec![vec![None; n]; n];
         match input {
             MassInput::Diagonal(list) => {
-                self.check_len(list.span, "mass", list.items.len(), n);
+                self.check_len(list.span, "`mass`", list.items.len(), n);
                 for (i, e) in list.items.iter().enumerate().take(n) {
                     m[i][i] = self.lower(e);
                     sources[i][i] = Some(e);
                 }
             }
             MassInput::Full(rows) => {
-                self.check_len(rows.span, "mass", rows.items.len(), n);
+                self.check_len(rows.span, "`mass`", rows.items.len(), n);
                 for (i, row) in rows.items.iter().enumerate().take(n) {
-                    if row.items.len() != n {
-                        self.errors.at(
-                            row.span,
-                            format!(
-                                "row {} of `mass` has {} entries but there are {n} coordinates",
-                                i + 1,
-                                row.items.len()
-                            ),
-                        );
-                    }
+                    let what = format!("row {} of `mass`", i + 1);
+                    self.check_len(row.span, &what, row.items.len(), n);
                     for (j, e) in row.items.iter().enumerate().take(n) {
                         m[i][j] = self.lower(e);
                         sources[i][j] = Some(e);
@@ -330,7 +336,10 @@ impl Lowerer<'_> {
             }
         }
         self.check_symmetric(&mut m, &sources);
-        self.check_constant_positive_definite(keyword, &m);
+        // Missing or unreadable entries were filled with zeros.
+        if self.errors.count() == before {
+            self.check_constant_positive_definite(keyword, &m);
+        }
         m
     }
 
@@ -380,6 +389,7 @@ impl Lowerer<'_> {
     }
 
     fn constraint(&mut self, c: &ConstraintInput) -> Constraint {
+        let before = self.errors.count();
         let lhs = self.lower(&c.lhs);
         let phi = match &c.rhs {
             Some(rhs) => {
@@ -390,7 +400,7 @@ impl Lowerer<'_> {
         };
         let velocity = self.graph.mentions(phi, |s| matches!(s, Sym::Vel(_)));
         let coordinate = self.graph.mentions(phi, |s| matches!(s, Sym::Coord(_)));
-        if !velocity && !coordinate {
+        if !velocity && !coordinate && self.errors.count() == before {
             self.errors.spanned(
                 &c.tokens,
                 "constraint involves no coordinate or velocity (after simplification)",
@@ -591,6 +601,20 @@ impl Lowerer<'_> {
                 lowered[0],
             ),
         })
+    }
+}
+
+fn entries(len: usize) -> String {
+    match len {
+        1 => "1 entry".to_string(),
+        _ => format!("{len} entries"),
+    }
+}
+
+fn coordinates_count(n: usize) -> String {
+    match n {
+        1 => "is 1 coordinate".to_string(),
+        _ => format!("are {n} coordinates"),
     }
 }
 
