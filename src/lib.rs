@@ -30,7 +30,7 @@
 //!     }
 //! }
 //!
-//! let system = Appell::new(9.81, 0.5);
+//! let system = Appell::<f64>::new(9.81, 0.5);
 //! let (q, qd) = (Vector3::new(0.1, 0.2, 0.3), Vector3::new(1.0, 2.0, 3.0));
 //! let (a, b) = system.constraint_matrices(&q, &qd, 0.0);
 //! // Eq. 30: A = [ẋ, ẏ, −ż], b = α (h_x ẋ + h_y ẏ + h_z ż + h_t) = α ż.

@@ -47,7 +47,7 @@ impl Differentiator {
                         continue;
                     }
                     let mut items: Vec<(Id, Num)> = factors.to_vec();
-                    items[i].1 = k.add(Num::MINUS_ONE);
+                    items[i].1 = k + Num::MINUS_ONE;
                     items.push((db, Num::ONE));
                     let term = g.product(items);
                     terms.push((term, k));
@@ -223,7 +223,7 @@ mod tests {
         let v: Vec<Id> = (0..3).map(|i| g.sym(Sym::Vel(i))).collect();
         let sq: Vec<Id> = v.iter().map(|&vi| g.pown(vi, Num::int(2))).collect();
         let half = Num::ratio(1, 2);
-        let phi = g.linear_combination([(sq[0], half), (sq[1], half), (sq[2], half.neg())]);
+        let phi = g.linear_combination([(sq[0], half), (sq[1], half), (sq[2], -half)]);
         let (row, rest) = Differentiator::new().time_derivative(&mut g, phi, 3);
         let minus_zd = g.neg(v[2]);
         assert_eq!(row, vec![v[0], v[1], minus_zd]);

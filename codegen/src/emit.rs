@@ -400,7 +400,7 @@ impl<'a> Body<'a> {
             .map(|&(t, c)| (Some(t), c))
             .chain(constant.map(|c| (None, c)));
         for (i, (term, c)) in parts.enumerate() {
-            let magnitude = if c.is_negative() { c.neg() } else { c };
+            let magnitude = if c.is_negative() { -c } else { c };
             let value = match term {
                 Some(t) if magnitude.is_one() => self.wrapped(t, Prec::Product),
                 Some(t) => {
@@ -431,7 +431,7 @@ impl<'a> Body<'a> {
         let (mut num, mut den) = (Vec::new(), Vec::new());
         for &(b, e) in factors {
             if e.is_negative() {
-                den.extend(self.power(b, e.neg()));
+                den.extend(self.power(b, -e));
             } else {
                 num.extend(self.power(b, e));
             }

@@ -270,10 +270,10 @@ impl Graph {
                 continue;
             }
             match self.node(id) {
-                Node::Num(n) => constant = constant.add(n.mul(c)),
+                Node::Num(n) => constant = constant + *n * c,
                 Node::Add(inner, c0) => {
-                    constant = constant.add(c0.mul(c));
-                    terms.extend(inner.iter().map(|&(t, k)| (t, k.mul(c))));
+                    constant = constant + *c0 * c;
+                    terms.extend(inner.iter().map(|&(t, k)| (t, k * c)));
                 }
                 _ => terms.push((id, c)),
             }
@@ -282,7 +282,7 @@ impl Graph {
         let mut merged: Vec<(Id, Num)> = Vec::with_capacity(terms.len());
         for (t, c) in terms {
             match merged.last_mut() {
-                Some((last, k)) if *last == t => *k = k.add(c),
+                Some((last, k)) if *last == t => *k = *k + c,
                 _ => merged.push((t, c)),
             }
         }
@@ -342,7 +342,7 @@ impl Graph {
             let integer_power = e.as_integer().is_some();
             match self.node(id) {
                 Node::Num(n) => match n.pow(e) {
-                    Some(v) => coefficient = coefficient.mul(v),
+                    Some(v) => coefficient = coefficient * v,
                     None => factors.push((id, e)),
                 },
                 // (c·t)^e = c^e · t^e for integer e (exactly, and only then).
@@ -350,7 +350,7 @@ impl Graph {
                     let (t, c) = terms[0];
                     match c.pow(e) {
                         Some(v) => {
-                            coefficient = coefficient.mul(v);
+                            coefficient = coefficient * v;
                             pending.push((t, e));
                         }
                         None => factors.push((id, e)),
@@ -358,7 +358,7 @@ impl Graph {
                 }
                 // (Π bᵢ^eᵢ)^e = Π bᵢ^(eᵢ·e) for integer e.
                 Node::Mul(inner) if integer_power => {
-                    pending.extend(inner.iter().map(|&(b, k)| (b, k.mul(e))));
+                    pending.extend(inner.iter().map(|&(b, k)| (b, k * e)));
                 }
                 _ => factors.push((id, e)),
             }
@@ -370,7 +370,7 @@ impl Graph {
         let mut merged: Vec<(Id, Num)> = Vec::with_capacity(factors.len());
         for (b, e) in factors {
             match merged.last_mut() {
-                Some((last, k)) if *last == b => *k = k.add(e),
+                Some((last, k)) if *last == b => *k = *k + e,
                 _ => merged.push((b, e)),
             }
         }
@@ -381,7 +381,7 @@ impl Graph {
                 continue;
             }
             match self.as_num(b).and_then(|n| n.pow(e)) {
-                Some(v) => coefficient = coefficient.mul(v),
+                Some(v) => coefficient = coefficient * v,
                 None => kept.push((b, e)),
             }
         }
@@ -562,7 +562,7 @@ pub fn power(x: f64, e: Num) -> f64 {
     match e.as_integer() {
         Some(k) => x.powi(k as i32),
         None if matches!(e, Num::Rational(_, 2)) => {
-            let k = e.mul(Num::int(2)).as_integer().unwrap_or(1);
+            let k = (e * Num::int(2)).as_integer().unwrap_or(1);
             x.sqrt().powi(k as i32)
         }
         None => x.powf(e.to_f64()),

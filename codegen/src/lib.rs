@@ -8,9 +8,9 @@
 //! 1. [`parse`]: tokens → DSL syntax (`SystemInput`);
 //! 2. [`model`]: names resolved, expressions lowered into the DAG of
 //!    [`expr`], every rule checked, errors reported together;
-//! 3. [`derive`]: constraints differentiated ([`diff`]) into `A q̈ = b`;
+//! 3. [`derive`](mod@derive): constraints differentiated ([`diff`]) into `A q̈ = b`;
 //! 4. [`emit`]: straight-line Rust with shared subexpressions ([`cse`]) and
-//!    the derivation text ([`derivation`], [`print`]).
+//!    the derivation text ([`derivation`], [`print`](mod@print)).
 
 pub mod cse;
 pub mod derivation;
@@ -18,6 +18,7 @@ pub mod derive;
 pub mod diff;
 pub mod emit;
 pub mod expr;
+pub mod fixtures;
 pub mod linalg;
 pub mod model;
 pub mod num;

@@ -8,7 +8,8 @@ pub fn is_positive_definite(m: &[Vec<f64>]) -> bool {
     let mut l = vec![vec![0.0; n]; n];
     for j in 0..n {
         let d = m[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
-        if !(d > 1e-12 * scale) {
+        // Written so that a NaN pivot also fails.
+        if d.partial_cmp(&(1e-12 * scale)) != Some(std::cmp::Ordering::Greater) {
             return false;
         }
         l[j][j] = d.sqrt();

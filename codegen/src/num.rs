@@ -145,8 +145,7 @@ impl Num {
         Num::Float(float(self.to_f64(), other.to_f64()))
     }
 
-    /// `self + other`.
-    pub fn add(self, other: Num) -> Num {
+    fn sum(self, other: Num) -> Num {
         self.combine(
             other,
             |a, b, c, d| {
@@ -159,8 +158,7 @@ impl Num {
         )
     }
 
-    /// `self * other`.
-    pub fn mul(self, other: Num) -> Num {
+    fn product(self, other: Num) -> Num {
         self.combine(
             other,
             |a, b, c, d| {
@@ -172,22 +170,12 @@ impl Num {
         )
     }
 
-    /// `-self`.
-    pub fn neg(self) -> Num {
-        self.mul(Num::MINUS_ONE)
-    }
-
     /// `1 / self`.
     pub fn recip(self) -> Num {
         match self {
             Num::Rational(n, d) => Num::ratio(d, n),
             Num::Float(f) => Num::Float(1.0 / f),
         }
-    }
-
-    /// `self / other`.
-    pub fn div(self, other: Num) -> Num {
-        self.mul(other.recip())
     }
 
     /// `self ^ exponent` when the result is known exactly (integer exponent, or
@@ -232,6 +220,34 @@ fn exact_sqrt(n: i128) -> Option<i128> {
     (r.checked_mul(r) == Some(n)).then_some(r)
 }
 
+impl std::ops::Add for Num {
+    type Output = Num;
+    fn add(self, other: Num) -> Num {
+        self.sum(other)
+    }
+}
+
+impl std::ops::Mul for Num {
+    type Output = Num;
+    fn mul(self, other: Num) -> Num {
+        self.product(other)
+    }
+}
+
+impl std::ops::Neg for Num {
+    type Output = Num;
+    fn neg(self) -> Num {
+        self.product(Num::MINUS_ONE)
+    }
+}
+
+impl std::ops::Div for Num {
+    type Output = Num;
+    fn div(self, other: Num) -> Num {
+        self.product(other.recip())
+    }
+}
+
 impl PartialOrd for Num {
     fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
         self.to_f64().partial_cmp(&other.to_f64())
@@ -267,9 +283,9 @@ mod tests {
     #[test]
     fn arithmetic_is_exact_and_reduced() {
         let third = Num::ratio(1, 3);
-        assert_eq!(third.add(third).add(third), Num::ONE);
+        assert_eq!(third + third + third, Num::ONE);
         assert_eq!(Num::ratio(2, -4), Num::Rational(-1, 2));
-        assert_eq!(Num::ratio(3, 4).mul(Num::ratio(8, 9)), Num::Rational(2, 3));
+        assert_eq!(Num::ratio(3, 4) * Num::ratio(8, 9), Num::Rational(2, 3));
         assert_eq!(
             Num::ratio(9, 4).pow(Num::ratio(1, 2)),
             Some(Num::Rational(3, 2))
@@ -285,7 +301,7 @@ mod tests {
     #[test]
     fn overflow_falls_back_to_float() {
         let big = Num::Rational(i128::MAX / 2, 1);
-        assert!(matches!(big.add(big).add(big), Num::Float(_)));
+        assert!(matches!(big + big + big, Num::Float(_)));
         assert!(matches!(
             Num::int(10).pow(Num::int(60)),
             Some(Num::Float(_))

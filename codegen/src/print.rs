@@ -86,9 +86,7 @@ impl<'a> Printer<'a> {
     fn number(&self, n: Num) -> (String, Prec) {
         match n {
             Num::Rational(_, 1) | Num::Float(_) if !n.is_negative() => (n.to_string(), Prec::Atom),
-            Num::Rational(_, 1) | Num::Float(_) => {
-                (format!("{}{}", self.minus(), n.neg()), Prec::Sum)
-            }
+            Num::Rational(_, 1) | Num::Float(_) => (format!("{}{}", self.minus(), -n), Prec::Sum),
             Num::Rational(p, q) => {
                 let sign = if p < 0 { self.minus() } else { "" };
                 (
@@ -119,7 +117,7 @@ impl<'a> Printer<'a> {
                     .map(|&(t, c)| (Some(t), c))
                     .chain(constant.map(|c| (None, c)));
                 for (i, (term, c)) in parts.enumerate() {
-                    let magnitude = if c.is_negative() { c.neg() } else { c };
+                    let magnitude = if c.is_negative() { -c } else { c };
                     let text = match term {
                         Some(t) => self.scaled(t, magnitude),
                         None => magnitude.to_string(),
@@ -146,7 +144,7 @@ impl<'a> Printer<'a> {
                 let (mut num, mut den) = (Vec::new(), Vec::new());
                 for &(b, e) in factors.iter() {
                     if e.is_negative() {
-                        den.push(self.power(b, e.neg()));
+                        den.push(self.power(b, -e));
                     } else {
                         num.push(self.power(b, e));
                     }

@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Runs every test of the project: unit, integration, property, snapshot,
+# compile-fail (trybuild) and doc tests, and the benches once each in test
+# mode so that they cannot rot. Needs only cargo; downloads crates on first use.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+export INSTA_UPDATE=no # snapshots are compared, never written, here
+cargo test --workspace --all-targets
+cargo test --workspace --doc
+# The main example checks itself and exits non-zero on disagreement.
+cargo run --quiet --example appell > /dev/null
