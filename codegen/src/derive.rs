@@ -4,6 +4,7 @@
 use crate::diff::Differentiator;
 use crate::expr::Id;
 use crate::model::{Level, System};
+use crate::motion::{self, MassInverse};
 
 /// A system together with its derived constraint equations.
 pub struct Equations {
@@ -13,6 +14,11 @@ pub struct Equations {
     pub a: Vec<Vec<Id>>,
     /// `b`, k: `bᵢ = −ψᵢ|_{q̈=0}`.
     pub b: Vec<Id>,
+    /// The constraints at velocity level: `φ̇` for position-level `φ`, `φ`
+    /// itself otherwise. Zero on consistent states; its Jacobian in `q̇` is `A`.
+    pub velocity_constraints: Vec<Id>,
+    /// How Gauss's principle is solved (see [`motion`]).
+    pub gauss: MassInverse,
 }
 
 /// Differentiates every constraint: velocity-level φ once, position-level φ
@@ -24,7 +30,7 @@ pub fn constraint_equations(mut system: System) -> Equations {
     let n = system.dof();
     let mut d = Differentiator::new();
     let g = &mut system.graph;
-    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
     for c in &system.constraints {
         let velocity_level = match c.level {
             Level::Velocity => c.phi,
@@ -34,6 +40,14 @@ pub fn constraint_equations(mut system: System) -> Equations {
         let (row, rest) = d.time_derivative(g, velocity_level, n);
         a.push(row);
         b.push(g.neg(rest));
+        velocity_constraints.push(velocity_level);
     }
-    Equations { system, a, b }
+    let gauss = motion::gauss(g, &system.mass, &system.forces, &a, &b);
+    Equations {
+        system,
+        a,
+        b,
+        velocity_constraints,
+        gauss,
+    }
 }

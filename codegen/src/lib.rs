@@ -21,6 +21,7 @@ pub mod expr;
 pub mod fixtures;
 pub mod linalg;
 pub mod model;
+pub mod motion;
 pub mod num;
 pub mod parse;
 pub mod print;

@@ -1,17 +1,26 @@
 //! The `no_std` runtime of [`constrained`](https://docs.rs/constrained).
 //!
-//! Generated code from `constrained_system!` is straight-line arithmetic; what it
-//! cannot specialise at compile time lives here: the machine-readable
-//! [`SymbolicSystem`] description and the conversion of literals into the
-//! user's scalar type.
+//! Generated code from `constrained_system!` is straight-line arithmetic; what
+//! it cannot specialise at compile time lives here: the [`State`] and
+//! [`ConstrainedSystem`] abstractions, the rank-revealing generalized inverse
+//! ([`inverse`]), errors as values, and the machine-readable
+//! [`SymbolicSystem`] description. Nothing here allocates or panics on user
+//! data.
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![deny(missing_docs)]
 
+mod error;
+pub mod inverse;
 mod level;
+mod state;
 mod symbolic;
+mod system;
 
+pub use error::DynamicsError;
 pub use level::ConstraintLevel;
+pub use state::State;
 pub use symbolic::SymbolicSystem;
+pub use system::ConstrainedSystem;
 
 /// Converts a compile-time `f64` literal of generated code into the scalar `T`.
 ///

@@ -1,0 +1,264 @@
+//! Straight-line code for a set of output expressions: variable bindings,
+//! shared temporaries in topological order, and the outputs themselves.
+
+use crate::cse::{Schedule, MAX_UNROLLED_POWER};
+use crate::derive::Equations;
+use crate::expr::{Graph, Id, Node, Sym};
+use crate::num::Num;
+use proc_macro2::{Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+use std::collections::HashMap;
+use syn::Ident;
+
+/// Binding strength of emitted Rust expressions, for parentheses.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) enum Prec {
+    Sum,
+    Product,
+    Unary,
+    Atom,
+}
+
+/// The body of one generated function: its variables, temporaries and outputs.
+pub(super) struct Body<'a> {
+    graph: &'a Graph,
+    schedule: Schedule,
+    coordinates: Vec<Ident>,
+    velocities: Vec<Ident>,
+    parameters: &'a [Ident],
+    used: Vec<Sym>,
+    temp_names: HashMap<Id, Ident>,
+}
+
+impl<'a> Body<'a> {
+    pub(super) fn new(eq: &'a Equations, roots: &[Id]) -> Body<'a> {
+        let g = &eq.system.graph;
+        let schedule = Schedule::new(g, roots);
+        let used = g
+            .reachable(roots)
+            .into_iter()
+            .filter_map(|id| match g.node(id) {
+                Node::Sym(s) => Some(*s),
+                _ => None,
+            })
+            .collect();
+        let temp_names = schedule
+            .temporaries
+            .iter()
+            .enumerate()
+            .map(|(i, &id)| (id, format_ident!("__t{}", i)))
+            .collect();
+        Body {
+            graph: g,
+            schedule,
+            coordinates: eq.system.coordinates.clone(),
+            velocities: eq
+                .system
+                .coordinates
+                .iter()
+                .map(|c| Ident::new(&super::velocity_name(&c.to_string()), c.span()))
+                .collect(),
+            parameters: &eq.system.parameters,
+            used,
+            temp_names,
+        }
+    }
+
+    /// Variable bindings, then temporaries.
+    pub(super) fn preamble(&self) -> TokenStream {
+        let pattern = |names: &[Ident], sym: fn(usize) -> Sym| {
+            let any = (0..names.len()).any(|i| self.used.contains(&sym(i)));
+            any.then(|| {
+                let parts = names.iter().enumerate().map(|(i, name)| {
+                    if self.used.contains(&sym(i)) {
+                        quote!(#name)
+                    } else {
+                        quote!(_)
+                    }
+                });
+                quote! { [[#(#parts),*]] }
+            })
+        };
+        let coords = pattern(&self.coordinates, Sym::Coord).map(|p| quote! { let #p = q.data.0; });
+        let vels = pattern(&self.velocities, Sym::Vel).map(|p| quote! { let #p = qd.data.0; });
+        let params = self
+            .parameters
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| self.used.contains(&Sym::Param(*i)))
+            .map(|(_, p)| quote! { let #p = self.#p; });
+        let temps = self.schedule.temporaries.iter().map(|&id| {
+            let name = &self.temp_names[&id];
+            let value = self.node(id).0;
+            quote! { let #name = #value; }
+        });
+        quote! { #coords #vels #(#params)* #(#temps)* }
+    }
+
+    /// The expression for `id`: a temporary's name or the node inlined.
+    pub(super) fn expr(&self, id: Id) -> TokenStream {
+        self.operand(id).0
+    }
+
+    fn operand(&self, id: Id) -> (TokenStream, Prec) {
+        if let Some(name) = self.temp_names.get(&id) {
+            return (quote!(#name), Prec::Atom);
+        }
+        self.node(id)
+    }
+
+    fn wrapped(&self, id: Id, at_least: Prec) -> TokenStream {
+        let (tokens, prec) = self.operand(id);
+        if prec < at_least {
+            quote! { (#tokens) }
+        } else {
+            tokens
+        }
+    }
+
+    fn node(&self, id: Id) -> (TokenStream, Prec) {
+        match self.graph.node(id) {
+            Node::Num(n) => literal(*n),
+            Node::Sym(s) => (
+                match *s {
+                    Sym::Coord(i) => {
+                        let c = &self.coordinates[i];
+                        quote!(#c)
+                    }
+                    Sym::Vel(i) => {
+                        let v = &self.velocities[i];
+                        quote!(#v)
+                    }
+                    Sym::Param(i) => {
+                        let p = &self.parameters[i];
+                        quote!(#p)
+                    }
+                    Sym::Time => quote!(t),
+                },
+                Prec::Atom,
+            ),
+            Node::Add(terms, c0) => self.sum(terms, *c0),
+            Node::Mul(factors) => self.product(factors),
+            Node::Pow(b, e) => {
+                let (b, e) = (self.wrapped(*b, Prec::Atom), self.expr(*e));
+                (quote! { #b.powf(#e) }, Prec::Atom)
+            }
+            Node::Func(f, a) => {
+                let a = self.wrapped(*a, Prec::Atom);
+                let method = Ident::new(f.name(), Span::call_site());
+                (quote! { #a.#method() }, Prec::Atom)
+            }
+            Node::Atan2(y, x) => {
+                let (y, x) = (self.wrapped(*y, Prec::Atom), self.expr(*x));
+                (quote! { #y.atan2(#x) }, Prec::Atom)
+            }
+        }
+    }
+
+    /// `Σ cᵢ·tᵢ + c₀` as `a + b - 2·c + …`: subtraction for negative
+    /// coefficients, no multiplication by ±1.
+    fn sum(&self, terms: &[(Id, Num)], c0: Num) -> (TokenStream, Prec) {
+        let mut out = TokenStream::new();
+        let constant = (!c0.is_zero()).then_some(c0);
+        let parts = terms
+            .iter()
+            .map(|&(t, c)| (Some(t), c))
+            .chain(constant.map(|c| (None, c)));
+        for (i, (term, c)) in parts.enumerate() {
+            let magnitude = if c.is_negative() { -c } else { c };
+            let value = match term {
+                Some(t) if magnitude.is_one() => self.wrapped(t, Prec::Product),
+                Some(t) => {
+                    let (lit, _) = literal(magnitude);
+                    let t = self.wrapped(t, Prec::Unary);
+                    quote! { #lit * #t }
+                }
+                None => literal(magnitude).0,
+            };
+            out.extend(match (i, c.is_negative()) {
+                (0, false) => value,
+                (0, true) => quote! { -#value },
+                (_, false) => quote! { + #value },
+                (_, true) => quote! { - #value },
+            });
+        }
+        let single = terms.len() == 1 && constant.is_none();
+        let prec = match (single, terms.first().map(|t| t.1.is_negative())) {
+            (true, Some(true)) if terms[0].1 == Num::MINUS_ONE => Prec::Unary,
+            (true, _) => Prec::Product,
+            _ => Prec::Sum,
+        };
+        (out, prec)
+    }
+
+    /// `Π bᵢ^eᵢ` as `num / den`, small integer powers unrolled.
+    fn product(&self, factors: &[(Id, Num)]) -> (TokenStream, Prec) {
+        let (mut num, mut den) = (Vec::new(), Vec::new());
+        for &(b, e) in factors {
+            if e.is_negative() {
+                den.extend(self.power(b, -e));
+            } else {
+                num.extend(self.power(b, e));
+            }
+        }
+        let numerator = join_product(&num).unwrap_or_else(|| quote!(T::one()));
+        match den.len() {
+            0 => (
+                numerator,
+                if num.len() == 1 {
+                    Prec::Unary
+                } else {
+                    Prec::Product
+                },
+            ),
+            1 => {
+                let d = &den[0];
+                (quote! { #numerator / #d }, Prec::Product)
+            }
+            _ => {
+                let d = join_product(&den).expect("non-empty denominator");
+                (quote! { #numerator / (#d) }, Prec::Product)
+            }
+        }
+    }
+
+    /// `b^e` for `e > 0` as factors to multiply: `[b, b]` for `e = 2`,
+    /// `[b.sqrt()]` for `e = 1/2`, `[b.powi(7)]`, `[b.powf(lit)]`.
+    fn power(&self, b: Id, e: Num) -> Vec<TokenStream> {
+        let base = self.wrapped(b, Prec::Unary);
+        let atom = self.wrapped(b, Prec::Atom);
+        match e.as_integer() {
+            Some(k) if k <= MAX_UNROLLED_POWER => vec![base; k as usize],
+            Some(k) => {
+                let k = Literal::i32_unsuffixed(k as i32);
+                vec![quote! { #atom.powi(#k) }]
+            }
+            None if e == Num::ratio(1, 2) => vec![quote! { #atom.sqrt() }],
+            None => {
+                let (lit, _) = literal(e);
+                vec![quote! { #atom.powf(#lit) }]
+            }
+        }
+    }
+}
+
+fn join_product(factors: &[TokenStream]) -> Option<TokenStream> {
+    let (first, rest) = factors.split_first()?;
+    Some(quote! { #first #(* #rest)* })
+}
+
+/// A constant of type `T`.
+pub(super) fn literal(n: Num) -> (TokenStream, Prec) {
+    if n.is_zero() {
+        return (quote!(T::zero()), Prec::Atom);
+    }
+    if n.is_one() {
+        return (quote!(T::one()), Prec::Atom);
+    }
+    let value = Literal::f64_suffixed(n.to_f64());
+    (
+        quote!(::constrained::__private::lit::<T>(#value)),
+        Prec::Atom,
+    )
+}
+

@@ -1,0 +1,393 @@
+//! Code for the generalized-inverse equation of motion (eq. 24–26):
+//! `acceleration`, `constraint_force`, `acceleration_moore_penrose` and the
+//! `ConstrainedSystem` impl.
+//!
+//! Both generated methods share one private solver, `gauss`, returning
+//! `(q̈, Aᵀλ)`; with `#[inline]` the unused half is optimised away. The
+//! constraint force is emitted as `Aᵀ λ` rather than `M q̈ − F`, which is the
+//! same quantity without the cancellation.
+
+use super::body::Body;
+use super::dim;
+use crate::derive::Equations;
+use crate::expr::Id;
+use crate::motion::{Diagonal, MassInverse};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use syn::Ident;
+
+/// Whether `acceleration` can fail: only when `M` is not known positive
+/// definite at compile time.
+pub(super) fn fallible(eq: &Equations) -> bool {
+    match &eq.gauss {
+        MassInverse::Diagonal(d) => !d.known_positive,
+        MassInverse::Cholesky => true,
+    }
+}
+
+/// The solver, the public methods and the trait impl's body items.
+pub(super) fn methods(eq: &Equations) -> TokenStream {
+    let n = dim(eq.system.dof());
+    let solver = match &eq.gauss {
+        MassInverse::Diagonal(d) => diagonal_solver(eq, d),
+        MassInverse::Cholesky => cholesky_solver(eq),
+    };
+    let moore_penrose = moore_penrose(eq);
+    let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
+    let args = quote! {
+        q: &::constrained::nalgebra::SVector<T, #n>,
+        qd: &::constrained::nalgebra::SVector<T, #n>,
+        t: T
+    };
+    let (ret, acc, force) = if fallible(eq) {
+        (
+            quote!(::core::result::Result<#vector, ::constrained::DynamicsError>),
+            quote!(self.gauss(q, qd, t).map(|s| s.0)),
+            quote!(self.gauss(q, qd, t).map(|s| s.1)),
+        )
+    } else {
+        (vector.clone(), quote!(self.gauss(q, qd, t).0), quote!(self.gauss(q, qd, t).1))
+    };
+    let fallibility = if fallible(eq) {
+        "`Err` when `M` is not positive definite at this state (it is not \
+         known to be at compile time)."
+    } else {
+        "Total: `M` is constant and positive definite."
+    };
+    let acc_doc = format!(
+        " The acceleration `q̈` by the generalized-inverse equation (Udwadia & \
+         Kalaba eq. 24–26): `M q̈ = F + Aᵀ λ` with `(A M⁻¹ Aᵀ) λ = b − A a`, \
+         solved with a rank-revealing {{1}}-inverse (see `constrained::inverse`). \
+         Where `A` loses rank the result is the minimiser of Gauss's principle \
+         over the constraints that remain independent (`q̈ = a` where `A = 0`); \
+         never NaN for finite input. {fallibility}"
+    );
+    let force_doc = format!(
+        " The constraint force `Fᶜ = M q̈ − F = Aᵀ λ` (the second term of eq. 26). \
+         {fallibility}"
+    );
+    quote! {
+        #solver
+
+        #[doc = #acc_doc]
+        #[inline]
+        pub fn acceleration(&self, #args) -> #ret { #acc }
+
+        #[doc = #force_doc]
+        #[inline]
+        pub fn constraint_force(&self, #args) -> #ret { #force }
+
+        #moore_penrose
+    }
+}
+
+/// The `ConstrainedSystem` impl.
+pub(super) fn trait_impl(eq: &Equations) -> TokenStream {
+    let name = &eq.system.name;
+    let (n, k) = (dim(eq.system.dof()), dim(eq.a.len()));
+    let state = quote!(&::constrained::State<T, #n>);
+    let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
+    let result = quote!(::core::result::Result<#vector, ::constrained::DynamicsError>);
+    let (acc, force) = if fallible(eq) {
+        (
+            quote!(self.acceleration(&s.q, &s.qd, s.t)),
+            quote!(self.constraint_force(&s.q, &s.qd, s.t)),
+        )
+    } else {
+        (
+            quote!(Ok(self.acceleration(&s.q, &s.qd, s.t))),
+            quote!(Ok(self.constraint_force(&s.q, &s.qd, s.t))),
+        )
+    };
+    quote! {
+        impl<T: ::constrained::nalgebra::RealField + Copy>
+            ::constrained::ConstrainedSystem<T, #n, #k> for #name<T>
+        {
+            const CONSTRAINT_LEVELS: [::constrained::ConstraintLevel; #k] = Self::CONSTRAINT_LEVELS;
+            fn mass_matrix(&self, s: #state) -> ::constrained::nalgebra::SMatrix<T, #n, #n> {
+                self.mass_matrix(&s.q, s.t)
+            }
+            fn forces(&self, s: #state) -> #vector {
+                self.forces(&s.q, &s.qd, s.t)
+            }
+            fn constraint_residual(&self, s: #state) -> ::constrained::nalgebra::SVector<T, #k> {
+                self.constraint_residual(&s.q, &s.qd, s.t)
+            }
+            fn constraint_matrices(&self, s: #state) -> (
+                ::constrained::nalgebra::SMatrix<T, #k, #n>,
+                ::constrained::nalgebra::SVector<T, #k>,
+            ) {
+                self.constraint_matrices(&s.q, &s.qd, s.t)
+            }
+            fn acceleration(&self, s: #state) -> #result { #acc }
+            fn constraint_force(&self, s: #state) -> #result { #force }
+        }
+    }
+}
+
+fn ident(prefix: &str, i: usize) -> Ident {
+    format_ident!("__{}{}", prefix, i)
+}
+
+fn ident2(prefix: &str, i: usize, j: usize) -> Ident {
+    format_ident!("__{}{}_{}", prefix, i, j)
+}
+
+/// `M` diagonal: `a`, `S`, `r`, `W` and `A` are straight-line expressions;
+/// `S λ = r` is solved by `LDLᵀ` on the structural pattern of `S`.
+fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
+    let (n, k) = (eq.system.dof(), eq.a.len());
+    let g = &eq.system.graph;
+    let mut named: Vec<(Ident, Id)> = Vec::new();
+    if !d.known_positive {
+        for (i, &m) in d.masses.iter().enumerate() {
+            named.push((ident("m", i), m));
+        }
+    }
+    for (i, &a) in d.unconstrained.iter().enumerate() {
+        named.push((ident("a", i), a));
+    }
+    for i in 0..k {
+        for j in 0..=i {
+            if !g.is_zero(d.gram[i][j]) {
+                named.push((ident2("s", i, j), d.gram[i][j]));
+            }
+        }
+        named.push((ident("r", i), d.residual[i]));
+    }
+    for i in 0..n {
+        for j in 0..k {
+            if !g.is_zero(d.weighted[i][j]) {
+                named.push((ident2("w", i, j), d.weighted[i][j]));
+                named.push((ident2("c", i, j), eq.a[j][i]));
+            }
+        }
+    }
+    let roots: Vec<Id> = named.iter().map(|(_, id)| *id).collect();
+    let body = Body::new(eq, &roots);
+    let preamble = body.preamble();
+    let bindings = named.iter().map(|(name, id)| {
+        let value = body.expr(*id);
+        quote! { let #name = #value; }
+    });
+    let check = (!d.known_positive).then(|| {
+        let positive = d.masses.iter().enumerate().map(|(i, _)| {
+            let m = ident("m", i);
+            quote! { #m > T::zero() }
+        });
+        quote! {
+            if !(#(#positive)&&*) {
+                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
+            }
+        }
+    });
+    let solve = structured_ldlt(eq, d);
+    let outputs = (0..n).map(|i| {
+        let a = ident("a", i);
+        let mut acc = quote!(#a);
+        let mut force = quote!(T::zero());
+        let mut first_force = true;
+        for j in 0..k {
+            if g.is_zero(d.weighted[i][j]) {
+                continue;
+            }
+            let (w, c, lam) = (ident2("w", i, j), ident2("c", i, j), ident("lam", j));
+            acc = quote!(#acc + #w * #lam);
+            force = if first_force {
+                quote!(#c * #lam)
+            } else {
+                quote!(#force + #c * #lam)
+            };
+            first_force = false;
+        }
+        (acc, force)
+    });
+    let (acc, force): (Vec<_>, Vec<_>) = outputs.unzip();
+    let nn = dim(n);
+    let vector = quote!(::constrained::nalgebra::SVector<T, #nn>);
+    let new_vector = quote!(::constrained::nalgebra::SVector::<T, #nn>::from_array_storage);
+    let result = quote! {
+        (
+            #new_vector(::constrained::nalgebra::ArrayStorage([[#(#acc),*]])),
+            #new_vector(::constrained::nalgebra::ArrayStorage([[#(#force),*]])),
+        )
+    };
+    let (ret, value) = if d.known_positive {
+        (quote!((#vector, #vector)), result)
+    } else {
+        (
+            quote!(::core::result::Result<(#vector, #vector), ::constrained::DynamicsError>),
+            quote!(::core::result::Result::Ok(#result)),
+        )
+    };
+    quote! {
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration` and
+        /// `constraint_force`.
+        #[inline]
+        fn gauss(&self, q: &#vector, qd: &#vector, t: T) -> #ret {
+            #preamble
+            #(#bindings)*
+            #check
+            #solve
+            #value
+        }
+    }
+}
+
+/// `S λ = r` by `L D Lᵀ` in natural order over the compile-time pattern
+/// (fill included): only structural nonzeros are touched, so a chain's
+/// tridiagonal `S` costs O(k). A pivot whose `sin²θ = dⱼ / Sⱼⱼ` is below
+/// `rank_tolerance` is dropped (`D⁺`), which removes its constraint; for
+/// k = 1 this is the scalar closed form `λ = r / S` with `λ = 0` where `S = 0`.
+fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
+    let k = eq.a.len();
+    let g = &eq.system.graph;
+    if k == 0 {
+        return TokenStream::new();
+    }
+    if k == 1 {
+        return quote! {
+            let __lam0 = if __s0_0 > T::zero() { __r0 / __s0_0 } else { T::zero() };
+        };
+    }
+    let l = &d.fill;
+    let s = |i: usize, j: usize| -> TokenStream {
+        if g.is_zero(d.gram[i][j]) {
+            quote!(T::zero())
+        } else {
+            let name = ident2("s", i.max(j), i.min(j));
+            quote!(#name)
+        }
+    };
+    let mut out = quote! { let __tol: T = ::constrained::inverse::rank_tolerance::<T>(); };
+    for j in 0..k {
+        let (dj, inv, sjj) = (ident("d", j), ident("inv", j), s(j, j));
+        let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
+            let (ljc, dc) = (ident2("l", j, c), ident("d", c));
+            quote!(- #ljc * #ljc * #dc)
+        });
+        out.extend(quote! {
+            let #dj = #sjj #(#updates)*;
+            let #inv = if #dj > __tol * #sjj { T::one() / #dj } else { T::zero() };
+        });
+        for i in j + 1..k {
+            if !l[i][j] {
+                continue;
+            }
+            let lij = ident2("l", i, j);
+            let sij = s(i, j);
+            let updates = (0..j).filter(|&c| l[i][c] && l[j][c]).map(|c| {
+                let (lic, ljc, dc) = (ident2("l", i, c), ident2("l", j, c), ident("d", c));
+                quote!(- #lic * #ljc * #dc)
+            });
+            out.extend(quote! { let #lij = (#sij #(#updates)*) * #inv; });
+        }
+    }
+    for i in 0..k {
+        let (y, r) = (ident("y", i), ident("r", i));
+        let updates = (0..i).filter(|&c| l[i][c]).map(|c| {
+            let (lic, yc) = (ident2("l", i, c), ident("y", c));
+            quote!(- #lic * #yc)
+        });
+        out.extend(quote! { let #y = #r #(#updates)*; });
+    }
+    for i in (0..k).rev() {
+        let (lam, y, inv) = (ident("lam", i), ident("y", i), ident("inv", i));
+        let updates = (i + 1..k).filter(|&c| l[c][i]).map(|c| {
+            let (lci, lamc) = (ident2("l", c, i), ident("lam", c));
+            quote!(- #lci * #lamc)
+        });
+        out.extend(quote! { let #lam = #y * #inv #(#updates)*; });
+    }
+    out
+}
+
+/// A full `M(q, t)`: Cholesky at run time, then `S = A M⁻¹ Aᵀ` and the
+/// pivoted `LDLᵀ` {1}-inverse of the runtime.
+fn cholesky_solver(eq: &Equations) -> TokenStream {
+    let (n, k) = (dim(eq.system.dof()), dim(eq.a.len()));
+    let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
+    let solve = if eq.a.is_empty() {
+        quote! { let __qdd = __acc; let __fc = ::constrained::nalgebra::SVector::<T, #n>::zeros(); }
+    } else {
+        quote! {
+            let (__a, __b) = self.constraint_matrices(q, qd, t);
+            let __w = __chol.solve(&__a.transpose());
+            let __s: ::constrained::nalgebra::SMatrix<T, #k, #k> = __a * __w;
+            let __lam = ::constrained::inverse::solve_psd(&__s, &(__b - __a * __acc));
+            let __qdd = __acc + __w * __lam;
+            let __fc = __a.transpose() * __lam;
+        }
+    };
+    quote! {
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration` and
+        /// `constraint_force`.
+        #[inline]
+        fn gauss(&self, q: &#vector, qd: &#vector, t: T)
+            -> ::core::result::Result<(#vector, #vector), ::constrained::DynamicsError>
+        {
+            let ::core::option::Option::Some(__chol) =
+                ::constrained::nalgebra::linalg::Cholesky::new(self.mass_matrix(q, t))
+            else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
+            };
+            let __acc = __chol.solve(&self.forces(q, qd, t));
+            #solve
+            ::core::result::Result::Ok((__qdd, __fc))
+        }
+    }
+}
+
+/// `q̈ = a + L⁻ᵀ (A L⁻ᵀ)⁺ (b − A a)` with `M = L Lᵀ` and the Moore–Penrose
+/// inverse by SVD: the reference form, selectable, not specialised.
+fn moore_penrose(eq: &Equations) -> TokenStream {
+    let (n, k) = (dim(eq.system.dof()), dim(eq.a.len()));
+    let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
+    let constrained = (!eq.a.is_empty()).then(|| {
+        quote! {
+            let (__a, __b) = self.constraint_matrices(q, qd, t);
+            let __l = __chol.l();
+            // X = A L⁻ᵀ, computed as Xᵀ = L⁻¹ Aᵀ.
+            let ::core::option::Option::Some(__xt) = __l.solve_lower_triangular(&__a.transpose()) else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
+            };
+            let __x: ::constrained::nalgebra::SMatrix<T, #k, #n> = __xt.transpose();
+            let ::core::option::Option::Some(__svd) =
+                ::constrained::nalgebra::linalg::SVD::try_new(__x, true, true, T::default_epsilon(), 10_000)
+            else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::NonFinite);
+            };
+            // Singular values below √(rank tolerance) of the largest are zero:
+            // the same sin θ threshold as the default {1}-inverse.
+            let __cut = ::constrained::inverse::rank_tolerance::<T>().sqrt() * __svd.singular_values.max();
+            let ::core::result::Result::Ok(__y) = __svd.solve(&(__b - __a * __acc), __cut) else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::NonFinite);
+            };
+            let ::core::option::Option::Some(__z) = __l.transpose().solve_upper_triangular(&__y) else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
+            };
+            let __acc = __acc + __z;
+        }
+    });
+    quote! {
+        /// The acceleration by the Moore–Penrose form of eq. 24 with
+        /// `M = L Lᵀ`: `q̈ = a + L⁻ᵀ (A L⁻ᵀ)⁺ (b − A a)`, by SVD at run time
+        /// (singular values below `√rank_tolerance` of the largest count as
+        /// zero). Slower than [`acceleration`](Self::acceleration); the same
+        /// result wherever the constraints are consistent. For comparison and
+        /// for states where the least-squares reading of inconsistent
+        /// constraints is wanted.
+        pub fn acceleration_moore_penrose(&self, q: &#vector, qd: &#vector, t: T)
+            -> ::core::result::Result<#vector, ::constrained::DynamicsError>
+        {
+            let ::core::option::Option::Some(__chol) =
+                ::constrained::nalgebra::linalg::Cholesky::new(self.mass_matrix(q, t))
+            else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
+            };
+            let __acc = __chol.solve(&self.forces(q, qd, t));
+            #constrained
+            ::core::result::Result::Ok(__acc)
+        }
+    }
+}

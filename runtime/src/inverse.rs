@@ -1,0 +1,159 @@
+//! Generalized inverses for fixed sizes, without allocation.
+//!
+//! Gauss's principle gives `q̈ = a + M⁻¹ Aᵀ λ` with `S λ = r`, where
+//! `S = A M⁻¹ Aᵀ` and `r = b − A a` (MATH.md, eq. 26). When the constraints
+//! are redundant `S` is singular and any {1}-inverse of `S` gives the same
+//! `q̈` on a consistent state; [`solve_psd`] builds one by pivoted `LDLᵀ`.
+//!
+//! # The rank tolerance
+//! `S` is the Gram matrix of the rows `wᵢ = M^{-1/2} aᵢ`, so the `LDLᵀ` pivot
+//! `dⱼ` of row `j` is `|wⱼ|² sin²θⱼ`, where `θⱼ` is the angle between `wⱼ` and
+//! the span of the rows already eliminated. A row is treated as dependent
+//! when `sin²θⱼ = dⱼ / Sⱼⱼ` falls below [`rank_tolerance`], `max(1e-6, 64 ε)`:
+//! rows within about 1e-3 rad of the others. The test is scale-free (each
+//! row is measured against itself), and the value is deliberately loose:
+//! redundancy holds only on the constraint surface, and the stages of an
+//! integrator sit slightly off it, where a redundant row is weakly
+//! independent. A cutoff near machine precision then enforces a spurious
+//! constraint and the integration stalls or blows up (observed with cutoffs
+//! up to 1e-9); 1e-6 is where it was observed to work (MATH.md). `64 ε`
+//! keeps the test meaningful in `f32`.
+
+use nalgebra::{RealField, SMatrix, SVector};
+
+/// The relative pivot tolerance `max(1e-6, 64 ε)` on `sin²θ` (module docs).
+#[inline]
+pub fn rank_tolerance<T: RealField + Copy>() -> T {
+    let floor = nalgebra::convert::<f64, T>(1e-6);
+    let eps = T::default_epsilon() * nalgebra::convert::<f64, T>(64.0);
+    if eps > floor {
+        eps
+    } else {
+        floor
+    }
+}
+
+/// `λ = S^{1} r` for a symmetric positive semidefinite `S`, with the
+/// {1}-inverse of a pivoted `LDLᵀ` factorization: at each step the remaining
+/// row most independent of those eliminated (largest `sin²θ`) is pivoted on,
+/// and rows whose `sin²θ` is below [`rank_tolerance`] get a zero pivot
+/// (`D⁺`), which removes them from the system. For a consistent system this
+/// gives the same `Aᵀλ` as the Moore–Penrose inverse. Never divides by zero;
+/// `O(K³)` operations on the stack.
+pub fn solve_psd<T: RealField + Copy, const K: usize>(
+    s: &SMatrix<T, K, K>,
+    r: &SVector<T, K>,
+) -> SVector<T, K> {
+    let tol = rank_tolerance::<T>();
+    let mut a = *s; // Schur complements, in the original row order
+    let mut l = SMatrix::<T, K, K>::zeros(); // unit lower factor, by elimination step
+    let mut d = SVector::<T, K>::zeros();
+    let mut order = [0usize; K];
+    let mut done = [false; K];
+    for step in 0..K {
+        // The most independent remaining row: largest sin²θ = a_ii / s_ii.
+        let mut best: Option<(usize, T)> = None;
+        for i in 0..K {
+            if done[i] {
+                continue;
+            }
+            let ratio = if s[(i, i)] > T::zero() {
+                a[(i, i)] / s[(i, i)]
+            } else {
+                T::zero()
+            };
+            if best.is_none_or(|(_, b)| ratio > b) {
+                best = Some((i, ratio));
+            }
+        }
+        let Some((p, ratio)) = best else { break };
+        order[step] = p;
+        done[p] = true;
+        if !(ratio > tol) {
+            // Dependent (or all remaining are): zero pivot, no update.
+            continue;
+        }
+        let dp = a[(p, p)];
+        d[step] = dp;
+        for i in 0..K {
+            if !done[i] {
+                l[(i, step)] = a[(i, p)] / dp;
+            }
+        }
+        for i in 0..K {
+            for j in 0..K {
+                if !done[i] && !done[j] {
+                    a[(i, j)] -= l[(i, step)] * dp * l[(j, step)];
+                }
+            }
+        }
+    }
+    // P S Pᵀ = L D Lᵀ; solve L y = P r, z = D⁺ y, Lᵀ w = z, λ = Pᵀ w.
+    let mut y = SVector::<T, K>::zeros();
+    for step in 0..K {
+        let row = order[step];
+        let mut v = r[row];
+        for prev in 0..step {
+            v -= l[(row, prev)] * y[prev];
+        }
+        y[step] = v;
+    }
+    let mut w = SVector::<T, K>::zeros();
+    for step in (0..K).rev() {
+        let mut v = if d[step] != T::zero() {
+            y[step] / d[step]
+        } else {
+            T::zero()
+        };
+        for next in step + 1..K {
+            v -= l[(order[next], step)] * w[next];
+        }
+        w[step] = v;
+    }
+    let mut lambda = SVector::<T, K>::zeros();
+    for step in 0..K {
+        lambda[order[step]] = w[step];
+    }
+    lambda
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix3, Vector3};
+
+    #[test]
+    fn solves_a_definite_system() {
+        let s = Matrix3::new(4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0);
+        let r = Vector3::new(1.0, -2.0, 0.5);
+        let lambda = solve_psd(&s, &r);
+        assert!((s * lambda - r).norm() < 1e-14);
+    }
+
+    #[test]
+    fn is_a_one_inverse_of_a_singular_matrix() {
+        // S = B Bᵀ with rank 2; r in the range of S: S λ = r must hold.
+        let b = nalgebra::Matrix3x2::new(1.0, 2.0, 0.5, -1.0, 1.5, 1.0);
+        let s = b * b.transpose();
+        let r = s * Vector3::new(0.3, -0.7, 1.1);
+        let lambda = solve_psd(&s, &r);
+        assert!((s * lambda - r).norm() < 1e-12, "{}", (s * lambda - r).norm());
+        // S G S = S for the {1}-inverse G applied column by column.
+        for j in 0..3 {
+            let col = s.column(j).into_owned();
+            assert!((s * solve_psd(&s, &col) - col).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn zero_matrix_gives_zero() {
+        let lambda = solve_psd(&Matrix3::<f64>::zeros(), &Vector3::new(1.0, 2.0, 3.0));
+        assert_eq!(lambda, Vector3::zeros());
+    }
+
+    #[test]
+    fn tolerance_is_loose_in_f64_and_meaningful_in_f32() {
+        assert_eq!(rank_tolerance::<f64>(), 1e-6);
+        assert!(rank_tolerance::<f32>() > 64.0 * f32::EPSILON * 0.99);
+    }
+}
