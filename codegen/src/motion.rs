@@ -68,7 +68,10 @@ pub fn gauss(
             let shared: Vec<usize> = (0..n)
                 .filter(|&l| !g.is_zero(a[i][l]) && !g.is_zero(a[j][l]))
                 .collect();
-            let terms: Vec<Id> = shared.iter().map(|&l| g.mul2(a[i][l], weighted[l][j])).collect();
+            let terms: Vec<Id> = shared
+                .iter()
+                .map(|&l| g.mul2(a[i][l], weighted[l][j]))
+                .collect();
             let s = g.add(&terms);
             gram[i][j] = s;
             gram[j][i] = s;
@@ -118,7 +121,11 @@ mod tests {
         let zero = g.int(0);
         let k: usize = 6;
         let s: Vec<Vec<Id>> = (0..k)
-            .map(|i| (0..k).map(|j| if i.abs_diff(j) <= 1 { one } else { zero }).collect())
+            .map(|i| {
+                (0..k)
+                    .map(|j| if i.abs_diff(j) <= 1 { one } else { zero })
+                    .collect()
+            })
             .collect();
         let l = factor_pattern(&g, &s);
         for i in 0..k {
@@ -135,7 +142,17 @@ mod tests {
         let one = g.int(1);
         let zero = g.int(0);
         let s: Vec<Vec<Id>> = (0..4)
-            .map(|i| (0..4).map(|j| if i == 0 || j == 0 || i == j { one } else { zero }).collect())
+            .map(|i| {
+                (0..4)
+                    .map(|j| {
+                        if i == 0 || j == 0 || i == j {
+                            one
+                        } else {
+                            zero
+                        }
+                    })
+                    .collect()
+            })
             .collect();
         let l = factor_pattern(&g, &s);
         assert!(l[3][1] && l[3][2] && l[2][1]);

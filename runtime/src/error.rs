@@ -7,8 +7,8 @@ pub enum DynamicsError {
     /// non-positive diagonal entry, or its Cholesky factorization failed), so
     /// Gauss's principle has no minimiser.
     MassNotPositiveDefinite,
-    /// The inputs were not finite, or the singular value decomposition of
-    /// the Moore–Penrose variant did not converge on them.
+    /// The inputs were not finite: the singular value decomposition of the
+    /// Moore–Penrose variant did not converge on them.
     NonFinite,
 }
 

@@ -137,7 +137,11 @@ mod tests {
         let s = b * b.transpose();
         let r = s * Vector3::new(0.3, -0.7, 1.1);
         let lambda = solve_psd(&s, &r);
-        assert!((s * lambda - r).norm() < 1e-12, "{}", (s * lambda - r).norm());
+        assert!(
+            (s * lambda - r).norm() < 1e-12,
+            "{}",
+            (s * lambda - r).norm()
+        );
         // S G S = S for the {1}-inverse G applied column by column.
         for j in 0..3 {
             let col = s.column(j).into_owned();

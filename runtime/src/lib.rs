@@ -13,6 +13,7 @@ mod error;
 pub mod inverse;
 mod level;
 mod state;
+pub mod svd;
 mod symbolic;
 mod system;
 

@@ -20,6 +20,13 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// `q̈` by the generalized-inverse equation (eq. 24–26). `Err` only when
     /// `M` is not positive definite at this state.
     fn acceleration(&self, state: &State<T, N>) -> Result<SVector<T, N>, DynamicsError>;
+    /// `q̈` by the Moore–Penrose form of eq. 24 (SVD at run time): the same
+    /// as [`acceleration`](Self::acceleration) wherever the constraints are
+    /// consistent, slower.
+    fn acceleration_moore_penrose(
+        &self,
+        state: &State<T, N>,
+    ) -> Result<SVector<T, N>, DynamicsError>;
     /// The constraint force `M q̈ − F`, with the same error as
     /// [`acceleration`](Self::acceleration).
     fn constraint_force(&self, state: &State<T, N>) -> Result<SVector<T, N>, DynamicsError>;

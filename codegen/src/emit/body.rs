@@ -261,4 +261,3 @@ pub(super) fn literal(n: Num) -> (TokenStream, Prec) {
         Prec::Atom,
     )
 }
-

@@ -46,7 +46,11 @@ pub(super) fn methods(eq: &Equations) -> TokenStream {
             quote!(self.gauss(q, qd, t).map(|s| s.1)),
         )
     } else {
-        (vector.clone(), quote!(self.gauss(q, qd, t).0), quote!(self.gauss(q, qd, t).1))
+        (
+            vector.clone(),
+            quote!(self.gauss(q, qd, t).0),
+            quote!(self.gauss(q, qd, t).1),
+        )
     };
     let fallibility = if fallible(eq) {
         "`Err` when `M` is not positive definite at this state (it is not \
@@ -121,6 +125,9 @@ pub(super) fn trait_impl(eq: &Equations) -> TokenStream {
             }
             fn acceleration(&self, s: #state) -> #result { #acc }
             fn constraint_force(&self, s: #state) -> #result { #force }
+            fn acceleration_moore_penrose(&self, s: #state) -> #result {
+                self.acceleration_moore_penrose(&s.q, &s.qd, s.t)
+            }
         }
     }
 }
@@ -352,15 +359,15 @@ fn moore_penrose(eq: &Equations) -> TokenStream {
                 return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
             };
             let __x: ::constrained::nalgebra::SMatrix<T, #k, #n> = __xt.transpose();
-            let ::core::option::Option::Some(__svd) =
-                ::constrained::nalgebra::linalg::SVD::try_new(__x, true, true, T::default_epsilon(), 10_000)
-            else {
-                return ::core::result::Result::Err(::constrained::DynamicsError::NonFinite);
-            };
             // Singular values below √(rank tolerance) of the largest are zero:
             // the same sin θ threshold as the default {1}-inverse.
-            let __cut = ::constrained::inverse::rank_tolerance::<T>().sqrt() * __svd.singular_values.max();
-            let ::core::result::Result::Ok(__y) = __svd.solve(&(__b - __a * __acc), __cut) else {
+            let ::core::option::Option::Some(__sv) = ::constrained::svd::singular_values(&__xt) else {
+                return ::core::result::Result::Err(::constrained::DynamicsError::NonFinite);
+            };
+            let __cut = ::constrained::inverse::rank_tolerance::<T>().sqrt() * __sv.max();
+            let ::core::option::Option::Some(__y) =
+                ::constrained::svd::pseudo_inverse_solve(&__x, &(__b - __a * __acc), __cut)
+            else {
                 return ::core::result::Result::Err(::constrained::DynamicsError::NonFinite);
             };
             let ::core::option::Option::Some(__z) = __l.transpose().solve_upper_triangular(&__y) else {

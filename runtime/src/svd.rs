@@ -1,0 +1,164 @@
+//! Singular value decomposition by one-sided Jacobi rotations (Hestenes),
+//! for fixed sizes, without allocation.
+//!
+//! Used for the Moore–Penrose form of the equation of motion. nalgebra's
+//! own `SVD` is not used: it can return wrong singular values for small
+//! rank-deficient matrices without reporting failure (nalgebra issue #1172,
+//! reproduced here on the redundant double pendulum's `A M^{-1/2}`).
+//! One-sided Jacobi is short, needs no bidiagonalisation, and computes small
+//! singular values to high relative accuracy.
+
+use nalgebra::{RealField, SMatrix, SVector};
+
+/// Sweeps after which an input is declared non-convergent (only non-finite
+/// input gets near it: Jacobi converges quadratically, ~6–10 sweeps).
+const MAX_SWEEPS: usize = 64;
+
+/// `X⁺ r` for `X` of size `R × C`, the minimum-norm least-squares solution of
+/// `X y = r`. Singular values at or below `cut` count as zero. `None` when
+/// the rotations do not converge (non-finite input).
+///
+/// Jacobi is applied to the columns of `B = Xᵀ` (`C × R`): `B V = W` with
+/// orthogonal columns `wᵢ` of norms `σᵢ`, so that `X = V Σ Uᵀ` with
+/// `uᵢ = wᵢ/σᵢ` and `X⁺ r = Σᵢ wᵢ (vᵢ · r) / σᵢ²`.
+pub fn pseudo_inverse_solve<T: RealField + Copy, const R: usize, const C: usize>(
+    x: &SMatrix<T, R, C>,
+    r: &SVector<T, R>,
+    cut: T,
+) -> Option<SVector<T, C>> {
+    let (w, v) = orthogonalize(x.transpose())?;
+    let mut y = SVector::<T, C>::zeros();
+    for i in 0..R {
+        let sigma2 = w.column(i).norm_squared();
+        if sigma2.sqrt() > cut {
+            y += w.column(i) * (v.column(i).dot(r) / sigma2);
+        }
+    }
+    Some(y)
+}
+
+/// The singular values of `x`, in no particular order. `None` when the
+/// rotations do not converge (non-finite input).
+pub fn singular_values<T: RealField + Copy, const R: usize, const C: usize>(
+    x: &SMatrix<T, R, C>,
+) -> Option<SVector<T, C>> {
+    let (w, _) = orthogonalize(*x)?;
+    Some(SVector::from_fn(|i, _| w.column(i).norm()))
+}
+
+/// One-sided Jacobi: rotates the columns of `b` until they are mutually
+/// orthogonal, accumulating the rotations in `V`. Returns `(B V, V)`.
+fn orthogonalize<T: RealField + Copy, const M: usize, const K: usize>(
+    mut b: SMatrix<T, M, K>,
+) -> Option<(SMatrix<T, M, K>, SMatrix<T, K, K>)> {
+    let mut v = SMatrix::<T, K, K>::identity();
+    let eps = T::default_epsilon();
+    // Columns below ε‖B‖ are zero to working precision: rotating them only
+    // stirs rounding noise and would never converge (rank deficiency).
+    let negligible = {
+        let e = eps * b.norm();
+        e * e
+    };
+    for _ in 0..MAX_SWEEPS {
+        let mut rotated = false;
+        for p in 0..K {
+            for q in p + 1..K {
+                let alpha = b.column(p).norm_squared();
+                let beta = b.column(q).norm_squared();
+                let gamma = b.column(p).dot(&b.column(q));
+                if alpha <= negligible
+                    || beta <= negligible
+                    || gamma.abs() <= eps * (alpha * beta).sqrt()
+                {
+                    continue;
+                }
+                rotated = true;
+                let zeta = (beta - alpha) / (gamma + gamma);
+                let t = zeta.signum() / (zeta.abs() + (T::one() + zeta * zeta).sqrt());
+                let t = if zeta == T::zero() { T::one() } else { t };
+                let c = T::one() / (T::one() + t * t).sqrt();
+                let s = c * t;
+                rotate(&mut b, p, q, c, s);
+                rotate(&mut v, p, q, c, s);
+            }
+        }
+        if !rotated {
+            return Some((b, v));
+        }
+        if !b.iter().all(|e| e.is_finite()) {
+            return None;
+        }
+    }
+    None
+}
+
+fn rotate<T: RealField + Copy, const M: usize, const K: usize>(
+    m: &mut SMatrix<T, M, K>,
+    p: usize,
+    q: usize,
+    c: T,
+    s: T,
+) {
+    for i in 0..M {
+        let (mp, mq) = (m[(i, p)], m[(i, q)]);
+        m[(i, p)] = c * mp - s * mq;
+        m[(i, q)] = s * mp + c * mq;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix3x4, SMatrix, Vector3};
+
+    /// The matrix on which nalgebra 0.35's SVD returns a wrong decomposition
+    /// (|U Σ Vᵀ − X| = 0.19): `A M^{-1/2}` of the redundant double pendulum.
+    fn redundant_pendulum_x() -> Matrix3x4<f64> {
+        Matrix3x4::new(
+            -0.9146447279664707,
+            0.2608436377334566,
+            0.0,
+            0.0,
+            2.989170947895696,
+            1.3943663384266562,
+            -3.014564126137845,
+            -1.406211560256959,
+            -2.6972842145594416,
+            3.016062287716998,
+            -3.014564126137845,
+            -1.406211560256959,
+        )
+    }
+
+    #[test]
+    fn singular_values_preserve_the_frobenius_norm() {
+        // Σσᵢ² = |X|²_F for every matrix: the identity nalgebra's SVD breaks.
+        let x = redundant_pendulum_x();
+        let sv = singular_values(&x).unwrap();
+        assert!((sv.norm_squared() - x.norm_squared()).abs() < 1e-13 * x.norm_squared());
+        let ones = SMatrix::<f64, 3, 5>::repeat(1.0);
+        let sv = singular_values(&ones).unwrap();
+        assert!((sv.max() - 15f64.sqrt()).abs() < 1e-14, "{sv}");
+    }
+
+    #[test]
+    fn pseudo_inverse_satisfies_penrose_conditions() {
+        let x = redundant_pendulum_x();
+        let cut = 1e-10 * singular_values(&x).unwrap().max();
+        // X⁺ applied to each unit vector gives X⁺ column by column.
+        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| {
+            pseudo_inverse_solve(&x, &Vector3::ith(j, 1.0), cut).unwrap()[i]
+        });
+        assert!((x * xp * x - x).norm() < 1e-13 * x.norm()); // (1)
+        assert!((xp * x * xp - xp).norm() < 1e-12 * xp.norm()); // (2)
+        assert!(((x * xp).transpose() - x * xp).norm() < 1e-13); // (3)
+        assert!(((xp * x).transpose() - xp * x).norm() < 1e-13); // (4)
+    }
+
+    #[test]
+    fn non_finite_input_is_reported() {
+        let mut x = redundant_pendulum_x();
+        x[(0, 0)] = f64::NAN;
+        assert!(pseudo_inverse_solve(&x, &Vector3::new(1.0, 2.0, 3.0), 1e-12).is_none());
+    }
+}
