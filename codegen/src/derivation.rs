@@ -5,6 +5,7 @@
 use crate::derive::Equations;
 use crate::expr::Id;
 use crate::model::Level;
+use crate::motion::MassInverse;
 use crate::print::{subscript, Printer, Style};
 use std::fmt::Write;
 
@@ -86,5 +87,78 @@ pub fn text(eq: &Equations) -> String {
         let _ = writeln!(w, "  A{s} = [{}]", row(a));
         let _ = writeln!(w, "  b{s} = {}", p.print(b));
     }
+    let _ = writeln!(w);
+    generalized_inverse(w, eq, &p, &coordinates);
     out
+}
+
+/// The generalized-inverse equation (eq. 26) as it is solved.
+fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates: &[String]) {
+    let g = &eq.system.graph;
+    let k = eq.a.len();
+    let _ = writeln!(
+        w,
+        "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  (A M⁻¹ Aᵀ) λ = b − A a,  a = M⁻¹ F:"
+    );
+    let MassInverse::Diagonal(d) = &eq.gauss else {
+        let _ = writeln!(
+            w,
+            "  M is not diagonal: M = L Lᵀ (Cholesky) at run time, a = M⁻¹ F,\n  \
+             λ by pivoted LDLᵀ of A M⁻¹ Aᵀ (a {{1}}-inverse; rows with sin²θ < max(1e-6, 64ε) dropped),\n  \
+             q̈ = a + M⁻¹ Aᵀ λ,  Fᶜ = Aᵀ λ."
+        );
+        return;
+    };
+    for (c, &a) in coordinates.iter().zip(&d.unconstrained) {
+        let _ = writeln!(w, "  a[{c}] = {}", p.print(a));
+    }
+    for i in 0..k {
+        for j in i..k {
+            if !g.is_zero(d.gram[i][j]) {
+                let _ = writeln!(
+                    w,
+                    "  (A M⁻¹ Aᵀ){}{} = {}",
+                    subscript(i + 1),
+                    subscript(j + 1),
+                    p.print(d.gram[i][j])
+                );
+            }
+        }
+    }
+    for i in 0..k {
+        let _ = writeln!(
+            w,
+            "  (b − A a){} = {}",
+            subscript(i + 1),
+            p.print(d.residual[i])
+        );
+    }
+    match k {
+        0 => {}
+        1 => {
+            let _ = writeln!(
+                w,
+                "  λ₁ = (b − A a)₁ / (A M⁻¹ Aᵀ)₁₁, and 0 where A M⁻¹ Aᵀ = 0 (A = 0)"
+            );
+        }
+        _ => {
+            let fill = (0..k)
+                .flat_map(|i| (0..i).map(move |j| (i, j)))
+                .filter(|&(i, j)| d.fill[i][j])
+                .count();
+            let _ = writeln!(
+                w,
+                "  λ by LDLᵀ of A M⁻¹ Aᵀ in natural order on its compile-time pattern \
+                 ({fill} of {} subdiagonal entries of L nonzero);\n  \
+                 rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)",
+                k * (k - 1) / 2
+            );
+        }
+    }
+    for (c, &e) in coordinates.iter().zip(&d.acceleration) {
+        let _ = writeln!(w, "  q̈[{c}] = {}", p.print(e));
+    }
+    for (c, &e) in coordinates.iter().zip(&d.force) {
+        let _ = writeln!(w, "  Fᶜ[{c}] = {}", p.print(e));
+    }
 }

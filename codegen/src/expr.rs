@@ -42,6 +42,9 @@ pub enum Sym {
     Time,
     /// Parameter `pᵢ` (a struct field).
     Param(usize),
+    /// Lagrange multiplier `λᵢ` of Gauss's principle: computed at run time
+    /// by a factorization, then a variable of the expressions for `q̈`.
+    Multiplier(usize),
 }
 
 /// Elementary functions of one argument.
@@ -354,6 +357,32 @@ impl Graph {
                             pending.push((t, e));
                         }
                         None => factors.push((id, e)),
+                    }
+                }
+                // A sum as a factor is made primitive (leading coefficient 1)
+                // and its content joins the coefficient, so that g·(2y − 2z)
+                // and g·(−2y + 2z) become ±2·g·(y − z) and collect. Exact
+                // rational content under an integer power only.
+                Node::Add(terms, c0) if integer_power => {
+                    let content = terms[0].1;
+                    if content.is_one() || !matches!(content, Num::Rational(..)) {
+                        factors.push((id, e));
+                    } else {
+                        let inv = content.recip();
+                        let scaled: Vec<(Id, Num)> =
+                            terms.iter().map(|&(t, c)| (t, c * inv)).collect();
+                        let constant = *c0 * inv;
+                        let mut items = scaled;
+                        let k = self.num(constant);
+                        items.push((k, Num::ONE));
+                        let primitive = self.linear_combination(items);
+                        match content.pow(e) {
+                            Some(v) => {
+                                coefficient = coefficient * v;
+                                pending.push((primitive, e));
+                            }
+                            None => factors.push((id, e)),
+                        }
                     }
                 }
                 // (Π bᵢ^eᵢ)^e = Π bᵢ^(eᵢ·e) for integer e.

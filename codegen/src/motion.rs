@@ -8,7 +8,7 @@
 //! factorization pattern computed here skips. Otherwise `M` is factorized
 //! at run time (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
-use crate::expr::{Graph, Id};
+use crate::expr::{Graph, Id, Sym};
 use crate::num::Num;
 
 /// How `M⁻¹` is applied.
@@ -31,8 +31,10 @@ pub struct Diagonal {
     pub gram: Vec<Vec<Id>>,
     /// `r = b − A a`.
     pub residual: Vec<Id>,
-    /// `W = M⁻¹ Aᵀ`, n × k.
-    pub weighted: Vec<Vec<Id>>,
+    /// `q̈ = a + M⁻¹ Aᵀ λ`, in terms of the multipliers `Sym::Multiplier`.
+    pub acceleration: Vec<Id>,
+    /// `Fᶜ = Aᵀ λ`, in terms of the multipliers.
+    pub force: Vec<Id>,
     /// `fill[i][j]` (i > j): entry (i, j) of the unit lower factor of
     /// `S = L D Lᵀ` (natural order) is not structurally zero.
     pub fill: Vec<Vec<bool>>,
@@ -85,13 +87,27 @@ pub fn gauss(
         })
         .collect();
     let fill = factor_pattern(g, &gram);
+    let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
+    let mut acceleration = Vec::with_capacity(n);
+    let mut force = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut acc = vec![unconstrained[i]];
+        let mut f = Vec::with_capacity(k);
+        for j in 0..k {
+            acc.push(g.mul2(weighted[i][j], lambda[j]));
+            f.push(g.mul2(a[j][i], lambda[j]));
+        }
+        acceleration.push(g.add(&acc));
+        force.push(g.add(&f));
+    }
     MassInverse::Diagonal(Diagonal {
         masses,
         known_positive,
         unconstrained,
         gram,
         residual,
-        weighted,
+        acceleration,
+        force,
         fill,
     })
 }

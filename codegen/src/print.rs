@@ -106,6 +106,10 @@ impl<'a> Printer<'a> {
                     Sym::Vel(i) => self.velocity(i),
                     Sym::Param(i) => self.parameters[i].clone(),
                     Sym::Time => "t".to_string(),
+                    Sym::Multiplier(i) => match self.style {
+                        Style::Unicode => format!("λ{}", subscript(i + 1)),
+                        Style::Sympy => format!("lambda_{}", i + 1),
+                    },
                 },
                 Prec::Atom,
             ),

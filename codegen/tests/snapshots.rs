@@ -13,31 +13,30 @@ fn expansions_and_derivations() {
         "expected every reference model, found {}",
         models.len()
     );
-    // Every model is checked even after a mismatch, so that one run writes
+    // Every snapshot is checked even after a mismatch, so that one run writes
     // every `.snap.new` to review.
-    let failed: Vec<String> = models
-        .into_iter()
-        .filter_map(|model| {
-            let name = model.name.clone();
-            std::panic::catch_unwind(move || snapshot(model))
-                .err()
-                .map(|_| name)
-        })
-        .collect();
-    assert!(failed.is_empty(), "snapshots differ for: {failed:?}");
-}
-
-fn snapshot(model: common::Invocation) {
-    let expanded = constrained_codegen::expand(model.tokens.clone())
-        .unwrap_or_else(|e| panic!("{} fails to expand: {e}", model.name));
-    let file: syn::File = syn::parse2(expanded).expect("expansion is valid Rust");
-    insta::assert_snapshot!(
-        format!("{}_expansion", model.name),
-        prettyplease::unparse(&file)
-    );
-    let equations = constrained_codegen::analyse(model.tokens).expect("analyses");
-    insta::assert_snapshot!(
-        format!("{}_derivation", model.name),
-        constrained_codegen::derivation::text(&equations)
-    );
+    let mut failed = Vec::new();
+    for model in models {
+        let expanded = constrained_codegen::expand(model.tokens.clone())
+            .unwrap_or_else(|e| panic!("{} fails to expand: {e}", model.name));
+        let file: syn::File = syn::parse2(expanded).expect("expansion is valid Rust");
+        let equations = constrained_codegen::analyse(model.tokens).expect("analyses");
+        let snapshots = [
+            (
+                format!("{}_expansion", model.name),
+                prettyplease::unparse(&file),
+            ),
+            (
+                format!("{}_derivation", model.name),
+                constrained_codegen::derivation::text(&equations),
+            ),
+        ];
+        for (name, text) in snapshots {
+            let checked = std::panic::catch_unwind(|| insta::assert_snapshot!(name.clone(), text));
+            if checked.is_err() {
+                failed.push(name);
+            }
+        }
+    }
+    assert!(failed.is_empty(), "snapshots differ: {failed:?}");
 }

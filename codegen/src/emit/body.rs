@@ -28,6 +28,8 @@ pub(super) struct Body<'a> {
     parameters: &'a [Ident],
     used: Vec<Sym>,
     temp_names: HashMap<Id, Ident>,
+    /// Nodes whose value needs the multipliers λ (computed mid-function).
+    needs_multipliers: Vec<bool>,
 }
 
 impl<'a> Body<'a> {
@@ -48,7 +50,15 @@ impl<'a> Body<'a> {
             .enumerate()
             .map(|(i, &id)| (id, format_ident!("__t{}", i)))
             .collect();
+        let mut needs_multipliers = vec![false; g.len()];
+        for id in g.reachable(roots) {
+            needs_multipliers[id.index()] = match g.node(id) {
+                Node::Sym(s) => matches!(s, Sym::Multiplier(_)),
+                _ => g.children(id).iter().any(|c| needs_multipliers[c.index()]),
+            };
+        }
         Body {
+            needs_multipliers,
             graph: g,
             schedule,
             coordinates: eq.system.coordinates.clone(),
@@ -64,7 +74,8 @@ impl<'a> Body<'a> {
         }
     }
 
-    /// Variable bindings, then temporaries.
+    /// Variable bindings, then the temporaries that do not need the
+    /// multipliers λ.
     pub(super) fn preamble(&self) -> TokenStream {
         let pattern = |names: &[Ident], sym: fn(usize) -> Sym| {
             let any = (0..names.len()).any(|i| self.used.contains(&sym(i)));
@@ -87,12 +98,27 @@ impl<'a> Body<'a> {
             .enumerate()
             .filter(|(i, _)| self.used.contains(&Sym::Param(*i)))
             .map(|(_, p)| quote! { let #p = self.#p; });
-        let temps = self.schedule.temporaries.iter().map(|&id| {
-            let name = &self.temp_names[&id];
-            let value = self.node(id).0;
-            quote! { let #name = #value; }
-        });
-        quote! { #coords #vels #(#params)* #(#temps)* }
+        let temps = self.temporaries(false);
+        quote! { #coords #vels #(#params)* #temps }
+    }
+
+    /// The temporaries that need the multipliers λ, to emit once they are known.
+    pub(super) fn after_multipliers(&self) -> TokenStream {
+        self.temporaries(true)
+    }
+
+    fn temporaries(&self, need_multipliers: bool) -> TokenStream {
+        let temps = self
+            .schedule
+            .temporaries
+            .iter()
+            .filter(|id| self.needs_multipliers[id.index()] == need_multipliers)
+            .map(|&id| {
+                let name = &self.temp_names[&id];
+                let value = self.node(id).0;
+                quote! { let #name = #value; }
+            });
+        quote! { #(#temps)* }
     }
 
     /// The expression for `id`: a temporary's name or the node inlined.
@@ -134,6 +160,10 @@ impl<'a> Body<'a> {
                         quote!(#p)
                     }
                     Sym::Time => quote!(t),
+                    Sym::Multiplier(i) => {
+                        let l = format_ident!("__lam{}", i);
+                        quote!(#l)
+                    }
                 },
                 Prec::Atom,
             ),

@@ -146,14 +146,6 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
     let (n, k) = (eq.system.dof(), eq.a.len());
     let g = &eq.system.graph;
     let mut named: Vec<(Ident, Id)> = Vec::new();
-    if !d.known_positive {
-        for (i, &m) in d.masses.iter().enumerate() {
-            named.push((ident("m", i), m));
-        }
-    }
-    for (i, &a) in d.unconstrained.iter().enumerate() {
-        named.push((ident("a", i), a));
-    }
     for i in 0..k {
         for j in 0..=i {
             if !g.is_zero(d.gram[i][j]) {
@@ -162,24 +154,27 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
         }
         named.push((ident("r", i), d.residual[i]));
     }
-    for i in 0..n {
-        for j in 0..k {
-            if !g.is_zero(d.weighted[i][j]) {
-                named.push((ident2("w", i, j), d.weighted[i][j]));
-                named.push((ident2("c", i, j), eq.a[j][i]));
-            }
+    // Each distinct mass that is not a positive constant is checked once.
+    let mut unchecked: Vec<Id> = Vec::new();
+    for &m in &d.masses {
+        let constant_positive = g.as_num(m).is_some_and(|v| v.to_f64() > 0.0);
+        if !constant_positive && !unchecked.contains(&m) {
+            unchecked.push(m);
         }
     }
-    let roots: Vec<Id> = named.iter().map(|(_, id)| *id).collect();
+    let mut roots: Vec<Id> = named.iter().map(|(_, id)| *id).collect();
+    roots.extend(&unchecked);
+    roots.extend(&d.acceleration);
+    roots.extend(&d.force);
     let body = Body::new(eq, &roots);
     let preamble = body.preamble();
     let bindings = named.iter().map(|(name, id)| {
         let value = body.expr(*id);
         quote! { let #name = #value; }
     });
-    let check = (!d.known_positive).then(|| {
-        let positive = d.masses.iter().enumerate().map(|(i, _)| {
-            let m = ident("m", i);
+    let check = (!unchecked.is_empty()).then(|| {
+        let positive = unchecked.iter().map(|&m| {
+            let m = body.expr(m);
             quote! { #m > T::zero() }
         });
         quote! {
@@ -189,27 +184,9 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
         }
     });
     let solve = structured_ldlt(eq, d);
-    let outputs = (0..n).map(|i| {
-        let a = ident("a", i);
-        let mut acc = quote!(#a);
-        let mut force = quote!(T::zero());
-        let mut first_force = true;
-        for j in 0..k {
-            if g.is_zero(d.weighted[i][j]) {
-                continue;
-            }
-            let (w, c, lam) = (ident2("w", i, j), ident2("c", i, j), ident("lam", j));
-            acc = quote!(#acc + #w * #lam);
-            force = if first_force {
-                quote!(#c * #lam)
-            } else {
-                quote!(#force + #c * #lam)
-            };
-            first_force = false;
-        }
-        (acc, force)
-    });
-    let (acc, force): (Vec<_>, Vec<_>) = outputs.unzip();
+    let after = body.after_multipliers();
+    let acc: Vec<TokenStream> = d.acceleration.iter().map(|&e| body.expr(e)).collect();
+    let force: Vec<TokenStream> = d.force.iter().map(|&e| body.expr(e)).collect();
     let nn = dim(n);
     let vector = quote!(::constrained::nalgebra::SVector<T, #nn>);
     let new_vector = quote!(::constrained::nalgebra::SVector::<T, #nn>::from_array_storage);
@@ -236,6 +213,7 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
             #(#bindings)*
             #check
             #solve
+            #after
             #value
         }
     }
