@@ -148,9 +148,14 @@ fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates:
                 .count();
             let _ = writeln!(
                 w,
-                "  λ by LDLᵀ of A M⁻¹ Aᵀ in natural order on its compile-time pattern \
-                 ({fill} of {} subdiagonal entries of L nonzero);\n  \
+                "  λ by LDLᵀ of A M⁻¹ Aᵀ on its compile-time pattern, eliminating \
+                 constraints in the order {}\n  ({fill} of {} subdiagonal entries of L nonzero); \
                  rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)",
+                d.order
+                    .iter()
+                    .map(|i| format!("φ{}", subscript(i + 1)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 k * (k - 1) / 2
             );
         }

@@ -35,8 +35,11 @@ pub struct Diagonal {
     pub acceleration: Vec<Id>,
     /// `Fᶜ = Aᵀ λ`, in terms of the multipliers.
     pub force: Vec<Id>,
-    /// `fill[i][j]` (i > j): entry (i, j) of the unit lower factor of
-    /// `S = L D Lᵀ` (natural order) is not structurally zero.
+    /// The elimination order: position `p` of the factorization is
+    /// constraint `order[p]` (`P S Pᵀ = L D Lᵀ`), chosen at compile time.
+    pub order: Vec<usize>,
+    /// `fill[p][q]` (p > q, positions): entry (p, q) of the unit lower factor
+    /// is not structurally zero.
     pub fill: Vec<Vec<bool>>,
 }
 
@@ -86,7 +89,14 @@ pub fn gauss(
             g.sub(b[i], aa)
         })
         .collect();
-    let fill = factor_pattern(g, &gram);
+    let pattern: Vec<Vec<bool>> = (0..k)
+        .map(|i| (0..k).map(|j| i != j && !g.is_zero(gram[i][j])).collect())
+        .collect();
+    let order = elimination_order(&pattern);
+    let permuted: Vec<Vec<bool>> = (0..k)
+        .map(|p| (0..k).map(|q| pattern[order[p]][order[q]]).collect())
+        .collect();
+    let fill = factor_pattern(&permuted);
     let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
     let mut acceleration = Vec::with_capacity(n);
     let mut force = Vec::with_capacity(n);
@@ -108,69 +118,120 @@ pub fn gauss(
         residual,
         acceleration,
         force,
+        order,
         fill,
     })
 }
 
-/// The structural nonzeros of the unit lower factor of `S = L D Lᵀ` without
-/// pivoting: the pattern of `S` plus fill-in (`Lᵢⱼ ≠ 0` when `Sᵢⱼ ≠ 0` or some
-/// earlier column couples rows i and j).
-fn factor_pattern(g: &Graph, s: &[Vec<Id>]) -> Vec<Vec<bool>> {
-    let k = s.len();
+/// The structural nonzeros of the unit lower factor of `S = L D Lᵀ` in the
+/// given (already permuted) order: the off-diagonal pattern of `S` plus
+/// fill-in (`Lᵢⱼ ≠ 0` when `Sᵢⱼ ≠ 0` or an earlier column couples i and j).
+fn factor_pattern(pattern: &[Vec<bool>]) -> Vec<Vec<bool>> {
+    let k = pattern.len();
     let mut l = vec![vec![false; k]; k];
     for j in 0..k {
         for i in j + 1..k {
-            l[i][j] = !g.is_zero(s[i][j]) || (0..j).any(|c| l[i][c] && l[j][c]);
+            l[i][j] = pattern[i][j] || (0..j).any(|c| l[i][c] && l[j][c]);
         }
     }
     l
+}
+
+/// An elimination order for `S` chosen at compile time: greedily the
+/// constraint whose elimination adds the least fill (minimum degree), ties
+/// broken by the smallest dependency depth, then by index. The depth of a
+/// pivot is one more than that of the deepest earlier pivot that updated it;
+/// the factorization and both triangular solves are chains of dependent
+/// divisions and multiplications along it, so a shallow order is a fast one.
+/// On a chain's tridiagonal `S` this eliminates from both ends towards the
+/// middle: no fill, and half the sequential depth of the natural order.
+fn elimination_order(pattern: &[Vec<bool>]) -> Vec<usize> {
+    let k = pattern.len();
+    let mut adjacent: Vec<Vec<bool>> = pattern.to_vec();
+    let mut eliminated = vec![false; k];
+    let mut ready = vec![0usize; k];
+    let mut order = Vec::with_capacity(k);
+    for _ in 0..k {
+        let neighbours = |v: usize, adjacent: &[Vec<bool>], eliminated: &[bool]| -> Vec<usize> {
+            (0..k)
+                .filter(|&w| w != v && !eliminated[w] && adjacent[v][w])
+                .collect()
+        };
+        let fill = |v: usize| -> usize {
+            let n = neighbours(v, &adjacent, &eliminated);
+            n.iter()
+                .enumerate()
+                .map(|(i, &a)| n[i + 1..].iter().filter(|&&b| !adjacent[a][b]).count())
+                .sum()
+        };
+        let Some(v) = (0..k)
+            .filter(|&v| !eliminated[v])
+            .min_by_key(|&v| (fill(v), ready[v], v))
+        else {
+            break;
+        };
+        let n = neighbours(v, &adjacent, &eliminated);
+        for (i, &a) in n.iter().enumerate() {
+            for &b in &n[i + 1..] {
+                adjacent[a][b] = true;
+                adjacent[b][a] = true;
+            }
+            ready[a] = ready[a].max(ready[v] + 1);
+        }
+        eliminated[v] = true;
+        order.push(v);
+    }
+    order
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn pattern(k: usize, edge: impl Fn(usize, usize) -> bool) -> Vec<Vec<bool>> {
+        (0..k)
+            .map(|i| (0..k).map(|j| i != j && edge(i, j)).collect())
+            .collect()
+    }
+
+    fn permute(p: &[Vec<bool>], order: &[usize]) -> Vec<Vec<bool>> {
+        let k = p.len();
+        (0..k)
+            .map(|a| (0..k).map(|b| p[order[a]][order[b]]).collect())
+            .collect()
+    }
+
+    fn nonzeros(l: &[Vec<bool>]) -> usize {
+        (0..l.len())
+            .map(|i| (0..i).filter(|&j| l[i][j]).count())
+            .sum()
+    }
+
     #[test]
     fn chain_pattern_is_tridiagonal_without_fill() {
-        let mut g = Graph::new();
-        let one = g.int(1);
-        let zero = g.int(0);
-        let k: usize = 6;
-        let s: Vec<Vec<Id>> = (0..k)
-            .map(|i| {
-                (0..k)
-                    .map(|j| if i.abs_diff(j) <= 1 { one } else { zero })
-                    .collect()
-            })
-            .collect();
-        let l = factor_pattern(&g, &s);
-        for i in 0..k {
-            for j in 0..i {
-                assert_eq!(l[i][j], i == j + 1, "({i}, {j})");
+        let l = factor_pattern(&pattern(6, |i, j| i.abs_diff(j) == 1));
+        for (i, row) in l.iter().enumerate() {
+            for (j, &nonzero) in row.iter().enumerate().take(i) {
+                assert_eq!(nonzero, i == j + 1, "({i}, {j})");
             }
         }
     }
 
     #[test]
-    fn arrow_pattern_fills_in() {
-        // First row and column full: eliminating column 0 couples everything.
-        let mut g = Graph::new();
-        let one = g.int(1);
-        let zero = g.int(0);
-        let s: Vec<Vec<Id>> = (0..4)
-            .map(|i| {
-                (0..4)
-                    .map(|j| {
-                        if i == 0 || j == 0 || i == j {
-                            one
-                        } else {
-                            zero
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
-        let l = factor_pattern(&g, &s);
-        assert!(l[3][1] && l[3][2] && l[2][1]);
+    fn chain_is_eliminated_from_both_ends_without_fill() {
+        let chain = pattern(6, |i, j| i.abs_diff(j) == 1);
+        let order = elimination_order(&chain);
+        assert_eq!(order, vec![0, 5, 1, 4, 2, 3]);
+        assert_eq!(nonzeros(&factor_pattern(&permute(&chain, &order))), 5);
+    }
+
+    #[test]
+    fn arrow_is_eliminated_hub_last_without_fill() {
+        // Row and column 0 full: eliminating 0 first would couple everything.
+        let arrow = pattern(4, |i, j| i == 0 || j == 0);
+        assert_eq!(nonzeros(&factor_pattern(&arrow)), 6);
+        let order = elimination_order(&arrow);
+        assert_eq!(order.last(), Some(&0));
+        assert_eq!(nonzeros(&factor_pattern(&permute(&arrow, &order))), 3);
     }
 }

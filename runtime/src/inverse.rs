@@ -69,8 +69,8 @@ pub fn solve_psd<T: RealField + Copy, const K: usize>(
         let Some((p, ratio)) = best else { break };
         order[step] = p;
         done[p] = true;
-        if !(ratio > tol) {
-            // Dependent (or all remaining are): zero pivot, no update.
+        // Dependent (or NaN): zero pivot, no update.
+        if ratio.partial_cmp(&tol) != Some(core::cmp::Ordering::Greater) {
             continue;
         }
         let dp = a[(p, p)];

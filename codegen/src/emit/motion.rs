@@ -219,8 +219,8 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
     }
 }
 
-/// `S λ = r` by `L D Lᵀ` in natural order over the compile-time pattern
-/// (fill included): only structural nonzeros are touched, so a chain's
+/// `S λ = r` by `P S Pᵀ = L D Lᵀ` in the compile-time elimination order over
+/// the compile-time pattern (fill included): only structural nonzeros are touched, so a chain's
 /// tridiagonal `S` costs O(k). A pivot whose `sin²θ = dⱼ / Sⱼⱼ` is below
 /// `rank_tolerance` is dropped (`D⁺`), which removes its constraint; for
 /// k = 1 this is the scalar closed form `λ = r / S` with `λ = 0` where `S = 0`.
@@ -235,8 +235,12 @@ fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
             let __lam0 = if __s0_0 > T::zero() { __r0 / __s0_0 } else { T::zero() };
         };
     }
+    // Everything below is indexed by position in the elimination order;
+    // `o[p]` is the constraint at position p (its S, r and λ names).
     let l = &d.fill;
-    let s = |i: usize, j: usize| -> TokenStream {
+    let o = &d.order;
+    let s = |p: usize, q: usize| -> TokenStream {
+        let (i, j) = (o[p], o[q]);
         if g.is_zero(d.gram[i][j]) {
             quote!(T::zero())
         } else {
@@ -244,12 +248,22 @@ fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
             quote!(#name)
         }
     };
+    // With u the Schur-updated (unscaled) entries and l = u·inv:
+    //   dⱼ = Sⱼⱼ − Σ_c (u_jc·u_jc)·inv_c,  u_ij = S_ij − Σ_c u_ic·l_jc,  l_ij = u_ij·inv_j.
+    // (u·u)·inv equals l·l·d (inv·d = 1 for a kept pivot, both 0 for a dropped
+    // one) but leaves one multiplication, not three, between a pivot's
+    // reciprocal and the next division: the recurrence is the critical path
+    // of a chain, so this is what its cost per link is made of.
     let mut out = quote! { let __tol: T = ::constrained::inverse::rank_tolerance::<T>(); };
+    let u = |i: usize, j: usize| -> TokenStream {
+        let name = ident2("u", i, j);
+        quote!(#name)
+    };
     for j in 0..k {
         let (dj, inv, sjj) = (ident("d", j), ident("inv", j), s(j, j));
         let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
-            let (ljc, dc) = (ident2("l", j, c), ident("d", c));
-            quote!(- #ljc * #ljc * #dc)
+            let (ujc, invc) = (u(j, c), ident("inv", c));
+            quote!(- (#ujc * #ujc) * #invc)
         });
         out.extend(quote! {
             let #dj = #sjj #(#updates)*;
@@ -259,17 +273,19 @@ fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
             if !l[i][j] {
                 continue;
             }
-            let lij = ident2("l", i, j);
-            let sij = s(i, j);
+            let (lij, uij, sij) = (ident2("l", i, j), u(i, j), s(i, j));
             let updates = (0..j).filter(|&c| l[i][c] && l[j][c]).map(|c| {
-                let (lic, ljc, dc) = (ident2("l", i, c), ident2("l", j, c), ident("d", c));
-                quote!(- #lic * #ljc * #dc)
+                let (uic, ljc) = (u(i, c), ident2("l", j, c));
+                quote!(- #uic * #ljc)
             });
-            out.extend(quote! { let #lij = (#sij #(#updates)*) * #inv; });
+            out.extend(quote! {
+                let #uij = #sij #(#updates)*;
+                let #lij = #uij * #inv;
+            });
         }
     }
     for i in 0..k {
-        let (y, r) = (ident("y", i), ident("r", i));
+        let (y, r) = (ident("y", i), ident("r", o[i]));
         let updates = (0..i).filter(|&c| l[i][c]).map(|c| {
             let (lic, yc) = (ident2("l", i, c), ident("y", c));
             quote!(- #lic * #yc)
@@ -277,9 +293,9 @@ fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
         out.extend(quote! { let #y = #r #(#updates)*; });
     }
     for i in (0..k).rev() {
-        let (lam, y, inv) = (ident("lam", i), ident("y", i), ident("inv", i));
+        let (lam, y, inv) = (ident("lam", o[i]), ident("y", i), ident("inv", i));
         let updates = (i + 1..k).filter(|&c| l[c][i]).map(|c| {
-            let (lci, lamc) = (ident2("l", c, i), ident("lam", c));
+            let (lci, lamc) = (ident2("l", c, i), ident("lam", o[c]));
             quote!(- #lci * #lamc)
         });
         out.extend(quote! { let #lam = #y * #inv #(#updates)*; });

@@ -1,0 +1,123 @@
+//! The generated generalized-inverse `acceleration` against what a user would
+//! write instead: Appell's closed form eq. 32 by hand, and a dynamic-size
+//! nalgebra implementation (A and b evaluated numerically into `DMatrix`,
+//! Moore–Penrose inverse by SVD); and the planar N-link chain for N = 1…32,
+//! whose cost should grow about linearly in N.
+
+use constrained::models::Appell;
+use constrained::nalgebra::{SVector, Vector3};
+use constrained_chains::*;
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nalgebra::{DMatrix, DVector};
+use std::hint::black_box;
+
+const G: f64 = 9.81;
+const ALPHA: f64 = 0.5;
+
+/// The generated function behind the same call boundary as the others.
+#[inline(never)]
+fn appell_generated(
+    system: &Appell<f64>,
+    q: &Vector3<f64>,
+    qd: &Vector3<f64>,
+    t: f64,
+) -> Vector3<f64> {
+    system.acceleration(q, qd, t)
+}
+
+/// Appell's particle with h = z, eq. 32 written out by hand.
+#[inline(never)]
+fn appell_by_hand(q: &Vector3<f64>, qd: &Vector3<f64>, _t: f64) -> Vector3<f64> {
+    let _ = q;
+    let (xd, yd, zd) = (qd.x, qd.y, qd.z);
+    let b = ALPHA * zd;
+    let s = xd * xd + yd * yd + zd * zd;
+    let factor = if s > 0.0 { (b - zd * G) / s } else { 0.0 };
+    Vector3::new(factor * xd, factor * yd, -G - factor * zd)
+}
+
+/// The same equation with dynamic matrices: A, b evaluated numerically,
+/// q̈ = a + M^{-1/2} (A M^{-1/2})⁺ (b − A a) with M = I and an SVD pseudo-inverse.
+#[inline(never)]
+fn appell_dynamic(q: &DVector<f64>, qd: &DVector<f64>, _t: f64) -> DVector<f64> {
+    let _ = q;
+    let m = DMatrix::<f64>::identity(3, 3);
+    let f = DVector::from_vec(vec![0.0, 0.0, -G]);
+    let a_mat = DMatrix::from_row_slice(1, 3, &[qd[0], qd[1], -qd[2]]);
+    let b = DVector::from_vec(vec![ALPHA * qd[2]]);
+    let acc = m.clone().cholesky().expect("positive definite").solve(&f);
+    let pinv = a_mat.clone().pseudo_inverse(1e-12).expect("svd");
+    &acc + pinv * (b - &a_mat * &acc)
+}
+
+fn appell(c: &mut Criterion) {
+    let system = Appell::<f64>::new(G, ALPHA);
+    let (q, qd) = (Vector3::new(0.3, -0.2, 1.1), Vector3::new(1.2, 0.7, -0.4));
+    // The three agree before they are timed.
+    let generated = system.acceleration(&q, &qd, 0.0);
+    assert!((generated - appell_by_hand(&q, &qd, 0.0)).norm() < 1e-14);
+    let (qdyn, qddyn) = (
+        DVector::from_column_slice(q.as_slice()),
+        DVector::from_column_slice(qd.as_slice()),
+    );
+    assert!(
+        (DVector::from_column_slice(generated.as_slice()) - appell_dynamic(&qdyn, &qddyn, 0.0))
+            .norm()
+            < 1e-12
+    );
+
+    let mut group = c.benchmark_group("appell_acceleration");
+    group.bench_function("generated", |b| {
+        b.iter(|| appell_generated(&system, black_box(&q), black_box(&qd), black_box(0.0)))
+    });
+    group.bench_function("hand_written_eq32", |b| {
+        b.iter(|| appell_by_hand(black_box(&q), black_box(&qd), black_box(0.0)))
+    });
+    group.bench_function("dynamic_nalgebra_svd", |b| {
+        b.iter(|| appell_dynamic(black_box(&qdyn), black_box(&qddyn), black_box(0.0)))
+    });
+    group.finish();
+}
+
+/// A consistent state of an N-link chain (angles from the downward vertical).
+fn chain_state<const M: usize>() -> (SVector<f64, M>, SVector<f64, M>) {
+    let (mut q, mut qd) = (SVector::<f64, M>::zeros(), SVector::<f64, M>::zeros());
+    let (mut x, mut y, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+    for i in 0..M / 2 {
+        let (th, w, l) = (
+            (0.7 * i as f64).sin(),
+            (1.1 * i as f64).cos(),
+            length(i + 1),
+        );
+        x += l * th.sin();
+        y -= l * th.cos();
+        vx += l * th.cos() * w;
+        vy += l * th.sin() * w;
+        (q[2 * i], q[2 * i + 1], qd[2 * i], qd[2 * i + 1]) = (x, y, vx, vy);
+    }
+    (q, qd)
+}
+
+macro_rules! bench_chain {
+    ($group:expr, $chain:ty, $links:literal, $m:literal) => {{
+        let system = <$chain>::new(G);
+        let (q, qd) = chain_state::<$m>();
+        $group.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
+            b.iter(|| system.acceleration(black_box(&q), black_box(&qd), black_box(0.0)))
+        });
+    }};
+}
+
+fn chain(c: &mut Criterion) {
+    let mut group = c.benchmark_group("chain_acceleration");
+    bench_chain!(group, Chain1, 1, 2);
+    bench_chain!(group, Chain2, 2, 4);
+    bench_chain!(group, Chain4, 4, 8);
+    bench_chain!(group, Chain8, 8, 16);
+    bench_chain!(group, Chain16, 16, 32);
+    bench_chain!(group, Chain32, 32, 64);
+    group.finish();
+}
+
+criterion_group!(benches, appell, chain);
+criterion_main!(benches);

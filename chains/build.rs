@@ -1,0 +1,22 @@
+//! Writes one `constrained_system!` invocation per chain length: the macro
+//! cannot loop over N, and the DSL text comes from one generator
+//! (`constrained_codegen::fixtures::planar_chain`) shared with the benches.
+
+use std::fmt::Write;
+
+fn main() {
+    let mut out = String::new();
+    for links in constrained_chains_lengths() {
+        let source = constrained_codegen::fixtures::planar_chain(&format!("Chain{links}"), links);
+        let _ = writeln!(out, "constrained::constrained_system! {{\n{source}\n}}\n");
+    }
+    let path = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
+        .join("chains.rs");
+    std::fs::write(path, out).expect("OUT_DIR is writable");
+    println!("cargo::rerun-if-changed=build.rs");
+}
+
+/// The lengths generated; keep in step with the re-exports in `src/lib.rs`.
+fn constrained_chains_lengths() -> [usize; 9] {
+    [1, 2, 3, 4, 8, 12, 16, 24, 32]
+}
