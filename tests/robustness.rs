@@ -1,0 +1,140 @@
+//! The generalized-inverse equation where it can go wrong: a mass matrix
+//! that is not positive definite is reported, never NaN; f32 works; and the
+//! redundant double pendulum integrates like the plain one, although
+//! Runge–Kutta stages sit off the constraint surface where the redundant
+//! row is weakly independent (MATH.md, "Rank decisions need a real
+//! tolerance").
+
+use constrained::models::*;
+use constrained::nalgebra::{SVector, Vector2, Vector3, Vector4};
+use constrained::DynamicsError;
+
+#[test]
+fn non_positive_definite_mass_is_reported() {
+    // Diagonal mass from a parameter.
+    let bad = SphericalPendulum::new(-1.0, 9.81, 1.0);
+    let (q, qd) = (Vector3::new(0.0, 0.6, -0.8), Vector3::new(0.3, 0.0, 0.0));
+    assert_eq!(
+        bad.acceleration(&q, &qd, 0.0),
+        Err(DynamicsError::MassNotPositiveDefinite)
+    );
+    assert_eq!(
+        bad.constraint_force(&q, &qd, 0.0),
+        Err(DynamicsError::MassNotPositiveDefinite)
+    );
+    // Full M(q) through the run-time Cholesky factorization: M₂₂ = m2·l2² < 0.
+    let bad = TwoLinkArmOnLine::new(1.0, -0.5, 1.0, 1.0, 9.81, 0.5);
+    let (q, qd) = (Vector2::new(0.3, 0.4), Vector2::new(0.1, -0.2));
+    assert_eq!(
+        bad.acceleration(&q, &qd, 0.0),
+        Err(DynamicsError::MassNotPositiveDefinite)
+    );
+    assert_eq!(
+        bad.acceleration_moore_penrose(&q, &qd, 0.0),
+        Err(DynamicsError::MassNotPositiveDefinite)
+    );
+    // The same arm with physical masses is fine.
+    let good = TwoLinkArmOnLine::new(1.0, 0.5, 1.0, 1.0, 9.81, 0.5);
+    assert!(good
+        .acceleration(&q, &qd, 0.0)
+        .unwrap()
+        .iter()
+        .all(|x: &f64| x.is_finite()));
+}
+
+#[test]
+fn f32_agrees_with_f64() {
+    let (q, qd) = (Vector3::new(0.3, -0.4, 1.0), Vector3::new(1.2, 0.7, -0.5));
+    let a64 = AppellTimeDependent::<f64>::new(9.81, 0.5).acceleration(&q, &qd, 0.25);
+    let a32 = AppellTimeDependent::<f32>::new(9.81, 0.5).acceleration(&q.cast(), &qd.cast(), 0.25);
+    assert!(
+        (a32.cast::<f64>() - a64).norm() < 1e-5 * a64.norm(),
+        "{a32} vs {a64}"
+    );
+    let p = [1.0f32, 1.5, 1.2, 0.8, 9.81];
+    let sys = RedundantDoublePendulum::<f32>::new(p[0], p[1], p[2], p[3], p[4]);
+    let (t1, t2) = (0.7f32, -1.9f32);
+    let q = Vector4::new(
+        1.2 * t1.sin(),
+        -1.2 * t1.cos(),
+        1.2 * t1.sin() + 0.8 * t2.sin(),
+        -1.2 * t1.cos() - 0.8 * t2.cos(),
+    );
+    let qdd = sys.acceleration(&q, &Vector4::zeros(), 0.0).unwrap();
+    let (a, b) = sys.constraint_matrices(&q, &Vector4::zeros(), 0.0);
+    assert!(
+        (a * qdd - b).norm() < 1e-4 * (a.norm() * qdd.norm() + b.norm()),
+        "f32 redundant: A q̈ − b = {}",
+        a * qdd - b
+    );
+}
+
+/// Classical RK4 on (q, q̇) for a fixed step (the runtime's integrators are
+/// tested on their own; this one keeps the test independent of them).
+fn rk4<const N: usize>(
+    f: &dyn Fn(&SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    q: &mut SVector<f64, N>,
+    qd: &mut SVector<f64, N>,
+    h: f64,
+) {
+    let k1 = (*qd, f(q, qd));
+    let k2 = (
+        *qd + k1.1 * (h / 2.0),
+        f(&(*q + k1.0 * (h / 2.0)), &(*qd + k1.1 * (h / 2.0))),
+    );
+    let k3 = (
+        *qd + k2.1 * (h / 2.0),
+        f(&(*q + k2.0 * (h / 2.0)), &(*qd + k2.1 * (h / 2.0))),
+    );
+    let k4 = (*qd + k3.1 * h, f(&(*q + k3.0 * h), &(*qd + k3.1 * h)));
+    *q += (k1.0 + k2.0 * 2.0 + k3.0 * 2.0 + k4.0) * (h / 6.0);
+    *qd += (k1.1 + k2.1 * 2.0 + k3.1 * 2.0 + k4.1) * (h / 6.0);
+}
+
+#[test]
+fn redundant_double_pendulum_integrates_like_the_plain_one() {
+    let p = [1.0, 1.5, 1.2, 0.8, 9.81];
+    let plain = DoublePendulum::new(p[0], p[1], p[2], p[3], p[4]);
+    let redundant = RedundantDoublePendulum::new(p[0], p[1], p[2], p[3], p[4]);
+    let (t1, t2, w1, w2) = (0.7f64, -1.9f64, 1.3, -0.4);
+    let q0 = Vector4::new(
+        1.2 * t1.sin(),
+        -1.2 * t1.cos(),
+        1.2 * t1.sin() + 0.8 * t2.sin(),
+        -1.2 * t1.cos() - 0.8 * t2.cos(),
+    );
+    let qd0 = Vector4::new(
+        1.2 * t1.cos() * w1,
+        1.2 * t1.sin() * w1,
+        1.2 * t1.cos() * w1 + 0.8 * t2.cos() * w2,
+        1.2 * t1.sin() * w1 + 0.8 * t2.sin() * w2,
+    );
+    let (mut qa, mut qda, mut qb, mut qdb) = (q0, qd0, q0, qd0);
+    let h = 1e-3;
+    let (mut drift_plain, mut drift_redundant): (f64, f64) = (0.0, 0.0);
+    for _ in 0..3000 {
+        rk4(
+            &|q, qd| plain.acceleration(q, qd, 0.0).unwrap(),
+            &mut qa,
+            &mut qda,
+            h,
+        );
+        rk4(
+            &|q, qd| redundant.acceleration(q, qd, 0.0).unwrap(),
+            &mut qb,
+            &mut qdb,
+            h,
+        );
+        drift_plain = drift_plain.max(plain.constraint_residual(&qa, &qda, 0.0).amax());
+        let phi = redundant.constraint_residual(&qb, &qdb, 0.0);
+        drift_redundant = drift_redundant.max(phi[0].abs().max(phi[1].abs()));
+    }
+    // 3 s of chaotic motion: the two agree to integration accuracy, and the
+    // redundant row adds no drift (RK4 drifts by itself, unstabilised).
+    assert!((qa - qb).norm() < 1e-8, "plain {qa} vs redundant {qb}");
+    assert!(drift_plain < 1e-6, "plain drift {drift_plain}");
+    assert!(
+        (drift_redundant - drift_plain).abs() <= 1e-3 * drift_plain,
+        "drift: redundant {drift_redundant} vs plain {drift_plain}"
+    );
+}
