@@ -6,9 +6,11 @@
 //! nonlinear in the velocities, possibly redundant) with
 //! [`constrained_system!`]. At compile time the macro differentiates the
 //! constraints into `A q̈ = b` (Udwadia & Kalaba, eq. 3) and emits
-//! fixed-size, allocation-free, `no_std` code for `M`, `F`, `φ`, `A` and `b`,
-//! generic over `T: RealField + Copy` (`f32` and `f64`), together with a
-//! readable derivation (`DERIVATION`) and a sympy-readable one (`SYMBOLIC`).
+//! fixed-size, allocation-free, `no_std` code for `M`, `F`, `φ`, `A`, `b` and
+//! the generalized-inverse equation of motion (`acceleration`, eq. 24–26,
+//! and the constraint force), generic over `T: RealField + Copy` (`f32` and
+//! `f64`), together with a readable derivation (`DERIVATION`) and a
+//! sympy-readable one (`SYMBOLIC`).
 //!
 //! # Example: Appell's particle (the paper's eq. 28–30)
 //!
@@ -37,6 +39,11 @@
 //! assert_eq!((a[0], a[1], a[2]), (1.0, 2.0, -3.0));
 //! assert!((b[0] - 0.5 * 3.0).abs() < 1e-15);
 //! assert!(Appell::<f64>::DERIVATION.contains("A₁ = [ẋ, ẏ, −ż]"));
+//!
+//! // Eq. 32: q̈ = a + (b − ż g)/(ẋ² + ẏ² + ż²) · [ẋ, ẏ, −ż].
+//! let qdd = system.acceleration(&q, &qd, 0.0);
+//! let factor = (0.5 * 3.0 - 3.0 * 9.81) / 14.0;
+//! assert!((qdd - Vector3::new(factor, 2.0 * factor, -9.81 - 3.0 * factor)).norm() < 1e-14);
 //! ```
 //!
 //! The DSL, the generated items and the runtime are described in the
@@ -78,8 +85,12 @@ pub use nalgebra;
 /// For `pub struct Name` it generates `pub struct Name<T = f64>` with one
 /// public field per parameter, `Name::new(params...)`, the constants `DOF`,
 /// `CONSTRAINTS`, `DERIVATION` and `SYMBOLIC`, and the methods
-/// `mass_matrix(q, t)`, `forces(q, qd, t)`, `constraint_residual(q, qd, t)`
-/// and `constraint_matrices(q, qd, t) -> (A, b)`. Mistakes in the input are
+/// `mass_matrix(q, t)`, `forces(q, qd, t)`, `constraint_residual(q, qd, t)`,
+/// `constraint_matrices(q, qd, t) -> (A, b)`, `acceleration(q, qd, t)`,
+/// `constraint_force(q, qd, t)` and `acceleration_moore_penrose(q, qd, t)`,
+/// and implements [`ConstrainedSystem`]. `acceleration` and
+/// `constraint_force` return `Result<_, DynamicsError>` unless the mass
+/// matrix is a positive-definite constant. Mistakes in the input are
 /// compile errors on the offending tokens, all reported at once.
 pub use constrained_macros::constrained_system;
 
