@@ -6,6 +6,8 @@ use constrained::models::{Appell, AppellTimeDependent};
 use constrained::nalgebra::Vector3;
 use proptest::prelude::*;
 
+mod common;
+
 /// Equal to 1e-14 relative to `scale`, the sum of the magnitudes of the
 /// terms that make up `expected` (relative to `|expected|` itself would ask
 /// more than floating point can give where the terms cancel).
@@ -13,21 +15,11 @@ fn close(actual: f64, expected: f64, scale: f64) -> bool {
     (actual - expected).abs() <= 1e-14 * scale.max(f64::MIN_POSITIVE)
 }
 
-fn state() -> impl Strategy<Value = ([f64; 3], [f64; 3], f64, f64, f64)> {
-    (
-        prop::array::uniform3(-10.0..10.0f64),
-        prop::array::uniform3(-10.0..10.0f64),
-        -100.0..100.0f64,
-        0.1..20.0f64,
-        -3.0..3.0f64,
-    )
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(2000))]
 
     #[test]
-    fn eq30_with_h_equal_z((q, qd, t, g, alpha) in state()) {
+    fn eq30_with_h_equal_z((q, qd, t, g, alpha) in common::appell_state()) {
         let sys = Appell::new(g, alpha);
         let (a, b) = sys.constraint_matrices(&Vector3::from(q), &Vector3::from(qd), t);
         let [xd, yd, zd] = qd;
@@ -38,7 +30,7 @@ proptest! {
     }
 
     #[test]
-    fn eq30_with_time_dependent_h((q, qd, t, g, alpha) in state()) {
+    fn eq30_with_time_dependent_h((q, qd, t, g, alpha) in common::appell_state()) {
         let sys = AppellTimeDependent::new(g, alpha);
         let (a, b) = sys.constraint_matrices(&Vector3::from(q), &Vector3::from(qd), t);
         let ([x, y, _], [xd, yd, zd]) = (q, qd);
@@ -51,7 +43,7 @@ proptest! {
 
     /// The same generated code compiled for f32 agrees with f64 to f32 precision.
     #[test]
-    fn f32_agrees_with_f64((q, qd, t, g, alpha) in state()) {
+    fn f32_agrees_with_f64((q, qd, t, g, alpha) in common::appell_state()) {
         let sys64 = AppellTimeDependent::new(g, alpha);
         let sys32 = AppellTimeDependent::<f32>::new(g as f32, alpha as f32);
         let (q32, qd32) = (Vector3::from(q).cast::<f32>(), Vector3::from(qd).cast::<f32>());

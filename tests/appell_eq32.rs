@@ -7,21 +7,13 @@ use constrained::models::{Appell, AppellTimeDependent};
 use constrained::nalgebra::Vector3;
 use proptest::prelude::*;
 
+mod common;
+
 /// Eq. 32: q̈ = [0, 0, −g] + (b − ż g) / (ẋ² + ẏ² + ż²) · [ẋ, ẏ, −ż].
 fn eq32(qd: [f64; 3], g: f64, b: f64) -> [f64; 3] {
     let [xd, yd, zd] = qd;
     let factor = (b - zd * g) / (xd * xd + yd * yd + zd * zd);
     [factor * xd, factor * yd, -g - factor * zd]
-}
-
-fn state() -> impl Strategy<Value = ([f64; 3], [f64; 3], f64, f64, f64)> {
-    (
-        prop::array::uniform3(-10.0..10.0f64),
-        prop::array::uniform3(-10.0..10.0f64),
-        -100.0..100.0f64,
-        0.1..20.0f64,
-        -3.0..3.0f64,
-    )
 }
 
 fn assert_close(actual: Vector3<f64>, expected: [f64; 3], scale: f64) -> Result<(), TestCaseError> {
@@ -40,7 +32,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(10_000))]
 
     #[test]
-    fn acceleration_is_eq32((q, qd, t, g, alpha) in state()) {
+    fn acceleration_is_eq32((q, qd, t, g, alpha) in common::appell_state()) {
         let sys = Appell::new(g, alpha);
         let qdd = sys.acceleration(&Vector3::from(q), &Vector3::from(qd), t);
         // h = z: b = α ż.
@@ -51,7 +43,7 @@ proptest! {
     }
 
     #[test]
-    fn time_dependent_acceleration_is_eq32((q, qd, t, g, alpha) in state()) {
+    fn time_dependent_acceleration_is_eq32((q, qd, t, g, alpha) in common::appell_state()) {
         let sys = AppellTimeDependent::new(g, alpha);
         let qdd = sys.acceleration(&Vector3::from(q), &Vector3::from(qd), t);
         let ([x, y, _], [xd, yd, _]) = (q, qd);
@@ -63,7 +55,7 @@ proptest! {
 
     /// The constraint force is the second term of eq. 32 (unit mass).
     #[test]
-    fn constraint_force_is_the_second_term((q, qd, t, g, alpha) in state()) {
+    fn constraint_force_is_the_second_term((q, qd, t, g, alpha) in common::appell_state()) {
         let sys = Appell::new(g, alpha);
         let force = sys.constraint_force(&Vector3::from(q), &Vector3::from(qd), t);
         let b = alpha * qd[2];

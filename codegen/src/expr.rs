@@ -586,6 +586,19 @@ impl Graph {
     }
 }
 
+/// The parts of a sum `Σ cᵢ·tᵢ + c₀` as printers write them: each term
+/// (`None` for the constant, last) with the magnitude of its coefficient and
+/// whether it is subtracted.
+pub fn signed_parts(terms: &[(Id, Num)], c0: Num) -> Vec<(Option<Id>, Num, bool)> {
+    let constant = (!c0.is_zero()).then_some((None, c0));
+    terms
+        .iter()
+        .map(|&(t, c)| (Some(t), c))
+        .chain(constant)
+        .map(|(t, c)| (t, if c.is_negative() { -c } else { c }, c.is_negative()))
+        .collect()
+}
+
 /// `x^e` in `f64`, exact for integer and half-integer exponents.
 pub fn power(x: f64, e: Num) -> f64 {
     match e.as_integer() {

@@ -1,7 +1,7 @@
 //! Expressions as text: Unicode mathematics for `DERIVATION`, sympy syntax
 //! for `SYMBOLIC`. One precedence-aware printer serves both styles.
 
-use crate::expr::{Graph, Id, Node, Sym};
+use crate::expr::{signed_parts, Graph, Id, Node, Sym};
 use crate::num::Num;
 
 /// How to write an expression.
@@ -115,18 +115,14 @@ impl<'a> Printer<'a> {
             ),
             Node::Add(terms, c0) => {
                 let mut out = String::new();
-                let constant = (!c0.is_zero()).then_some(*c0);
-                let parts = terms
-                    .iter()
-                    .map(|&(t, c)| (Some(t), c))
-                    .chain(constant.map(|c| (None, c)));
-                for (i, (term, c)) in parts.enumerate() {
-                    let magnitude = if c.is_negative() { -c } else { c };
+                for (i, (term, magnitude, negative)) in
+                    signed_parts(terms, *c0).into_iter().enumerate()
+                {
                     let text = match term {
                         Some(t) => self.scaled(t, magnitude),
                         None => magnitude.to_string(),
                     };
-                    match (i, c.is_negative()) {
+                    match (i, negative) {
                         (0, false) => out.push_str(&text),
                         (0, true) => out.push_str(&format!("{}{text}", self.minus())),
                         (_, false) => out.push_str(&format!(" + {text}")),
@@ -134,7 +130,7 @@ impl<'a> Printer<'a> {
                     }
                 }
                 let single_positive =
-                    terms.len() == 1 && constant.is_none() && !terms[0].1.is_negative();
+                    terms.len() == 1 && c0.is_zero() && !terms[0].1.is_negative();
                 (
                     out,
                     if single_positive {

@@ -3,7 +3,7 @@
 
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
-use crate::expr::{Graph, Id, Node, Sym};
+use crate::expr::{signed_parts, Graph, Id, Node, Sym};
 use crate::num::Num;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
@@ -189,13 +189,7 @@ impl<'a> Body<'a> {
     /// coefficients, no multiplication by ±1.
     fn sum(&self, terms: &[(Id, Num)], c0: Num) -> (TokenStream, Prec) {
         let mut out = TokenStream::new();
-        let constant = (!c0.is_zero()).then_some(c0);
-        let parts = terms
-            .iter()
-            .map(|&(t, c)| (Some(t), c))
-            .chain(constant.map(|c| (None, c)));
-        for (i, (term, c)) in parts.enumerate() {
-            let magnitude = if c.is_negative() { -c } else { c };
+        for (i, (term, magnitude, negative)) in signed_parts(terms, c0).into_iter().enumerate() {
             let value = match term {
                 Some(t) if magnitude.is_one() => self.wrapped(t, Prec::Product),
                 Some(t) => {
@@ -205,14 +199,14 @@ impl<'a> Body<'a> {
                 }
                 None => literal(magnitude).0,
             };
-            out.extend(match (i, c.is_negative()) {
+            out.extend(match (i, negative) {
                 (0, false) => value,
                 (0, true) => quote! { -#value },
                 (_, false) => quote! { + #value },
                 (_, true) => quote! { - #value },
             });
         }
-        let single = terms.len() == 1 && constant.is_none();
+        let single = terms.len() == 1 && c0.is_zero();
         let prec = match (single, terms.first().map(|t| t.1.is_negative())) {
             (true, Some(true)) if terms[0].1 == Num::MINUS_ONE => Prec::Unary,
             (true, _) => Prec::Product,

@@ -303,9 +303,23 @@ fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
     out
 }
 
+/// `M = L Lᵀ` at run time (`__chol`) and `a = M⁻¹ F` (`__acc`); a mass
+/// matrix that is not positive definite returns the error.
+fn cholesky_prelude() -> TokenStream {
+    quote! {
+        let ::core::option::Option::Some(__chol) =
+            ::constrained::nalgebra::linalg::Cholesky::new(self.mass_matrix(q, t))
+        else {
+            return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
+        };
+        let __acc = __chol.solve(&self.forces(q, qd, t));
+    }
+}
+
 /// A full `M(q, t)`: Cholesky at run time, then `S = A M⁻¹ Aᵀ` and the
 /// pivoted `LDLᵀ` {1}-inverse of the runtime.
 fn cholesky_solver(eq: &Equations) -> TokenStream {
+    let prelude = cholesky_prelude();
     let (n, k) = (dim(eq.system.dof()), dim(eq.a.len()));
     let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
     let solve = if eq.a.is_empty() {
@@ -327,12 +341,7 @@ fn cholesky_solver(eq: &Equations) -> TokenStream {
         fn gauss(&self, q: &#vector, qd: &#vector, t: T)
             -> ::core::result::Result<(#vector, #vector), ::constrained::DynamicsError>
         {
-            let ::core::option::Option::Some(__chol) =
-                ::constrained::nalgebra::linalg::Cholesky::new(self.mass_matrix(q, t))
-            else {
-                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
-            };
-            let __acc = __chol.solve(&self.forces(q, qd, t));
+            #prelude
             #solve
             ::core::result::Result::Ok((__qdd, __fc))
         }
@@ -342,6 +351,7 @@ fn cholesky_solver(eq: &Equations) -> TokenStream {
 /// `q̈ = a + L⁻ᵀ (A L⁻ᵀ)⁺ (b − A a)` with `M = L Lᵀ` and the Moore–Penrose
 /// inverse by SVD: the reference form, selectable, not specialised.
 fn moore_penrose(eq: &Equations) -> TokenStream {
+    let prelude = cholesky_prelude();
     let (n, k) = (dim(eq.system.dof()), dim(eq.a.len()));
     let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
     let constrained = (!eq.a.is_empty()).then(|| {
@@ -381,12 +391,7 @@ fn moore_penrose(eq: &Equations) -> TokenStream {
         pub fn acceleration_moore_penrose(&self, q: &#vector, qd: &#vector, t: T)
             -> ::core::result::Result<#vector, ::constrained::DynamicsError>
         {
-            let ::core::option::Option::Some(__chol) =
-                ::constrained::nalgebra::linalg::Cholesky::new(self.mass_matrix(q, t))
-            else {
-                return ::core::result::Result::Err(::constrained::DynamicsError::MassNotPositiveDefinite);
-            };
-            let __acc = __chol.solve(&self.forces(q, qd, t));
+            #prelude
             #constrained
             ::core::result::Result::Ok(__acc)
         }
