@@ -3,7 +3,8 @@
 //! is `M q̈ − F`, and — the paper's claim — the choice of inverse does not
 //! matter: the generated {1}-inverse, the Moore–Penrose form and random
 //! {1,4}-inverses `X⁺ + Y(I − X X⁺)` of `X = A M^{-1/2}` (computed here with
-//! dynamic nalgebra, independently of the generated code) give the same `q̈`.
+//! dynamic nalgebra, independently of the generated code) give the same `q̈`;
+//! and so does the explicit Gibbs–Appell form (the equivalence theorem).
 
 use constrained::models::*;
 use constrained::nalgebra::{SVector, Vector2, Vector3, Vector4};
@@ -85,6 +86,21 @@ fn check<S: ConstrainedSystem<f64, N, K>, const N: usize, const K: usize>(
             "{{1,4}}-inverse #{trial}: |Δq̈| = {diff}"
         );
     }
+    // The paper's equivalence theorem: the explicit Gibbs–Appell form gives
+    // the same q̈, and the generalized-inverse q̈ solves its system.
+    let ga = system
+        .acceleration_gibbs_appell(state)
+        .expect("generic state: A has rank r");
+    prop_assert!(
+        (ga - qdd).norm() <= 1e-10 * (qdd.norm() + 1.0),
+        "Gibbs–Appell: {} vs {}",
+        ga,
+        qdd
+    );
+    let (s, rhs) = system.gibbs_appell_matrices(state).expect("generic state");
+    prop_assert!(
+        (s * qdd - rhs).norm() <= 1e-10 * (s.abs() * qdd.abs() + rhs.abs()).norm().max(1.0)
+    );
     // The generated Moore–Penrose form (Jacobi SVD in the runtime).
     let mp = system
         .acceleration_moore_penrose(state)

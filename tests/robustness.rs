@@ -72,7 +72,8 @@ fn f32_agrees_with_f64() {
 /// Classical RK4 on (q, q̇) for a fixed step (the runtime's integrators are
 /// tested on their own; this one keeps the test independent of them).
 /// `q̈(q, q̇)` of an autonomous system.
-type Dynamics<'a, const N: usize> = &'a dyn Fn(&SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>;
+type Dynamics<'a, const N: usize> =
+    &'a dyn Fn(&SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>;
 
 fn rk4<const N: usize>(
     f: Dynamics<'_, N>,

@@ -6,11 +6,12 @@ use crate::derive::Equations;
 use crate::expr::Id;
 use crate::model::Level;
 use crate::motion::MassInverse;
+use crate::partition::Partition;
 use crate::print::{subscript, Printer, Style};
 use std::fmt::Write;
 
 /// The derivation of `eq` as plain text with Unicode mathematics.
-pub fn text(eq: &Equations) -> String {
+pub fn text(eq: &Equations, partition: &Partition) -> String {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
     let parameters: Vec<String> = sys.parameters.iter().map(ToString::to_string).collect();
@@ -89,6 +90,7 @@ pub fn text(eq: &Equations) -> String {
     }
     let _ = writeln!(w);
     generalized_inverse(w, eq, &p, &coordinates);
+    let _ = partition;
     out
 }
 

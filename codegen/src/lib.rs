@@ -8,7 +8,9 @@
 //! 1. [`parse`]: tokens → DSL syntax (`SystemInput`);
 //! 2. [`model`]: names resolved, expressions lowered into the DAG of
 //!    [`expr`], every rule checked, errors reported together;
-//! 3. [`derive`](mod@derive): constraints differentiated ([`diff`]) into `A q̈ = b`;
+//! 3. [`derive`](mod@derive): constraints differentiated ([`diff`]) into `A q̈ = b`,
+//!    Gauss's principle set up ([`motion`]), the Gibbs–Appell partition
+//!    found at consistent states ([`partition`]);
 //! 4. [`emit`]: straight-line Rust with shared subexpressions ([`cse`]) and
 //!    the derivation text ([`derivation`], [`print`](mod@print)).
 
@@ -24,6 +26,7 @@ pub mod model;
 pub mod motion;
 pub mod num;
 pub mod parse;
+pub mod partition;
 pub mod print;
 pub mod rng;
 
@@ -31,12 +34,16 @@ use proc_macro2::TokenStream;
 
 /// Expands one `constrained_system! { ... }` invocation body.
 pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
-    Ok(emit::system(&analyse(input)?))
+    let (equations, partition) = analyse(input)?;
+    Ok(emit::system(&equations, &partition))
 }
 
-/// Stages 1–3: the checked system and its derived equations, before emission.
-pub fn analyse(input: TokenStream) -> syn::Result<derive::Equations> {
+/// Stages 1–3: the checked system, its derived equations and the
+/// Gibbs–Appell partition, before emission.
+pub fn analyse(input: TokenStream) -> syn::Result<(derive::Equations, partition::Partition)> {
     let input: parse::SystemInput = syn::parse2(input)?;
     let system = model::check(&input)?;
-    Ok(derive::constraint_equations(system))
+    let equations = derive::constraint_equations(system);
+    let partition = partition::partition(&equations)?;
+    Ok((equations, partition))
 }

@@ -32,3 +32,110 @@ mod tests {
         assert!(!is_positive_definite(&[vec![-1.0]]));
     }
 }
+
+/// The columns of `a` (rows × columns, row-major) chosen greedily by pivoted
+/// Gram–Schmidt: each step takes the remaining column with the largest
+/// `sin²` of its angle to the span of those already chosen, and stops when
+/// that is at most `tol`. The number chosen is the numerical rank.
+pub fn independent_columns(a: &[Vec<f64>], tol: f64) -> Vec<usize> {
+    let cols = a.first().map_or(0, Vec::len);
+    let column = |j: usize| -> Vec<f64> { a.iter().map(|row| row[j]).collect() };
+    let norms: Vec<f64> = (0..cols).map(|j| dot(&column(j), &column(j))).collect();
+    let mut residual: Vec<Vec<f64>> = (0..cols).map(column).collect();
+    let mut chosen = Vec::new();
+    while chosen.len() < cols {
+        let best = (0..cols)
+            .filter(|j| !chosen.contains(j))
+            .map(|j| {
+                let r = dot(&residual[j], &residual[j]);
+                (j, if norms[j] > 0.0 { r / norms[j] } else { 0.0 })
+            })
+            .fold(None, |best: Option<(usize, f64)>, (j, s)| match best {
+                Some((_, b)) if b >= s => best,
+                _ => Some((j, s)),
+            });
+        let Some((p, sin2)) = best else { break };
+        if sin2 <= tol {
+            break;
+        }
+        chosen.push(p);
+        let unit: Vec<f64> = {
+            let n = dot(&residual[p], &residual[p]).sqrt();
+            residual[p].iter().map(|x| x / n).collect()
+        };
+        for (j, r) in residual.iter_mut().enumerate() {
+            if !chosen.contains(&j) {
+                let c = dot(r, &unit);
+                r.iter_mut().zip(&unit).for_each(|(x, u)| *x -= c * u);
+            }
+        }
+    }
+    chosen
+}
+
+/// The minimum-norm `x` with `J x = r` (least squares if inconsistent):
+/// `x = Jᵀ y` with `(J Jᵀ) y = r` solved on the independent rows of `J`.
+pub fn minimum_norm_solve(j: &[Vec<f64>], r: &[f64]) -> Vec<f64> {
+    let n = j.first().map_or(0, Vec::len);
+    let jt: Vec<Vec<f64>> = (0..n)
+        .map(|c| j.iter().map(|row| row[c]).collect())
+        .collect();
+    // Independent rows of J are independent columns of Jᵀ.
+    let rows = independent_columns(&jt, 1e-20);
+    let m = rows.len();
+    let mut gram: Vec<Vec<f64>> = (0..m)
+        .map(|a| (0..m).map(|b| dot(&j[rows[a]], &j[rows[b]])).collect())
+        .collect();
+    let mut y: Vec<f64> = rows.iter().map(|&i| r[i]).collect();
+    // Gaussian elimination on the (positive definite) Gram matrix.
+    for c in 0..m {
+        let pivot = gram[c][c];
+        for i in c + 1..m {
+            let f = gram[i][c] / pivot;
+            for k in c..m {
+                gram[i][k] -= f * gram[c][k];
+            }
+            y[i] -= f * y[c];
+        }
+    }
+    for c in (0..m).rev() {
+        let s: f64 = (c + 1..m).map(|k| gram[c][k] * y[k]).sum();
+        y[c] = (y[c] - s) / gram[c][c];
+    }
+    (0..n)
+        .map(|col| rows.iter().zip(&y).map(|(&i, yi)| j[i][col] * yi).sum())
+        .collect()
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod rank_tests {
+    use super::*;
+
+    #[test]
+    fn rank_and_choice_of_columns() {
+        // Column 2 = column 0 + column 1; column 3 is zero.
+        let a = vec![
+            vec![1.0, 0.0, 1.0, 0.0],
+            vec![0.0, 2.0, 2.0, 0.0],
+            vec![1.0, 1.0, 2.0, 0.0],
+        ];
+        let chosen = independent_columns(&a, 1e-12);
+        assert_eq!(chosen.len(), 2);
+        assert!(!chosen.contains(&3));
+    }
+
+    #[test]
+    fn minimum_norm_solution() {
+        // x + y = 2 (twice, redundantly): minimum norm x = y = 1.
+        let j = vec![vec![1.0, 1.0], vec![2.0, 2.0]];
+        let x = minimum_norm_solve(&j, &[2.0, 4.0]);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-14 && (x[1] - 1.0).abs() < 1e-14,
+            "{x:?}"
+        );
+    }
+}

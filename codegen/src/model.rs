@@ -88,8 +88,9 @@ pub struct System {
     pub forces: Vec<Id>,
     /// `φ(q, q̇, t) = 0`.
     pub constraints: Vec<Constraint>,
-    /// Coordinates named in `eliminate: [...]`, by index.
-    pub eliminate: Option<Vec<usize>>,
+    /// Coordinates named in `eliminate: [...]`, by index, with the span of
+    /// the list (its size is checked against the rank of `A` later).
+    pub eliminate: Option<(Vec<usize>, Span)>,
 }
 
 impl System {
@@ -240,7 +241,9 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .iter()
         .map(|c| lower.constraint(c))
         .collect();
-    let eliminate = sections.eliminate.map(|list| lower.eliminate(list));
+    let eliminate = sections
+        .eliminate
+        .map(|list| (lower.eliminate(list), list.span));
 
     errors.finish()?;
     Ok(System {

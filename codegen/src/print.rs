@@ -129,8 +129,7 @@ impl<'a> Printer<'a> {
                         (_, true) => out.push_str(&format!(" {} {text}", self.minus())),
                     }
                 }
-                let single_positive =
-                    terms.len() == 1 && c0.is_zero() && !terms[0].1.is_negative();
+                let single_positive = terms.len() == 1 && c0.is_zero() && !terms[0].1.is_negative();
                 (
                     out,
                     if single_positive {

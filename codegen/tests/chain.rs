@@ -7,7 +7,12 @@ use constrained_codegen::{analyse, fixtures::planar_chain};
 #[test]
 fn sixteen_link_chain_structure() {
     let tokens = planar_chain("Chain16", 16).parse().expect("valid tokens");
-    let eq = analyse(tokens).expect("expands");
+    let (eq, partition) = analyse(tokens).expect("expands");
+    assert_eq!(partition.rank, 16);
+    assert!(
+        partition.on_surface,
+        "chain states can be projected onto the constraints"
+    );
     assert_eq!(eq.system.dof(), 32);
     assert_eq!(eq.a.len(), 16);
     for (i, row) in eq.a.iter().enumerate() {

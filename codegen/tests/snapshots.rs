@@ -20,7 +20,7 @@ fn expansions_and_derivations() {
         let expanded = constrained_codegen::expand(model.tokens.clone())
             .unwrap_or_else(|e| panic!("{} fails to expand: {e}", model.name));
         let file: syn::File = syn::parse2(expanded).expect("expansion is valid Rust");
-        let equations = constrained_codegen::analyse(model.tokens).expect("analyses");
+        let (equations, partition) = constrained_codegen::analyse(model.tokens).expect("analyses");
         let snapshots = [
             (
                 format!("{}_expansion", model.name),
@@ -28,7 +28,7 @@ fn expansions_and_derivations() {
             ),
             (
                 format!("{}_derivation", model.name),
-                constrained_codegen::derivation::text(&equations),
+                constrained_codegen::derivation::text(&equations, &partition),
             ),
         ];
         for (name, text) in snapshots {

@@ -10,6 +10,7 @@
 #![deny(missing_docs)]
 
 mod error;
+pub mod gibbs_appell;
 pub mod inverse;
 mod level;
 mod state;
@@ -18,6 +19,7 @@ mod symbolic;
 mod system;
 
 pub use error::DynamicsError;
+pub use gibbs_appell::GibbsAppellError;
 pub use level::ConstraintLevel;
 pub use state::State;
 pub use symbolic::SymbolicSystem;

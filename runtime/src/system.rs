@@ -1,4 +1,4 @@
-use crate::{ConstraintLevel, DynamicsError, State};
+use crate::{ConstraintLevel, DynamicsError, GibbsAppellError, State};
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// A constrained mechanical system with `N` coordinates and `K` constraints,
@@ -30,4 +30,16 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// The constraint force `M q̈ − F`, with the same error as
     /// [`acceleration`](Self::acceleration).
     fn constraint_force(&self, state: &State<T, N>) -> Result<SVector<T, N>, DynamicsError>;
+    /// The explicit Gibbs–Appell system `(S, s)`, `S q̈ = s` (eq. 18 / 37).
+    #[allow(clippy::type_complexity)]
+    fn gibbs_appell_matrices(
+        &self,
+        state: &State<T, N>,
+    ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>;
+    /// `q̈` from the Gibbs–Appell system; equal to
+    /// [`acceleration`](Self::acceleration) wherever both are defined.
+    fn acceleration_gibbs_appell(
+        &self,
+        state: &State<T, N>,
+    ) -> Result<SVector<T, N>, GibbsAppellError>;
 }

@@ -7,12 +7,14 @@
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.
 
 mod body;
+mod gibbs_appell;
 mod motion;
 
 use crate::derivation;
 use crate::derive::Equations;
 use crate::expr::Id;
 use crate::model::Level;
+use crate::partition::Partition;
 use crate::print::{Printer, Style};
 use body::Body;
 use proc_macro2::{Literal, TokenStream};
@@ -33,7 +35,7 @@ enum Inputs {
 }
 
 /// Emits the struct, its constants and its functions.
-pub fn system(eq: &Equations) -> TokenStream {
+pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let sys = &eq.system;
     let (n, k) = (sys.dof(), eq.a.len());
     let (n_lit, k_lit) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(k));
@@ -94,12 +96,13 @@ pub fn system(eq: &Equations) -> TokenStream {
     );
     let matrices = constraint_matrices(eq);
     let motion = motion::methods(eq);
+    let gibbs_appell = gibbs_appell::methods(eq, partition);
     let trait_impl = motion::trait_impl(eq);
     let levels = sys.constraints.iter().map(|c| match c.level {
         Level::Position => quote!(::constrained::ConstraintLevel::Position),
         Level::Velocity => quote!(::constrained::ConstraintLevel::Velocity),
     });
-    let derivation = derivation::text(eq);
+    let derivation = derivation::text(eq, partition);
     let symbolic = symbolic(eq);
 
     quote! {
@@ -136,6 +139,7 @@ pub fn system(eq: &Equations) -> TokenStream {
             #residual
             #matrices
             #motion
+            #gibbs_appell
         }
 
         #trait_impl

@@ -128,6 +128,17 @@ pub(super) fn trait_impl(eq: &Equations) -> TokenStream {
             fn acceleration_moore_penrose(&self, s: #state) -> #result {
                 self.acceleration_moore_penrose(&s.q, &s.qd, s.t)
             }
+            fn gibbs_appell_matrices(&self, s: #state) -> ::core::result::Result<
+                (::constrained::nalgebra::SMatrix<T, #n, #n>, #vector),
+                ::constrained::GibbsAppellError,
+            > {
+                self.gibbs_appell_matrices(&s.q, &s.qd, s.t)
+            }
+            fn acceleration_gibbs_appell(&self, s: #state)
+                -> ::core::result::Result<#vector, ::constrained::GibbsAppellError>
+            {
+                self.acceleration_gibbs_appell(&s.q, &s.qd, s.t)
+            }
         }
     }
 }

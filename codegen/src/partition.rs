@@ -1,0 +1,293 @@
+//! Stage 3c: the Gibbs–Appell partition (MATH.md, "Explicit Gibbs–Appell
+//! equation"): the generic rank `r` of `A` and the `r` coordinates whose
+//! accelerations are eliminated.
+//!
+//! Redundancy holds only on the constraint surface (MATH.md), so the rank is
+//! measured at *consistent* states: deterministic pseudo-random states
+//! projected onto `φ = 0` by Newton's method with minimum-norm steps —
+//! positions onto the position-level constraints (Jacobian `∂φ/∂q`, the
+//! position-level rows of `A`), then velocities onto every constraint at
+//! velocity level (`φ̇` or `φ`, whose Jacobian in `q̇` is `A`). Where no
+//! state can be projected the rank off the surface is used instead, and the
+//! derivation says so.
+
+use crate::derive::Equations;
+use crate::expr::{Id, Sym};
+use crate::linalg::{independent_columns, minimum_norm_solve};
+use crate::model::Level;
+use crate::rng::SplitMix64;
+
+/// The partition used by the Gibbs–Appell form.
+#[derive(Clone, Debug)]
+pub struct Partition {
+    /// The generic rank `r` of `A` (on the constraint surface when `on_surface`).
+    pub rank: usize,
+    /// The `r` eliminated coordinates (`q̈_e`), in the order given or chosen.
+    pub eliminated: Vec<usize>,
+    /// Whether `rank` was measured at consistent states.
+    pub on_surface: bool,
+    /// How many consistent states the rank and the choice were measured at.
+    pub states: usize,
+}
+
+/// Relative `sin²` below which a column counts as dependent at a consistent
+/// state: the projection reaches `|φ| ~ 1e-14`, where a redundant column's
+/// `sin²` is ~1e-28; independent columns of generic states are far above.
+const RANK_TOLERANCE: f64 = 1e-12;
+
+/// How many consistent states to look for, and how many seeds to try.
+const STATES: usize = 8;
+const SEEDS: u64 = 64;
+
+/// Finds the rank and the eliminated coordinates; checks `eliminate`.
+pub fn partition(eq: &Equations) -> syn::Result<Partition> {
+    let n = eq.system.dof();
+    let states = consistent_states(eq);
+    let on_surface = !states.is_empty();
+    let matrices: Vec<Vec<Vec<f64>>> = if on_surface {
+        states.iter().map(|s| eval_a(eq, s)).collect()
+    } else {
+        // No consistent state found: measure off the surface (generic rank).
+        let mut rng = SplitMix64::new(0x6a1b_b5e1);
+        (0..STATES)
+            .map(|_| eval_a(eq, &random_state(eq, &mut rng)))
+            .collect()
+    };
+    let rank = matrices
+        .iter()
+        .map(|a| independent_columns(a, RANK_TOLERANCE).len())
+        .max()
+        .unwrap_or(0);
+    let eliminated = match &eq.system.eliminate {
+        Some((given, span)) => {
+            if given.len() != rank {
+                let names: Vec<String> = eq
+                    .system
+                    .coordinates
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect();
+                return Err(syn::Error::new(
+                    *span,
+                    format!(
+                        "`eliminate` names {} coordinate{} but the rank of A is {rank}{}; \
+                         a well-conditioned choice is `eliminate: [{}]`",
+                        given.len(),
+                        if given.len() == 1 { "" } else { "s" },
+                        if on_surface {
+                            " on the constraint surface"
+                        } else {
+                            ""
+                        },
+                        choose(&matrices, rank, n)
+                            .iter()
+                            .map(|&i| names[i].as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ));
+            }
+            let dependent = matrices.iter().any(|a| {
+                let sub: Vec<Vec<f64>> = a
+                    .iter()
+                    .map(|row| given.iter().map(|&j| row[j]).collect())
+                    .collect();
+                independent_columns(&sub, RANK_TOLERANCE).len() < rank
+            });
+            if dependent {
+                return Err(syn::Error::new(
+                    *span,
+                    "the columns of A for these coordinates are dependent at consistent states: \
+                     their accelerations cannot be eliminated",
+                ));
+            }
+            given.clone()
+        }
+        None => choose(&matrices, rank, n),
+    };
+    Ok(Partition {
+        rank,
+        eliminated,
+        on_surface,
+        states: states.len(),
+    })
+}
+
+/// `r` columns chosen greedily to be well conditioned at every state: each
+/// step takes the column whose smallest residual (over the states) after
+/// projecting out the columns already chosen, relative to `‖A‖²_F`, is
+/// largest. Relative to `A` rather than to the column itself, so that a
+/// column that can vanish (`−sin θ`) loses to one that cannot (`−a`).
+fn choose(matrices: &[Vec<Vec<f64>>], rank: usize, n: usize) -> Vec<usize> {
+    let mut chosen: Vec<usize> = Vec::new();
+    while chosen.len() < rank {
+        let score = |j: usize| -> f64 {
+            matrices
+                .iter()
+                .map(|a| {
+                    let with: Vec<usize> = chosen.iter().copied().chain([j]).collect();
+                    let sub: Vec<Vec<f64>> = a
+                        .iter()
+                        .map(|row| with.iter().map(|&c| row[c]).collect())
+                        .collect();
+                    let frobenius: f64 = a.iter().flatten().map(|x| x * x).sum();
+                    if frobenius > 0.0 {
+                        residual_of_last(&sub) / frobenius
+                    } else {
+                        0.0
+                    }
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let best = (0..n)
+            .filter(|j| !chosen.contains(j))
+            .map(|j| (j, score(j)))
+            .fold(None, |best: Option<(usize, f64)>, (j, s)| match best {
+                Some((_, b)) if b >= s => best,
+                _ => Some((j, s)),
+            });
+        match best {
+            Some((j, _)) => chosen.push(j),
+            None => break,
+        }
+    }
+    chosen
+}
+
+/// The squared norm of the last column of `a` after projecting out the others.
+fn residual_of_last(a: &[Vec<f64>]) -> f64 {
+    let cols = a.first().map_or(0, Vec::len);
+    let last: Vec<f64> = a.iter().map(|row| row[cols - 1]).collect();
+    // Project out the others: minimum-norm coefficients of the others for `last`.
+    let others: Vec<Vec<f64>> = a.iter().map(|row| row[..cols - 1].to_vec()).collect();
+    let coeff = if cols > 1 {
+        let jt: Vec<Vec<f64>> = (0..cols - 1)
+            .map(|c| others.iter().map(|r| r[c]).collect())
+            .collect();
+        // Least squares: others · c ≈ last, via the normal equations' min-norm solve.
+        let atb: Vec<f64> = jt
+            .iter()
+            .map(|col| col.iter().zip(&last).map(|(x, y)| x * y).sum())
+            .collect();
+        let ata: Vec<Vec<f64>> = jt
+            .iter()
+            .map(|ci| {
+                jt.iter()
+                    .map(|cj| ci.iter().zip(cj).map(|(x, y)| x * y).sum())
+                    .collect()
+            })
+            .collect();
+        minimum_norm_solve(&ata, &atb)
+    } else {
+        Vec::new()
+    };
+    let residual: f64 = a
+        .iter()
+        .zip(&last)
+        .map(|(row, l)| {
+            let fit: f64 = row[..cols - 1].iter().zip(&coeff).map(|(x, c)| x * c).sum();
+            (l - fit) * (l - fit)
+        })
+        .sum();
+    residual
+}
+
+/// A state of the system: values of every variable.
+#[derive(Clone, Debug)]
+pub struct StateValues {
+    /// `q`.
+    pub q: Vec<f64>,
+    /// `q̇`.
+    pub qd: Vec<f64>,
+    /// `t`.
+    pub t: f64,
+    /// Parameters.
+    pub params: Vec<f64>,
+}
+
+impl StateValues {
+    fn env(&self) -> impl Fn(Sym) -> f64 + '_ {
+        move |s| match s {
+            Sym::Coord(i) => self.q[i],
+            Sym::Vel(i) => self.qd[i],
+            Sym::Time => self.t,
+            Sym::Param(i) => self.params[i],
+            Sym::Multiplier(_) => f64::NAN,
+        }
+    }
+}
+
+fn random_state(eq: &Equations, rng: &mut SplitMix64) -> StateValues {
+    let n = eq.system.dof();
+    let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
+    StateValues {
+        q: (0..n).map(|_| uniform(-1.0, 1.0)).collect(),
+        qd: (0..n).map(|_| uniform(-1.0, 1.0)).collect(),
+        t: uniform(0.0, 1.0),
+        params: (0..eq.system.parameters.len())
+            .map(|_| uniform(0.5, 1.5))
+            .collect(),
+    }
+}
+
+fn eval_a(eq: &Equations, s: &StateValues) -> Vec<Vec<f64>> {
+    eq.a.iter()
+        .map(|row| eq.system.graph.eval(row, &s.env()))
+        .collect()
+}
+
+/// Up to `STATES` consistent states, from deterministic seeds.
+pub fn consistent_states(eq: &Equations) -> Vec<StateValues> {
+    let mut rng = SplitMix64::new(0xc0_5157_e47);
+    let mut found = Vec::new();
+    for _ in 0..SEEDS {
+        if found.len() == STATES {
+            break;
+        }
+        let mut s = random_state(eq, &mut rng);
+        if project(eq, &mut s) {
+            found.push(s);
+        }
+    }
+    found
+}
+
+/// Newton with minimum-norm steps; `true` when φ and φ̇ vanish to 1e-13.
+fn project(eq: &Equations, s: &mut StateValues) -> bool {
+    let g = &eq.system.graph;
+    let positions: Vec<usize> = (0..eq.a.len())
+        .filter(|&i| eq.system.constraints[i].level == Level::Position)
+        .collect();
+    let phi: Vec<Id> = positions
+        .iter()
+        .map(|&i| eq.system.constraints[i].phi)
+        .collect();
+    let converge = |s: &mut StateValues,
+                    residual: &dyn Fn(&StateValues) -> Vec<f64>,
+                    rows: &[usize],
+                    velocity: bool| {
+        for _ in 0..60 {
+            let r = residual(s);
+            if r.iter().all(|x| x.abs() < 1e-13) {
+                return true;
+            }
+            if r.iter().any(|x| !x.is_finite()) {
+                return false;
+            }
+            let a = eval_a(eq, s);
+            let j: Vec<Vec<f64>> = rows.iter().map(|&i| a[i].clone()).collect();
+            let step = minimum_norm_solve(&j, &r);
+            let target = if velocity { &mut s.qd } else { &mut s.q };
+            target.iter_mut().zip(&step).for_each(|(x, d)| *x -= d);
+        }
+        false
+    };
+    let all: Vec<usize> = (0..eq.a.len()).collect();
+    converge(s, &|s| g.eval(&phi, &s.env()), &positions, false)
+        && converge(
+            s,
+            &|s| g.eval(&eq.velocity_constraints, &s.env()),
+            &all,
+            true,
+        )
+}

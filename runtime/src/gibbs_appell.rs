@@ -1,0 +1,379 @@
+//! The explicit Gibbs–Appell equation (Udwadia & Kalaba eq. 18 and 37) for
+//! fixed sizes, without allocation.
+//!
+//! With `r` the rank of `A`, the accelerations of `r` coordinates `e` are
+//! eliminated through `q̈_e = A_e⁺ (b − A_I q̈_I)` (eq. 8), `A_e⁺ = (A_eᵀ A_e)⁻¹ A_eᵀ`,
+//! `R = A_e⁺ A_I`, and the system
+//!
+//! ```text
+//! [ A_e   A_I ] [q̈_e]   [ b                                   ]
+//! [ 0     B   ] [q̈_I] = [ F_I − Rᵀ F_e + (Rᵀ M_ee − M_Ie) A_e⁺ b ]
+//! B = M_II + Rᵀ M_ee R − M_Ie R − Rᵀ M_Ieᵀ
+//! ```
+//!
+//! is returned as an `N × N` matrix in the original column order: `r`
+//! independent rows of `A q̈ = b`, then the `N − r` rows of eq. 35 (eq. 13
+//! when `M_Ie = 0`, which the caller states at compile time).
+//!
+//! The partition preferred at compile time is used when its columns are
+//! well conditioned at the state; otherwise `r` columns are re-chosen by
+//! pivoted Gram–Schmidt (ẋ = 0 in Appell's example). A column or row counts
+//! when its residual, squared, exceeds [`rank_tolerance`] times the largest
+//! squared norm among the candidates. Where fewer than `r` qualify, `A` has
+//! dropped below rank `r` and the Gibbs–Appell form is undefined:
+//! [`GibbsAppellError::RankDeficient`] (the generalized-inverse form is not).
+
+use crate::inverse::rank_tolerance;
+use core::fmt;
+use nalgebra::{RealField, SMatrix, SVector};
+
+/// Why the Gibbs–Appell system could not be formed at a state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GibbsAppellError {
+    /// `A` has rank below the generic rank `r` here: no `r` independent
+    /// columns (or rows) exist, so no coordinates can be eliminated.
+    RankDeficient,
+    /// The reduced mass matrix `B` is not positive definite, because `M` is
+    /// not (or the inputs are not finite).
+    MassNotPositiveDefinite,
+}
+
+impl fmt::Display for GibbsAppellError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            GibbsAppellError::RankDeficient => {
+                "A has dropped below its generic rank at this state: the Gibbs–Appell \
+                 partition is undefined (use the generalized-inverse form)"
+            }
+            GibbsAppellError::MassNotPositiveDefinite => {
+                "the reduced mass matrix of the Gibbs–Appell form is not positive definite"
+            }
+        })
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for GibbsAppellError {}
+
+/// What the system and its solution share.
+struct Partitioned<
+    T: RealField + Copy,
+    const N: usize,
+    const K: usize,
+    const R: usize,
+    const I: usize,
+> {
+    eliminated: [usize; R],
+    independent: [usize; I],
+    rows: [usize; R],
+    a_i: SMatrix<T, K, I>,
+    reduced_mass: SMatrix<T, I, I>,
+    reduced_force: SVector<T, I>,
+}
+
+/// The Gibbs–Appell system `(S, s)` with `S q̈ = s`, `N × N`, columns in the
+/// original order. `preferred` are the `R` eliminated coordinates chosen at
+/// compile time, `I = N − R`; `mass_coupled` is whether `M` may couple the
+/// eliminated and independent coordinates (eq. 37 rather than eq. 18).
+pub fn system<
+    T: RealField + Copy,
+    const N: usize,
+    const K: usize,
+    const R: usize,
+    const I: usize,
+>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    m: &SMatrix<T, N, N>,
+    f: &SVector<T, N>,
+    preferred: &[usize; R],
+    mass_coupled: bool,
+) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError> {
+    let p = partition::<T, N, K, R, I>(a, b, m, f, preferred, mass_coupled)?;
+    let mut s = SMatrix::<T, N, N>::zeros();
+    let mut rhs = SVector::<T, N>::zeros();
+    for (i, &row) in p.rows.iter().enumerate() {
+        s.row_mut(i).copy_from(&a.row(row));
+        rhs[i] = b[row];
+    }
+    for i in 0..I {
+        for (j, &col) in p.independent.iter().enumerate() {
+            s[(R + i, col)] = p.reduced_mass[(i, j)];
+        }
+        rhs[R + i] = p.reduced_force[i];
+    }
+    Ok((s, rhs))
+}
+
+/// `q̈` from the Gibbs–Appell system, solved through its block structure:
+/// the reduced (positive definite) block for `q̈_I` by Cholesky, then the
+/// `r` chosen rows of `A q̈ = b` for `q̈_e`.
+pub fn acceleration<
+    T: RealField + Copy,
+    const N: usize,
+    const K: usize,
+    const R: usize,
+    const I: usize,
+>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    m: &SMatrix<T, N, N>,
+    f: &SVector<T, N>,
+    preferred: &[usize; R],
+    mass_coupled: bool,
+) -> Result<SVector<T, N>, GibbsAppellError> {
+    let p = partition::<T, N, K, R, I>(a, b, m, f, preferred, mass_coupled)?;
+    let qdd_i = nalgebra::linalg::Cholesky::new(p.reduced_mass)
+        .ok_or(GibbsAppellError::MassNotPositiveDefinite)?
+        .solve(&p.reduced_force);
+    let square = SMatrix::<T, R, R>::from_fn(|i, j| a[(p.rows[i], p.eliminated[j])]);
+    let top = SVector::<T, R>::from_fn(|i, _| b[p.rows[i]] - (p.a_i.row(p.rows[i]) * qdd_i)[0]);
+    let qdd_e = solve_square(square, top).ok_or(GibbsAppellError::RankDeficient)?;
+    let mut qdd = SVector::<T, N>::zeros();
+    for (j, &col) in p.eliminated.iter().enumerate() {
+        qdd[col] = qdd_e[j];
+    }
+    for (j, &col) in p.independent.iter().enumerate() {
+        qdd[col] = qdd_i[j];
+    }
+    Ok(qdd)
+}
+
+fn partition<
+    T: RealField + Copy,
+    const N: usize,
+    const K: usize,
+    const R: usize,
+    const I: usize,
+>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    m: &SMatrix<T, N, N>,
+    f: &SVector<T, N>,
+    preferred: &[usize; R],
+    mass_coupled: bool,
+) -> Result<Partitioned<T, N, K, R, I>, GibbsAppellError> {
+    const {
+        assert!(
+            R + I == N,
+            "the eliminated and independent coordinates must be all N"
+        )
+    };
+    let eliminated = if independent_in_order(a, preferred) {
+        *preferred
+    } else {
+        pivoted::<T, K, N, R>(a).ok_or(GibbsAppellError::RankDeficient)?
+    };
+    let rows = pivoted::<T, N, K, R>(&a.transpose()).ok_or(GibbsAppellError::RankDeficient)?;
+    let mut independent = [0usize; I];
+    let mut next = 0;
+    for col in 0..N {
+        if !eliminated.contains(&col) {
+            if let Some(slot) = independent.get_mut(next) {
+                *slot = col;
+            }
+            next += 1;
+        }
+    }
+    let a_e = SMatrix::<T, K, R>::from_fn(|i, j| a[(i, eliminated[j])]);
+    let a_i = SMatrix::<T, K, I>::from_fn(|i, j| a[(i, independent[j])]);
+    let gram = nalgebra::linalg::Cholesky::new(a_e.transpose() * a_e)
+        .ok_or(GibbsAppellError::RankDeficient)?;
+    let a_e_pinv: SMatrix<T, R, K> = gram.solve(&a_e.transpose());
+    let r = a_e_pinv * a_i;
+    let m_ee = SMatrix::<T, R, R>::from_fn(|i, j| m[(eliminated[i], eliminated[j])]);
+    let m_ii = SMatrix::<T, I, I>::from_fn(|i, j| m[(independent[i], independent[j])]);
+    let f_e = SVector::<T, R>::from_fn(|i, _| f[eliminated[i]]);
+    let f_i = SVector::<T, I>::from_fn(|i, _| f[independent[i]]);
+    let y = a_e_pinv * b;
+    let mut reduced_mass = m_ii + r.transpose() * m_ee * r;
+    let mut reduced_force = f_i - r.transpose() * f_e + r.transpose() * (m_ee * y);
+    if mass_coupled {
+        // Eq. 37's extra terms; they vanish when M_Ie = 0 (eq. 18).
+        let m_ie = SMatrix::<T, I, R>::from_fn(|i, j| m[(independent[i], eliminated[j])]);
+        let coupling = m_ie * r;
+        reduced_mass -= coupling + coupling.transpose();
+        reduced_force -= m_ie * y;
+    }
+    Ok(Partitioned {
+        eliminated,
+        independent,
+        rows,
+        a_i,
+        reduced_mass,
+        reduced_force,
+    })
+}
+
+/// Whether the columns `cols` of `a`, in order, each keep a residual above
+/// the tolerance after projecting out the previous ones.
+fn independent_in_order<T: RealField + Copy, const K: usize, const N: usize, const R: usize>(
+    a: &SMatrix<T, K, N>,
+    cols: &[usize; R],
+) -> bool {
+    let threshold = rank_tolerance::<T>() * largest_squared_norm(a);
+    let mut basis = [SVector::<T, K>::zeros(); R];
+    for (step, &c) in cols.iter().enumerate() {
+        let residual = residual(&a.column(c).into_owned(), &basis[..step]);
+        let norm2 = residual.norm_squared();
+        if norm2.partial_cmp(&threshold) != Some(core::cmp::Ordering::Greater) {
+            return false;
+        }
+        basis[step] = residual / norm2.sqrt();
+    }
+    true
+}
+
+/// `R` columns of `a` by pivoted Gram–Schmidt (largest residual first), or
+/// `None` when fewer than `R` are independent.
+fn pivoted<T: RealField + Copy, const K: usize, const N: usize, const R: usize>(
+    a: &SMatrix<T, K, N>,
+) -> Option<[usize; R]> {
+    let threshold = rank_tolerance::<T>() * largest_squared_norm(a);
+    let mut chosen = [0usize; R];
+    let mut basis = [SVector::<T, K>::zeros(); R];
+    for step in 0..R {
+        let mut best: Option<(usize, T, SVector<T, K>)> = None;
+        for c in 0..N {
+            if chosen[..step].contains(&c) {
+                continue;
+            }
+            let res = residual(&a.column(c).into_owned(), &basis[..step]);
+            let norm2 = res.norm_squared();
+            if best.as_ref().is_none_or(|(_, b, _)| norm2 > *b) {
+                best = Some((c, norm2, res));
+            }
+        }
+        let (c, norm2, res) = best?;
+        if norm2.partial_cmp(&threshold) != Some(core::cmp::Ordering::Greater) {
+            return None;
+        }
+        chosen[step] = c;
+        basis[step] = res / norm2.sqrt();
+    }
+    Some(chosen)
+}
+
+/// `x` with `m x = rhs` by Gaussian elimination with partial pivoting, or
+/// `None` for an exactly singular `m` (nalgebra's `LU` needs type-level
+/// sizes a const generic cannot give).
+fn solve_square<T: RealField + Copy, const R: usize>(
+    mut m: SMatrix<T, R, R>,
+    mut rhs: SVector<T, R>,
+) -> Option<SVector<T, R>> {
+    for c in 0..R {
+        let p = (c..R).max_by(|&i, &j| {
+            m[(i, c)]
+                .abs()
+                .partial_cmp(&m[(j, c)].abs())
+                .unwrap_or(core::cmp::Ordering::Equal)
+        })?;
+        if m[(p, c)] == T::zero() {
+            return None;
+        }
+        m.swap_rows(p, c);
+        rhs.swap_rows(p, c);
+        for i in c + 1..R {
+            let factor = m[(i, c)] / m[(c, c)];
+            for j in c..R {
+                let v = m[(c, j)];
+                m[(i, j)] -= factor * v;
+            }
+            let v = rhs[c];
+            rhs[i] -= factor * v;
+        }
+    }
+    for c in (0..R).rev() {
+        let mut v = rhs[c];
+        for j in c + 1..R {
+            v -= m[(c, j)] * rhs[j];
+        }
+        rhs[c] = v / m[(c, c)];
+    }
+    Some(rhs)
+}
+
+fn residual<T: RealField + Copy, const K: usize>(
+    v: &SVector<T, K>,
+    basis: &[SVector<T, K>],
+) -> SVector<T, K> {
+    let mut r = *v;
+    for u in basis {
+        r -= u * u.dot(&r);
+    }
+    r
+}
+
+fn largest_squared_norm<T: RealField + Copy, const K: usize, const N: usize>(
+    a: &SMatrix<T, K, N>,
+) -> T {
+    a.column_iter()
+        .map(|c| c.norm_squared())
+        .fold(T::zero(), |m, x| if x > m { x } else { m })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix1x3, Matrix3, Vector1, Vector3};
+
+    /// Appell's particle: eq. 33 entry by entry, with e = {x}.
+    #[test]
+    fn appell_eq33() {
+        let (xd, yd, zd, g, b) = (1.3, -0.7, 0.4, 9.81, 0.25);
+        let a = Matrix1x3::new(xd, yd, -zd);
+        let (s, rhs) = system::<f64, 3, 1, 1, 2>(
+            &a,
+            &Vector1::new(b),
+            &Matrix3::identity(),
+            &Vector3::new(0.0, 0.0, -g),
+            &[0],
+            false,
+        )
+        .unwrap();
+        let x2 = xd * xd;
+        let expected = Matrix3::new(
+            xd,
+            yd,
+            -zd,
+            0.0,
+            1.0 + yd * yd / x2,
+            -yd * zd / x2,
+            0.0,
+            -yd * zd / x2,
+            1.0 + zd * zd / x2,
+        );
+        assert!((s - expected).norm() < 1e-14, "{s} vs {expected}");
+        let expected_rhs = Vector3::new(b, b * yd / x2, -g - b * zd / x2);
+        assert!((rhs - expected_rhs).norm() < 1e-14);
+    }
+
+    #[test]
+    fn re_pivots_when_the_preferred_column_vanishes() {
+        // ẋ = 0: column x of A is zero; y and z remain.
+        let a = Matrix1x3::new(0.0, 0.8, -0.3);
+        let qdd = acceleration::<f64, 3, 1, 1, 2>(
+            &a,
+            &Vector1::new(0.1),
+            &Matrix3::identity(),
+            &Vector3::new(0.0, 0.0, -9.81),
+            &[0],
+            false,
+        )
+        .unwrap();
+        assert!(((a * qdd)[0] - 0.1).abs() < 1e-14);
+    }
+
+    #[test]
+    fn rank_deficient_is_an_error() {
+        let result = system::<f64, 3, 1, 1, 2>(
+            &Matrix1x3::zeros(),
+            &Vector1::new(0.0),
+            &Matrix3::identity(),
+            &Vector3::zeros(),
+            &[0],
+            false,
+        );
+        assert_eq!(result, Err(GibbsAppellError::RankDeficient));
+    }
+}
