@@ -4,6 +4,7 @@
 
 use crate::derive::Equations;
 use crate::expr::Id;
+use crate::gibbs_appell::{rank_one, RankOne};
 use crate::model::Level;
 use crate::motion::MassInverse;
 use crate::partition::Partition;
@@ -90,8 +91,76 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     }
     let _ = writeln!(w);
     generalized_inverse(w, eq, &p, &coordinates);
-    let _ = partition;
+    let _ = writeln!(w);
+    gibbs_appell(w, eq, partition, &coordinates, &parameters);
     out
+}
+
+/// The explicit Gibbs–Appell system: its structure, and for r = 1 every
+/// entry (Appell's particle with e = {x} gives the paper's eq. 33).
+fn gibbs_appell(
+    w: &mut String,
+    eq: &Equations,
+    partition: &Partition,
+    coordinates: &[String],
+    parameters: &[String],
+) {
+    let r = partition.rank;
+    let coupled = matches!(eq.gauss, MassInverse::Cholesky);
+    let eliminated: Vec<String> = partition
+        .eliminated
+        .iter()
+        .map(|&e| format!("q̈[{}]", coordinates[e]))
+        .collect();
+    let measured = if partition.on_surface {
+        format!("at {} consistent states", partition.states)
+    } else {
+        "off the constraint surface (no consistent state was found)".to_string()
+    };
+    let _ = writeln!(
+        w,
+        "Explicit Gibbs–Appell equation ({}):  rank A = {r} ({measured}); eliminated: {}",
+        if coupled { "eq. 37" } else { "eq. 18" },
+        if eliminated.is_empty() {
+            "none".to_string()
+        } else {
+            eliminated.join(", ")
+        }
+    );
+    let _ = writeln!(
+        w,
+        "  [[A_e, A_I], [0, B]] q̈ = [b, F_I − Rᵀ F_e + {}A_e⁺ b],  R = A_e⁺ A_I,  A_e⁺ = (A_eᵀ A_e)⁻¹ A_eᵀ,",
+        if coupled { "(Rᵀ M_ee − M_Ie) " } else { "Rᵀ M_ee " }
+    );
+    let _ = writeln!(
+        w,
+        "  B = M_II + Rᵀ M_ee R{}; {} independent row{} of A q̈ = b on top{}; columns in the order of q",
+        if coupled { " − M_Ie R − Rᵀ M_Ieᵀ" } else { "" },
+        r,
+        if r == 1 { "" } else { "s" },
+        if eq.a.len() > r { " (chosen at run time)" } else { "" }
+    );
+    let Some(RankOne { graph: g, rows }) = rank_one(eq, partition) else {
+        return;
+    };
+    let p = Printer::new(&g, coordinates, parameters, Style::Unicode);
+    let line = |ids: &[Id]| {
+        ids.iter()
+            .map(|&x| p.print(x))
+            .collect::<Vec<_>>()
+            .join(",  ")
+    };
+    if eq.a.len() == 1 {
+        let _ = writeln!(w, "  row 1:  [{}]  |  {}", line(&eq.a[0]), p.print(eq.b[0]));
+    } else {
+        let _ = writeln!(
+            w,
+            "  row 1:  one of the rows of A q̈ = b with A_ie ≠ 0, chosen at run time"
+        );
+    }
+    for (i, (row, rhs)) in rows.iter().enumerate() {
+        let _ = writeln!(w, "  row {}:  [{}]  |  {}", i + 2, line(row), p.print(*rhs));
+    }
 }
 
 /// The generalized-inverse equation (eq. 26) as it is solved.

@@ -21,6 +21,7 @@ pub mod diff;
 pub mod emit;
 pub mod expr;
 pub mod fixtures;
+pub mod gibbs_appell;
 pub mod linalg;
 pub mod model;
 pub mod motion;

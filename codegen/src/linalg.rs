@@ -92,9 +92,11 @@ pub fn minimum_norm_solve(j: &[Vec<f64>], r: &[f64]) -> Vec<f64> {
         let pivot = gram[c][c];
         for i in c + 1..m {
             let f = gram[i][c] / pivot;
-            for k in c..m {
-                gram[i][k] -= f * gram[c][k];
-            }
+            let (above, below) = gram.split_at_mut(i);
+            below[0][c..]
+                .iter_mut()
+                .zip(&above[c][c..])
+                .for_each(|(x, p)| *x -= f * p);
             y[i] -= f * y[c];
         }
     }
