@@ -4,7 +4,9 @@
 //! Moore–Penrose inverse by SVD); and the planar N-link chain for N = 1…32,
 //! whose cost should grow about linearly in N.
 
-use constrained::models::Appell;
+use constrained::models::{
+    Appell, ChaplyginSleigh, DoublePendulum, RedundantDoublePendulum, TwoLinkArmOnLine,
+};
 use constrained::nalgebra::{SVector, Vector3};
 use constrained_chains::*;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -99,25 +101,86 @@ fn chain_state<const M: usize>() -> (SVector<f64, M>, SVector<f64, M>) {
 }
 
 macro_rules! bench_chain {
-    ($group:expr, $chain:ty, $links:literal, $m:literal) => {{
+    ($group:expr, $method:ident, $chain:ty, $links:literal, $m:literal) => {{
         let system = <$chain>::new(G);
         let (q, qd) = chain_state::<$m>();
         $group.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
-            b.iter(|| system.acceleration(black_box(&q), black_box(&qd), black_box(0.0)))
+            b.iter(|| system.$method(black_box(&q), black_box(&qd), black_box(0.0)))
         });
     }};
 }
 
+macro_rules! bench_chains {
+    ($c:expr, $name:literal, $method:ident) => {{
+        let mut group = $c.benchmark_group($name);
+        bench_chain!(group, $method, Chain1, 1, 2);
+        bench_chain!(group, $method, Chain2, 2, 4);
+        bench_chain!(group, $method, Chain4, 4, 8);
+        bench_chain!(group, $method, Chain8, 8, 16);
+        bench_chain!(group, $method, Chain16, 16, 32);
+        bench_chain!(group, $method, Chain32, 32, 64);
+        group.finish();
+    }};
+}
+
 fn chain(c: &mut Criterion) {
-    let mut group = c.benchmark_group("chain_acceleration");
-    bench_chain!(group, Chain1, 1, 2);
-    bench_chain!(group, Chain2, 2, 4);
-    bench_chain!(group, Chain4, 4, 8);
-    bench_chain!(group, Chain8, 8, 16);
-    bench_chain!(group, Chain16, 16, 32);
-    bench_chain!(group, Chain32, 32, 64);
+    bench_chains!(c, "chain_acceleration", acceleration);
+    bench_chains!(
+        c,
+        "chain_acceleration_gibbs_appell",
+        acceleration_gibbs_appell
+    );
+}
+
+/// Both equations of motion of every reference model, side by side.
+fn models(c: &mut Criterion) {
+    let mut group = c.benchmark_group("models");
+    macro_rules! both {
+        ($name:literal, $system:expr, $q:expr, $qd:expr) => {{
+            let (system, q, qd) = ($system, $q, $qd);
+            group.bench_function(concat!($name, "/acceleration"), |b| {
+                b.iter(|| system.acceleration(black_box(&q), black_box(&qd), black_box(0.0)))
+            });
+            group.bench_function(concat!($name, "/gibbs_appell"), |b| {
+                b.iter(|| {
+                    system.acceleration_gibbs_appell(black_box(&q), black_box(&qd), black_box(0.0))
+                })
+            });
+        }};
+    }
+    let (q3, qd3) = (Vector3::new(0.3, -0.2, 1.1), Vector3::new(1.2, 0.7, -0.4));
+    both!("appell", Appell::<f64>::new(G, ALPHA), q3, qd3);
+    let (q, qd) = chain_state::<4>();
+    both!(
+        "double_pendulum",
+        DoublePendulum::<f64>::new(1.1, 1.2, 1.05, 1.1, G),
+        q,
+        qd
+    );
+    both!(
+        "redundant_double_pendulum",
+        RedundantDoublePendulum::<f64>::new(1.1, 1.2, 1.05, 1.1, G),
+        q,
+        qd
+    );
+    both!(
+        "chaplygin_sleigh",
+        ChaplyginSleigh::<f64>::new(1.0, 0.2, 0.5),
+        q3,
+        qd3
+    );
+    let (qa, qda) = (
+        constrained::nalgebra::Vector2::new(0.3, 0.4),
+        constrained::nalgebra::Vector2::new(0.1, -0.2),
+    );
+    both!(
+        "two_link_arm",
+        TwoLinkArmOnLine::<f64>::new(1.0, 0.5, 1.0, 1.0, G, 0.5),
+        qa,
+        qda
+    );
     group.finish();
 }
 
-criterion_group!(benches, appell, chain);
+criterion_group!(benches, appell, chain, models);
 criterion_main!(benches);

@@ -164,7 +164,13 @@ fn partition<
     } else {
         pivoted::<T, K, N, R>(a).ok_or(GibbsAppellError::RankDeficient)?
     };
-    let rows = pivoted::<T, N, K, R>(&a.transpose()).ok_or(GibbsAppellError::RankDeficient)?;
+    // With k = r and r independent columns, A_e is square and invertible:
+    // every row is independent and none needs choosing.
+    let rows = if K == R {
+        core::array::from_fn(|i| i)
+    } else {
+        pivoted::<T, N, K, R>(&a.transpose()).ok_or(GibbsAppellError::RankDeficient)?
+    };
     let mut independent = [0usize; I];
     let mut next = 0;
     for col in 0..N {
@@ -224,32 +230,37 @@ fn independent_in_order<T: RealField + Copy, const K: usize, const N: usize, con
     true
 }
 
-/// `R` columns of `a` by pivoted Gram–Schmidt (largest residual first), or
-/// `None` when fewer than `R` are independent.
+/// `R` columns of `a` by pivoted (modified) Gram–Schmidt, largest residual
+/// first, or `None` when fewer than `R` are independent. The residuals are
+/// updated in place after each choice: O(R·K·N) operations.
 fn pivoted<T: RealField + Copy, const K: usize, const N: usize, const R: usize>(
     a: &SMatrix<T, K, N>,
 ) -> Option<[usize; R]> {
     let threshold = rank_tolerance::<T>() * largest_squared_norm(a);
+    let mut residuals = *a;
     let mut chosen = [0usize; R];
-    let mut basis = [SVector::<T, K>::zeros(); R];
-    for step in 0..R {
-        let mut best: Option<(usize, T, SVector<T, K>)> = None;
-        for c in 0..N {
-            if chosen[..step].contains(&c) {
-                continue;
-            }
-            let res = residual(&a.column(c).into_owned(), &basis[..step]);
-            let norm2 = res.norm_squared();
-            if best.as_ref().is_none_or(|(_, b, _)| norm2 > *b) {
-                best = Some((c, norm2, res));
+    let mut taken = [false; N];
+    for slot in chosen.iter_mut() {
+        let mut best: Option<(usize, T)> = None;
+        for (c, column) in residuals.column_iter().enumerate() {
+            let norm2 = column.norm_squared();
+            if !taken[c] && best.is_none_or(|(_, b)| norm2 > b) {
+                best = Some((c, norm2));
             }
         }
-        let (c, norm2, res) = best?;
+        let (c, norm2) = best?;
         if norm2.partial_cmp(&threshold) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
-        chosen[step] = c;
-        basis[step] = res / norm2.sqrt();
+        *slot = c;
+        taken[c] = true;
+        let unit = residuals.column(c) / norm2.sqrt();
+        for (j, mut column) in residuals.column_iter_mut().enumerate() {
+            if !taken[j] {
+                let projection = unit.dot(&column);
+                column.axpy(-projection, &unit, T::one());
+            }
+        }
     }
     Some(chosen)
 }
