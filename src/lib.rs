@@ -7,8 +7,9 @@
 //! [`constrained_system!`]. At compile time the macro differentiates the
 //! constraints into `A q̈ = b` (Udwadia & Kalaba, eq. 3) and emits
 //! fixed-size, allocation-free, `no_std` code for `M`, `F`, `φ`, `A`, `b` and
-//! the generalized-inverse equation of motion (`acceleration`, eq. 24–26,
-//! and the constraint force), generic over `T: RealField + Copy` (`f32` and
+//! both equations of motion of Udwadia & Kalaba: the generalized-inverse
+//! equation (`acceleration`, eq. 24–26, and the constraint force) and the
+//! explicit Gibbs–Appell system (eq. 18 / 37), generic over `T: RealField + Copy` (`f32` and
 //! `f64`), together with a readable derivation (`DERIVATION`) and a
 //! sympy-readable one (`SYMBOLIC`).
 //!
@@ -87,8 +88,11 @@ pub use nalgebra;
 /// `CONSTRAINTS`, `DERIVATION` and `SYMBOLIC`, and the methods
 /// `mass_matrix(q, t)`, `forces(q, qd, t)`, `constraint_residual(q, qd, t)`,
 /// `constraint_matrices(q, qd, t) -> (A, b)`, `acceleration(q, qd, t)`,
-/// `constraint_force(q, qd, t)` and `acceleration_moore_penrose(q, qd, t)`,
-/// and implements [`ConstrainedSystem`]. `acceleration` and
+/// `constraint_force(q, qd, t)`, `acceleration_moore_penrose(q, qd, t)`,
+/// `gibbs_appell_matrices(q, qd, t)` and `acceleration_gibbs_appell(q, qd, t)`
+/// (the explicit Gibbs–Appell system, eq. 18 / 37, with the partition found
+/// at compile time or given by `eliminate`), and implements
+/// [`ConstrainedSystem`]. `acceleration` and
 /// `constraint_force` return `Result<_, DynamicsError>` unless the mass
 /// matrix is a positive-definite constant. Mistakes in the input are
 /// compile errors on the offending tokens, all reported at once.
