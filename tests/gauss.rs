@@ -34,6 +34,21 @@ fn check<S: ConstrainedSystem<f64, N, K>, const N: usize, const K: usize>(
         a * qdd - b
     );
 
+    // acceleration_corrected solves A q̈ = b + db (constraint stabilization).
+    let db = SVector::<f64, K>::from_fn(|i, _| 0.1 * (i as f64 + 1.0) * (1.0 + b.norm()));
+    let corrected = system
+        .acceleration_corrected(state, &db)
+        .expect("positive definite mass");
+    let singular = constrained::svd::singular_values(&a.transpose()).expect("finite");
+    if singular.iter().all(|&s| s > 1e-6 * singular.max()) {
+        let target = b + db;
+        prop_assert!(
+            (a * corrected - target).norm() <= 1e-10 * scale * 10.0,
+            "A q̈ − (b + db) = {}",
+            a * corrected - target
+        );
+    }
+
     // Fᶜ = M q̈ − F.
     let force = system
         .constraint_force(state)

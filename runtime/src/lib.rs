@@ -11,8 +11,10 @@
 
 mod error;
 pub mod gibbs_appell;
+pub mod integrate;
 pub mod inverse;
 mod level;
+pub mod stabilize;
 mod state;
 pub mod svd;
 mod symbolic;
@@ -20,7 +22,9 @@ mod system;
 
 pub use error::DynamicsError;
 pub use gibbs_appell::GibbsAppellError;
+pub use integrate::{DormandPrince45, IntegrationError, Rk4, SemiImplicitEuler, Stats};
 pub use level::ConstraintLevel;
+pub use stabilize::Stabilization;
 pub use state::State;
 pub use symbolic::SymbolicSystem;
 pub use system::ConstrainedSystem;

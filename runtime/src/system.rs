@@ -15,6 +15,9 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     fn forces(&self, state: &State<T, N>) -> SVector<T, N>;
     /// `φ(q, q̇, t)`.
     fn constraint_residual(&self, state: &State<T, N>) -> SVector<T, K>;
+    /// The constraints at velocity level: `φ̇` for position-level rows, `φ`
+    /// for velocity-level ones. Its Jacobian in `q̇` is `A`.
+    fn constraint_velocity_residual(&self, state: &State<T, N>) -> SVector<T, K>;
     /// `(A, b)` of `A q̈ = b`.
     fn constraint_matrices(&self, state: &State<T, N>) -> (SMatrix<T, K, N>, SVector<T, K>);
     /// `q̈` by the generalized-inverse equation (eq. 24–26). `Err` only when
@@ -26,6 +29,12 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     fn acceleration_moore_penrose(
         &self,
         state: &State<T, N>,
+    ) -> Result<SVector<T, N>, DynamicsError>;
+    /// `q̈` with `b` replaced by `b + db` (constraint stabilization).
+    fn acceleration_corrected(
+        &self,
+        state: &State<T, N>,
+        db: &SVector<T, K>,
     ) -> Result<SVector<T, N>, DynamicsError>;
     /// The constraint force `M q̈ − F`, with the same error as
     /// [`acceleration`](Self::acceleration).

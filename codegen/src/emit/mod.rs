@@ -94,6 +94,14 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         " The constraint residuals `φ(q, q̇, t)`; zero on the constraint manifold.",
         &phi,
     );
+    let velocity_residual = vector_function(
+        eq,
+        quote!(constraint_velocity_residual),
+        " The constraints at velocity level: `φ̇` for a position-level `φ`, `φ` \
+         itself for a velocity-level one; zero on consistent states. Its \
+         Jacobian in `q̇` is `A` (used by stabilization and projection).",
+        &eq.velocity_constraints,
+    );
     let matrices = constraint_matrices(eq);
     let motion = motion::methods(eq);
     let gibbs_appell = gibbs_appell::methods(eq, partition);
@@ -137,6 +145,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #mass
             #forces
             #residual
+            #velocity_residual
             #matrices
             #motion
             #gibbs_appell

@@ -39,19 +39,28 @@ pub(super) fn methods(eq: &Equations) -> TokenStream {
         qd: &::constrained::nalgebra::SVector<T, #n>,
         t: T
     };
-    let (ret, acc, force) = if fallible(eq) {
+    let (ret, acc, force, corrected) = if fallible(eq) {
         (
             quote!(::core::result::Result<#vector, ::constrained::DynamicsError>),
-            quote!(self.gauss(q, qd, t).map(|s| s.0)),
-            quote!(self.gauss(q, qd, t).map(|s| s.1)),
+            quote!(self
+                .gauss(q, qd, t, ::core::option::Option::None)
+                .map(|s| s.0)),
+            quote!(self
+                .gauss(q, qd, t, ::core::option::Option::None)
+                .map(|s| s.1)),
+            quote!(self
+                .gauss(q, qd, t, ::core::option::Option::Some(db))
+                .map(|s| s.0)),
         )
     } else {
         (
             vector.clone(),
-            quote!(self.gauss(q, qd, t).0),
-            quote!(self.gauss(q, qd, t).1),
+            quote!(self.gauss(q, qd, t, ::core::option::Option::None).0),
+            quote!(self.gauss(q, qd, t, ::core::option::Option::None).1),
+            quote!(self.gauss(q, qd, t, ::core::option::Option::Some(db)).0),
         )
     };
+    let k = dim(eq.a.len());
     let fallibility = if fallible(eq) {
         "`Err` when `M` is not positive definite at this state (it is not \
          known to be at compile time)."
@@ -81,8 +90,26 @@ pub(super) fn methods(eq: &Equations) -> TokenStream {
         #[inline]
         pub fn constraint_force(&self, #args) -> #ret { #force }
 
+        /// The acceleration with `b` replaced by `b + db`: constraint
+        /// stabilization (Baumgarte) asks `A q̈ = b − 2α φ̇ − β² φ` of
+        /// position-level and `A q̈ = b − γ φ` of velocity-level constraints.
+        #[inline]
+        pub fn acceleration_corrected(
+            &self,
+            #args,
+            db: &::constrained::nalgebra::SVector<T, #k>,
+        ) -> #ret {
+            #corrected
+        }
+
         #moore_penrose
     }
+}
+
+/// The type of the optional correction of `b` taken by `gauss`.
+fn correction_type(eq: &Equations) -> TokenStream {
+    let k = dim(eq.a.len());
+    quote!(::core::option::Option<&::constrained::nalgebra::SVector<T, #k>>)
 }
 
 /// The `ConstrainedSystem` impl.
@@ -92,15 +119,17 @@ pub(super) fn trait_impl(eq: &Equations) -> TokenStream {
     let state = quote!(&::constrained::State<T, #n>);
     let vector = quote!(::constrained::nalgebra::SVector<T, #n>);
     let result = quote!(::core::result::Result<#vector, ::constrained::DynamicsError>);
-    let (acc, force) = if fallible(eq) {
+    let (acc, force, corrected) = if fallible(eq) {
         (
             quote!(self.acceleration(&s.q, &s.qd, s.t)),
             quote!(self.constraint_force(&s.q, &s.qd, s.t)),
+            quote!(self.acceleration_corrected(&s.q, &s.qd, s.t, db)),
         )
     } else {
         (
             quote!(Ok(self.acceleration(&s.q, &s.qd, s.t))),
             quote!(Ok(self.constraint_force(&s.q, &s.qd, s.t))),
+            quote!(Ok(self.acceleration_corrected(&s.q, &s.qd, s.t, db))),
         )
     };
     quote! {
@@ -117,6 +146,9 @@ pub(super) fn trait_impl(eq: &Equations) -> TokenStream {
             fn constraint_residual(&self, s: #state) -> ::constrained::nalgebra::SVector<T, #k> {
                 self.constraint_residual(&s.q, &s.qd, s.t)
             }
+            fn constraint_velocity_residual(&self, s: #state) -> ::constrained::nalgebra::SVector<T, #k> {
+                self.constraint_velocity_residual(&s.q, &s.qd, s.t)
+            }
             fn constraint_matrices(&self, s: #state) -> (
                 ::constrained::nalgebra::SMatrix<T, #k, #n>,
                 ::constrained::nalgebra::SVector<T, #k>,
@@ -125,6 +157,13 @@ pub(super) fn trait_impl(eq: &Equations) -> TokenStream {
             }
             fn acceleration(&self, s: #state) -> #result { #acc }
             fn constraint_force(&self, s: #state) -> #result { #force }
+            fn acceleration_corrected(
+                &self,
+                s: #state,
+                db: &::constrained::nalgebra::SVector<T, #k>,
+            ) -> #result {
+                #corrected
+            }
             fn acceleration_moore_penrose(&self, s: #state) -> #result {
                 self.acceleration_moore_penrose(&s.q, &s.qd, s.t)
             }
@@ -215,13 +254,28 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
             quote!(::core::result::Result::Ok(#result)),
         )
     };
+    let correction = correction_type(eq);
+    let corrected = (k > 0).then(|| {
+        let r: Vec<_> = (0..k).map(|i| ident("r", i)).collect();
+        let d: Vec<_> = (0..k).map(|i| ident("db", i)).collect();
+        quote! {
+            let (#(#r,)*) = match correction {
+                ::core::option::Option::Some(__db) => {
+                    let [[#(#d),*]] = __db.data.0;
+                    (#(#r + #d,)*)
+                }
+                ::core::option::Option::None => (#(#r,)*),
+            };
+        }
+    });
     quote! {
-        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration` and
-        /// `constraint_force`.
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`).
         #[inline]
-        fn gauss(&self, q: &#vector, qd: &#vector, t: T) -> #ret {
+        fn gauss(&self, q: &#vector, qd: &#vector, t: T, correction: #correction) -> #ret {
             #preamble
             #(#bindings)*
+            #corrected
             #check
             #solve
             #after
@@ -338,6 +392,10 @@ fn cholesky_solver(eq: &Equations) -> TokenStream {
     } else {
         quote! {
             let (__a, __b) = self.constraint_matrices(q, qd, t);
+            let __b = match correction {
+                ::core::option::Option::Some(__db) => __b + __db,
+                ::core::option::Option::None => __b,
+            };
             let __w = __chol.solve(&__a.transpose());
             let __s: ::constrained::nalgebra::SMatrix<T, #k, #k> = __a * __w;
             let __lam = ::constrained::inverse::solve_psd(&__s, &(__b - __a * __acc));
@@ -345,11 +403,12 @@ fn cholesky_solver(eq: &Equations) -> TokenStream {
             let __fc = __a.transpose() * __lam;
         }
     };
+    let correction = correction_type(eq);
     quote! {
-        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration` and
-        /// `constraint_force`.
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`).
         #[inline]
-        fn gauss(&self, q: &#vector, qd: &#vector, t: T)
+        fn gauss(&self, q: &#vector, qd: &#vector, t: T, correction: #correction)
             -> ::core::result::Result<(#vector, #vector), ::constrained::DynamicsError>
         {
             #prelude

@@ -1,0 +1,99 @@
+use super::{accept, c, derivative, span, IntegrationError, Stats};
+use crate::stabilize::Stabilization;
+use crate::{ConstrainedSystem, State};
+use nalgebra::RealField;
+
+/// The classical fourth-order Runge–Kutta method with a fixed step
+/// (Kutta 1901; tableau as in Hairer, Nørsett & Wanner, *Solving Ordinary
+/// Differential Equations I*, Table II.1.2). Four evaluations a step; the
+/// last step is shortened to land on the end time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rk4<T> {
+    step: T,
+    stabilization: Stabilization<T>,
+    max_steps: usize,
+}
+
+impl<T: RealField + Copy> Rk4<T> {
+    /// Steps of size `step`, no stabilization, no step budget.
+    pub fn new(step: T) -> Self {
+        Rk4 {
+            step,
+            stabilization: Stabilization::None,
+            max_steps: usize::MAX,
+        }
+    }
+
+    /// The same with a stabilization against constraint drift.
+    pub fn with_stabilization(mut self, stabilization: Stabilization<T>) -> Self {
+        self.stabilization = stabilization;
+        self
+    }
+
+    /// The same with at most `max_steps` steps per call.
+    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
+        self.max_steps = max_steps;
+        self
+    }
+
+    /// Advances `state` to `t_end`.
+    pub fn advance<S, const N: usize, const K: usize>(
+        &self,
+        system: &S,
+        state: &mut State<T, N>,
+        t_end: T,
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        S: ConstrainedSystem<T, N, K>,
+    {
+        self.advance_with(system, state, t_end, |_| {})
+    }
+
+    /// Advances `state` to `t_end`, calling `observer` after every step.
+    pub fn advance_with<S, const N: usize, const K: usize>(
+        &self,
+        system: &S,
+        state: &mut State<T, N>,
+        t_end: T,
+        mut observer: impl FnMut(&State<T, N>),
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        S: ConstrainedSystem<T, N, K>,
+    {
+        if !(self.step > T::zero() && self.step.is_finite()) {
+            return Err(IntegrationError::InvalidParameter);
+        }
+        let mut remaining = span(state, t_end)?;
+        let mut stats = Stats::default();
+        let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
+        while remaining > T::zero() {
+            if stats.steps == self.max_steps {
+                return Err(IntegrationError::TooManySteps {
+                    t: state.t,
+                    steps: stats.steps,
+                });
+            }
+            let last = remaining <= self.step * slack;
+            let h = if last { remaining } else { self.step };
+            let (half, sixth, two) = (h * c(0.5), h / c(6.0), c::<T>(2.0));
+            let s = &self.stabilization;
+            let k1 = derivative(system, state, s, &mut stats)?;
+            let at = |k: &(nalgebra::SVector<T, N>, nalgebra::SVector<T, N>), dt: T| State {
+                t: state.t + dt,
+                q: state.q + k.0 * dt,
+                qd: state.qd + k.1 * dt,
+            };
+            let k2 = derivative(system, &at(&k1, half), s, &mut stats)?;
+            let k3 = derivative(system, &at(&k2, half), s, &mut stats)?;
+            let k4 = derivative(system, &at(&k3, h), s, &mut stats)?;
+            state.q += (k1.0 + k2.0 * two + k3.0 * two + k4.0) * sixth;
+            state.qd += (k1.1 + k2.1 * two + k3.1 * two + k4.1) * sixth;
+            state.t = if last { t_end } else { state.t + h };
+            remaining = if last { T::zero() } else { t_end - state.t };
+            stats.steps += 1;
+            accept(system, state, s)?;
+            observer(state);
+        }
+        Ok(stats)
+    }
+}

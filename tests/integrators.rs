@@ -1,0 +1,283 @@
+//! The runtime's integrators on problems with known answers: convergence
+//! order, conservation laws, constraint drift with and without
+//! stabilization, f32, and errors as values.
+
+use constrained::models::{AppellTimeDependent, DoublePendulum, SphericalPendulum};
+use constrained::nalgebra::{Vector2, Vector3, Vector4};
+use constrained::{
+    constrained_system, DormandPrince45, IntegrationError, Rk4, SemiImplicitEuler, Stabilization,
+    State,
+};
+
+constrained_system! {
+    /// A free particle on a circle of radius r: uniform circular motion,
+    /// x = r cos ωt, y = r sin ωt, a nonlinear constraint with a known solution.
+    struct Circle {
+        coordinates: [x, y],
+        parameters: [r],
+        mass: diag[1.0, 1.0],
+        constraints: [x.powi(2) + y.powi(2) == r.powi(2)],
+    }
+}
+
+constrained_system! {
+    /// ẍ = x²: blows up in finite time (at t = ln 2 ≈ 0.69 from x = ẋ... = 1).
+    struct BlowUp {
+        coordinates: [x],
+        mass: diag[1.0],
+        forces: [x.powi(3)],
+    }
+}
+
+const OMEGA: f64 = 1.3;
+
+fn circle_start() -> State<f64, 2> {
+    State::new(0.0, Vector2::new(1.0, 0.0), Vector2::new(0.0, OMEGA))
+}
+
+fn circle_error(state: &State<f64, 2>) -> f64 {
+    let t = state.t;
+    (state.q - Vector2::new((OMEGA * t).cos(), (OMEGA * t).sin())).norm()
+}
+
+#[test]
+fn rk4_converges_at_order_4() {
+    let system = Circle::new(1.0);
+    let errors: Vec<f64> = [0.04, 0.02, 0.01]
+        .iter()
+        .map(|&h| {
+            let mut s = circle_start();
+            Rk4::new(h).advance(&system, &mut s, 4.0).unwrap();
+            circle_error(&s)
+        })
+        .collect();
+    for pair in errors.windows(2) {
+        let ratio = pair[0] / pair[1];
+        assert!(
+            (14.0..18.0).contains(&ratio),
+            "RK4 error ratio {ratio} (errors {errors:?})"
+        );
+    }
+}
+
+#[test]
+fn dormand_prince_converges_at_order_5() {
+    let system = Circle::new(1.0);
+    let errors: Vec<f64> = [0.2, 0.1, 0.05]
+        .iter()
+        .map(|&h| {
+            let mut s = circle_start();
+            DormandPrince45::new(1e-6, 1e-6)
+                .advance_fixed(&system, &mut s, 4.0, h)
+                .unwrap();
+            circle_error(&s)
+        })
+        .collect();
+    for pair in errors.windows(2) {
+        let ratio = pair[0] / pair[1];
+        assert!(
+            (28.0..37.0).contains(&ratio),
+            "DP5 error ratio {ratio} (errors {errors:?})"
+        );
+    }
+}
+
+#[test]
+fn dormand_prince_meets_its_tolerance_and_adapts() {
+    let system = Circle::new(1.0);
+    for rtol in [1e-6, 1e-9, 1e-12] {
+        let mut s = circle_start();
+        let stats = DormandPrince45::new(rtol, rtol)
+            .advance(&system, &mut s, 10.0)
+            .unwrap();
+        assert_eq!(s.t, 10.0);
+        let error = circle_error(&s);
+        assert!(
+            error < 100.0 * rtol * 10.0,
+            "rtol {rtol}: error {error} after {stats:?}"
+        );
+    }
+    // Tighter tolerance, more steps; a hard start forces rejections.
+    let mut s = circle_start();
+    let loose = DormandPrince45::new(1e-4, 1e-4)
+        .advance(&system, &mut s, 10.0)
+        .unwrap();
+    let mut s = circle_start();
+    let tight = DormandPrince45::new(1e-10, 1e-10)
+        .advance(&system, &mut s, 10.0)
+        .unwrap();
+    assert!(tight.steps > 5 * loose.steps, "{loose:?} vs {tight:?}");
+    assert_eq!(
+        tight.evaluations,
+        6 * (tight.steps + tight.rejected) + 2,
+        "FSAL: 6 evaluations a step"
+    );
+}
+
+#[test]
+fn spherical_pendulum_conserves_energy_and_angular_momentum() {
+    let (m, g, l) = (1.3, 9.81, 0.8);
+    let system = SphericalPendulum::new(m, g, l);
+    let n = Vector3::new(0.6, 0.0, -0.8);
+    let v = Vector3::new(0.0, 1.9, 0.0); // tangent to the sphere at n
+    let mut s = State::new(0.0, n * l, v);
+    let energy = |s: &State<f64, 3>| 0.5 * m * s.qd.norm_squared() + m * g * s.q.z;
+    let lz = |s: &State<f64, 3>| m * (s.q.x * s.qd.y - s.q.y * s.qd.x);
+    let (e0, l0) = (energy(&s), lz(&s));
+    let (mut worst_e, mut worst_l) = (0.0f64, 0.0f64);
+    DormandPrince45::new(1e-10, 1e-12)
+        .advance_with(&system, &mut s, 100.0, |s| {
+            worst_e = worst_e.max(((energy(s) - e0) / e0).abs());
+            worst_l = worst_l.max(((lz(s) - l0) / l0).abs());
+        })
+        .unwrap();
+    assert_eq!(s.t, 100.0);
+    assert!(worst_e < 1e-8, "relative energy drift {worst_e}");
+    assert!(worst_l < 1e-8, "relative drift of L_z {worst_l}");
+}
+
+fn double_pendulum() -> (DoublePendulum<f64>, State<f64, 4>) {
+    let (l1, l2) = (1.2, 0.8);
+    let system = DoublePendulum::new(1.0, 1.5, l1, l2, 9.81);
+    let (t1, t2, w1, w2) = (2.0f64, -1.0f64, 0.5, 1.5);
+    let q = Vector4::new(
+        l1 * t1.sin(),
+        -l1 * t1.cos(),
+        l1 * t1.sin() + l2 * t2.sin(),
+        -l1 * t1.cos() - l2 * t2.cos(),
+    );
+    let qd = Vector4::new(
+        l1 * t1.cos() * w1,
+        l1 * t1.sin() * w1,
+        l1 * t1.cos() * w1 + l2 * t2.cos() * w2,
+        l1 * t1.sin() * w1 + l2 * t2.sin() * w2,
+    );
+    (system, State::new(0.0, q, qd))
+}
+
+/// Largest |φ| over 10⁵ RK4 steps (100 s), and its value after the first 1%.
+fn drift(stabilization: Stabilization<f64>) -> (f64, f64) {
+    let (system, mut s) = double_pendulum();
+    let (mut worst, mut early, mut steps) = (0.0f64, 0.0f64, 0usize);
+    Rk4::new(1e-3)
+        .with_stabilization(stabilization)
+        .advance_with(&system, &mut s, 100.0, |s| {
+            let phi = system.constraint_residual(&s.q, &s.qd, s.t).amax();
+            worst = worst.max(phi);
+            steps += 1;
+            if steps == 1000 {
+                early = worst;
+            }
+        })
+        .unwrap();
+    assert_eq!(steps, 100_000);
+    (worst, early)
+}
+
+#[test]
+fn drift_grows_without_stabilization_and_is_controlled_with_it() {
+    let (none, none_early) = drift(Stabilization::None);
+    let (projected, _) = drift(Stabilization::projection(1e-12));
+    let (baumgarte, _) = drift(Stabilization::baumgarte(10.0));
+    println!("max |φ| over 1e5 RK4 steps: none {none:e} (after 1e3: {none_early:e}), projection {projected:e}, Baumgarte {baumgarte:e}");
+    assert!(
+        none > 10.0 * none_early,
+        "drift should grow: {none_early:e} → {none:e}"
+    );
+    assert!(projected < 1e-9, "projection: {projected:e}");
+    assert!(
+        baumgarte < none / 10.0 && baumgarte < 1e-6,
+        "Baumgarte: {baumgarte:e} vs none {none:e}"
+    );
+}
+
+#[test]
+fn every_integrator_runs_in_f32() {
+    let system32 = AppellTimeDependent::<f32>::new(9.81, 0.5);
+    let system64 = AppellTimeDependent::<f64>::new(9.81, 0.5);
+    let (x, y, xd, yd): (f64, f64, f64, f64) = (0.3, -0.4, 1.2, 0.7);
+    let zd = (xd * xd + yd * yd - 2.0 * 0.5 * (x * y)).sqrt();
+    let start64 = State::new(0.0, Vector3::new(x, y, 1.0), Vector3::new(xd, yd, zd));
+    let start32 = State::new(0.0f32, start64.q.cast(), start64.qd.cast());
+    let mut s64 = start64;
+    DormandPrince45::new(1e-12, 1e-12)
+        .advance(&system64, &mut s64, 1.0)
+        .unwrap();
+    let mut a = start32;
+    Rk4::new(1e-3f32).advance(&system32, &mut a, 1.0).unwrap();
+    let mut b = start32;
+    DormandPrince45::new(1e-5f32, 1e-6)
+        .advance(&system32, &mut b, 1.0)
+        .unwrap();
+    let mut c = start32;
+    SemiImplicitEuler::new(1e-4f32)
+        .advance(&system32, &mut c, 1.0)
+        .unwrap();
+    for (name, s, tol) in [("rk4", a, 1e-4), ("dp45", b, 1e-4), ("euler", c, 1e-2)] {
+        let err = (s.q.cast::<f64>() - s64.q).norm();
+        assert!(err < tol, "{name} in f32: error {err}");
+    }
+}
+
+#[test]
+fn failures_are_values() {
+    let system = BlowUp::new();
+    let one = constrained::nalgebra::Vector1::new(1.0);
+    let start = State::new(0.0, one, one);
+    let mut s = start;
+    let error = Rk4::new(0.1).advance(&system, &mut s, 10.0).unwrap_err();
+    assert!(
+        matches!(error, IntegrationError::NonFiniteState { .. }),
+        "{error:?}"
+    );
+    let mut s = start;
+    let error = DormandPrince45::new(1e-8, 1e-8)
+        .advance(&system, &mut s, 10.0)
+        .unwrap_err();
+    assert!(
+        matches!(
+            error,
+            IntegrationError::StepSizeUnderflow { .. }
+                | IntegrationError::NonFiniteState { .. }
+                | IntegrationError::TooManySteps { .. }
+        ),
+        "{error:?}"
+    );
+    println!("blow-up with DormandPrince45: {error}");
+    let mut s = start;
+    let error = Rk4::new(0.001)
+        .with_max_steps(10)
+        .advance(&system, &mut s, 1.0)
+        .unwrap_err();
+    assert_eq!(error, IntegrationError::TooManySteps { t: s.t, steps: 10 });
+    let mut s = start;
+    assert_eq!(
+        Rk4::new(0.1).advance(&system, &mut s, -1.0).unwrap_err(),
+        IntegrationError::EndBeforeStart {
+            t: 0.0,
+            t_end: -1.0
+        }
+    );
+    assert_eq!(
+        Rk4::new(-0.1).advance(&system, &mut s, 1.0).unwrap_err(),
+        IntegrationError::InvalidParameter
+    );
+    assert_eq!(
+        Rk4::new(f64::NAN)
+            .advance(&system, &mut s, 1.0)
+            .unwrap_err(),
+        IntegrationError::InvalidParameter
+    );
+    // A non-positive-definite mass is reported with its time.
+    let bad = SphericalPendulum::new(-1.0, 9.81, 1.0);
+    let mut s = State::new(
+        0.5,
+        Vector3::new(0.0, 0.6, -0.8),
+        Vector3::new(0.3, 0.0, 0.0),
+    );
+    let error = Rk4::new(0.1).advance(&bad, &mut s, 1.0).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "at t = 0.5: the mass matrix is not positive definite at this state"
+    );
+}
