@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# The embedded run: builds the firmware for thumbv7em-none-eabihf, runs it on
+# an emulated Cortex-M4F (QEMU mps2-an386, semihosting output), runs the same
+# f32 simulation on the host, compares every number, and reports the size of
+# .text. Installs the Rust target and QEMU (Debian package) when missing.
+set -euo pipefail
+cd "$(dirname "$0")/../firmware"
+
+# Both sides run the same f32 code with correctly rounded arithmetic and the
+# same libm, so they agree bit for bit in practice; the stated tolerance
+# leaves room for a different libm or code generation on the target only.
+TOLERANCE=1e-5
+
+rustup target add thumbv7em-none-eabihf >/dev/null 2>&1
+if ! command -v qemu-system-arm >/dev/null; then
+    if [ "$(id -u)" != 0 ]; then
+        echo "qemu-system-arm is missing and this is not root: install the Debian package qemu-system-arm" >&2
+        exit 1
+    fi
+    echo "installing qemu-system-arm"
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm >/dev/null
+fi
+
+cargo build --quiet --release --target thumbv7em-none-eabihf
+elf=target/thumbv7em-none-eabihf/release/constrained-firmware
+echo "== Cortex-M4F (QEMU mps2-an386): Appell's particle and a double pendulum, f32, RK4, 5 s"
+target_out=$(timeout 600 cargo run --quiet --release --target thumbv7em-none-eabihf)
+echo "$target_out"
+echo "== host (x86_64), the same code"
+host_out=$(cargo run --quiet --release)
+echo "$host_out"
+
+python3 - "$TOLERANCE" "$target_out" "$host_out" <<'PY'
+import sys
+tolerance, target, host = float(sys.argv[1]), sys.argv[2].split("\n"), sys.argv[3].split("\n")
+parse = lambda lines: {l.split()[0]: [float(x) for x in l.split()[1:]] for l in lines if l.strip()}
+t, h = parse(target), parse(host)
+assert t.keys() == h.keys() and t, f"different reports: {sorted(t)} vs {sorted(h)}"
+worst, count = 0.0, 0
+for key in t:
+    for a, b in zip(t[key], h[key], strict=True):
+        worst = max(worst, abs(a - b) / max(abs(a), abs(b), 1.0))
+        count += 1
+verdict = "ok" if worst <= tolerance else "FAILED"
+print(f"== target vs host: {count} numbers, largest relative difference {worst:.3e} (tolerance {tolerance:g}): {verdict}")
+sys.exit(0 if worst <= tolerance else 1)
+PY
+
+# Lines read "[Nr] Name Type Addr Off Size …"; drop the index, whose
+# brackets may hold a space, then the size is the fifth field.
+text_hex=$(readelf -SW "$elf" | sed 's/^ *\[ *[0-9]*\] *//' | awk '$1 == ".text" { print $5 }')
+text=$((16#$text_hex))
+echo "== firmware .text: ${text} bytes (opt-level s, LTO; cortex-m-rt, semihosting, both systems, RK4, Baumgarte)"
