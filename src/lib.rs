@@ -100,6 +100,12 @@ pub use constrained_macros::constrained_system;
 
 pub mod models;
 
+/// The README's Rust snippets, compiled and run as doc tests so that they
+/// stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
