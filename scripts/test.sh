@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Runs every test of the project: unit, integration, property, snapshot,
 # compile-fail (trybuild) and doc tests; the benches once each in test mode
-# so that they cannot rot; the main example; and the embedded run (firmware
-# on an emulated Cortex-M4F under QEMU, compared with the host). Needs cargo;
-# installs the thumbv7em target and QEMU (Debian package) when missing.
+# so that they cannot rot; the main example; the independent sympy suite
+# (in a virtual environment with pinned requirements); and the embedded run
+# (firmware on an emulated Cortex-M4F under QEMU, compared with the host).
+# Needs cargo and python3; installs the thumbv7em target, QEMU (Debian
+# package) and the Python requirements when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,4 +14,5 @@ cargo test --workspace --all-targets
 cargo test --workspace --doc
 # The main example checks itself and exits non-zero on disagreement.
 cargo run --quiet --example appell > /dev/null
+bash scripts/sympy.sh
 bash scripts/embedded.sh

@@ -1,0 +1,53 @@
+"""Loads the macro's export (examples/sympy_export.rs) and reports the
+largest discrepancy each check saw."""
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+EXPORT = Path(os.environ.get("CONSTRAINED_SYSTEMS_JSON", ROOT / "target" / "sympy" / "systems.json"))
+
+DISCREPANCIES = {}
+
+
+def record(check, system, value):
+    """Keeps the largest discrepancy seen by `check` on `system`."""
+    key = (check, system)
+    DISCREPANCIES[key] = max(DISCREPANCIES.get(key, 0.0), float(value))
+
+
+def load_systems():
+    if not EXPORT.exists():
+        raise FileNotFoundError(
+            f"{EXPORT} is missing: run `cargo run --example sympy_export -- {EXPORT}` first "
+            "(scripts/sympy.sh does)"
+        )
+    return json.loads(EXPORT.read_text())["systems"]
+
+
+SYSTEMS = load_systems()
+
+# CONSTRAINED_SYMPY_MUTATE=1 flips the sign of each system's b₁ as exported
+# by the macro, a deliberately wrong derivative: the suite must then fail
+# (scripts/sympy.sh --mutate shows it).
+if os.environ.get("CONSTRAINED_SYMPY_MUTATE") == "1":
+    for _system in SYSTEMS:
+        _system["b_vector"][0] = f"-({_system['b_vector'][0]})"
+
+
+@pytest.fixture(params=SYSTEMS, ids=[s["name"] for s in SYSTEMS])
+def system(request):
+    return request.param
+
+
+def pytest_terminal_summary(terminalreporter):
+    if not DISCREPANCIES:
+        return
+    terminalreporter.section("largest discrepancies (relative)")
+    for (check, name), value in sorted(DISCREPANCIES.items()):
+        terminalreporter.write_line(f"{check:<42} {name:<26} {value:.2e}")
+    worst = max(DISCREPANCIES.values())
+    terminalreporter.write_line(f"largest over all checks: {worst:.2e}")
