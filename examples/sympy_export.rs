@@ -151,6 +151,11 @@ fn main() {
             &mut rng,
         ),
         export(
+            SliderCrank::<f64>::SYMBOLIC,
+            |p| SliderCrank::new(p[0], p[1], p[2], p[3], p[4], p[5]),
+            &mut rng,
+        ),
+        export(
             TwoLinkArmOnLine::<f64>::SYMBOLIC,
             |p| TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5]),
             &mut rng,

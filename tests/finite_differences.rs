@@ -111,3 +111,6 @@ agrees_with_finite_differences!(chaplygin_sleigh, ChaplyginSleigh, 3, |p| {
 agrees_with_finite_differences!(two_link_arm_on_line, TwoLinkArmOnLine, 2, |p| {
     TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5])
 });
+agrees_with_finite_differences!(slider_crank, SliderCrank, 4, |p| {
+    SliderCrank::new(p[0], p[1], p[2], p[3], p[4], p[5])
+});

@@ -244,6 +244,25 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1000))]
+
+    /// Crank angle θ and rate ω fix the mechanism: x₂ = r cos θ + √(l² − r² sin² θ).
+    #[test]
+    fn slider_crank(p in params::<6>(), th in -3.0..3.0f64, w in -3.0..3.0f64, seed: u64) {
+        let [m1, m2, r, rod, k, g] = p;
+        let l = r * (1.1 + rod); // the rod must be longer than the crank
+        let slider_crank = SliderCrank::new(m1, m2, r, l, k, g);
+        let (s, c) = (th.sin(), th.cos());
+        let root = (l * l - r * r * s * s).sqrt();
+        let x2 = r * c + root;
+        let x2_dot = -r * s * w - r * r * s * c * w / root;
+        let q = Vector4::new(r * c, r * s, x2, 0.0);
+        let qd = Vector4::new(-r * s * w, r * c * w, x2_dot, 0.0);
+        check(&slider_crank, &State::new(0.0, q, qd), seed)?;
+    }
+}
+
 /// The runtime's pivoted {1}-inverse and the generated structured one agree
 /// on the redundant pendulum, where S is singular.
 #[test]

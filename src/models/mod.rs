@@ -10,9 +10,11 @@ mod arm;
 mod bead;
 mod pendulum;
 mod sleigh;
+mod slider_crank;
 
 pub use appell::{Appell, AppellTimeDependent};
 pub use arm::TwoLinkArmOnLine;
 pub use bead::BeadOnRotatingHoop;
 pub use pendulum::{DoublePendulum, RedundantDoublePendulum, SphericalPendulum};
 pub use sleigh::ChaplyginSleigh;
+pub use slider_crank::SliderCrank;
