@@ -12,7 +12,10 @@ cd "$(dirname "$0")/.."
 export INSTA_UPDATE=no # snapshots are compared, never written, here
 cargo test --workspace --all-targets
 cargo test --workspace --doc
-# The main example checks itself and exits non-zero on disagreement.
-cargo run --quiet --example appell > /dev/null
+# Every example, briefly, so that none can rot (the main one checks itself
+# and exits non-zero on disagreement). Plots go to target/plots.
+for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm; do
+    cargo run --quiet --release --example "$example" -- --duration 0.5 --out target/plots > /dev/null
+done
 bash scripts/sympy.sh
 bash scripts/embedded.sh
