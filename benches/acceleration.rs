@@ -52,31 +52,77 @@ fn appell_dynamic(q: &DVector<f64>, qd: &DVector<f64>, _t: f64) -> DVector<f64> 
     &acc + pinv * (b - &a_mat * &acc)
 }
 
+/// The states every Appell implementation is timed on, shared with the
+/// Python lambdify benchmark (benches/lambdify.py).
+fn appell_states() -> Vec<(Vector3<f64>, Vector3<f64>, f64)> {
+    let data: serde_json::Value = serde_json::from_str(include_str!("data/appell_states.json"))
+        .expect("valid benchmark states");
+    let v = |x: &serde_json::Value| {
+        Vector3::from_iterator(
+            x.as_array()
+                .expect("array")
+                .iter()
+                .map(|e| e.as_f64().expect("number")),
+        )
+    };
+    data["states"]
+        .as_array()
+        .expect("states")
+        .iter()
+        .map(|s| (v(&s["q"]), v(&s["qd"]), s["t"].as_f64().expect("t")))
+        .collect()
+}
+
 fn appell(c: &mut Criterion) {
     let system = Appell::<f64>::new(G, ALPHA);
-    let (q, qd) = (Vector3::new(0.3, -0.2, 1.1), Vector3::new(1.2, 0.7, -0.4));
+    let states = appell_states();
+    let dynamic: Vec<(DVector<f64>, DVector<f64>, f64)> = states
+        .iter()
+        .map(|(q, qd, t)| {
+            (
+                DVector::from_column_slice(q.as_slice()),
+                DVector::from_column_slice(qd.as_slice()),
+                *t,
+            )
+        })
+        .collect();
     // The three agree before they are timed.
-    let generated = system.acceleration(&q, &qd, 0.0);
-    assert!((generated - appell_by_hand(&q, &qd, 0.0)).norm() < 1e-14);
-    let (qdyn, qddyn) = (
-        DVector::from_column_slice(q.as_slice()),
-        DVector::from_column_slice(qd.as_slice()),
-    );
-    assert!(
-        (DVector::from_column_slice(generated.as_slice()) - appell_dynamic(&qdyn, &qddyn, 0.0))
-            .norm()
-            < 1e-12
-    );
-
-    let mut group = c.benchmark_group("appell_acceleration");
+    for ((q, qd, t), (qdyn, qddyn, _)) in states.iter().zip(&dynamic) {
+        let generated = system.acceleration(q, qd, *t);
+        assert!((generated - appell_by_hand(q, qd, *t)).norm() < 1e-13 * generated.norm());
+        let dynamic = appell_dynamic(qdyn, qddyn, *t);
+        assert!(
+            (DVector::from_column_slice(generated.as_slice()) - dynamic).norm()
+                < 1e-12 * generated.norm()
+        );
+    }
+    // Each iteration evaluates all states: divide by their number for one call.
+    let mut group = c.benchmark_group("appell_acceleration_12_states");
     group.bench_function("generated", |b| {
-        b.iter(|| appell_generated(&system, black_box(&q), black_box(&qd), black_box(0.0)))
+        b.iter(|| {
+            for (q, qd, t) in &states {
+                black_box(appell_generated(
+                    &system,
+                    black_box(q),
+                    black_box(qd),
+                    black_box(*t),
+                ));
+            }
+        })
     });
     group.bench_function("hand_written_eq32", |b| {
-        b.iter(|| appell_by_hand(black_box(&q), black_box(&qd), black_box(0.0)))
+        b.iter(|| {
+            for (q, qd, t) in &states {
+                black_box(appell_by_hand(black_box(q), black_box(qd), black_box(*t)));
+            }
+        })
     });
     group.bench_function("dynamic_nalgebra_svd", |b| {
-        b.iter(|| appell_dynamic(black_box(&qdyn), black_box(&qddyn), black_box(0.0)))
+        b.iter(|| {
+            for (q, qd, t) in &dynamic {
+                black_box(appell_dynamic(black_box(q), black_box(qd), black_box(*t)));
+            }
+        })
     });
     group.finish();
 }

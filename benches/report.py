@@ -1,0 +1,150 @@
+"""Writes BENCHMARKS.md from one run of scripts/benchmarks.sh: criterion's
+estimates (target/criterion), the lambdify timings and the expansion sizes
+(target/benchmarks). Checks the performance targets and reports each ratio.
+Standard library only."""
+
+import json
+import os
+import platform
+import subprocess
+import sys
+from datetime import datetime, timezone
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CRITERION = ROOT / "target" / "criterion"
+STATES = 12  # Appell benches evaluate all shared states per iteration
+
+
+def criterion_means():
+    """full_id → mean time in ns, from every benchmark of the last run."""
+    means = {}
+    for bench in CRITERION.rglob("new/benchmark.json"):
+        info = json.loads(bench.read_text())
+        estimates = json.loads((bench.parent / "estimates.json").read_text())
+        means[info["full_id"]] = estimates["mean"]["point_estimate"]
+    return means
+
+
+def ns(value):
+    if value >= 1e6:
+        return f"{value / 1e6:.2f} ms"
+    if value >= 1e3:
+        return f"{value / 1e3:.2f} µs"
+    return f"{value:.2f} ns" if value < 100 else f"{value:.0f} ns"
+
+
+def machine():
+    cpu = "unknown CPU"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    rustc = subprocess.run(["rustc", "--version"], capture_output=True, text=True).stdout.strip()
+    return f"{cpu}, {os.cpu_count()} cores, {platform.system()}; {rustc}"
+
+
+def main():
+    m = criterion_means()
+    lam = json.loads((ROOT / "target" / "benchmarks" / "lambdify.json").read_text())
+    sizes = json.loads((ROOT / "target" / "benchmarks" / "expansion.json").read_text())
+    get = lambda key: m.get(key)  # noqa: E731
+
+    appell = {name: get(f"appell_acceleration_12_states/{name}") for name in ("generated", "hand_written_eq32", "dynamic_nalgebra_svd")}
+    missing = [k for k, v in appell.items() if v is None]
+    if missing:
+        sys.exit(f"missing criterion results for {missing}: run scripts/benchmarks.sh")
+    per_call = {k: v / STATES for k, v in appell.items()}
+    generated = per_call["generated"]
+    links = [1, 2, 4, 8, 16, 32]
+    chain = {n: get(f"chain_acceleration/{n}") for n in links}
+    chain_ga = {n: get(f"chain_acceleration_gibbs_appell/{n}") for n in links}
+    rk4 = {n: get(f"chain_rk4_step/{n}") for n in links}
+    expand = {n: get(f"expand_planar_chain/{n}") for n in links}
+    size = {row["links"]: row for row in sizes}
+
+    targets = [
+        ("Appell: generated ≤ 1.2 × hand-written eq. 32", generated / per_call["hand_written_eq32"], "≤ 1.2", lambda r: r <= 1.2, "{:.2}×"),
+        ("Appell: ≥ 20 × faster than dynamic nalgebra (SVD)", per_call["dynamic_nalgebra_svd"] / generated, "≥ 20", lambda r: r >= 20, "{:.0}×"),
+        ("Appell: ≥ 50 × faster than the fastest lambdify", lam["lambdify_math_cse"] / generated, "≥ 50", lambda r: r >= 50, "{:.0}×"),
+        ("Chain q̈: cost N = 32 / N = 4 ≤ 12 (dense ~128)", chain[32] / chain[4], "≤ 12", lambda r: r <= 12, "{:.1}×"),
+    ]
+    lines = [
+        "# Benchmarks",
+        "",
+        f"Produced by `bash scripts/benchmarks.sh` in one run on {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC,",
+        f"{machine()}. Criterion means (Rust), `timeit` best of 7 (Python), same",
+        "machine, same run. The machine is shared and noisy: ratios move by some",
+        "percent between runs.",
+        "",
+        "## Targets",
+        "",
+        "| target | measured | wanted | met |",
+        "|---|---|---|---|",
+    ]
+    all_met = True
+    for name, value, wanted, check, fmt in targets:
+        met = check(value)
+        all_met &= met
+        lines.append(f"| {name} | {fmt.format(value)} | {wanted} | {'✓' if met else '✗'} |")
+    lines += [
+        "",
+        "## Appell's particle: one `acceleration` (eq. 32)",
+        "",
+        "Mean per call over the 12 states of `benches/data/appell_states.json`.",
+        "",
+        "| implementation | time per call | generated is faster by |",
+        "|---|---|---|",
+    ]
+    rows = [
+        ("`constrained_system!` (generated)", generated),
+        ("eq. 32 written by hand", per_call["hand_written_eq32"]),
+        ("dynamic nalgebra: A, b into `DMatrix`, SVD pseudo-inverse", per_call["dynamic_nalgebra_svd"]),
+        ("sympy `lambdify`, numpy", lam["lambdify_numpy"]),
+        ("sympy `lambdify`, math module, `cse=True`", lam["lambdify_math_cse"]),
+    ]
+    for name, value in rows:
+        lines.append(f"| {name} | {ns(value)} | {value / generated:.2f}× |")
+    lines += [
+        "",
+        "## Planar N-link chain (2N coordinates, N constraints)",
+        "",
+        "| N | q̈, generalized inverse | q̈, Gibbs–Appell | RK4 step | RK4 steps/s | `expand` | generated lines | solver lines |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for n in links:
+        steps = 1e9 / rk4[n] if rk4[n] else float("nan")
+        lines.append(
+            f"| {n} | {ns(chain[n])} | {ns(chain_ga[n])} | {ns(rk4[n])} | {steps:,.0f} | {ns(expand[n])} | "
+            f"{size[n]['lines']} | {size[n]['solver_lines']} |"
+        )
+    lines += [
+        "",
+        "The generalized-inverse q̈ and its solver grow about linearly in N (the",
+        "factorization follows the chain's tridiagonal `A M⁻¹ Aᵀ`, eliminated from",
+        "both ends). The Gibbs–Appell form builds a dense reduced system at every",
+        "call: O(N³). The whole expansion grows quadratically only because",
+        "`mass_matrix`, `constraint_matrices` and `SYMBOLIC` return dense n × n and",
+        "k × n data.",
+        "",
+        "## Both equations of motion on the reference models",
+        "",
+        "| system | `acceleration` | `acceleration_gibbs_appell` |",
+        "|---|---|---|",
+    ]
+    for system in ("appell", "double_pendulum", "redundant_double_pendulum", "chaplygin_sleigh", "two_link_arm"):
+        a, b = get(f"models/{system}/acceleration"), get(f"models/{system}/gibbs_appell")
+        if a and b:
+            lines.append(f"| {system.replace('_', ' ')} | {ns(a)} | {ns(b)} |")
+    lines.append("")
+    (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))
+    print("\n".join(lines[7:14]))
+    print(f"wrote {ROOT / 'BENCHMARKS.md'}")
+    if not all_met:
+        print("note: not every target is met on this run (see ✗ above)")
+
+
+main()

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Runs every benchmark side by side in one run and writes BENCHMARKS.md:
+# the generated code against hand-written eq. 32, dynamic nalgebra and sympy
+# lambdify on Appell's particle; the N-link chain (both equations of motion,
+# RK4 steps); macro expansion time and generated code size against N.
+# Takes about five minutes on two cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+quick=(--warm-up-time 1 --measurement-time 3)
+
+bash scripts/sympy.sh > /dev/null # sets up the pinned Python environment
+echo "== criterion: generated code (benches/acceleration.rs)"
+cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
+echo "== criterion: macro expansion (codegen/benches/expand.rs)"
+cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > target/benchmarks-expand.log
+echo "== generated code size"
+cargo run --quiet -p constrained-codegen --example expansion_size -- target/benchmarks/expansion.json
+echo "== sympy lambdify"
+tests/sympy/.venv/bin/python benches/lambdify.py
+echo "== report"
+python3 benches/report.py
