@@ -169,6 +169,22 @@ macro_rules! bench_chains {
     }};
 }
 
+/// One RK4 step (four accelerations) of a chain, from the same state each time.
+macro_rules! bench_rk4 {
+    ($group:expr, $chain:ty, $links:literal, $m:literal) => {{
+        let system = <$chain>::new(G);
+        let (q, qd) = chain_state::<$m>();
+        let rk4 = constrained::Rk4::new(1e-3);
+        $group.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
+            b.iter(|| {
+                let mut s = constrained::State::new(0.0, q, qd);
+                rk4.advance(&system, &mut s, 1e-3).expect("one step");
+                black_box(s)
+            })
+        });
+    }};
+}
+
 fn chain(c: &mut Criterion) {
     bench_chains!(c, "chain_acceleration", acceleration);
     bench_chains!(
@@ -176,6 +192,14 @@ fn chain(c: &mut Criterion) {
         "chain_acceleration_gibbs_appell",
         acceleration_gibbs_appell
     );
+    let mut group = c.benchmark_group("chain_rk4_step");
+    bench_rk4!(group, Chain1, 1, 2);
+    bench_rk4!(group, Chain2, 2, 4);
+    bench_rk4!(group, Chain4, 4, 8);
+    bench_rk4!(group, Chain8, 8, 16);
+    bench_rk4!(group, Chain16, 16, 32);
+    bench_rk4!(group, Chain32, 32, 64);
+    group.finish();
 }
 
 /// Both equations of motion of every reference model, side by side.

@@ -118,25 +118,32 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
 /// projecting out the columns already chosen, relative to `‖A‖²_F`, is
 /// largest. Relative to `A` rather than to the column itself, so that a
 /// column that can vanish (`−sin θ`) loses to one that cannot (`−a`).
+///
+/// Modified Gram–Schmidt on every state at once: each state keeps the
+/// residual of every column and updates it after each choice, so the cost
+/// is O(r·n·k) per state.
 fn choose(matrices: &[Vec<Vec<f64>>], rank: usize, n: usize) -> Vec<usize> {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    // residuals[s][j]: column j of state s, minus its projection so far.
+    let mut residuals: Vec<Vec<Vec<f64>>> = matrices
+        .iter()
+        .map(|a| {
+            (0..n)
+                .map(|j| a.iter().map(|row| row[j]).collect())
+                .collect()
+        })
+        .collect();
+    let frobenius: Vec<f64> = matrices
+        .iter()
+        .map(|a| a.iter().flatten().map(|x| x * x).sum())
+        .collect();
     let mut chosen: Vec<usize> = Vec::new();
     while chosen.len() < rank {
         let score = |j: usize| -> f64 {
-            matrices
+            residuals
                 .iter()
-                .map(|a| {
-                    let with: Vec<usize> = chosen.iter().copied().chain([j]).collect();
-                    let sub: Vec<Vec<f64>> = a
-                        .iter()
-                        .map(|row| with.iter().map(|&c| row[c]).collect())
-                        .collect();
-                    let frobenius: f64 = a.iter().flatten().map(|x| x * x).sum();
-                    if frobenius > 0.0 {
-                        residual_of_last(&sub) / frobenius
-                    } else {
-                        0.0
-                    }
-                })
+                .zip(&frobenius)
+                .map(|(r, &f)| if f > 0.0 { dot(&r[j], &r[j]) / f } else { 0.0 })
                 .fold(f64::INFINITY, f64::min)
         };
         let best = (0..n)
@@ -146,50 +153,23 @@ fn choose(matrices: &[Vec<Vec<f64>>], rank: usize, n: usize) -> Vec<usize> {
                 Some((_, b)) if b >= s => best,
                 _ => Some((j, s)),
             });
-        match best {
-            Some((j, _)) => chosen.push(j),
-            None => break,
+        let Some((p, _)) = best else { break };
+        chosen.push(p);
+        for columns in residuals.iter_mut() {
+            let norm = dot(&columns[p], &columns[p]).sqrt();
+            if norm == 0.0 {
+                continue;
+            }
+            let unit: Vec<f64> = columns[p].iter().map(|x| x / norm).collect();
+            for (j, column) in columns.iter_mut().enumerate() {
+                if !chosen.contains(&j) {
+                    let c = dot(column, &unit);
+                    column.iter_mut().zip(&unit).for_each(|(x, u)| *x -= c * u);
+                }
+            }
         }
     }
     chosen
-}
-
-/// The squared norm of the last column of `a` after projecting out the others.
-fn residual_of_last(a: &[Vec<f64>]) -> f64 {
-    let cols = a.first().map_or(0, Vec::len);
-    let last: Vec<f64> = a.iter().map(|row| row[cols - 1]).collect();
-    // Project out the others: minimum-norm coefficients of the others for `last`.
-    let others: Vec<Vec<f64>> = a.iter().map(|row| row[..cols - 1].to_vec()).collect();
-    let coeff = if cols > 1 {
-        let jt: Vec<Vec<f64>> = (0..cols - 1)
-            .map(|c| others.iter().map(|r| r[c]).collect())
-            .collect();
-        // Least squares: others · c ≈ last, via the normal equations' min-norm solve.
-        let atb: Vec<f64> = jt
-            .iter()
-            .map(|col| col.iter().zip(&last).map(|(x, y)| x * y).sum())
-            .collect();
-        let ata: Vec<Vec<f64>> = jt
-            .iter()
-            .map(|ci| {
-                jt.iter()
-                    .map(|cj| ci.iter().zip(cj).map(|(x, y)| x * y).sum())
-                    .collect()
-            })
-            .collect();
-        minimum_norm_solve(&ata, &atb)
-    } else {
-        Vec::new()
-    };
-    let residual: f64 = a
-        .iter()
-        .zip(&last)
-        .map(|(row, l)| {
-            let fit: f64 = row[..cols - 1].iter().zip(&coeff).map(|(x, c)| x * c).sum();
-            (l - fit) * (l - fit)
-        })
-        .sum();
-    residual
 }
 
 /// A state of the system: values of every variable.
