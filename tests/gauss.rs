@@ -13,6 +13,8 @@ use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
+mod common;
+
 /// Checks every claim at one consistent state; `seed` drives the random Y.
 fn check<S: ConstrainedSystem<f64, N, K>, const N: usize, const K: usize>(
     system: &S,
@@ -137,21 +139,7 @@ fn sphere(u: f64, v: f64) -> Vector3<f64> {
 }
 
 fn double_pendulum_state(p: &[f64; 5], th: [f64; 4]) -> State<f64, 4> {
-    let [_, _, l1, l2, _] = *p;
-    let [t1, t2, w1, w2] = th;
-    let q = Vector4::new(
-        l1 * t1.sin(),
-        -l1 * t1.cos(),
-        l1 * t1.sin() + l2 * t2.sin(),
-        -l1 * t1.cos() - l2 * t2.cos(),
-    );
-    let qd = Vector4::new(
-        l1 * t1.cos() * w1,
-        l1 * t1.sin() * w1,
-        l1 * t1.cos() * w1 + l2 * t2.cos() * w2,
-        l1 * t1.sin() * w1 + l2 * t2.sin() * w2,
-    );
-    State::new(0.0, q, qd)
+    common::double_pendulum_state(p[2], p[3], th)
 }
 
 fn params<const P: usize>() -> impl Strategy<Value = [f64; P]> {

@@ -3,7 +3,9 @@
 //! stabilization, f32, and errors as values.
 
 use constrained::models::{AppellTimeDependent, DoublePendulum, SphericalPendulum};
-use constrained::nalgebra::{Vector2, Vector3, Vector4};
+use constrained::nalgebra::{Vector2, Vector3};
+mod common;
+
 use constrained::{
     constrained_system, DormandPrince45, IntegrationError, Rk4, SemiImplicitEuler, Stabilization,
     State,
@@ -139,20 +141,10 @@ fn spherical_pendulum_conserves_energy_and_angular_momentum() {
 fn double_pendulum() -> (DoublePendulum<f64>, State<f64, 4>) {
     let (l1, l2) = (1.2, 0.8);
     let system = DoublePendulum::new(1.0, 1.5, l1, l2, 9.81);
-    let (t1, t2, w1, w2) = (2.0f64, -1.0f64, 0.5, 1.5);
-    let q = Vector4::new(
-        l1 * t1.sin(),
-        -l1 * t1.cos(),
-        l1 * t1.sin() + l2 * t2.sin(),
-        -l1 * t1.cos() - l2 * t2.cos(),
-    );
-    let qd = Vector4::new(
-        l1 * t1.cos() * w1,
-        l1 * t1.sin() * w1,
-        l1 * t1.cos() * w1 + l2 * t2.cos() * w2,
-        l1 * t1.sin() * w1 + l2 * t2.sin() * w2,
-    );
-    (system, State::new(0.0, q, qd))
+    (
+        system,
+        common::double_pendulum_state(l1, l2, [2.0, -1.0, 0.5, 1.5]),
+    )
 }
 
 /// Largest |φ| over 10⁵ RK4 steps (100 s), and its value after the first 1%.

@@ -4,9 +4,10 @@
 //! meanwhile; prints a summary line the test runners understand.
 
 use constrained::models::DoublePendulum;
-use constrained::nalgebra::Vector4;
 use constrained::{DormandPrince45, Rk4, SemiImplicitEuler, Stabilization, State};
 use std::alloc::{GlobalAlloc, Layout, System};
+
+mod common;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 struct Counting;
@@ -32,23 +33,8 @@ static GLOBAL: Counting = Counting;
 
 fn start() -> (DoublePendulum<f64>, State<f64, 4>) {
     let (l1, l2) = (1.2, 0.8);
-    let (t1, t2, w1, w2) = (2.0f64, -1.0f64, 0.5, 1.5);
-    let q = Vector4::new(
-        l1 * t1.sin(),
-        -l1 * t1.cos(),
-        l1 * t1.sin() + l2 * t2.sin(),
-        -l1 * t1.cos() - l2 * t2.cos(),
-    );
-    let qd = Vector4::new(
-        l1 * t1.cos() * w1,
-        l1 * t1.sin() * w1,
-        l1 * t1.cos() * w1 + l2 * t2.cos() * w2,
-        l1 * t1.sin() * w1 + l2 * t2.sin() * w2,
-    );
-    (
-        DoublePendulum::new(1.0, 1.5, l1, l2, 9.81),
-        State::new(0.0, q, qd),
-    )
+    let state = common::double_pendulum_state(l1, l2, [2.0, -1.0, 0.5, 1.5]);
+    (DoublePendulum::new(1.0, 1.5, l1, l2, 9.81), state)
 }
 
 /// Allocations made by `run`, and the number of steps it reports.

@@ -1,4 +1,4 @@
-use super::{accept, c, derivative, span, IntegrationError, Stats};
+use super::{derivative, fixed_steps, IntegrationError, Stats};
 use crate::stabilize::Stabilization;
 use crate::{ConstrainedSystem, State};
 use nalgebra::RealField;
@@ -55,35 +55,27 @@ impl<T: RealField + Copy> SemiImplicitEuler<T> {
         system: &S,
         state: &mut State<T, N>,
         t_end: T,
-        mut observer: impl FnMut(&State<T, N>),
+        observer: impl FnMut(&State<T, N>),
     ) -> Result<Stats, IntegrationError<T>>
     where
         S: ConstrainedSystem<T, N, K>,
     {
-        if !(self.step > T::zero() && self.step.is_finite()) {
-            return Err(IntegrationError::InvalidParameter);
-        }
-        let mut remaining = span(state, t_end)?;
-        let mut stats = Stats::default();
-        let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
-        while remaining > T::zero() {
-            if stats.steps == self.max_steps {
-                return Err(IntegrationError::TooManySteps {
-                    t: state.t,
-                    steps: stats.steps,
-                });
-            }
-            let last = remaining <= self.step * slack;
-            let h = if last { remaining } else { self.step };
-            let (_, qdd) = derivative(system, state, &self.stabilization, &mut stats)?;
+        let s = &self.stabilization;
+        let one_step = |state: &mut State<T, N>, h: T, stats: &mut Stats| {
+            let (_, qdd) = derivative(system, state, s, stats)?;
             state.qd += qdd * h;
             state.q += state.qd * h;
-            state.t = if last { t_end } else { state.t + h };
-            remaining = if last { T::zero() } else { t_end - state.t };
-            stats.steps += 1;
-            accept(system, state, &self.stabilization)?;
-            observer(state);
-        }
-        Ok(stats)
+            Ok(())
+        };
+        fixed_steps(
+            system,
+            state,
+            t_end,
+            self.step,
+            self.max_steps,
+            s,
+            one_step,
+            observer,
+        )
     }
 }

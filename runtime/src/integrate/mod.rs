@@ -165,6 +165,50 @@ where
     }
 }
 
+/// The loop shared by the fixed-step methods: steps of `step` (the last one
+/// shortened to land on `t_end`), each made by `advance_one(state, h,
+/// stats)`, then checked, stabilized and observed.
+#[allow(clippy::too_many_arguments)]
+fn fixed_steps<T, S, const N: usize, const K: usize>(
+    system: &S,
+    state: &mut State<T, N>,
+    t_end: T,
+    step: T,
+    max_steps: usize,
+    stabilization: &Stabilization<T>,
+    mut advance_one: impl FnMut(&mut State<T, N>, T, &mut Stats) -> Result<(), IntegrationError<T>>,
+    mut observer: impl FnMut(&State<T, N>),
+) -> Result<Stats, IntegrationError<T>>
+where
+    T: RealField + Copy,
+    S: ConstrainedSystem<T, N, K>,
+{
+    if !(step > T::zero() && step.is_finite()) {
+        return Err(IntegrationError::InvalidParameter);
+    }
+    let mut remaining = span(state, t_end)?;
+    let mut stats = Stats::default();
+    let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
+    while remaining > T::zero() {
+        if stats.steps == max_steps {
+            return Err(IntegrationError::TooManySteps {
+                t: state.t,
+                steps: stats.steps,
+            });
+        }
+        let last = remaining <= step * slack;
+        let h = if last { remaining } else { step };
+        let t = state.t;
+        advance_one(state, h, &mut stats)?;
+        state.t = if last { t_end } else { t + h };
+        remaining = if last { T::zero() } else { t_end - state.t };
+        stats.steps += 1;
+        accept(system, state, stabilization)?;
+        observer(state);
+    }
+    Ok(stats)
+}
+
 /// Validates the end time and returns the span to cover.
 fn span<T: RealField + Copy, const N: usize>(
     state: &State<T, N>,

@@ -1,4 +1,4 @@
-use super::{accept, c, derivative, span, IntegrationError, Stats};
+use super::{c, derivative, fixed_steps, IntegrationError, Stats};
 use crate::stabilize::Stabilization;
 use crate::{ConstrainedSystem, State};
 use nalgebra::RealField;
@@ -55,45 +55,36 @@ impl<T: RealField + Copy> Rk4<T> {
         system: &S,
         state: &mut State<T, N>,
         t_end: T,
-        mut observer: impl FnMut(&State<T, N>),
+        observer: impl FnMut(&State<T, N>),
     ) -> Result<Stats, IntegrationError<T>>
     where
         S: ConstrainedSystem<T, N, K>,
     {
-        if !(self.step > T::zero() && self.step.is_finite()) {
-            return Err(IntegrationError::InvalidParameter);
-        }
-        let mut remaining = span(state, t_end)?;
-        let mut stats = Stats::default();
-        let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
-        while remaining > T::zero() {
-            if stats.steps == self.max_steps {
-                return Err(IntegrationError::TooManySteps {
-                    t: state.t,
-                    steps: stats.steps,
-                });
-            }
-            let last = remaining <= self.step * slack;
-            let h = if last { remaining } else { self.step };
+        let s = &self.stabilization;
+        let one_step = |state: &mut State<T, N>, h: T, stats: &mut Stats| {
             let (half, sixth, two) = (h * c(0.5), h / c(6.0), c::<T>(2.0));
-            let s = &self.stabilization;
-            let k1 = derivative(system, state, s, &mut stats)?;
+            let k1 = derivative(system, state, s, stats)?;
             let at = |k: &(nalgebra::SVector<T, N>, nalgebra::SVector<T, N>), dt: T| State {
                 t: state.t + dt,
                 q: state.q + k.0 * dt,
                 qd: state.qd + k.1 * dt,
             };
-            let k2 = derivative(system, &at(&k1, half), s, &mut stats)?;
-            let k3 = derivative(system, &at(&k2, half), s, &mut stats)?;
-            let k4 = derivative(system, &at(&k3, h), s, &mut stats)?;
+            let k2 = derivative(system, &at(&k1, half), s, stats)?;
+            let k3 = derivative(system, &at(&k2, half), s, stats)?;
+            let k4 = derivative(system, &at(&k3, h), s, stats)?;
             state.q += (k1.0 + k2.0 * two + k3.0 * two + k4.0) * sixth;
             state.qd += (k1.1 + k2.1 * two + k3.1 * two + k4.1) * sixth;
-            state.t = if last { t_end } else { state.t + h };
-            remaining = if last { T::zero() } else { t_end - state.t };
-            stats.steps += 1;
-            accept(system, state, s)?;
-            observer(state);
-        }
-        Ok(stats)
+            Ok(())
+        };
+        fixed_steps(
+            system,
+            state,
+            t_end,
+            self.step,
+            self.max_steps,
+            s,
+            one_step,
+            observer,
+        )
     }
 }
