@@ -251,6 +251,38 @@ proptest! {
     }
 }
 
+constrained::constrained_system! {
+    /// A particle on a circle described in skew coordinates: a constant but
+    /// non-diagonal mass matrix, inverted exactly at compile time.
+    struct SkewParticle {
+        coordinates: [u, v],
+        parameters: [g],
+        mass: [[2.0, 0.5], [0.5, 1.0]],
+        forces: [0.0, -g],
+        constraints: [u.powi(2) + u * v + v.powi(2) == 1.0],
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1000))]
+
+    /// Constant, non-diagonal M: the same claims (Gibbs–Appell with eq. 37).
+    #[test]
+    fn constant_non_diagonal_mass(g in 0.5..20.0f64, phi in -3.0..3.0f64, w in -3.0..3.0f64, seed: u64) {
+        // u² + uv + v² = 1: a point of the ellipse and its tangent.
+        let (c, s) = (phi.cos(), phi.sin());
+        let radius = 1.0 / (1.0 + c * s).sqrt();
+        let q = Vector2::new(radius * c, radius * s);
+        let normal = Vector2::new(2.0 * q.x + q.y, q.x + 2.0 * q.y);
+        let qd = Vector2::new(-normal.y, normal.x) * w;
+        let system = SkewParticle::new(g);
+        // A plain vector: M is a positive-definite constant, nothing can fail.
+        let qdd: SVector<f64, 2> = system.acceleration(&q, &qd, 0.0);
+        prop_assert!(qdd.iter().all(|x| x.is_finite()));
+        check(&system, &State::new(0.0, q, qd), seed)?;
+    }
+}
+
 /// The runtime's pivoted {1}-inverse and the generated structured one agree
 /// on the redundant pendulum, where S is singular.
 #[test]

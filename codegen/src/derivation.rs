@@ -106,7 +106,7 @@ fn gibbs_appell(
     parameters: &[String],
 ) {
     let r = partition.rank;
-    let coupled = matches!(eq.gauss, MassInverse::Cholesky);
+    let coupled = !eq.gauss.is_diagonal();
     let eliminated: Vec<String> = partition
         .eliminated
         .iter()
@@ -171,7 +171,7 @@ fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates:
         w,
         "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  (A M⁻¹ Aᵀ) λ = b − A a,  a = M⁻¹ F:"
     );
-    let MassInverse::Diagonal(d) = &eq.gauss else {
+    let MassInverse::Symbolic(d) = &eq.gauss else {
         let _ = writeln!(
             w,
             "  M is not diagonal: M = L Lᵀ (Cholesky) at run time, a = M⁻¹ F,\n  \

@@ -6,7 +6,6 @@
 
 use crate::derive::Equations;
 use crate::expr::{Graph, Id};
-use crate::motion::MassInverse;
 use crate::num::Num;
 use crate::partition::Partition;
 
@@ -26,7 +25,7 @@ pub fn rank_one(eq: &Equations, partition: &Partition) -> Option<RankOne> {
     if partition.rank != 1 || n < 2 {
         return None;
     }
-    let coupled = matches!(eq.gauss, MassInverse::Cholesky);
+    let coupled = !eq.gauss.is_diagonal();
     let mut g = eq.system.graph.clone();
     let e = partition.eliminated[0];
     let independent: Vec<usize> = (0..n).filter(|&j| j != e).collect();

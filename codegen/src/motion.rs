@@ -2,29 +2,43 @@
 //! "Generalized-inverse forms"): `M q̈ = F + Aᵀ λ` with `S λ = r`,
 //! `S = A M⁻¹ Aᵀ`, `r = b − A a`, `a = M⁻¹ F`.
 //!
-//! When `M` is diagonal its inverse is known symbolically, so `a`, `S`, `r`
-//! and `W = M⁻¹ Aᵀ` are built as expressions: constant masses fold into them
-//! and the structural zeros of `A` make structural zeros of `S`, which the
-//! factorization pattern computed here skips. Otherwise `M` is factorized
-//! at run time (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
+//! When `M⁻¹` is known symbolically — `M` diagonal (`diag(1/mᵢ)`), or `M` a
+//! numeric constant (inverted exactly, in rationals, at compile time) — `a`,
+//! `S`, `r` and `W = M⁻¹ Aᵀ` are built as expressions: constant masses fold
+//! into them, no factorization of `M` runs, and the structural zeros of `A`
+//! make structural zeros of `S`, which the factorization pattern computed
+//! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
+//! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
 use crate::expr::{Graph, Id, Sym};
 use crate::num::Num;
 
 /// How `M⁻¹` is applied.
 pub enum MassInverse {
-    /// `M = diag(mᵢ)`: `M⁻¹ = diag(1/mᵢ)` symbolically.
-    Diagonal(Diagonal),
-    /// A full (possibly configuration-dependent) `M`: Cholesky at run time.
+    /// `M⁻¹` as expressions: `M` diagonal, or a numeric constant.
+    Symbolic(Symbolic),
+    /// A full configuration-dependent `M`: Cholesky at run time.
     Cholesky,
 }
 
-/// The symbolic Gauss pieces for a diagonal mass matrix.
-pub struct Diagonal {
-    /// The diagonal `mᵢ`, to check positivity at run time when not constant.
+impl MassInverse {
+    /// Whether `M` is diagonal, so that it never couples eliminated and
+    /// independent coordinates (Gibbs–Appell eq. 18 rather than eq. 37).
+    pub fn is_diagonal(&self) -> bool {
+        matches!(self, MassInverse::Symbolic(s) if s.diagonal)
+    }
+}
+
+/// The symbolic Gauss pieces, for a mass matrix whose inverse is known.
+pub struct Symbolic {
+    /// Diagonal masses `mᵢ` whose positivity is checked at run time (those
+    /// that are not positive constants); empty for a constant `M`, whose
+    /// positive definiteness the model stage checked at compile time.
     pub masses: Vec<Id>,
-    /// Whether every `mᵢ` is a positive number (then `acceleration` cannot fail).
+    /// Whether `M` is known positive definite (then `acceleration` cannot fail).
     pub known_positive: bool,
+    /// Whether `M` is diagonal (else a constant with coupling terms).
+    pub diagonal: bool,
     /// `a = M⁻¹ F`.
     pub unconstrained: Vec<Id>,
     /// `S = A M⁻¹ Aᵀ`, k × k, symmetric (entry (j, i) is the node of (i, j)).
@@ -52,26 +66,46 @@ pub fn gauss(
     b: &[Id],
 ) -> MassInverse {
     let n = mass.len();
+    let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
-    if !diagonal {
-        return MassInverse::Cholesky;
-    }
-    let masses: Vec<Id> = (0..n).map(|i| mass[i][i]).collect();
-    let known_positive = masses
+    let constant: Option<Vec<Vec<Num>>> = mass
         .iter()
-        .all(|&m| g.as_num(m).is_some_and(|v| v.to_f64() > 0.0));
-    let inverse: Vec<Id> = masses.iter().map(|&m| g.pown(m, Num::MINUS_ONE)).collect();
-    let unconstrained: Vec<Id> = (0..n).map(|i| g.mul2(inverse[i], forces[i])).collect();
+        .map(|row| row.iter().map(|&e| g.as_num(e)).collect())
+        .collect();
+    let (inverse, masses, known_positive): (Vec<Vec<Id>>, Vec<Id>, bool) = if diagonal {
+        let masses: Vec<Id> = (0..n).map(|i| mass[i][i]).collect();
+        let known_positive = masses
+            .iter()
+            .all(|&m| g.as_num(m).is_some_and(|v| v.to_f64() > 0.0));
+        let mut inverse = vec![vec![zero; n]; n];
+        for (i, &m) in masses.iter().enumerate() {
+            inverse[i][i] = g.pown(m, Num::MINUS_ONE);
+        }
+        (inverse, masses, known_positive)
+    } else if let Some(inverse) = constant.and_then(|m| exact_inverse(&m)) {
+        let inverse = inverse
+            .into_iter()
+            .map(|row| row.into_iter().map(|x| g.num(x)).collect())
+            .collect();
+        (inverse, Vec::new(), true)
+    } else {
+        return MassInverse::Cholesky;
+    };
+    // M⁻¹ v as expressions; structural zeros of M⁻¹ and v vanish.
+    let apply = |g: &mut Graph, v: &dyn Fn(usize) -> Id, i: usize| -> Id {
+        let terms: Vec<Id> = (0..n).map(|l| g.mul2(inverse[i][l], v(l))).collect();
+        g.add(&terms)
+    };
+    let unconstrained: Vec<Id> = (0..n).map(|i| apply(g, &|l| forces[l], i)).collect();
     let k = a.len();
     let weighted: Vec<Vec<Id>> = (0..n)
-        .map(|i| (0..k).map(|j| g.mul2(inverse[i], a[j][i])).collect())
+        .map(|i| (0..k).map(|j| apply(g, &|l| a[j][l], i)).collect())
         .collect();
-    let zero = g.int(0);
     let mut gram = vec![vec![zero; k]; k];
     for i in 0..k {
         for j in i..k {
             let shared: Vec<usize> = (0..n)
-                .filter(|&l| !g.is_zero(a[i][l]) && !g.is_zero(a[j][l]))
+                .filter(|&l| !g.is_zero(a[i][l]) && !g.is_zero(weighted[l][j]))
                 .collect();
             let terms: Vec<Id> = shared
                 .iter()
@@ -110,9 +144,10 @@ pub fn gauss(
         acceleration.push(g.add(&acc));
         force.push(g.add(&f));
     }
-    MassInverse::Diagonal(Diagonal {
+    MassInverse::Symbolic(Symbolic {
         masses,
         known_positive,
+        diagonal,
         unconstrained,
         gram,
         residual,
@@ -121,6 +156,40 @@ pub fn gauss(
         order,
         fill,
     })
+}
+
+/// The exact inverse of a constant matrix by Gauss–Jordan elimination in
+/// rationals (floats only where a literal was not a short decimal), or
+/// `None` when it is singular.
+fn exact_inverse(m: &[Vec<Num>]) -> Option<Vec<Vec<Num>>> {
+    let n = m.len();
+    let mut work: Vec<Vec<Num>> = m
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            let mut r = row.clone();
+            r.extend((0..n).map(|j| if i == j { Num::ONE } else { Num::ZERO }));
+            r
+        })
+        .collect();
+    for c in 0..n {
+        let p = (c..n).find(|&r| !work[r][c].is_zero())?;
+        work.swap(c, p);
+        let pivot = work[c][c];
+        for x in work[c].iter_mut() {
+            *x = *x / pivot;
+        }
+        let pivot_row = work[c].clone();
+        for (r, row) in work.iter_mut().enumerate() {
+            let f = row[c];
+            if r != c && !f.is_zero() {
+                for (x, p) in row.iter_mut().zip(&pivot_row) {
+                    *x = *x + -(f * *p);
+                }
+            }
+        }
+    }
+    Some(work.into_iter().map(|row| row[n..].to_vec()).collect())
 }
 
 /// The structural nonzeros of the unit lower factor of `S = L D Lᵀ` in the
@@ -205,6 +274,27 @@ mod tests {
         (0..l.len())
             .map(|i| (0..i).filter(|&j| l[i][j]).count())
             .sum()
+    }
+
+    #[test]
+    fn constant_mass_is_inverted_exactly() {
+        let m = vec![
+            vec![Num::int(2), Num::int(1)],
+            vec![Num::int(1), Num::int(2)],
+        ];
+        let inv = exact_inverse(&m).unwrap();
+        assert_eq!(
+            inv,
+            vec![
+                vec![Num::ratio(2, 3), Num::ratio(-1, 3)],
+                vec![Num::ratio(-1, 3), Num::ratio(2, 3)]
+            ]
+        );
+        assert!(exact_inverse(&[
+            vec![Num::int(1), Num::int(2)],
+            vec![Num::int(2), Num::int(4)]
+        ])
+        .is_none());
     }
 
     #[test]

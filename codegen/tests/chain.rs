@@ -30,3 +30,35 @@ fn sixteen_link_chain_structure() {
         constrained_codegen::expand(planar_chain("Chain16", 16).parse().unwrap()).unwrap();
     syn::parse2::<syn::File>(generated).expect("valid Rust");
 }
+
+/// A constant, non-diagonal mass matrix is inverted exactly at compile time:
+/// no factorization of M at run time, and `acceleration` cannot fail.
+#[test]
+fn constant_mass_needs_no_runtime_factorization() {
+    let source = "struct Skew { coordinates: [u, v], mass: [[2.0, 0.5], [0.5, 1.0]], \
+                  forces: [0.0, -9.81], constraints: [u.powi(2) + v.powi(2) == 1.0] }";
+    let (eq, _) = analyse(source.parse().expect("tokens")).expect("analyses");
+    assert!(matches!(
+        eq.gauss,
+        constrained_codegen::motion::MassInverse::Symbolic(_)
+    ));
+    assert!(!eq.gauss.is_diagonal());
+    let code = constrained_codegen::expand(source.parse().expect("tokens"))
+        .expect("expands")
+        .to_string();
+    let solver = code
+        .split("fn gauss")
+        .nth(1)
+        .and_then(|s| s.split("fn acceleration").next())
+        .expect("solver");
+    assert!(
+        !solver.contains("Cholesky"),
+        "the solver factorizes M at run time"
+    );
+    // M⁻¹ = [[4/7, −2/7], [−2/7, 8/7]]: a = M⁻¹F has a[u] = (2/7)·9.81.
+    let derivation = constrained_codegen::derivation::text(
+        &eq,
+        &constrained_codegen::partition::partition(&eq).expect("partition"),
+    );
+    assert!(derivation.contains("a[u] = 981/350"), "{derivation}");
+}

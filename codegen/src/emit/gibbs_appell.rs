@@ -8,7 +8,6 @@
 
 use super::dim;
 use crate::derive::Equations;
-use crate::motion::MassInverse;
 use crate::partition::Partition;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
@@ -23,7 +22,7 @@ pub(super) fn methods(eq: &Equations, partition: &Partition) -> TokenStream {
         .iter()
         .map(|&e| Literal::usize_unsuffixed(e))
         .collect();
-    let coupled = matches!(eq.gauss, MassInverse::Cholesky);
+    let coupled = !eq.gauss.is_diagonal();
     let names: Vec<String> = partition
         .eliminated
         .iter()

@@ -11,7 +11,7 @@ use super::body::Body;
 use super::dim;
 use crate::derive::Equations;
 use crate::expr::Id;
-use crate::motion::{Diagonal, MassInverse};
+use crate::motion::{MassInverse, Symbolic};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::Ident;
@@ -20,7 +20,7 @@ use syn::Ident;
 /// definite at compile time.
 pub(super) fn fallible(eq: &Equations) -> bool {
     match &eq.gauss {
-        MassInverse::Diagonal(d) => !d.known_positive,
+        MassInverse::Symbolic(d) => !d.known_positive,
         MassInverse::Cholesky => true,
     }
 }
@@ -29,7 +29,7 @@ pub(super) fn fallible(eq: &Equations) -> bool {
 pub(super) fn methods(eq: &Equations) -> TokenStream {
     let n = dim(eq.system.dof());
     let solver = match &eq.gauss {
-        MassInverse::Diagonal(d) => diagonal_solver(eq, d),
+        MassInverse::Symbolic(d) => symbolic_solver(eq, d),
         MassInverse::Cholesky => cholesky_solver(eq),
     };
     let moore_penrose = moore_penrose(eq);
@@ -192,7 +192,7 @@ fn ident2(prefix: &str, i: usize, j: usize) -> Ident {
 
 /// `M` diagonal: `a`, `S`, `r`, `W` and `A` are straight-line expressions;
 /// `S λ = r` is solved by `LDLᵀ` on the structural pattern of `S`.
-fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
+fn symbolic_solver(eq: &Equations, d: &Symbolic) -> TokenStream {
     let (n, k) = (eq.system.dof(), eq.a.len());
     let g = &eq.system.graph;
     let mut named: Vec<(Ident, Id)> = Vec::new();
@@ -289,7 +289,7 @@ fn diagonal_solver(eq: &Equations, d: &Diagonal) -> TokenStream {
 /// tridiagonal `S` costs O(k). A pivot whose `sin²θ = dⱼ / Sⱼⱼ` is below
 /// `rank_tolerance` is dropped (`D⁺`), which removes its constraint; for
 /// k = 1 this is the scalar closed form `λ = r / S` with `λ = 0` where `S = 0`.
-fn structured_ldlt(eq: &Equations, d: &Diagonal) -> TokenStream {
+fn structured_ldlt(eq: &Equations, d: &Symbolic) -> TokenStream {
     let k = eq.a.len();
     let g = &eq.system.graph;
     if k == 0 {
