@@ -90,35 +90,10 @@ impl<T: RealField + Copy> DormandPrince45<T> {
         }
     }
 
-    /// The same with a stabilization against constraint drift.
-    pub fn with_stabilization(mut self, stabilization: Stabilization<T>) -> Self {
-        self.stabilization = stabilization;
-        self
-    }
-
-    /// The same with at most `max_steps` accepted and rejected steps per call.
-    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
-        self.max_steps = max_steps;
-        self
-    }
-
     /// The same with steps no longer than `max_step` (e.g. to sample output).
     pub fn with_max_step(mut self, max_step: T) -> Self {
         self.max_step = Some(max_step);
         self
-    }
-
-    /// Advances `state` to `t_end`.
-    pub fn advance<S, const N: usize, const K: usize>(
-        &self,
-        system: &S,
-        state: &mut State<T, N>,
-        t_end: T,
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        self.advance_with(system, state, t_end, |_| {})
     }
 
     /// Advances `state` to `t_end`, calling `observer` after every accepted step.
@@ -384,3 +359,5 @@ where
         error,
     })
 }
+
+common_methods!(DormandPrince45);

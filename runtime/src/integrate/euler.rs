@@ -24,31 +24,6 @@ impl<T: RealField + Copy> SemiImplicitEuler<T> {
         }
     }
 
-    /// The same with a stabilization against constraint drift.
-    pub fn with_stabilization(mut self, stabilization: Stabilization<T>) -> Self {
-        self.stabilization = stabilization;
-        self
-    }
-
-    /// The same with at most `max_steps` steps per call.
-    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
-        self.max_steps = max_steps;
-        self
-    }
-
-    /// Advances `state` to `t_end`.
-    pub fn advance<S, const N: usize, const K: usize>(
-        &self,
-        system: &S,
-        state: &mut State<T, N>,
-        t_end: T,
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        self.advance_with(system, state, t_end, |_| {})
-    }
-
     /// Advances `state` to `t_end`, calling `observer` after every step.
     pub fn advance_with<S, const N: usize, const K: usize>(
         &self,
@@ -79,3 +54,5 @@ impl<T: RealField + Copy> SemiImplicitEuler<T> {
         )
     }
 }
+
+common_methods!(SemiImplicitEuler);

@@ -11,6 +11,41 @@
 //! non-finite state, a step size that underflows, too many steps, a mass
 //! matrix that is not positive definite, a projection that does not converge.
 
+/// The methods every integrator has: the two settings it shares
+/// (`stabilization`, `max_steps`) and `advance`, which is `advance_with`
+/// without an observer.
+macro_rules! common_methods {
+    ($integrator:ident) => {
+        impl<T: RealField + Copy> $integrator<T> {
+            /// The same with a stabilization against constraint drift.
+            pub fn with_stabilization(mut self, stabilization: Stabilization<T>) -> Self {
+                self.stabilization = stabilization;
+                self
+            }
+
+            /// The same with at most `max_steps` steps per call (rejected
+            /// steps of an adaptive method count).
+            pub fn with_max_steps(mut self, max_steps: usize) -> Self {
+                self.max_steps = max_steps;
+                self
+            }
+
+            /// Advances `state` to `t_end`.
+            pub fn advance<S, const N: usize, const K: usize>(
+                &self,
+                system: &S,
+                state: &mut State<T, N>,
+                t_end: T,
+            ) -> Result<Stats, IntegrationError<T>>
+            where
+                S: ConstrainedSystem<T, N, K>,
+            {
+                self.advance_with(system, state, t_end, |_| {})
+            }
+        }
+    };
+}
+
 mod dopri45;
 mod euler;
 mod rk4;
