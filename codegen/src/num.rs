@@ -180,8 +180,18 @@ impl Num {
 
     /// `self ^ exponent` when the result is known exactly (integer exponent, or
     /// a perfect square under a half-integer exponent) or either is a float;
-    /// `None` when it must stay symbolic (`2^(1/2)`).
+    /// `None` when it must stay symbolic (`2^(1/2)`), and when a float result
+    /// overflows or underflows: folding `(5/2 · x)^1296` into `(5/2)^1296 ·
+    /// x^1296` gave `∞ · 0 = NaN` at x = 0.2, where the power kept whole is
+    /// an ordinary (subnormal) number at run time.
     pub fn pow(self, exponent: Num) -> Option<Num> {
+        match self.pow_unchecked(exponent)? {
+            Num::Float(f) if !f.is_finite() || (f == 0.0 && !self.is_zero()) => None,
+            value => Some(value),
+        }
+    }
+
+    fn pow_unchecked(self, exponent: Num) -> Option<Num> {
         if let (Num::Float(_), _) | (_, Num::Float(_)) = (self, exponent) {
             return Some(Num::Float(self.to_f64().powf(exponent.to_f64())));
         }
@@ -306,5 +316,13 @@ mod tests {
             Num::int(10).pow(Num::int(60)),
             Some(Num::Float(_))
         ));
+    }
+
+    #[test]
+    fn powers_beyond_the_float_range_stay_symbolic() {
+        assert_eq!(Num::ratio(5, 2).pow(Num::int(1296)), None);
+        assert_eq!(Num::ratio(2, 5).pow(Num::int(1296)), None);
+        assert_eq!(Num::Float(1e300).pow(Num::int(2)), None);
+        assert_eq!(Num::ZERO.pow(Num::int(3)), Some(Num::ZERO));
     }
 }

@@ -1,12 +1,14 @@
 //! The rank-one Gibbs–Appell rows written in `DERIVATION` are the rows the
 //! generated code computes: for every reference model of rank 1, the
 //! symbolic entries, evaluated at consistent states, equal the runtime's
-//! `gibbs_appell::system` fed with the same A, b, M, F.
+//! `gibbs_appell::system` fed with the same A, b, M, F, wherever the runtime
+//! keeps the compile-time partition.
 
 use constrained_codegen::expr::{Id, Sym};
 use constrained_codegen::gibbs_appell::rank_one;
 use constrained_codegen::motion::MassInverse;
 use constrained_codegen::partition::{consistent_states, StateValues};
+use constrained_runtime::gibbs_appell::WELL_CONDITIONED;
 use nalgebra::{SMatrix, SVector};
 
 mod common;
@@ -42,7 +44,7 @@ fn runtime_rows<const N: usize, const I: usize>(
 
 #[test]
 fn symbolic_rows_equal_the_runtime() {
-    let mut checked = 0;
+    let (mut checked, mut re_pivoted) = (0, 0);
     for model in common::model_invocations() {
         let (eq, partition) = constrained_codegen::analyse(model.tokens).unwrap();
         let Some(rank_one) = rank_one(&eq, &partition) else {
@@ -61,6 +63,14 @@ fn symbolic_rows_equal_the_runtime() {
             let m = g.eval(&mass, &env(&state));
             let f = g.eval(&eq.system.forces, &env(&state));
             let e = partition.eliminated[0];
+            // The runtime keeps the compile-time column only while it is well
+            // conditioned (rank 1: a_e² against the largest a_j²), and the
+            // written rows are those of that column.
+            let largest = a.iter().fold(0.0f64, |m, x| m.max(x * x));
+            if a[e] * a[e] < WELL_CONDITIONED * largest {
+                re_pivoted += 1;
+                continue;
+            }
             let (s, rhs): (Vec<f64>, Vec<f64>) = match n {
                 2 => {
                     let (s, r) = runtime_rows::<2, 1>(&a, b, &m, &f, e, coupled);
@@ -96,5 +106,8 @@ fn symbolic_rows_equal_the_runtime() {
             checked += 1;
         }
     }
-    assert!(checked >= 40, "checked {checked} states");
+    assert!(
+        checked >= 30 && re_pivoted < checked,
+        "checked {checked} states, {re_pivoted} re-pivoted"
+    );
 }

@@ -45,17 +45,34 @@ impl Tree {
             Tree::Add(a, b) => a.eval(x) + b.eval(x),
             Tree::Sub(a, b) => a.eval(x) - b.eval(x),
             Tree::Mul(a, b) => a.eval(x) * b.eval(x),
-            Tree::Div(a, b) => a.eval(x) / b.eval(x),
-            Tree::Neg(a) => -a.eval(x),
-            Tree::Powi(a, k) => a.eval(x).powi(*k as i32),
             // Points on the boundary of a function's real domain (√0, 0^p,
-            // asin(±1), …) are left out: the derivative does not exist there.
-            Tree::Sqrt(a) => interior(a.eval(x), |v| v > 0.0).sqrt(),
-            Tree::Powf(a, b) => interior(a.eval(x), |v| v > 0.0).powf(b.eval(x)),
+            // asin(±1), poles, …) are left out: the derivative does not exist
+            // there. So are points within MARGIN of it, where the tree's own
+            // rounding is amplified without bound: y⁻¹·y = 1 − 1.1e-16 put
+            // asin 1.5e-8 from the graph's exact asin(1) = π/2, and
+            // (−1/3 + 5/3 − 4/3)⁻¹, exactly 1/0, came out as 6e15.
+            Tree::Div(a, b) => a.eval(x) / interior(b.eval(x), |v| v.abs() > MARGIN),
+            Tree::Neg(a) => -a.eval(x),
+            Tree::Powi(a, k) if *k < 0 => interior(a.eval(x), |v| v.abs() > MARGIN).powi(*k as i32),
+            Tree::Powi(a, k) => a.eval(x).powi(*k as i32),
+            Tree::Sqrt(a) => interior(a.eval(x), |v| v > MARGIN).sqrt(),
+            // Not `powf` on a NaN base alone: IEEE gives NaN⁰ = 1, which let
+            // a base outside the domain through whenever the exponent was 0.
+            Tree::Powf(a, b) => match (interior(a.eval(x), |v| v > MARGIN), b.eval(x)) {
+                (base, exponent) if base.is_nan() || exponent.is_nan() => f64::NAN,
+                (base, exponent) => base.powf(exponent),
+            },
             Tree::Func(f, a) => {
                 let v = match f {
-                    Func::Ln => interior(a.eval(x), |v| v > 0.0),
-                    Func::Asin | Func::Acos => interior(a.eval(x), |v| v.abs() < 1.0),
+                    Func::Ln => interior(a.eval(x), |v| v > MARGIN),
+                    // The argument's own rounding, |v| ε, is an absolute error
+                    // of the result: sin(0.2⁻¹²) differed by 1.6e-8 between
+                    // the two evaluators. And tan has poles.
+                    Func::Sin | Func::Cos => interior(a.eval(x), |v| v.abs() < LARGEST_ANGLE),
+                    Func::Tan => interior(a.eval(x), |v| {
+                        v.abs() < LARGEST_ANGLE && v.cos().abs() > MARGIN
+                    }),
+                    Func::Asin | Func::Acos => interior(a.eval(x), |v| v.abs() < 1.0 - MARGIN),
                     _ => a.eval(x),
                 };
                 match f {
@@ -74,7 +91,10 @@ impl Tree {
             }
             Tree::Atan2(a, b) => {
                 let (y, x) = (a.eval(x), b.eval(x));
-                if y == 0.0 && x == 0.0 {
+                // The origin, and the branch cut y = 0, x < 0, where the value
+                // jumps from π to −π with the sign of a zero (which the graph
+                // keeps and this evaluator drops: 0 · (−1.4) = −0).
+                if (y == 0.0 && x == 0.0) || (y.abs() <= MARGIN && x < 0.0) {
                     f64::NAN
                 } else {
                     y.atan2(x)
@@ -132,6 +152,13 @@ impl Tree {
 }
 
 /// `v` when `inside(v)`, NaN otherwise.
+/// How far inside its real domain an argument must be to be evaluated.
+const MARGIN: f64 = 1e-6;
+
+/// The largest argument of a trigonometric function evaluated: beyond it the
+/// rounding of the argument alone exceeds the comparison's tolerance.
+const LARGEST_ANGLE: f64 = 1e4;
+
 fn interior(v: f64, inside: impl Fn(f64) -> bool) -> f64 {
     if inside(v) {
         v

@@ -4,7 +4,7 @@
 //! The partition found at compile time (rank `r`, eliminated coordinates)
 //! and whether `M` can couple the blocks (eq. 37) or not (eq. 18) become
 //! constants of a call into `constrained::gibbs_appell`, which re-pivots at
-//! run time where the preferred columns lose rank.
+//! run time where the preferred columns are poorly conditioned.
 
 use super::dim;
 use crate::derive::Equations;
@@ -33,8 +33,8 @@ pub(super) fn methods(eq: &Equations, partition: &Partition) -> TokenStream {
         " The explicit Gibbs–Appell system ({equation}) as `(S, s)` with `S q̈ = s`, \
          {n} × {n}, columns in the original coordinate order: {r} independent rows of \
          `A q̈ = b`, then the {} rows of eq. {}. The eliminated accelerations are those of \
-         {} (chosen at compile time, rank {r}); where their columns of `A` lose rank the \
-         partition is re-chosen at run time. `Err(RankDeficient)` where `A` itself drops \
+         {} (chosen at compile time, rank {r}); where their columns of `A` are poorly \
+         conditioned the partition is re-chosen at run time. `Err(RankDeficient)` where `A` itself drops \
          below rank {r}.",
         n - partition.rank,
         if coupled { "35" } else { "13" },
