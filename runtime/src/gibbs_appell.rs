@@ -222,9 +222,9 @@ fn partition<
 
 /// The measure (module docs) above which the preferred partition is kept:
 /// every preferred column at least `asin(1/4) ≈ 14°` from the span of the
-/// earlier ones, at full scale. Below it the error bound is 16 times that of
-/// the best conditioned choice or worse, and re-pivoting costs `O(R·K·N)`,
-/// little beside the `O(N³)` of the reduced system.
+/// earlier ones, at full scale. Below it the error bound is at least 16
+/// times that of perfectly conditioned columns, and re-pivoting costs
+/// `O(R·K·N)`, little beside the `O(N³)` of the reduced system.
 pub const WELL_CONDITIONED: f64 = 1.0 / 16.0;
 
 /// The `R` columns to eliminate at this state: the preferred ones while
@@ -251,7 +251,7 @@ fn eliminated_columns<T: RealField + Copy, const K: usize, const N: usize, const
 }
 
 /// The smallest squared Gram–Schmidt residual of the columns `cols` of `a`,
-/// taken in order (zero, or NaN for non-finite input, when one vanishes).
+/// taken in order; zero when one vanishes or is not finite.
 fn measure_in_order<T: RealField + Copy, const K: usize, const N: usize, const R: usize>(
     a: &SMatrix<T, K, N>,
     cols: &[usize; R],

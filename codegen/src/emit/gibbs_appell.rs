@@ -34,8 +34,8 @@ pub(super) fn methods(eq: &Equations, partition: &Partition) -> TokenStream {
          {n} × {n}, columns in the original coordinate order: {r} independent rows of \
          `A q̈ = b`, then the {} rows of eq. {}. The eliminated accelerations are those of \
          {} (chosen at compile time, rank {r}); where their columns of `A` are poorly \
-         conditioned the partition is re-chosen at run time. `Err(RankDeficient)` where `A` itself drops \
-         below rank {r}.",
+         conditioned the partition is re-chosen at run time. `Err(RankDeficient)` where \
+         `A` itself drops below rank {r}.",
         n - partition.rank,
         if coupled { "35" } else { "13" },
         if names.is_empty() {
