@@ -106,8 +106,6 @@ pub mod models;
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
+// Items used by generated code (`constrained::__private::…`); not public API.
 #[doc(hidden)]
-pub mod __private {
-    //! Items used by generated code; not part of the public API.
-    pub use constrained_runtime::lit;
-}
+pub use constrained_runtime::__private;

@@ -25,6 +25,7 @@ pub mod gibbs_appell;
 pub mod linalg;
 pub mod model;
 pub mod motion;
+pub mod names;
 pub mod num;
 pub mod parse;
 pub mod partition;

@@ -170,7 +170,7 @@ impl<'a> Printer<'a> {
                 };
                 (format!("{num_text}/{den_text}"), Prec::Product)
             }
-            Node::Pow(b, e) => {
+            Node::Pow([b, e]) => {
                 let base = self.wrap(self.render(*b), Prec::Atom);
                 let exponent = self.wrap(self.render(*e), Prec::Atom);
                 let op = if self.style == Style::Sympy {
@@ -180,11 +180,14 @@ impl<'a> Printer<'a> {
                 };
                 (format!("{base}{op}{exponent}"), Prec::Power)
             }
-            Node::Func(f, a) => (format!("{}({})", f.name(), self.print(*a)), Prec::Atom),
-            Node::Atan2(y, x) => (
-                format!("atan2({}, {})", self.print(*y), self.print(*x)),
-                Prec::Atom,
-            ),
+            Node::Func(f, args) => {
+                let name = match self.style {
+                    Style::Unicode => f.name(),
+                    Style::Sympy => f.sympy_name(),
+                };
+                let args: Vec<String> = args.as_slice().iter().map(|&a| self.print(a)).collect();
+                (format!("{name}({})", args.join(", ")), Prec::Atom)
+            }
         }
     }
 

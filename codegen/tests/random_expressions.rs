@@ -4,7 +4,7 @@
 //! evaluator written here, independent of the DAG.
 
 use constrained_codegen::diff::Differentiator;
-use constrained_codegen::expr::{Func, Graph, Id, Sym};
+use constrained_codegen::expr::{Args, Func, Graph, Id, Sym};
 use constrained_codegen::num::Num;
 use proptest::prelude::*;
 
@@ -87,6 +87,7 @@ impl Tree {
                     Func::Tanh => v.tanh(),
                     Func::Exp => v.exp(),
                     Func::Ln => v.ln(),
+                    Func::Atan2 => unreachable!("a function of two arguments: Tree::Atan2"),
                 }
             }
             Tree::Atan2(a, b) => {
@@ -145,7 +146,7 @@ impl Tree {
             }
             Tree::Atan2(a, b) => {
                 let (a, b) = (a.build(g), b.build(g));
-                g.atan2(a, b)
+                g.apply(Func::Atan2, Args::two(a, b))
             }
         }
     }
@@ -183,11 +184,20 @@ fn tree() -> impl Strategy<Value = Tree> {
             (inner.clone(), -3..=4i64).prop_map(move |(x, k)| Tree::Powi(b(x), k)),
             inner.clone().prop_map(move |x| Tree::Sqrt(b(x))),
             (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Powf(b(x), b(y))),
-            (inner.clone(), prop::sample::select(Func::ALL.to_vec()))
+            (inner.clone(), prop::sample::select(unary_functions()))
                 .prop_map(move |(x, f)| Tree::Func(f, b(x))),
             (inner.clone(), inner).prop_map(move |(x, y)| Tree::Atan2(b(x), b(y))),
         ]
     })
+}
+
+/// The functions of one argument (atan2 has its own tree node).
+fn unary_functions() -> Vec<Func> {
+    Func::ALL
+        .iter()
+        .copied()
+        .filter(|f| f.arity() == 1)
+        .collect()
 }
 
 fn point() -> impl Strategy<Value = [f64; 3]> {

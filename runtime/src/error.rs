@@ -1,3 +1,5 @@
+//! The runtime's errors, as values: what went wrong and where.
+
 use core::fmt;
 
 /// Why the equations of motion could not be evaluated at a state.
@@ -25,3 +27,111 @@ impl fmt::Display for DynamicsError {
 
 #[cfg(feature = "std")]
 impl std::error::Error for DynamicsError {}
+
+/// Why the Gibbs–Appell system could not be formed at a state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GibbsAppellError {
+    /// `A` has rank below the generic rank `r` here: no `r` independent
+    /// columns (or rows) exist, so no coordinates can be eliminated.
+    RankDeficient,
+    /// The reduced mass matrix `B` is not positive definite, because `M` is
+    /// not (or the inputs are not finite).
+    MassNotPositiveDefinite,
+}
+
+impl fmt::Display for GibbsAppellError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            GibbsAppellError::RankDeficient => {
+                "A has dropped below its generic rank at this state: the Gibbs–Appell \
+                 partition is undefined (use the generalized-inverse form)"
+            }
+            GibbsAppellError::MassNotPositiveDefinite => {
+                "the reduced mass matrix of the Gibbs–Appell form is not positive definite"
+            }
+        })
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for GibbsAppellError {}
+
+/// Why an integration stopped early. Each carries the time it stopped at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IntegrationError<T> {
+    /// The state became NaN or infinite.
+    NonFiniteState {
+        /// Time of the last finite state.
+        t: T,
+    },
+    /// The adaptive step size fell below what the time's precision resolves.
+    StepSizeUnderflow {
+        /// Time reached.
+        t: T,
+        /// The step size that was too small.
+        step: T,
+    },
+    /// The step budget ran out before the end time.
+    TooManySteps {
+        /// Time reached.
+        t: T,
+        /// The budget.
+        steps: usize,
+    },
+    /// The equations of motion could not be evaluated.
+    Dynamics {
+        /// Time of the failing evaluation.
+        t: T,
+        /// Why.
+        error: DynamicsError,
+    },
+    /// Projection onto the constraints did not converge.
+    ProjectionFailed {
+        /// Time of the step.
+        t: T,
+        /// The largest constraint residual left.
+        residual: T,
+    },
+    /// The end time lies before the current time.
+    EndBeforeStart {
+        /// Current time.
+        t: T,
+        /// Requested end time.
+        t_end: T,
+    },
+    /// A step size or tolerance that is not positive and finite.
+    InvalidParameter,
+}
+
+impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            IntegrationError::NonFiniteState { t } => {
+                write!(f, "the state became non-finite after t = {t}")
+            }
+            IntegrationError::StepSizeUnderflow { t, step } => write!(
+                f,
+                "the step size {step} underflowed at t = {t}: the problem is too stiff \
+                 or singular for the tolerances"
+            ),
+            IntegrationError::TooManySteps { t, steps } => {
+                write!(f, "{steps} steps were not enough: stopped at t = {t}")
+            }
+            IntegrationError::Dynamics { t, error } => write!(f, "at t = {t}: {error}"),
+            IntegrationError::ProjectionFailed { t, residual } => write!(
+                f,
+                "projection onto the constraints did not converge at t = {t} \
+                 (residual {residual})"
+            ),
+            IntegrationError::EndBeforeStart { t, t_end } => {
+                write!(f, "the end time {t_end} lies before the current time {t}")
+            }
+            IntegrationError::InvalidParameter => {
+                f.write_str("a step size or tolerance must be positive and finite")
+            }
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl<T: fmt::Debug + fmt::Display> std::error::Error for IntegrationError<T> {}

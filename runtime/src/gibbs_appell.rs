@@ -34,37 +34,9 @@
 //! Gibbs–Appell form is undefined: [`GibbsAppellError::RankDeficient`] (the
 //! generalized-inverse form is not).
 
+pub use crate::error::GibbsAppellError;
 use crate::inverse::rank_tolerance;
-use core::fmt;
 use nalgebra::{RealField, SMatrix, SVector};
-
-/// Why the Gibbs–Appell system could not be formed at a state.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GibbsAppellError {
-    /// `A` has rank below the generic rank `r` here: no `r` independent
-    /// columns (or rows) exist, so no coordinates can be eliminated.
-    RankDeficient,
-    /// The reduced mass matrix `B` is not positive definite, because `M` is
-    /// not (or the inputs are not finite).
-    MassNotPositiveDefinite,
-}
-
-impl fmt::Display for GibbsAppellError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            GibbsAppellError::RankDeficient => {
-                "A has dropped below its generic rank at this state: the Gibbs–Appell \
-                 partition is undefined (use the generalized-inverse form)"
-            }
-            GibbsAppellError::MassNotPositiveDefinite => {
-                "the reduced mass matrix of the Gibbs–Appell form is not positive definite"
-            }
-        })
-    }
-}
-
-#[cfg(feature = "std")]
-impl std::error::Error for GibbsAppellError {}
 
 /// What the system and its solution share.
 struct Partitioned<

@@ -3,7 +3,7 @@
 //! Gauss's principle gives `q̈ = a + M⁻¹ Aᵀ λ` with `S λ = r`, where
 //! `S = A M⁻¹ Aᵀ` and `r = b − A a` (MATH.md, eq. 26). When the constraints
 //! are redundant `S` is singular and any {1}-inverse of `S` gives the same
-//! `q̈` on a consistent state; [`solve_psd`] builds one by pivoted `LDLᵀ`.
+//! `q̈` on a consistent state; [`PivotedLdlt`] builds one.
 //!
 //! # The rank tolerance
 //! `S` is the Gram matrix of the rows `wᵢ = M^{-1/2} aᵢ`, so the `LDLᵀ` pivot
@@ -33,88 +33,114 @@ pub fn rank_tolerance<T: RealField + Copy>() -> T {
     }
 }
 
-/// `λ = S^{1} r` for a symmetric positive semidefinite `S`, with the
-/// {1}-inverse of a pivoted `LDLᵀ` factorization: at each step the remaining
-/// row most independent of those eliminated (largest `sin²θ`) is pivoted on,
-/// and rows whose `sin²θ` is below [`rank_tolerance`] get a zero pivot
-/// (`D⁺`), which removes them from the system. For a consistent system this
-/// gives the same `Aᵀλ` as the Moore–Penrose inverse. Never divides by zero;
-/// `O(K³)` operations on the stack.
-pub fn solve_psd<T: RealField + Copy, const K: usize>(
-    s: &SMatrix<T, K, K>,
-    r: &SVector<T, K>,
-) -> SVector<T, K> {
-    let tol = rank_tolerance::<T>();
-    let mut a = *s; // Schur complements, in the original row order
-    let mut l = SMatrix::<T, K, K>::zeros(); // unit lower factor, by elimination step
-    let mut d = SVector::<T, K>::zeros();
-    let mut order = [0usize; K];
-    let mut done = [false; K];
-    for step in 0..K {
-        // The most independent remaining row: largest sin²θ = a_ii / s_ii.
-        let mut best: Option<(usize, T)> = None;
-        for i in 0..K {
-            if done[i] {
+/// The pivoted `LDLᵀ` factorization `P S Pᵀ = L D Lᵀ` of a symmetric
+/// positive semidefinite `S`, rank revealing: at each step the remaining row
+/// most independent of those eliminated (largest `sin²θ`) is pivoted on, and
+/// rows whose `sin²θ` is below [`rank_tolerance`] get a zero pivot (`D⁺`),
+/// which removes them from the system. Factor once with
+/// [`PivotedLdlt::new`], then [`solve`](PivotedLdlt::solve) for any number
+/// of right-hand sides. `O(K³)` operations on the stack; never divides by
+/// zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PivotedLdlt<T, const K: usize> {
+    /// Unit lower factor, rows in the original order, columns by step.
+    l: SMatrix<T, K, K>,
+    /// Pivots by step; zero for a dropped row.
+    d: SVector<T, K>,
+    /// `order[step]`: the row pivoted on at that step.
+    order: [usize; K],
+}
+
+impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
+    /// Factors `s` (only its values are read; it need not be definite).
+    pub fn new(s: &SMatrix<T, K, K>) -> Self {
+        let tol = rank_tolerance::<T>();
+        let mut a = *s; // Schur complements, in the original row order
+        let mut l = SMatrix::<T, K, K>::zeros();
+        let mut d = SVector::<T, K>::zeros();
+        let mut order = [0usize; K];
+        let mut done = [false; K];
+        for step in 0..K {
+            // The most independent remaining row: largest sin²θ = a_ii / s_ii.
+            let mut best: Option<(usize, T)> = None;
+            for i in 0..K {
+                if done[i] {
+                    continue;
+                }
+                let ratio = if s[(i, i)] > T::zero() {
+                    a[(i, i)] / s[(i, i)]
+                } else {
+                    T::zero()
+                };
+                if best.is_none_or(|(_, b)| ratio > b) {
+                    best = Some((i, ratio));
+                }
+            }
+            let Some((p, ratio)) = best else { break };
+            order[step] = p;
+            done[p] = true;
+            // Dependent (or NaN): zero pivot, no update.
+            if ratio.partial_cmp(&tol) != Some(core::cmp::Ordering::Greater) {
                 continue;
             }
-            let ratio = if s[(i, i)] > T::zero() {
-                a[(i, i)] / s[(i, i)]
-            } else {
-                T::zero()
-            };
-            if best.is_none_or(|(_, b)| ratio > b) {
-                best = Some((i, ratio));
+            let dp = a[(p, p)];
+            d[step] = dp;
+            for i in 0..K {
+                if !done[i] {
+                    l[(i, step)] = a[(i, p)] / dp;
+                }
             }
-        }
-        let Some((p, ratio)) = best else { break };
-        order[step] = p;
-        done[p] = true;
-        // Dependent (or NaN): zero pivot, no update.
-        if ratio.partial_cmp(&tol) != Some(core::cmp::Ordering::Greater) {
-            continue;
-        }
-        let dp = a[(p, p)];
-        d[step] = dp;
-        for i in 0..K {
-            if !done[i] {
-                l[(i, step)] = a[(i, p)] / dp;
-            }
-        }
-        for i in 0..K {
-            for j in 0..K {
-                if !done[i] && !done[j] {
-                    a[(i, j)] -= l[(i, step)] * dp * l[(j, step)];
+            for i in 0..K {
+                for j in 0..K {
+                    if !done[i] && !done[j] {
+                        a[(i, j)] -= l[(i, step)] * dp * l[(j, step)];
+                    }
                 }
             }
         }
+        PivotedLdlt { l, d, order }
     }
-    // P S Pᵀ = L D Lᵀ; solve L y = P r, z = D⁺ y, Lᵀ w = z, λ = Pᵀ w.
-    let mut y = SVector::<T, K>::zeros();
-    for step in 0..K {
-        let row = order[step];
-        let mut v = r[row];
-        for prev in 0..step {
-            v -= l[(row, prev)] * y[prev];
+
+    /// The number of rows kept (nonzero pivots): the numerical rank of `S`.
+    #[must_use]
+    pub fn rank(&self) -> usize {
+        self.d.iter().filter(|x| **x != T::zero()).count()
+    }
+
+    /// `λ = S^{1} r` with the {1}-inverse `Pᵀ L⁻ᵀ D⁺ L⁻¹ P`: for a
+    /// consistent system (`r` in the range of `S`) `S λ = r`, and `Aᵀλ` is
+    /// the same as with the Moore–Penrose inverse.
+    #[must_use]
+    pub fn solve(&self, r: &SVector<T, K>) -> SVector<T, K> {
+        let (l, d, order) = (&self.l, &self.d, &self.order);
+        // Solve L y = P r, z = D⁺ y, Lᵀ w = z, λ = Pᵀ w.
+        let mut y = SVector::<T, K>::zeros();
+        for step in 0..K {
+            let row = order[step];
+            let mut v = r[row];
+            for prev in 0..step {
+                v -= l[(row, prev)] * y[prev];
+            }
+            y[step] = v;
         }
-        y[step] = v;
-    }
-    let mut w = SVector::<T, K>::zeros();
-    for step in (0..K).rev() {
-        let mut v = if d[step] != T::zero() {
-            y[step] / d[step]
-        } else {
-            T::zero()
-        };
-        for next in step + 1..K {
-            v -= l[(order[next], step)] * w[next];
+        let mut w = SVector::<T, K>::zeros();
+        for step in (0..K).rev() {
+            let mut v = if d[step] != T::zero() {
+                y[step] / d[step]
+            } else {
+                T::zero()
+            };
+            for next in step + 1..K {
+                v -= l[(order[next], step)] * w[next];
+            }
+            w[step] = v;
         }
-        w[step] = v;
+        let mut lambda = SVector::<T, K>::zeros();
+        for step in 0..K {
+            lambda[order[step]] = w[step];
+        }
+        lambda
     }
-    let mut lambda = SVector::<T, K>::zeros();
-    for step in 0..K {
-        lambda[order[step]] = w[step];
-    }
-    lambda
 }
 
 #[cfg(test)]
@@ -126,7 +152,7 @@ mod tests {
     fn solves_a_definite_system() {
         let s = Matrix3::new(4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0);
         let r = Vector3::new(1.0, -2.0, 0.5);
-        let lambda = solve_psd(&s, &r);
+        let lambda = PivotedLdlt::new(&s).solve(&r);
         assert!((s * lambda - r).norm() < 1e-14);
     }
 
@@ -136,7 +162,9 @@ mod tests {
         let b = nalgebra::Matrix3x2::new(1.0, 2.0, 0.5, -1.0, 1.5, 1.0);
         let s = b * b.transpose();
         let r = s * Vector3::new(0.3, -0.7, 1.1);
-        let lambda = solve_psd(&s, &r);
+        let ldlt = PivotedLdlt::new(&s);
+        assert_eq!(ldlt.rank(), 2);
+        let lambda = ldlt.solve(&r);
         assert!(
             (s * lambda - r).norm() < 1e-12,
             "{}",
@@ -145,13 +173,15 @@ mod tests {
         // S G S = S for the {1}-inverse G applied column by column.
         for j in 0..3 {
             let col = s.column(j).into_owned();
-            assert!((s * solve_psd(&s, &col) - col).norm() < 1e-12);
+            assert!((s * ldlt.solve(&col) - col).norm() < 1e-12);
         }
     }
 
     #[test]
     fn zero_matrix_gives_zero() {
-        let lambda = solve_psd(&Matrix3::<f64>::zeros(), &Vector3::new(1.0, 2.0, 3.0));
+        let ldlt = PivotedLdlt::new(&Matrix3::<f64>::zeros());
+        assert_eq!(ldlt.rank(), 0);
+        let lambda = ldlt.solve(&Vector3::new(1.0, 2.0, 3.0));
         assert_eq!(lambda, Vector3::zeros());
     }
 

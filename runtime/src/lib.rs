@@ -10,6 +10,7 @@
 #![deny(missing_docs)]
 
 mod error;
+mod generated;
 pub mod gibbs_appell;
 pub mod integrate;
 pub mod inverse;
@@ -20,20 +21,19 @@ pub mod svd;
 mod symbolic;
 mod system;
 
-pub use error::DynamicsError;
-pub use gibbs_appell::GibbsAppellError;
-pub use integrate::{DormandPrince45, IntegrationError, Rk4, SemiImplicitEuler, Stats};
+pub use error::{DynamicsError, GibbsAppellError, IntegrationError};
+pub use integrate::{
+    BogackiShampine32, DormandPrince45, EmbeddedRungeKutta, ExplicitRungeKutta, Rk4,
+    SemiImplicitEuler, Stats, ThreeEighthsRule,
+};
 pub use level::ConstraintLevel;
 pub use stabilize::Stabilization;
 pub use state::State;
 pub use symbolic::SymbolicSystem;
 pub use system::ConstrainedSystem;
 
-/// Converts a compile-time `f64` literal of generated code into the scalar `T`.
-///
-/// Generated code writes every literal through this function so that the same
-/// code serves `f32` and `f64`; the conversion is a constant the optimiser folds.
-#[inline(always)]
-pub fn lit<T: nalgebra::RealField + Copy>(value: f64) -> T {
-    nalgebra::convert::<f64, T>(value)
+#[doc(hidden)]
+pub mod __private {
+    //! Items used by generated code; not part of the public API.
+    pub use crate::generated::{gauss_dense, lit, moore_penrose, Generated, Motion};
 }

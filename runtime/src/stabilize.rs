@@ -15,9 +15,8 @@
 //!   their rows of `A`), velocities on every constraint at velocity level
 //!   (`J = A`).
 
-use crate::integrate::IntegrationError;
-use crate::inverse::solve_psd;
-use crate::{ConstrainedSystem, ConstraintLevel, DynamicsError, State};
+use crate::inverse::PivotedLdlt;
+use crate::{ConstrainedSystem, ConstraintLevel, DynamicsError, IntegrationError, State};
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// How constraint drift is controlled during integration.
@@ -160,7 +159,7 @@ where
             return Err(IntegrationError::NonFiniteState { t: state.t });
         }
         let minv_jt = chol.solve(&j.transpose());
-        let lambda = solve_psd(&(j * minv_jt), &r);
+        let lambda = PivotedLdlt::new(&(j * minv_jt)).solve(&r);
         apply(state, -(minv_jt * lambda));
     }
     let (r, _) = residual(state);

@@ -14,36 +14,47 @@ use nalgebra::{RealField, SMatrix, SVector};
 /// input gets near it: Jacobi converges quadratically, ~6–10 sweeps).
 const MAX_SWEEPS: usize = 64;
 
-/// `X⁺ r` for `X` of size `R × C`, the minimum-norm least-squares solution of
-/// `X y = r`. Singular values at or below `cut` count as zero. `None` when
-/// the rotations do not converge (non-finite input).
+/// The singular value decomposition of a fixed-size `X` (`R × C`) by
+/// one-sided Jacobi: factor once with [`JacobiSvd::new`], then read the
+/// singular values and solve as often as needed.
 ///
 /// Jacobi is applied to the columns of `B = Xᵀ` (`C × R`): `B V = W` with
 /// orthogonal columns `wᵢ` of norms `σᵢ`, so that `X = V Σ Uᵀ` with
 /// `uᵢ = wᵢ/σᵢ` and `X⁺ r = Σᵢ wᵢ (vᵢ · r) / σᵢ²`.
-pub fn pseudo_inverse_solve<T: RealField + Copy, const R: usize, const C: usize>(
-    x: &SMatrix<T, R, C>,
-    r: &SVector<T, R>,
-    cut: T,
-) -> Option<SVector<T, C>> {
-    let (w, v) = orthogonalize(x.transpose())?;
-    let mut y = SVector::<T, C>::zeros();
-    for i in 0..R {
-        let sigma2 = w.column(i).norm_squared();
-        if sigma2.sqrt() > cut {
-            y += w.column(i) * (v.column(i).dot(r) / sigma2);
-        }
-    }
-    Some(y)
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JacobiSvd<T, const R: usize, const C: usize> {
+    w: SMatrix<T, C, R>,
+    v: SMatrix<T, R, R>,
 }
 
-/// The singular values of `x`, in no particular order. `None` when the
-/// rotations do not converge (non-finite input).
-pub fn singular_values<T: RealField + Copy, const R: usize, const C: usize>(
-    x: &SMatrix<T, R, C>,
-) -> Option<SVector<T, C>> {
-    let (w, _) = orthogonalize(*x)?;
-    Some(SVector::from_fn(|i, _| w.column(i).norm()))
+impl<T: RealField + Copy, const R: usize, const C: usize> JacobiSvd<T, R, C> {
+    /// Decomposes `x`. `None` when the rotations do not converge, which
+    /// happens only for non-finite input.
+    pub fn new(x: &SMatrix<T, R, C>) -> Option<Self> {
+        let (w, v) = orthogonalize(x.transpose())?;
+        Some(JacobiSvd { w, v })
+    }
+
+    /// The singular values, in no particular order (`min(R, C)` of them
+    /// are meaningful; the others are zero).
+    #[must_use]
+    pub fn singular_values(&self) -> SVector<T, R> {
+        SVector::from_fn(|i, _| self.w.column(i).norm())
+    }
+
+    /// `X⁺ r`, the minimum-norm least-squares solution of `X y = r`, with
+    /// singular values at or below `cut` counted as zero.
+    #[must_use]
+    pub fn solve(&self, r: &SVector<T, R>, cut: T) -> SVector<T, C> {
+        let mut y = SVector::<T, C>::zeros();
+        for i in 0..R {
+            let sigma2 = self.w.column(i).norm_squared();
+            if sigma2.sqrt() > cut {
+                y += self.w.column(i) * (self.v.column(i).dot(r) / sigma2);
+            }
+        }
+        y
+    }
 }
 
 /// One-sided Jacobi: rotates the columns of `b` until they are mutually
@@ -138,21 +149,20 @@ mod tests {
     fn singular_values_preserve_the_frobenius_norm() {
         // Σσᵢ² = |X|²_F for every matrix: the identity nalgebra's SVD breaks.
         let x = redundant_pendulum_x();
-        let sv = singular_values(&x).unwrap();
+        let sv = JacobiSvd::new(&x).unwrap().singular_values();
         assert!((sv.norm_squared() - x.norm_squared()).abs() < 1e-13 * x.norm_squared());
         let ones = SMatrix::<f64, 3, 5>::repeat(1.0);
-        let sv = singular_values(&ones).unwrap();
+        let sv = JacobiSvd::new(&ones).unwrap().singular_values();
         assert!((sv.max() - 15f64.sqrt()).abs() < 1e-14, "{sv}");
     }
 
     #[test]
     fn pseudo_inverse_satisfies_penrose_conditions() {
         let x = redundant_pendulum_x();
-        let cut = 1e-10 * singular_values(&x).unwrap().max();
+        let svd = JacobiSvd::new(&x).unwrap();
+        let cut = 1e-10 * svd.singular_values().max();
         // X⁺ applied to each unit vector gives X⁺ column by column.
-        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| {
-            pseudo_inverse_solve(&x, &Vector3::ith(j, 1.0), cut).unwrap()[i]
-        });
+        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut)[i]);
         assert!((x * xp * x - x).norm() < 1e-13 * x.norm()); // (1)
         assert!((xp * x * xp - xp).norm() < 1e-12 * xp.norm()); // (2)
         assert!(((x * xp).transpose() - x * xp).norm() < 1e-13); // (3)
@@ -178,14 +188,13 @@ mod tests {
             3.483076089385522,
             1.626082503894564,
         );
-        let sv = singular_values(&x).expect("finite input converges");
+        let svd = JacobiSvd::new(&x).expect("finite input converges");
+        let sv = svd.singular_values();
         assert!((sv.norm_squared() - x.norm_squared()).abs() < 1e-13 * x.norm_squared());
         let rank = sv.iter().filter(|&&s| s > 1e-10 * sv.max()).count();
         assert_eq!(rank, 2, "{sv}");
         let cut = 1e-8 * sv.max();
-        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| {
-            pseudo_inverse_solve(&x, &Vector3::ith(j, 1.0), cut).expect("converges")[i]
-        });
+        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut)[i]);
         assert!((x * xp * x - x).norm() < 1e-13 * x.norm());
         assert!((xp * x * xp - xp).norm() < 1e-12 * xp.norm());
     }
@@ -194,6 +203,6 @@ mod tests {
     fn non_finite_input_is_reported() {
         let mut x = redundant_pendulum_x();
         x[(0, 0)] = f64::NAN;
-        assert!(pseudo_inverse_solve(&x, &Vector3::new(1.0, 2.0, 3.0), 1e-12).is_none());
+        assert!(JacobiSvd::new(&x).is_none());
     }
 }

@@ -1,12 +1,14 @@
 //! Straight-line code for a set of output expressions: variable bindings,
 //! shared temporaries in topological order, and the outputs themselves.
 
+use super::context::Context;
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
 use crate::expr::{signed_parts, Graph, Id, Node, Sym};
+use crate::names::velocity_name;
 use crate::num::Num;
 use proc_macro2::{Literal, Span, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 use std::collections::HashMap;
 use syn::Ident;
 
@@ -48,13 +50,13 @@ impl<'a> Body<'a> {
             .temporaries
             .iter()
             .enumerate()
-            .map(|(i, &id)| (id, format_ident!("__t{}", i)))
+            .map(|(i, &id)| (id, Context::local("t", i)))
             .collect();
         let mut needs_multipliers = vec![false; g.len()];
         for id in g.reachable(roots) {
             needs_multipliers[id.index()] = match g.node(id) {
                 Node::Sym(s) => matches!(s, Sym::Multiplier(_)),
-                _ => g.children(id).iter().any(|c| needs_multipliers[c.index()]),
+                _ => g.children(id).any(|c| needs_multipliers[c.index()]),
             };
         }
         Body {
@@ -66,7 +68,7 @@ impl<'a> Body<'a> {
                 .system
                 .coordinates
                 .iter()
-                .map(|c| Ident::new(&super::velocity_name(&c.to_string()), c.span()))
+                .map(|c| Ident::new(&velocity_name(&c.to_string()), c.span()))
                 .collect(),
             parameters: &eq.system.parameters,
             used,
@@ -161,7 +163,7 @@ impl<'a> Body<'a> {
                     }
                     Sym::Time => quote!(t),
                     Sym::Multiplier(i) => {
-                        let l = format_ident!("__lam{}", i);
+                        let l = Context::local("lam", i);
                         quote!(#l)
                     }
                 },
@@ -169,18 +171,20 @@ impl<'a> Body<'a> {
             ),
             Node::Add(terms, c0) => self.sum(terms, *c0),
             Node::Mul(factors) => self.product(factors),
-            Node::Pow(b, e) => {
+            Node::Pow([b, e]) => {
                 let (b, e) = (self.wrapped(*b, Prec::Atom), self.expr(*e));
                 (quote! { #b.powf(#e) }, Prec::Atom)
             }
-            Node::Func(f, a) => {
-                let a = self.wrapped(*a, Prec::Atom);
+            // `receiver.method(rest…)`: the table's name is the method of
+            // `RealField` / `ComplexField`.
+            Node::Func(f, args) => {
+                let (receiver, rest) = match args.as_slice() {
+                    [first, rest @ ..] => (self.wrapped(*first, Prec::Atom), rest),
+                    [] => (quote!(T::zero()), &[][..]),
+                };
+                let rest = rest.iter().map(|&a| self.expr(a));
                 let method = Ident::new(f.name(), Span::call_site());
-                (quote! { #a.#method() }, Prec::Atom)
-            }
-            Node::Atan2(y, x) => {
-                let (y, x) = (self.wrapped(*y, Prec::Atom), self.expr(*x));
-                (quote! { #y.atan2(#x) }, Prec::Atom)
+                (quote! { #receiver.#method(#(#rest),*) }, Prec::Atom)
             }
         }
     }

@@ -6,17 +6,19 @@
 //! constants of a call into `constrained::gibbs_appell`, which re-pivots at
 //! run time where the preferred columns are poorly conditioned.
 
-use super::dim;
-use crate::derive::Equations;
+use super::context::{Context, Inputs};
 use crate::partition::Partition;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 /// The two generated methods.
-pub(super) fn methods(eq: &Equations, partition: &Partition) -> TokenStream {
-    let n = eq.system.dof();
-    let (nn, k) = (dim(n), dim(eq.a.len()));
-    let (r, i) = (dim(partition.rank), dim(n - partition.rank));
+pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
+    let (eq, n) = (ctx.eq, ctx.n);
+    let (nn, k) = (Context::dim(n), Context::dim(ctx.k));
+    let (r, i) = (
+        Context::dim(partition.rank),
+        Context::dim(n - partition.rank),
+    );
     let eliminated: Vec<Literal> = partition
         .eliminated
         .iter()
@@ -45,19 +47,16 @@ pub(super) fn methods(eq: &Equations, partition: &Partition) -> TokenStream {
         },
         r = partition.rank,
     );
-    let args = quote! {
-        q: &::constrained::nalgebra::SVector<T, #nn>,
-        qd: &::constrained::nalgebra::SVector<T, #nn>,
-        t: T
-    };
+    let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let call = |function: TokenStream| {
+        let function = ctx.path(quote!(gibbs_appell::#function));
         quote! {
-            let (__a, __b) = self.constraint_matrices(q, qd, t);
-            ::constrained::gibbs_appell::#function::<T, #nn, #k, #r, #i>(
+            let (__a, __b) = self.constraint_matrices(#args);
+            #function::<T, #nn, #k, #r, #i>(
                 &__a,
                 &__b,
                 &self.mass_matrix(q, t),
-                &self.forces(q, qd, t),
+                &self.forces(#args),
                 &[#(#eliminated),*],
                 #coupled,
             )
@@ -65,25 +64,19 @@ pub(super) fn methods(eq: &Equations, partition: &Partition) -> TokenStream {
     };
     let system = call(quote!(system));
     let acceleration = call(quote!(acceleration));
+    let (m, vector) = (ctx.matrix(n, n), ctx.vector(n));
+    let system_ret = ctx.result(quote!((#m, #vector)), quote!(GibbsAppellError));
+    let acceleration_ret = ctx.result(vector, quote!(GibbsAppellError));
     quote! {
         #[doc = #matrices_doc]
-        pub fn gibbs_appell_matrices(&self, #args) -> ::core::result::Result<
-            (
-                ::constrained::nalgebra::SMatrix<T, #nn, #nn>,
-                ::constrained::nalgebra::SVector<T, #nn>,
-            ),
-            ::constrained::GibbsAppellError,
-        > {
+        pub fn gibbs_appell_matrices(&self, #params) -> #system_ret {
             #system
         }
 
         /// `q̈` from the explicit Gibbs–Appell system (see
         /// [`gibbs_appell_matrices`](Self::gibbs_appell_matrices)); equal to
         /// [`acceleration`](Self::acceleration) wherever both are defined.
-        pub fn acceleration_gibbs_appell(&self, #args) -> ::core::result::Result<
-            ::constrained::nalgebra::SVector<T, #nn>,
-            ::constrained::GibbsAppellError,
-        > {
+        pub fn acceleration_gibbs_appell(&self, #params) -> #acceleration_ret {
             #acceleration
         }
     }

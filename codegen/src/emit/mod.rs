@@ -7,38 +7,27 @@
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.
 
 mod body;
+mod context;
 mod gibbs_appell;
+mod ldlt;
 mod motion;
 
 use crate::derivation;
 use crate::derive::Equations;
 use crate::expr::Id;
-use crate::model::Level;
 use crate::partition::Partition;
 use crate::print::{Printer, Style};
 use body::Body;
-use proc_macro2::{Literal, TokenStream};
+use context::{Context, Inputs};
+use proc_macro2::TokenStream;
 use quote::quote;
-
-/// The local name generated code gives the velocity of coordinate `name`.
-pub fn velocity_name(name: &str) -> String {
-    format!("{name}_dot")
-}
-
-/// Which arguments a generated function receives.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Inputs {
-    /// `(q, t)`: the mass matrix may not depend on velocities.
-    Positions,
-    /// `(q, qd, t)`.
-    States,
-}
 
 /// Emits the struct, its constants and its functions.
 pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
+    let ctx = Context::new(eq);
     let sys = &eq.system;
-    let (n, k) = (sys.dof(), eq.a.len());
-    let (n_lit, k_lit) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(k));
+    let (n, k) = (ctx.n, ctx.k);
+    let (n_lit, k_lit) = (Context::dim(n), Context::dim(k));
     let name = &sys.name;
     let vis = &sys.vis;
     let attrs = &sys.attrs;
@@ -74,7 +63,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     });
 
     let mass = matrix_function(
-        eq,
+        &ctx,
         quote!(mass_matrix),
         " The mass matrix `M(q, t)` (symmetric positive definite).",
         Inputs::Positions,
@@ -82,34 +71,33 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         n,
     );
     let forces = vector_function(
-        eq,
+        &ctx,
         quote!(forces),
         " The impressed forces `F(q, q̇, t)`.",
         &sys.forces,
     );
     let phi: Vec<Id> = sys.constraints.iter().map(|c| c.phi).collect();
     let residual = vector_function(
-        eq,
+        &ctx,
         quote!(constraint_residual),
         " The constraint residuals `φ(q, q̇, t)`; zero on the constraint manifold.",
         &phi,
     );
     let velocity_residual = vector_function(
-        eq,
+        &ctx,
         quote!(constraint_velocity_residual),
         " The constraints at velocity level: `φ̇` for a position-level `φ`, `φ` \
          itself for a velocity-level one; zero on consistent states. Its \
          Jacobian in `q̇` is `A` (used by stabilization and projection).",
         &eq.velocity_constraints,
     );
-    let matrices = constraint_matrices(eq);
-    let motion = motion::methods(eq);
-    let gibbs_appell = gibbs_appell::methods(eq, partition);
-    let trait_impl = motion::trait_impl(eq);
-    let levels = sys.constraints.iter().map(|c| match c.level {
-        Level::Position => quote!(::constrained::ConstraintLevel::Position),
-        Level::Velocity => quote!(::constrained::ConstraintLevel::Velocity),
-    });
+    let matrices = constraint_matrices(&ctx);
+    let motion = motion::methods(&ctx);
+    let gibbs_appell = gibbs_appell::methods(&ctx, partition);
+    let generated_impl = motion::generated_impl(&ctx);
+    let levels = motion::levels(&ctx);
+    let level = ctx.path(quote!(ConstraintLevel));
+    let symbolic_type = ctx.path(quote!(SymbolicSystem));
     let derivation = derivation::text(eq, partition);
     let symbolic = symbolic(eq);
 
@@ -136,11 +124,11 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             pub const CONSTRAINTS: usize = #k_lit;
             /// For each constraint, whether it was differentiated twice
             /// (position level) or once (velocity level).
-            pub const CONSTRAINT_LEVELS: [::constrained::ConstraintLevel; #k_lit] = [#(#levels),*];
+            pub const CONSTRAINT_LEVELS: [#level; #k_lit] = [#(#levels),*];
             /// The derivation, as the paper would write it: M, F, φ, A and b.
             pub const DERIVATION: &'static str = #derivation;
             /// The system in sympy syntax, for independent verification.
-            pub const SYMBOLIC: ::constrained::SymbolicSystem = #symbolic;
+            pub const SYMBOLIC: #symbolic_type = #symbolic;
 
             #mass
             #forces
@@ -151,115 +139,73 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #gibbs_appell
         }
 
-        #trait_impl
+        #generated_impl
     }
 }
 
-/// A dimension as an unsuffixed literal (`3`, not `3usize`).
-pub(super) fn dim(n: usize) -> Literal {
-    Literal::usize_unsuffixed(n)
-}
-
-fn arguments(inputs: Inputs, n: usize) -> TokenStream {
-    let n = dim(n);
-    match inputs {
-        Inputs::Positions => quote! { q: &::constrained::nalgebra::SVector<T, #n>, t: T },
-        Inputs::States => quote! {
-            q: &::constrained::nalgebra::SVector<T, #n>,
-            qd: &::constrained::nalgebra::SVector<T, #n>,
-            t: T
-        },
-    }
-}
-
-fn vector_function(eq: &Equations, name: TokenStream, doc: &str, entries: &[Id]) -> TokenStream {
-    let n = eq.system.dof();
-    let len = dim(entries.len());
-    let body = Body::new(eq, entries);
+fn vector_function(ctx: &Context, name: TokenStream, doc: &str, entries: &[Id]) -> TokenStream {
+    let body = Body::new(ctx.eq, entries);
     let preamble = body.preamble();
-    let values = entries.iter().map(|&e| body.expr(e));
-    let args = arguments(Inputs::States, n);
+    let value = ctx.vector_value(entries.iter().map(|&e| body.expr(e)));
+    let (params, ret) = (ctx.params(Inputs::States), ctx.vector(entries.len()));
     quote! {
         #[doc = #doc]
         #[inline]
-        pub fn #name(&self, #args) -> ::constrained::nalgebra::SVector<T, #len> {
+        pub fn #name(&self, #params) -> #ret {
             #preamble
-            ::constrained::nalgebra::SVector::<T, #len>::from_array_storage(
-                ::constrained::nalgebra::ArrayStorage([[#(#values),*]]),
-            )
+            #value
         }
     }
 }
 
 fn matrix_function(
-    eq: &Equations,
+    ctx: &Context,
     name: TokenStream,
     doc: &str,
     inputs: Inputs,
     rows: &[Vec<Id>],
     cols: usize,
 ) -> TokenStream {
-    let n = eq.system.dof();
-    let r = dim(rows.len());
     let roots: Vec<Id> = rows.iter().flatten().copied().collect();
-    let body = Body::new(eq, &roots);
+    let body = Body::new(ctx.eq, &roots);
     let preamble = body.preamble();
-    let columns = column_major(&body, rows, cols);
-    let args = arguments(inputs, n);
-    let cols = dim(cols);
+    let value = ctx.matrix_value(rows.len(), column_major(&body, rows, cols));
+    let (params, ret) = (ctx.params(inputs), ctx.matrix(rows.len(), cols));
     quote! {
         #[doc = #doc]
         #[inline]
-        pub fn #name(&self, #args) -> ::constrained::nalgebra::SMatrix<T, #r, #cols> {
+        pub fn #name(&self, #params) -> #ret {
             #preamble
-            ::constrained::nalgebra::SMatrix::<T, #r, #cols>::from_array_storage(
-                ::constrained::nalgebra::ArrayStorage([#columns]),
-            )
+            #value
         }
     }
 }
 
-/// `[r0c0, r1c0, …], [r0c1, …], …`: nalgebra stores columns.
-fn column_major(body: &Body, rows: &[Vec<Id>], cols: usize) -> TokenStream {
-    let columns = (0..cols).map(|j| {
-        let entries = rows.iter().map(|row| body.expr(row[j]));
-        quote! { [#(#entries),*] }
-    });
-    quote! { #(#columns),* }
+/// The entries column by column: nalgebra stores columns.
+fn column_major(body: &Body, rows: &[Vec<Id>], cols: usize) -> Vec<Vec<TokenStream>> {
+    (0..cols)
+        .map(|j| rows.iter().map(|row| body.expr(row[j])).collect())
+        .collect()
 }
 
-fn constraint_matrices(eq: &Equations) -> TokenStream {
-    let n = eq.system.dof();
-    let k = eq.a.len();
+fn constraint_matrices(ctx: &Context) -> TokenStream {
+    let eq = ctx.eq;
+    let (n, k) = (ctx.n, ctx.k);
     let mut roots: Vec<Id> = eq.a.iter().flatten().copied().collect();
     roots.extend(&eq.b);
     let body = Body::new(eq, &roots);
     let preamble = body.preamble();
-    let columns = column_major(&body, &eq.a, n);
-    let b = eq.b.iter().map(|&e| body.expr(e));
-    let (n, k) = (dim(n), dim(k));
+    let a = ctx.matrix_value(k, column_major(&body, &eq.a, n));
+    let b = ctx.vector_value(eq.b.iter().map(|&e| body.expr(e)));
+    let params = ctx.params(Inputs::States);
+    let (a_type, b_type) = (ctx.matrix(k, n), ctx.vector(k));
     quote! {
         /// The constraint equations `A q̈ = b` as `(A, b)`: the constraints
         /// differentiated once (velocity level) or twice (position level).
         #[inline]
-        pub fn constraint_matrices(
-            &self,
-            q: &::constrained::nalgebra::SVector<T, #n>,
-            qd: &::constrained::nalgebra::SVector<T, #n>,
-            t: T,
-        ) -> (
-            ::constrained::nalgebra::SMatrix<T, #k, #n>,
-            ::constrained::nalgebra::SVector<T, #k>,
-        ) {
+        pub fn constraint_matrices(&self, #params) -> (#a_type, #b_type) {
             #preamble
-            (
-                ::constrained::nalgebra::SMatrix::<T, #k, #n>::from_array_storage(
-                    ::constrained::nalgebra::ArrayStorage([#columns]),
-                ),
-                ::constrained::nalgebra::SVector::<T, #k>::from_array_storage(
-                    ::constrained::nalgebra::ArrayStorage([[#(#b),*]]),
-                ),
-            )
+            (#a, #b)
         }
     }
 }

@@ -1,44 +1,53 @@
 //! Integrators that advance a [`State`] with no heap allocation.
 //!
-//! - [`Rk4`]: classical fourth-order Runge–Kutta, fixed step.
+//! One explicit Runge–Kutta engine steps every method; a method is data, a
+//! Butcher [`Tableau`] named by a marker type ([`tableau`]):
+//! - [`Rk4`]: classical fourth-order Runge–Kutta, fixed step;
+//!   [`ThreeEighthsRule`]: Kutta's 3/8 rule, the same with smaller error
+//!   constants. Both are [`ExplicitRungeKutta`] with another tableau.
 //! - [`DormandPrince45`]: adaptive 5(4) pair with error control, step
-//!   rejection and first-same-as-last.
+//!   rejection and first-same-as-last; [`BogackiShampine32`]: the 3(2) pair
+//!   for loose tolerances. Both are [`EmbeddedRungeKutta`], whose step size
+//!   follows a [`PiController`].
 //! - [`SemiImplicitEuler`]: first order, one evaluation a step, for hard
-//!   real-time loops.
+//!   real-time loops (its own one-line stepper on the shared fixed-step loop).
 //!
 //! Each takes an opt-in [`Stabilization`] against constraint drift, and
 //! reports failures as [`IntegrationError`] values, never panics: a
 //! non-finite state, a step size that underflows, too many steps, a mass
 //! matrix that is not positive definite, a projection that does not converge.
 
-/// The methods every integrator has: the two settings it shares
-/// (`stabilization`, `max_steps`) and `advance`, which is `advance_with`
-/// without an observer.
-macro_rules! common_methods {
-    ($integrator:ident) => {
-        impl<T: RealField + Copy> $integrator<T> {
+/// The settings every integrator shares (`with_stabilization`,
+/// `with_max_steps`) and `advance`, which is `advance_with` without an
+/// observer. Arguments: the type, then its generic parameters besides `T`.
+macro_rules! shared_settings {
+    ($integrator:ident < T $(, $param:ident)* > $(, $($bounds:tt)*)?) => {
+        impl<T: RealField + Copy $(, $($bounds)*)?> $integrator<T $(, $param)*> {
             /// The same with a stabilization against constraint drift.
-            pub fn with_stabilization(mut self, stabilization: Stabilization<T>) -> Self {
-                self.stabilization = stabilization;
+            pub fn with_stabilization(
+                mut self,
+                stabilization: $crate::stabilize::Stabilization<T>,
+            ) -> Self {
+                self.settings.stabilization = stabilization;
                 self
             }
 
             /// The same with at most `max_steps` steps per call (rejected
             /// steps of an adaptive method count).
             pub fn with_max_steps(mut self, max_steps: usize) -> Self {
-                self.max_steps = max_steps;
+                self.settings.max_steps = max_steps;
                 self
             }
 
             /// Advances `state` to `t_end`.
-            pub fn advance<S, const N: usize, const K: usize>(
+            pub fn advance<Sys, const N: usize, const K: usize>(
                 &self,
-                system: &S,
+                system: &Sys,
                 state: &mut State<T, N>,
                 t_end: T,
             ) -> Result<Stats, IntegrationError<T>>
             where
-                S: ConstrainedSystem<T, N, K>,
+                Sys: ConstrainedSystem<T, N, K>,
             {
                 self.advance_with(system, state, t_end, |_| {})
             }
@@ -46,98 +55,36 @@ macro_rules! common_methods {
     };
 }
 
-mod dopri45;
+mod controller;
+mod embedded;
 mod euler;
-mod rk4;
+mod explicit;
+pub mod tableau;
 
-pub use dopri45::DormandPrince45;
+pub use controller::PiController;
+pub use embedded::EmbeddedRungeKutta;
 pub use euler::SemiImplicitEuler;
-pub use rk4::Rk4;
+pub use explicit::ExplicitRungeKutta;
+pub use tableau::Tableau;
 
 use crate::stabilize::{baumgarte_correction, project, Stabilization};
-use crate::{ConstrainedSystem, DynamicsError, State};
-use core::fmt;
+use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::{RealField, SVector};
 
-/// Why an integration stopped early. Each carries the time it stopped at.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum IntegrationError<T> {
-    /// The state became NaN or infinite.
-    NonFiniteState {
-        /// Time of the last finite state.
-        t: T,
-    },
-    /// The adaptive step size fell below what the time's precision resolves.
-    StepSizeUnderflow {
-        /// Time reached.
-        t: T,
-        /// The step size that was too small.
-        step: T,
-    },
-    /// The step budget ran out before the end time.
-    TooManySteps {
-        /// Time reached.
-        t: T,
-        /// The budget.
-        steps: usize,
-    },
-    /// The equations of motion could not be evaluated.
-    Dynamics {
-        /// Time of the failing evaluation.
-        t: T,
-        /// Why.
-        error: DynamicsError,
-    },
-    /// Projection onto the constraints did not converge.
-    ProjectionFailed {
-        /// Time of the step.
-        t: T,
-        /// The largest constraint residual left.
-        residual: T,
-    },
-    /// The end time lies before the current time.
-    EndBeforeStart {
-        /// Current time.
-        t: T,
-        /// Requested end time.
-        t_end: T,
-    },
-    /// A step size or tolerance that is not positive and finite.
-    InvalidParameter,
-}
+/// Classical fourth-order Runge–Kutta with a fixed step: four evaluations a
+/// step; the last step is shortened to land on the end time.
+pub type Rk4<T> = ExplicitRungeKutta<T, tableau::Classic4, 4>;
 
-impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            IntegrationError::NonFiniteState { t } => {
-                write!(f, "the state became non-finite after t = {t}")
-            }
-            IntegrationError::StepSizeUnderflow { t, step } => write!(
-                f,
-                "the step size {step} underflowed at t = {t}: the problem is too stiff \
-                 or singular for the tolerances"
-            ),
-            IntegrationError::TooManySteps { t, steps } => {
-                write!(f, "{steps} steps were not enough: stopped at t = {t}")
-            }
-            IntegrationError::Dynamics { t, error } => write!(f, "at t = {t}: {error}"),
-            IntegrationError::ProjectionFailed { t, residual } => write!(
-                f,
-                "projection onto the constraints did not converge at t = {t} \
-                 (residual {residual})"
-            ),
-            IntegrationError::EndBeforeStart { t, t_end } => {
-                write!(f, "the end time {t_end} lies before the current time {t}")
-            }
-            IntegrationError::InvalidParameter => {
-                f.write_str("a step size or tolerance must be positive and finite")
-            }
-        }
-    }
-}
+/// Kutta's 3/8 rule with a fixed step (fourth order, four evaluations).
+pub type ThreeEighthsRule<T> = ExplicitRungeKutta<T, tableau::ThreeEighths, 4>;
 
-#[cfg(feature = "std")]
-impl<T: fmt::Debug + fmt::Display> std::error::Error for IntegrationError<T> {}
+/// The Dormand–Prince 5(4) method with adaptive steps (see
+/// [`EmbeddedRungeKutta`]): six evaluations per accepted step.
+pub type DormandPrince45<T> = EmbeddedRungeKutta<T, tableau::DormandPrince, 7>;
+
+/// The Bogacki–Shampine 3(2) method with adaptive steps (see
+/// [`EmbeddedRungeKutta`]): three evaluations per accepted step.
+pub type BogackiShampine32<T> = EmbeddedRungeKutta<T, tableau::BogackiShampine, 4>;
 
 /// What an integration did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -150,19 +97,39 @@ pub struct Stats {
     pub evaluations: usize,
 }
 
+/// `(q̇, q̈)`: the derivative of the state `(q, q̇)`.
+type Derivative<T, const N: usize> = (SVector<T, N>, SVector<T, N>);
+
+/// What every integrator is configured with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Settings<T> {
+    stabilization: Stabilization<T>,
+    /// Steps allowed per call (accepted and rejected).
+    max_steps: usize,
+}
+
+impl<T> Settings<T> {
+    fn new(max_steps: usize) -> Self {
+        Settings {
+            stabilization: Stabilization::None,
+            max_steps,
+        }
+    }
+}
+
 /// `(q̇, q̈)` at a state, with the stabilization's correction of `b`.
 fn derivative<T, S, const N: usize, const K: usize>(
     system: &S,
     state: &State<T, N>,
-    stabilization: &Stabilization<T>,
+    settings: &Settings<T>,
     stats: &mut Stats,
-) -> Result<(SVector<T, N>, SVector<T, N>), IntegrationError<T>>
+) -> Result<Derivative<T, N>, IntegrationError<T>>
 where
     T: RealField + Copy,
     S: ConstrainedSystem<T, N, K>,
 {
     stats.evaluations += 1;
-    let qdd = match baumgarte_correction(system, state, stabilization) {
+    let qdd = match baumgarte_correction(system, state, &settings.stabilization) {
         Some(db) => system.acceleration_corrected(state, &db),
         None => system.acceleration(state),
     }
@@ -179,7 +146,7 @@ where
 fn accept<T, S, const N: usize, const K: usize>(
     system: &S,
     state: &mut State<T, N>,
-    stabilization: &Stabilization<T>,
+    settings: &Settings<T>,
 ) -> Result<bool, IntegrationError<T>>
 where
     T: RealField + Copy,
@@ -188,7 +155,7 @@ where
     if !state.is_finite() {
         return Err(IntegrationError::NonFiniteState { t: state.t });
     }
-    match *stabilization {
+    match settings.stabilization {
         Stabilization::Projection {
             tolerance,
             max_iterations,
@@ -200,18 +167,23 @@ where
     }
 }
 
-/// The loop shared by the fixed-step methods: steps of `step` (the last one
-/// shortened to land on `t_end`), each made by `advance_one(state, h,
-/// stats)`, then checked, stabilized and observed.
-#[allow(clippy::too_many_arguments)]
+/// The loop of every fixed-step method: steps of `step` (the last one
+/// shortened to land on `t_end`), each made by `one_step(state, h, k1,
+/// stats)` from the derivative `k1` at the state (evaluated here unless the
+/// previous step returned it, first same as last), then checked, stabilized
+/// and observed.
 fn fixed_steps<T, S, const N: usize, const K: usize>(
     system: &S,
     state: &mut State<T, N>,
     t_end: T,
     step: T,
-    max_steps: usize,
-    stabilization: &Stabilization<T>,
-    mut advance_one: impl FnMut(&mut State<T, N>, T, &mut Stats) -> Result<(), IntegrationError<T>>,
+    settings: &Settings<T>,
+    mut one_step: impl FnMut(
+        &mut State<T, N>,
+        T,
+        &Derivative<T, N>,
+        &mut Stats,
+    ) -> Result<Option<Derivative<T, N>>, IntegrationError<T>>,
     mut observer: impl FnMut(&State<T, N>),
 ) -> Result<Stats, IntegrationError<T>>
 where
@@ -224,8 +196,9 @@ where
     let mut remaining = span(state, t_end)?;
     let mut stats = Stats::default();
     let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
+    let mut carried: Option<Derivative<T, N>> = None;
     while remaining > T::zero() {
-        if stats.steps == max_steps {
+        if stats.steps == settings.max_steps {
             return Err(IntegrationError::TooManySteps {
                 t: state.t,
                 steps: stats.steps,
@@ -234,11 +207,17 @@ where
         let last = remaining <= step * slack;
         let h = if last { remaining } else { step };
         let t = state.t;
-        advance_one(state, h, &mut stats)?;
+        let k1 = match carried.take() {
+            Some(k1) => k1,
+            None => derivative(system, state, settings, &mut stats)?,
+        };
+        carried = one_step(state, h, &k1, &mut stats)?;
         state.t = if last { t_end } else { t + h };
         remaining = if last { T::zero() } else { t_end - state.t };
         stats.steps += 1;
-        accept(system, state, stabilization)?;
+        if accept(system, state, settings)? {
+            carried = None; // projection moved the state
+        }
         observer(state);
     }
     Ok(stats)

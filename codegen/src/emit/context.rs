@@ -1,0 +1,135 @@
+//! The emission context: one place that knows the generated functions'
+//! argument lists, the paths under `::constrained::`, the nalgebra types
+//! and values, and how generated locals are named (serde_derive's
+//! `Parameters`). Every emitter asks it rather than spelling these out.
+
+use crate::derive::Equations;
+use crate::names::GENERATED_PREFIX;
+use proc_macro2::{Literal, Span, TokenStream};
+use quote::quote;
+use syn::Ident;
+
+/// Which arguments a generated function receives.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Inputs {
+    /// `(q, t)`: the mass matrix may not depend on velocities.
+    Positions,
+    /// `(q, qd, t)`.
+    States,
+}
+
+/// What every emitter of one system shares.
+pub(super) struct Context<'a> {
+    /// The derived equations being emitted.
+    pub eq: &'a Equations,
+    /// Number of coordinates `n`.
+    pub n: usize,
+    /// Number of constraints `k`.
+    pub k: usize,
+}
+
+impl<'a> Context<'a> {
+    pub(super) fn new(eq: &'a Equations) -> Self {
+        Context {
+            eq,
+            n: eq.system.dof(),
+            k: eq.a.len(),
+        }
+    }
+
+    /// A dimension as an unsuffixed literal (`3`, not `3usize`).
+    pub(super) fn dim(size: usize) -> Literal {
+        Literal::usize_unsuffixed(size)
+    }
+
+    /// `::constrained::item`.
+    pub(super) fn path(&self, item: TokenStream) -> TokenStream {
+        quote!(::constrained::#item)
+    }
+
+    /// `::constrained::__private::item`: generic code that lives once in
+    /// the runtime.
+    pub(super) fn private(&self, item: TokenStream) -> TokenStream {
+        quote!(::constrained::__private::#item)
+    }
+
+    /// `SVector<T, len>`.
+    pub(super) fn vector(&self, len: usize) -> TokenStream {
+        let len = Self::dim(len);
+        quote!(::constrained::nalgebra::SVector<T, #len>)
+    }
+
+    /// `SMatrix<T, rows, cols>`.
+    pub(super) fn matrix(&self, rows: usize, cols: usize) -> TokenStream {
+        let (r, c) = (Self::dim(rows), Self::dim(cols));
+        quote!(::constrained::nalgebra::SMatrix<T, #r, #c>)
+    }
+
+    /// A vector value from its entries.
+    pub(super) fn vector_value(
+        &self,
+        entries: impl IntoIterator<Item = TokenStream>,
+    ) -> TokenStream {
+        let entries: Vec<TokenStream> = entries.into_iter().collect();
+        let len = Self::dim(entries.len());
+        quote! {
+            ::constrained::nalgebra::SVector::<T, #len>::from_array_storage(
+                ::constrained::nalgebra::ArrayStorage([[#(#entries),*]]),
+            )
+        }
+    }
+
+    /// A matrix value from its columns (nalgebra stores columns).
+    pub(super) fn matrix_value(&self, rows: usize, columns: Vec<Vec<TokenStream>>) -> TokenStream {
+        let (r, c) = (Self::dim(rows), Self::dim(columns.len()));
+        let columns = columns.iter().map(|col| quote! { [#(#col),*] });
+        quote! {
+            ::constrained::nalgebra::SMatrix::<T, #r, #c>::from_array_storage(
+                ::constrained::nalgebra::ArrayStorage([#(#columns),*]),
+            )
+        }
+    }
+
+    /// `Result<ok, ::constrained::error>`.
+    pub(super) fn result(&self, ok: TokenStream, error: TokenStream) -> TokenStream {
+        let error = self.path(error);
+        quote!(::core::result::Result<#ok, #error>)
+    }
+
+    /// The parameter list of a generated function (after `&self`).
+    pub(super) fn params(&self, inputs: Inputs) -> TokenStream {
+        let vector = self.vector(self.n);
+        match inputs {
+            Inputs::Positions => quote! { q: &#vector, t: T },
+            Inputs::States => quote! { q: &#vector, qd: &#vector, t: T },
+        }
+    }
+
+    /// The matching argument list, to forward a call.
+    pub(super) fn args(&self, inputs: Inputs) -> TokenStream {
+        match inputs {
+            Inputs::Positions => quote! { q, t },
+            Inputs::States => quote! { q, qd, t },
+        }
+    }
+
+    /// The optional correction of `b` taken by `gauss`.
+    pub(super) fn correction_type(&self) -> TokenStream {
+        let vector = self.vector(self.k);
+        quote!(::core::option::Option<&#vector>)
+    }
+
+    /// A generated local `__{role}{i}` (role: `t` temporary, `lam`
+    /// multiplier, `r` residual, `d` pivot, …).
+    pub(super) fn local(role: &str, i: usize) -> Ident {
+        Ident::new(&format!("{GENERATED_PREFIX}{role}{i}"), Span::call_site())
+    }
+
+    /// A generated local `__{role}{i}_{j}` for a matrix entry.
+    pub(super) fn local2(role: &str, i: usize, j: usize) -> Ident {
+        Ident::new(
+            &format!("{GENERATED_PREFIX}{role}{i}_{j}"),
+            Span::call_site(),
+        )
+    }
+}

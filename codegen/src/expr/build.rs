@@ -1,0 +1,265 @@
+//! The canonicalising constructors of [`Graph`] (the invariants are listed
+//! in the parent module's docs).
+
+use super::{Args, Func, Graph, Id, Node, Parity};
+use crate::num::Num;
+
+impl Graph {
+    /// `Σ terms`.
+    pub fn add(&mut self, terms: &[Id]) -> Id {
+        self.linear_combination(terms.iter().map(|&t| (t, Num::ONE)))
+    }
+
+    /// `a + b`.
+    pub fn add2(&mut self, a: Id, b: Id) -> Id {
+        self.add(&[a, b])
+    }
+
+    /// `a − b`.
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        self.linear_combination([(a, Num::ONE), (b, Num::MINUS_ONE)])
+    }
+
+    /// `−a`.
+    pub fn neg(&mut self, a: Id) -> Id {
+        self.scale(a, Num::MINUS_ONE)
+    }
+
+    /// `c·a`.
+    pub fn scale(&mut self, a: Id, c: Num) -> Id {
+        self.linear_combination([(a, c)])
+    }
+
+    /// `Σ cᵢ·xᵢ`, canonicalised: nested sums flattened, like terms collected.
+    pub fn linear_combination(&mut self, items: impl IntoIterator<Item = (Id, Num)>) -> Id {
+        let mut constant = Num::ZERO;
+        let mut terms: Vec<(Id, Num)> = Vec::new();
+        for (id, c) in items {
+            if c.is_zero() {
+                continue;
+            }
+            match self.node(id) {
+                Node::Num(n) => constant = constant + *n * c,
+                Node::Add(inner, c0) => {
+                    constant = constant + *c0 * c;
+                    terms.extend(inner.iter().map(|&(t, k)| (t, k * c)));
+                }
+                _ => terms.push((id, c)),
+            }
+        }
+        terms.sort_by_key(|&(t, _)| t);
+        let mut merged: Vec<(Id, Num)> = Vec::with_capacity(terms.len());
+        for (t, c) in terms {
+            match merged.last_mut() {
+                Some((last, k)) if *last == t => *k = *k + c,
+                _ => merged.push((t, c)),
+            }
+        }
+        merged.retain(|(_, c)| !c.is_zero());
+        match (merged.as_slice(), constant.is_zero()) {
+            ([], _) => self.num(constant),
+            ([(t, c)], true) if c.is_one() => *t,
+            _ => self.intern(Node::Add(merged.into_boxed_slice(), constant)),
+        }
+    }
+
+    /// `Π factors`.
+    pub fn mul(&mut self, factors: &[Id]) -> Id {
+        self.product(factors.iter().map(|&f| (f, Num::ONE)))
+    }
+
+    /// `a·b`.
+    pub fn mul2(&mut self, a: Id, b: Id) -> Id {
+        self.mul(&[a, b])
+    }
+
+    /// `a / b`.
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        self.product([(a, Num::ONE), (b, Num::MINUS_ONE)])
+    }
+
+    /// `base ^ e` for a constant exponent.
+    pub fn pown(&mut self, base: Id, e: Num) -> Id {
+        self.product([(base, e)])
+    }
+
+    /// `base ^ exponent`; a constant exponent stays in the product form.
+    pub fn pow(&mut self, base: Id, exponent: Id) -> Id {
+        match self.as_num(exponent) {
+            Some(e) => self.pown(base, e),
+            None if self.is_zero(base) => base,
+            None if self.as_num(base).is_some_and(Num::is_one) => base,
+            None => self.intern(Node::Pow([base, exponent])),
+        }
+    }
+
+    /// `√a`.
+    pub fn sqrt(&mut self, a: Id) -> Id {
+        self.pown(a, Num::ratio(1, 2))
+    }
+
+    /// `Π bᵢ^eᵢ`, canonicalised: nested products flattened, coefficients
+    /// pulled out into a surrounding sum, equal bases merged, constants folded.
+    pub fn product(&mut self, items: impl IntoIterator<Item = (Id, Num)>) -> Id {
+        let mut coefficient = Num::ONE;
+        let mut factors: Vec<(Id, Num)> = Vec::new();
+        let mut pending: Vec<(Id, Num)> = items.into_iter().collect();
+        while let Some((id, e)) = pending.pop() {
+            if e.is_zero() {
+                continue;
+            }
+            let integer_power = e.as_integer().is_some();
+            match self.node(id) {
+                Node::Num(n) => match n.pow(e) {
+                    Some(v) => coefficient = coefficient * v,
+                    None => factors.push((id, e)),
+                },
+                // (c·t)^e = c^e · t^e for integer e (exactly, and only then).
+                Node::Add(terms, c0) if integer_power && c0.is_zero() && terms.len() == 1 => {
+                    let (t, c) = terms[0];
+                    match c.pow(e) {
+                        Some(v) => {
+                            coefficient = coefficient * v;
+                            pending.push((t, e));
+                        }
+                        None => factors.push((id, e)),
+                    }
+                }
+                // A sum as a factor is made primitive (leading coefficient 1)
+                // and its content joins the coefficient, so that g·(2y − 2z)
+                // and g·(−2y + 2z) become ±2·g·(y − z) and collect. Exact
+                // rational content under an integer power only.
+                Node::Add(terms, c0) if integer_power => {
+                    let content = terms[0].1;
+                    if content.is_one() || !matches!(content, Num::Rational(..)) {
+                        factors.push((id, e));
+                    } else {
+                        let inv = content.recip();
+                        let scaled: Vec<(Id, Num)> =
+                            terms.iter().map(|&(t, c)| (t, c * inv)).collect();
+                        let constant = *c0 * inv;
+                        let mut items = scaled;
+                        let k = self.num(constant);
+                        items.push((k, Num::ONE));
+                        let primitive = self.linear_combination(items);
+                        match content.pow(e) {
+                            Some(v) => {
+                                coefficient = coefficient * v;
+                                pending.push((primitive, e));
+                            }
+                            None => factors.push((id, e)),
+                        }
+                    }
+                }
+                // (Π bᵢ^eᵢ)^e = Π bᵢ^(eᵢ·e) for integer e.
+                Node::Mul(inner) if integer_power => {
+                    pending.extend(inner.iter().map(|&(b, k)| (b, k * e)));
+                }
+                _ => factors.push((id, e)),
+            }
+        }
+        if coefficient.is_zero() {
+            return self.num(Num::ZERO);
+        }
+        factors.sort_by_key(|&(b, _)| b);
+        let mut merged: Vec<(Id, Num)> = Vec::with_capacity(factors.len());
+        for (b, e) in factors {
+            match merged.last_mut() {
+                Some((last, k)) if *last == b => *k = *k + e,
+                _ => merged.push((b, e)),
+            }
+        }
+        // Numeric bases whose merged exponent became exact (√2·√2) fold.
+        let mut kept = Vec::with_capacity(merged.len());
+        for (b, e) in merged {
+            if e.is_zero() {
+                continue;
+            }
+            match self.as_num(b).and_then(|n| n.pow(e)) {
+                Some(v) => coefficient = coefficient * v,
+                None => kept.push((b, e)),
+            }
+        }
+        let core = match kept.as_slice() {
+            [] => return self.num(coefficient),
+            [(b, e)] if e.is_one() => *b,
+            _ => self.intern(Node::Mul(kept.into_boxed_slice())),
+        };
+        self.scale(core, coefficient)
+    }
+
+    /// `f(a)` for a function of one argument.
+    pub fn func(&mut self, f: Func, a: Id) -> Id {
+        self.apply(f, Args::one(a))
+    }
+
+    /// `f(args)`, with the table's algebra: constants folded where the
+    /// arguments are floats (exact rationals stay symbolic: `sin(1)`), the
+    /// exact value at zero, odd/even symmetry, and `f(g(x)) = x` for an
+    /// inverse pair (`ln∘exp`).
+    pub fn apply(&mut self, f: Func, args: Args) -> Id {
+        let ids = args.as_slice();
+        let floats: Vec<f64> = ids
+            .iter()
+            .filter_map(|&a| match self.as_num(a) {
+                Some(Num::Float(x)) => Some(x),
+                _ => None,
+            })
+            .collect();
+        if let [a] = *ids {
+            if self.is_zero(a) {
+                if let Some(v) = f.at_zero() {
+                    return self.num(v);
+                }
+            }
+        }
+        if floats.len() == ids.len() {
+            return self.num(Num::Float(f.eval(&floats)));
+        }
+        if let [a] = *ids {
+            if let Some(positive) = self.negated(a) {
+                match f.parity() {
+                    Parity::Odd => {
+                        let inner = self.func(f, positive);
+                        return self.neg(inner);
+                    }
+                    Parity::Even => return self.func(f, positive),
+                    Parity::None => {}
+                }
+            }
+            if let Node::Func(g, inner) = self.node(a) {
+                if f.inverse_of() == Some(*g) {
+                    return inner.as_slice()[0];
+                }
+            }
+        }
+        self.intern(Node::Func(f, args))
+    }
+
+    /// `Some(x)` when `a` is `−x` for a canonical `x` (a sum whose leading
+    /// coefficient is negative), so that `f(−x)` can be written through `f(x)`.
+    fn negated(&mut self, a: Id) -> Option<Id> {
+        match self.node(a) {
+            Node::Add(terms, _) if terms[0].1.is_negative() => Some(self.neg(a)),
+            _ => None,
+        }
+    }
+
+    /// The canonical node for `node`, whose operands are canonical: each
+    /// operator through its constructor (used after
+    /// [`Node::map_children`]).
+    pub fn rebuild(&mut self, node: Node) -> Id {
+        match node {
+            Node::Num(n) => self.num(n),
+            Node::Sym(s) => self.sym(s),
+            Node::Add(terms, c0) => {
+                let constant = self.num(c0);
+                let items = terms.iter().copied().chain([(constant, Num::ONE)]);
+                self.linear_combination(items)
+            }
+            Node::Mul(factors) => self.product(factors.iter().copied()),
+            Node::Pow([b, e]) => self.pow(b, e),
+            Node::Func(f, args) => self.apply(f, args),
+        }
+    }
+}

@@ -1,0 +1,301 @@
+//! The expression DAG: an arena of hash-consed nodes in canonical form.
+//!
+//! Nodes live in a `Vec` and refer to their children by [`Id`]; a child is
+//! always created before its parent, so arena order is a topological order.
+//! Every node is built through a constructor ([`build`]) that canonicalises
+//! it and then looks it up in a hash map, so two structurally equal
+//! expressions are the same `Id`. Common subexpressions are therefore shared
+//! by construction, and equality of canonical forms is an `Id` comparison.
+//!
+//! Canonical form (the invariants the constructors maintain):
+//! - sums are `Σ cᵢ·tᵢ + c₀` with terms sorted by `Id`, merged, no zero
+//!   coefficient; a term is never a number or a sum; `1·x + 0` is `x`;
+//! - products are `Π bᵢ^eᵢ` with rational exponents, bases sorted and merged,
+//!   no zero exponent; a numeric coefficient never sits inside a product but in
+//!   the sum around it (`3·x·y` is `Add[(x·y, 3)]`); a number is a base only
+//!   under a non-integer exponent (`√2`); `x^1` is `x`;
+//! - `Pow` only for a non-constant exponent (`x.powf(y)`);
+//! - elementary functions are [`Func`] nodes of the operator table
+//!   ([`func`]);
+//! - constant arithmetic is folded exactly (see [`Num`]).
+//!
+//! Walkers see a node's operands through [`Node::children`] and rebuild one
+//! with [`Node::map_children`] and [`Graph::rebuild`]; neither allocates, and
+//! every walk here is iterative in arena order, so no input nests deep
+//! enough to overflow the stack.
+
+mod build;
+pub mod func;
+#[cfg(test)]
+mod tests;
+
+pub use func::{Args, Func, Parity};
+
+use crate::num::Num;
+use std::collections::HashMap;
+
+/// Index of a node in a [`Graph`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Id(u32);
+
+impl Id {
+    /// Position in the arena (children always have smaller indices).
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// A leaf variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Sym {
+    /// Coordinate `qᵢ`.
+    Coord(usize),
+    /// Velocity `q̇ᵢ`.
+    Vel(usize),
+    /// Time `t`.
+    Time,
+    /// Parameter `pᵢ` (a struct field).
+    Param(usize),
+    /// Lagrange multiplier `λᵢ` of Gauss's principle: computed at run time
+    /// by a factorization, then a variable of the expressions for `q̈`.
+    Multiplier(usize),
+}
+
+/// A node of the DAG, in canonical form (see the module docs).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// A constant.
+    Num(Num),
+    /// A variable.
+    Sym(Sym),
+    /// `Σ cᵢ·tᵢ + c₀`.
+    Add(Box<[(Id, Num)]>, Num),
+    /// `Π bᵢ^eᵢ`.
+    Mul(Box<[(Id, Num)]>),
+    /// `[base, exponent]`: `base ^ exponent` with a non-constant exponent.
+    Pow([Id; 2]),
+    /// `f(args)`, a function of the operator table.
+    Func(Func, Args),
+}
+
+/// The operands of a node, in order, without allocating.
+pub enum Children<'a> {
+    /// The terms of a sum or the bases of a product.
+    Weighted(std::slice::Iter<'a, (Id, Num)>),
+    /// Plain operands.
+    Plain(std::slice::Iter<'a, Id>),
+}
+
+impl Iterator for Children<'_> {
+    type Item = Id;
+
+    fn next(&mut self) -> Option<Id> {
+        match self {
+            Children::Weighted(it) => it.next().map(|&(id, _)| id),
+            Children::Plain(it) => it.next().copied(),
+        }
+    }
+}
+
+impl Node {
+    /// The operands of this node (none for a leaf).
+    pub fn children(&self) -> Children<'_> {
+        match self {
+            Node::Num(_) | Node::Sym(_) => Children::Plain([].iter()),
+            Node::Add(items, _) | Node::Mul(items) => Children::Weighted(items.iter()),
+            Node::Pow(pair) => Children::Plain(pair.iter()),
+            Node::Func(_, args) => Children::Plain(args.as_slice().iter()),
+        }
+    }
+
+    /// The same operator over operands mapped by `f` (not canonicalised:
+    /// pass it to [`Graph::rebuild`]).
+    pub fn map_children(&self, mut f: impl FnMut(Id) -> Id) -> Node {
+        match self {
+            Node::Num(_) | Node::Sym(_) => self.clone(),
+            Node::Add(terms, c0) => Node::Add(terms.iter().map(|&(t, c)| (f(t), c)).collect(), *c0),
+            Node::Mul(factors) => Node::Mul(factors.iter().map(|&(b, e)| (f(b), e)).collect()),
+            Node::Pow([b, e]) => Node::Pow([f(*b), f(*e)]),
+            Node::Func(func, args) => Node::Func(*func, args.map(f)),
+        }
+    }
+
+    /// The value of this node in `f64`, given its operands' values.
+    pub fn value(&self, operand: impl Fn(Id) -> f64, env: &dyn Fn(Sym) -> f64) -> f64 {
+        match self {
+            Node::Num(n) => n.to_f64(),
+            Node::Sym(s) => env(*s),
+            Node::Add(terms, c0) => terms
+                .iter()
+                .fold(c0.to_f64(), |acc, &(t, c)| acc + c.to_f64() * operand(t)),
+            Node::Mul(factors) => factors
+                .iter()
+                .fold(1.0, |acc, &(b, e)| acc * power(operand(b), e)),
+            Node::Pow([b, e]) => operand(*b).powf(operand(*e)),
+            Node::Func(f, args) => {
+                let mut values = [0.0; 2];
+                for (v, &a) in values.iter_mut().zip(args.as_slice()) {
+                    *v = operand(a);
+                }
+                f.eval(&values[..f.arity()])
+            }
+        }
+    }
+}
+
+/// The arena of hash-consed nodes.
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    index: HashMap<Node, Id>,
+}
+
+impl Graph {
+    /// An empty graph.
+    pub fn new() -> Graph {
+        Graph::default()
+    }
+
+    /// The node behind `id`.
+    pub fn node(&self, id: Id) -> &Node {
+        &self.nodes[id.index()]
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether the graph has no node.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.index.get(&node) {
+            return id;
+        }
+        let id = Id(u32::try_from(self.nodes.len()).expect("expression graph exceeds 2^32 nodes"));
+        self.nodes.push(node.clone());
+        self.index.insert(node, id);
+        id
+    }
+
+    /// The constant `n`.
+    pub fn num(&mut self, n: Num) -> Id {
+        self.intern(Node::Num(n))
+    }
+
+    /// The integer constant `n`.
+    pub fn int(&mut self, n: i64) -> Id {
+        self.num(Num::int(n))
+    }
+
+    /// The variable `s`.
+    pub fn sym(&mut self, s: Sym) -> Id {
+        self.intern(Node::Sym(s))
+    }
+
+    /// The constant value of `id`, if it is a number.
+    pub fn as_num(&self, id: Id) -> Option<Num> {
+        match self.node(id) {
+            Node::Num(n) => Some(*n),
+            _ => None,
+        }
+    }
+
+    /// Whether `id` is the constant zero.
+    pub fn is_zero(&self, id: Id) -> bool {
+        self.as_num(id).is_some_and(Num::is_zero)
+    }
+
+    /// The direct children of a node.
+    pub fn children(&self, id: Id) -> Children<'_> {
+        self.node(id).children()
+    }
+
+    /// Replaces variables by expressions (`map` returns `None` to keep one),
+    /// rebuilding through the canonicalising constructors.
+    pub fn substitute(&mut self, root: Id, map: &dyn Fn(Sym) -> Option<Id>) -> Id {
+        let mut done: HashMap<Id, Id> = HashMap::new();
+        for id in self.reachable(&[root]) {
+            let node = self.node(id);
+            let result = match node {
+                Node::Num(_) => id,
+                Node::Sym(s) => map(*s).unwrap_or(id),
+                _ => {
+                    let mapped = node.map_children(|c| done[&c]);
+                    if mapped == *node {
+                        id
+                    } else {
+                        self.rebuild(mapped)
+                    }
+                }
+            };
+            done.insert(id, result);
+        }
+        done[&root]
+    }
+
+    /// Whether any variable for which `pred` holds occurs in `root`.
+    pub fn mentions(&self, root: Id, pred: impl Fn(Sym) -> bool) -> bool {
+        self.reachable(&[root])
+            .into_iter()
+            .any(|id| match self.node(id) {
+                Node::Sym(s) => pred(*s),
+                _ => false,
+            })
+    }
+
+    /// The nodes reachable from `roots`, in arena (topological) order.
+    pub fn reachable(&self, roots: &[Id]) -> Vec<Id> {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.index()], true) {
+                continue;
+            }
+            stack.extend(self.children(id));
+        }
+        (0..self.nodes.len())
+            .filter(|&i| seen[i])
+            .map(|i| Id(i as u32))
+            .collect()
+    }
+
+    /// Evaluates `roots` in `f64` with the variables given by `env`.
+    pub fn eval(&self, roots: &[Id], env: &dyn Fn(Sym) -> f64) -> Vec<f64> {
+        let order = self.reachable(roots);
+        let mut value: HashMap<Id, f64> = HashMap::with_capacity(order.len());
+        for id in order {
+            let v = self.node(id).value(|c| value[&c], env);
+            value.insert(id, v);
+        }
+        roots.iter().map(|r| value[r]).collect()
+    }
+}
+
+/// The parts of a sum `Σ cᵢ·tᵢ + c₀` as printers write them: each term
+/// (`None` for the constant, last) with the magnitude of its coefficient and
+/// whether it is subtracted.
+pub fn signed_parts(terms: &[(Id, Num)], c0: Num) -> Vec<(Option<Id>, Num, bool)> {
+    let constant = (!c0.is_zero()).then_some((None, c0));
+    terms
+        .iter()
+        .map(|&(t, c)| (Some(t), c))
+        .chain(constant)
+        .map(|(t, c)| (t, if c.is_negative() { -c } else { c }, c.is_negative()))
+        .collect()
+}
+
+/// `x^e` in `f64`, exact for integer and half-integer exponents.
+pub fn power(x: f64, e: Num) -> f64 {
+    match e.as_integer() {
+        Some(k) => x.powi(k as i32),
+        None if matches!(e, Num::Rational(_, 2)) => {
+            let k = (e * Num::int(2)).as_integer().unwrap_or(1);
+            x.sqrt().powi(k as i32)
+        }
+        None => x.powf(e.to_f64()),
+    }
+}

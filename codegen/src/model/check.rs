@@ -1,0 +1,131 @@
+//! The rules of the input that need the lowered expressions, one function
+//! each (serde_derive's `check.rs`). The mass rules take the matrix and
+//! where to point, so that they serve a matrix written in `mass:` and one
+//! derived from other input alike.
+
+use super::ctxt::Errors;
+use crate::expr::{Graph, Id, Sym};
+use crate::num::Num;
+use crate::rng::SplitMix64;
+use proc_macro2::TokenStream;
+use quote::ToTokens;
+
+/// Where the entries of a mass matrix came from, to point errors at.
+pub enum MassSource<'a> {
+    /// Written entry by entry (`None` where an entry is missing).
+    Entries(Vec<Vec<Option<&'a syn::Expr>>>),
+    /// Derived from one piece of input (every error points at it).
+    Derived(TokenStream),
+}
+
+impl MassSource<'_> {
+    fn at(&self, i: usize, j: usize) -> Option<TokenStream> {
+        match self {
+            MassSource::Entries(e) => e.get(i)?.get(j)?.map(ToTokens::to_token_stream),
+            MassSource::Derived(tokens) => Some(tokens.clone()),
+        }
+    }
+}
+
+/// Rule: the number of entries of a vector or a matrix row is the number of
+/// coordinates. With no coordinates declared (already an error) every
+/// length would be wrong, so nothing more is said.
+pub fn length(errors: &mut Errors, span: proc_macro2::Span, what: &str, len: usize, n: usize) {
+    if len != n && n > 0 {
+        let entries = match len {
+            1 => "1 entry".to_string(),
+            _ => format!("{len} entries"),
+        };
+        let coordinates = match n {
+            1 => "is 1 coordinate".to_string(),
+            _ => format!("are {n} coordinates"),
+        };
+        errors.at(
+            span,
+            format!("{what} has {entries} but there {coordinates}"),
+        );
+    }
+}
+
+/// Rule: `M` depends on coordinates, `t` and parameters only.
+pub fn mass_without_velocities(errors: &mut Errors, g: &Graph, m: &[Vec<Id>], source: &MassSource) {
+    for (i, row) in m.iter().enumerate() {
+        for (j, &entry) in row.iter().enumerate() {
+            if g.mentions(entry, |s| matches!(s, Sym::Vel(_))) {
+                if let Some(at) = source.at(i, j) {
+                    errors.spanned(
+                        at,
+                        "`mass` may depend on coordinates, `t` and parameters, not on velocities",
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Rule: `M = Mᵀ` (compared as canonical forms, then numerically at random
+/// points for forms that differ but agree). Afterwards the upper triangle
+/// serves both halves, so generated code computes each entry once.
+pub fn mass_symmetric(errors: &mut Errors, g: &Graph, m: &mut [Vec<Id>], source: &MassSource) {
+    let n = m.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            let (upper, lower) = (m[i][j], m[j][i]);
+            if upper != lower && !numerically_equal(g, upper, lower) {
+                if let Some(at) = source.at(j, i) {
+                    errors.spanned(
+                        at,
+                        format!(
+                            "`mass` is not symmetric: entry ({}, {}) differs from entry ({}, {})",
+                            j + 1,
+                            i + 1,
+                            i + 1,
+                            j + 1
+                        ),
+                    );
+                }
+            }
+            m[j][i] = upper;
+        }
+    }
+}
+
+/// Rule: a constant `M` is positive definite (checked now, at compile time).
+pub fn constant_mass_positive_definite(
+    errors: &mut Errors,
+    g: &Graph,
+    m: &[Vec<Id>],
+    at: impl ToTokens,
+) {
+    let values: Option<Vec<Vec<f64>>> = m
+        .iter()
+        .map(|row| row.iter().map(|&e| g.as_num(e).map(Num::to_f64)).collect())
+        .collect();
+    if let Some(values) = values {
+        if !crate::linalg::is_positive_definite(&values) {
+            errors.spanned(at, "constant `mass` matrix is not positive definite");
+        }
+    }
+}
+
+/// Rule: a constraint involves some coordinate or velocity.
+pub fn constraint_involves_state(errors: &mut Errors, g: &Graph, phi: Id, at: impl ToTokens) {
+    let state = g.mentions(phi, |s| matches!(s, Sym::Vel(_) | Sym::Coord(_)));
+    if !state {
+        errors.spanned(
+            at,
+            "constraint involves no coordinate or velocity (after simplification)",
+        );
+    }
+}
+
+/// Whether two expressions agree at a few deterministic pseudo-random points.
+fn numerically_equal(g: &Graph, a: Id, b: Id) -> bool {
+    let mut rng = SplitMix64::new(0x5eed_0fad);
+    (0..4).all(|_| {
+        let seed = rng.next_u64();
+        let v = g.eval(&[a, b], &|s| SplitMix64::value_for(seed, s));
+        let scale = v[0].abs().max(v[1].abs()).max(1.0);
+        (v[0] - v[1]).abs() <= 1e-12 * scale
+    })
+}

@@ -1,0 +1,264 @@
+//! Name resolution and lowering: DSL expressions (syn) into the DAG, each
+//! name resolved to what it refers to. An expression that cannot be lowered
+//! is recorded as an error and replaced by `0`, so lowering goes on.
+
+use super::check;
+use super::ctxt::Errors;
+use crate::expr::{Args, Func, Graph, Id, Sym};
+use crate::names::{velocity_name, GENERATED_PREFIX, RESERVED};
+use crate::num::Num;
+use quote::ToTokens;
+use std::collections::HashMap;
+use syn::{Expr, Ident};
+
+/// The DSL's algebraic functions, lowered to sums, products and powers
+/// rather than to function nodes, with their argument counts (a method's
+/// receiver counts). The elementary functions come from the operator table.
+const ALGEBRAIC: &[(&str, usize)] = &[("sqrt", 1), ("powi", 2), ("powf", 2)];
+
+/// Every function name the DSL accepts besides `dot`, for messages.
+pub fn function_names() -> Vec<&'static str> {
+    Func::ALL
+        .iter()
+        .map(|f| f.name())
+        .chain(ALGEBRAIC.iter().map(|(f, _)| *f))
+        .collect()
+}
+
+/// What a name in an expression refers to.
+#[derive(Clone, Copy)]
+pub enum Binding {
+    /// Coordinate `qᵢ`.
+    Coordinate(usize),
+    /// Parameter `pᵢ`.
+    Parameter(usize),
+    /// A definition, already lowered.
+    Definition(Id),
+}
+
+/// Lowers syn expressions into the graph, resolving names.
+pub struct Lowerer<'a> {
+    /// The arena being built.
+    pub graph: &'a mut Graph,
+    /// The names declared so far.
+    pub names: HashMap<String, Binding>,
+    /// Where errors go.
+    pub errors: &'a mut Errors,
+}
+
+impl Lowerer<'_> {
+    /// Declares `name`, or records why it cannot be one: reserved by the
+    /// DSL or by generated code, a function of the DSL, or declared twice.
+    pub fn declare(&mut self, name: &Ident, binding: Binding, coordinates: &[Ident]) {
+        let text = name.to_string();
+        if RESERVED.contains(&text.as_str()) || text.starts_with(GENERATED_PREFIX) {
+            self.errors
+                .spanned(name, format!("`{text}` is a reserved name"));
+        } else if function_names().contains(&text.as_str()) {
+            self.errors.spanned(
+                name,
+                format!("`{text}` is a reserved name: it is a function of the DSL"),
+            );
+        } else if let Some(c) = coordinates
+            .iter()
+            .find(|c| text == velocity_name(&c.to_string()))
+        {
+            self.errors.spanned(
+                name,
+                format!(
+                    "`{text}` is a reserved name: it names the velocity of `{c}` in generated code"
+                ),
+            );
+        } else if self.names.insert(text.clone(), binding).is_some() {
+            self.errors
+                .spanned(name, format!("`{text}` is declared twice"));
+        }
+    }
+
+    /// Lowers a vector of `n` entries (missing ones are zero).
+    pub fn vector(&mut self, list: &crate::parse::List<Expr>, what: &str, n: usize) -> Vec<Id> {
+        check::length(self.errors, list.span, what, list.items.len(), n);
+        let mut v: Vec<Id> = list.items.iter().map(|e| self.lower(e)).collect();
+        v.resize(n, self.graph.int(0));
+        v
+    }
+
+    /// Lowers one expression; on error records it and returns `0`.
+    pub fn lower(&mut self, e: &Expr) -> Id {
+        self.try_lower(e).unwrap_or_else(|err| {
+            self.errors.push(err);
+            self.graph.int(0)
+        })
+    }
+
+    fn try_lower(&mut self, e: &Expr) -> syn::Result<Id> {
+        use syn::{BinOp, UnOp};
+        let err = |tokens: &dyn ToTokens, message: &str| -> syn::Result<Id> {
+            Err(syn::Error::new_spanned(tokens.to_token_stream(), message))
+        };
+        match e {
+            Expr::Lit(lit) => self.literal(&lit.lit),
+            Expr::Paren(p) => self.try_lower(&p.expr),
+            Expr::Group(g) => self.try_lower(&g.expr),
+            Expr::Path(_) => {
+                let name =
+                    single_ident(e).ok_or_else(|| syn::Error::new_spanned(e, "expected a name"))?;
+                self.name(name)
+            }
+            Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
+                let a = self.try_lower(&u.expr)?;
+                Ok(self.graph.neg(a))
+            }
+            Expr::Binary(b) => {
+                let op = match b.op {
+                    BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_) => b.op,
+                    BinOp::Eq(_) => {
+                        return err(e, "`==` may only stand at the top of a constraint")
+                    }
+                    _ => return err(&b.op, "unsupported operator: expected `+`, `-`, `*` or `/`"),
+                };
+                // Lower both sides even if one fails, to report both.
+                let (l, r) = (self.lower(&b.left), self.try_lower(&b.right)?);
+                if matches!(op, BinOp::Div(_)) && self.graph.is_zero(r) {
+                    return err(&b.right, "division by zero");
+                }
+                Ok(match op {
+                    BinOp::Add(_) => self.graph.add2(l, r),
+                    BinOp::Sub(_) => self.graph.sub(l, r),
+                    BinOp::Mul(_) => self.graph.mul2(l, r),
+                    _ => self.graph.div(l, r),
+                })
+            }
+            Expr::MethodCall(call) => {
+                let mut args: Vec<&Expr> = vec![&call.receiver];
+                args.extend(call.args.iter());
+                self.apply(&call.method, &args, e)
+            }
+            Expr::Call(call) => {
+                let Some(name) = single_ident(&call.func) else {
+                    return err(&call.func, "expected a function name");
+                };
+                let args: Vec<&Expr> = call.args.iter().collect();
+                if name == "dot" {
+                    return self.velocity(&args, e);
+                }
+                self.apply(name, &args, e)
+            }
+            _ => err(
+                e,
+                "unsupported expression: expected numbers, names, `dot(q)`, `+ - * /`, \
+                 parentheses and the functions of the DSL",
+            ),
+        }
+    }
+
+    fn literal(&mut self, lit: &syn::Lit) -> syn::Result<Id> {
+        let (digits, suffix) = match lit {
+            syn::Lit::Int(i) => (i.base10_digits(), i.suffix()),
+            syn::Lit::Float(f) => (f.base10_digits(), f.suffix()),
+            _ => return Err(syn::Error::new_spanned(lit, "expected a number")),
+        };
+        if !matches!(suffix, "" | "f64" | "f32") {
+            return Err(syn::Error::new_spanned(
+                lit,
+                format!("unsupported suffix `{suffix}`: write plain numbers"),
+            ));
+        }
+        let n = Num::parse_decimal(digits)
+            .ok_or_else(|| syn::Error::new_spanned(lit, "expected a number"))?;
+        Ok(self.graph.num(n))
+    }
+
+    fn name(&mut self, name: &Ident) -> syn::Result<Id> {
+        if name == "t" {
+            return Ok(self.graph.sym(Sym::Time));
+        }
+        match self.names.get(&name.to_string()) {
+            Some(&Binding::Coordinate(i)) => Ok(self.graph.sym(Sym::Coord(i))),
+            Some(&Binding::Parameter(i)) => Ok(self.graph.sym(Sym::Param(i))),
+            Some(&Binding::Definition(id)) => Ok(id),
+            None => Err(syn::Error::new_spanned(
+                name,
+                format!("unknown name `{name}`: not a coordinate, parameter, definition or `t`"),
+            )),
+        }
+    }
+
+    fn velocity(&mut self, args: &[&Expr], call: &Expr) -> syn::Result<Id> {
+        let [arg] = args else {
+            return Err(syn::Error::new_spanned(call, "`dot` takes one coordinate"));
+        };
+        let Some(name) = single_ident(arg) else {
+            return Err(syn::Error::new_spanned(
+                arg,
+                "`dot` takes a coordinate name",
+            ));
+        };
+        let kind = match self.names.get(&name.to_string()) {
+            Some(&Binding::Coordinate(i)) => return Ok(self.graph.sym(Sym::Vel(i))),
+            Some(Binding::Parameter(_)) => "a parameter",
+            Some(Binding::Definition(_)) => "a definition",
+            None if name == "t" => "time",
+            None => "not declared",
+        };
+        Err(syn::Error::new_spanned(
+            arg,
+            format!("`dot` takes a coordinate, and `{name}` is {kind}"),
+        ))
+    }
+
+    fn apply(&mut self, name: &Ident, args: &[&Expr], call: &Expr) -> syn::Result<Id> {
+        let text = name.to_string();
+        let func = Func::from_name(&text);
+        let arity = match (func, ALGEBRAIC.iter().find(|(f, _)| *f == text)) {
+            (Some(f), _) => f.arity(),
+            (None, Some(&(_, arity))) => arity,
+            (None, None) => {
+                return Err(syn::Error::new_spanned(
+                    name,
+                    format!(
+                        "unknown function `{text}`; expected `dot` or one of {}",
+                        function_names().join(", ")
+                    ),
+                ))
+            }
+        };
+        if args.len() != arity {
+            return Err(syn::Error::new_spanned(
+                call,
+                format!(
+                    "`{text}` takes {arity} argument{} (counting the receiver of a method call)",
+                    if arity == 1 { "" } else { "s" }
+                ),
+            ));
+        }
+        if text == "powi" {
+            let base = self.try_lower(args[0])?;
+            let exponent = self.try_lower(args[1])?;
+            return match self.graph.as_num(exponent).and_then(Num::as_integer) {
+                Some(k) => Ok(self.graph.pown(base, Num::int(k))),
+                None => Err(syn::Error::new_spanned(
+                    args[1],
+                    "`powi` takes an integer exponent; use `powf` for others",
+                )),
+            };
+        }
+        let lowered: Vec<Id> = args.iter().map(|a| self.lower(a)).collect();
+        let g = &mut self.graph;
+        Ok(match (func, text.as_str()) {
+            (Some(f), _) => match Args::from_slice(&lowered) {
+                Some(args) => g.apply(f, args),
+                None => g.int(0), // arity checked above
+            },
+            (None, "sqrt") => g.sqrt(lowered[0]),
+            (None, _) => g.pow(lowered[0], lowered[1]),
+        })
+    }
+}
+
+fn single_ident(e: &Expr) -> Option<&Ident> {
+    match e {
+        Expr::Path(p) if p.qself.is_none() => p.path.get_ident(),
+        _ => None,
+    }
+}

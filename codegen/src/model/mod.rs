@@ -1,0 +1,264 @@
+//! Stage 2: [`SystemInput`] → [`System`]: names resolved, expressions lowered
+//! into the DAG, every rule of the DSL checked (serde_derive's `internals/`):
+//! - [`ctxt`]: the error collector, so that every mistake is reported at once;
+//! - [`lower`]: name resolution and lowering;
+//! - [`check`]: the rules on lowered expressions, one function each.
+
+pub mod check;
+pub mod ctxt;
+pub mod lower;
+
+use crate::expr::{Graph, Id, Sym};
+use crate::parse::{ConstraintInput, List, MassInput, Section, SystemInput};
+use check::MassSource;
+use ctxt::Errors;
+use lower::{Binding, Lowerer};
+use proc_macro2::Span;
+use std::collections::HashMap;
+use syn::{Attribute, Expr, Ident, Visibility};
+
+/// Whether a constraint is differentiated twice or once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Level {
+    /// No velocity in φ: holonomic, differentiated twice.
+    Position,
+    /// Some `dot(q)` in φ: differentiated once.
+    Velocity,
+}
+
+/// One constraint `φ = 0`.
+#[derive(Clone, Debug)]
+pub struct Constraint {
+    /// φ (`lhs − rhs`), definitions substituted.
+    pub phi: Id,
+    /// Position or velocity level.
+    pub level: Level,
+}
+
+/// A checked system: every expression is a node of `graph`.
+pub struct System {
+    /// Attributes forwarded to the struct.
+    pub attrs: Vec<Attribute>,
+    /// Visibility of the struct.
+    pub vis: Visibility,
+    /// Name of the struct.
+    pub name: Ident,
+    /// Coordinates `q`, in order.
+    pub coordinates: Vec<Ident>,
+    /// Parameters, in order.
+    pub parameters: Vec<Ident>,
+    /// The expression arena.
+    pub graph: Graph,
+    /// `M(q, t)`, n × n, symmetric (entry (j, i) is the node of (i, j)).
+    pub mass: Vec<Vec<Id>>,
+    /// `F(q, q̇, t)`.
+    pub forces: Vec<Id>,
+    /// `φ(q, q̇, t) = 0`.
+    pub constraints: Vec<Constraint>,
+    /// Coordinates named in `eliminate: [...]`, by index, with the span of
+    /// the list (its size is checked against the rank of `A` later).
+    pub eliminate: Option<(Vec<usize>, Span)>,
+}
+
+impl System {
+    /// Number of coordinates.
+    pub fn dof(&self) -> usize {
+        self.coordinates.len()
+    }
+}
+
+/// The sections of one input, each at most once.
+#[derive(Default)]
+struct Sections<'a> {
+    coordinates: Option<&'a List<Ident>>,
+    parameters: Option<&'a List<Ident>>,
+    mass: Option<(&'a Ident, &'a MassInput)>,
+    forces: Option<&'a List<Expr>>,
+    definitions: Option<&'a List<(Ident, Expr)>>,
+    constraints: Option<&'a List<ConstraintInput>>,
+    eliminate: Option<&'a List<Ident>>,
+}
+
+impl<'a> Sections<'a> {
+    fn collect(input: &'a SystemInput, errors: &mut Errors) -> Self {
+        let mut s = Sections::default();
+        for section in &input.sections {
+            let duplicate = match section {
+                Section::Coordinates(_, l) => s.coordinates.replace(l).is_some(),
+                Section::Parameters(_, l) => s.parameters.replace(l).is_some(),
+                Section::Mass(k, m) => s.mass.replace((k, m)).is_some(),
+                Section::Forces(_, l) => s.forces.replace(l).is_some(),
+                Section::Definitions(_, l) => s.definitions.replace(l).is_some(),
+                Section::Constraints(_, l) => s.constraints.replace(l).is_some(),
+                Section::Eliminate(_, l) => s.eliminate.replace(l).is_some(),
+            };
+            if duplicate {
+                let k = section.keyword();
+                errors.spanned(k, format!("duplicate section `{k}`"));
+            }
+        }
+        s
+    }
+}
+
+/// Checks the input and lowers it into a [`System`].
+pub fn check(input: &SystemInput) -> syn::Result<System> {
+    let mut errors = Errors::new();
+    let sections = Sections::collect(input, &mut errors);
+    for (present, name) in [
+        (sections.coordinates.is_some(), "coordinates"),
+        (sections.mass.is_some(), "mass"),
+    ] {
+        if !present {
+            errors.spanned(&input.name, format!("missing section `{name}`"));
+        }
+    }
+    let empty = Vec::new();
+    let coordinates = sections.coordinates.map_or(&empty, |l| &l.items);
+    if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
+        errors.at(list.span, "`coordinates` must name at least one coordinate");
+    }
+    let parameters = sections.parameters.map_or(&empty, |l| &l.items);
+    let n = coordinates.len();
+
+    let mut graph = Graph::new();
+    // Interning the variables first, in a fixed order, makes canonical term
+    // order (by node id) read naturally: parameters before time before
+    // coordinates before velocities, each in declaration order (`α·ż`, `x + y`).
+    for i in 0..parameters.len() {
+        graph.sym(Sym::Param(i));
+    }
+    graph.sym(Sym::Time);
+    for i in 0..n {
+        graph.sym(Sym::Coord(i));
+    }
+    for i in 0..n {
+        graph.sym(Sym::Vel(i));
+    }
+    let mut lower = Lowerer {
+        graph: &mut graph,
+        names: HashMap::new(),
+        errors: &mut errors,
+    };
+    for (i, c) in coordinates.iter().enumerate() {
+        lower.declare(c, Binding::Coordinate(i), coordinates);
+    }
+    for (i, p) in parameters.iter().enumerate() {
+        lower.declare(p, Binding::Parameter(i), coordinates);
+    }
+    for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
+        let id = lower.lower(value);
+        lower.declare(name, Binding::Definition(id), coordinates);
+    }
+
+    let mass = sections
+        .mass
+        .map(|(keyword, m)| lower.mass(keyword, m, n))
+        .unwrap_or_default();
+    let forces = match sections.forces {
+        Some(list) => lower.vector(list, "`forces`", n),
+        None => vec![lower.graph.int(0); n],
+    };
+    let constraints = sections
+        .constraints
+        .map_or(&[][..], |l| &l.items)
+        .iter()
+        .map(|c| lower.constraint(c))
+        .collect();
+    let eliminate = sections
+        .eliminate
+        .map(|list| (lower.eliminate(list), list.span));
+
+    errors.finish()?;
+    Ok(System {
+        attrs: input.attrs.clone(),
+        vis: input.vis.clone(),
+        name: input.name.clone(),
+        coordinates: coordinates.clone(),
+        parameters: parameters.clone(),
+        graph,
+        mass,
+        forces,
+        constraints,
+        eliminate,
+    })
+}
+
+impl Lowerer<'_> {
+    fn mass(&mut self, keyword: &Ident, input: &MassInput, n: usize) -> Vec<Vec<Id>> {
+        let before = self.errors.count();
+        let zero = self.graph.int(0);
+        let mut m = vec![vec![zero; n]; n];
+        let mut sources: Vec<Vec<Option<&Expr>>> = vec![vec![None; n]; n];
+        match input {
+            MassInput::Diagonal(list) => {
+                check::length(self.errors, list.span, "`mass`", list.items.len(), n);
+                for (i, e) in list.items.iter().enumerate().take(n) {
+                    m[i][i] = self.lower(e);
+                    sources[i][i] = Some(e);
+                }
+            }
+            MassInput::Full(rows) => {
+                check::length(self.errors, rows.span, "`mass`", rows.items.len(), n);
+                for (i, row) in rows.items.iter().enumerate().take(n) {
+                    let what = format!("row {} of `mass`", i + 1);
+                    check::length(self.errors, row.span, &what, row.items.len(), n);
+                    for (j, e) in row.items.iter().enumerate().take(n) {
+                        m[i][j] = self.lower(e);
+                        sources[i][j] = Some(e);
+                    }
+                }
+            }
+        }
+        let source = MassSource::Entries(sources);
+        check::mass_without_velocities(self.errors, self.graph, &m, &source);
+        check::mass_symmetric(self.errors, self.graph, &mut m, &source);
+        // Missing or unreadable entries were filled with zeros.
+        if self.errors.count() == before {
+            check::constant_mass_positive_definite(self.errors, self.graph, &m, keyword);
+        }
+        m
+    }
+
+    fn constraint(&mut self, c: &ConstraintInput) -> Constraint {
+        let before = self.errors.count();
+        let lhs = self.lower(&c.lhs);
+        let phi = match &c.rhs {
+            Some(rhs) => {
+                let rhs = self.lower(rhs);
+                self.graph.sub(lhs, rhs)
+            }
+            None => lhs,
+        };
+        if self.errors.count() == before {
+            check::constraint_involves_state(self.errors, self.graph, phi, &c.tokens);
+        }
+        let velocity = self.graph.mentions(phi, |s| matches!(s, Sym::Vel(_)));
+        Constraint {
+            phi,
+            level: if velocity {
+                Level::Velocity
+            } else {
+                Level::Position
+            },
+        }
+    }
+
+    fn eliminate(&mut self, list: &List<Ident>) -> Vec<usize> {
+        let mut indices = Vec::new();
+        for name in &list.items {
+            match self.names.get(&name.to_string()) {
+                Some(&Binding::Coordinate(i)) if indices.contains(&i) => {
+                    self.errors
+                        .spanned(name, format!("`{name}` is eliminated twice"));
+                }
+                Some(&Binding::Coordinate(i)) => indices.push(i),
+                _ => self.errors.spanned(
+                    name,
+                    format!("`eliminate` takes coordinates; `{name}` is not one"),
+                ),
+            }
+        }
+        indices
+    }
+}

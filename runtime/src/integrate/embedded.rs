@@ -1,0 +1,217 @@
+//! Adaptive steps for embedded Runge–Kutta pairs.
+
+use super::controller::PiController;
+use super::explicit::{step, Step};
+use super::tableau::{Embedded, Tableau};
+use super::{accept, c, derivative, fixed_steps, span, Derivative, Settings, Stats};
+use crate::{ConstrainedSystem, IntegrationError, State};
+use core::marker::PhantomData;
+use nalgebra::RealField;
+
+/// An embedded Runge–Kutta pair `M` with `S` stages and adaptive steps: the
+/// local error estimate, scaled by `atol + rtol·|y|` per component of
+/// `(q, q̇)` and measured in the RMS norm, is kept below one; steps that
+/// exceed it are rejected and retried smaller; the step size follows a
+/// [`PiController`]. [`DormandPrince45`](super::DormandPrince45) and
+/// [`BogackiShampine32`](super::BogackiShampine32) are instances.
+#[derive(Debug)]
+pub struct EmbeddedRungeKutta<T, M, const S: usize> {
+    rtol: T,
+    atol: T,
+    settings: Settings<T>,
+    max_step: Option<T>,
+    method: PhantomData<M>,
+}
+
+impl<T: Copy, M, const S: usize> Clone for EmbeddedRungeKutta<T, M, S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T: Copy, M, const S: usize> Copy for EmbeddedRungeKutta<T, M, S> {}
+
+impl<T: PartialEq, M, const S: usize> PartialEq for EmbeddedRungeKutta<T, M, S> {
+    fn eq(&self, other: &Self) -> bool {
+        (self.rtol == other.rtol)
+            && (self.atol == other.atol)
+            && self.settings == other.settings
+            && self.max_step == other.max_step
+    }
+}
+
+impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, M, S> {
+    /// Relative and absolute tolerances; a budget of 10⁶ steps per call.
+    pub fn new(rtol: T, atol: T) -> Self {
+        EmbeddedRungeKutta {
+            rtol,
+            atol,
+            settings: Settings::new(1_000_000),
+            max_step: None,
+            method: PhantomData,
+        }
+    }
+
+    /// The same with steps no longer than `max_step` (e.g. to sample output).
+    pub fn with_max_step(mut self, max_step: T) -> Self {
+        self.max_step = Some(max_step);
+        self
+    }
+
+    /// Advances `state` to `t_end`, calling `observer` after every accepted step.
+    pub fn advance_with<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &mut State<T, N>,
+        t_end: T,
+        mut observer: impl FnMut(&State<T, N>),
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let positive = |x: T| x > T::zero() && x.is_finite();
+        if !(positive(self.rtol) && (positive(self.atol) || self.atol == T::zero())) {
+            return Err(IntegrationError::InvalidParameter);
+        }
+        let total = span(state, t_end)?;
+        let mut stats = Stats::default();
+        if total == T::zero() {
+            return Ok(stats);
+        }
+        let tableau: &Tableau<S> = &M::TABLEAU;
+        let settings = &self.settings;
+        let mut k1 = derivative(system, state, settings, &mut stats)?;
+        let mut h = self.initial_step(system, state, &k1, total, &mut stats)?;
+        let mut controller = PiController::<T>::new(tableau.error_order);
+        while state.t < t_end {
+            if stats.steps + stats.rejected >= settings.max_steps {
+                return Err(IntegrationError::TooManySteps {
+                    t: state.t,
+                    steps: settings.max_steps,
+                });
+            }
+            let resolution = c::<T>(16.0) * T::default_epsilon() * state.t.abs().max(t_end.abs());
+            if h <= resolution {
+                return Err(IntegrationError::StepSizeUnderflow {
+                    t: state.t,
+                    step: h,
+                });
+            }
+            let last = h >= t_end - state.t;
+            if last {
+                h = t_end - state.t;
+            }
+            let Step {
+                state: new,
+                last: fsal,
+                error,
+            } = step(tableau, system, state, &k1, h, settings, &mut stats)?;
+            let err = self.norm(&error, &(state.q, state.qd), &(new.q, new.qd));
+            if err <= T::one() {
+                *state = new;
+                if last {
+                    state.t = t_end;
+                }
+                stats.steps += 1;
+                let projected = accept(system, state, settings)?;
+                k1 = match fsal {
+                    Some(k) if !projected => k,
+                    // Projection moved the state, or the method is not FSAL.
+                    _ => derivative(system, state, settings, &mut stats)?,
+                };
+                observer(state);
+                h = controller.accepted(h, err);
+            } else {
+                stats.rejected += 1;
+                h = controller.rejected(h, err);
+            }
+            if let Some(max) = self.max_step {
+                h = h.min(max);
+            }
+        }
+        Ok(stats)
+    }
+
+    /// Advances `state` to `t_end` in steps of `h` without error control:
+    /// the higher-order formula alone, for convergence studies and loops
+    /// that need a fixed cost per step.
+    pub fn advance_fixed<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &mut State<T, N>,
+        t_end: T,
+        h: T,
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let settings = &self.settings;
+        let one_step = |state: &mut State<T, N>, h: T, k1: &Derivative<T, N>, stats: &mut Stats| {
+            let next = step(&M::TABLEAU, system, state, k1, h, settings, stats)?;
+            *state = next.state;
+            Ok(next.last)
+        };
+        fixed_steps(system, state, t_end, h, settings, one_step, |_| {})
+    }
+
+    /// Hairer, Nørsett & Wanner's starting step (Solving ODE I, II.4).
+    fn initial_step<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &State<T, N>,
+        k1: &Derivative<T, N>,
+        total: T,
+        stats: &mut Stats,
+    ) -> Result<T, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let y = (state.q, state.qd);
+        let d0 = self.norm(&y, &y, &y);
+        let d1 = self.norm(k1, &y, &y);
+        let tiny = c::<T>(1e-5);
+        let h0 = if d0 < tiny || d1 < tiny {
+            c(1e-6)
+        } else {
+            d0 / d1 * c(0.01)
+        };
+        let h0 = h0.min(total);
+        let probe = State {
+            t: state.t + h0,
+            q: state.q + k1.0 * h0,
+            qd: state.qd + k1.1 * h0,
+        };
+        let k = derivative(system, &probe, &self.settings, stats)?;
+        let diff = (k.0 - k1.0, k.1 - k1.1);
+        let d2 = self.norm(&diff, &y, &y) / h0;
+        let d = d1.max(d2);
+        let order = c::<T>(f64::from(M::TABLEAU.order));
+        let h1 = if d <= c(1e-15) {
+            (h0 * c(1e-3)).max(c(1e-6))
+        } else {
+            (c::<T>(0.01) / d).powf(T::one() / order)
+        };
+        Ok((h0 * c(100.0)).min(h1).min(total))
+    }
+
+    /// RMS of `v / (atol + rtol·max(|y₀|, |y₁|))` over the 2N components.
+    fn norm<const N: usize>(
+        &self,
+        v: &Derivative<T, N>,
+        y0: &Derivative<T, N>,
+        y1: &Derivative<T, N>,
+    ) -> T {
+        let mut sum = T::zero();
+        let parts = [(&v.0, &y0.0, &y1.0), (&v.1, &y0.1, &y1.1)];
+        for (vi, a, b) in parts {
+            for i in 0..N {
+                let sc = self.atol + self.rtol * a[i].abs().max(b[i].abs());
+                let x = vi[i] / sc;
+                sum += x * x;
+            }
+        }
+        (sum / c::<T>(2.0 * N as f64)).sqrt()
+    }
+}
+
+shared_settings!(EmbeddedRungeKutta<T, M, S>, M: Embedded<S>, const S: usize);

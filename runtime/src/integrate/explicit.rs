@@ -1,0 +1,148 @@
+//! The one explicit Runge–Kutta engine: [`step`] advances a state by one
+//! step of any [`Tableau`], and [`ExplicitRungeKutta`] drives it with a
+//! fixed step size.
+
+use super::tableau::{Method, Tableau};
+use super::{c, derivative, fixed_steps, Derivative, Settings, Stats};
+use crate::{ConstrainedSystem, IntegrationError, State};
+use core::marker::PhantomData;
+use nalgebra::{RealField, SVector};
+
+/// The outcome of one step.
+pub(super) struct Step<T, const N: usize> {
+    /// The propagated solution.
+    pub state: State<T, N>,
+    /// `(q̇, q̈)` at the new state when the method is first-same-as-last:
+    /// the next step's first stage.
+    pub last: Option<Derivative<T, N>>,
+    /// The local error estimate `h Σ eⱼ kⱼ`, unscaled (zero without an
+    /// embedded pair).
+    pub error: Derivative<T, N>,
+}
+
+/// One step of size `h` of the method `tableau` from `state`, whose
+/// derivative `k1` is given (it is the previous step's last stage for a
+/// first-same-as-last method).
+pub(super) fn step<T, Sys, const N: usize, const K: usize, const S: usize>(
+    tableau: &Tableau<S>,
+    system: &Sys,
+    state: &State<T, N>,
+    k1: &Derivative<T, N>,
+    h: T,
+    settings: &Settings<T>,
+    stats: &mut Stats,
+) -> Result<Step<T, N>, IntegrationError<T>>
+where
+    T: RealField + Copy,
+    Sys: ConstrainedSystem<T, N, K>,
+{
+    // y + h Σⱼ wⱼ kⱼ over the stages computed so far (zero weights skipped:
+    // the tableau is a constant, so this unrolls to the method's own sums).
+    let combine = |weights: &[f64; S], k: &[Derivative<T, N>; S], stages: usize, dt: T| {
+        let (mut q, mut qd) = (state.q, state.qd);
+        for (w, kj) in weights.iter().zip(k).take(stages) {
+            if *w != 0.0 {
+                let f = c::<T>(*w) * h;
+                q += kj.0 * f;
+                qd += kj.1 * f;
+            }
+        }
+        State {
+            t: state.t + dt,
+            q,
+            qd,
+        }
+    };
+    let mut k: [Derivative<T, N>; S] = [*k1; S];
+    let mut stage = *state;
+    for i in 1..S {
+        stage = combine(&tableau.a[i], &k, i, c::<T>(tableau.c[i]) * h);
+        k[i] = derivative(system, &stage, settings, stats)?;
+    }
+    let (new, last) = if tableau.is_fsal() {
+        // The last stage was evaluated at the new solution itself.
+        (
+            State {
+                t: state.t + h,
+                ..stage
+            },
+            Some(k[S - 1]),
+        )
+    } else {
+        (combine(&tableau.b, &k, S, h), None)
+    };
+    let mut error = (SVector::zeros(), SVector::zeros());
+    if tableau.error_order > 0 {
+        for (e, kj) in tableau.e.iter().zip(&k) {
+            if *e != 0.0 {
+                let f = c::<T>(*e) * h;
+                error.0 += kj.0 * f;
+                error.1 += kj.1 * f;
+            }
+        }
+    }
+    Ok(Step {
+        state: new,
+        last,
+        error,
+    })
+}
+
+/// An explicit Runge–Kutta method `M` with `S` stages and a fixed step; the
+/// last step is shortened to land on the end time. [`Rk4`](super::Rk4) and
+/// [`ThreeEighthsRule`](super::ThreeEighthsRule) are instances.
+#[derive(Debug)]
+pub struct ExplicitRungeKutta<T, M, const S: usize> {
+    step: T,
+    settings: Settings<T>,
+    method: PhantomData<M>,
+}
+
+impl<T: Copy, M, const S: usize> Clone for ExplicitRungeKutta<T, M, S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T: Copy, M, const S: usize> Copy for ExplicitRungeKutta<T, M, S> {}
+
+impl<T: PartialEq, M, const S: usize> PartialEq for ExplicitRungeKutta<T, M, S> {
+    fn eq(&self, other: &Self) -> bool {
+        self.step == other.step && self.settings == other.settings
+    }
+}
+
+impl<T: RealField + Copy, M: Method<S>, const S: usize> ExplicitRungeKutta<T, M, S> {
+    /// Steps of size `step`, no stabilization, no step budget.
+    pub fn new(step: T) -> Self {
+        ExplicitRungeKutta {
+            step,
+            settings: Settings::new(usize::MAX),
+            method: PhantomData,
+        }
+    }
+
+    /// Advances `state` to `t_end`, calling `observer` after every step.
+    pub fn advance_with<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &mut State<T, N>,
+        t_end: T,
+        observer: impl FnMut(&State<T, N>),
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let settings = &self.settings;
+        let one_step = |state: &mut State<T, N>, h: T, k1: &Derivative<T, N>, stats: &mut Stats| {
+            let next = step(&M::TABLEAU, system, state, k1, h, settings, stats)?;
+            *state = next.state;
+            Ok(next.last)
+        };
+        fixed_steps(
+            system, state, t_end, self.step, settings, one_step, observer,
+        )
+    }
+}
+
+shared_settings!(ExplicitRungeKutta<T, M, S>, M: Method<S>, const S: usize);
