@@ -7,7 +7,7 @@
 use constrained::models::{
     Appell, ChaplyginSleigh, DoublePendulum, RedundantDoublePendulum, TwoLinkArmOnLine,
 };
-use constrained::nalgebra::{SVector, Vector3};
+use constrained::nalgebra::Vector3;
 use constrained_chains::*;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nalgebra::{DMatrix, DVector};
@@ -127,29 +127,10 @@ fn appell(c: &mut Criterion) {
     group.finish();
 }
 
-/// A consistent state of an N-link chain (angles from the downward vertical).
-fn chain_state<const M: usize>() -> (SVector<f64, M>, SVector<f64, M>) {
-    let (mut q, mut qd) = (SVector::<f64, M>::zeros(), SVector::<f64, M>::zeros());
-    let (mut x, mut y, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
-    for i in 0..M / 2 {
-        let (th, w, l) = (
-            (0.7 * i as f64).sin(),
-            (1.1 * i as f64).cos(),
-            length(i + 1),
-        );
-        x += l * th.sin();
-        y -= l * th.cos();
-        vx += l * th.cos() * w;
-        vy += l * th.sin() * w;
-        (q[2 * i], q[2 * i + 1], qd[2 * i], qd[2 * i + 1]) = (x, y, vx, vy);
-    }
-    (q, qd)
-}
-
 macro_rules! bench_chain {
     ($group:expr, $method:ident, $chain:ty, $links:literal, $m:literal) => {{
         let system = <$chain>::new(G);
-        let (q, qd) = chain_state::<$m>();
+        let (q, qd) = constrained_chains::benchmark_state::<$m>();
         $group.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
             b.iter(|| system.$method(black_box(&q), black_box(&qd), black_box(0.0)))
         });
@@ -173,7 +154,7 @@ macro_rules! bench_chains {
 macro_rules! bench_rk4 {
     ($group:expr, $chain:ty, $links:literal, $m:literal) => {{
         let system = <$chain>::new(G);
-        let (q, qd) = chain_state::<$m>();
+        let (q, qd) = constrained_chains::benchmark_state::<$m>();
         let rk4 = constrained::Rk4::new(1e-3);
         $group.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
             b.iter(|| {
@@ -220,7 +201,7 @@ fn models(c: &mut Criterion) {
     }
     let (q3, qd3) = (Vector3::new(0.3, -0.2, 1.1), Vector3::new(1.2, 0.7, -0.4));
     both!("appell", Appell::<f64>::new(G, ALPHA), q3, qd3);
-    let (q, qd) = chain_state::<4>();
+    let (q, qd) = constrained_chains::benchmark_state::<4>();
     both!(
         "double_pendulum",
         DoublePendulum::<f64>::new(1.1, 1.2, 1.05, 1.1, G),

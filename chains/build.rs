@@ -16,7 +16,8 @@ fn main() {
     println!("cargo::rerun-if-changed=build.rs");
 }
 
-/// The lengths generated; keep in step with the re-exports in `src/lib.rs`.
+/// The lengths generated (the structs `Chain1`, `Chain2`, … that `src/lib.rs`
+/// includes); keep in step with the list in its docs.
 fn constrained_chains_lengths() -> [usize; 9] {
     [1, 2, 3, 4, 8, 12, 16, 24, 32]
 }

@@ -78,10 +78,12 @@ pub use nalgebra;
 /// ```
 ///
 /// Expressions use numbers, the declared names, `t`, `dot(q)`, `+ - * /`,
-/// parentheses and `powi`, `powf`, `sqrt`, `sin`, `cos`, `tan`, `asin`,
-/// `acos`, `atan`, `atan2`, `sinh`, `cosh`, `tanh`, `exp`, `ln`, as methods
-/// (`x.sin()`) or functions (`sin(x)`). A constraint with any `dot(..)` is
-/// velocity level (differentiated once), otherwise position level (twice).
+/// parentheses and the functions below, as methods (`x.sin()`) or functions
+/// (`sin(x)`, `atan2(y, x)`; a method's receiver is its first argument).
+#[doc = constrained_macros::__dsl_functions!()]
+///
+/// A constraint with any `dot(..)` is velocity level (differentiated once),
+/// otherwise position level (twice).
 ///
 /// For `pub struct Name` it generates `pub struct Name<T = f64>` with one
 /// public field per parameter, `Name::new(params...)`, the constants `DOF`,

@@ -13,8 +13,6 @@ use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
-mod common;
-
 /// Checks every claim at one consistent state; `seed` drives the random Y.
 fn check<S: ConstrainedSystem<f64, N, K>, const N: usize, const K: usize>(
     system: &S,
@@ -141,7 +139,7 @@ fn sphere(u: f64, v: f64) -> Vector3<f64> {
 }
 
 fn double_pendulum_state(p: &[f64; 5], th: [f64; 4]) -> State<f64, 4> {
-    common::double_pendulum_state(p[2], p[3], th)
+    constrained::models::double_pendulum_state(p[2], p[3], 0.0, [th[0], th[1]], [th[2], th[3]])
 }
 
 fn params<const P: usize>() -> impl Strategy<Value = [f64; P]> {

@@ -4,11 +4,10 @@
 
 use constrained::models::{AppellTimeDependent, DoublePendulum, SphericalPendulum};
 use constrained::nalgebra::{Vector2, Vector3};
-mod common;
 
 use constrained::{
-    constrained_system, DormandPrince45, IntegrationError, Rk4, SemiImplicitEuler, Stabilization,
-    State,
+    constrained_system, BogackiShampine32, DormandPrince45, IntegrationError, Rk4,
+    SemiImplicitEuler, Stabilization, State, ThreeEighthsRule,
 };
 
 constrained_system! {
@@ -42,44 +41,87 @@ fn circle_error(state: &State<f64, 2>) -> f64 {
     (state.q - Vector2::new((OMEGA * t).cos(), (OMEGA * t).sin())).norm()
 }
 
-#[test]
-fn rk4_converges_at_order_4() {
-    let system = Circle::new(1.0);
-    let errors: Vec<f64> = [0.04, 0.02, 0.01]
+/// The errors at t = 4 on the circle for three halving step sizes, and the
+/// ratios of successive errors: 2^p for a method of order p.
+fn error_ratios(steps: [f64; 3], advance: impl Fn(&mut State<f64, 2>, f64)) -> Vec<f64> {
+    let errors: Vec<f64> = steps
         .iter()
         .map(|&h| {
             let mut s = circle_start();
-            Rk4::new(h).advance(&system, &mut s, 4.0).unwrap();
+            advance(&mut s, h);
+            assert_eq!(s.t, 4.0);
             circle_error(&s)
         })
         .collect();
-    for pair in errors.windows(2) {
-        let ratio = pair[0] / pair[1];
-        assert!(
-            (14.0..18.0).contains(&ratio),
-            "RK4 error ratio {ratio} (errors {errors:?})"
-        );
-    }
+    errors.windows(2).map(|pair| pair[0] / pair[1]).collect()
+}
+
+#[test]
+fn rk4_converges_at_order_4() {
+    let system = Circle::new(1.0);
+    let ratios = error_ratios([0.04, 0.02, 0.01], |s, h| {
+        Rk4::new(h).advance(&system, s, 4.0).unwrap();
+    });
+    assert!(
+        ratios.iter().all(|r| (14.0..18.0).contains(r)),
+        "{ratios:?}"
+    );
+}
+
+#[test]
+fn three_eighths_rule_converges_at_order_4() {
+    let system = Circle::new(1.0);
+    let ratios = error_ratios([0.04, 0.02, 0.01], |s, h| {
+        ThreeEighthsRule::new(h).advance(&system, s, 4.0).unwrap();
+    });
+    assert!(
+        ratios.iter().all(|r| (14.0..18.0).contains(r)),
+        "{ratios:?}"
+    );
 }
 
 #[test]
 fn dormand_prince_converges_at_order_5() {
     let system = Circle::new(1.0);
-    let errors: Vec<f64> = [0.2, 0.1, 0.05]
-        .iter()
-        .map(|&h| {
-            let mut s = circle_start();
-            DormandPrince45::new(1e-6, 1e-6)
-                .advance_fixed(&system, &mut s, 4.0, h)
-                .unwrap();
-            circle_error(&s)
-        })
-        .collect();
-    for pair in errors.windows(2) {
-        let ratio = pair[0] / pair[1];
+    let ratios = error_ratios([0.2, 0.1, 0.05], |s, h| {
+        DormandPrince45::new(1e-6, 1e-6)
+            .advance_fixed(&system, s, 4.0, h)
+            .unwrap();
+    });
+    assert!(
+        ratios.iter().all(|r| (28.0..37.0).contains(r)),
+        "{ratios:?}"
+    );
+}
+
+#[test]
+fn bogacki_shampine_converges_at_order_3() {
+    let system = Circle::new(1.0);
+    let ratios = error_ratios([0.04, 0.02, 0.01], |s, h| {
+        BogackiShampine32::new(1e-6, 1e-6)
+            .advance_fixed(&system, s, 4.0, h)
+            .unwrap();
+    });
+    assert!(ratios.iter().all(|r| (7.0..9.5).contains(r)), "{ratios:?}");
+}
+
+#[test]
+fn bogacki_shampine_meets_its_tolerance_with_three_evaluations_a_step() {
+    let system = Circle::new(1.0);
+    for rtol in [1e-4, 1e-6, 1e-8] {
+        let mut s = circle_start();
+        let stats = BogackiShampine32::new(rtol, rtol)
+            .advance(&system, &mut s, 10.0)
+            .unwrap();
+        let error = circle_error(&s);
         assert!(
-            (28.0..37.0).contains(&ratio),
-            "DP5 error ratio {ratio} (errors {errors:?})"
+            error < 100.0 * rtol * 10.0,
+            "rtol {rtol}: error {error} after {stats:?}"
+        );
+        assert_eq!(
+            stats.evaluations,
+            3 * (stats.steps + stats.rejected) + 2,
+            "FSAL: 3 evaluations a step"
         );
     }
 }
@@ -143,7 +185,7 @@ fn double_pendulum() -> (DoublePendulum<f64>, State<f64, 4>) {
     let system = DoublePendulum::new(1.0, 1.5, l1, l2, 9.81);
     (
         system,
-        common::double_pendulum_state(l1, l2, [2.0, -1.0, 0.5, 1.5]),
+        system.state_from_angles(0.0, [2.0, -1.0], [0.5, 1.5]),
     )
 }
 

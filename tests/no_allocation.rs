@@ -7,7 +7,6 @@ use constrained::models::DoublePendulum;
 use constrained::{DormandPrince45, Rk4, SemiImplicitEuler, Stabilization, State};
 use std::alloc::{GlobalAlloc, Layout, System};
 
-mod common;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 struct Counting;
@@ -33,7 +32,7 @@ static GLOBAL: Counting = Counting;
 
 fn start() -> (DoublePendulum<f64>, State<f64, 4>) {
     let (l1, l2) = (1.2, 0.8);
-    let state = common::double_pendulum_state(l1, l2, [2.0, -1.0, 0.5, 1.5]);
+    let state = constrained::models::double_pendulum_state(l1, l2, 0.0, [2.0, -1.0], [0.5, 1.5]);
     (DoublePendulum::new(1.0, 1.5, l1, l2, 9.81), state)
 }
 

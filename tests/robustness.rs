@@ -100,19 +100,8 @@ fn redundant_double_pendulum_integrates_like_the_plain_one() {
     let p = [1.0, 1.5, 1.2, 0.8, 9.81];
     let plain = DoublePendulum::new(p[0], p[1], p[2], p[3], p[4]);
     let redundant = RedundantDoublePendulum::new(p[0], p[1], p[2], p[3], p[4]);
-    let (t1, t2, w1, w2) = (0.7f64, -1.9f64, 1.3, -0.4);
-    let q0 = Vector4::new(
-        1.2 * t1.sin(),
-        -1.2 * t1.cos(),
-        1.2 * t1.sin() + 0.8 * t2.sin(),
-        -1.2 * t1.cos() - 0.8 * t2.cos(),
-    );
-    let qd0 = Vector4::new(
-        1.2 * t1.cos() * w1,
-        1.2 * t1.sin() * w1,
-        1.2 * t1.cos() * w1 + 0.8 * t2.cos() * w2,
-        1.2 * t1.sin() * w1 + 0.8 * t2.sin() * w2,
-    );
+    let start = plain.state_from_angles(0.0, [0.7, -1.9], [1.3, -0.4]);
+    let (q0, qd0) = (start.q, start.qd);
     let (mut qa, mut qda, mut qb, mut qdb) = (q0, qd0, q0, qd0);
     let h = 1e-3;
     let (mut drift_plain, mut drift_redundant): (f64, f64) = (0.0, 0.0);

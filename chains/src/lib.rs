@@ -16,3 +16,46 @@ pub fn mass(i: usize) -> f64 {
 pub fn length(i: usize) -> f64 {
     1.0 + 0.05 * i as f64
 }
+
+/// A consistent state of the chain with `M = 2N` coordinates from the
+/// absolute angles of its rods (from the downward vertical) and their
+/// rates: joint positions `(xᵢ, yᵢ)` and velocities. Angles and rates beyond
+/// the `N` links are ignored; missing ones are zero.
+pub fn consistent_state<const M: usize>(
+    angles: &[f64],
+    rates: &[f64],
+) -> (
+    constrained::nalgebra::SVector<f64, M>,
+    constrained::nalgebra::SVector<f64, M>,
+) {
+    let (mut q, mut qd) = (
+        constrained::nalgebra::SVector::<f64, M>::zeros(),
+        constrained::nalgebra::SVector::<f64, M>::zeros(),
+    );
+    let (mut x, mut y, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+    for i in 0..M / 2 {
+        let (th, w, l) = (
+            angles.get(i).copied().unwrap_or(0.0),
+            rates.get(i).copied().unwrap_or(0.0),
+            length(i + 1),
+        );
+        let (sin, cos) = (libm::sin(th), libm::cos(th));
+        x += l * sin;
+        y -= l * cos;
+        vx += l * cos * w;
+        vy += l * sin * w;
+        (q[2 * i], q[2 * i + 1], qd[2 * i], qd[2 * i + 1]) = (x, y, vx, vy);
+    }
+    (q, qd)
+}
+
+/// The state the benchmarks and the scaling tests use: angles `sin(0.7 i)`
+/// and rates `cos(1.1 i)` for link `i = 0, 1, …` (varied, away from folds).
+pub fn benchmark_state<const M: usize>() -> (
+    constrained::nalgebra::SVector<f64, M>,
+    constrained::nalgebra::SVector<f64, M>,
+) {
+    let angles: [f64; 64] = core::array::from_fn(|i| libm::sin(0.7 * i as f64));
+    let rates: [f64; 64] = core::array::from_fn(|i| libm::cos(1.1 * i as f64));
+    consistent_state::<M>(&angles, &rates)
+}

@@ -89,31 +89,13 @@ fn chains_match_sympy_reference_data() {
     }
 }
 
-/// A consistent state of an N-link chain from absolute angles and rates.
-fn consistent<const M: usize>(angles: &[f64], rates: &[f64]) -> (SVector<f64, M>, SVector<f64, M>) {
-    let (mut q, mut qd) = (SVector::<f64, M>::zeros(), SVector::<f64, M>::zeros());
-    let (mut x, mut y, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
-    for (i, (&th, &w)) in angles.iter().zip(rates).enumerate() {
-        let l = length(i + 1);
-        x += l * th.sin();
-        y -= l * th.cos();
-        vx += l * th.cos() * w;
-        vy += l * th.sin() * w;
-        q[2 * i] = x;
-        q[2 * i + 1] = y;
-        qd[2 * i] = vx;
-        qd[2 * i + 1] = vy;
-    }
-    (q, qd)
-}
-
 macro_rules! constraint_equations_hold {
     ($test:ident, $chain:ty, $links:literal, $m:literal) => {
         #[test]
         fn $test() {
             let angles: Vec<f64> = (0..$links).map(|i| (0.7 * i as f64).sin() * 1.3).collect();
             let rates: Vec<f64> = (0..$links).map(|i| (1.1 * i as f64 + 0.4).cos()).collect();
-            let (q, qd) = consistent::<$m>(&angles, &rates);
+            let (q, qd) = constrained_chains::consistent_state::<$m>(&angles, &rates);
             let system = <$chain>::new(9.81);
             assert!(system.constraint_residual(&q, &qd, 0.0).amax() < 1e-12);
             let qdd = system.acceleration(&q, &qd, 0.0);
@@ -157,7 +139,7 @@ macro_rules! gibbs_appell_agrees {
                     .map(|i| 2.0 * (0.7 * i as f64 + phase).sin())
                     .collect();
                 let rates: Vec<f64> = (0..$links).map(|i| (1.1 * i as f64).cos()).collect();
-                let (q, qd) = consistent::<$m>(&angles, &rates);
+                let (q, qd) = constrained_chains::consistent_state::<$m>(&angles, &rates);
                 let qdd = system.acceleration(&q, &qd, 0.0);
                 let ga = system
                     .acceleration_gibbs_appell(&q, &qd, 0.0)

@@ -31,9 +31,10 @@ impl MassInverse {
 
 /// The symbolic Gauss pieces, for a mass matrix whose inverse is known.
 pub struct Symbolic {
-    /// Diagonal masses `mᵢ` whose positivity is checked at run time (those
-    /// that are not positive constants); empty for a constant `M`, whose
-    /// positive definiteness the model stage checked at compile time.
+    /// The diagonal masses `mᵢ` of a diagonal `M` (the emitted code checks
+    /// at run time those that are not positive constants); empty for a
+    /// constant non-diagonal `M`, whose positive definiteness the model
+    /// stage checked at compile time.
     pub masses: Vec<Id>,
     /// Whether `M` is known positive definite (then `acceleration` cannot fail).
     pub known_positive: bool,

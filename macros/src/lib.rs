@@ -12,3 +12,19 @@ pub fn constrained_system(input: TokenStream) -> TokenStream {
         .unwrap_or_else(syn::Error::into_compile_error)
         .into()
 }
+
+/// The DSL's functions as a Markdown list line for the `constrained` crate's
+/// docs, generated from the operator table so that the docs cannot fall
+/// behind it. Not public API.
+#[doc(hidden)]
+#[proc_macro]
+pub fn __dsl_functions(_: TokenStream) -> TokenStream {
+    let names: Vec<String> = constrained_codegen::model::lower::function_names()
+        .iter()
+        .map(|f| format!("`{f}`"))
+        .collect();
+    let line = format!(" Functions: {}.", names.join(", "));
+    TokenStream::from(proc_macro::TokenTree::Literal(proc_macro::Literal::string(
+        &line,
+    )))
+}

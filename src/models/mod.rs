@@ -15,6 +15,8 @@ mod slider_crank;
 pub use appell::{Appell, AppellTimeDependent};
 pub use arm::TwoLinkArmOnLine;
 pub use bead::BeadOnRotatingHoop;
-pub use pendulum::{DoublePendulum, RedundantDoublePendulum, SphericalPendulum};
+pub use pendulum::{
+    double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
+};
 pub use sleigh::ChaplyginSleigh;
 pub use slider_crank::SliderCrank;
