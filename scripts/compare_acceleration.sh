@@ -28,12 +28,18 @@ for line in sys.stdin:
         print(m["executable"])')
 }
 
-rm -rf "$base_dir"
-git worktree prune
-git worktree add --detach "$base_dir" "$base_rev" > /dev/null
-trap 'git worktree remove --force "$base_dir" > /dev/null 2>&1 || true' EXIT
-echo "building $base_rev and the working tree (release)…" >&2
-base_exe=$(executable "$base_dir" "$(realpath "$target")/compare/target-base")
+mkdir -p "$target/compare"
+if [ -n "${BASE_EXE:-}" ]; then # a base binary built before (same revision)
+    base_exe=$BASE_EXE
+else
+    rm -rf "$base_dir"
+    git worktree prune
+    git worktree add --detach "$base_dir" "$base_rev" > /dev/null
+    trap 'git worktree remove --force "$base_dir" > /dev/null 2>&1 || true' EXIT
+    echo "building $base_rev (release)…" >&2
+    base_exe=$(executable "$base_dir" "$(realpath "$target")/compare/target-base")
+fi
+echo "building the working tree (release)…" >&2
 head_exe=$(executable . "$(realpath "$target")")
 out="$target/compare/runs"
 mkdir -p "$out"

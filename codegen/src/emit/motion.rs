@@ -173,13 +173,13 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     let g = &ctx.eq.system.graph;
     let residuals: Vec<_> = (0..k).map(|i| Context::local("r", i)).collect();
     let mut named: Vec<(syn::Ident, Id)> = Vec::new();
-    for i in 0..k {
+    for (i, (r, &residual)) in residuals.iter().zip(&d.residual).enumerate() {
         for j in 0..=i {
             if !g.is_zero(d.gram[i][j]) {
                 named.push((StructuredLdlt::entry(i, j), d.gram[i][j]));
             }
         }
-        named.push((residuals[i].clone(), d.residual[i]));
+        named.push((r.clone(), residual));
     }
     // Each distinct mass that is not a positive constant is checked once.
     let mut unchecked: Vec<Id> = Vec::new();

@@ -2,7 +2,7 @@
 //!
 //! Nodes live in a `Vec` and refer to their children by [`Id`]; a child is
 //! always created before its parent, so arena order is a topological order.
-//! Every node is built through a constructor ([`build`]) that canonicalises
+//! Every node is built through a constructor (`build.rs`) that canonicalises
 //! it and then looks it up in a hash map, so two structurally equal
 //! expressions are the same `Id`. Common subexpressions are therefore shared
 //! by construction, and equality of canonical forms is an `Id` comparison.

@@ -66,6 +66,7 @@ pub fn mass_without_velocities(errors: &mut Errors, g: &Graph, m: &[Vec<Id>], so
 /// Rule: `M = Mᵀ` (compared as canonical forms, then numerically at random
 /// points for forms that differ but agree). Afterwards the upper triangle
 /// serves both halves, so generated code computes each entry once.
+#[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
 pub fn mass_symmetric(errors: &mut Errors, g: &Graph, m: &mut [Vec<Id>], source: &MassSource) {
     let n = m.len();
     for i in 0..n {

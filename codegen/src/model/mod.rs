@@ -2,7 +2,7 @@
 //! into the DAG, every rule of the DSL checked (serde_derive's `internals/`):
 //! - [`ctxt`]: the error collector, so that every mistake is reported at once;
 //! - [`lower`]: name resolution and lowering;
-//! - [`check`]: the rules on lowered expressions, one function each.
+//! - [`check`](mod@check): the rules on lowered expressions, one function each.
 
 pub mod check;
 pub mod ctxt;
