@@ -20,6 +20,7 @@ pub mod derive;
 pub mod diff;
 pub mod emit;
 pub mod expr;
+#[doc(hidden)] // DSL text for the chains crate and the benches, not API
 pub mod fixtures;
 pub mod gibbs_appell;
 pub mod linalg;

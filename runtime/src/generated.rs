@@ -81,27 +81,35 @@ where
 {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
 
+    #[inline]
     fn mass_matrix(&self, s: &State<T, N>) -> SMatrix<T, N, N> {
         Generated::mass_matrix(self, &s.q, s.t)
     }
+    #[inline]
     fn forces(&self, s: &State<T, N>) -> SVector<T, N> {
         Generated::forces(self, &s.q, &s.qd, s.t)
     }
+    #[inline]
     fn constraint_residual(&self, s: &State<T, N>) -> SVector<T, K> {
         Generated::constraint_residual(self, &s.q, &s.qd, s.t)
     }
+    #[inline]
     fn constraint_velocity_residual(&self, s: &State<T, N>) -> SVector<T, K> {
         Generated::constraint_velocity_residual(self, &s.q, &s.qd, s.t)
     }
+    #[inline]
     fn constraint_matrices(&self, s: &State<T, N>) -> (SMatrix<T, K, N>, SVector<T, K>) {
         Generated::constraint_matrices(self, &s.q, &s.qd, s.t)
     }
+    #[inline]
     fn acceleration(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
         Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.0)
     }
+    #[inline]
     fn acceleration_moore_penrose(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
         moore_penrose(self, &s.q, &s.qd, s.t)
     }
+    #[inline]
     fn acceleration_corrected(
         &self,
         s: &State<T, N>,
@@ -109,15 +117,18 @@ where
     ) -> Result<SVector<T, N>, DynamicsError> {
         Generated::gauss(self, &s.q, &s.qd, s.t, Some(db)).map(|m| m.0)
     }
+    #[inline]
     fn constraint_force(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
         Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.1)
     }
+    #[inline]
     fn gibbs_appell_matrices(
         &self,
         s: &State<T, N>,
     ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError> {
         Generated::gibbs_appell_matrices(self, &s.q, &s.qd, s.t)
     }
+    #[inline]
     fn acceleration_gibbs_appell(
         &self,
         s: &State<T, N>,
@@ -127,6 +138,7 @@ where
 }
 
 /// `M = L Lᵀ` and `a = M⁻¹ F`; `Err` when `M` is not positive definite.
+#[inline]
 fn unconstrained<T: RealField + Copy, const N: usize>(
     m: SMatrix<T, N, N>,
     f: &SVector<T, N>,
@@ -145,6 +157,7 @@ fn unconstrained<T: RealField + Copy, const N: usize>(
 /// Gauss's principle for a mass matrix that is only known at run time:
 /// `M = L Lᵀ` (Cholesky), `a = M⁻¹ F`, `S = A M⁻¹ Aᵀ` factored by
 /// [`PivotedLdlt`], `λ = S^{1} (b + correction − A a)`, `q̈ = a + M⁻¹ Aᵀ λ`.
+#[inline]
 pub fn gauss_dense<T, S, const N: usize, const K: usize>(
     system: &S,
     q: &SVector<T, N>,

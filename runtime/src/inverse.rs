@@ -53,6 +53,7 @@ pub struct PivotedLdlt<T, const K: usize> {
 
 impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
     /// Factors `s` (only its values are read; it need not be definite).
+    #[inline]
     pub fn new(s: &SMatrix<T, K, K>) -> Self {
         let tol = rank_tolerance::<T>();
         let mut a = *s; // Schur complements, in the original row order
@@ -110,6 +111,7 @@ impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
     /// `λ = S^{1} r` with the {1}-inverse `Pᵀ L⁻ᵀ D⁺ L⁻¹ P`: for a
     /// consistent system (`r` in the range of `S`) `S λ = r`, and `Aᵀλ` is
     /// the same as with the Moore–Penrose inverse.
+    #[inline]
     #[must_use]
     pub fn solve(&self, r: &SVector<T, K>) -> SVector<T, K> {
         let (l, d, order) = (&self.l, &self.d, &self.order);

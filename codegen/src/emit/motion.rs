@@ -130,21 +130,29 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     quote! {
         impl<T: ::constrained::nalgebra::RealField + Copy> #generated for #name<T> {
             const CONSTRAINT_LEVELS: [#level; #k] = Self::CONSTRAINT_LEVELS;
+            #[inline]
             fn mass_matrix(&self, #positions) -> #m { Self::mass_matrix(self, q, t) }
+            #[inline]
             fn forces(&self, #states) -> #vector { Self::forces(self, #args) }
+            #[inline]
             fn constraint_residual(&self, #states) -> #k_vector {
                 Self::constraint_residual(self, #args)
             }
+            #[inline]
             fn constraint_velocity_residual(&self, #states) -> #k_vector {
                 Self::constraint_velocity_residual(self, #args)
             }
+            #[inline]
             fn constraint_matrices(&self, #states) -> (#a, #k_vector) {
                 Self::constraint_matrices(self, #args)
             }
+            #[inline]
             fn gauss(&self, #states, correction: #correction) -> #gauss_ret { #gauss }
+            #[inline]
             fn gibbs_appell_matrices(&self, #states) -> #ga_system {
                 Self::gibbs_appell_matrices(self, #args)
             }
+            #[inline]
             fn acceleration_gibbs_appell(&self, #states) -> #ga_acceleration {
                 Self::acceleration_gibbs_appell(self, #args)
             }

@@ -14,30 +14,13 @@ use nalgebra::RealField;
 /// exceed it are rejected and retried smaller; the step size follows a
 /// [`PiController`]. [`DormandPrince45`](super::DormandPrince45) and
 /// [`BogackiShampine32`](super::BogackiShampine32) are instances.
-#[derive(Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EmbeddedRungeKutta<T, M, const S: usize> {
     rtol: T,
     atol: T,
     settings: Settings<T>,
     max_step: Option<T>,
     method: PhantomData<M>,
-}
-
-impl<T: Copy, M, const S: usize> Clone for EmbeddedRungeKutta<T, M, S> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<T: Copy, M, const S: usize> Copy for EmbeddedRungeKutta<T, M, S> {}
-
-impl<T: PartialEq, M, const S: usize> PartialEq for EmbeddedRungeKutta<T, M, S> {
-    fn eq(&self, other: &Self) -> bool {
-        (self.rtol == other.rtol)
-            && (self.atol == other.atol)
-            && self.settings == other.settings
-            && self.max_step == other.max_step
-    }
 }
 
 impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, M, S> {

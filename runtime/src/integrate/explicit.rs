@@ -22,7 +22,9 @@ pub(super) struct Step<T, const N: usize> {
 
 /// One step of size `h` of the method `tableau` from `state`, whose
 /// derivative `k1` is given (it is the previous step's last stage for a
-/// first-same-as-last method).
+/// first-same-as-last method). Always inlined: there the tableau is a
+/// constant, so the stage loops unroll and the zero weights vanish.
+#[inline(always)]
 pub(super) fn step<T, Sys, const N: usize, const K: usize, const S: usize>(
     tableau: &Tableau<S>,
     system: &Sys,
@@ -91,25 +93,11 @@ where
 /// An explicit Runge–Kutta method `M` with `S` stages and a fixed step; the
 /// last step is shortened to land on the end time. [`Rk4`](super::Rk4) and
 /// [`ThreeEighthsRule`](super::ThreeEighthsRule) are instances.
-#[derive(Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExplicitRungeKutta<T, M, const S: usize> {
     step: T,
     settings: Settings<T>,
     method: PhantomData<M>,
-}
-
-impl<T: Copy, M, const S: usize> Clone for ExplicitRungeKutta<T, M, S> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<T: Copy, M, const S: usize> Copy for ExplicitRungeKutta<T, M, S> {}
-
-impl<T: PartialEq, M, const S: usize> PartialEq for ExplicitRungeKutta<T, M, S> {
-    fn eq(&self, other: &Self) -> bool {
-        self.step == other.step && self.settings == other.settings
-    }
 }
 
 impl<T: RealField + Copy, M: Method<S>, const S: usize> ExplicitRungeKutta<T, M, S> {

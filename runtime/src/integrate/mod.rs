@@ -118,6 +118,7 @@ impl<T> Settings<T> {
 }
 
 /// `(q̇, q̈)` at a state, with the stabilization's correction of `b`.
+#[inline]
 fn derivative<T, S, const N: usize, const K: usize>(
     system: &S,
     state: &State<T, N>,
@@ -143,6 +144,7 @@ where
 
 /// After an accepted step: finite check, then projection if asked for.
 /// Returns whether the state was changed by the projection.
+#[inline]
 fn accept<T, S, const N: usize, const K: usize>(
     system: &S,
     state: &mut State<T, N>,
@@ -172,6 +174,7 @@ where
 /// stats)` from the derivative `k1` at the state (evaluated here unless the
 /// previous step returned it, first same as last), then checked, stabilized
 /// and observed.
+#[inline]
 fn fixed_steps<T, S, const N: usize, const K: usize>(
     system: &S,
     state: &mut State<T, N>,
