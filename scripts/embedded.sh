@@ -22,8 +22,14 @@ if ! command -v qemu-system-arm >/dev/null; then
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm >/dev/null
 fi
 
-cargo build --quiet --release --target thumbv7em-none-eabihf
-elf=target/thumbv7em-none-eabihf/release/constrained-firmware
+# The ELF's path from cargo itself, so that any CARGO_TARGET_DIR works.
+elf=$(cargo build --release --target thumbv7em-none-eabihf --message-format=json 2>/dev/null |
+    python3 -c 'import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m.get("executable"):
+        print(m["executable"])' | tail -n 1)
+[ -n "$elf" ] || { echo "the firmware did not build" >&2; exit 1; }
 echo "== Cortex-M4F (QEMU mps2-an386): Appell's particle and a double pendulum, f32, RK4, 5 s"
 target_out=$(timeout 600 cargo run --quiet --release --target thumbv7em-none-eabihf)
 echo "$target_out"
