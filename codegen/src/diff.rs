@@ -128,6 +128,9 @@ mod tests {
             (Func::Tanh, 1.0 - x0.tanh().powi(2)),
             (Func::Exp, x0.exp()),
             (Func::Ln, 1.0 / x0),
+            (Func::Abs, 1.0),
+            (Func::Signum, 0.0),
+            (Func::Step, 0.0),
         ];
         let unary = Func::ALL.iter().filter(|f| f.arity() == 1).count();
         assert_eq!(
@@ -142,6 +145,35 @@ mod tests {
             let d = Differentiator::new().partial(&mut g, e, Sym::Coord(0));
             let v = g.eval(&[d], &|_| x0)[0];
             assert!((v - expected).abs() < 1e-14, "{f:?}: {v} vs {expected}");
+        }
+    }
+
+    /// At a kink the derivative is the one of the branch the value is
+    /// taken from: `abs(x) = x` for `x ≥ 0`; `min(a, b) = a` for `a ≤ b`,
+    /// `max(a, b) = a` for `a ≥ b`. Away from kinks, the ordinary ones.
+    #[test]
+    fn kinks_take_the_derivative_of_their_branch() {
+        let mut g = Graph::new();
+        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let abs = g.func(Func::Abs, x);
+        let min = g.apply(Func::Min, crate::expr::Args::two(x, y));
+        let max = g.apply(Func::Max, crate::expr::Args::two(x, y));
+        let mut d = Differentiator::new();
+        let mut partials = vec![d.partial(&mut g, abs, Sym::Coord(0))];
+        for e in [min, max] {
+            partials.push(d.partial(&mut g, e, Sym::Coord(0)));
+            partials.push(d.partial(&mut g, e, Sym::Coord(1)));
+        }
+        // (x, y) → [abs′, ∂min/∂x, ∂min/∂y, ∂max/∂x, ∂max/∂y]
+        let cases: [((f64, f64), [f64; 5]); 4] = [
+            ((0.0, 0.0), [1.0, 1.0, 0.0, 1.0, 0.0]),
+            ((-0.5, 0.2), [-1.0, 1.0, 0.0, 0.0, 1.0]),
+            ((0.5, 0.2), [1.0, 0.0, 1.0, 1.0, 0.0]),
+            ((0.2, 0.2), [1.0, 1.0, 0.0, 1.0, 0.0]),
+        ];
+        for ((x0, y0), expected) in cases {
+            let v = g.eval(&partials, &|s| if s == Sym::Coord(0) { x0 } else { y0 });
+            assert_eq!(v, expected, "at ({x0}, {y0})");
         }
     }
 

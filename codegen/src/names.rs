@@ -5,6 +5,9 @@
 /// Names the DSL or the generated code already uses.
 pub const RESERVED: &[&str] = &["t", "dot", "q", "qd", "T", "Self"];
 
+/// The DSL's named constants, with their values.
+pub const CONSTANTS: &[(&str, f64)] = &[("PI", std::f64::consts::PI), ("E", std::f64::consts::E)];
+
 /// Generated locals and private items begin with this prefix, which user
 /// names may not.
 pub const GENERATED_PREFIX: &str = "__";

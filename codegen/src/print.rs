@@ -181,12 +181,13 @@ impl<'a> Printer<'a> {
                 (format!("{base}{op}{exponent}"), Prec::Power)
             }
             Node::Func(f, args) => {
-                let name = match self.style {
-                    Style::Unicode => f.name(),
-                    Style::Sympy => f.sympy_name(),
-                };
                 let args: Vec<String> = args.as_slice().iter().map(|&a| self.print(a)).collect();
-                (format!("{name}({})", args.join(", ")), Prec::Atom)
+                let args = args.join(", ");
+                let call = match self.style {
+                    Style::Unicode => format!("{}({args})", f.name()),
+                    Style::Sympy => f.sympy_call(&args),
+                };
+                (call, Prec::Atom)
             }
         }
     }

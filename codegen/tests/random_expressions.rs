@@ -21,7 +21,7 @@ enum Tree {
     Sqrt(Box<Tree>),
     Powf(Box<Tree>, Box<Tree>),
     Func(Func, Box<Tree>),
-    Atan2(Box<Tree>, Box<Tree>),
+    Binary(Func, Box<Tree>, Box<Tree>),
 }
 
 impl Tree {
@@ -73,6 +73,8 @@ impl Tree {
                         v.abs() < LARGEST_ANGLE && v.cos().abs() > MARGIN
                     }),
                     Func::Asin | Func::Acos => interior(a.eval(x), |v| v.abs() < 1.0 - MARGIN),
+                    // Kinks and jumps: differences straddling one mislead.
+                    Func::Abs | Func::Signum => interior(a.eval(x), |v| v.abs() > MARGIN),
                     _ => a.eval(x),
                 };
                 match f {
@@ -87,10 +89,14 @@ impl Tree {
                     Func::Tanh => v.tanh(),
                     Func::Exp => v.exp(),
                     Func::Ln => v.ln(),
-                    Func::Atan2 => unreachable!("a function of two arguments: Tree::Atan2"),
+                    Func::Abs => v.abs(),
+                    Func::Signum => v.signum(),
+                    Func::Step | Func::Atan2 | Func::Min | Func::Max => {
+                        unreachable!("not a DSL function of one argument: {f:?}")
+                    }
                 }
             }
-            Tree::Atan2(a, b) => {
+            Tree::Binary(Func::Atan2, a, b) => {
                 let (y, x) = (a.eval(x), b.eval(x));
                 // The origin, and the branch cut y = 0, x < 0, where the value
                 // jumps from π to −π with the sign of a zero (which the graph
@@ -99,6 +105,19 @@ impl Tree {
                     f64::NAN
                 } else {
                     y.atan2(x)
+                }
+            }
+            Tree::Binary(f, a, b) => {
+                let (a, b) = (a.eval(x), b.eval(x));
+                // The kink where the arguments tie; NaN stays NaN (which
+                // `f64::min` would drop).
+                let gap = (a - b).abs();
+                if gap.is_nan() || gap <= MARGIN {
+                    f64::NAN
+                } else if *f == Func::Min {
+                    a.min(b)
+                } else {
+                    a.max(b)
                 }
             }
         }
@@ -144,9 +163,9 @@ impl Tree {
                 let a = a.build(g);
                 g.func(*f, a)
             }
-            Tree::Atan2(a, b) => {
+            Tree::Binary(f, a, b) => {
                 let (a, b) = (a.build(g), b.build(g));
-                g.apply(Func::Atan2, Args::two(a, b))
+                g.apply(*f, Args::two(a, b))
             }
         }
     }
@@ -186,17 +205,22 @@ fn tree() -> impl Strategy<Value = Tree> {
             (inner.clone(), inner.clone()).prop_map(move |(x, y)| Tree::Powf(b(x), b(y))),
             (inner.clone(), prop::sample::select(unary_functions()))
                 .prop_map(move |(x, f)| Tree::Func(f, b(x))),
-            (inner.clone(), inner).prop_map(move |(x, y)| Tree::Atan2(b(x), b(y))),
+            (
+                inner.clone(),
+                inner,
+                prop::sample::select(vec![Func::Atan2, Func::Min, Func::Max])
+            )
+                .prop_map(move |(x, y, f)| Tree::Binary(f, b(x), b(y))),
         ]
     })
 }
 
-/// The functions of one argument (atan2 has its own tree node).
+/// The DSL's functions of one argument (those of two have `Tree::Binary`).
 fn unary_functions() -> Vec<Func> {
     Func::ALL
         .iter()
         .copied()
-        .filter(|f| f.arity() == 1)
+        .filter(|f| f.arity() == 1 && f.in_dsl())
         .collect()
 }
 

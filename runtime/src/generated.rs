@@ -20,6 +20,32 @@ pub fn lit<T: RealField + Copy>(value: f64) -> T {
     nalgebra::convert::<f64, T>(value)
 }
 
+/// The sign of `x` with `signum(0) = 0` (the DSL's `signum`; `f64::signum`
+/// returns 1 at +0). NaN stays NaN.
+#[inline(always)]
+pub fn signum<T: RealField + Copy>(x: T) -> T {
+    if x > T::zero() {
+        T::one()
+    } else if x < T::zero() {
+        -T::one()
+    } else {
+        x * T::zero()
+    }
+}
+
+/// The unit step, `1` for `x ≥ 0` and `0` below, as derivatives of `min`,
+/// `max` and `abs` use it. NaN stays NaN.
+#[inline(always)]
+pub fn step<T: RealField + Copy>(x: T) -> T {
+    if x >= T::zero() {
+        T::one()
+    } else if x < T::zero() {
+        T::zero()
+    } else {
+        x
+    }
+}
+
 /// `(q̈, Fᶜ)`: the acceleration and the constraint force `Aᵀλ`.
 pub type Motion<T, const N: usize> = (SVector<T, N>, SVector<T, N>);
 

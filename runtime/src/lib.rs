@@ -35,5 +35,5 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
-    pub use crate::generated::{gauss_dense, lit, moore_penrose, Generated, Motion};
+    pub use crate::generated::{gauss_dense, lit, moore_penrose, signum, step, Generated, Motion};
 }

@@ -8,6 +8,7 @@
 mod appell;
 mod arm;
 mod bead;
+mod crane;
 mod pendulum;
 mod sleigh;
 mod slider_crank;
@@ -15,6 +16,7 @@ mod slider_crank;
 pub use appell::{Appell, AppellTimeDependent};
 pub use arm::TwoLinkArmOnLine;
 pub use bead::BeadOnRotatingHoop;
+pub use crane::Crane;
 pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };

@@ -4,7 +4,7 @@
 use super::context::Context;
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
-use crate::expr::{signed_parts, Graph, Id, Node, Sym};
+use crate::expr::{signed_parts, Emission, Graph, Id, Node, Sym};
 use crate::names::velocity_name;
 use crate::num::Num;
 use proc_macro2::{Literal, Span, TokenStream};
@@ -176,14 +176,19 @@ impl<'a> Body<'a> {
                 (quote! { #b.powf(#e) }, Prec::Atom)
             }
             // `receiver.method(rest…)`: the table's name is the method of
-            // `RealField` / `ComplexField`.
+            // `RealField` / `ComplexField`; or a runtime helper of that name.
             Node::Func(f, args) => {
+                let method = Ident::new(f.name(), Span::call_site());
+                if f.emission() == Emission::Helper {
+                    let all = args.as_slice().iter().map(|&a| self.expr(a));
+                    let helper = Context::helper(quote!(#method));
+                    return (quote! { #helper(#(#all),*) }, Prec::Atom);
+                }
                 let (receiver, rest) = match args.as_slice() {
                     [first, rest @ ..] => (self.wrapped(*first, Prec::Atom), rest),
                     [] => (quote!(T::zero()), &[][..]),
                 };
                 let rest = rest.iter().map(|&a| self.expr(a));
-                let method = Ident::new(f.name(), Span::call_site());
                 (quote! { #receiver.#method(#(#rest),*) }, Prec::Atom)
             }
         }

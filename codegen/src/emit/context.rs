@@ -50,6 +50,12 @@ impl<'a> Context<'a> {
     /// `::constrained::__private::item`: generic code that lives once in
     /// the runtime.
     pub(super) fn private(&self, item: TokenStream) -> TokenStream {
+        Self::helper(item)
+    }
+
+    /// `::constrained::__private::item`, for code that has no context at
+    /// hand (expression bodies calling the runtime's scalar helpers).
+    pub(super) fn helper(item: TokenStream) -> TokenStream {
         quote!(::constrained::__private::#item)
     }
 

@@ -216,6 +216,12 @@ impl Graph {
         if floats.len() == ids.len() {
             return self.num(Num::Float(f.eval(&floats)));
         }
+        let exact: Vec<Num> = ids.iter().filter_map(|&a| self.as_num(a)).collect();
+        if exact.len() == ids.len() {
+            if let Some(value) = f.exact(&exact) {
+                return self.num(value);
+            }
+        }
         if let [a] = *ids {
             if let Some(positive) = self.negated(a) {
                 match f.parity() {

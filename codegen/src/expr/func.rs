@@ -71,11 +71,31 @@ pub enum Parity {
     None,
 }
 
+/// Whether a function of the table can be written in the DSL.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visibility {
+    /// Users write it.
+    Dsl,
+    /// Only derivatives produce it.
+    Internal,
+}
+
+/// How generated code calls a function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Emission {
+    /// `receiver.name(rest…)`, a method of `RealField` / `ComplexField`.
+    Method,
+    /// `::constrained::__private::name(args…)`, where the method's
+    /// convention differs from the table's (`f64::signum(0.0)` is 1).
+    Helper,
+}
+
 macro_rules! functions {
     ($(
         $(#[doc = $doc:literal])*
-        $variant:ident: $name:literal / $sympy:literal, $arity:literal {
+        $variant:ident: $name:literal / $sympy:literal, $arity:literal, $dsl:ident, $emit:ident {
             eval: |$x:ident| $eval:expr,
+            exact: |$n:ident| $exact:expr,
             partials: |$g:ident, $a:ident, $fa:ident| $partials:expr,
             parity: $parity:ident,
             at_zero: $zero:expr,
@@ -92,15 +112,43 @@ macro_rules! functions {
             /// Every function, in table order.
             pub const ALL: &'static [Func] = &[$(Func::$variant),*];
 
+            /// Whether users may call the function in the DSL (the others
+            /// appear only in derivatives, e.g. `step` in `max′`).
+            pub fn in_dsl(self) -> bool {
+                match self { $(Func::$variant => Visibility::$dsl == Visibility::Dsl,)* }
+            }
+
+            /// How generated code calls the function.
+            pub fn emission(self) -> Emission {
+                match self { $(Func::$variant => Emission::$emit,)* }
+            }
+
+            /// The exact value at rational arguments, when it is rational
+            /// (`abs(−2) = 2`, `max(1/2, 1/3) = 1/2`).
+            pub fn exact(self, args: &[Num]) -> Option<Num> {
+                match self { $(Func::$variant => { let $n = args; $exact })* }
+            }
+
             /// The DSL name, which is also the Rust method generated code
             /// calls (`x.sin()`, `y.atan2(x)`).
             pub fn name(self) -> &'static str {
                 match self { $(Func::$variant => $name,)* }
             }
 
-            /// The name sympy knows the function by.
-            pub fn sympy_name(self) -> &'static str {
+            /// The name sympy knows the function by, or a template in
+            /// which `{}` stands for the arguments.
+            fn sympy_template(self) -> &'static str {
                 match self { $(Func::$variant => $sympy,)* }
+            }
+
+            /// The call in sympy syntax, given the printed arguments.
+            pub fn sympy_call(self, args: &str) -> String {
+                let template = self.sympy_template();
+                if template.contains("{}") {
+                    template.replace("{}", args)
+                } else {
+                    format!("{template}({args})")
+                }
             }
 
             /// The number of arguments (a method's receiver is the first).
@@ -134,9 +182,21 @@ macro_rules! functions {
                 match self { $(Func::$variant => $inverse,)* }
             }
 
-            /// The function with this DSL name.
+            /// The function with this DSL name (functions users can call only).
             pub fn from_name(name: &str) -> Option<Func> {
-                Func::ALL.iter().copied().find(|f| f.name() == name)
+                Func::ALL.iter().copied().find(|f| f.in_dsl() && f.name() == name)
+            }
+
+            /// How many times the function can be differentiated along a
+            /// trajectory where its arguments vary: `abs`, `min`, `max` have
+            /// a kink (one derivative, one-sided there), `signum` and `step`
+            /// jump (none), the others are smooth where defined.
+            pub fn differentiable_times(self) -> Option<usize> {
+                match self {
+                    Func::Abs | Func::Min | Func::Max => Some(1),
+                    Func::Signum | Func::Step => Some(0),
+                    _ => None,
+                }
             }
         }
     };
@@ -144,14 +204,16 @@ macro_rules! functions {
 
 functions! {
     /// sine
-    Sin: "sin" / "sin", 1 {
+    Sin: "sin" / "sin", 1, Dsl, Method {
         eval: |x| x[0].sin(),
+        exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.func(Func::Cos, a[0])),
         parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
     }
     /// cosine
-    Cos: "cos" / "cos", 1 {
+    Cos: "cos" / "cos", 1, Dsl, Method {
         eval: |x| x[0].cos(),
+        exact: |_n| None,
         partials: |g, a, _fa| {
             let s = g.func(Func::Sin, a[0]);
             Args::one(g.neg(s))
@@ -159,8 +221,9 @@ functions! {
         parity: Even, at_zero: Some(Num::ONE), inverse: None,
     }
     /// tangent: `tan′ = 1 + tan²`
-    Tan: "tan" / "tan", 1 {
+    Tan: "tan" / "tan", 1, Dsl, Method {
         eval: |x| x[0].tan(),
+        exact: |_n| None,
         partials: |g, _a, fa| {
             let (one, t2) = (g.int(1), g.pown(fa, Num::int(2)));
             Args::one(g.add2(one, t2))
@@ -168,14 +231,16 @@ functions! {
         parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
     }
     /// arcsine: `1/√(1 − x²)`
-    Asin: "asin" / "asin", 1 {
+    Asin: "asin" / "asin", 1, Dsl, Method {
         eval: |x| x[0].asin(),
+        exact: |_n| None,
         partials: |g, a, _fa| Args::one(inverse_root_of_one_minus_square(g, a[0])),
         parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
     }
     /// arccosine: `−1/√(1 − x²)`
-    Acos: "acos" / "acos", 1 {
+    Acos: "acos" / "acos", 1, Dsl, Method {
         eval: |x| x[0].acos(),
+        exact: |_n| None,
         partials: |g, a, _fa| {
             let d = inverse_root_of_one_minus_square(g, a[0]);
             Args::one(g.neg(d))
@@ -183,8 +248,9 @@ functions! {
         parity: None, at_zero: None, inverse: None,
     }
     /// arctangent: `1/(1 + x²)`
-    Atan: "atan" / "atan", 1 {
+    Atan: "atan" / "atan", 1, Dsl, Method {
         eval: |x| x[0].atan(),
+        exact: |_n| None,
         partials: |g, a, _fa| {
             let (one, a2) = (g.int(1), g.pown(a[0], Num::int(2)));
             let d = g.add2(one, a2);
@@ -193,20 +259,23 @@ functions! {
         parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
     }
     /// hyperbolic sine
-    Sinh: "sinh" / "sinh", 1 {
+    Sinh: "sinh" / "sinh", 1, Dsl, Method {
         eval: |x| x[0].sinh(),
+        exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.func(Func::Cosh, a[0])),
         parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
     }
     /// hyperbolic cosine
-    Cosh: "cosh" / "cosh", 1 {
+    Cosh: "cosh" / "cosh", 1, Dsl, Method {
         eval: |x| x[0].cosh(),
+        exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.func(Func::Sinh, a[0])),
         parity: Even, at_zero: Some(Num::ONE), inverse: None,
     }
     /// hyperbolic tangent: `tanh′ = 1 − tanh²`
-    Tanh: "tanh" / "tanh", 1 {
+    Tanh: "tanh" / "tanh", 1, Dsl, Method {
         eval: |x| x[0].tanh(),
+        exact: |_n| None,
         partials: |g, _a, fa| {
             let (one, t2) = (g.int(1), g.pown(fa, Num::int(2)));
             Args::one(g.sub(one, t2))
@@ -214,21 +283,24 @@ functions! {
         parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
     }
     /// exponential: `exp′ = exp`
-    Exp: "exp" / "exp", 1 {
+    Exp: "exp" / "exp", 1, Dsl, Method {
         eval: |x| x[0].exp(),
+        exact: |_n| None,
         partials: |_g, _a, fa| Args::one(fa),
         parity: None, at_zero: Some(Num::ONE), inverse: Some(Func::Ln),
     }
     /// natural logarithm: `1/x`
-    Ln: "ln" / "log", 1 {
+    Ln: "ln" / "log", 1, Dsl, Method {
         eval: |x| x[0].ln(),
+        exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.pown(a[0], Num::MINUS_ONE)),
         parity: None, at_zero: None, inverse: Some(Func::Exp),
     }
     /// two-argument arctangent `atan2(y, x)`: `∂/∂y = x/(x² + y²)`,
     /// `∂/∂x = −y/(x² + y²)`
-    Atan2: "atan2" / "atan2", 2 {
+    Atan2: "atan2" / "atan2", 2, Dsl, Method {
         eval: |x| x[0].atan2(x[1]),
+        exact: |_n| None,
         partials: |g, a, _fa| {
             let (y, x) = (a[0], a[1]);
             let (x2, y2) = (g.pown(x, Num::int(2)), g.pown(y, Num::int(2)));
@@ -239,6 +311,66 @@ functions! {
         },
         parity: None, at_zero: None, inverse: None,
     }
+    /// absolute value; `abs′(x) = 1` for `x ≥ 0` and `−1` below (at the
+    /// kink, the derivative of the branch `abs` takes there)
+    Abs: "abs" / "Abs", 1, Dsl, Method {
+        eval: |x| x[0].abs(),
+        exact: |n| Some(if n[0].is_negative() { -n[0] } else { n[0] }),
+        partials: |g, a, _fa| {
+            let h = g.func(Func::Step, a[0]);
+            let two_h = g.scale(h, Num::int(2));
+            let one = g.int(1);
+            Args::one(g.sub(two_h, one))
+        },
+        parity: Even, at_zero: Some(Num::ZERO), inverse: None,
+    }
+    /// sign: `1`, `−1`, and `0` at `0` (sympy's `sign`, not `f64::signum`);
+    /// derivative `0`
+    Signum: "signum" / "sign", 1, Dsl, Helper {
+        eval: |x| if x[0] > 0.0 { 1.0 } else if x[0] < 0.0 { -1.0 } else { x[0] * 0.0 },
+        exact: |n| Some(if n[0].is_negative() { Num::MINUS_ONE } else if n[0].is_zero() { Num::ZERO } else { Num::ONE }),
+        partials: |g, _a, _fa| Args::one(g.int(0)),
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+    }
+    /// `min(a, b)`, which is `a` when `a ≤ b`: `∂/∂a = step(b − a)`,
+    /// `∂/∂b = 1 − step(b − a)`
+    Min: "min" / "Min", 2, Dsl, Method {
+        eval: |x| if x[0] <= x[1] { x[0] } else if x[1] < x[0] { x[1] } else { f64::NAN },
+        exact: |n| Some(if n[0] <= n[1] { n[0] } else { n[1] }),
+        partials: |g, a, _fa| {
+            let d = g.sub(a[1], a[0]);
+            first_argument_branch(g, d)
+        },
+        parity: None, at_zero: None, inverse: None,
+    }
+    /// `max(a, b)`, which is `a` when `a ≥ b`: `∂/∂a = step(a − b)`,
+    /// `∂/∂b = 1 − step(a − b)`
+    Max: "max" / "Max", 2, Dsl, Method {
+        eval: |x| if x[0] >= x[1] { x[0] } else if x[1] > x[0] { x[1] } else { f64::NAN },
+        exact: |n| Some(if n[0] >= n[1] { n[0] } else { n[1] }),
+        partials: |g, a, _fa| {
+            let d = g.sub(a[0], a[1]);
+            first_argument_branch(g, d)
+        },
+        parity: None, at_zero: None, inverse: None,
+    }
+    /// unit step, `1` for `x ≥ 0` and `0` below (sympy's `Heaviside(x, 1)`);
+    /// only derivatives produce it
+    Step: "step" / "Heaviside({}, 1)", 1, Internal, Helper {
+        eval: |x| if x[0] >= 0.0 { 1.0 } else if x[0] < 0.0 { 0.0 } else { f64::NAN },
+        exact: |n| Some(if n[0].is_negative() { Num::ZERO } else { Num::ONE }),
+        partials: |g, _a, _fa| Args::one(g.int(0)),
+        parity: None, at_zero: Some(Num::ONE), inverse: None,
+    }
+}
+
+/// `(step(d), 1 − step(d))`: the partials of `min`/`max`, whose value is
+/// their first argument exactly where `d ≥ 0`.
+fn first_argument_branch(g: &mut Graph, d: Id) -> Args {
+    let h = g.func(Func::Step, d);
+    let one = g.int(1);
+    let rest = g.sub(one, h);
+    Args::two(h, rest)
 }
 
 /// `(1 − a²)^(−1/2)`, shared by `asin′` and `acos′`.

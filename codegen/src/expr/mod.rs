@@ -29,7 +29,7 @@ pub mod func;
 #[cfg(test)]
 mod tests;
 
-pub use func::{Args, Func, Parity};
+pub use func::{Args, Emission, Func, Parity, Visibility};
 
 use crate::num::Num;
 use std::collections::HashMap;

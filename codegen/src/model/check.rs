@@ -120,6 +120,52 @@ pub fn constraint_involves_state(errors: &mut Errors, g: &Graph, phi: Id, at: im
     }
 }
 
+/// Rule: a constraint is differentiated (twice at position level, once at
+/// velocity level) only through functions that have that many derivatives
+/// where their arguments vary: `abs`, `min`, `max` and `clamp` have a kink
+/// (their first derivative jumps, the second would be a Dirac impulse),
+/// `signum` jumps itself.
+pub fn constraint_differentiable(
+    errors: &mut Errors,
+    g: &Graph,
+    phi: Id,
+    level: super::Level,
+    at: impl ToTokens,
+) {
+    let times = match level {
+        super::Level::Position => 2,
+        super::Level::Velocity => 1,
+    };
+    let state = |s: Sym| matches!(s, Sym::Vel(_) | Sym::Coord(_) | Sym::Time);
+    for id in g.reachable(&[phi]) {
+        let crate::expr::Node::Func(f, args) = g.node(id) else {
+            continue;
+        };
+        let Some(allowed) = f.differentiable_times() else {
+            continue;
+        };
+        if allowed < times && args.as_slice().iter().any(|&a| g.mentions(a, state)) {
+            let (how, why) = match allowed {
+                0 => ("jumps", "its derivative is an impulse"),
+                _ => ("has a kink", "its second derivative is an impulse"),
+            };
+            let what = match level {
+                super::Level::Position => "a position-level constraint, differentiated twice",
+                super::Level::Velocity => "a velocity-level constraint, differentiated once",
+            };
+            errors.spanned(
+                &at,
+                format!(
+                    "`{}` {how} and {why}, so it cannot appear in {what} \
+                     (it may appear in `forces` and `mass`)",
+                    f.name()
+                ),
+            );
+            return;
+        }
+    }
+}
+
 /// Whether two expressions agree at a few deterministic pseudo-random points.
 fn numerically_equal(g: &Graph, a: Id, b: Id) -> bool {
     let mut rng = SplitMix64::new(0x5eed_0fad);

@@ -5,7 +5,7 @@
 use super::check;
 use super::ctxt::Errors;
 use crate::expr::{Args, Func, Graph, Id, Sym};
-use crate::names::{velocity_name, GENERATED_PREFIX, RESERVED};
+use crate::names::{velocity_name, CONSTANTS, GENERATED_PREFIX, RESERVED};
 use crate::num::Num;
 use quote::ToTokens;
 use std::collections::HashMap;
@@ -14,12 +14,19 @@ use syn::{Expr, Ident};
 /// The DSL's algebraic functions, lowered to sums, products and powers
 /// rather than to function nodes, with their argument counts (a method's
 /// receiver counts). The elementary functions come from the operator table.
-const ALGEBRAIC: &[(&str, usize)] = &[("sqrt", 1), ("powi", 2), ("powf", 2)];
+const ALGEBRAIC: &[(&str, usize)] = &[
+    ("sqrt", 1),
+    ("powi", 2),
+    ("powf", 2),
+    ("hypot", 2),
+    ("clamp", 3),
+];
 
 /// Every function name the DSL accepts besides `dot`, for messages.
 pub fn function_names() -> Vec<&'static str> {
     Func::ALL
         .iter()
+        .filter(|f| f.in_dsl())
         .map(|f| f.name())
         .chain(ALGEBRAIC.iter().map(|(f, _)| *f))
         .collect()
@@ -54,6 +61,11 @@ impl Lowerer<'_> {
         if RESERVED.contains(&text.as_str()) || text.starts_with(GENERATED_PREFIX) {
             self.errors
                 .spanned(name, format!("`{text}` is a reserved name"));
+        } else if CONSTANTS.iter().any(|(c, _)| *c == text) {
+            self.errors.spanned(
+                name,
+                format!("`{text}` is a reserved name: it is a constant of the DSL"),
+            );
         } else if function_names().contains(&text.as_str()) {
             self.errors.spanned(
                 name,
@@ -173,6 +185,9 @@ impl Lowerer<'_> {
         if name == "t" {
             return Ok(self.graph.sym(Sym::Time));
         }
+        if let Some(&(_, value)) = CONSTANTS.iter().find(|(c, _)| name == c) {
+            return Ok(self.graph.num(Num::Float(value)));
+        }
         match self.names.get(&name.to_string()) {
             Some(&Binding::Coordinate(i)) => Ok(self.graph.sym(Sym::Coord(i))),
             Some(&Binding::Parameter(i)) => Ok(self.graph.sym(Sym::Param(i))),
@@ -251,6 +266,22 @@ impl Lowerer<'_> {
                 None => g.int(0), // arity checked above
             },
             (None, "sqrt") => g.sqrt(lowered[0]),
+            // √(x² + y²): exact symbolically, and sympy has no `hypot`.
+            (None, "hypot") => {
+                let (x2, y2) = (
+                    g.pown(lowered[0], Num::int(2)),
+                    g.pown(lowered[1], Num::int(2)),
+                );
+                let r2 = g.add2(x2, y2);
+                g.sqrt(r2)
+            }
+            // min(max(x, lo), hi): never panics when lo > hi (Rust's
+            // `clamp` does), and its derivatives follow from max and min.
+            (None, "clamp") => {
+                let low = Args::two(lowered[0], lowered[1]);
+                let low = g.apply(Func::Max, low);
+                g.apply(Func::Min, Args::two(low, lowered[2]))
+            }
             (None, _) => g.pow(lowered[0], lowered[1]),
         })
     }

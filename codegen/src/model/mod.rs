@@ -234,14 +234,15 @@ impl Lowerer<'_> {
             check::constraint_involves_state(self.errors, self.graph, phi, &c.tokens);
         }
         let velocity = self.graph.mentions(phi, |s| matches!(s, Sym::Vel(_)));
-        Constraint {
-            phi,
-            level: if velocity {
-                Level::Velocity
-            } else {
-                Level::Position
-            },
+        let level = if velocity {
+            Level::Velocity
+        } else {
+            Level::Position
+        };
+        if self.errors.count() == before {
+            check::constraint_differentiable(self.errors, self.graph, phi, level, &c.tokens);
         }
+        Constraint { phi, level }
     }
 
     fn eliminate(&mut self, list: &List<Ident>) -> Vec<usize> {
