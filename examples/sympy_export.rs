@@ -156,6 +156,11 @@ fn main() {
             &mut rng,
         ),
         export(
+            Crane::<f64>::SYMBOLIC,
+            |p| Crane::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
+            &mut rng,
+        ),
+        export(
             TwoLinkArmOnLine::<f64>::SYMBOLIC,
             |p| TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5]),
             &mut rng,

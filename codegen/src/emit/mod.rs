@@ -110,7 +110,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
 
         impl<T> #name<T> {
             /// Creates the system from its parameters, in the order declared.
-            #[allow(clippy::new_without_default)]
+            // One argument per parameter, however many the model has.
+            #[allow(clippy::new_without_default, clippy::too_many_arguments)]
             pub const fn new(#(#params: T),*) -> Self { #constructor_body }
         }
 
