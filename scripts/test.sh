@@ -17,6 +17,9 @@ export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261121}"
 echo "property tests: PROPTEST_RNG_SEED=$PROPTEST_RNG_SEED"
 cargo test --workspace --all-targets
 cargo test --workspace --doc
+# A user's crate with `features = ["std"]`, outside the workspace (whose
+# dev-dependencies would enable std for it).
+cargo test --quiet --manifest-path tests/std-feature/Cargo.toml
 # Every example, briefly, so that none can rot (the main one checks itself
 # and exits non-zero on disagreement). Plots go to target/plots.
 for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane; do
