@@ -315,3 +315,94 @@ fn failures_are_values() {
         "at t = 0.5: the mass matrix is not positive definite at this state"
     );
 }
+
+/// Samples every 20 ms over 10 s on the circle: the dense output is as
+/// accurate as the steps themselves, and sampling changes neither the steps
+/// nor the evaluations, while sampling by calling `advance` to each time
+/// restarts the step-size control every time.
+#[test]
+fn dense_output_samples_without_extra_evaluations() {
+    let system = Circle::new(1.0);
+    let times: Vec<f64> = (0..=500).map(|i| i as f64 * 0.02).collect();
+    for (tol, bound) in [(1e-6, 1e-4), (1e-9, 1e-7)] {
+        let method = DormandPrince45::new(tol, tol);
+        let mut plain = circle_start();
+        let mut step_error: f64 = 0.0;
+        let unsampled = method
+            .advance_with(&system, &mut plain, 10.0, |s| {
+                step_error = step_error.max(circle_error(s))
+            })
+            .unwrap();
+        let mut sampled_state = circle_start();
+        let mut samples = Vec::new();
+        let sampled = method
+            .advance_sampled(&system, &mut sampled_state, 10.0, &times, |s| {
+                samples.push(*s)
+            })
+            .unwrap();
+        assert_eq!(sampled, unsampled);
+        assert_eq!(sampled_state, plain, "the same steps, to the bit");
+        assert_eq!(samples.len(), times.len());
+        let mut sample_error: f64 = 0.0;
+        for (s, &t) in samples.iter().zip(&times) {
+            assert_eq!(s.t, t);
+            sample_error = sample_error.max(circle_error(s));
+        }
+        // Restarting at every sample (the only way before dense output).
+        let mut looped = circle_start();
+        let mut restarted = 0;
+        for &t in &times[1..] {
+            restarted += method.advance(&system, &mut looped, t).unwrap().evaluations;
+        }
+        println!(
+            "tol {tol:e}: {} evaluations sampled and unsampled ({} when restarting at each sample); \
+             largest error at the steps {step_error:.2e}, at the 501 samples {sample_error:.2e}",
+            sampled.evaluations, restarted
+        );
+        assert!(
+            sample_error < bound && sample_error < 3.0 * step_error.max(tol),
+            "{sample_error:e}"
+        );
+        assert!(restarted > sampled.evaluations);
+    }
+}
+
+/// Bogacki–Shampine samples through the cubic Hermite interpolant, within
+/// its tolerance too.
+#[test]
+fn dense_output_of_bogacki_shampine() {
+    let system = Circle::new(1.0);
+    let times: Vec<f64> = (0..=100).map(|i| i as f64 * 0.05).collect();
+    let mut s = circle_start();
+    let mut worst: f64 = 0.0;
+    BogackiShampine32::new(1e-8, 1e-8)
+        .advance_sampled(&system, &mut s, 5.0, &times, |s| {
+            worst = worst.max(circle_error(s))
+        })
+        .unwrap();
+    assert!(worst < 1e-6, "{worst:e}");
+}
+
+#[test]
+fn dense_output_rejects_times_out_of_order_or_range() {
+    let system = Circle::new(1.0);
+    let method = DormandPrince45::new(1e-8, 1e-8);
+    for times in [
+        &[0.5, 0.2][..],
+        &[-0.1][..],
+        &[0.5, 1.5][..],
+        &[f64::NAN][..],
+    ] {
+        let mut s = circle_start();
+        let result = method.advance_sampled(&system, &mut s, 1.0, times, |_| {});
+        assert_eq!(result, Err(IntegrationError::InvalidParameter), "{times:?}");
+        assert_eq!(s, circle_start(), "no step taken");
+    }
+    // The start and the end are samples like any other.
+    let mut s = circle_start();
+    let mut seen = Vec::new();
+    method
+        .advance_sampled(&system, &mut s, 1.0, &[0.0, 0.0, 1.0], |s| seen.push(s.t))
+        .unwrap();
+    assert_eq!(seen, [0.0, 0.0, 1.0]);
+}

@@ -1,6 +1,7 @@
 //! Adaptive steps for embedded Runge–Kutta pairs.
 
 use super::controller::PiController;
+use super::dense::Interpolant;
 use super::explicit::{step, Step};
 use super::tableau::{Embedded, Tableau};
 use super::{accept, c, derivative, fixed_steps, span, Derivative, Settings, Stats};
@@ -52,6 +53,68 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
+        self.run(system, state, t_end, |_, accepted| observer(accepted))
+    }
+
+    /// Advances `state` to `t_end`, calling `observer` with the solution at
+    /// each of `times` (nondecreasing, within `[state.t, t_end]`, else
+    /// `InvalidParameter` before any step): dense output. The samples come
+    /// from the method's continuous extension inside each accepted step
+    /// (Dormand–Prince's fourth-order one for [`DormandPrince45`](super::DormandPrince45),
+    /// the cubic Hermite interpolant otherwise), so the steps, and the
+    /// number of evaluations, are those of the same call without samples.
+    /// A sample at a step's end (or at `t_end`) is the accepted state itself.
+    pub fn advance_sampled<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &mut State<T, N>,
+        t_end: T,
+        times: &[T],
+        mut observer: impl FnMut(&State<T, N>),
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        span(state, t_end)?;
+        let mut previous = state.t;
+        for &t in times {
+            if !(t.is_finite() && t >= previous && t <= t_end) {
+                return Err(IntegrationError::InvalidParameter);
+            }
+            previous = t;
+        }
+        let mut next = 0;
+        while times.get(next).is_some_and(|&t| t <= state.t) {
+            observer(state);
+            next += 1;
+        }
+        self.run(system, state, t_end, |step, accepted| {
+            while let Some(&t) = times.get(next) {
+                if t > accepted.t {
+                    break;
+                }
+                if t == accepted.t {
+                    observer(accepted);
+                } else {
+                    observer(&step.at(t));
+                }
+                next += 1;
+            }
+        })
+    }
+
+    /// The adaptive loop; `accepted` sees each accepted step (as an
+    /// interpolant) and the state it ends in.
+    fn run<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &mut State<T, N>,
+        t_end: T,
+        mut accepted: impl FnMut(&Interpolant<'_, T, N, S>, &State<T, N>),
+    ) -> Result<Stats, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
         let positive = |x: T| x > T::zero() && x.is_finite();
         if !(positive(self.rtol) && (positive(self.atol) || self.atol == T::zero())) {
             return Err(IntegrationError::InvalidParameter);
@@ -88,9 +151,11 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
                 state: new,
                 last: fsal,
                 error,
+                stages,
             } = step(tableau, system, state, &k1, h, settings, &mut stats)?;
             let err = self.norm(&error, &(state.q, state.qd), &(new.q, new.qd));
             if err <= T::one() {
+                let start = *state;
                 *state = new;
                 if last {
                     state.t = t_end;
@@ -102,7 +167,16 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
                     // Projection moved the state, or the method is not FSAL.
                     _ => derivative(system, state, settings, &mut stats)?,
                 };
-                observer(state);
+                let end_slope = fsal.unwrap_or(k1);
+                let interpolant = Interpolant {
+                    start: &start,
+                    end: &new,
+                    h,
+                    stages: &stages,
+                    end_slope: &end_slope,
+                    dense: &M::DENSE,
+                };
+                accepted(&interpolant, state);
                 h = controller.accepted(h, err);
             } else {
                 stats.rejected += 1;

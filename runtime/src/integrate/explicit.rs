@@ -9,7 +9,7 @@ use core::marker::PhantomData;
 use nalgebra::{RealField, SVector};
 
 /// The outcome of one step.
-pub(super) struct Step<T, const N: usize> {
+pub(super) struct Step<T, const N: usize, const S: usize> {
     /// The propagated solution.
     pub state: State<T, N>,
     /// `(q̇, q̈)` at the new state when the method is first-same-as-last:
@@ -18,6 +18,8 @@ pub(super) struct Step<T, const N: usize> {
     /// The local error estimate `h Σ eⱼ kⱼ`, unscaled (zero without an
     /// embedded pair).
     pub error: Derivative<T, N>,
+    /// Every stage's derivative, for the continuous extension.
+    pub stages: [Derivative<T, N>; S],
 }
 
 /// One step of size `h` of the method `tableau` from `state`, whose
@@ -33,7 +35,7 @@ pub(super) fn step<T, Sys, const N: usize, const K: usize, const S: usize>(
     h: T,
     settings: &Settings<T>,
     stats: &mut Stats,
-) -> Result<Step<T, N>, IntegrationError<T>>
+) -> Result<Step<T, N, S>, IntegrationError<T>>
 where
     T: RealField + Copy,
     Sys: ConstrainedSystem<T, N, K>,
@@ -87,6 +89,7 @@ where
         state: new,
         last,
         error,
+        stages: k,
     })
 }
 

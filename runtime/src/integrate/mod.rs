@@ -56,6 +56,7 @@ macro_rules! shared_settings {
 }
 
 mod controller;
+mod dense;
 mod embedded;
 mod euler;
 mod explicit;

@@ -42,7 +42,17 @@ pub trait Method<const S: usize> {
 }
 
 /// A [`Method`] with an embedded error estimate, usable with adaptive steps.
-pub trait Embedded<const S: usize>: Method<S> {}
+///
+/// Its continuous extension (dense output) between `y₀` and `y₁` is
+/// Hairer's form,
+/// `y(θ) = y₀ + θ (Δ + (1 − θ)(h k₁ − Δ + θ (Δ − h k_S − (h k₁ − Δ) + (1 − θ) h Σ dⱼ kⱼ)))`
+/// with `Δ = y₁ − y₀` and `θ = (t − t₀)/h`: with `d = 0` the cubic Hermite
+/// interpolant through both ends and their slopes (third order), and with
+/// a method's own `d` a higher-order one.
+pub trait Embedded<const S: usize>: Method<S> {
+    /// The weights `dⱼ` of the continuous extension (zero: cubic Hermite).
+    const DENSE: [f64; S] = [0.0; S];
+}
 
 /// The classical fourth-order method (Kutta 1901; Hairer, Nørsett & Wanner,
 /// *Solving Ordinary Differential Equations I*, Table II.1.2, left).
@@ -137,7 +147,19 @@ impl Method<7> for DormandPrince {
     };
 }
 
-impl Embedded<7> for DormandPrince {}
+/// Dormand & Prince's fourth-order continuous extension, as in Hairer's
+/// `DOPRI5` (`CONTD5`; Hairer, Nørsett & Wanner, II.6).
+impl Embedded<7> for DormandPrince {
+    const DENSE: [f64; 7] = [
+        -12715105075.0 / 11282082432.0,
+        0.0,
+        87487479700.0 / 32700410799.0,
+        -10690763975.0 / 1880347072.0,
+        701980252875.0 / 199316789632.0,
+        -1453857185.0 / 822651844.0,
+        69997945.0 / 29380423.0,
+    ];
+}
 
 const DORMAND_PRINCE_B: [f64; 7] = [
     35.0 / 384.0,
