@@ -2,7 +2,8 @@
 # The embedded run: builds the firmware for thumbv7em-none-eabihf, runs it on
 # an emulated Cortex-M4F (QEMU mps2-an386, semihosting output), runs the same
 # f32 simulation on the host, compares every number, and reports the size of
-# .text. Installs the Rust target and QEMU (Debian package) when missing.
+# .text. Installs the Rust target and QEMU (Debian package) when missing;
+# skips with a message when it cannot (a failure only in CI).
 set -euo pipefail
 cd "$(dirname "$0")/../firmware"
 
@@ -11,15 +12,31 @@ cd "$(dirname "$0")/../firmware"
 # leaves room for a different libm or code generation on the target only.
 TOLERANCE=1e-5
 
-rustup target add thumbv7em-none-eabihf >/dev/null 2>&1
+# Without QEMU (no root, no passwordless sudo, no network) the run is
+# skipped with a message, successfully on a developer's machine and as a
+# failure in CI (CI=true), where it must run.
+skip() {
+    echo "== SKIPPED the embedded run: $1" >&2
+    echo "   (install the Debian package qemu-system-arm and the Rust target thumbv7em-none-eabihf to run it)" >&2
+    if [ "${CI:-}" = "true" ]; then exit 1; fi
+    exit 0
+}
+
+rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 ||
+    rustup target list --installed 2>/dev/null | grep -q thumbv7em-none-eabihf ||
+    skip "the Rust target thumbv7em-none-eabihf cannot be installed"
 if ! command -v qemu-system-arm >/dev/null; then
-    if [ "$(id -u)" != 0 ]; then
-        echo "qemu-system-arm is missing and this is not root: install the Debian package qemu-system-arm" >&2
-        exit 1
+    if [ "$(id -u)" = 0 ]; then
+        as_root=()
+    elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+        as_root=(sudo -n)
+    else
+        skip "qemu-system-arm is missing, and installing it needs root (or passwordless sudo)"
     fi
-    echo "installing qemu-system-arm"
-    apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm >/dev/null
+    echo "installing qemu-system-arm (Debian package)"
+    { "${as_root[@]}" apt-get update -qq &&
+        DEBIAN_FRONTEND=noninteractive "${as_root[@]}" apt-get install -y -qq qemu-system-arm >/dev/null; } ||
+        skip "apt-get could not install qemu-system-arm"
 fi
 
 # The ELF's path from cargo itself, so that any CARGO_TARGET_DIR works.

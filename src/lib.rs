@@ -47,8 +47,46 @@
 //! assert!((qdd - Vector3::new(factor, 2.0 * factor, -9.81 - 3.0 * factor)).norm() < 1e-14);
 //! ```
 //!
-//! The DSL, the generated items and the runtime are described in the
-//! repository's `README.md` and in [`constrained_system!`].
+//! # Example: integrating
+//!
+//! ```
+//! use constrained::models::SphericalPendulum;
+//! use constrained::nalgebra::Vector3;
+//! use constrained::{DormandPrince45, Stabilization, State};
+//!
+//! let system = SphericalPendulum::<f64>::new(1.0, 9.81, 0.8);
+//! let mut state = State::new(0.0, Vector3::new(0.48, 0.0, -0.64), Vector3::new(0.0, 1.9, 0.0));
+//! let mut heights = Vec::new();
+//! // Adaptive, with error control; or Rk4::new(1e-3) for a fixed step.
+//! let stats = DormandPrince45::new(1e-10, 1e-12)
+//!     .with_stabilization(Stabilization::projection(1e-12))
+//!     .advance_with(&system, &mut state, 10.0, |s| heights.push(s.q.z))
+//!     .expect("integrates");
+//! assert_eq!(state.t, 10.0);
+//! assert!(stats.steps > 0 && heights.iter().all(|z| *z < 0.0));
+//! // The system's equations at a state, called on the state:
+//! let qdd = state.acceleration(&system).expect("M is positive definite");
+//! assert!(qdd.norm().is_finite());
+//! ```
+//!
+//! # Guides
+//!
+//! - [`guide::getting_started`]: a cart-pole from the dependency to a plot.
+//! - [`guide::dsl`]: the DSL of [`constrained_system!`], every section,
+//!   function and rule.
+//! - [`guide::generated`]: what the macro generates, plain values or
+//!   `Result`, and the two ways to call it.
+//! - [`guide::runtime`]: integrators, dense output, stabilization, errors,
+//!   the `std` feature.
+//! - [`guide::math`]: Gauss's principle, the generalized-inverse and the
+//!   explicit Gibbs–Appell equations, the rank rule.
+//! - [`models`]: the reference models (read their sources for the DSL).
+//!
+//! # Features
+//!
+//! `no_std` by default. `std` implements `std::error::Error` for the errors
+//! (for `?` into `Box<dyn Error>`) and gives `constrained::nalgebra` its
+//! `std` features (`DVector`, `SVector::from_vec`).
 #![no_std]
 #![deny(missing_docs)]
 
@@ -67,43 +105,78 @@ pub use nalgebra;
 ///     /// docs and attributes are forwarded
 ///     pub struct Name {
 ///         coordinates: [q1, q2, ...],                 // required
-///         parameters:  [p1, ...],                     // struct fields of type T
+///         parameters:  [p1, ...],                     // optional: struct fields of type T
 ///         mass:        diag[m1, ...] | [[m11, ...], ...],  // required, may depend on q, t
-///         forces:      [F1, ...],                     // default zero
-///         definitions: [h = expr, ...],               // each may use earlier ones
-///         constraints: [lhs == rhs, expr, ...],       // expr alone means expr = 0
-///         eliminate:   [q1, ...],                     // Gibbs–Appell partition
+///         forces:      [F1, ...],                     // optional, default zero; may use dot(q)
+///         definitions: [h = expr, ...],               // optional; each may use earlier ones
+///         constraints: [lhs == rhs, expr, ...],       // optional; expr alone means expr = 0
+///         eliminate:   [q1, ...],                     // optional: Gibbs–Appell partition
 ///     }
 /// }
 /// ```
 ///
-/// Expressions use numbers, the declared names, `t`, `dot(q)`, `+ - * /`,
-/// parentheses and the functions below, as methods (`x.sin()`) or functions
-/// (`sin(x)`, `atan2(y, x)`; a method's receiver is its first argument).
+/// Expressions use numbers, the declared names, `t`, `dot(q)` (the velocity
+/// of coordinate `q`, anywhere but in `mass`), `+ - * /`, parentheses, the
+/// constants `PI` and `E`, and the functions below, as methods (`x.sin()`)
+/// or functions (`sin(x)`, `atan2(y, x)`; a method's receiver is its first
+/// argument).
 #[doc = constrained_macros::__dsl_functions!()]
 ///
 /// A constraint with any `dot(..)` is velocity level (differentiated once),
-/// otherwise position level (twice).
+/// otherwise position level (twice); the non-smooth functions may appear in
+/// constraints only as often as they can be differentiated (see
+/// [`guide::dsl`]).
 ///
 /// For `pub struct Name` it generates `pub struct Name<T = f64>` with one
 /// public field per parameter, `Name::new(params...)`, the constants `DOF`,
-/// `CONSTRAINTS`, `DERIVATION` and `SYMBOLIC`, and the methods
-/// `mass_matrix(q, t)`, `forces(q, qd, t)`, `constraint_residual(q, qd, t)`,
+/// `CONSTRAINTS`, `CONSTRAINT_LEVELS`, `DERIVATION` and `SYMBOLIC`, and the
+/// methods `mass_matrix(q, t)`, `forces(q, qd, t)`,
+/// `constraint_residual(q, qd, t)`, `constraint_velocity_residual(q, qd, t)`,
 /// `constraint_matrices(q, qd, t) -> (A, b)`, `acceleration(q, qd, t)`,
-/// `constraint_force(q, qd, t)`, `acceleration_moore_penrose(q, qd, t)`,
-/// `gibbs_appell_matrices(q, qd, t)` and `acceleration_gibbs_appell(q, qd, t)`
-/// (the explicit Gibbs–Appell system, eq. 18 / 37, with the partition found
-/// at compile time or given by `eliminate`), and implements
-/// [`ConstrainedSystem`]. `acceleration` and
-/// `constraint_force` return `Result<_, DynamicsError>` unless the mass
-/// matrix is a positive-definite constant. Mistakes in the input are
-/// compile errors on the offending tokens, all reported at once.
+/// `acceleration_corrected(q, qd, t, db)`, `constraint_force(q, qd, t)`,
+/// `acceleration_moore_penrose(q, qd, t)`, `gibbs_appell_matrices(q, qd, t)`
+/// and `acceleration_gibbs_appell(q, qd, t)` (the explicit Gibbs–Appell
+/// system, eq. 18 / 37, with the partition found at compile time or given
+/// by `eliminate`), and implements [`ConstrainedSystem`] (call its methods
+/// on the state: `state.acceleration(&system)`).
+///
+/// `acceleration`, `acceleration_corrected` and `constraint_force` return a
+/// plain vector when the mass matrix is a positive-definite constant, and
+/// `Result<_, DynamicsError>` otherwise — including when a mass is a
+/// parameter (`mass: diag[m]`). Mistakes in the input are compile errors on
+/// the offending tokens, all reported at once. The full tables are in
+/// [`guide::generated`].
 pub use constrained_macros::constrained_system;
 
 pub mod models;
 
-/// The README's Rust snippets, compiled and run as doc tests so that they
-/// stay true.
+/// The guides: the files of the repository's `docs/` folder, compiled and
+/// tested with the crate.
+pub mod guide {
+    /// Getting started: a cart-pole from the dependency to a plot.
+    pub mod getting_started {
+        #![doc = include_str!("../docs/getting-started.md")]
+    }
+    /// The DSL reference.
+    pub mod dsl {
+        #![doc = include_str!("../docs/dsl.md")]
+    }
+    /// What the macro generates.
+    pub mod generated {
+        #![doc = include_str!("../docs/generated.md")]
+    }
+    /// The runtime guide.
+    pub mod runtime {
+        #![doc = include_str!("../docs/runtime.md")]
+    }
+    /// The mathematics.
+    pub mod math {
+        #![doc = include_str!("../docs/math.md")]
+    }
+}
+
+// The README's Rust snippets, compiled and run as doc tests so that they
+// stay true (only under `cfg(doctest)`: not part of the rendered docs).
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;

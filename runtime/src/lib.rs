@@ -1,4 +1,4 @@
-//! The `no_std` runtime of [`constrained`](https://docs.rs/constrained).
+//! The `no_std` runtime of `constrained` (the facade crate users depend on).
 //!
 //! Generated code from `constrained_system!` is straight-line arithmetic; what
 //! it cannot specialise at compile time lives here: the [`State`] and
