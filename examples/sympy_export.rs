@@ -104,6 +104,11 @@ where
         "constraints": symbolic.constraints,
         "a_matrix": symbolic.a_matrix,
         "b_vector": symbolic.b_vector,
+        "energies": symbolic.energies.map(|e| json!({
+            "kinetic": e.kinetic,
+            "potential": e.potential,
+            "generalized_forces": e.generalized_forces,
+        })),
         "levels": levels,
         "states": states,
     })
@@ -158,6 +163,16 @@ fn main() {
         export(
             Crane::<f64>::SYMBOLIC,
             |p| Crane::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
+            &mut rng,
+        ),
+        export(
+            CartPole::<f64>::SYMBOLIC,
+            |p| CartPole::new(p[0], p[1], p[2], p[3], p[4]),
+            &mut rng,
+        ),
+        export(
+            DoublePendulumAngles::<f64>::SYMBOLIC,
+            |p| DoublePendulumAngles::new(p[0], p[1], p[2], p[3], p[4]),
             &mut rng,
         ),
         export(

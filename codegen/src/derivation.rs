@@ -5,10 +5,11 @@
 use crate::derive::Equations;
 use crate::expr::Id;
 use crate::gibbs_appell::{rank_one, RankOne};
-use crate::model::Level;
+use crate::model::{Energies, Level};
 use crate::motion::MassInverse;
 use crate::partition::Partition;
 use crate::print::{subscript, Printer, Style};
+use std::collections::HashMap;
 use std::fmt::Write;
 
 /// The derivation of `eq` as plain text with Unicode mathematics.
@@ -16,7 +17,12 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
     let parameters: Vec<String> = sys.parameters.iter().map(ToString::to_string).collect();
-    let p = Printer::new(&sys.graph, &coordinates, &parameters, Style::Unicode);
+    let names: HashMap<Id, String> = sys
+        .named
+        .iter()
+        .map(|(name, id)| (*id, name.clone()))
+        .collect();
+    let p = Printer::new(&sys.graph, &coordinates, &parameters, Style::Unicode).with_names(&names);
     let g = &sys.graph;
     let mut out = String::new();
     let w = &mut out;
@@ -33,6 +39,17 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
         let _ = writeln!(w, "Parameters   {}", parameters.join(", "));
     }
     let _ = writeln!(w);
+
+    if !sys.named.is_empty() {
+        let _ = writeln!(w, "Definitions (named wherever they occur below):");
+        for (name, id) in &sys.named {
+            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
+        }
+        let _ = writeln!(w);
+    }
+    if let Some(energies) = &sys.energies {
+        energies_text(w, energies, &p);
+    }
 
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(sys.mass[i][j])));
     if diagonal {
@@ -92,8 +109,33 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let _ = writeln!(w);
     generalized_inverse(w, eq, &p, &coordinates);
     let _ = writeln!(w);
-    gibbs_appell(w, eq, partition, &coordinates, &parameters);
+    gibbs_appell(w, eq, partition, &coordinates, &parameters, &names);
     out
+}
+
+/// T, V and Q as written, and how M and F follow from them.
+fn energies_text(w: &mut String, energies: &Energies, p: &Printer) {
+    let _ = writeln!(w, "Energies and generalized forces:");
+    if let Some(t) = energies.kinetic {
+        let _ = writeln!(w, "  T = {}", p.print(t));
+    }
+    if let Some(v) = energies.potential {
+        let _ = writeln!(w, "  V = {}", p.print(v));
+    }
+    let q: Vec<String> = energies.applied.iter().map(|&e| p.print(e)).collect();
+    let _ = writeln!(w, "  Q = [{}]", q.join(", "));
+    let _ = writeln!(
+        w,
+        "Lagrange's equations d/dt(∂T/∂q̇) − ∂T/∂q = Q − ∂V/∂q give M q̈ = F with"
+    );
+    let _ = match energies.kinetic {
+        Some(_) => writeln!(
+            w,
+            "  M = ∂²T/∂q̇∂q̇ᵀ,  F = Q − ∂V/∂q + ∂T/∂q − (∂²T/∂q̇∂qᵀ) q̇ − ∂²T/∂q̇∂t:"
+        ),
+        None => writeln!(w, "  M as given,  F = Q − ∂V/∂q:"),
+    };
+    let _ = writeln!(w);
 }
 
 /// The explicit Gibbs–Appell system: its structure, and for r = 1 every
@@ -104,6 +146,7 @@ fn gibbs_appell(
     partition: &Partition,
     coordinates: &[String],
     parameters: &[String],
+    names: &HashMap<Id, String>,
 ) {
     let r = partition.rank;
     let coupled = !eq.gauss.is_diagonal();
@@ -143,7 +186,7 @@ fn gibbs_appell(
     let Some(RankOne { graph: g, rows }) = rank_one(eq, partition) else {
         return;
     };
-    let p = Printer::new(&g, coordinates, parameters, Style::Unicode);
+    let p = Printer::new(&g, coordinates, parameters, Style::Unicode).with_names(names);
     let line = |ids: &[Id]| {
         ids.iter()
             .map(|&x| p.print(x))

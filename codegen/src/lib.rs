@@ -23,6 +23,7 @@ pub mod expr;
 #[doc(hidden)] // DSL text for the chains crate and the benches, not API
 pub mod fixtures;
 pub mod gibbs_appell;
+pub mod lagrange;
 pub mod linalg;
 pub mod model;
 pub mod motion;

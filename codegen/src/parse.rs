@@ -17,6 +17,8 @@ pub mod kw {
     syn::custom_keyword!(definitions);
     syn::custom_keyword!(constraints);
     syn::custom_keyword!(eliminate);
+    syn::custom_keyword!(kinetic_energy);
+    syn::custom_keyword!(potential_energy);
     syn::custom_keyword!(diag);
 }
 
@@ -50,6 +52,8 @@ pub struct List<T> {
 ///          | `definitions` `:` `[` (Ident `=` expr),* `]`
 ///          | `constraints` `:` `[` (expr `==` expr | expr),* `]`
 ///          | `eliminate`   `:` `[` Ident,* `]`
+///          | `kinetic_energy`   `:` expr
+///          | `potential_energy` `:` expr
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -66,6 +70,10 @@ pub enum Section {
     Constraints(Ident, List<ConstraintInput>),
     /// The Gibbs–Appell partition.
     Eliminate(Ident, List<Ident>),
+    /// `T(q, q̇, t)`, in place of `mass`.
+    KineticEnergy(Ident, Expr),
+    /// `V(q, t)`.
+    PotentialEnergy(Ident, Expr),
 }
 
 impl Section {
@@ -78,7 +86,9 @@ impl Section {
             | Section::Forces(k, _)
             | Section::Definitions(k, _)
             | Section::Constraints(k, _)
-            | Section::Eliminate(k, _) => k,
+            | Section::Eliminate(k, _)
+            | Section::KineticEnergy(k, _)
+            | Section::PotentialEnergy(k, _) => k,
         }
     }
 }
@@ -163,6 +173,12 @@ impl Parse for Section {
         } else if lookahead.peek(kw::eliminate) {
             let k = keyword!(eliminate);
             Ok(Section::Eliminate(k, list(input, Ident::parse)?))
+        } else if lookahead.peek(kw::kinetic_energy) {
+            let k = keyword!(kinetic_energy);
+            Ok(Section::KineticEnergy(k, input.parse()?))
+        } else if lookahead.peek(kw::potential_energy) {
+            let k = keyword!(potential_energy);
+            Ok(Section::PotentialEnergy(k, input.parse()?))
         } else {
             Err(lookahead.error())
         }

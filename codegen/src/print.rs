@@ -3,6 +3,7 @@
 
 use crate::expr::{signed_parts, Graph, Id, Node, Sym};
 use crate::num::Num;
+use std::collections::HashMap;
 
 /// How to write an expression.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,6 +29,8 @@ pub struct Printer<'a> {
     coordinates: &'a [String],
     parameters: &'a [String],
     style: Style,
+    /// Nodes printed by name (definitions), not expanded.
+    names: Option<&'a HashMap<Id, String>>,
 }
 
 impl<'a> Printer<'a> {
@@ -43,7 +46,22 @@ impl<'a> Printer<'a> {
             coordinates,
             parameters,
             style,
+            names: None,
         }
+    }
+
+    /// The same printer writing the nodes of `names` by their name: a
+    /// definition stays named wherever it occurs, so the text grows with
+    /// the input, not with the expansion.
+    pub fn with_names(mut self, names: &'a HashMap<Id, String>) -> Self {
+        self.names = Some(names);
+        self
+    }
+
+    /// `id` written out one level even when it has a name (the right-hand
+    /// side of its definition); names inside still apply.
+    pub fn print_expanded(&self, id: Id) -> String {
+        self.render_node(id).0
     }
 
     /// `id` as text.
@@ -98,6 +116,13 @@ impl<'a> Printer<'a> {
     }
 
     fn render(&self, id: Id) -> (String, Prec) {
+        match self.names.and_then(|names| names.get(&id)) {
+            Some(name) => (name.clone(), Prec::Atom),
+            None => self.render_node(id),
+        }
+    }
+
+    fn render_node(&self, id: Id) -> (String, Prec) {
         match self.graph.node(id) {
             Node::Num(n) => self.number(*n),
             Node::Sym(s) => (

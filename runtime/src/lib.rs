@@ -29,7 +29,7 @@ pub use integrate::{
 pub use level::ConstraintLevel;
 pub use stabilize::Stabilization;
 pub use state::State;
-pub use symbolic::SymbolicSystem;
+pub use symbolic::{SymbolicEnergies, SymbolicSystem};
 pub use system::ConstrainedSystem;
 
 #[doc(hidden)]

@@ -24,4 +24,20 @@ pub struct SymbolicSystem {
     pub a_matrix: &'static [&'static [&'static str]],
     /// `b` of `A q̈ = b` (k).
     pub b_vector: &'static [&'static str],
+    /// The energies `M` and `F` were derived from (`kinetic_energy`,
+    /// `potential_energy`), when given.
+    pub energies: Option<SymbolicEnergies>,
+}
+
+/// `T`, `V` and the generalized forces `Q` of a system given by its
+/// energies, in sympy syntax: `M = ∂²T/∂q̇∂q̇ᵀ` and
+/// `F = Q − ∂V/∂q + ∂T/∂q − (∂²T/∂q̇∂qᵀ) q̇ − ∂²T/∂q̇∂t` were derived from them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SymbolicEnergies {
+    /// `T(q, q̇, t)`, or `None` when `M` was given directly.
+    pub kinetic: Option<&'static str>,
+    /// `V(q, t)` (`"0"` when not given).
+    pub potential: &'static str,
+    /// `Q` (n), as written in `forces`.
+    pub generalized_forces: &'static [&'static str],
 }

@@ -9,6 +9,7 @@ mod appell;
 mod arm;
 mod bead;
 mod crane;
+mod energy;
 mod pendulum;
 mod sleigh;
 mod slider_crank;
@@ -17,6 +18,7 @@ pub use appell::{Appell, AppellTimeDependent};
 pub use arm::TwoLinkArmOnLine;
 pub use bead::BeadOnRotatingHoop;
 pub use crane::Crane;
+pub use energy::{CartPole, DoublePendulumAngles};
 pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };

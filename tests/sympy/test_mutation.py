@@ -7,12 +7,12 @@ import copy
 import numpy as np
 import sympy as sp
 
-from conftest import SYSTEMS
+from conftest import CONSTRAINED
 from derivation import derive_constraint_equations, difference_vanishes, gauss_by_kkt, numeric, parse, symbols_for
 
 
 def test_a_flipped_sign_in_a_is_caught():
-    for system in SYSTEMS:
+    for system in CONSTRAINED:
         s = symbols_for(system)
         a, _, _ = derive_constraint_equations(system)
         mutated = copy.deepcopy(system)
@@ -22,7 +22,7 @@ def test_a_flipped_sign_in_a_is_caught():
 
 
 def test_a_dropped_term_in_b_is_caught():
-    for system in SYSTEMS:
+    for system in CONSTRAINED:
         s = symbols_for(system)
         _, b, _ = derive_constraint_equations(system)
         macro = parse(system["b_vector"][0], s)
@@ -32,7 +32,7 @@ def test_a_dropped_term_in_b_is_caught():
 
 
 def test_a_wrong_acceleration_is_caught():
-    for system in SYSTEMS:
+    for system in CONSTRAINED:
         s = symbols_for(system)
         a_sym, b_sym, _ = derive_constraint_equations(system)
         m_sym = sp.Matrix([[parse(e, s) for e in row] for row in system["mass"]])
@@ -43,3 +43,12 @@ def test_a_wrong_acceleration_is_caught():
         )
         wrong = np.array(state["qdd"]) * (1 + 1e-7)
         assert np.abs(wrong - qdd).max() / (1 + np.abs(qdd).max()) > 1e-9, system["name"]
+
+
+def test_a_wrong_force_from_energies_is_caught():
+    from test_energies import ENERGY_SYSTEMS, lagranges_method
+
+    for system in ENERGY_SYSTEMS:
+        _, f_sympy, s = lagranges_method(system)
+        wrong = parse(f"-({system['forces'][-1]}) + 1", s)
+        assert not difference_vanishes(f_sympy[-1], wrong), system["name"]

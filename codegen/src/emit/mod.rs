@@ -232,6 +232,27 @@ fn symbolic(eq: &Equations) -> TokenStream {
     let constraints = vector(&phi);
     let a = matrix(&eq.a);
     let b = vector(&eq.b);
+    let energies = match &sys.energies {
+        Some(e) => {
+            let kinetic = match e.kinetic {
+                Some(t) => {
+                    let t = p.print(t);
+                    quote!(::core::option::Option::Some(#t))
+                }
+                None => quote!(::core::option::Option::None),
+            };
+            let potential = e.potential.map_or_else(|| "0".to_string(), |v| p.print(v));
+            let applied = vector(&e.applied);
+            quote! {
+                ::core::option::Option::Some(::constrained::SymbolicEnergies {
+                    kinetic: #kinetic,
+                    potential: #potential,
+                    generalized_forces: #applied,
+                })
+            }
+        }
+        None => quote!(::core::option::Option::None),
+    };
     quote! {
         ::constrained::SymbolicSystem {
             name: #name,
@@ -242,6 +263,7 @@ fn symbolic(eq: &Equations) -> TokenStream {
             constraints: #constraints,
             a_matrix: #a,
             b_vector: #b,
+            energies: #energies,
         }
     }
 }

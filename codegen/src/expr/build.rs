@@ -56,11 +56,54 @@ impl Graph {
             }
         }
         merged.retain(|(_, c)| !c.is_zero());
+        if let Some((i, j, rest)) = self.pythagorean_pair(&merged) {
+            let c = merged[i].1;
+            let constant = self.num(constant);
+            let items: Vec<(Id, Num)> = merged
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| k != i && k != j)
+                .map(|(_, &item)| item)
+                .chain([(rest, c), (constant, Num::ONE)])
+                .collect();
+            return self.linear_combination(items);
+        }
         match (merged.as_slice(), constant.is_zero()) {
             ([], _) => self.num(constant),
             ([(t, c)], true) if c.is_one() => *t,
             _ => self.intern(Node::Add(merged.into_boxed_slice(), constant)),
         }
+    }
+
+    /// Two terms `c·X·sin²u` and `c·X·cos²u` of a sum, by index, and `X`:
+    /// they add up to `c·X` (energies in angles produce them everywhere).
+    fn pythagorean_pair(&mut self, terms: &[(Id, Num)]) -> Option<(usize, usize, Id)> {
+        let two = Num::int(2);
+        for (i, &(t, c)) in terms.iter().enumerate() {
+            let Node::Mul(factors) = self.node(t) else {
+                continue;
+            };
+            let mut factors = factors.to_vec();
+            let Some(k) = factors
+                .iter()
+                .position(|&(b, e)| e == two && matches!(self.node(b), Node::Func(Func::Sin, _)))
+            else {
+                continue;
+            };
+            let Node::Func(_, args) = *self.node(factors[k].0) else {
+                continue;
+            };
+            let cos = self.apply(Func::Cos, args);
+            let mut partner = factors.clone();
+            partner[k] = (cos, two);
+            let partner = self.product(partner);
+            if let Some(j) = terms.iter().position(|&(u, d)| u == partner && d == c) {
+                factors.remove(k);
+                let rest = self.product(factors);
+                return Some((i, j, rest));
+            }
+        }
+        None
     }
 
     /// `Π factors`.
@@ -186,6 +229,55 @@ impl Graph {
             _ => self.intern(Node::Mul(kept.into_boxed_slice())),
         };
         self.scale(core, coefficient)
+    }
+
+    /// `e` with every product that has a sum as a factor (to the first
+    /// power) multiplied out, one level deep, in `e` itself or in the terms
+    /// of a sum `e`: `m·(a − b) + m·b → m·a`. Lagrange's equations produce
+    /// such sums whose terms cancel only once distributed.
+    pub fn distribute(&mut self, e: Id) -> Id {
+        match self.node(e).clone() {
+            Node::Add(terms, c0) => {
+                let constant = self.num(c0);
+                let items: Vec<(Id, Num)> = terms
+                    .iter()
+                    .map(|&(t, c)| (self.distribute_product(t), c))
+                    .chain([(constant, Num::ONE)])
+                    .collect();
+                self.linear_combination(items)
+            }
+            _ => self.distribute_product(e),
+        }
+    }
+
+    /// `(a + b + c₀)·rest → a·rest + b·rest + c₀·rest` for the first sum
+    /// factor of a product (the others stay).
+    fn distribute_product(&mut self, e: Id) -> Id {
+        let Node::Mul(factors) = self.node(e).clone() else {
+            return e;
+        };
+        let Some(k) = factors
+            .iter()
+            .position(|&(b, p)| p.is_one() && matches!(self.node(b), Node::Add(..)))
+        else {
+            return e;
+        };
+        let Node::Add(terms, c0) = self.node(factors[k].0).clone() else {
+            return e;
+        };
+        let others: Vec<(Id, Num)> = factors
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != k)
+            .map(|(_, &f)| f)
+            .collect();
+        let rest = self.product(others);
+        let mut items: Vec<(Id, Num)> = terms
+            .iter()
+            .map(|&(t, c)| (self.mul2(t, rest), c))
+            .collect();
+        items.push((rest, c0));
+        self.linear_combination(items)
     }
 
     /// `f(a)` for a function of one argument.

@@ -87,3 +87,29 @@ fn evaluation() {
     });
     assert!((v[0] - (0.5f64.sin() + 8.0)).abs() < 1e-15);
 }
+
+/// `c·X·sin²u + c·X·cos²u = c·X`, inside larger sums too; different
+/// coefficients or arguments stay.
+#[test]
+fn pythagorean_identity() {
+    let mut g = Graph::new();
+    let (x, y, z) = xyz(&mut g);
+    let one = g.int(1);
+    let square = |g: &mut Graph, f: Func, a: Id| {
+        let v = g.func(f, a);
+        g.pown(v, Num::int(2))
+    };
+    let (s2, c2) = (square(&mut g, Func::Sin, x), square(&mut g, Func::Cos, x));
+    same!(g, g.add(&[s2, c2]), one);
+    let y2 = g.pown(y, Num::int(2));
+    let (a, b) = (g.mul(&[y2, s2]), g.mul(&[y2, c2]));
+    let sum = g.linear_combination([(a, Num::int(3)), (b, Num::int(3)), (z, Num::ONE)]);
+    let expected = g.linear_combination([(y2, Num::int(3)), (z, Num::ONE)]);
+    same!(g, sum, expected);
+    // Not an identity: other coefficients, other arguments.
+    let uneven = g.linear_combination([(s2, Num::int(2)), (c2, Num::ONE)]);
+    assert!(matches!(g.node(uneven), Node::Add(..)));
+    let cy2 = square(&mut g, Func::Cos, y);
+    let mixed = g.add(&[s2, cy2]);
+    assert!(matches!(g.node(mixed), Node::Add(..)));
+}

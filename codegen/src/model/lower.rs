@@ -4,6 +4,7 @@
 
 use super::check;
 use super::ctxt::Errors;
+use crate::diff::Differentiator;
 use crate::expr::{Args, Func, Graph, Id, Sym};
 use crate::names::{velocity_name, CONSTANTS, GENERATED_PREFIX, RESERVED};
 use crate::num::Num;
@@ -29,6 +30,7 @@ pub fn function_names() -> Vec<&'static str> {
         .filter(|f| f.in_dsl())
         .map(|f| f.name())
         .chain(ALGEBRAIC.iter().map(|(f, _)| *f))
+        .chain(["dt"])
         .collect()
 }
 
@@ -51,6 +53,11 @@ pub struct Lowerer<'a> {
     pub names: HashMap<String, Binding>,
     /// Where errors go.
     pub errors: &'a mut Errors,
+    /// The number of coordinates (for `dt`).
+    pub n: usize,
+    /// Named expressions for the derivation's text, in order: definitions,
+    /// and `dt(name)` of a definition.
+    pub named: Vec<(String, Id)>,
 }
 
 impl Lowerer<'_> {
@@ -222,8 +229,53 @@ impl Lowerer<'_> {
         ))
     }
 
+    /// `dt(e)`: the total time derivative `Σ ∂e/∂qᵢ q̇ᵢ + ∂e/∂t` of an
+    /// expression without velocities (with them, it would need `q̈`).
+    fn total_derivative(&mut self, args: &[&Expr], call: &Expr) -> syn::Result<Id> {
+        let [arg] = args else {
+            return Err(syn::Error::new_spanned(call, "`dt` takes one expression"));
+        };
+        let e = self.try_lower(arg)?;
+        let of_definition = single_ident(arg)
+            .filter(|name| {
+                matches!(
+                    self.names.get(&name.to_string()),
+                    Some(Binding::Definition(_))
+                )
+            })
+            .map(|name| format!("dt({name})"));
+        if self.graph.mentions(e, |s| matches!(s, Sym::Vel(_))) {
+            return Err(syn::Error::new_spanned(
+                arg,
+                "`dt` of an expression with velocities would need accelerations: \
+                 write positions (and `t`) inside `dt(..)`",
+            ));
+        }
+        let (_, rest) = Differentiator::new().time_derivative(self.graph, e, self.n);
+        if let Some(name) = of_definition {
+            self.name_node(name, rest);
+        }
+        Ok(rest)
+    }
+
+    /// Records `name` for `id` in the derivation's text, unless `id` is a
+    /// single variable or number (naming `z` `h` everywhere would obscure
+    /// it) or already has a name.
+    pub fn name_node(&mut self, name: String, id: Id) {
+        let leaf = matches!(
+            self.graph.node(id),
+            crate::expr::Node::Sym(_) | crate::expr::Node::Num(_)
+        );
+        if !leaf && self.named.iter().all(|(_, other)| *other != id) {
+            self.named.push((name, id));
+        }
+    }
+
     fn apply(&mut self, name: &Ident, args: &[&Expr], call: &Expr) -> syn::Result<Id> {
         let text = name.to_string();
+        if text == "dt" {
+            return self.total_derivative(args, call);
+        }
         let func = Func::from_name(&text);
         let arity = match (func, ALGEBRAIC.iter().find(|(f, _)| *f == text)) {
             (Some(f), _) => f.arity(),

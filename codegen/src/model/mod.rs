@@ -58,6 +58,22 @@ pub struct System {
     /// Coordinates named in `eliminate: [...]`, by index, with the span of
     /// the list (its size is checked against the rank of `A` later).
     pub eliminate: Option<(Vec<usize>, Span)>,
+    /// Named expressions, in order (for the derivation's text): the
+    /// definitions and `dt(..)` of definitions.
+    pub named: Vec<(String, Id)>,
+    /// The energies `M` and `F` were derived from, when given.
+    pub energies: Option<Energies>,
+}
+
+/// The input of Lagrange's equations, kept for the derivation's text.
+#[derive(Clone, Debug)]
+pub struct Energies {
+    /// `T(q, q̇, t)`, when `M` was derived from it.
+    pub kinetic: Option<Id>,
+    /// `V(q, t)`, when given.
+    pub potential: Option<Id>,
+    /// The generalized forces `Q` as written in `forces`.
+    pub applied: Vec<Id>,
 }
 
 impl System {
@@ -77,6 +93,8 @@ struct Sections<'a> {
     definitions: Option<&'a List<(Ident, Expr)>>,
     constraints: Option<&'a List<ConstraintInput>>,
     eliminate: Option<&'a List<Ident>>,
+    kinetic_energy: Option<(&'a Ident, &'a Expr)>,
+    potential_energy: Option<(&'a Ident, &'a Expr)>,
 }
 
 impl<'a> Sections<'a> {
@@ -91,6 +109,8 @@ impl<'a> Sections<'a> {
                 Section::Definitions(_, l) => s.definitions.replace(l).is_some(),
                 Section::Constraints(_, l) => s.constraints.replace(l).is_some(),
                 Section::Eliminate(_, l) => s.eliminate.replace(l).is_some(),
+                Section::KineticEnergy(k, e) => s.kinetic_energy.replace((k, e)).is_some(),
+                Section::PotentialEnergy(k, e) => s.potential_energy.replace((k, e)).is_some(),
             };
             if duplicate {
                 let k = section.keyword();
@@ -105,13 +125,24 @@ impl<'a> Sections<'a> {
 pub fn check(input: &SystemInput) -> syn::Result<System> {
     let mut errors = Errors::new();
     let sections = Sections::collect(input, &mut errors);
-    for (present, name) in [
-        (sections.coordinates.is_some(), "coordinates"),
-        (sections.mass.is_some(), "mass"),
-    ] {
-        if !present {
-            errors.spanned(&input.name, format!("missing section `{name}`"));
+    if sections.coordinates.is_none() {
+        errors.spanned(&input.name, "missing section `coordinates`");
+    }
+    match (sections.mass, sections.kinetic_energy) {
+        (None, None) => errors.spanned(
+            &input.name,
+            "missing section `mass` (or `kinetic_energy`, to derive it)",
+        ),
+        (Some((mass, _)), Some((kinetic, _))) => {
+            for keyword in [mass, kinetic] {
+                errors.spanned(
+                    keyword,
+                    "`mass` and `kinetic_energy` are mutually exclusive: \
+                     give M, or T to derive M = ∂²T/∂q̇∂q̇ᵀ from",
+                );
+            }
         }
+        _ => {}
     }
     let empty = Vec::new();
     let coordinates = sections.coordinates.map_or(&empty, |l| &l.items);
@@ -139,6 +170,8 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         graph: &mut graph,
         names: HashMap::new(),
         errors: &mut errors,
+        n,
+        named: Vec::new(),
     };
     for (i, c) in coordinates.iter().enumerate() {
         lower.declare(c, Binding::Coordinate(i), coordinates);
@@ -149,15 +182,31 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
         let id = lower.lower(value);
         lower.declare(name, Binding::Definition(id), coordinates);
+        lower.name_node(name.to_string(), id);
     }
 
-    let mass = sections
-        .mass
-        .map(|(keyword, m)| lower.mass(keyword, m, n))
-        .unwrap_or_default();
-    let forces = match sections.forces {
+    // In the usual order of the input, so that errors come in source order.
+    let (mass, kinetic) = match (sections.mass, sections.kinetic_energy) {
+        (Some((keyword, m)), _) => (lower.mass(keyword, m, n), None),
+        (None, Some((keyword, e))) => lower.kinetic(keyword, e, n),
+        (None, None) => (Vec::new(), None),
+    };
+    let potential = sections.potential_energy.map(|(_, e)| lower.potential(e));
+    let applied = match sections.forces {
         Some(list) => lower.vector(list, "`forces`", n),
         None => vec![lower.graph.int(0); n],
+    };
+    let (forces, energies) = if kinetic.is_some() || potential.is_some() {
+        let mut d = crate::diff::Differentiator::new();
+        let forces = crate::lagrange::forces(lower.graph, &mut d, kinetic, potential, &applied);
+        let energies = Energies {
+            kinetic,
+            potential,
+            applied,
+        };
+        (forces, Some(energies))
+    } else {
+        (applied, None)
     };
     let constraints = sections
         .constraints
@@ -169,6 +218,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
 
+    let named = std::mem::take(&mut lower.named);
     errors.finish()?;
     Ok(System {
         attrs: input.attrs.clone(),
@@ -181,6 +231,8 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         forces,
         constraints,
         eliminate,
+        named,
+        energies,
     })
 }
 
@@ -218,6 +270,40 @@ impl Lowerer<'_> {
             check::constant_mass_positive_definite(self.errors, self.graph, &m, keyword);
         }
         m
+    }
+
+    /// `V(q, t)`: no velocities (`dt(..)` of a position brings them in).
+    fn potential(&mut self, e: &Expr) -> Id {
+        let v = self.lower(e);
+        if self.graph.mentions(v, |s| matches!(s, Sym::Vel(_))) {
+            self.errors.spanned(
+                e,
+                "`potential_energy` may depend on coordinates, `t` and parameters, not on \
+                 velocities (`dot(..)`, or `dt(..)` of a position, brings them in)",
+            );
+        }
+        v
+    }
+
+    /// `M = ∂²T/∂q̇∂q̇ᵀ` from `T`, checked like a written mass matrix, and
+    /// `T` itself.
+    fn kinetic(&mut self, keyword: &Ident, e: &Expr, n: usize) -> (Vec<Vec<Id>>, Option<Id>) {
+        let before = self.errors.count();
+        let t = self.lower(e);
+        let mut d = crate::diff::Differentiator::new();
+        let Some(m) = crate::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) else {
+            self.errors.spanned(
+                e,
+                "`kinetic_energy` must be at most quadratic in the velocities \
+                 (its second derivatives in `dot(..)` form the mass matrix and may not depend on them)",
+            );
+            let zero = self.graph.int(0);
+            return (vec![vec![zero; n]; n], Some(t));
+        };
+        if self.errors.count() == before {
+            check::constant_mass_positive_definite(self.errors, self.graph, &m, keyword);
+        }
+        (m, Some(t))
     }
 
     fn constraint(&mut self, c: &ConstraintInput) -> Constraint {
