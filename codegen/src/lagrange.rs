@@ -25,6 +25,7 @@ pub fn mass_from_kinetic_energy(
 ) -> Option<Vec<Vec<Id>>> {
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
+    #[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
     for i in 0..n {
         let first = d.partial(g, kinetic, Sym::Vel(i));
         for j in i..n {
