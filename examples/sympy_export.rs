@@ -176,6 +176,16 @@ fn main() {
             &mut rng,
         ),
         export(
+            RigidBodyQuaternion::<f64>::SYMBOLIC,
+            |p| RigidBodyQuaternion::new(p[0], p[1], p[2]),
+            &mut rng,
+        ),
+        export(
+            HeavyTop::<f64>::SYMBOLIC,
+            |p| HeavyTop::new(p[0], p[1], p[2], p[3], p[4]),
+            &mut rng,
+        ),
+        export(
             TwoLinkArmOnLine::<f64>::SYMBOLIC,
             |p| TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5]),
             &mut rng,

@@ -145,3 +145,54 @@ fn shaken_pendulum_has_the_textbook_acceleration() {
         );
     }
 }
+
+constrained_system! {
+    /// A massless coordinate slaved to a massive one: `M = diag(1, 0)` is
+    /// singular, the constraint `y = x²` completes it.
+    pub struct MasslessFollower {
+        coordinates: [x, y],
+        parameters: [fx, fy],
+        mass: diag[1.0, 0.0],
+        forces: [fx, fy],
+        constraints: [y == x.powi(2)],
+    }
+}
+
+/// Row y of `M q̈ = F + Aᵀλ` reads `0 = fy + λ`, so `λ = −fy` and
+/// `ẍ = fx + 2x fy`; `ÿ = 2ẋ² + 2xẍ` from the constraint.
+#[test]
+fn singular_constant_mass_completed_by_a_constraint() {
+    let system = MasslessFollower::new(0.7, -1.3);
+    let mut rng = Rng(5);
+    for _ in 0..100 {
+        let (x, xd) = (rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0));
+        let q = Vector2::new(x, x * x);
+        let qd = Vector2::new(xd, 2.0 * x * xd);
+        let xdd = 0.7 + 2.0 * x * -1.3;
+        let expected = Vector2::new(xdd, 2.0 * xd * xd + 2.0 * x * xdd);
+        for (name, qdd) in [
+            (
+                "generalized inverse",
+                system.acceleration(&q, &qd, 0.0).unwrap(),
+            ),
+            (
+                "Moore–Penrose",
+                system.acceleration_moore_penrose(&q, &qd, 0.0).unwrap(),
+            ),
+            (
+                "Gibbs–Appell",
+                system.acceleration_gibbs_appell(&q, &qd, 0.0).unwrap(),
+            ),
+        ] {
+            assert!(
+                (qdd - expected).amax() < 1e-12 * (1.0 + expected.amax()),
+                "{name}: {qdd} vs {expected}"
+            );
+        }
+        let force = system.constraint_force(&q, &qd, 0.0).unwrap();
+        assert!(
+            (force - Vector2::new(-2.0 * x * 1.3, 1.3)).amax() < 1e-12,
+            "{force}"
+        );
+    }
+}

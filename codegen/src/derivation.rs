@@ -214,6 +214,17 @@ fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates:
         w,
         "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  (A M⁻¹ Aᵀ) λ = b − A a,  a = M⁻¹ F:"
     );
+    if matches!(eq.gauss, MassInverse::Auxiliary) {
+        let _ = writeln!(
+            w,
+            "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
+             Udwadia & Schutte's auxiliary system M_A = M + s AᵀA, F_A = F + s Aᵀ b (s = tr M / ‖A‖²),\n  \
+             which has the same q̈, is solved at run time: M_A = L Lᵀ (Cholesky), a = M_A⁻¹ F_A,\n  \
+             λ by pivoted LDLᵀ of A M_A⁻¹ Aᵀ (rows with sin²θ < max(1e-6, 64ε) dropped),\n  \
+             q̈ = a + M_A⁻¹ Aᵀ λ,  Fᶜ = M q̈ − F."
+        );
+        return;
+    }
     let MassInverse::Symbolic(d) = &eq.gauss else {
         let _ = writeln!(
             w,

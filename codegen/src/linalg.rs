@@ -20,9 +20,39 @@ pub fn is_positive_definite(m: &[Vec<f64>]) -> bool {
     true
 }
 
+/// Whether the symmetric matrix `m` is positive semi-definite (to a
+/// relative tolerance): `M + δI` is positive definite for a `δ` of 1e-10 of
+/// the largest diagonal entry.
+pub fn is_positive_semidefinite(m: &[Vec<f64>]) -> bool {
+    let n = m.len();
+    let scale = (0..n).map(|i| m[i][i].abs()).fold(0.0, f64::max);
+    if scale == 0.0 {
+        return m.iter().flatten().all(|&x| x == 0.0);
+    }
+    let shifted: Vec<Vec<f64>> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| m[i][j] + if i == j { 1e-10 * scale } else { 0.0 })
+                .collect()
+        })
+        .collect();
+    is_positive_definite(&shifted)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::is_positive_definite;
+    use super::{is_positive_definite, is_positive_semidefinite};
+
+    #[test]
+    fn positive_semidefiniteness() {
+        assert!(is_positive_semidefinite(&[vec![1.0, 1.0], vec![1.0, 1.0]]));
+        assert!(is_positive_semidefinite(&[
+            vec![5000.0, 0.0],
+            vec![0.0, 1e-9]
+        ]));
+        assert!(!is_positive_semidefinite(&[vec![1.0, 2.0], vec![2.0, 1.0]]));
+        assert!(!is_positive_semidefinite(&[vec![-1.0]]));
+    }
 
     #[test]
     fn positive_definiteness() {

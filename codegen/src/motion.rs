@@ -19,6 +19,11 @@ pub enum MassInverse {
     Symbolic(Symbolic),
     /// A full configuration-dependent `M`: Cholesky at run time.
     Cholesky,
+    /// `M` only positive semi-definite (singular at every sampled point,
+    /// e.g. a rigid body in unit quaternions): at run time Udwadia &
+    /// Schutte's auxiliary system `M + s AᵀA`, `F + s Aᵀb`, which has the
+    /// same accelerations wherever `[M; A]` has full column rank.
+    Auxiliary,
 }
 
 impl MassInverse {
@@ -58,6 +63,23 @@ pub struct Symbolic {
     pub fill: Vec<Vec<bool>>,
 }
 
+/// Whether `M` is numerically singular at a few pseudo-random points (all
+/// of them; a point where it cannot be evaluated counts as regular).
+fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
+    let n = mass.len();
+    let entries: Vec<Id> = mass.iter().flatten().copied().collect();
+    let mut rng = crate::rng::SplitMix64::new(0x5e11_d3f1);
+    (0..4).all(|_| {
+        let seed = rng.next_u64();
+        let values = g.eval(&entries, &|s| crate::rng::SplitMix64::value_for(seed, s));
+        if values.iter().any(|v| !v.is_finite()) {
+            return false;
+        }
+        let m: Vec<Vec<f64>> = values.chunks(n).map(<[f64]>::to_vec).collect();
+        crate::linalg::independent_columns(&m, 1e-12).len() < n
+    })
+}
+
 /// Builds the Gauss pieces for `mass`, `forces`, `a`, `b`.
 pub fn gauss(
     g: &mut Graph,
@@ -67,6 +89,9 @@ pub fn gauss(
     b: &[Id],
 ) -> MassInverse {
     let n = mass.len();
+    if singular_everywhere(g, mass) {
+        return MassInverse::Auxiliary;
+    }
     let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
     let constant: Option<Vec<Vec<Num>>> = mass

@@ -15,6 +15,7 @@ use crate::derive::Equations;
 use crate::expr::{Id, Sym};
 use crate::linalg::{independent_columns, minimum_norm_solve};
 use crate::model::Level;
+use crate::motion::MassInverse;
 use crate::rng::SplitMix64;
 
 /// The partition used by the Gibbs–Appell form.
@@ -53,6 +54,9 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
             .map(|_| eval_a(eq, &random_state(eq, &mut rng)))
             .collect()
     };
+    if matches!(eq.gauss, MassInverse::Auxiliary) {
+        completes_the_mass(eq, &states)?;
+    }
     let rank = matrices
         .iter()
         .map(|a| independent_columns(a, RANK_TOLERANCE).len())
@@ -214,6 +218,47 @@ fn eval_a(eq: &Equations, s: &StateValues) -> Vec<Vec<f64>> {
     eq.a.iter()
         .map(|row| eq.system.graph.eval(row, &s.env()))
         .collect()
+}
+
+/// A singular `M` is completed by the constraints: `[M; A]` has full column
+/// rank at some consistent state (or, without any, at a random one), so
+/// that the auxiliary mass `M + s AᵀA` is positive definite there
+/// (Udwadia & Schutte 2010). Otherwise no acceleration is determined.
+fn completes_the_mass(eq: &Equations, states: &[StateValues]) -> syn::Result<()> {
+    let n = eq.system.dof();
+    let mut rng = SplitMix64::new(0x0a55_1571);
+    let points: Vec<StateValues> = if states.is_empty() {
+        (0..STATES).map(|_| random_state(eq, &mut rng)).collect()
+    } else {
+        states.to_vec()
+    };
+    let g = &eq.system.graph;
+    let mut best = 0;
+    let mut mass_rank = n;
+    for s in &points {
+        let m: Vec<Vec<f64>> = eq
+            .system
+            .mass
+            .iter()
+            .map(|row| g.eval(row, &s.env()))
+            .collect();
+        mass_rank = mass_rank.min(independent_columns(&m, RANK_TOLERANCE).len());
+        let stacked: Vec<Vec<f64>> = m.into_iter().chain(eval_a(eq, s)).collect();
+        best = best.max(independent_columns(&stacked, RANK_TOLERANCE).len());
+    }
+    if best == n {
+        return Ok(());
+    }
+    Err(syn::Error::new(
+        eq.system.mass_span,
+        format!(
+            "the mass matrix is singular (rank {mass_rank} of {n}) and the constraints do not \
+             complete it: [M; A] has rank {best} < {n} at every {}state checked, so the \
+             accelerations are not determined; add the constraint that fixes the missing \
+             direction (e.g. the unit norm of a quaternion)",
+            if states.is_empty() { "" } else { "consistent " }
+        ),
+    ))
 }
 
 /// Up to `STATES` consistent states, from deterministic seeds.

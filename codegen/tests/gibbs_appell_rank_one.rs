@@ -6,7 +6,6 @@
 
 use constrained_codegen::expr::{Id, Sym};
 use constrained_codegen::gibbs_appell::rank_one;
-use constrained_codegen::motion::MassInverse;
 use constrained_codegen::partition::{consistent_states, StateValues};
 use constrained_runtime::gibbs_appell::WELL_CONDITIONED;
 use nalgebra::{SMatrix, SVector};
@@ -54,7 +53,7 @@ fn symbolic_rows_equal_the_runtime() {
             continue;
         }
         let n = eq.system.dof();
-        let coupled = matches!(eq.gauss, MassInverse::Cholesky);
+        let coupled = !eq.gauss.is_diagonal();
         for state in consistent_states(&eq) {
             let g = &eq.system.graph;
             let a = g.eval(&eq.a[0], &env(&state));
@@ -78,6 +77,10 @@ fn symbolic_rows_equal_the_runtime() {
                 }
                 3 => {
                     let (s, r) = runtime_rows::<3, 2>(&a, b, &m, &f, e, coupled);
+                    (s.transpose().as_slice().to_vec(), r.as_slice().to_vec())
+                }
+                4 => {
+                    let (s, r) = runtime_rows::<4, 3>(&a, b, &m, &f, e, coupled);
                     (s.transpose().as_slice().to_vec(), r.as_slice().to_vec())
                 }
                 _ => panic!("{}: add a size here", model.name),

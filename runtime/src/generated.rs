@@ -55,6 +55,10 @@ pub type Motion<T, const N: usize> = (SVector<T, N>, SVector<T, N>);
 pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
     /// Position or velocity level of each constraint.
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
+    /// Whether `M` is only positive semi-definite, so that Gauss's
+    /// principle is solved for the auxiliary system `M + s AᵀA`,
+    /// `F + s Aᵀb` (Udwadia & Schutte 2010; see [`effective_mass`]).
+    const SEMIDEFINITE_MASS: bool = false;
     /// `M(q, t)`.
     fn mass_matrix(&self, q: &SVector<T, N>, t: T) -> SMatrix<T, N, N>;
     /// `F(q, q̇, t)`.
@@ -195,18 +199,69 @@ where
     T: RealField + Copy,
     S: Generated<T, N, K>,
 {
-    let (chol, acc) = unconstrained(system.mass_matrix(q, t), &system.forces(q, qd, t))?;
-    if K == 0 {
-        return Ok((acc, SVector::zeros()));
-    }
     let (a, b) = system.constraint_matrices(q, qd, t);
     let b = match correction {
         Some(db) => b + db,
         None => b,
     };
+    let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
+    let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, &a, &b);
+    let (chol, acc) = unconstrained(m_eff, &f_eff)?;
+    if K == 0 {
+        return Ok((acc, SVector::zeros()));
+    }
     let w = chol.solve(&a.transpose());
     let lambda = PivotedLdlt::new(&(a * w)).solve(&(b - a * acc));
-    Ok((acc + w * lambda, a.transpose() * lambda))
+    let qdd = acc + w * lambda;
+    // The actual system's constraint force (the auxiliary one's λ carries
+    // the added s AᵀA term).
+    let force = if S::SEMIDEFINITE_MASS {
+        m * qdd - f
+    } else {
+        a.transpose() * lambda
+    };
+    Ok((qdd, force))
+}
+
+/// The mass matrix and forces Gauss's principle is solved with: `(M, F)`
+/// itself, or for a positive semi-definite `M` Udwadia & Schutte's
+/// auxiliary system `(M + s AᵀA, F + s Aᵀb)`. Adding `s Aᵀ(A q̈ − b) = 0` to
+/// `M q̈ = F + Fᶜ` changes nothing on the solutions, and makes the mass
+/// positive definite exactly where `[M; A]` has full column rank (elsewhere
+/// the Cholesky factorization fails: `Err(MassNotPositiveDefinite)`, never
+/// NaN). `s = tr M / ‖A‖²_F` puts the added term on the scale of `M`.
+#[inline]
+pub fn effective_mass<T, S, const N: usize, const K: usize>(
+    m: &SMatrix<T, N, N>,
+    f: &SVector<T, N>,
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+) -> (SMatrix<T, N, N>, SVector<T, N>)
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    if !S::SEMIDEFINITE_MASS {
+        return (*m, *f);
+    }
+    let (m_aux, s) = auxiliary_mass(m, a);
+    (m_aux, f + a.transpose() * (b * s))
+}
+
+/// `(M + s AᵀA, s)` with `s = tr M / ‖A‖²_F` (1 where either vanishes): the
+/// auxiliary mass of Udwadia & Schutte, positive definite wherever `[M; A]`
+/// has full column rank.
+pub(crate) fn auxiliary_mass<T: RealField + Copy, const N: usize, const K: usize>(
+    m: &SMatrix<T, N, N>,
+    a: &SMatrix<T, K, N>,
+) -> (SMatrix<T, N, N>, T) {
+    let norm = a.norm_squared();
+    let s = if norm > T::zero() && m.trace() > T::zero() {
+        m.trace() / norm
+    } else {
+        T::one()
+    };
+    (m + a.transpose() * a * s, s)
 }
 
 /// `q̈ = a + L⁻ᵀ (A L⁻ᵀ)⁺ (b − A a)` with `M = L Lᵀ` and the Moore–Penrose
@@ -223,11 +278,13 @@ where
     T: RealField + Copy,
     S: Generated<T, N, K>,
 {
-    let (chol, acc) = unconstrained(system.mass_matrix(q, t), &system.forces(q, qd, t))?;
+    let (a, b) = system.constraint_matrices(q, qd, t);
+    let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
+    let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, &a, &b);
+    let (chol, acc) = unconstrained(m_eff, &f_eff)?;
     if K == 0 {
         return Ok(acc);
     }
-    let (a, b) = system.constraint_matrices(q, qd, t);
     let l = chol.l();
     // X = A L⁻ᵀ, computed as Xᵀ = L⁻¹ Aᵀ.
     let xt = l

@@ -104,8 +104,18 @@ where
     S: ConstrainedSystem<T, N, K>,
 {
     let dynamics = |error| IntegrationError::Dynamics { t: state.t, error };
-    let chol = nalgebra::linalg::Cholesky::new(system.mass_matrix(state))
-        .ok_or(dynamics(DynamicsError::MassNotPositiveDefinite))?;
+    // The metric of the minimum-norm steps: M, or where M is only positive
+    // semi-definite (a rigid body in quaternions) the auxiliary M + s AᵀA,
+    // positive definite wherever [M; A] has full column rank.
+    let m = system.mass_matrix(state);
+    let chol = match nalgebra::linalg::Cholesky::new(m) {
+        Some(chol) => chol,
+        None => {
+            let (a, _) = system.constraint_matrices(state);
+            nalgebra::linalg::Cholesky::new(crate::generated::auxiliary_mass(&m, &a).0)
+                .ok_or(dynamics(DynamicsError::MassNotPositiveDefinite))?
+        }
+    };
     let position = |i: usize| S::CONSTRAINT_LEVELS[i] == ConstraintLevel::Position;
     // Positions: Newton on the position-level rows only.
     newton(

@@ -11,6 +11,7 @@ mod bead;
 mod crane;
 mod energy;
 mod pendulum;
+mod rigid_body;
 mod sleigh;
 mod slider_crank;
 
@@ -22,5 +23,6 @@ pub use energy::{CartPole, DoublePendulumAngles};
 pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };
+pub use rigid_body::{HeavyTop, RigidBodyQuaternion};
 pub use sleigh::ChaplyginSleigh;
 pub use slider_crank::SliderCrank;

@@ -24,7 +24,7 @@ use quote::quote;
 pub(super) fn fallible(ctx: &Context) -> bool {
     match &ctx.eq.gauss {
         MassInverse::Symbolic(d) => !d.known_positive,
-        MassInverse::Cholesky => true,
+        MassInverse::Cholesky | MassInverse::Auxiliary => true,
     }
 }
 
@@ -32,7 +32,7 @@ pub(super) fn fallible(ctx: &Context) -> bool {
 pub(super) fn methods(ctx: &Context) -> TokenStream {
     let solver = match &ctx.eq.gauss {
         MassInverse::Symbolic(d) => symbolic_solver(ctx, d),
-        MassInverse::Cholesky => dense_solver(ctx),
+        MassInverse::Cholesky | MassInverse::Auxiliary => dense_solver(ctx),
     };
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let vector = ctx.vector(ctx.n);
@@ -127,9 +127,15 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let level = ctx.path(quote!(ConstraintLevel));
     let ga_system = ctx.result(quote!((#m, #vector)), quote!(GibbsAppellError));
     let ga_acceleration = ctx.result(vector.clone(), quote!(GibbsAppellError));
+    let semidefinite = matches!(ctx.eq.gauss, MassInverse::Auxiliary).then(|| {
+        quote!(
+            const SEMIDEFINITE_MASS: bool = true;
+        )
+    });
     quote! {
         impl<T: ::constrained::nalgebra::RealField + Copy> #generated for #name<T> {
             const CONSTRAINT_LEVELS: [#level; #k] = Self::CONSTRAINT_LEVELS;
+            #semidefinite
             #[inline]
             fn mass_matrix(&self, #positions) -> #m { Self::mass_matrix(self, q, t) }
             #[inline]

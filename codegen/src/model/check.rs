@@ -91,8 +91,10 @@ pub fn mass_symmetric(errors: &mut Errors, g: &Graph, m: &mut [Vec<Id>], source:
     }
 }
 
-/// Rule: a constant `M` is positive definite (checked now, at compile time).
-pub fn constant_mass_positive_definite(
+/// Rule: a constant `M` is positive semi-definite (checked now, at compile
+/// time). A singular one is accepted here: the constraints may complete it
+/// (`[M; A]` of full column rank), which the partition stage checks.
+pub fn constant_mass_positive_semidefinite(
     errors: &mut Errors,
     g: &Graph,
     m: &[Vec<Id>],
@@ -103,8 +105,11 @@ pub fn constant_mass_positive_definite(
         .map(|row| row.iter().map(|&e| g.as_num(e).map(Num::to_f64)).collect())
         .collect();
     if let Some(values) = values {
-        if !crate::linalg::is_positive_definite(&values) {
-            errors.spanned(at, "constant `mass` matrix is not positive definite");
+        if !crate::linalg::is_positive_semidefinite(&values) {
+            errors.spanned(
+                at,
+                "constant `mass` matrix is not positive semi-definite (it has a negative eigenvalue)",
+            );
         }
     }
 }

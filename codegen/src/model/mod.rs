@@ -58,6 +58,8 @@ pub struct System {
     /// Coordinates named in `eliminate: [...]`, by index, with the span of
     /// the list (its size is checked against the rank of `A` later).
     pub eliminate: Option<(Vec<usize>, Span)>,
+    /// Where to point at the mass matrix (`mass:` or `kinetic_energy:`).
+    pub mass_span: Span,
     /// Named expressions, in order (for the derivation's text): the
     /// definitions and `dt(..)` of definitions.
     pub named: Vec<(String, Id)>,
@@ -219,6 +221,10 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .map(|list| (lower.eliminate(list), list.span));
 
     let named = std::mem::take(&mut lower.named);
+    let mass_span = match (sections.mass, sections.kinetic_energy) {
+        (Some((keyword, _)), _) | (None, Some((keyword, _))) => keyword.span(),
+        (None, None) => input.name.span(),
+    };
     errors.finish()?;
     Ok(System {
         attrs: input.attrs.clone(),
@@ -231,6 +237,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         forces,
         constraints,
         eliminate,
+        mass_span,
         named,
         energies,
     })
@@ -267,7 +274,7 @@ impl Lowerer<'_> {
         check::mass_symmetric(self.errors, self.graph, &mut m, &source);
         // Missing or unreadable entries were filled with zeros.
         if self.errors.count() == before {
-            check::constant_mass_positive_definite(self.errors, self.graph, &m, keyword);
+            check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
         }
         m
     }
@@ -301,7 +308,7 @@ impl Lowerer<'_> {
             return (vec![vec![zero; n]; n], Some(t));
         };
         if self.errors.count() == before {
-            check::constant_mass_positive_definite(self.errors, self.graph, &m, keyword);
+            check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
         }
         (m, Some(t))
     }
