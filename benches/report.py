@@ -65,12 +65,17 @@ def main():
     rk4 = {n: get(f"chain_rk4_step/{n}") for n in links}
     expand = {n: get(f"expand_planar_chain/{n}") for n in links}
     size = {row["links"]: row for row in sizes}
+    lagrange = json.loads((ROOT / "target" / "benchmarks" / "lagrange_sympy.json").read_text())
+    pendulum_links = [2, 4, 8, 16]
+    from_energies = {n: get(f"expand_joint_angle_pendulum/{n}") for n in pendulum_links}
 
     targets = [
         ("Appell: generated ≤ 1.2 × hand-written eq. 32", generated / per_call["hand_written_eq32"], "≤ 1.2", lambda r: r <= 1.2, "{:.2f}×"),
         ("Appell: ≥ 20 × faster than dynamic nalgebra (SVD)", per_call["dynamic_nalgebra_svd"] / generated, "≥ 20", lambda r: r >= 20, "{:.0f}×"),
         ("Appell: ≥ 50 × faster than the fastest lambdify", lam["lambdify_math_cse"] / generated, "≥ 50", lambda r: r >= 50, "{:.0f}×"),
         ("Chain q̈: cost N = 32 / N = 4 ≤ 12 (dense ~128)", chain[32] / chain[4], "≤ 12", lambda r: r <= 12, "{:.1f}×"),
+        ("Energies: N = 8 pendulum expands in < 0.1 s", from_energies[8] / 1e9, "< 0.1 s", lambda r: r < 0.1, "{:.3f} s"),
+        ("Energies: N = 16 pendulum expands in < 2 s", from_energies[16] / 1e9, "< 2 s", lambda r: r < 2.0, "{:.3f} s"),
     ]
     lines = [
         "# Benchmarks",
@@ -129,6 +134,26 @@ def main():
         "call: O(N³). The whole expansion grows quadratically only because",
         "`mass_matrix`, `constraint_matrices` and `SYMBOLIC` return dense n × n and",
         "k × n data.",
+        "",
+        "## Lagrange's equations from energies: N-link pendulum in joint angles",
+        "",
+        "`kinetic_energy` and `potential_energy` of the planar N-link pendulum in",
+        "joint angles (`fixtures::joint_angle_pendulum`: dense `M(q)`, O(N²)",
+        "velocity products in `F`), expanded by the macro, against sympy's",
+        "`LagrangesMethod` deriving M and F from the same T and V",
+        f"(`benches/lagrange_sympy.py`, one run each, stopped after {lagrange['budget']:.0f} s).",
+        "",
+        "| N | macro expansion (all of it) | sympy LagrangesMethod (M and F only) | ratio |",
+        "|---|---|---|---|",
+    ]
+    for n in pendulum_links:
+        sympy_s = lagrange["seconds"].get(str(n))
+        ours = from_energies[n]
+        if sympy_s is None:
+            lines.append(f"| {n} | {ns(ours)} | > {lagrange['budget']:.0f} s (not finished) | > {lagrange['budget'] * 1e9 / ours:,.0f}× |")
+        else:
+            lines.append(f"| {n} | {ns(ours)} | {sympy_s:.2f} s | {sympy_s * 1e9 / ours:,.0f}× |")
+    lines += [
         "",
         "## Both equations of motion on the reference models",
         "",

@@ -104,6 +104,7 @@ where
         "constraints": symbolic.constraints,
         "a_matrix": symbolic.a_matrix,
         "b_vector": symbolic.b_vector,
+        "definitions": symbolic.definitions,
         "energies": symbolic.energies.map(|e| json!({
             "kinetic": e.kinetic,
             "potential": e.potential,

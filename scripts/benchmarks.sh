@@ -2,7 +2,9 @@
 # Runs every benchmark side by side in one run and writes BENCHMARKS.md:
 # the generated code against hand-written eq. 32, dynamic nalgebra and sympy
 # lambdify on Appell's particle; the N-link chain (both equations of motion,
-# RK4 steps); macro expansion time and generated code size against N.
+# RK4 steps); macro expansion time and generated code size against N;
+# Lagrange's equations from energies (the N-link pendulum in joint angles)
+# against sympy's LagrangesMethod.
 # Takes about five minutes on two cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,5 +19,7 @@ echo "== generated code size"
 cargo run --quiet -p constrained-codegen --example expansion_size -- target/benchmarks/expansion.json
 echo "== sympy lambdify"
 tests/sympy/.venv/bin/python benches/lambdify.py
+echo "== sympy LagrangesMethod on the N-link pendulum in joint angles (up to 120 s per N)"
+tests/sympy/.venv/bin/python benches/lagrange_sympy.py 120
 echo "== report"
 python3 benches/report.py

@@ -8,7 +8,7 @@ use crate::gibbs_appell::{rank_one, RankOne};
 use crate::model::{Energies, Level};
 use crate::motion::MassInverse;
 use crate::partition::Partition;
-use crate::print::{subscript, Printer, Style};
+use crate::print::{shared_subexpressions, subscript, Printer, Style};
 use std::collections::HashMap;
 use std::fmt::Write;
 
@@ -17,13 +17,20 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
     let parameters: Vec<String> = sys.parameters.iter().map(ToString::to_string).collect();
-    let names: HashMap<Id, String> = sys
+    let mut names: HashMap<Id, String> = sys
         .named
         .iter()
         .map(|(name, id)| (*id, name.clone()))
         .collect();
-    let p = Printer::new(&sys.graph, &coordinates, &parameters, Style::Unicode).with_names(&names);
-    let g = &sys.graph;
+    // The rank-one Gibbs–Appell rows live in an extension of the system's
+    // graph; everything is printed from that one graph.
+    let rank_one = rank_one(eq, partition);
+    let g = rank_one.as_ref().map_or(&sys.graph, |r| &r.graph);
+    let shared = shared_subexpressions(g, &printed_roots(eq, rank_one.as_ref()), &names, |i| {
+        format!("ξ{}", subscript(i))
+    });
+    names.extend(shared.iter().map(|(id, name)| (*id, name.clone())));
+    let p = Printer::new(g, &coordinates, &parameters, Style::Unicode).with_names(&names);
     let mut out = String::new();
     let w = &mut out;
     let n = sys.dof();
@@ -43,6 +50,16 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     if !sys.named.is_empty() {
         let _ = writeln!(w, "Definitions (named wherever they occur below):");
         for (name, id) in &sys.named {
+            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
+        }
+        let _ = writeln!(w);
+    }
+    if !shared.is_empty() {
+        let _ = writeln!(
+            w,
+            "Shared subexpressions (each written out once, named where it recurs):"
+        );
+        for (id, name) in &shared {
             let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
         }
         let _ = writeln!(w);
@@ -109,8 +126,36 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let _ = writeln!(w);
     generalized_inverse(w, eq, &p, &coordinates);
     let _ = writeln!(w);
-    gibbs_appell(w, eq, partition, &coordinates, &parameters, &names);
+    gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
     out
+}
+
+/// Every expression the derivation prints, for naming the shared ones.
+fn printed_roots(eq: &Equations, rank_one: Option<&RankOne>) -> Vec<Id> {
+    let sys = &eq.system;
+    let mut roots: Vec<Id> = sys.named.iter().map(|(_, id)| *id).collect();
+    if let Some(e) = &sys.energies {
+        roots.extend(e.kinetic.iter().chain(&e.potential).chain(&e.applied));
+    }
+    roots.extend(sys.mass.iter().flatten());
+    roots.extend(&sys.forces);
+    roots.extend(sys.constraints.iter().map(|c| c.phi));
+    roots.extend(eq.a.iter().flatten());
+    roots.extend(&eq.b);
+    if let MassInverse::Symbolic(d) = &eq.gauss {
+        roots.extend(&d.unconstrained);
+        roots.extend(d.gram.iter().flatten());
+        roots.extend(&d.residual);
+        roots.extend(&d.acceleration);
+        roots.extend(&d.force);
+    }
+    if let Some(r) = rank_one {
+        for (row, rhs) in &r.rows {
+            roots.extend(row);
+            roots.push(*rhs);
+        }
+    }
+    roots
 }
 
 /// T, V and Q as written, and how M and F follow from them.
@@ -144,9 +189,9 @@ fn gibbs_appell(
     w: &mut String,
     eq: &Equations,
     partition: &Partition,
+    rank_one: Option<&RankOne>,
+    p: &Printer,
     coordinates: &[String],
-    parameters: &[String],
-    names: &HashMap<Id, String>,
 ) {
     let r = partition.rank;
     let coupled = !eq.gauss.is_diagonal();
@@ -183,10 +228,9 @@ fn gibbs_appell(
         if r == 1 { "" } else { "s" },
         if eq.a.len() > r { " (chosen at run time)" } else { "" }
     );
-    let Some(RankOne { graph: g, rows }) = rank_one(eq, partition) else {
+    let Some(RankOne { rows, .. }) = rank_one else {
         return;
     };
-    let p = Printer::new(&g, coordinates, parameters, Style::Unicode).with_names(names);
     let line = |ids: &[Id]| {
         ids.iter()
             .map(|&x| p.print(x))

@@ -46,3 +46,52 @@ pub fn planar_chain(name: &str, links: usize) -> String {
     );
     out
 }
+
+/// A planar N-link pendulum in its joint angles, from its energies, as
+/// `constrained_system!` input: the same masses and lengths as
+/// [`planar_chain`], `φᵢ = θ₁ + … + θᵢ` the absolute angle of rod i, the
+/// joints at `xᵢ = xᵢ₋₁ + Lᵢ sin φᵢ`, `yᵢ = yᵢ₋₁ − Lᵢ cos φᵢ`,
+/// `T = Σ mᵢ (ẋᵢ² + ẏᵢ²)/2`, `V = g Σ mᵢ yᵢ`. N coordinates, a dense
+/// `M(q)` and O(N²) velocity products in `F`; no constraints.
+pub fn joint_angle_pendulum(name: &str, links: usize) -> String {
+    let mut coordinates = Vec::new();
+    let mut definitions = Vec::new();
+    let mut kinetic = Vec::new();
+    let mut potential = Vec::new();
+    for i in 1..=links {
+        coordinates.push(format!("th{i}"));
+        let m = 1.0 + 0.1 * i as f64;
+        let l = 1.0 + 0.05 * i as f64;
+        let (angle, x, y) = if i == 1 {
+            ("th1".to_string(), String::new(), String::new())
+        } else {
+            (
+                format!("p{} + th{i}", i - 1),
+                format!("x{} + ", i - 1),
+                format!("y{} ", i - 1),
+            )
+        };
+        definitions.push(format!("p{i} = {angle}"));
+        definitions.push(format!("x{i} = {x}{l:?} * p{i}.sin()"));
+        definitions.push(format!("y{i} = {y}- {l:?} * p{i}.cos()"));
+        kinetic.push(format!("{m:?} * (dt(x{i}).powi(2) + dt(y{i}).powi(2))"));
+        potential.push(format!("{m:?} * y{i}"));
+    }
+    let mut out = String::new();
+    let _ = write!(
+        out,
+        "/// A planar {links}-link pendulum in joint angles, from its energies.\n\
+         pub struct {name} {{\n\
+         coordinates: [{}],\n\
+         parameters: [g],\n\
+         definitions: [{}],\n\
+         kinetic_energy: ({}) / 2.0,\n\
+         potential_energy: g * ({}),\n\
+         }}",
+        coordinates.join(", "),
+        definitions.join(", "),
+        kinetic.join(" + "),
+        potential.join(" + "),
+    );
+    out
+}

@@ -314,6 +314,96 @@ pub fn subscript(n: usize) -> String {
         .collect()
 }
 
+/// Written out, a subexpression shorter than this many characters (about)
+/// is repeated where it occurs; a longer one that occurs more than once is
+/// named once.
+const SHARED_LENGTH: usize = 40;
+
+/// A text whose expressions written out in full stay below this many
+/// characters (about) names nothing: a small derivation reads best as the
+/// paper writes it.
+const WRITTEN_OUT_BUDGET: usize = 16_000;
+
+/// Names for the subexpressions of `roots` that occur more than once and
+/// are longer than [`SHARED_LENGTH`] characters written out, in
+/// topological order (each may use earlier names): with them a text grows
+/// linearly with the DAG, not with the expression tree, which for
+/// Lagrange's equations or a long chain is exponentially larger. Nodes in
+/// `taken` (definitions) keep their names; nodes that depend on the
+/// multipliers `λ` are never named (they are printed after `λ`).
+pub fn shared_subexpressions(
+    g: &Graph,
+    roots: &[Id],
+    taken: &HashMap<Id, String>,
+    name: impl Fn(usize) -> String,
+) -> Vec<(Id, String)> {
+    let order = g.reachable(roots);
+    // Uses inside other expressions: a whole printed expression that is
+    // only repeated as a whole (`b₂` and `(b − A a)₂`) reads better written
+    // out twice than named.
+    let mut uses: HashMap<Id, usize> = HashMap::new();
+    let mut multiplier: HashMap<Id, bool> = HashMap::new();
+    for &id in &order {
+        let mut children: Vec<Id> = g.children(id).collect();
+        children.sort();
+        children.dedup();
+        for &c in &children {
+            *uses.entry(c).or_default() += 1;
+        }
+        let own = matches!(g.node(id), Node::Sym(Sym::Multiplier(_)));
+        let inherited = children
+            .iter()
+            .any(|c| multiplier.get(c).copied().unwrap_or(false));
+        multiplier.insert(id, own || inherited);
+    }
+    // Estimated written length, children counted by name where named.
+    let own_length = |id: Id| match g.node(id) {
+        Node::Num(_) | Node::Sym(_) => 3,
+        Node::Add(terms, _) => 4 * terms.len() + 2,
+        Node::Mul(factors) => 3 * factors.len(),
+        Node::Pow(_) => 3,
+        Node::Func(f, _) => f.name().len() + 2,
+    };
+    // First, everything written out (saturating: trees can be exponential).
+    let mut full: HashMap<Id, usize> = HashMap::new();
+    for &id in &order {
+        let inner = g.children(id).fold(0usize, |sum, c| {
+            sum.saturating_add(full.get(&c).copied().unwrap_or(3))
+        });
+        full.insert(id, own_length(id).saturating_add(inner));
+    }
+    let written_out = roots.iter().fold(0usize, |sum, r| {
+        sum.saturating_add(full.get(r).copied().unwrap_or(0))
+    });
+    if written_out < WRITTEN_OUT_BUDGET {
+        return Vec::new();
+    }
+    let mut length: HashMap<Id, usize> = HashMap::new();
+    let mut names = Vec::new();
+    for &id in &order {
+        let own = own_length(id);
+        let inner: usize = g
+            .children(id)
+            .map(|c| length.get(&c).copied().unwrap_or(3))
+            .sum();
+        let total = own + inner;
+        let shareable = !matches!(g.node(id), Node::Num(_) | Node::Sym(_))
+            && !multiplier.get(&id).copied().unwrap_or(false);
+        let written = if let Some(n) = taken.get(&id) {
+            n.len()
+        } else if shareable && uses.get(&id).copied().unwrap_or(0) > 1 && total > SHARED_LENGTH {
+            let n = name(names.len() + 1);
+            let len = n.chars().count();
+            names.push((id, n));
+            len
+        } else {
+            total
+        };
+        length.insert(id, written);
+    }
+    names
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

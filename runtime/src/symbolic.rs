@@ -3,8 +3,10 @@
 ///
 /// Every expression is a `&'static str` that `sympy.sympify` reads once the
 /// names below are declared as symbols: powers are `**`, velocities are written
-/// `dot(q)`, time is `t`, rationals are exact (`1/2`). Definitions are already
-/// substituted. The strings are the macro's own simplified forms, so an
+/// `dot(q)`, time is `t`, rationals are exact (`1/2`). The DSL's definitions
+/// are substituted; subexpressions that recur are named `__s1`, `__s2`, …
+/// and listed, in order, in [`definitions`](Self::definitions) (read each
+/// with the earlier ones in scope, and substitute). The strings are the macro's own simplified forms, so an
 /// independent derivation (see `tests/sympy/`) can compare against them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SymbolicSystem {
@@ -27,6 +29,9 @@ pub struct SymbolicSystem {
     /// The energies `M` and `F` were derived from (`kinetic_energy`,
     /// `potential_energy`), when given.
     pub energies: Option<SymbolicEnergies>,
+    /// Shared subexpressions `(name, expression)`, in order: every other
+    /// expression here may use their names, each may use earlier ones.
+    pub definitions: &'static [(&'static str, &'static str)],
 }
 
 /// `T`, `V` and the generalized forces `Q` of a system given by its

@@ -31,6 +31,9 @@ def symbols_for(system):
     namespace["t"] = t
     # `dot(x)` in the macro's syntax is the velocity of coordinate x.
     namespace["dot"] = lambda coordinate: velocity[str(coordinate)]
+    # The macro's shared subexpressions, substituted wherever they are named.
+    for name, text in system.get("definitions", []):
+        namespace[name] = sp.sympify(text, locals=namespace)
     return Symbols(q, qd, qdd, params, t, namespace)
 
 

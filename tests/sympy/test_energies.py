@@ -31,6 +31,8 @@ def lagranges_method(system):
     velocity = dict(zip(system["coordinates"], qd))
     namespace["dot"] = lambda coordinate: velocity[str(coordinate.func)]
     read = lambda text: sp.sympify(text, locals=namespace)
+    for name, text in system.get("definitions", []):
+        namespace[name] = read(text)
     lagrangian = read(energies["kinetic"]) - read(energies["potential"])
     method = LagrangesMethod(lagrangian, q)
     method.form_lagranges_equations()

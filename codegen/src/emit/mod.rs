@@ -16,11 +16,12 @@ use crate::derivation;
 use crate::derive::Equations;
 use crate::expr::Id;
 use crate::partition::Partition;
-use crate::print::{Printer, Style};
+use crate::print::{shared_subexpressions, Printer, Style};
 use body::Body;
 use context::{Context, Inputs};
 use proc_macro2::TokenStream;
 use quote::quote;
+use std::collections::HashMap;
 
 /// Emits the struct, its constants and its functions.
 pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
@@ -216,7 +217,23 @@ fn symbolic(eq: &Equations) -> TokenStream {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
     let parameters: Vec<String> = sys.parameters.iter().map(ToString::to_string).collect();
-    let p = Printer::new(&sys.graph, &coordinates, &parameters, Style::Sympy);
+    // Shared subexpressions are named (`__s1`, …) and listed in
+    // `definitions`, so that the text grows with the DAG.
+    let mut roots: Vec<Id> = sys.mass.iter().flatten().copied().collect();
+    roots.extend(&sys.forces);
+    roots.extend(sys.constraints.iter().map(|c| c.phi));
+    roots.extend(eq.a.iter().flatten());
+    roots.extend(&eq.b);
+    if let Some(e) = &sys.energies {
+        roots.extend(e.kinetic.iter().chain(&e.potential).chain(&e.applied));
+    }
+    let shared = shared_subexpressions(&sys.graph, &roots, &HashMap::new(), |i| format!("__s{i}"));
+    let names: HashMap<Id, String> = shared.iter().map(|(id, n)| (*id, n.clone())).collect();
+    let p = Printer::new(&sys.graph, &coordinates, &parameters, Style::Sympy).with_names(&names);
+    let definitions = shared.iter().map(|(id, name)| {
+        let value = p.print_expanded(*id);
+        quote!((#name, #value))
+    });
     let vector = |ids: &[Id]| {
         let texts = ids.iter().map(|&i| p.print(i));
         quote! { &[#(#texts),*] }
@@ -264,6 +281,7 @@ fn symbolic(eq: &Equations) -> TokenStream {
             a_matrix: #a,
             b_vector: #b,
             energies: #energies,
+            definitions: &[#(#definitions),*],
         }
     }
 }
