@@ -106,7 +106,9 @@ pub use nalgebra;
 ///     pub struct Name {
 ///         coordinates: [q1, q2, ...],                 // required
 ///         parameters:  [p1, ...],                     // optional: struct fields of type T
-///         mass:        diag[m1, ...] | [[m11, ...], ...],  // required, may depend on q, t
+///         mass:        diag[m1, ...] | [[m11, ...], ...],  // M(q, t), or instead:
+///         kinetic_energy:   T,                        //   T(q, q̇, t): M and F derived
+///         potential_energy: V,                        // optional: V(q, t)
 ///         forces:      [F1, ...],                     // optional, default zero; may use dot(q)
 ///         definitions: [h = expr, ...],               // optional; each may use earlier ones
 ///         constraints: [lhs == rhs, expr, ...],       // optional; expr alone means expr = 0
@@ -116,11 +118,17 @@ pub use nalgebra;
 /// ```
 ///
 /// Expressions use numbers, the declared names, `t`, `dot(q)` (the velocity
-/// of coordinate `q`, anywhere but in `mass`), `+ - * /`, parentheses, the
+/// of coordinate `q`, anywhere but in `mass`), `dt(e)` (the total time
+/// derivative of an expression without velocities), `+ - * /`, parentheses, the
 /// constants `PI` and `E`, and the functions below, as methods (`x.sin()`)
 /// or functions (`sin(x)`, `atan2(y, x)`; a method's receiver is its first
 /// argument).
 #[doc = constrained_macros::__dsl_functions!()]
+///
+/// With `kinetic_energy` (at most quadratic in the velocities) the macro
+/// derives `M = ∂²T/∂q̇∂q̇ᵀ` and
+/// `F = Q − ∂V/∂q + ∂T/∂q − (∂²T/∂q̇∂qᵀ) q̇ − ∂²T/∂q̇∂t`, `Q` being `forces`;
+/// a singular `M` is accepted when the constraints complete it.
 ///
 /// A constraint with any `dot(..)` is velocity level (differentiated once),
 /// otherwise position level (twice); the non-smooth functions may appear in

@@ -325,7 +325,7 @@ const SHARED_LENGTH: usize = 40;
 const WRITTEN_OUT_BUDGET: usize = 16_000;
 
 /// Names for the subexpressions of `roots` that occur more than once and
-/// are longer than [`SHARED_LENGTH`] characters written out, in
+/// are longer than `SHARED_LENGTH` (40) characters written out, in
 /// topological order (each may use earlier names): with them a text grows
 /// linearly with the DAG, not with the expression tree, which for
 /// Lagrange's equations or a long chain is exponentially larger. Nodes in

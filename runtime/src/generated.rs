@@ -57,7 +57,7 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
     /// Whether `M` is only positive semi-definite, so that Gauss's
     /// principle is solved for the auxiliary system `M + s AᵀA`,
-    /// `F + s Aᵀb` (Udwadia & Schutte 2010; see [`effective_mass`]).
+    /// `F + s Aᵀb` (Udwadia & Schutte 2010; see `effective_mass`).
     const SEMIDEFINITE_MASS: bool = false;
     /// `M(q, t)`.
     fn mass_matrix(&self, q: &SVector<T, N>, t: T) -> SMatrix<T, N, N>;
