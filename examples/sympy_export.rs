@@ -187,6 +187,11 @@ fn main() {
             &mut rng,
         ),
         export(
+            RollingDisk::<f64>::SYMBOLIC,
+            |p| RollingDisk::new(p[0], p[1], p[2], p[3], p[4]),
+            &mut rng,
+        ),
+        export(
             TwoLinkArmOnLine::<f64>::SYMBOLIC,
             |p| TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5]),
             &mut rng,

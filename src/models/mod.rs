@@ -12,6 +12,7 @@ mod crane;
 mod energy;
 mod pendulum;
 mod rigid_body;
+mod rolling_disk;
 mod sleigh;
 mod slider_crank;
 
@@ -24,5 +25,6 @@ pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };
 pub use rigid_body::{HeavyTop, RigidBodyQuaternion};
+pub use rolling_disk::RollingDisk;
 pub use sleigh::ChaplyginSleigh;
 pub use slider_crank::SliderCrank;

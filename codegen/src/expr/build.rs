@@ -83,24 +83,26 @@ impl Graph {
             let Node::Mul(factors) = self.node(t) else {
                 continue;
             };
-            let mut factors = factors.to_vec();
-            let Some(k) = factors
-                .iter()
-                .position(|&(b, e)| e == two && matches!(self.node(b), Node::Func(Func::Sin, _)))
-            else {
-                continue;
-            };
-            let Node::Func(_, args) = *self.node(factors[k].0) else {
-                continue;
-            };
-            let cos = self.apply(Func::Cos, args);
-            let mut partner = factors.clone();
-            partner[k] = (cos, two);
-            let partner = self.product(partner);
-            if let Some(j) = terms.iter().position(|&(u, d)| u == partner && d == c) {
-                factors.remove(k);
-                let rest = self.product(factors);
-                return Some((i, j, rest));
+            let factors = factors.to_vec();
+            // Every sin² factor of the term (sin²φ·sin²θ pairs on either).
+            for k in 0..factors.len() {
+                let (base, exponent) = factors[k];
+                let Node::Func(Func::Sin, args) = *self.node(base) else {
+                    continue;
+                };
+                if exponent != two {
+                    continue;
+                }
+                let cos = self.apply(Func::Cos, args);
+                let mut partner = factors.clone();
+                partner[k] = (cos, two);
+                let partner = self.product(partner);
+                if let Some(j) = terms.iter().position(|&(u, d)| u == partner && d == c) {
+                    let mut rest = factors.clone();
+                    rest.remove(k);
+                    let rest = self.product(rest);
+                    return Some((i, j, rest));
+                }
             }
         }
         None

@@ -262,10 +262,17 @@ impl Lowerer<'_> {
     /// single variable or number (naming `z` `h` everywhere would obscure
     /// it) or already has a name.
     pub fn name_node(&mut self, name: String, id: Id) {
-        let leaf = matches!(
-            self.graph.node(id),
-            crate::expr::Node::Sym(_) | crate::expr::Node::Num(_)
-        );
+        // A variable, a number or a function of one (`sin(th)`) reads
+        // better as itself.
+        let simple = |g: &Graph, id: Id| {
+            matches!(
+                g.node(id),
+                crate::expr::Node::Sym(_) | crate::expr::Node::Num(_)
+            )
+        };
+        let leaf = simple(self.graph, id)
+            || matches!(self.graph.node(id), crate::expr::Node::Func(_, args)
+                if args.as_slice().iter().all(|&a| simple(self.graph, a)));
         if !leaf && self.named.iter().all(|(_, other)| *other != id) {
             self.named.push((name, id));
         }
