@@ -10,20 +10,10 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use constrained::models::HeavyTop;
-use constrained::nalgebra::{Matrix3x4, Vector3, Vector4};
-use constrained::{DormandPrince45, Stabilization, State};
+use constrained::models::{quaternion_state, HeavyTop};
+use constrained::nalgebra::{Vector3, Vector4};
+use constrained::{DormandPrince45, Stabilization};
 use support::{plot, Options, Panel, Series};
-
-/// `ė = ½ Gᵀ ω` for a unit quaternion `e` and body angular velocity `ω`.
-fn state(e: Vector4<f64>, omega: Vector3<f64>) -> State<f64, 4> {
-    let g = Matrix3x4::new(
-        -e[1], e[0], e[3], -e[2], //
-        -e[2], -e[3], e[0], e[1], //
-        -e[3], e[2], -e[1], e[0],
-    );
-    State::new(0.0, e, 0.5 * g.transpose() * omega)
-}
 
 /// The tilt θ of the symmetry axis from the vertical and its azimuth φ.
 fn axis_angles(e: &Vector4<f64>) -> (f64, f64) {
@@ -55,12 +45,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut tilt_released = Vec::new();
     let mut tilt_steady = Vec::new();
     let mut azimuth_steady = Vec::new();
-    let mut released = state(e0, Vector3::new(0.0, 0.0, spin));
+    let mut released = quaternion_state(0.0, e0, Vector3::new(0.0, 0.0, spin));
     method.advance_sampled(&top, &mut released, options.duration, &times, |s| {
         progress.tick(s.t);
         tilt_released.push((s.t, axis_angles(&s.q).0));
     })?;
-    let mut precessing = state(e0, Vector3::new(0.0, steady * theta0.sin(), spin));
+    let mut precessing = quaternion_state(0.0, e0, Vector3::new(0.0, steady * theta0.sin(), spin));
     method.advance_sampled(&top, &mut precessing, options.duration, &times, |s| {
         let (theta, phi) = axis_angles(&s.q);
         tilt_steady.push((s.t, theta));

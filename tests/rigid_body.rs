@@ -3,18 +3,11 @@
 //! through Udwadia & Schutte's auxiliary mass. Checked against Euler's
 //! equations, conservation laws and the heavy top's steady precession.
 
-use constrained::models::{HeavyTop, RigidBodyQuaternion};
-use constrained::nalgebra::{Matrix3, Matrix3x4, Vector3, Vector4};
+use constrained::models::{
+    quaternion_rate_matrix as g_matrix, quaternion_state, HeavyTop, RigidBodyQuaternion,
+};
+use constrained::nalgebra::{Matrix3, Vector3, Vector4};
 use constrained::{DormandPrince45, DynamicsError, Stabilization, State};
-
-/// `G(e)` with `ω_body = 2 G(e) ė`.
-fn g_matrix(e: &Vector4<f64>) -> Matrix3x4<f64> {
-    Matrix3x4::new(
-        -e[1], e[0], e[3], -e[2], //
-        -e[2], -e[3], e[0], e[1], //
-        -e[3], e[2], -e[1], e[0],
-    )
-}
 
 /// Body → world rotation of a unit quaternion (Hamilton).
 fn rotation(e: &Vector4<f64>) -> Matrix3<f64> {
@@ -32,11 +25,9 @@ fn rotation(e: &Vector4<f64>) -> Matrix3<f64> {
     )
 }
 
-/// A consistent state from a unit quaternion and a body angular velocity:
-/// `ė = ½ Gᵀ ω`.
+/// A consistent state from a quaternion and a body angular velocity.
 fn state(e: Vector4<f64>, omega: Vector3<f64>) -> State<f64, 4> {
-    let e = e.normalize();
-    State::new(0.0, e, 0.5 * g_matrix(&e).transpose() * omega)
+    quaternion_state(0.0, e, omega)
 }
 
 struct Rng(u64);

@@ -46,3 +46,21 @@ fn cartesian_energies_generate_the_same_acceleration_as_mass_and_forces() {
         assert_eq!(method(&a, name), method(&b, name), "`{name}` differs");
     }
 }
+
+/// `sin²x + cos²x == 1` is no constraint at all: the Pythagorean rule
+/// reduces it to `0 = 0`, a spanned error, where it used to expand into
+/// code that did not compile (a row of A that is identically zero).
+#[test]
+fn pythagorean_constraint_is_reported_not_emitted() {
+    let input = r#"
+        pub struct Identity {
+            coordinates: [x, y],
+            mass: diag[1.0, 1.0],
+            constraints: [x.sin().powi(2) + x.cos().powi(2) == 1.0, y == x],
+        }"#;
+    let error = expand(input.parse().unwrap()).expect_err("no coordinate left");
+    assert!(
+        error.to_string().contains("involves no coordinate"),
+        "{error}"
+    );
+}

@@ -24,7 +24,7 @@ pub use energy::{CartPole, DoublePendulumAngles};
 pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };
-pub use rigid_body::{HeavyTop, RigidBodyQuaternion};
+pub use rigid_body::{quaternion_rate_matrix, quaternion_state, HeavyTop, RigidBodyQuaternion};
 pub use rolling_disk::RollingDisk;
 pub use sleigh::ChaplyginSleigh;
 pub use slider_crank::SliderCrank;

@@ -41,3 +41,30 @@ constrained_system! {
         constraints: [e0.powi(2) + e1.powi(2) + e2.powi(2) + e3.powi(2) == 1.0],
     }
 }
+
+use crate::nalgebra::{Matrix3x4, RealField, Vector3, Vector4};
+use crate::State;
+
+/// `G(e)`, with which the body angular velocity of a unit quaternion `e`
+/// is `ω = 2 G(e) ė` (the definitions `w1, w2, w3` of the models above),
+/// and `ė = ½ Gᵀ ω`.
+pub fn quaternion_rate_matrix<T: RealField + Copy>(e: &Vector4<T>) -> Matrix3x4<T> {
+    Matrix3x4::new(
+        -e[1], e[0], e[3], -e[2], //
+        -e[2], -e[3], e[0], e[1], //
+        -e[3], e[2], -e[1], e[0],
+    )
+}
+
+/// A consistent state of [`RigidBodyQuaternion`] or [`HeavyTop`]: the
+/// attitude `e` (normalised here) and the body angular velocity `ω`, as
+/// `(e, ė = ½ Gᵀ ω)` at time `t`.
+pub fn quaternion_state<T: RealField + Copy>(
+    t: T,
+    e: Vector4<T>,
+    omega: Vector3<T>,
+) -> State<T, 4> {
+    let e = e.normalize();
+    let half = T::one() / (T::one() + T::one());
+    State::new(t, e, quaternion_rate_matrix(&e).transpose() * omega * half)
+}
