@@ -39,7 +39,30 @@ use proc_macro2::TokenStream;
 /// Expands one `constrained_system! { ... }` invocation body.
 pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
     let (equations, partition) = analyse(input)?;
+    overflow_free(&equations)?;
     Ok(emit::system(&equations, &partition))
+}
+
+/// A constant of the derivation that overflows `f64` (`x·1e155` in a
+/// constraint makes `A M⁻¹ Aᵀ` hold `1e310`) would compute `∞` at run time
+/// too and silently drop the constraint: a compile error instead.
+fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
+    let overflow = eq
+        .system
+        .graph
+        .constants()
+        .map(num::Num::to_f64)
+        .find(|v| !v.is_finite());
+    match overflow {
+        None => Ok(()),
+        Some(value) => Err(syn::Error::new(
+            eq.system.name.span(),
+            format!(
+                "deriving the equations produced a constant that overflows f64 ({value}); \
+                 rescale the constraints or the units so that their coefficients and products stay below ~1e154"
+            ),
+        )),
+    }
 }
 
 /// Stages 1–3: the checked system, its derived equations and the

@@ -3,7 +3,23 @@
 //! collide with one of these; the emission stage produces them.
 
 /// Names the DSL or the generated code already uses.
-pub const RESERVED: &[&str] = &["t", "dot", "dt", "q", "qd", "T", "Self"];
+pub const RESERVED: &[&str] = &[
+    "t",
+    "dot",
+    "dt",
+    "q",
+    "qd",
+    "T",
+    "Self",
+    "self",
+    "correction",
+    "None",
+    "Some",
+    "Ok",
+    "Err",
+    "Result",
+    "Option",
+];
 
 /// The DSL's named constants, with their values.
 pub const CONSTANTS: &[(&str, f64)] = &[("PI", std::f64::consts::PI), ("E", std::f64::consts::E)];

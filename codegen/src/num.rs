@@ -40,13 +40,15 @@ impl Hash for Num {
     }
 }
 
-fn gcd(mut a: i128, mut b: i128) -> i128 {
-    a = a.abs();
-    b = b.abs();
+/// The greatest common divisor, in `u128` so that `|i128::MIN|` fits; 0
+/// when it does not fit back into `i128` (both inputs `i128::MIN`), which
+/// callers treat as "do not reduce".
+fn gcd(a: i128, b: i128) -> i128 {
+    let (mut a, mut b) = (a.unsigned_abs(), b.unsigned_abs());
     while b != 0 {
         (a, b) = (b, a % b);
     }
-    a
+    i128::try_from(a).unwrap_or(0)
 }
 
 impl Num {
@@ -67,7 +69,7 @@ impl Num {
         if den == 0 {
             return Num::Float(num as f64 / 0.0);
         }
-        let g = gcd(num, den);
+        let g = gcd(num, den).max(1);
         let (mut n, mut d) = (num / g, den / g);
         if d < 0 {
             match (n.checked_neg(), d.checked_neg()) {
@@ -206,8 +208,10 @@ impl Num {
     }
 
     fn powi(self, e: i64) -> Option<Num> {
+        // `powf` with the exact integer (to 2⁵³): `powi(e as i32)` wrapped
+        // 4294967295 to −1 and folded 2^4294967295 to 0.5.
         let Num::Rational(n, d) = self else {
-            return Some(Num::Float(self.to_f64().powi(e as i32)));
+            return Some(Num::Float(self.to_f64().powf(e as f64)));
         };
         if n == 0 && e < 0 {
             return Some(Num::Float(f64::INFINITY));
@@ -216,7 +220,7 @@ impl Num {
         let exact = n.checked_pow(k).zip(d.checked_pow(k));
         let value = match exact {
             Some((nn, dd)) => Num::ratio(nn, dd),
-            None => Num::Float((n as f64 / d as f64).powi(k as i32)),
+            None => Num::Float((n as f64 / d as f64).powf(f64::from(k))),
         };
         Some(if e < 0 { value.recip() } else { value })
     }

@@ -99,7 +99,17 @@ pub enum IntegrationError<T> {
         /// Requested end time.
         t_end: T,
     },
-    /// A step size or tolerance that is not positive and finite.
+    /// Time stopped advancing: `t + h == t` in `T`'s precision (a step
+    /// below the resolution of `t`, e.g. `h = 1e-3` at `t = 32768` in `f32`).
+    TimeStalled {
+        /// The time that did not advance.
+        t: T,
+        /// The step that was lost in rounding.
+        step: T,
+    },
+    /// A setting that cannot work, found before any step: a step size,
+    /// tolerance, rate or sample time that is not positive and finite (or
+    /// out of order), or a zero step budget.
     InvalidParameter,
 }
 
@@ -126,9 +136,15 @@ impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
             IntegrationError::EndBeforeStart { t, t_end } => {
                 write!(f, "the end time {t_end} lies before the current time {t}")
             }
-            IntegrationError::InvalidParameter => {
-                f.write_str("a step size or tolerance must be positive and finite")
-            }
+            IntegrationError::TimeStalled { t, step } => write!(
+                f,
+                "time stopped advancing at t = {t}: the step {step} is below its resolution \
+                 (use a larger step, or f64)"
+            ),
+            IntegrationError::InvalidParameter => f.write_str(
+                "invalid setting: step sizes, tolerances and stabilization parameters must be \
+                 positive and finite, sample times ordered",
+            ),
         }
     }
 }

@@ -279,6 +279,11 @@ where
     S: Generated<T, N, K>,
 {
     let (a, b) = system.constraint_matrices(q, qd, t);
+    // A non-finite row would vanish from the SVD's rank and the constraint
+    // with it: the reference form says so instead.
+    if !(a.iter().all(|x| x.is_finite()) && b.iter().all(|x| x.is_finite())) {
+        return Err(DynamicsError::NonFinite);
+    }
     let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
     let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, &a, &b);
     let (chol, acc) = unconstrained(m_eff, &f_eff)?;

@@ -161,6 +161,14 @@ impl Graph {
         &self.nodes[id.index()]
     }
 
+    /// Every numeric constant in the arena.
+    pub fn constants(&self) -> impl Iterator<Item = Num> + '_ {
+        self.nodes.iter().filter_map(|n| match n {
+            Node::Num(c) => Some(*c),
+            _ => None,
+        })
+    }
+
     /// Number of nodes.
     pub fn len(&self) -> usize {
         self.nodes.len()

@@ -27,6 +27,56 @@ impl MassSource<'_> {
     }
 }
 
+/// Rule: the struct's name is an ordinary identifier that generated code
+/// does not use itself (`T` is its scalar type parameter).
+pub fn struct_name(errors: &mut Errors, name: &syn::Ident) {
+    let text = name.to_string();
+    if text.starts_with("r#") {
+        errors.spanned(
+            name,
+            format!("raw identifier `{text}` is not supported: choose another name"),
+        );
+    } else if crate::names::RESERVED.contains(&text.as_str()) {
+        errors.spanned(
+            name,
+            format!("`{text}` is a reserved name: generated code uses it (the scalar type is `T`)"),
+        );
+    }
+}
+
+/// Derives the generated code already provides, and `Default` (generated
+/// for systems without parameters).
+const GENERATED_DERIVES: &[&str] = &["Clone", "Copy", "Debug", "PartialEq", "Default"];
+
+/// Rule: forwarded attributes do not repeat a generated derive (two impls
+/// of one trait would not compile) and are not `#[cfg(..)]` (it would
+/// remove the struct but not the impls generated for it).
+pub fn forwarded_attributes(errors: &mut Errors, attrs: &[syn::Attribute]) {
+    for attr in attrs {
+        if attr.path().is_ident("cfg") {
+            errors.spanned(
+                attr,
+                "`#[cfg(..)]` on the struct would not apply to the generated impls: \
+                 put the `constrained_system!` invocation itself under `#[cfg(..)]` (e.g. in a module)",
+            );
+        } else if attr.path().is_ident("derive") {
+            let _ = attr.parse_nested_meta(|meta| {
+                let name = meta.path.segments.last().map(|s| s.ident.to_string()).unwrap_or_default();
+                if GENERATED_DERIVES.contains(&name.as_str()) {
+                    errors.spanned(
+                        &meta.path,
+                        format!(
+                            "do not derive `{name}`: the generated struct derives Clone, Copy, Debug \
+                             and PartialEq, and implements Default when it has no parameters"
+                        ),
+                    );
+                }
+                Ok(())
+            });
+        }
+    }
+}
+
 /// Rule: the number of entries of a vector or a matrix row is the number of
 /// coordinates. With no coordinates declared (already an error) every
 /// length would be wrong, so nothing more is said.

@@ -65,7 +65,12 @@ impl Lowerer<'_> {
     /// DSL or by generated code, a function of the DSL, or declared twice.
     pub fn declare(&mut self, name: &Ident, binding: Binding, coordinates: &[Ident]) {
         let text = name.to_string();
-        if RESERVED.contains(&text.as_str()) || text.starts_with(GENERATED_PREFIX) {
+        if text.starts_with("r#") {
+            self.errors.spanned(
+                name,
+                format!("raw identifier `{text}` is not supported: choose another name"),
+            );
+        } else if RESERVED.contains(&text.as_str()) || text.starts_with(GENERATED_PREFIX) {
             self.errors
                 .spanned(name, format!("`{text}` is a reserved name"));
         } else if CONSTANTS.iter().any(|(c, _)| *c == text) {
@@ -110,7 +115,21 @@ impl Lowerer<'_> {
         })
     }
 
+    /// Lowers one expression; a constant that is not finite in `f64`
+    /// (`1e309`, `1e308 * 1e308`, `exp(1000)`) is an error here, where it
+    /// can be pointed at, rather than a non-finite literal in the output.
     fn try_lower(&mut self, e: &Expr) -> syn::Result<Id> {
+        let id = self.try_lower_node(e)?;
+        match self.graph.as_num(id) {
+            Some(n) if !n.to_f64().is_finite() => Err(syn::Error::new_spanned(
+                e,
+                format!("this constant is not finite in f64 ({})", n.to_f64()),
+            )),
+            _ => Ok(id),
+        }
+    }
+
+    fn try_lower_node(&mut self, e: &Expr) -> syn::Result<Id> {
         use syn::{BinOp, UnOp};
         let err = |tokens: &dyn ToTokens, message: &str| -> syn::Result<Id> {
             Err(syn::Error::new_spanned(tokens.to_token_stream(), message))
@@ -310,6 +329,14 @@ impl Lowerer<'_> {
             let base = self.try_lower(args[0])?;
             let exponent = self.try_lower(args[1])?;
             return match self.graph.as_num(exponent).and_then(Num::as_integer) {
+                // Generated code calls `powi(k: i32)`.
+                Some(k) if i32::try_from(k).is_err() => Err(syn::Error::new_spanned(
+                    args[1],
+                    format!(
+                        "`powi` exponent {k} is out of range (at most {} in magnitude)",
+                        i32::MAX
+                    ),
+                )),
                 Some(k) => Ok(self.graph.pown(base, Num::int(k))),
                 None => Err(syn::Error::new_spanned(
                     args[1],

@@ -127,6 +127,8 @@ impl<'a> Sections<'a> {
 pub fn check(input: &SystemInput) -> syn::Result<System> {
     let mut errors = Errors::new();
     let sections = Sections::collect(input, &mut errors);
+    check::struct_name(&mut errors, &input.name);
+    check::forwarded_attributes(&mut errors, &input.attrs);
     if sections.coordinates.is_none() {
         errors.spanned(&input.name, "missing section `coordinates`");
     }

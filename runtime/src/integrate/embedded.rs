@@ -25,7 +25,8 @@ pub struct EmbeddedRungeKutta<T, M, const S: usize> {
 }
 
 impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, M, S> {
-    /// Relative and absolute tolerances; a budget of 10⁶ steps per call.
+    /// Relative and absolute tolerances, both positive and finite (else
+    /// `InvalidParameter` when advancing); a budget of 10⁶ steps per call.
     pub fn new(rtol: T, atol: T) -> Self {
         EmbeddedRungeKutta {
             rtol,
@@ -75,6 +76,7 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
+        self.validate()?;
         span(state, t_end)?;
         let mut previous = state.t;
         for &t in times {
@@ -115,10 +117,7 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let positive = |x: T| x > T::zero() && x.is_finite();
-        if !(positive(self.rtol) && (positive(self.atol) || self.atol == T::zero())) {
-            return Err(IntegrationError::InvalidParameter);
-        }
+        self.validate()?;
         let total = span(state, t_end)?;
         let mut stats = Stats::default();
         if total == T::zero() {
@@ -209,6 +208,18 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
             Ok(next.last)
         };
         fixed_steps(system, state, t_end, h, settings, one_step, |_| {})
+    }
+
+    /// `Err(InvalidParameter)` for settings that cannot work. `atol > 0`:
+    /// with a zero one, a component passing through zero has a zero error
+    /// scale and the step size underflows.
+    fn validate(&self) -> Result<(), IntegrationError<T>> {
+        let positive = |x: T| x > T::zero() && x.is_finite();
+        let max_step_valid = self.max_step.is_none_or(positive);
+        if !(positive(self.rtol) && positive(self.atol) && max_step_valid) {
+            return Err(IntegrationError::InvalidParameter);
+        }
+        self.settings.validate()
     }
 
     /// Hairer, Nørsett & Wanner's starting step (Solving ODE I, II.4).

@@ -15,11 +15,12 @@ pub struct SemiImplicitEuler<T> {
 }
 
 impl<T: RealField + Copy> SemiImplicitEuler<T> {
-    /// Steps of size `step`, no stabilization, no step budget.
+    /// Steps of size `step`, no stabilization, a budget of 10⁷ steps per
+    /// call.
     pub fn new(step: T) -> Self {
         SemiImplicitEuler {
             step,
-            settings: Settings::new(usize::MAX),
+            settings: Settings::new(super::FIXED_STEP_BUDGET),
         }
     }
 

@@ -104,11 +104,12 @@ pub struct ExplicitRungeKutta<T, M, const S: usize> {
 }
 
 impl<T: RealField + Copy, M: Method<S>, const S: usize> ExplicitRungeKutta<T, M, S> {
-    /// Steps of size `step`, no stabilization, no step budget.
+    /// Steps of size `step`, no stabilization, a budget of 10⁷ steps per
+    /// call.
     pub fn new(step: T) -> Self {
         ExplicitRungeKutta {
             step,
-            settings: Settings::new(usize::MAX),
+            settings: Settings::new(super::FIXED_STEP_BUDGET),
             method: PhantomData,
         }
     }

@@ -1,0 +1,159 @@
+//! Hostile settings and states for the runtime: errors as values up front,
+//! never a hang or a silently wrong answer. Each test is named after what
+//! it guards (issue 13's findings).
+
+use constrained::models::{DoublePendulum, SphericalPendulum};
+use constrained::nalgebra::{Vector1, Vector2, Vector3};
+use constrained::{
+    constrained_system, DormandPrince45, DynamicsError, IntegrationError, Rk4, SemiImplicitEuler,
+    Stabilization, State,
+};
+
+constrained_system! {
+    /// A free particle: nothing can go wrong but time.
+    struct Free {
+        coordinates: [x],
+        mass: diag[1.0],
+    }
+}
+
+/// `Rk4::new(1e-3f32)` to 40000 (no budget): beyond t = 16384 the ulp of
+/// t in f32 reaches 2h and time cannot advance by h. It used to loop for
+/// ever (at t = 32768).
+#[test]
+fn time_stall_in_f32_is_an_error_not_a_hang() {
+    let mut s = State::new(0.0f32, Vector1::new(0.0f32), Vector1::new(1.0f32));
+    let result =
+        Rk4::new(1e-3f32)
+            .with_max_steps(usize::MAX)
+            .advance(&Free::default(), &mut s, 40000.0);
+    assert!(
+        matches!(result, Err(IntegrationError::TimeStalled { .. })),
+        "{result:?}"
+    );
+    // Stopped where the ulp of t reached 2h (t ≥ 2¹⁴ in f32), not before.
+    assert!(s.t >= 16384.0 && s.t < 40000.0, "stopped at {}", s.t);
+}
+
+#[test]
+fn time_stall_in_f64_at_large_times_is_an_error() {
+    for integrator in 0..2 {
+        let mut s = State::new(1e17, Vector1::new(0.0), Vector1::new(1.0));
+        let result = match integrator {
+            0 => Rk4::new(1.0).advance(&Free::default(), &mut s, 1e17 + 1e4),
+            _ => SemiImplicitEuler::new(1.0).advance(&Free::default(), &mut s, 1e17 + 1e4),
+        };
+        assert!(
+            matches!(result, Err(IntegrationError::TimeStalled { .. })),
+            "{result:?}"
+        );
+    }
+}
+
+#[test]
+fn fixed_step_integrators_have_a_default_budget() {
+    let mut s = State::new(0.0, Vector1::new(0.0), Vector1::new(1.0));
+    let result = Rk4::new(1e-9).advance(&Free::default(), &mut s, 1.0);
+    assert!(
+        matches!(
+            result,
+            Err(IntegrationError::TooManySteps {
+                steps: 10_000_000,
+                ..
+            })
+        ),
+        "{result:?}"
+    );
+}
+
+#[test]
+fn invalid_settings_are_rejected_before_any_step() {
+    let system = SphericalPendulum::<f64>::new(1.0, 9.81, 0.8);
+    let start = State::new(
+        0.0,
+        Vector3::new(0.48, 0.0, -0.64),
+        Vector3::new(0.0, 1.9, 0.0),
+    );
+    let invalid = IntegrationError::InvalidParameter;
+    let mut s = start;
+    assert_eq!(
+        DormandPrince45::new(1e-8, 0.0).advance(&system, &mut s, 1.0),
+        Err(invalid)
+    );
+    assert_eq!(
+        DormandPrince45::new(1e-8, 1e-10)
+            .with_max_step(0.0)
+            .advance(&system, &mut s, 1.0),
+        Err(invalid)
+    );
+    for tolerance in [f64::NAN, -1e-12, 0.0] {
+        let result = DormandPrince45::new(1e-8, 1e-10)
+            .with_stabilization(Stabilization::projection(tolerance))
+            .advance(&system, &mut s, 1.0);
+        assert_eq!(result, Err(invalid), "projection tolerance {tolerance}");
+        let result = Rk4::new(1e-3)
+            .with_stabilization(Stabilization::projection(tolerance))
+            .advance(&system, &mut s, 1.0);
+        assert_eq!(result, Err(invalid), "projection tolerance {tolerance}");
+    }
+    for rate in [f64::NAN, -1.0, f64::INFINITY] {
+        let result = Rk4::new(1e-3)
+            .with_stabilization(Stabilization::baumgarte(rate))
+            .advance(&system, &mut s, 1.0);
+        assert_eq!(result, Err(invalid), "Baumgarte rate {rate}");
+    }
+    assert_eq!(
+        Rk4::new(1e-3)
+            .with_max_steps(0)
+            .advance(&system, &mut s, 1.0),
+        Err(invalid)
+    );
+    assert_eq!(s, start, "no step was taken");
+}
+
+constrained_system! {
+    /// `A = [1/(2√x), −1]`: infinite at x = 0, a finite state.
+    struct RootConstraint {
+        coordinates: [x, y],
+        mass: diag[1.0, 1.0],
+        forces: [0.0, -1.0],
+        constraints: [x.sqrt() == y],
+    }
+}
+
+/// The Moore–Penrose form used to drop a non-finite row and return the
+/// unconstrained acceleration as if it were right.
+#[test]
+fn moore_penrose_with_a_non_finite_row_is_an_error() {
+    let s = State::new(0.0, Vector2::new(0.0, 0.0), Vector2::new(0.0, 0.0));
+    assert_eq!(
+        s.acceleration_moore_penrose(&RootConstraint::default()),
+        Err(DynamicsError::NonFinite)
+    );
+}
+
+/// The double pendulum still integrates with every valid setting.
+#[test]
+fn valid_settings_still_integrate() {
+    let system = DoublePendulum::new(1.0, 1.0, 1.0, 1.0, 9.81);
+    let mut s = constrained::models::double_pendulum_state(1.0, 1.0, 0.0, [0.5, 1.0], [0.0, 0.0]);
+    Rk4::new(1e-3)
+        .with_stabilization(Stabilization::baumgarte(0.0))
+        .advance(&system, &mut s, 0.1)
+        .expect("a zero Baumgarte rate is valid (no correction)");
+}
+
+/// In f32 the time is `t₀ + n·h`, not a running sum that drifted by the
+/// ulp of t each step: after 10⁵ steps of 1e-3 it is 100 to f32 precision.
+#[test]
+fn fixed_step_time_does_not_drift_in_f32() {
+    let mut s = State::new(0.0f32, Vector1::new(0.0f32), Vector1::new(1.0f32));
+    Rk4::new(1e-3f32)
+        .advance_with(&Free::default(), &mut s, 150.0, |s| {
+            if (s.t - 100.0).abs() < 5e-4 {
+                assert!((s.t - 100.0).abs() <= 100.0 * f32::EPSILON, "{}", s.t);
+            }
+        })
+        .expect("integrates");
+    assert_eq!(s.t, 150.0);
+}
