@@ -99,7 +99,8 @@ macro_rules! functions {
             partials: |$g:ident, $a:ident, $fa:ident| $partials:expr,
             parity: $parity:ident,
             at_zero: $zero:expr,
-            inverse: $inverse:expr $(,)?
+            inverse: $inverse:expr,
+            differentiable: $differentiable:expr $(,)?
         }
     )*) => {
         /// An elementary function of the DSL (one entry of the table).
@@ -190,13 +191,9 @@ macro_rules! functions {
             /// How many times the function can be differentiated along a
             /// trajectory where its arguments vary: `abs`, `min`, `max` have
             /// a kink (one derivative, one-sided there), `signum` and `step`
-            /// jump (none), the others are smooth where defined.
+            /// jump (none); `None` for functions smooth where defined.
             pub fn differentiable_times(self) -> Option<usize> {
-                match self {
-                    Func::Abs | Func::Min | Func::Max => Some(1),
-                    Func::Signum | Func::Step => Some(0),
-                    _ => None,
-                }
+                match self { $(Func::$variant => $differentiable,)* }
             }
         }
     };
@@ -208,7 +205,7 @@ functions! {
         eval: |x| x[0].sin(),
         exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.func(Func::Cos, a[0])),
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
     }
     /// cosine
     Cos: "cos" / "cos", 1, Dsl, Method {
@@ -218,7 +215,7 @@ functions! {
             let s = g.func(Func::Sin, a[0]);
             Args::one(g.neg(s))
         },
-        parity: Even, at_zero: Some(Num::ONE), inverse: None,
+        parity: Even, at_zero: Some(Num::ONE), inverse: None, differentiable: None,
     }
     /// tangent: `tan′ = 1 + tan²`
     Tan: "tan" / "tan", 1, Dsl, Method {
@@ -228,14 +225,14 @@ functions! {
             let (one, t2) = (g.int(1), g.pown(fa, Num::int(2)));
             Args::one(g.add2(one, t2))
         },
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
     }
     /// arcsine: `1/√(1 − x²)`
     Asin: "asin" / "asin", 1, Dsl, Method {
         eval: |x| x[0].asin(),
         exact: |_n| None,
         partials: |g, a, _fa| Args::one(inverse_root_of_one_minus_square(g, a[0])),
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
     }
     /// arccosine: `−1/√(1 − x²)`
     Acos: "acos" / "acos", 1, Dsl, Method {
@@ -245,7 +242,7 @@ functions! {
             let d = inverse_root_of_one_minus_square(g, a[0]);
             Args::one(g.neg(d))
         },
-        parity: None, at_zero: None, inverse: None,
+        parity: None, at_zero: None, inverse: None, differentiable: None,
     }
     /// arctangent: `1/(1 + x²)`
     Atan: "atan" / "atan", 1, Dsl, Method {
@@ -256,21 +253,21 @@ functions! {
             let d = g.add2(one, a2);
             Args::one(g.pown(d, Num::MINUS_ONE))
         },
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
     }
     /// hyperbolic sine
     Sinh: "sinh" / "sinh", 1, Dsl, Method {
         eval: |x| x[0].sinh(),
         exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.func(Func::Cosh, a[0])),
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
     }
     /// hyperbolic cosine
     Cosh: "cosh" / "cosh", 1, Dsl, Method {
         eval: |x| x[0].cosh(),
         exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.func(Func::Sinh, a[0])),
-        parity: Even, at_zero: Some(Num::ONE), inverse: None,
+        parity: Even, at_zero: Some(Num::ONE), inverse: None, differentiable: None,
     }
     /// hyperbolic tangent: `tanh′ = 1 − tanh²`
     Tanh: "tanh" / "tanh", 1, Dsl, Method {
@@ -280,21 +277,21 @@ functions! {
             let (one, t2) = (g.int(1), g.pown(fa, Num::int(2)));
             Args::one(g.sub(one, t2))
         },
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
     }
     /// exponential: `exp′ = exp`
     Exp: "exp" / "exp", 1, Dsl, Method {
         eval: |x| x[0].exp(),
         exact: |_n| None,
         partials: |_g, _a, fa| Args::one(fa),
-        parity: None, at_zero: Some(Num::ONE), inverse: Some(Func::Ln),
+        parity: None, at_zero: Some(Num::ONE), inverse: Some(Func::Ln), differentiable: None,
     }
     /// natural logarithm: `1/x`
     Ln: "ln" / "log", 1, Dsl, Method {
         eval: |x| x[0].ln(),
         exact: |_n| None,
         partials: |g, a, _fa| Args::one(g.pown(a[0], Num::MINUS_ONE)),
-        parity: None, at_zero: None, inverse: Some(Func::Exp),
+        parity: None, at_zero: None, inverse: Some(Func::Exp), differentiable: None,
     }
     /// two-argument arctangent `atan2(y, x)`: `∂/∂y = x/(x² + y²)`,
     /// `∂/∂x = −y/(x² + y²)`
@@ -309,7 +306,7 @@ functions! {
             let q = g.div(y, r2);
             Args::two(by_y, g.neg(q))
         },
-        parity: None, at_zero: None, inverse: None,
+        parity: None, at_zero: None, inverse: None, differentiable: None,
     }
     /// absolute value; `abs′(x) = 1` for `x ≥ 0` and `−1` below (at the
     /// kink, the derivative of the branch `abs` takes there)
@@ -322,7 +319,7 @@ functions! {
             let one = g.int(1);
             Args::one(g.sub(two_h, one))
         },
-        parity: Even, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Even, at_zero: Some(Num::ZERO), inverse: None, differentiable: Some(1),
     }
     /// sign: `1`, `−1`, and `0` at `0` (sympy's `sign`, not `f64::signum`);
     /// derivative `0`
@@ -330,7 +327,7 @@ functions! {
         eval: |x| if x[0] > 0.0 { 1.0 } else if x[0] < 0.0 { -1.0 } else { x[0] * 0.0 },
         exact: |n| Some(if n[0].is_negative() { Num::MINUS_ONE } else if n[0].is_zero() { Num::ZERO } else { Num::ONE }),
         partials: |g, _a, _fa| Args::one(g.int(0)),
-        parity: Odd, at_zero: Some(Num::ZERO), inverse: None,
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: Some(0),
     }
     /// `min(a, b)`, which is `a` when `a ≤ b`: `∂/∂a = step(b − a)`,
     /// `∂/∂b = 1 − step(b − a)`
@@ -341,7 +338,7 @@ functions! {
             let d = g.sub(a[1], a[0]);
             first_argument_branch(g, d)
         },
-        parity: None, at_zero: None, inverse: None,
+        parity: None, at_zero: None, inverse: None, differentiable: Some(1),
     }
     /// `max(a, b)`, which is `a` when `a ≥ b`: `∂/∂a = step(a − b)`,
     /// `∂/∂b = 1 − step(a − b)`
@@ -352,7 +349,7 @@ functions! {
             let d = g.sub(a[0], a[1]);
             first_argument_branch(g, d)
         },
-        parity: None, at_zero: None, inverse: None,
+        parity: None, at_zero: None, inverse: None, differentiable: Some(1),
     }
     /// unit step, `1` for `x ≥ 0` and `0` below (sympy's `Heaviside(x, 1)`);
     /// only derivatives produce it
@@ -360,7 +357,7 @@ functions! {
         eval: |x| if x[0] >= 0.0 { 1.0 } else if x[0] < 0.0 { 0.0 } else { f64::NAN },
         exact: |n| Some(if n[0].is_negative() { Num::ZERO } else { Num::ONE }),
         partials: |g, _a, _fa| Args::one(g.int(0)),
-        parity: None, at_zero: Some(Num::ONE), inverse: None,
+        parity: None, at_zero: Some(Num::ONE), inverse: None, differentiable: Some(0),
     }
 }
 

@@ -2,9 +2,9 @@
 
 use super::controller::PiController;
 use super::dense::Interpolant;
-use super::explicit::{step, Step};
+use super::explicit::{fixed_tableau_steps, step, Step};
 use super::tableau::{Embedded, Tableau};
-use super::{accept, c, derivative, fixed_steps, span, Derivative, Settings, Stats};
+use super::{accept, c, derivative, span, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use core::marker::PhantomData;
 use nalgebra::RealField;
@@ -201,13 +201,7 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let settings = &self.settings;
-        let one_step = |state: &mut State<T, N>, h: T, k1: &Derivative<T, N>, stats: &mut Stats| {
-            let next = step(&M::TABLEAU, system, state, k1, h, settings, stats)?;
-            *state = next.state;
-            Ok(next.last)
-        };
-        fixed_steps(system, state, t_end, h, settings, one_step, |_| {})
+        fixed_tableau_steps(&M::TABLEAU, system, state, t_end, h, &self.settings, |_| {})
     }
 
     /// `Err(InvalidParameter)` for settings that cannot work. `atol > 0`:

@@ -125,16 +125,41 @@ impl<T: RealField + Copy, M: Method<S>, const S: usize> ExplicitRungeKutta<T, M,
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let settings = &self.settings;
-        let one_step = |state: &mut State<T, N>, h: T, k1: &Derivative<T, N>, stats: &mut Stats| {
-            let next = step(&M::TABLEAU, system, state, k1, h, settings, stats)?;
-            *state = next.state;
-            Ok(next.last)
-        };
-        fixed_steps(
-            system, state, t_end, self.step, settings, one_step, observer,
+        fixed_tableau_steps(
+            &M::TABLEAU,
+            system,
+            state,
+            t_end,
+            self.step,
+            &self.settings,
+            observer,
         )
     }
+}
+
+/// Steps of size `h` of the method `tableau` to `t_end` (no error control),
+/// carrying the last stage of a first-same-as-last method into the next
+/// step: the fixed-step methods, and embedded pairs run at a fixed step.
+#[inline]
+pub(super) fn fixed_tableau_steps<T, Sys, const N: usize, const K: usize, const S: usize>(
+    tableau: &Tableau<S>,
+    system: &Sys,
+    state: &mut State<T, N>,
+    t_end: T,
+    h: T,
+    settings: &Settings<T>,
+    observer: impl FnMut(&State<T, N>),
+) -> Result<Stats, IntegrationError<T>>
+where
+    T: RealField + Copy,
+    Sys: ConstrainedSystem<T, N, K>,
+{
+    let one_step = |state: &mut State<T, N>, h: T, k1: &Derivative<T, N>, stats: &mut Stats| {
+        let next = step(tableau, system, state, k1, h, settings, stats)?;
+        *state = next.state;
+        Ok(next.last)
+    };
+    fixed_steps(system, state, t_end, h, settings, one_step, observer)
 }
 
 shared_settings!(ExplicitRungeKutta<T, M, S>, M: Method<S>, const S: usize);
