@@ -5,7 +5,8 @@
 //! `constrained-macros` only converts token types and calls it.
 //!
 //! Stages, each a pure function of the previous one's output:
-//! 1. [`parse`]: tokens → DSL syntax (`SystemInput`);
+//! 1. [`parse`]: tokens → DSL syntax (`SystemInput`), after [`nesting`]
+//!    has bounded how deeply the tokens nest;
 //! 2. [`model`]: names resolved, expressions lowered into the DAG of
 //!    [`expr`], every rule checked, errors reported together;
 //! 3. [`derive`](mod@derive): constraints differentiated ([`diff`]) into `A q̈ = b`,
@@ -28,6 +29,7 @@ pub mod linalg;
 pub mod model;
 pub mod motion;
 pub mod names;
+pub mod nesting;
 pub mod num;
 pub mod parse;
 pub mod partition;
@@ -68,6 +70,7 @@ fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
 /// Stages 1–3: the checked system, its derived equations and the
 /// Gibbs–Appell partition, before emission.
 pub fn analyse(input: TokenStream) -> syn::Result<(derive::Equations, partition::Partition)> {
+    nesting::check(&input)?;
     let input: parse::SystemInput = syn::parse2(input)?;
     let system = model::check(&input)?;
     let equations = derive::constraint_equations(system);

@@ -45,6 +45,9 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
     let n = eq.system.dof();
     let states = consistent_states(eq);
     let on_surface = !states.is_empty();
+    if !on_surface {
+        contradictions(eq)?;
+    }
     let matrices: Vec<Vec<Vec<f64>>> = if on_surface {
         states.iter().map(|s| eval_a(eq, s)).collect()
     } else {
@@ -259,6 +262,64 @@ fn completes_the_mass(eq: &Equations, states: &[StateValues]) -> syn::Result<()>
             if states.is_empty() { "" } else { "consistent " }
         ),
     ))
+}
+
+/// Constraints that no state satisfies, where that can be proved: the rows
+/// that are affine in `q` (position level) or in `q̇` (velocity level) with
+/// numeric coefficients and offsets, `C x = c`, are consistent exactly when
+/// `c` lies in the range of `C`. Called when the search for a consistent
+/// state failed; nonlinear or parametric rows are not judged (the search
+/// failing proves nothing about them), so this can only reject what is
+/// contradictory. The error points at the first row that contradicts the
+/// rows before it.
+fn contradictions(eq: &Equations) -> syn::Result<()> {
+    let g = &eq.system.graph;
+    for level in [Level::Position, Level::Velocity] {
+        let variable = |s: Sym| match level {
+            Level::Position => matches!(s, Sym::Coord(_)),
+            Level::Velocity => matches!(s, Sym::Vel(_)),
+        };
+        let origin = StateValues {
+            q: vec![0.0; eq.system.dof()],
+            qd: vec![0.0; eq.system.dof()],
+            t: 0.0,
+            params: vec![0.0; eq.system.parameters.len()],
+        };
+        // [C | c] of the affine rows so far.
+        let mut rows: Vec<Vec<f64>> = Vec::new();
+        for (i, c) in eq.system.constraints.iter().enumerate() {
+            let affine = c.level == level
+                && !g.mentions(c.phi, |s| !variable(s))
+                && eq.a[i].iter().all(|&e| g.as_num(e).is_some());
+            if !affine {
+                continue;
+            }
+            let offset = g.eval(&[c.phi], &origin.env())[0];
+            let mut row: Vec<f64> = eq.a[i]
+                .iter()
+                .map(|&e| g.eval(&[e], &origin.env())[0])
+                .collect();
+            row.push(-offset);
+            rows.push(row);
+            let augmented = independent_columns(&transpose(&rows), RANK_TOLERANCE).len();
+            let plain: Vec<Vec<f64>> = rows.iter().map(|r| r[..r.len() - 1].to_vec()).collect();
+            if augmented > independent_columns(&transpose(&plain), RANK_TOLERANCE).len() {
+                return Err(syn::Error::new_spanned(
+                    &c.tokens,
+                    "no state satisfies this constraint together with the ones before it: \
+                     they are linear with constant coefficients and contradict each other",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn transpose(rows: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let cols = rows.first().map_or(0, Vec::len);
+    (0..cols)
+        .map(|j| rows.iter().map(|r| r[j]).collect())
+        .collect()
 }
 
 /// Up to `STATES` consistent states, from deterministic seeds.

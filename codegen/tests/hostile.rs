@@ -65,11 +65,19 @@ fn coefficients_whose_products_overflow_are_reported() {
     assert!(ok.is_ok(), "{ok:?}");
 }
 
+/// −2⁶³ · 2⁶⁴ overflows i128 arithmetic in exact folding but not f64: the
+/// product must come out as −2¹²⁷, not a panic or a wrapped value.
 #[test]
 fn integer_overflow_in_constant_folding_is_not_a_panic() {
-    let _ = outcome(
+    match outcome(
         "struct S { coordinates: [x], mass: diag[1.0], forces: [-9223372036854775808 * 18446744073709551616 * x] }",
-    );
+    ) {
+        Ok(code) => assert!(
+            code.contains("[[- :: constrained :: __private :: lit :: < T > (170141183460469230000000000000000000000f64) * x]]"),
+            "−2¹²⁷·x expected in {code}"
+        ),
+        Err(e) => assert!(e.contains("overflow"), "an error must say why: {e}"),
+    }
 }
 
 #[test]
@@ -80,17 +88,21 @@ fn integer_powers_beyond_i32_are_rejected() {
     );
 }
 
+/// 2^4294967295 and 1.5^3e9 overflow f64: errors, never the 0.5 and 0
+/// that wrapping exponents once folded them to.
 #[test]
-fn constant_powers_fold_correctly_or_not_at_all() {
-    // 2^4294967295 overflows: an error, never 0.5; 1.5^3e9 likewise, never 0.
+fn constant_powers_that_overflow_are_rejected_not_folded_wrongly() {
     for body in [
         "struct S { coordinates: [x], mass: diag[1.0], forces: [2.0.powi(4294967295) * x] }",
         "struct S { coordinates: [x], mass: diag[1.0], forces: [1.5.powi(3000000000) * x] }",
     ] {
-        if let Ok(code) = outcome(body) {
-            assert!(!code.contains("0.5") && !code.contains("lit (0"), "{code}");
-        }
+        rejected(body, "powi");
     }
+    // In range, a constant power folds to its exact value.
+    let code =
+        outcome("struct S { coordinates: [x], mass: diag[1.0], forces: [2.0.powi(10) * x] }")
+            .expect("accepted");
+    assert!(code.contains("1024f64"), "2^10 folded to 1024: {code}");
 }
 
 #[test]
@@ -126,4 +138,112 @@ fn cfg_on_the_struct_is_rejected() {
         "#[cfg(test)] struct S { coordinates: [x], mass: diag[1.0] }",
         "cfg",
     );
+}
+
+/// Stack-hungry input (rustc runs the macro on an 8 MiB stack): deep
+/// nesting is a spanned error, not a crash of the compiler.
+fn expand_on_rustc_stack(body: String) -> Result<String, String> {
+    std::thread::Builder::new()
+        .stack_size(8 << 20)
+        .spawn(move || outcome(&body))
+        .expect("thread")
+        .join()
+        .expect("no panic")
+}
+
+#[test]
+fn deep_nesting_is_an_error_not_a_stack_overflow() {
+    for expression in [
+        format!("{}x{}", "(".repeat(1000), ")".repeat(1000)),
+        format!("{}x", "-".repeat(20_000)),
+        format!("x{}", ".sin()".repeat(20_000)),
+        vec!["x"; 20_000].join(" * "),
+    ] {
+        let body =
+            format!("struct S {{ coordinates: [x], mass: diag[1.0], forces: [{expression}] }}");
+        match expand_on_rustc_stack(body) {
+            Err(e) => assert!(e.contains("nests more than"), "{e}"),
+            Ok(_) => panic!("accepted"),
+        }
+    }
+    // Within the bound, the same shapes expand.
+    let body = format!(
+        "struct S {{ coordinates: [x], mass: diag[1.0], forces: [{}x{} + x{}] }}",
+        "(".repeat(100),
+        ")".repeat(100),
+        ".sin()".repeat(100)
+    );
+    assert!(expand_on_rustc_stack(body).is_ok());
+}
+
+/// Runs `body` with a watchdog: a regression to exponential time fails the
+/// test instead of hanging the suite. The bound is ~1000× the expected time.
+fn finishes(body: String) -> Result<String, String> {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .stack_size(8 << 20)
+        .spawn(move || send.send(outcome(&body)))
+        .expect("thread");
+    receive
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .expect("expansion did not finish in 60 s")
+}
+
+/// `dᵢ = dᵢ₋₁·dᵢ₋₁ + x`, 40 deep, is a DAG of 40 nodes whose tree has 2⁴⁰:
+/// each stage must work on the DAG (emission once rendered a base twice per
+/// level, 45 s at 20 levels).
+#[test]
+fn chained_definitions_expand_in_time_linear_in_the_dag() {
+    let defs: Vec<String> = (1..=40)
+        .map(|i| format!("d{i} = d{} * d{} + x", i - 1, i - 1))
+        .collect();
+    let body = format!(
+        "struct S {{ coordinates: [x, y], mass: diag[1.0, 1.0], definitions: [d0 = x * y + x.sin(), {}], \
+         forces: [d40, 0.0], constraints: [y == d40] }}",
+        defs.join(", ")
+    );
+    let code = finishes(body).expect("accepted");
+    assert!(code.len() < 1_000_000, "{} bytes", code.len());
+}
+
+#[test]
+fn nested_compositions_expand() {
+    let mut sin = "x".to_string();
+    let mut usinu = "x".to_string();
+    for _ in 0..120 {
+        sin = format!("{sin}.sin()");
+    }
+    for _ in 0..12 {
+        usinu = format!("(({usinu}) * ({usinu}).sin())");
+    }
+    for e in [sin, usinu] {
+        let body = format!(
+            "struct S {{ coordinates: [x, y], mass: diag[1.0, 1.0], forces: [{e}, 0.0], constraints: [y == {e}] }}"
+        );
+        finishes(body).expect("accepted");
+    }
+}
+
+#[test]
+fn contradictory_constraints_are_reported() {
+    rejected(
+        "struct S { coordinates: [x, y], mass: diag[1.0, 1.0], constraints: [x == 0.0, x == 1.0] }",
+        "no state satisfies",
+    );
+    rejected(
+        "struct S { coordinates: [x, y], mass: diag[1.0, 1.0], constraints: [x + y == 1.0, 2.0 * x + 2.0 * y == 3.0] }",
+        "no state satisfies",
+    );
+    rejected(
+        "struct S { coordinates: [x, y], mass: diag[1.0, 1.0], constraints: [dot(x) == 1.0, dot(x) == 2.0] }",
+        "no state satisfies",
+    );
+    // Redundant but consistent, and contradictory only for some parameter
+    // values: accepted.
+    for body in [
+        "struct S { coordinates: [x, y], mass: diag[1.0, 1.0], constraints: [x == 1.0, 2.0 * x == 2.0] }",
+        "struct S { coordinates: [x, y], parameters: [a, b], mass: diag[1.0, 1.0], constraints: [x == a, x == b] }",
+    ] {
+        assert!(outcome(body).is_ok(), "{body}");
+    }
 }

@@ -258,17 +258,21 @@ impl<'a> Body<'a> {
     /// `b^e` for `e > 0` as factors to multiply: `[b, b]` for `e = 2`,
     /// `[b.sqrt()]` for `e = 1/2`, `[b.powi(7)]`, `[b.powf(lit)]`.
     fn power(&self, b: Id, e: Num) -> Vec<TokenStream> {
-        let base = self.wrapped(b, Prec::Unary);
-        let atom = self.wrapped(b, Prec::Atom);
+        // Each arm renders the base once: rendering it twice and dropping
+        // one copy doubled the work per nesting level (exponential time).
+        let atom = || self.wrapped(b, Prec::Atom);
         match e.as_integer() {
-            Some(k) if k <= MAX_UNROLLED_POWER => vec![base; k as usize],
+            Some(k) if k <= MAX_UNROLLED_POWER => vec![self.wrapped(b, Prec::Unary); k as usize],
             Some(k) => {
-                let k = Literal::i32_unsuffixed(k as i32);
+                let (k, atom) = (Literal::i32_unsuffixed(k as i32), atom());
                 vec![quote! { #atom.powi(#k) }]
             }
-            None if e == Num::ratio(1, 2) => vec![quote! { #atom.sqrt() }],
+            None if e == Num::ratio(1, 2) => {
+                let atom = atom();
+                vec![quote! { #atom.sqrt() }]
+            }
             None => {
-                let (lit, _) = literal(e);
+                let ((lit, _), atom) = (literal(e), atom());
                 vec![quote! { #atom.powf(#lit) }]
             }
         }

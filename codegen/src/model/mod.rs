@@ -33,6 +33,8 @@ pub struct Constraint {
     pub phi: Id,
     /// Position or velocity level.
     pub level: Level,
+    /// The constraint's tokens, to span errors found after lowering.
+    pub tokens: proc_macro2::TokenStream,
 }
 
 /// A checked system: every expression is a node of `graph`.
@@ -337,7 +339,11 @@ impl Lowerer<'_> {
         if self.errors.count() == before {
             check::constraint_differentiable(self.errors, self.graph, phi, level, &c.tokens);
         }
-        Constraint { phi, level }
+        Constraint {
+            phi,
+            level,
+            tokens: c.tokens.clone(),
+        }
     }
 
     fn eliminate(&mut self, list: &List<Ident>) -> Vec<usize> {
