@@ -9,8 +9,8 @@ pub enum DynamicsError {
     /// non-positive diagonal entry, or its Cholesky factorization failed), so
     /// Gauss's principle has no minimiser.
     MassNotPositiveDefinite,
-    /// The inputs were not finite: the singular value decomposition of the
-    /// Moore–Penrose variant did not converge on them.
+    /// The inputs (state, parameters or a derived quantity) were not
+    /// finite, or the exact result is not representable in `T`.
     NonFinite,
 }
 
@@ -37,6 +37,9 @@ pub enum GibbsAppellError {
     /// The reduced mass matrix `B` is not positive definite, because `M` is
     /// not (or the inputs are not finite).
     MassNotPositiveDefinite,
+    /// The result is not finite: the inputs were not, or the exact result
+    /// is not representable in `T`.
+    NonFinite,
 }
 
 impl fmt::Display for GibbsAppellError {
@@ -48,6 +51,10 @@ impl fmt::Display for GibbsAppellError {
             }
             GibbsAppellError::MassNotPositiveDefinite => {
                 "the reduced mass matrix of the Gibbs–Appell form is not positive definite"
+            }
+            GibbsAppellError::NonFinite => {
+                "the Gibbs–Appell acceleration is not finite (non-finite input, or a result \
+                 beyond the range of the scalar type)"
             }
         })
     }

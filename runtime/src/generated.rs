@@ -6,8 +6,8 @@
 //! dependent `M(q)`, the Moore–Penrose form). Reached through the hidden
 //! path `constrained::__private`; not part of the public API.
 
-use crate::inverse::{rank_tolerance, PivotedLdlt};
-use crate::svd::JacobiSvd;
+use crate::inverse::PivotedLdlt;
+use crate::rank::{checked, moore_penrose, safe_minimum};
 use crate::{ConstrainedSystem, ConstraintLevel, DynamicsError, GibbsAppellError, State};
 use nalgebra::{RealField, SMatrix, SVector};
 
@@ -59,6 +59,10 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
     /// principle is solved for the auxiliary system `M + s AᵀA`,
     /// `F + s Aᵀb` (Udwadia & Schutte 2010; see `effective_mass`).
     const SEMIDEFINITE_MASS: bool = false;
+    /// The rank of `A` at consistent states, measured at compile time: `K`
+    /// less the model's redundancy. A rank decision that keeps this many
+    /// rows is accepted unchecked ([`crate::rank`]).
+    const GENERIC_RANK: usize = K;
     /// `M(q, t)`.
     fn mass_matrix(&self, q: &SVector<T, N>, t: T) -> SMatrix<T, N, N>;
     /// `F(q, q̇, t)`.
@@ -133,11 +137,11 @@ where
     }
     #[inline]
     fn acceleration(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
-        Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.0)
+        finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.0))
     }
     #[inline]
     fn acceleration_moore_penrose(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
-        moore_penrose(self, &s.q, &s.qd, s.t)
+        finite(moore_penrose(self, &s.q, &s.qd, s.t))
     }
     #[inline]
     fn acceleration_corrected(
@@ -145,11 +149,11 @@ where
         s: &State<T, N>,
         db: &SVector<T, K>,
     ) -> Result<SVector<T, N>, DynamicsError> {
-        Generated::gauss(self, &s.q, &s.qd, s.t, Some(db)).map(|m| m.0)
+        finite(Generated::gauss(self, &s.q, &s.qd, s.t, Some(db)).map(|m| m.0))
     }
     #[inline]
     fn constraint_force(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
-        Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.1)
+        finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.1))
     }
     #[inline]
     fn gibbs_appell_matrices(
@@ -163,7 +167,24 @@ where
         &self,
         s: &State<T, N>,
     ) -> Result<SVector<T, N>, GibbsAppellError> {
-        Generated::acceleration_gibbs_appell(self, &s.q, &s.qd, s.t)
+        let qdd = Generated::acceleration_gibbs_appell(self, &s.q, &s.qd, s.t)?;
+        if qdd.iter().all(|x| x.is_finite()) {
+            Ok(qdd)
+        } else {
+            Err(GibbsAppellError::NonFinite)
+        }
+    }
+}
+
+/// The contract of the `Result` methods: a non-finite value is an `Err`
+/// (the input was not finite, or the exact result is not representable).
+#[inline]
+fn finite<T: RealField + Copy, const N: usize>(
+    value: Result<SVector<T, N>, DynamicsError>,
+) -> Result<SVector<T, N>, DynamicsError> {
+    match value {
+        Ok(v) if !v.iter().all(|x| x.is_finite()) => Err(DynamicsError::NonFinite),
+        other => other,
     }
 }
 
@@ -211,7 +232,9 @@ where
         return Ok((acc, SVector::zeros()));
     }
     let w = chol.solve(&a.transpose());
-    let lambda = PivotedLdlt::new(&(a * w)).solve(&(b - a * acc));
+    let gram = a * w;
+    let ldlt = PivotedLdlt::new(&gram);
+    let lambda = ldlt.solve(&(b - a * acc));
     let qdd = acc + w * lambda;
     // The actual system's constraint force (the auxiliary one's λ carries
     // the added s AᵀA term).
@@ -220,7 +243,10 @@ where
     } else {
         a.transpose() * lambda
     };
-    Ok((qdd, force))
+    // A pivot of an underflowed S is not trusted either (crate::rank).
+    let underflow = gram.diagonal().iter().any(|&s| s < safe_minimum());
+    let kept = if underflow { 0 } else { ldlt.rank() };
+    Ok(checked(system, q, qd, t, correction, (qdd, force), kept))
 }
 
 /// The mass matrix and forces Gauss's principle is solved with: `(M, F)`
@@ -262,45 +288,4 @@ pub(crate) fn auxiliary_mass<T: RealField + Copy, const N: usize, const K: usize
         T::one()
     };
     (m + a.transpose() * a * s, s)
-}
-
-/// `q̈ = a + L⁻ᵀ (A L⁻ᵀ)⁺ (b − A a)` with `M = L Lᵀ` and the Moore–Penrose
-/// inverse by [`JacobiSvd`]; singular values below `√rank_tolerance` of the
-/// largest count as zero (the same `sin θ` threshold as the default
-/// {1}-inverse).
-pub fn moore_penrose<T, S, const N: usize, const K: usize>(
-    system: &S,
-    q: &SVector<T, N>,
-    qd: &SVector<T, N>,
-    t: T,
-) -> Result<SVector<T, N>, DynamicsError>
-where
-    T: RealField + Copy,
-    S: Generated<T, N, K>,
-{
-    let (a, b) = system.constraint_matrices(q, qd, t);
-    // A non-finite row would vanish from the SVD's rank and the constraint
-    // with it: the reference form says so instead.
-    if !(a.iter().all(|x| x.is_finite()) && b.iter().all(|x| x.is_finite())) {
-        return Err(DynamicsError::NonFinite);
-    }
-    let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
-    let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, &a, &b);
-    let (chol, acc) = unconstrained(m_eff, &f_eff)?;
-    if K == 0 {
-        return Ok(acc);
-    }
-    let l = chol.l();
-    // X = A L⁻ᵀ, computed as Xᵀ = L⁻¹ Aᵀ.
-    let xt = l
-        .solve_lower_triangular(&a.transpose())
-        .ok_or(DynamicsError::MassNotPositiveDefinite)?;
-    let svd = JacobiSvd::new(&xt.transpose()).ok_or(DynamicsError::NonFinite)?;
-    let cut = rank_tolerance::<T>().sqrt() * svd.singular_values().max();
-    let y = svd.solve(&(b - a * acc), cut);
-    let z = l
-        .transpose()
-        .solve_upper_triangular(&y)
-        .ok_or(DynamicsError::MassNotPositiveDefinite)?;
-    Ok(acc + z)
 }

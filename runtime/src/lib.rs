@@ -15,6 +15,7 @@ pub mod gibbs_appell;
 pub mod integrate;
 pub mod inverse;
 mod level;
+pub mod rank;
 pub mod stabilize;
 mod state;
 pub mod svd;
@@ -35,5 +36,6 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
-    pub use crate::generated::{gauss_dense, lit, moore_penrose, signum, step, Generated, Motion};
+    pub use crate::generated::{gauss_dense, lit, signum, step, Generated, Motion};
+    pub use crate::rank::{checked, moore_penrose, safe_minimum};
 }

@@ -10,6 +10,7 @@ mod arm;
 mod bead;
 mod crane;
 mod energy;
+mod four_bar;
 mod pendulum;
 mod rigid_body;
 mod rolling_disk;
@@ -21,6 +22,7 @@ pub use arm::TwoLinkArmOnLine;
 pub use bead::BeadOnRotatingHoop;
 pub use crane::Crane;
 pub use energy::{CartPole, DoublePendulumAngles};
+pub use four_bar::{four_bar_acceleration, four_bar_state, ParallelogramFourBar};
 pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };

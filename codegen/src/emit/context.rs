@@ -26,14 +26,17 @@ pub(super) struct Context<'a> {
     pub n: usize,
     /// Number of constraints `k`.
     pub k: usize,
+    /// The rank of `A` at consistent states (`k` less the redundancy).
+    pub generic_rank: usize,
 }
 
 impl<'a> Context<'a> {
-    pub(super) fn new(eq: &'a Equations) -> Self {
+    pub(super) fn new(eq: &'a Equations, generic_rank: usize) -> Self {
         Context {
             eq,
             n: eq.system.dof(),
             k: eq.a.len(),
+            generic_rank,
         }
     }
 

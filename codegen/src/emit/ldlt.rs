@@ -101,6 +101,24 @@ impl<'a> StructuredLdlt<'a> {
         out
     }
 
+    /// The number of rows the factorization kept, as a `usize` expression:
+    /// pivots not dropped whose diagonal entry of `S` is not so small that
+    /// underflow may have spoilt it (`safe_minimum`). For k = 1 the solve
+    /// divides by any positive `S`.
+    pub(super) fn kept(&self) -> TokenStream {
+        let safe = quote!(::constrained::__private::safe_minimum::<T>());
+        let k = self.k();
+        if k == 1 {
+            let s = Self::entry(0, 0);
+            return quote!(usize::from(#s > #safe));
+        }
+        let terms = (0..k).map(|j| {
+            let (inv, sjj) = (Context::local("inv", j), self.s(j, j));
+            quote!(usize::from(#inv != T::zero() && #sjj > #safe))
+        });
+        quote!(#(#terms)+*)
+    }
+
     /// The solve step for the right-hand side `rhs` (one local per
     /// constraint, in constraint order): forward substitution into
     /// `__{y}{i}`, then back substitution into `out` (one local per

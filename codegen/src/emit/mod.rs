@@ -25,7 +25,7 @@ use std::collections::HashMap;
 
 /// Emits the struct, its constants and its functions.
 pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
-    let ctx = Context::new(eq);
+    let ctx = Context::new(eq, partition.rank);
     let sys = &eq.system;
     let (n, k) = (ctx.n, ctx.k);
     let (n_lit, k_lit) = (Context::dim(n), Context::dim(k));

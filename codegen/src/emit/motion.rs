@@ -132,10 +132,17 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
             const SEMIDEFINITE_MASS: bool = true;
         )
     });
+    let generic_rank = (ctx.generic_rank < ctx.k).then(|| {
+        let r = Context::dim(ctx.generic_rank);
+        quote!(
+            const GENERIC_RANK: usize = #r;
+        )
+    });
     quote! {
         impl<T: ::constrained::nalgebra::RealField + Copy> #generated for #name<T> {
             const CONSTRAINT_LEVELS: [#level; #k] = Self::CONSTRAINT_LEVELS;
             #semidefinite
+            #generic_rank
             #[inline]
             fn mass_matrix(&self, #positions) -> #m { Self::mass_matrix(self, q, t) }
             #[inline]
@@ -233,12 +240,30 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
     let vector = ctx.vector(ctx.n);
+    // The rank decision, checked after the fact (`constrained::rank`):
+    // where fewer rows than the generic rank were kept, the runtime
+    // verifies the dropped ones and recomputes if they are violated.
+    let motion = if k == 0 {
+        quote!((#acc, #force))
+    } else {
+        let (kept, r) = (ldlt.kept(), Context::dim(ctx.generic_rank));
+        let checked = ctx.private(quote!(checked));
+        quote! {{
+            let __motion = (#acc, #force);
+            let __kept: usize = #kept;
+            if __kept < #r {
+                #checked(self, q, qd, t, correction, __motion, __kept)
+            } else {
+                __motion
+            }
+        }}
+    };
     let (ret, value) = if d.known_positive {
-        (quote!((#vector, #vector)), quote!((#acc, #force)))
+        (quote!((#vector, #vector)), motion)
     } else {
         (
             ctx.result(quote!((#vector, #vector)), quote!(DynamicsError)),
-            quote!(::core::result::Result::Ok((#acc, #force))),
+            quote!(::core::result::Result::Ok(#motion)),
         )
     };
     let corrected = (k > 0).then(|| {

@@ -69,7 +69,7 @@ pub use explicit::ExplicitRungeKutta;
 pub use tableau::Tableau;
 
 use crate::stabilize::{baumgarte_correction, project, Stabilization};
-use crate::{ConstrainedSystem, IntegrationError, State};
+use crate::{ConstrainedSystem, DynamicsError, IntegrationError, State};
 use nalgebra::{RealField, SVector};
 
 /// Classical fourth-order Runge–Kutta with a fixed step: four evaluations a
@@ -164,12 +164,13 @@ where
         Some(db) => system.acceleration_corrected(state, &db),
         None => system.acceleration(state),
     }
-    .map_err(|error| IntegrationError::Dynamics { t: state.t, error })?;
-    if qdd.iter().all(|x| x.is_finite()) {
-        Ok((state.qd, qdd))
-    } else {
-        Err(IntegrationError::NonFiniteState { t: state.t })
-    }
+    .map_err(|error| match error {
+        // The acceleration of a stage blew up: the state is on its way to
+        // non-finite values, which is what the caller is told.
+        DynamicsError::NonFinite => IntegrationError::NonFiniteState { t: state.t },
+        error => IntegrationError::Dynamics { t: state.t, error },
+    })?;
+    Ok((state.qd, qdd))
 }
 
 /// After an accepted step: finite check, then projection if asked for.

@@ -1,0 +1,237 @@
+//! The rank decision, checked after the fact.
+//!
+//! The fast solve of `S λ = r` drops a constraint whose pivot falls below
+//! [`rank_tolerance`] (a loose `sin²θ < 1e-6`, [`crate::inverse`]). That is
+//! right for redundancy, and wrong near a branch point: a four-bar linkage
+//! close to its collinear configuration still has a full-rank `A` at
+//! `θ = 1e-4`, but `sin²θ ≈ 3e-10` there, and dropping the row returned a
+//! `q̈` that violates `A q̈ = b` by `1.8 θ` relative. So a drop is accepted
+//! only when one of these holds:
+//!
+//! 1. **The drop is the redundancy of the model.** The macro measures the
+//!    rank `r` of `A` at consistent states at compile time
+//!    (`Generated::GENERIC_RANK`). Keeping `r` rows is what a redundant model
+//!    does everywhere on its constraint surface, and near it, where an
+//!    integrator's stages sit and the redundant rows are only weakly
+//!    independent (enforcing them there gives spurious forces).
+//! 2. **The dropped rows are satisfied anyway.** Every row's residual after
+//!    the solve, `|Aᵢ q̈ − bᵢ|`, is at most [`consistency_tolerance`] times
+//!    its scale `Σⱼ |Aᵢⱼ q̈ⱼ| + |bᵢ|`.
+//!
+//! Otherwise the acceleration is recomputed by [`minimum_norm_motion`]: the
+//! Moore–Penrose form on the rows scaled to unit size (no squaring of `A`,
+//! so no loss of the small singular values, and no underflow of `A M⁻¹ Aᵀ`
+//! for tiny coordinates in `f32`), keeping every singular value above
+//! rounding level, at most `r` of them. A row kept near a branch point gives
+//! the large, physical constraint force.
+//!
+//! Limits: where `A q̈ = b` has no solution at all (exactly at a branch
+//! point with an inconsistent `b`, or contradictory constraints at a state),
+//! the result is the least-squares one; [`relative_residual`] tells. Near a
+//! branch point of a *redundant* model, a drop of no more rows than the
+//! model's redundancy is accepted unchecked (rule 1).
+
+use crate::generated::{effective_mass, Generated, Motion};
+use crate::inverse::rank_tolerance;
+use crate::svd::JacobiSvd;
+use crate::DynamicsError;
+use nalgebra::{RealField, SMatrix, SVector};
+
+/// The largest relative row residual accepted after a row was dropped:
+/// `1000 ε` (2.2e-13 in `f64`, 1.2e-4 in `f32`).
+#[inline]
+pub fn consistency_tolerance<T: RealField + Copy>() -> T {
+    T::default_epsilon() * nalgebra::convert::<f64, T>(1000.0)
+}
+
+/// Below this, a diagonal entry of `S = A M⁻¹ Aᵀ` may have lost its
+/// precision to underflow (`ε⁴`: 1.9e-28 in `f32`, 2.4e-63 in `f64`), and a
+/// kept pivot is verified like a dropped one.
+#[inline]
+pub fn safe_minimum<T: RealField + Copy>() -> T {
+    let eps = T::default_epsilon();
+    (eps * eps) * (eps * eps)
+}
+
+/// `maxᵢ |Aᵢ q̈ − bᵢ| / (Σⱼ |Aᵢⱼ q̈ⱼ| + |bᵢ|)`: how far `q̈` is from
+/// satisfying each row of `A q̈ = b`, relative to the row's own terms (0 for
+/// a row whose terms all vanish). NaN input gives NaN.
+pub fn relative_residual<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    qdd: &SVector<T, N>,
+) -> T {
+    let mut worst = T::zero();
+    for i in 0..K {
+        let (mut value, mut scale) = (-b[i], b[i].abs());
+        for j in 0..N {
+            let term = a[(i, j)] * qdd[j];
+            value += term;
+            scale += term.abs();
+        }
+        let relative = if scale > T::zero() {
+            value.abs() / scale
+        } else {
+            value.abs()
+        };
+        #[allow(clippy::eq_op)] // NaN is the one value unequal to itself
+        if relative != relative {
+            return relative;
+        }
+        if relative > worst {
+            worst = relative;
+        }
+    }
+    worst
+}
+
+/// The fast solve's `candidate`, which kept `kept` rows, checked by the
+/// rules of the module docs; the minimum-norm recomputation where they fail.
+/// Never fails: where the recomputation cannot be done (a mass matrix that
+/// is not positive definite, non-finite input) the candidate is returned,
+/// and the callers' own checks report it.
+pub fn checked<T, S, const N: usize, const K: usize>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    correction: Option<&SVector<T, K>>,
+    candidate: Motion<T, N>,
+    kept: usize,
+) -> Motion<T, N>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    if kept >= S::GENERIC_RANK {
+        return candidate;
+    }
+    let (a, b) = system.constraint_matrices(q, qd, t);
+    let b = match correction {
+        Some(db) => b + db,
+        None => b,
+    };
+    if relative_residual(&a, &b, &candidate.0) <= consistency_tolerance() {
+        return candidate;
+    }
+    let tight = T::default_epsilon() * nalgebra::convert::<f64, T>((4 * (N + K)) as f64);
+    minimum_norm_motion(system, q, qd, t, &a, &b, tight, S::GENERIC_RANK).unwrap_or(candidate)
+}
+
+/// `q̈ = a + L⁻ᵀ (D A L⁻ᵀ)⁺ D (b − A a)` with `M = L Lᵀ` (or the auxiliary
+/// mass of a semi-definite `M`) and `D` scaling each row of `A` to unit
+/// largest entry, which changes nothing in `A q̈ = b` but keeps the SVD away
+/// from overflow and underflow. Singular values at or below `relative_cut`
+/// times the largest count as zero, and so do all but the `max_rank`
+/// largest. Returns `(q̈, Fᶜ)`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn minimum_norm_motion<T, S, const N: usize, const K: usize>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    relative_cut: T,
+    max_rank: usize,
+) -> Result<Motion<T, N>, DynamicsError>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    // A non-finite row would vanish from the SVD's rank and the constraint
+    // with it: say so instead.
+    if !(a.iter().all(|x| x.is_finite()) && b.iter().all(|x| x.is_finite())) {
+        return Err(DynamicsError::NonFinite);
+    }
+    let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
+    let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, a, b);
+    let chol =
+        nalgebra::linalg::Cholesky::new(m_eff).ok_or(DynamicsError::MassNotPositiveDefinite)?;
+    let acc = chol.solve(&f_eff);
+    if K == 0 {
+        return Ok((acc, SVector::zeros()));
+    }
+    let (mut scaled_a, mut scaled_r) = (*a, b - a * acc);
+    for i in 0..K {
+        let largest = scaled_a.row(i).amax();
+        if largest > T::zero() {
+            let inverse = T::one() / largest;
+            scaled_a.row_mut(i).scale_mut(inverse);
+            scaled_r[i] *= inverse;
+        }
+    }
+    let l = chol.l();
+    // X = D A L⁻ᵀ, computed as Xᵀ = L⁻¹ (D A)ᵀ.
+    let xt = l
+        .solve_lower_triangular(&scaled_a.transpose())
+        .ok_or(DynamicsError::MassNotPositiveDefinite)?;
+    let svd = JacobiSvd::new(&xt.transpose()).ok_or(DynamicsError::NonFinite)?;
+    let sigma = svd.singular_values();
+    let mut cut = relative_cut * sigma.max();
+    if max_rank < K {
+        // The (max_rank + 1)-th largest singular value, and all below it, go.
+        let mut sorted = sigma;
+        sorted
+            .as_mut_slice()
+            .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
+        cut = cut.max(sorted[max_rank]);
+    }
+    let y = svd.solve(&scaled_r, cut);
+    let z = l
+        .transpose()
+        .solve_upper_triangular(&y)
+        .ok_or(DynamicsError::MassNotPositiveDefinite)?;
+    let qdd = acc + z;
+    let force = if S::SEMIDEFINITE_MASS {
+        m * qdd - f
+    } else {
+        l * y // M z = L Lᵀ L⁻ᵀ y
+    };
+    Ok((qdd, force))
+}
+
+/// The Moore–Penrose form of eq. 24 (`acceleration_moore_penrose`):
+/// [`minimum_norm_motion`] with singular values below `√rank_tolerance` of
+/// the largest counted as zero (the same `sin θ` threshold as the default
+/// {1}-inverse).
+pub fn moore_penrose<T, S, const N: usize, const K: usize>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+) -> Result<SVector<T, N>, DynamicsError>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    let (a, b) = system.constraint_matrices(q, qd, t);
+    let cut = rank_tolerance::<T>().sqrt();
+    minimum_norm_motion(system, q, qd, t, &a, &b, cut, K).map(|m| m.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix2x3, Vector2, Vector3};
+
+    #[test]
+    fn relative_residual_is_scale_free_and_zero_for_exact_rows() {
+        let a = Matrix2x3::new(1.0, 2.0, 0.0, 0.0, 1e-30, 1e-30);
+        let qdd = Vector3::new(1.0, 1.0, 1.0);
+        let b = Vector2::new(3.0, 2e-30);
+        assert_eq!(relative_residual(&a, &b, &qdd), 0.0);
+        // Off by 1% of its own terms in the tiny row.
+        let b = Vector2::new(3.0, 2e-30 * 1.01);
+        let r: f64 = relative_residual(&a, &b, &qdd);
+        assert!((r - 0.02 / 4.02).abs() < 1e-12, "{r}");
+        assert!(relative_residual(&a, &Vector2::new(f64::NAN, 0.0), &qdd).is_nan());
+    }
+
+    #[test]
+    fn tolerances_in_f32_and_f64() {
+        assert!((consistency_tolerance::<f64>() - 2.22e-13).abs() < 1e-15);
+        assert!((consistency_tolerance::<f32>() - 1.19e-4).abs() < 1e-6);
+        assert!(safe_minimum::<f32>() > 0.0 && safe_minimum::<f32>() < 1e-27);
+    }
+}

@@ -1,0 +1,112 @@
+//! Rank decisions checked after the fact (issue 13; `constrained::rank`):
+//! a row dropped by the loose `sin²θ` cutoff must be consistent, or it is
+//! kept. The oracle is the parallelogram four-bar near its branch point,
+//! whose motion on the parallelogram branch is known in closed form.
+
+use constrained::models::{four_bar_acceleration, four_bar_state, ParallelogramFourBar};
+use constrained::rank::relative_residual;
+use constrained::{ConstrainedSystem, State};
+
+fn four_bar() -> ParallelogramFourBar<f64> {
+    // m, jm, l, d, g
+    ParallelogramFourBar::new(1.2, 0.15, 1.0, 2.0, 9.81)
+}
+
+const ANGLES: [f64; 8] = [1e-1, 1e-2, 1e-3, 5e-4, 1e-4, 1e-5, 1e-6, 1e-8];
+
+#[test]
+fn near_the_branch_point_a_qdd_equals_b_and_the_motion_is_the_physical_one() {
+    let system = four_bar();
+    for theta in ANGLES {
+        for omega in [0.0, 1.3, -2.0] {
+            let s = four_bar_state(&system, theta, omega);
+            let qdd = system
+                .acceleration(&s.q, &s.qd, s.t)
+                .expect("positive masses");
+            let (a, b) = system.constraint_matrices(&s.q, &s.qd, s.t);
+            let residual = relative_residual(&a, &b, &qdd);
+            assert!(
+                residual <= 1e-10,
+                "θ = {theta:e}, ω = {omega}: relative residual {residual:e}"
+            );
+            let exact = four_bar_acceleration(&system, theta, omega);
+            let error = (qdd - exact).amax() / exact.amax();
+            assert!(
+                error <= 1e-6,
+                "θ = {theta:e}, ω = {omega}: relative error {error:e} against the closed form"
+            );
+        }
+    }
+}
+
+#[test]
+fn gibbs_appell_agrees_wherever_it_answers() {
+    let system = four_bar();
+    for theta in ANGLES {
+        let s = four_bar_state(&system, theta, 1.3);
+        let gi = system
+            .acceleration(&s.q, &s.qd, s.t)
+            .expect("positive masses");
+        match system.acceleration_gibbs_appell(&s.q, &s.qd, s.t) {
+            Ok(ga) => {
+                let difference = (ga - gi).amax() / gi.amax();
+                assert!(
+                    difference <= 1e-8,
+                    "θ = {theta:e}: GA − GI = {difference:e}"
+                );
+            }
+            Err(e) => assert_eq!(
+                e,
+                constrained::GibbsAppellError::RankDeficient,
+                "θ = {theta:e}"
+            ),
+        }
+    }
+}
+
+#[test]
+fn the_state_form_agrees_with_the_plain_form() {
+    let system = four_bar();
+    let s: State<f64, 9> = four_bar_state(&system, 1e-5, 1.3);
+    let plain = system
+        .acceleration(&s.q, &s.qd, s.t)
+        .expect("positive masses");
+    let via_state = ConstrainedSystem::acceleration(&system, &s).expect("finite");
+    assert_eq!(plain, via_state);
+}
+
+/// In `f32`, a double pendulum 1e-20 in size has `S = A M⁻¹ Aᵀ ~ 1e-40`,
+/// below the smallest normal number: the fast solve saw `S` as (nearly)
+/// zero and dropped the constraints (relative residual ≈ 1). Underflow-prone
+/// pivots are verified, and the recomputation scales the rows first.
+#[test]
+fn f32_tiny_coordinates_keep_their_constraints() {
+    use constrained::models::DoublePendulum;
+    // At 1e-22 the squared velocities in b are themselves subnormal (~1e-44,
+    // a few units of the smallest f32): the inputs carry ~1% precision.
+    for (size, tolerance) in [(1e-15f32, 1e-4), (1e-20, 1e-3), (1e-22, 5e-2)] {
+        let system = DoublePendulum::new(1.0f32, 2.0, size, size, 9.81 * size);
+        let state = system.state_from_angles(0.0, [0.4, -0.7], [0.9, 0.3]);
+        let qdd = system
+            .acceleration(&state.q, &state.qd, state.t)
+            .expect("positive masses");
+        let (a, b) = system.constraint_matrices(&state.q, &state.qd, state.t);
+        let residual = relative_residual(&a, &b, &qdd);
+        assert!(
+            residual <= 1e-3,
+            "size {size:e}: relative residual {residual:e}"
+        );
+        // The same state in f64, where nothing underflows.
+        let system64 = DoublePendulum::new(1.0, 2.0, size as f64, size as f64, 9.81 * size as f64);
+        let (q64, qd64) = (state.q.cast::<f64>(), state.qd.cast::<f64>());
+        let reference = system64
+            .acceleration(&q64, &qd64, 0.0)
+            .expect("positive masses");
+        let error = (qdd.cast::<f64>() - reference).amax() / reference.amax();
+        println!("size {size:e}: relative residual {residual:e}, error {error:e} against f64");
+        assert!(
+            error <= tolerance,
+            "size {size:e}: error {error:e} against f64"
+        );
+    }
+}
