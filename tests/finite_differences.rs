@@ -128,6 +128,9 @@ agrees_with_finite_differences!(two_link_arm_on_line, TwoLinkArmOnLine, 2, |p| {
 agrees_with_finite_differences!(slider_crank, SliderCrank, 4, |p| {
     SliderCrank::new(p[0], p[1], p[2], p[3], p[4], p[5])
 });
+agrees_with_finite_differences!(parallelogram_four_bar, ParallelogramFourBar, 9, |p| {
+    ParallelogramFourBar::new(p[0], p[1], p[2], p[3], p[4])
+});
 agrees_with_finite_differences!(crane, Crane, 3, |p| {
     Crane::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], 1.0)
 });

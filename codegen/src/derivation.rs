@@ -124,7 +124,7 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
         let _ = writeln!(w, "  b{s} = {}", p.print(b));
     }
     let _ = writeln!(w);
-    generalized_inverse(w, eq, &p, &coordinates);
+    generalized_inverse(w, eq, &p, &coordinates, partition.rank);
     let _ = writeln!(w);
     gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
     out
@@ -251,7 +251,13 @@ fn gibbs_appell(
 }
 
 /// The generalized-inverse equation (eq. 26) as it is solved.
-fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates: &[String]) {
+fn generalized_inverse(
+    w: &mut String,
+    eq: &Equations,
+    p: &Printer,
+    coordinates: &[String],
+    rank: usize,
+) {
     let g = &eq.system.graph;
     let k = eq.a.len();
     let _ = writeln!(
@@ -307,7 +313,9 @@ fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates:
         1 => {
             let _ = writeln!(
                 w,
-                "  λ₁ = (b − A a)₁ / (A M⁻¹ Aᵀ)₁₁, and 0 where A M⁻¹ Aᵀ = 0 (A = 0)"
+                "  λ₁ = (b − A a)₁ / (A M⁻¹ Aᵀ)₁₁; where A M⁻¹ Aᵀ vanishes (or underflows), \
+                 q̈ is checked against A q̈ = b at run time and, if it fails, recomputed by \
+                 the row-scaled Moore–Penrose form"
             );
         }
         _ => {
@@ -319,7 +327,9 @@ fn generalized_inverse(w: &mut String, eq: &Equations, p: &Printer, coordinates:
                 w,
                 "  λ by LDLᵀ of A M⁻¹ Aᵀ on its compile-time pattern, eliminating \
                  constraints in the order {}\n  ({fill} of {} subdiagonal entries of L nonzero); \
-                 rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)",
+                 rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)\n  \
+                 when at least rank A = {rank} rows remain or every row still holds to 1000ε \
+                 (checked at run time); otherwise q̈ is recomputed by the row-scaled Moore–Penrose form",
                 d.order
                     .iter()
                     .map(|i| format!("φ{}", subscript(i + 1)))

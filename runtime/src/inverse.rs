@@ -108,6 +108,13 @@ impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
         self.d.iter().filter(|x| **x != T::zero()).count()
     }
 
+    /// Whether row `row` of `S` was kept (a nonzero pivot), not dropped as
+    /// dependent on the others. `false` for a row out of range.
+    #[must_use]
+    pub fn is_kept(&self, row: usize) -> bool {
+        (0..K).any(|step| self.order[step] == row && self.d[step] != T::zero())
+    }
+
     /// `λ = S^{1} r` with the {1}-inverse `Pᵀ L⁻ᵀ D⁺ L⁻¹ P`: for a
     /// consistent system (`r` in the range of `S`) `S λ = r`, and `Aᵀλ` is
     /// the same as with the Moore–Penrose inverse.
