@@ -12,6 +12,11 @@ pub enum DynamicsError {
     /// The inputs (state, parameters or a derived quantity) were not
     /// finite, or the exact result is not representable in `T`.
     NonFinite,
+    /// No acceleration satisfies `A q̈ = b` to working precision here: the
+    /// constraints contradict each other at this state (e.g. exactly at a
+    /// singular configuration), or are too ill-conditioned for `T`
+    /// (`constrained::rank`).
+    Unsatisfiable,
 }
 
 impl fmt::Display for DynamicsError {
@@ -21,6 +26,9 @@ impl fmt::Display for DynamicsError {
                 "the mass matrix is not positive definite at this state"
             }
             DynamicsError::NonFinite => "the state or a derived quantity is not finite",
+            DynamicsError::Unsatisfiable => {
+                "no acceleration satisfies the constraints to working precision at this state"
+            }
         })
     }
 }
@@ -40,6 +48,11 @@ pub enum GibbsAppellError {
     /// The result is not finite: the inputs were not, or the exact result
     /// is not representable in `T`.
     NonFinite,
+    /// The form is too ill-conditioned here to give `q̈` to `√ε`: the
+    /// reduced mass matrix `B` has condition beyond `1/√ε`, or the result
+    /// violates its rows of `A q̈ = b` by more than `√ε` (relative). The
+    /// generalized-inverse form is better conditioned.
+    IllConditioned,
 }
 
 impl fmt::Display for GibbsAppellError {
@@ -51,6 +64,10 @@ impl fmt::Display for GibbsAppellError {
             }
             GibbsAppellError::MassNotPositiveDefinite => {
                 "the reduced mass matrix of the Gibbs–Appell form is not positive definite"
+            }
+            GibbsAppellError::IllConditioned => {
+                "the Gibbs–Appell form is too ill-conditioned at this state to give q̈ to \
+                 working precision (use the generalized-inverse form)"
             }
             GibbsAppellError::NonFinite => {
                 "the Gibbs–Appell acceleration is not finite (non-finite input, or a result \

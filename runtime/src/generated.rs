@@ -226,6 +226,10 @@ where
         None => b,
     };
     let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
+    // An overflowed M or F would be solved as a limit (1/∞ = 0): say so.
+    if !(m.iter().all(|x| x.is_finite()) && f.iter().all(|x| x.is_finite())) {
+        return Err(DynamicsError::NonFinite);
+    }
     let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, &a, &b);
     let (chol, acc) = unconstrained(m_eff, &f_eff)?;
     if K == 0 {
@@ -246,7 +250,7 @@ where
     // A pivot of an underflowed S is not trusted either (crate::rank).
     let underflow = gram.diagonal().iter().any(|&s| s < safe_minimum());
     let kept = if underflow { 0 } else { ldlt.rank() };
-    Ok(checked(system, q, qd, t, correction, (qdd, force), kept))
+    checked(system, q, qd, t, correction, (qdd, force), kept)
 }
 
 /// The mass matrix and forces Gauss's principle is solved with: `(M, F)`

@@ -105,10 +105,34 @@ pub fn acceleration<
     preferred: &[usize; R],
     mass_coupled: bool,
 ) -> Result<SVector<T, N>, GibbsAppellError> {
+    // Each row of A q̈ = b scaled to unit largest entry: the same equations
+    // and null space, but A_eᵀA_e neither overflows nor underflows for
+    // coordinates far from 1 (1e154 or 1e-154 in f64).
+    let (mut a_scaled, mut b_scaled) = (*a, *b);
+    for i in 0..K {
+        let largest = a_scaled.row(i).amax();
+        if largest > T::zero() {
+            a_scaled.row_mut(i).unscale_mut(largest);
+            b_scaled[i] /= largest;
+        }
+    }
+    let (a, b) = (&a_scaled, &b_scaled);
     let p = partition::<T, N, K, R, I>(a, b, m, f, preferred, mass_coupled)?;
-    let qdd_i = nalgebra::linalg::Cholesky::new(p.reduced_mass)
-        .ok_or(GibbsAppellError::MassNotPositiveDefinite)?
-        .solve(&p.reduced_force);
+    let cholesky = nalgebra::linalg::Cholesky::new(p.reduced_mass)
+        .ok_or(GibbsAppellError::MassNotPositiveDefinite)?;
+    // (max Lᵢᵢ / min Lᵢᵢ)² bounds cond(B) from below: beyond 1/√ε the
+    // reduced solve cannot give q̈ to √ε, and the result is not returned.
+    let diagonal = cholesky.l_dirty().diagonal();
+    let (largest, smallest) = (diagonal.max(), diagonal.min());
+    let limit = T::one() / T::default_epsilon().sqrt();
+    // A B at underflow scale (a quaternion model's M at |e| ~ 1e-155) has
+    // lost its digits whatever its condition.
+    let underflow = largest * largest < crate::rank::safe_minimum();
+    let positive = smallest.partial_cmp(&T::zero()) == Some(core::cmp::Ordering::Greater);
+    if underflow || !positive || (largest / smallest) * (largest / smallest) > limit {
+        return Err(GibbsAppellError::IllConditioned);
+    }
+    let qdd_i = cholesky.solve(&p.reduced_force);
     let square = SMatrix::<T, R, R>::from_fn(|i, j| a[(p.rows[i], p.eliminated[j])]);
     let top = SVector::<T, R>::from_fn(|i, _| b[p.rows[i]] - (p.a_i.row(p.rows[i]) * qdd_i)[0]);
     let qdd_e = solve_square(square, top).ok_or(GibbsAppellError::RankDeficient)?;
@@ -118,6 +142,20 @@ pub fn acceleration<
     }
     for (j, &col) in p.independent.iter().enumerate() {
         qdd[col] = qdd_i[j];
+    }
+    // The r chosen rows of A q̈ = b must hold (to √ε, the form's accuracy).
+    let chosen_a = SMatrix::<T, R, N>::from_fn(|i, j| a[(p.rows[i], j)]);
+    let chosen_b = SVector::<T, R>::from_fn(|i, _| b[p.rows[i]]);
+    let residual = crate::rank::relative_residual(&chosen_a, &chosen_b, &qdd);
+    let accurate = residual.partial_cmp(&T::default_epsilon().sqrt())
+        != Some(core::cmp::Ordering::Greater)
+        && residual.is_finite();
+    if !accurate {
+        return Err(if residual.is_finite() {
+            GibbsAppellError::IllConditioned
+        } else {
+            GibbsAppellError::NonFinite
+        });
     }
     Ok(qdd)
 }

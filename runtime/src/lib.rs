@@ -37,5 +37,7 @@ pub use system::ConstrainedSystem;
 pub mod __private {
     //! Items used by generated code; not part of the public API.
     pub use crate::generated::{gauss_dense, lit, signum, step, Generated, Motion};
-    pub use crate::rank::{checked, moore_penrose, safe_minimum};
+    pub use crate::rank::{
+        cancellation_limit, checked, least_squares, moore_penrose, safe_minimum,
+    };
 }

@@ -25,11 +25,23 @@
 //! rounding level, at most `r` of them. A row kept near a branch point gives
 //! the large, physical constraint force.
 //!
-//! Limits: where `A q̈ = b` has no solution at all (exactly at a branch
-//! point with an inconsistent `b`, or contradictory constraints at a state),
-//! the result is the least-squares one; [`relative_residual`] tells. Near a
-//! branch point of a *redundant* model, a drop of no more rows than the
-//! model's redundancy is accepted unchecked (rule 1).
+//! Where the recomputation does not satisfy `A q̈ = b` either (it has no
+//! solution here — exactly at a singular configuration with an inconsistent
+//! `b` — or none that `T` resolves, e.g. masses 1e150 apart), the `Result`
+//! methods return `Err(DynamicsError::Unsatisfiable)` and the plain-valued
+//! ones (constant positive definite `M`) the [`least_squares`] solution
+//! (never NaN for finite input, unless it is not representable).
+//!
+//! A third trigger: where the unconstrained acceleration `a` exceeds `q̈`
+//! by [`cancellation_limit`] (`q̈ = a + M⁻¹Aᵀλ` cancelled more than half
+//! its digits, e.g. a light trolley under a 1e154 kg load), the fast
+//! solve's answer is verified as if a row had been dropped.
+//!
+//! Limits, for *redundant* models: near a branch point a drop of no more
+//! rows than the model's redundancy is accepted unchecked (rule 1), the
+//! recomputation keeps the `r` strongest directions without a final check
+//! (off the surface the rows it drops are violated by design), and the
+//! cancellation trigger is off.
 
 use crate::generated::{effective_mass, Generated, Motion};
 use crate::inverse::rank_tolerance;
@@ -44,6 +56,14 @@ pub fn consistency_tolerance<T: RealField + Copy>() -> T {
     T::default_epsilon() * nalgebra::convert::<f64, T>(1000.0)
 }
 
+/// `1/√ε`: where the unconstrained acceleration exceeds `q̈` by this
+/// factor, `q̈ = a + M⁻¹Aᵀλ` has cancelled more than half its digits, and
+/// the fast solve's answer is verified (`checked`).
+#[inline]
+pub fn cancellation_limit<T: RealField + Copy>() -> T {
+    T::one() / T::default_epsilon().sqrt()
+}
+
 /// Below this, a diagonal entry of `S = A M⁻¹ Aᵀ` may have lost its
 /// precision to underflow (`ε⁴`: 1.9e-28 in `f32`, 2.4e-63 in `f64`), and a
 /// kept pivot is verified like a dropped one.
@@ -53,22 +73,25 @@ pub fn safe_minimum<T: RealField + Copy>() -> T {
     (eps * eps) * (eps * eps)
 }
 
-/// `maxᵢ |Aᵢ q̈ − bᵢ| / (Σⱼ |Aᵢⱼ q̈ⱼ| + |bᵢ|)`: how far `q̈` is from
-/// satisfying each row of `A q̈ = b`, relative to the row's own terms (0 for
-/// a row whose terms all vanish). NaN input gives NaN.
+/// `maxᵢ |Aᵢ q̈ − bᵢ| / (‖Aᵢ‖₁ ‖q̈‖∞ + |bᵢ|)`: how far `q̈` is from
+/// satisfying each row of `A q̈ = b`, relative to the size its terms can
+/// have (rounding in `q̈` is relative to `‖q̈‖`, not to the components the
+/// row happens to touch; 0 for a row whose terms all vanish). NaN input
+/// gives NaN.
 pub fn relative_residual<T: RealField + Copy, const N: usize, const K: usize>(
     a: &SMatrix<T, K, N>,
     b: &SVector<T, K>,
     qdd: &SVector<T, N>,
 ) -> T {
     let mut worst = T::zero();
+    let size = qdd.amax();
     for i in 0..K {
-        let (mut value, mut scale) = (-b[i], b[i].abs());
+        let (mut value, mut row) = (-b[i], T::zero());
         for j in 0..N {
-            let term = a[(i, j)] * qdd[j];
-            value += term;
-            scale += term.abs();
+            value += a[(i, j)] * qdd[j];
+            row += a[(i, j)].abs();
         }
+        let scale = row * size + b[i].abs();
         let relative = if scale > T::zero() {
             value.abs() / scale
         } else {
@@ -86,10 +109,10 @@ pub fn relative_residual<T: RealField + Copy, const N: usize, const K: usize>(
 }
 
 /// The fast solve's `candidate`, which kept `kept` rows, checked by the
-/// rules of the module docs; the minimum-norm recomputation where they fail.
-/// Never fails: where the recomputation cannot be done (a mass matrix that
-/// is not positive definite, non-finite input) the candidate is returned,
-/// and the callers' own checks report it.
+/// rules of the module docs; the minimum-norm recomputation where they fail,
+/// itself checked: `Err(Unsatisfiable)` when it does not satisfy `A q̈ = b`
+/// either (no solution here, or none that `T` can resolve), and the error of
+/// the recomputation where it cannot be done (non-finite input).
 pub fn checked<T, S, const N: usize, const K: usize>(
     system: &S,
     q: &SVector<T, N>,
@@ -98,13 +121,13 @@ pub fn checked<T, S, const N: usize, const K: usize>(
     correction: Option<&SVector<T, K>>,
     candidate: Motion<T, N>,
     kept: usize,
-) -> Motion<T, N>
+) -> Result<Motion<T, N>, DynamicsError>
 where
     T: RealField + Copy,
     S: Generated<T, N, K>,
 {
     if kept >= S::GENERIC_RANK {
-        return candidate;
+        return Ok(candidate);
     }
     let (a, b) = system.constraint_matrices(q, qd, t);
     let b = match correction {
@@ -112,10 +135,44 @@ where
         None => b,
     };
     if relative_residual(&a, &b, &candidate.0) <= consistency_tolerance() {
-        return candidate;
+        return Ok(candidate);
     }
-    let tight = T::default_epsilon() * nalgebra::convert::<f64, T>((4 * (N + K)) as f64);
-    minimum_norm_motion(system, q, qd, t, &a, &b, tight, S::GENERIC_RANK).unwrap_or(candidate)
+    let cut = tight_cut::<T, N, K>();
+    let motion = minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK)?;
+    // A redundant model keeps its r strongest directions, and the rows it
+    // drops off its surface are violated by design (rule 1): only a model
+    // without redundancy can be held to every row.
+    if S::GENERIC_RANK < K || relative_residual(&a, &b, &motion.0) <= consistency_tolerance() {
+        Ok(motion)
+    } else {
+        Err(DynamicsError::Unsatisfiable)
+    }
+}
+
+/// What the total (plain-valued) methods return where [`checked`] fails:
+/// the least-squares solution of the row-scaled `A q̈ = b` (minimum norm in
+/// the metric of `M`), NaN only where it is not representable.
+pub fn least_squares<T, S, const N: usize, const K: usize>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    correction: Option<&SVector<T, K>>,
+) -> Motion<T, N>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    let (a, b) = system.constraint_matrices(q, qd, t);
+    let b = match correction {
+        Some(db) => b + db,
+        None => b,
+    };
+    let cut = tight_cut::<T, N, K>();
+    minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK).unwrap_or_else(|_| {
+        let nan = SVector::from_element(T::zero() / T::zero());
+        (nan, nan)
+    })
 }
 
 /// `q̈ = a + L⁻ᵀ (D A L⁻ᵀ)⁺ D (b − A a)` with `M = L Lᵀ` (or the auxiliary
@@ -145,6 +202,10 @@ where
         return Err(DynamicsError::NonFinite);
     }
     let (m, f) = (system.mass_matrix(q, t), system.forces(q, qd, t));
+    // An overflowed M or F would be solved as a limit (1/∞ = 0): say so.
+    if !(m.iter().all(|x| x.is_finite()) && f.iter().all(|x| x.is_finite())) {
+        return Err(DynamicsError::NonFinite);
+    }
     let (m_eff, f_eff) = effective_mass::<T, S, N, K>(&m, &f, a, b);
     let chol =
         nalgebra::linalg::Cholesky::new(m_eff).ok_or(DynamicsError::MassNotPositiveDefinite)?;
@@ -154,11 +215,12 @@ where
     }
     let (mut scaled_a, mut scaled_r) = (*a, b - a * acc);
     for i in 0..K {
+        // Divided, not multiplied by the reciprocal, which overflows for
+        // a subnormal row.
         let largest = scaled_a.row(i).amax();
         if largest > T::zero() {
-            let inverse = T::one() / largest;
-            scaled_a.row_mut(i).scale_mut(inverse);
-            scaled_r[i] *= inverse;
+            scaled_a.row_mut(i).unscale_mut(largest);
+            scaled_r[i] /= largest;
         }
     }
     let l = chol.l();
@@ -207,7 +269,54 @@ where
 {
     let (a, b) = system.constraint_matrices(q, qd, t);
     let cut = rank_tolerance::<T>().sqrt();
-    minimum_norm_motion(system, q, qd, t, &a, &b, cut, K).map(|m| m.0)
+    let (qdd, _) = minimum_norm_motion(system, q, qd, t, &a, &b, cut, K)?;
+    // The cut is a rank decision like the fast solve's, checked the same way.
+    if relative_residual(&a, &b, &qdd) <= consistency_tolerance() {
+        return Ok(qdd);
+    }
+    let (qdd, _) = minimum_norm_motion(
+        system,
+        q,
+        qd,
+        t,
+        &a,
+        &b,
+        tight_cut::<T, N, K>(),
+        S::GENERIC_RANK,
+    )?;
+    // The Moore–Penrose form is the least-squares reading of inconsistent
+    // constraints: its answer must satisfy them, or be that least-squares one.
+    if relative_residual(&a, &b, &qdd) <= consistency_tolerance()
+        || least_squares_holds(&a, &b, &qdd)
+    {
+        Ok(qdd)
+    } else {
+        Err(DynamicsError::Unsatisfiable)
+    }
+}
+
+/// The normal equations of the row-scaled least-squares problem,
+/// `‖Aᵀ D² (A q̈ − b)‖ ≤ √ε ‖D A‖ ‖D (A q̈ − b)‖`.
+fn least_squares_holds<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    qdd: &SVector<T, N>,
+) -> bool {
+    let (mut da, mut r) = (*a, a * qdd - b);
+    for i in 0..K {
+        let largest = da.row(i).amax();
+        if largest > T::zero() {
+            da.row_mut(i).unscale_mut(largest);
+            r[i] /= largest;
+        }
+    }
+    (da.transpose() * r).norm() <= T::default_epsilon().sqrt() * da.norm() * r.norm()
+}
+
+/// The relative singular-value cut of the recomputation: rounding level,
+/// `4 (N + K) ε`.
+fn tight_cut<T: RealField + Copy, const N: usize, const K: usize>() -> T {
+    T::default_epsilon() * nalgebra::convert::<f64, T>((4 * (N + K)) as f64)
 }
 
 #[cfg(test)]
@@ -225,6 +334,12 @@ mod tests {
         let b = Vector2::new(3.0, 2e-30 * 1.01);
         let r: f64 = relative_residual(&a, &b, &qdd);
         assert!((r - 0.02 / 4.02).abs() < 1e-12, "{r}");
+        // The scale is ‖Aᵢ‖₁ ‖q̈‖∞: a row touching only a vanishing
+        // component is not judged against that component alone.
+        let a = Matrix2x3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+        let qdd = Vector3::new(3.0, 1e-16, 0.0);
+        let r: f64 = relative_residual(&a, &Vector2::new(3.0, 0.0), &qdd);
+        assert!((r - 1e-16 / 3.0).abs() < 1e-30, "{r}");
         assert!(relative_residual(&a, &Vector2::new(f64::NAN, 0.0), &qdd).is_nan());
     }
 

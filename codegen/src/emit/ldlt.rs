@@ -102,19 +102,19 @@ impl<'a> StructuredLdlt<'a> {
     }
 
     /// The number of rows the factorization kept, as a `usize` expression:
-    /// pivots not dropped whose diagonal entry of `S` is not so small that
-    /// underflow may have spoilt it (`safe_minimum`). For k = 1 the solve
+    /// pivots not dropped whose diagonal entry of `S` is finite and not so
+    /// small that underflow may have spoilt it (`safe_minimum`). For k = 1 the solve
     /// divides by any positive `S`.
     pub(super) fn kept(&self) -> TokenStream {
         let safe = quote!(::constrained::__private::safe_minimum::<T>());
         let k = self.k();
         if k == 1 {
             let s = Self::entry(0, 0);
-            return quote!(usize::from(#s > #safe));
+            return quote!(usize::from(#s > #safe && #s.is_finite()));
         }
         let terms = (0..k).map(|j| {
             let (inv, sjj) = (Context::local("inv", j), self.s(j, j));
-            quote!(usize::from(#inv != T::zero() && #sjj > #safe))
+            quote!(usize::from(#inv != T::zero() && #sjj > #safe && #sjj.is_finite()))
         });
         quote!(#(#terms)+*)
     }

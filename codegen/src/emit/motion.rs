@@ -36,11 +36,19 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     };
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let vector = ctx.vector(ctx.n);
+    // The solver's `Err(Unsatisfiable)` becomes the least-squares answer in
+    // the total methods of a system with a constant positive definite M.
+    let least_squares = ctx.private(quote!(least_squares));
     let gauss = |correction: TokenStream, part: TokenStream| {
         if fallible(ctx) {
             quote!(self.gauss(#args, #correction).map(|s| s.#part))
         } else {
-            quote!(self.gauss(#args, #correction).#part)
+            quote! {
+                match self.gauss(#args, #correction) {
+                    ::core::result::Result::Ok(s) => s.#part,
+                    ::core::result::Result::Err(_) => #least_squares(self, #args, #correction).#part,
+                }
+            }
         }
     };
     let none = quote!(::core::option::Option::None);
@@ -117,11 +125,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let (m, a) = (ctx.matrix(ctx.n, ctx.n), ctx.matrix(ctx.k, ctx.n));
     let motion = ctx.private(quote!(Motion<T, #n>));
     let gauss_ret = ctx.result(motion, quote!(DynamicsError));
-    let gauss = if fallible(ctx) {
-        quote!(Self::gauss(self, #args, correction))
-    } else {
-        quote!(::core::result::Result::Ok(Self::gauss(self, #args, correction)))
-    };
+    let gauss = quote!(Self::gauss(self, #args, correction));
     let correction = ctx.correction_type();
     let generated = ctx.private(quote!(Generated<T, #n, #k>));
     let level = ctx.path(quote!(ConstraintLevel));
@@ -214,6 +218,9 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     roots.extend(&unchecked);
     roots.extend(&d.acceleration);
     roots.extend(&d.force);
+    if k > 0 {
+        roots.extend(&d.unconstrained);
+    }
     let body = Body::new(ctx.eq, &roots);
     let preamble = body.preamble();
     let bindings = named.iter().map(|(name, id)| {
@@ -244,28 +251,47 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     // where fewer rows than the generic rank were kept, the runtime
     // verifies the dropped ones and recomputes if they are violated.
     let motion = if k == 0 {
-        quote!((#acc, #force))
+        quote!(::core::result::Result::Ok((#acc, #force)))
     } else {
         let (kept, r) = (ldlt.kept(), Context::dim(ctx.generic_rank));
-        let checked = ctx.private(quote!(checked));
+        let (checked, limit) = (
+            ctx.private(quote!(checked)),
+            ctx.private(quote!(cancellation_limit)),
+        );
+        // `q̈ = a + M⁻¹Aᵀλ` cancels when the constraint force nearly
+        // balances the impressed one: q̈ far below a has lost digits, and
+        // is verified like a dropped row.
+        let unconstrained = d
+            .unconstrained
+            .iter()
+            .filter(|&&e| !g.is_zero(e))
+            .map(|&e| {
+                let e = body.expr(e);
+                quote!((#e).abs())
+            });
+        // Not for a redundant model: off its surface the rows it drops are
+        // violated by design (`constrained::rank`, rule 1), so verifying
+        // every row would reject the right answer.
+        let cancelled = (ctx.generic_rank == k).then(
+            || quote!(|| T::zero() #(.max(#unconstrained))* > __motion.0.amax() * #limit::<T>()),
+        );
         quote! {{
             let __motion = (#acc, #force);
             let __kept: usize = #kept;
-            if __kept < #r {
-                #checked(self, q, qd, t, correction, __motion, __kept)
+            if __kept < #r #cancelled {
+                #checked(self, q, qd, t, correction, __motion, 0)
             } else {
-                __motion
+                ::core::result::Result::Ok(__motion)
             }
         }}
     };
-    let (ret, value) = if d.known_positive {
-        (quote!((#vector, #vector)), motion)
-    } else {
-        (
-            ctx.result(quote!((#vector, #vector)), quote!(DynamicsError)),
-            quote!(::core::result::Result::Ok(#motion)),
-        )
-    };
+    // Fallible even where M is known positive definite: the rank check can
+    // find the constraints unsatisfiable (the total methods then answer by
+    // least squares).
+    let (ret, value) = (
+        ctx.result(quote!((#vector, #vector)), quote!(DynamicsError)),
+        motion,
+    );
     let corrected = (k > 0).then(|| {
         let d: Vec<_> = (0..k).map(|i| Context::local("db", i)).collect();
         let r = &residuals;

@@ -1,0 +1,639 @@
+//! The runtime fault matrix (issue 13): every reference model × every
+//! equation of motion × hostile states and parameters × f32 and f64, and
+//! every integrator × settings that cannot work. The contract it checks:
+//!
+//! - no panic, no hang;
+//! - every `Ok` is finite (non-finite values are `Err`, whatever the input);
+//! - every `Ok` from finite input is right: `A q̈ = b` holds to a relative
+//!   residual of `1e-8` (f64) or `1e-2` (f32), or, where it has no solution,
+//!   `q̈` is its least-squares solution (the normal equations hold); the
+//!   exception is a redundant model off its constraint surface, whose
+//!   dependent rows are dropped unchecked by design (`constrained::rank`);
+//! - the Gibbs–Appell acceleration, where it answers, agrees with the
+//!   generalized-inverse one on models without redundancy.
+//!
+//! It prints its tally; every failure is listed with its model, state and
+//! method.
+
+use constrained::__private::Generated;
+use constrained::models::*;
+use constrained::nalgebra::{RealField, SMatrix, SVector};
+use constrained::rank::relative_residual;
+use constrained::stabilize::project;
+use constrained::{
+    BogackiShampine32, ConstrainedSystem, DormandPrince45, IntegrationError, Rk4,
+    SemiImplicitEuler, Stabilization, State, ThreeEighthsRule,
+};
+use std::fmt::Debug;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// What the matrix found.
+#[derive(Default, Debug)]
+struct Tally {
+    evaluations: usize,
+    ok: usize,
+    err: usize,
+    failures: Vec<String>,
+}
+
+impl Tally {
+    fn fail(&mut self, what: String) {
+        self.failures.push(what);
+    }
+}
+
+/// One method's answer, its error as text.
+type Evaluation<T, const N: usize> = Result<SVector<T, N>, String>;
+
+/// A scalar under test, with the tolerances that fit it.
+trait Scalar: RealField + Copy + Debug + 'static {
+    const NAME: &'static str;
+    /// Largest relative residual of `A q̈ = b` accepted.
+    const RESIDUAL: f64;
+    /// Largest relative difference between GA and GI accepted.
+    const AGREEMENT: f64;
+    /// Scales that reach overflow and underflow of squares in `T`.
+    const HUGE: f64;
+    const TINY: f64;
+    const SUBNORMAL: f64;
+    fn of(x: f64) -> Self {
+        constrained::nalgebra::convert(x)
+    }
+}
+
+impl Scalar for f64 {
+    const NAME: &'static str = "f64";
+    const RESIDUAL: f64 = 1e-8;
+    const AGREEMENT: f64 = 1e-6;
+    const HUGE: f64 = 1e154;
+    const TINY: f64 = 1e-154;
+    const SUBNORMAL: f64 = 1e-310;
+}
+
+impl Scalar for f32 {
+    const NAME: &'static str = "f32";
+    const RESIDUAL: f64 = 1e-2;
+    const AGREEMENT: f64 = 1e-1;
+    const HUGE: f64 = 1e19;
+    const TINY: f64 = 1e-19;
+    const SUBNORMAL: f64 = 1e-40;
+}
+
+/// The hostile variants of a nominal state: name, state, and whether the
+/// state lies on the constraint surface.
+fn states<T: Scalar, const N: usize>(
+    nominal: State<T, N>,
+) -> Vec<(&'static str, State<T, N>, bool)> {
+    let scaled = |s: f64| {
+        let mut x = nominal;
+        x.q *= T::of(s);
+        x.qd *= T::of(s);
+        x
+    };
+    let mut off = nominal;
+    for i in 0..N {
+        off.q[i] += T::of(1e-3 * (i as f64 + 1.0));
+        off.qd[i] -= T::of(2e-3 * (i as f64 + 1.0));
+    }
+    let mut fast = nominal;
+    fast.qd *= T::of(T::HUGE);
+    let mut nan = nominal;
+    nan.q[0] = T::of(f64::NAN);
+    let mut inf = nominal;
+    inf.qd[N - 1] = T::of(f64::INFINITY);
+    let mut late = nominal;
+    late.t = T::of(if T::NAME == "f64" { 1e300 } else { 1e38 });
+    vec![
+        ("nominal", nominal, true),
+        ("off the surface", off, false),
+        ("huge", scaled(T::HUGE), false),
+        ("huge velocities", fast, false),
+        ("tiny", scaled(T::TINY), false),
+        ("subnormal", scaled(T::SUBNORMAL), false),
+        (
+            "zero",
+            State::new(nominal.t, SVector::zeros(), SVector::zeros()),
+            false,
+        ),
+        ("NaN position", nan, false),
+        ("infinite velocity", inf, false),
+        ("late", late, false),
+    ]
+}
+
+fn finite<T: Scalar, const R: usize, const C: usize>(m: &SMatrix<T, R, C>) -> bool {
+    m.iter().all(|x| x.is_finite())
+}
+
+/// `‖Aᵀ D² (A q̈ − b)‖ ≤ tol ‖D A‖ ‖D (A q̈ − b)‖` with `D` scaling each row
+/// to unit largest entry: `q̈` minimizes the scaled residual of `A q̈ = b`.
+fn least_squares<T: Scalar, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    qdd: &SVector<T, N>,
+    tol: f64,
+) -> bool {
+    let mut da = *a;
+    let mut r = a * qdd - b;
+    for i in 0..K {
+        let largest = da.row(i).amax();
+        if largest > T::zero() {
+            da.row_mut(i).scale_mut(T::one() / largest);
+            r[i] /= largest;
+        }
+    }
+    let gradient = da.transpose() * r;
+    gradient.norm() <= T::of(tol) * da.norm() * r.norm()
+}
+
+/// Judges one model at one state with every equation of motion.
+fn judge<T, S, const N: usize, const K: usize>(
+    tally: &mut Tally,
+    label: &str,
+    system: &S,
+    state: &State<T, N>,
+    on_surface: bool,
+    finite_input: bool,
+) where
+    T: Scalar,
+    S: ConstrainedSystem<T, N, K> + Generated<T, N, K>,
+{
+    let redundant = S::GENERIC_RANK < K;
+    let db = SVector::<T, K>::from_element(T::of(1e-3));
+    let (a, b) = ConstrainedSystem::constraint_matrices(system, state);
+    let judgeable = finite_input && finite(&a) && finite(&b);
+    let methods: [(&str, &dyn Fn() -> Evaluation<T, N>); 4] = [
+        ("acceleration", &|| {
+            ConstrainedSystem::acceleration(system, state).map_err(|e| e.to_string())
+        }),
+        ("acceleration_corrected", &|| {
+            ConstrainedSystem::acceleration_corrected(system, state, &db).map_err(|e| e.to_string())
+        }),
+        ("acceleration_moore_penrose", &|| {
+            ConstrainedSystem::acceleration_moore_penrose(system, state).map_err(|e| e.to_string())
+        }),
+        ("acceleration_gibbs_appell", &|| {
+            ConstrainedSystem::acceleration_gibbs_appell(system, state).map_err(|e| e.to_string())
+        }),
+    ];
+    let mut gi = None;
+    for (name, method) in methods {
+        tally.evaluations += 1;
+        let what = format!(
+            "{label}, {name} (q = {:?}, q̇ = {:?}, t = {:?})",
+            state.q.as_slice(),
+            state.qd.as_slice(),
+            state.t
+        );
+        let result = match catch_unwind(AssertUnwindSafe(method)) {
+            Ok(result) => result,
+            Err(_) => {
+                tally.fail(format!("{what}: PANIC"));
+                continue;
+            }
+        };
+        let Ok(qdd) = result else {
+            tally.err += 1;
+            continue;
+        };
+        tally.ok += 1;
+        if !finite(&qdd) {
+            tally.fail(format!("{what}: non-finite Ok {qdd:?}"));
+            continue;
+        }
+        if !finite_input {
+            continue;
+        }
+        if !judgeable {
+            tally.fail(format!("{what}: finite Ok although A or b is not finite"));
+            continue;
+        }
+        // Rule 1 of constrained::rank: a redundant model's dependent rows are
+        // dropped unchecked off its surface, and b + db is off it too.
+        if redundant
+            && (!on_surface || name == "acceleration_corrected")
+            && name != "acceleration_gibbs_appell"
+        {
+            continue;
+        }
+        let target = if name == "acceleration_corrected" {
+            b + db
+        } else {
+            b
+        };
+        let residual: f64 = nalgebra_f64(relative_residual(&a, &target, &qdd));
+        // The Gibbs–Appell form enforces r independent rows of A q̈ = b.
+        let consistent = residual <= T::RESIDUAL
+            || least_squares(&a, &target, &qdd, T::RESIDUAL)
+            || (name == "acceleration_gibbs_appell" && redundant);
+        if !consistent {
+            tally.fail(format!(
+                "{what}: relative residual {residual:e}, not least squares either"
+            ));
+        }
+        // Gauss's principle: the constraint force M q̈ − F is ideal, a
+        // combination Aᵀλ of the constraint normals.
+        let gauss_applies = !redundant || on_surface;
+        if consistent
+            && gauss_applies
+            && name != "acceleration_corrected"
+            && !ideal(system, state, &a, &qdd, T::RESIDUAL.sqrt())
+        {
+            tally.fail(format!(
+                "{what}: M q̈ − F is not in the range of Aᵀ (not Gauss's minimiser)"
+            ));
+        }
+        match name {
+            "acceleration" => gi = Some(qdd),
+            "acceleration_gibbs_appell" if !redundant => {
+                if let Some(gi) = gi {
+                    let scale = nalgebra_f64(gi.amax().max(qdd.amax()));
+                    let difference = nalgebra_f64((gi - qdd).amax()) / scale.max(f64::MIN_POSITIVE);
+                    if difference > T::AGREEMENT {
+                        tally.fail(format!(
+                            "{what}: differs from the GI acceleration by {difference:e}"
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// `‖(I − P)(M q̈ − F)‖ ≤ tol (‖M q̈‖ + ‖F‖)` with `P` the orthogonal
+/// projector onto the range of `Aᵀ`, in f64 by nalgebra's SVD of `Aᵀ`
+/// (independent of the library's solvers).
+fn ideal<T, S, const N: usize, const K: usize>(
+    system: &S,
+    state: &State<T, N>,
+    a: &SMatrix<T, K, N>,
+    qdd: &SVector<T, N>,
+    tol: f64,
+) -> bool
+where
+    T: Scalar,
+    S: ConstrainedSystem<T, N, K>,
+{
+    let to64 = |x: T| nalgebra_f64(x);
+    let m = ConstrainedSystem::mass_matrix(system, state).map(to64);
+    let f = ConstrainedSystem::forces(system, state).map(to64);
+    // Scaled by M's largest entry, so that M q̈ cannot overflow.
+    let unit = m.amax();
+    let (m, f) = if unit > 0.0 {
+        (m / unit, f / unit)
+    } else {
+        (m, f)
+    };
+    let (a, qdd) = (a.map(to64), qdd.map(to64));
+    let force = m * qdd - f;
+    // Backward-error scale: a solve is exact for M perturbed by ε‖M‖.
+    let scale = m.norm() * qdd.norm() + f.norm();
+    if !(scale.is_finite()) || K == 0 {
+        return K != 0 || force.norm() <= tol * scale.max(f64::MIN_POSITIVE);
+    }
+    // Orthonormal basis of the rows of A by modified Gram–Schmidt (twice,
+    // for orthogonality), dropping rows dependent to 1e-10.
+    // Rows scaled to unit largest entry first (subnormal and huge rows).
+    let mut basis: Vec<SVector<f64, N>> = Vec::new();
+    for i in 0..K {
+        let largest = a.row(i).amax();
+        if largest.is_nan() || largest <= 0.0 {
+            continue;
+        }
+        let mut v = a.row(i).transpose() / largest;
+        for _ in 0..2 {
+            for e in &basis {
+                v -= e * e.dot(&v);
+            }
+        }
+        let norm = v.norm();
+        if norm > 1e-10 {
+            basis.push(v / norm);
+        }
+    }
+    let mut projected = SVector::<f64, N>::zeros();
+    for e in &basis {
+        projected += e * e.dot(&force);
+    }
+    (force - projected).norm() <= tol * scale
+}
+
+fn nalgebra_f64<T: Scalar>(x: T) -> f64 {
+    // T is f32 or f64: through the text form, exact for both.
+    format!("{x:?}").parse().unwrap_or(f64::NAN)
+}
+
+/// A consistent state near a pseudo-random one by projection (`true`),
+/// else the raw one (`false`).
+fn nominal<T, S, const N: usize, const K: usize>(system: &S, seed: u64) -> (State<T, N>, bool)
+where
+    T: Scalar,
+    S: ConstrainedSystem<T, N, K>,
+{
+    let mut x = seed;
+    let mut next = || {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        T::of(((x >> 11) as f64 / (1u64 << 53) as f64) - 0.5)
+    };
+    let q = SVector::<T, N>::from_fn(|_, _| next() + T::of(0.3));
+    let qd = SVector::<T, N>::from_fn(|_, _| next());
+    let mut state = State::new(T::of(0.25), q, qd);
+    let tolerance = T::of(if T::NAME == "f64" { 1e-12 } else { 1e-5 });
+    let raw = state;
+    if project(system, &mut state, tolerance, 50).is_err() {
+        return (raw, false);
+    }
+    (state, true)
+}
+
+/// Every hostile state and parameter set of one model in `T`.
+fn model<T, S, const N: usize, const K: usize, const P: usize>(
+    tally: &mut Tally,
+    name: &str,
+    build: impl Fn([T; P]) -> S,
+    params: [f64; P],
+) where
+    T: Scalar,
+    S: ConstrainedSystem<T, N, K> + Generated<T, N, K>,
+{
+    let nominal_params = params.map(T::of);
+    let system = build(nominal_params);
+    let (start, consistent) = nominal(&system, 7);
+    for (state_name, state, on_surface) in states(start) {
+        // A redundant model's dependent rows vanish with the residual of
+        // the others; f32's projection (to 1e-5) leaves them visible.
+        let on_surface = on_surface && consistent && (S::GENERIC_RANK == K || T::NAME == "f64");
+        let finite_input =
+            state.q.iter().chain(state.qd.iter()).all(|x| x.is_finite()) && state.t.is_finite();
+        let label = format!("{name} ({}), {state_name} state", T::NAME);
+        judge(tally, &label, &system, &state, on_surface, finite_input);
+    }
+    // Hostile parameters at the nominal state.
+    for (what, value) in [
+        ("NaN", f64::NAN),
+        ("infinite", f64::INFINITY),
+        ("huge", T::HUGE),
+        ("zero", 0.0),
+    ] {
+        for i in 0..P {
+            let mut p = nominal_params;
+            p[i] = T::of(value);
+            let system = build(p);
+            let label = format!("{name} ({}), parameter {i} {what}", T::NAME);
+            let finite_input = value.is_finite();
+            judge(tally, &label, &system, &start, false, finite_input);
+        }
+    }
+}
+
+macro_rules! every_model {
+    ($tally:expr, $t:ty) => {{
+        let t = &mut *$tally;
+        model::<$t, _, 3, 1, 2>(t, "Appell", |p| Appell::new(p[0], p[1]), [9.81, 0.7]);
+        model::<$t, _, 3, 1, 2>(
+            t,
+            "AppellTimeDependent",
+            |p| AppellTimeDependent::new(p[0], p[1]),
+            [9.81, 0.7],
+        );
+        model::<$t, _, 3, 1, 3>(
+            t,
+            "SphericalPendulum",
+            |p| SphericalPendulum::new(p[0], p[1], p[2]),
+            [1.5, 9.81, 1.2],
+        );
+        model::<$t, _, 4, 2, 5>(
+            t,
+            "DoublePendulum",
+            |p| DoublePendulum::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.0, 2.0, 1.0, 0.8, 9.81],
+        );
+        model::<$t, _, 4, 3, 5>(
+            t,
+            "RedundantDoublePendulum",
+            |p| RedundantDoublePendulum::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.0, 2.0, 1.0, 0.8, 9.81],
+        );
+        model::<$t, _, 3, 2, 4>(
+            t,
+            "BeadOnRotatingHoop",
+            |p| BeadOnRotatingHoop::new(p[0], p[1], p[2], p[3]),
+            [0.5, 9.81, 1.0, 2.0],
+        );
+        model::<$t, _, 3, 1, 3>(
+            t,
+            "ChaplyginSleigh",
+            |p| ChaplyginSleigh::new(p[0], p[1], p[2]),
+            [2.0, 0.4, 0.3],
+        );
+        model::<$t, _, 4, 4, 6>(
+            t,
+            "SliderCrank",
+            |p| SliderCrank::new(p[0], p[1], p[2], p[3], p[4], p[5]),
+            [1.0, 2.0, 0.5, 1.5, 3.0, 9.81],
+        );
+        model::<$t, _, 2, 1, 6>(
+            t,
+            "TwoLinkArmOnLine",
+            |p| TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5]),
+            [1.0, 0.5, 1.0, 1.0, 9.81, 0.5],
+        );
+        model::<$t, _, 3, 1, 9>(
+            t,
+            "Crane",
+            |p| Crane::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
+            [5.0, 1.0, 2.0, 9.81, 0.1, 4.0, 3.0, 20.0, 1.0],
+        );
+        model::<$t, _, 2, 0, 5>(
+            t,
+            "CartPole",
+            |p| CartPole::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.0, 0.3, 0.8, 9.81, 0.0],
+        );
+        model::<$t, _, 2, 0, 5>(
+            t,
+            "DoublePendulumAngles",
+            |p| DoublePendulumAngles::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.0, 2.0, 1.0, 0.8, 9.81],
+        );
+        model::<$t, _, 4, 1, 3>(
+            t,
+            "RigidBodyQuaternion",
+            |p| RigidBodyQuaternion::new(p[0], p[1], p[2]),
+            [1.0, 2.0, 3.0],
+        );
+        model::<$t, _, 4, 1, 5>(
+            t,
+            "HeavyTop",
+            |p| HeavyTop::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.0, 2.0, 1.0, 9.81, 0.5],
+        );
+        model::<$t, _, 5, 2, 5>(
+            t,
+            "RollingDisk",
+            |p| RollingDisk::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.0, 0.5, 0.06, 0.12, 9.81],
+        );
+        model::<$t, _, 9, 8, 5>(
+            t,
+            "ParallelogramFourBar",
+            |p| ParallelogramFourBar::new(p[0], p[1], p[2], p[3], p[4]),
+            [1.2, 0.15, 1.0, 2.0, 9.81],
+        );
+    }};
+}
+
+#[test]
+fn every_model_every_equation_every_hostile_state() {
+    let mut tally = Tally::default();
+    every_model!(&mut tally, f64);
+    every_model!(&mut tally, f32);
+    println!(
+        "fault matrix: {} evaluations, {} Ok (each judged), {} Err, {} failures",
+        tally.evaluations,
+        tally.ok,
+        tally.err,
+        tally.failures.len()
+    );
+    assert!(
+        tally.failures.is_empty(),
+        "{} failures:\n{}",
+        tally.failures.len(),
+        tally.failures.join("\n")
+    );
+}
+
+/// Every integrator with settings that cannot work: an `Err` up front, never
+/// a hang or a panic; with good settings from hostile states, `Ok` only with
+/// a finite state.
+#[test]
+fn every_integrator_with_bad_settings_and_hostile_states() {
+    let system = DoublePendulum::new(1.0, 2.0, 1.0, 0.8, 9.81);
+    let start = system.state_from_angles(0.0, [0.4, -0.7], [0.9, 0.3]);
+    let bad_steps = [0.0, -0.1, f64::NAN, f64::INFINITY];
+    let bad_stabilizations = [
+        Stabilization::projection(f64::NAN),
+        Stabilization::projection(-1.0),
+        Stabilization::baumgarte(f64::NAN),
+        Stabilization::baumgarte(f64::INFINITY),
+    ];
+    let mut cases = 0;
+    let mut check = |what: String,
+                     result: Result<constrained::Stats, IntegrationError<f64>>,
+                     s: &State<f64, 4>| {
+        cases += 1;
+        match result {
+            Ok(_) => panic!("{what}: Ok with settings that cannot work (state {s:?})"),
+            Err(IntegrationError::InvalidParameter)
+            | Err(IntegrationError::EndBeforeStart { .. }) => {}
+            Err(e) => panic!("{what}: {e:?}, not reported up front"),
+        }
+    };
+    for h in bad_steps {
+        let mut s = start;
+        check(
+            format!("Rk4({h})"),
+            Rk4::new(h).advance(&system, &mut s, 1.0),
+            &s,
+        );
+        let mut s = start;
+        check(
+            format!("ThreeEighthsRule({h})"),
+            ThreeEighthsRule::new(h).advance(&system, &mut s, 1.0),
+            &s,
+        );
+        let mut s = start;
+        check(
+            format!("SemiImplicitEuler({h})"),
+            SemiImplicitEuler::new(h).advance(&system, &mut s, 1.0),
+            &s,
+        );
+    }
+    for tol in [0.0, -1e-6, f64::NAN, f64::INFINITY] {
+        let mut s = start;
+        check(
+            format!("DormandPrince45({tol}, {tol})"),
+            DormandPrince45::new(tol, tol).advance(&system, &mut s, 1.0),
+            &s,
+        );
+        let mut s = start;
+        check(
+            format!("BogackiShampine32({tol}, {tol})"),
+            BogackiShampine32::new(tol, tol).advance(&system, &mut s, 1.0),
+            &s,
+        );
+        let mut s = start;
+        check(
+            format!("DormandPrince45 max_step {tol}"),
+            DormandPrince45::new(1e-6, 1e-9)
+                .with_max_step(tol)
+                .advance(&system, &mut s, 1.0),
+            &s,
+        );
+    }
+    for stabilization in bad_stabilizations {
+        let mut s = start;
+        check(
+            format!("Rk4 {stabilization:?}"),
+            Rk4::new(1e-3)
+                .with_stabilization(stabilization)
+                .advance(&system, &mut s, 1.0),
+            &s,
+        );
+        let mut s = start;
+        check(
+            format!("DormandPrince45 {stabilization:?}"),
+            DormandPrince45::new(1e-6, 1e-9)
+                .with_stabilization(stabilization)
+                .advance(&system, &mut s, 1.0),
+            &s,
+        );
+    }
+    for t_end in [f64::NAN, f64::NEG_INFINITY, -1.0] {
+        let mut s = start;
+        check(
+            format!("Rk4 to {t_end}"),
+            Rk4::new(1e-3).advance(&system, &mut s, t_end),
+            &s,
+        );
+        let mut s = start;
+        check(
+            format!("DormandPrince45 to {t_end}"),
+            DormandPrince45::new(1e-6, 1e-9).advance(&system, &mut s, t_end),
+            &s,
+        );
+    }
+    let mut s = start;
+    check(
+        "Rk4 with no step budget".into(),
+        Rk4::new(1e-3)
+            .with_max_steps(0)
+            .advance(&system, &mut s, 1.0),
+        &s,
+    );
+    // Good settings from hostile states: Ok only with a finite state.
+    let mut judged = 0;
+    for (name, state, _) in states(start) {
+        for integrator in 0..3 {
+            let mut s = state;
+            let result = match integrator {
+                0 => Rk4::new(1e-3).advance(&system, &mut s, 0.05),
+                1 => DormandPrince45::new(1e-6, 1e-9).advance(&system, &mut s, 0.05),
+                _ => Rk4::new(1e-3)
+                    .with_stabilization(Stabilization::projection(1e-10))
+                    .advance(&system, &mut s, 0.05),
+            };
+            judged += 1;
+            if result.is_ok() {
+                assert!(
+                    s.q.iter().chain(s.qd.iter()).all(|x| x.is_finite()),
+                    "{name} state, integrator {integrator}: Ok with a non-finite state {s:?}"
+                );
+            }
+        }
+    }
+    println!("integrators: {cases} bad settings, all Err up front; {judged} runs from hostile states judged");
+}
