@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Runs every property test under fresh random seeds, to find failures that
-# the fixed seed of scripts/test.sh does not reach. Usage:
+# Runs every property test and the macro's fuzz harness under fresh random
+# seeds, to find failures that the fixed seeds of scripts/test.sh do not
+# reach. Usage:
 #   bash scripts/explore.sh [RUNS]      (default 20)
+# FUZZ_CASES (default 20000) sets the macro inputs per seed; a failing fuzz
+# seed reruns with FUZZ_SEED=<seed> cargo test -p constrained-codegen --test fuzz.
 # Prints each failing seed; rerun one with PROPTEST_RNG_SEED=<seed> cargo test,
 # which also saves the shrunk case in *.proptest-regressions: commit that
 # line with the fix. Here nothing is saved or replayed, so that one failure
@@ -13,12 +16,14 @@ export PROPTEST_DISABLE_FAILURE_PERSISTENCE=1
 runs="${1:-20}"
 property_tests=(--test appell_eq30 --test appell_eq32 --test finite_differences --test gauss --test gibbs_appell)
 cargo test --quiet --no-run "${property_tests[@]}"
-cargo test --quiet --no-run -p constrained-codegen --test random_expressions
+cargo test --quiet --no-run -p constrained-codegen --test random_expressions --test fuzz
+export FUZZ_CASES="${FUZZ_CASES:-20000}"
 failed=0
 for _ in $(seq "$runs"); do
     seed=$(( (RANDOM << 30) ^ (RANDOM << 15) ^ RANDOM ))
     if ! PROPTEST_RNG_SEED=$seed cargo test --quiet "${property_tests[@]}" > /dev/null 2>&1 ||
-       ! PROPTEST_RNG_SEED=$seed cargo test --quiet -p constrained-codegen --test random_expressions > /dev/null 2>&1; then
+       ! PROPTEST_RNG_SEED=$seed cargo test --quiet -p constrained-codegen --test random_expressions > /dev/null 2>&1 ||
+       ! FUZZ_SEED=$seed cargo test --quiet -p constrained-codegen --test fuzz > /dev/null 2>&1; then
         echo "FAILED with PROPTEST_RNG_SEED=$seed"
         failed=$((failed + 1))
     fi

@@ -247,3 +247,29 @@ fn contradictory_constraints_are_reported() {
         assert!(outcome(body).is_ok(), "{body}");
     }
 }
+
+/// Found by the fuzz harness: `atan2(y, 0)` differentiates to a row of `A`
+/// that simplifies to zero, and `S = A M⁻¹ Aᵀ` with it; the k = 1 solve
+/// named a local that was never bound ("cannot find value `__s0_0`").
+#[test]
+fn a_constraint_whose_row_of_a_vanishes_expands_to_code_that_binds_s() {
+    let code = outcome(
+        "pub struct S { coordinates: [q0], mass: diag[1.0], \
+         constraints: [(dot(q0) + q0).atan2(3.0 * q0 * 0.0)] }",
+    )
+    .expect("accepted");
+    assert!(!code.contains("__s0_0"), "S is structurally zero: {code}");
+}
+
+/// Found by the fuzz harness (seed 29322516971171): a coefficient of a sum
+/// that overflowed f64 in the derivation (not a constant node, so the
+/// overflow check missed it) reached emission and panicked there.
+#[test]
+fn overflowing_coefficients_of_sums_are_reported_not_a_panic() {
+    rejected(
+        "pub struct Fuzzed { coordinates: [q0, q1, q2, q3], parameters: [p0], \
+         mass: diag[3.0, p0, 0.5, 2.0], \
+         constraints: [(hypot((1e150 / dot(q3)), max(1e150, t))).atan2(1e150) == clamp(t, 1.0, 1e9)] }",
+        "overflows f64",
+    );
+}

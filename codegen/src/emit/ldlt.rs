@@ -109,7 +109,7 @@ impl<'a> StructuredLdlt<'a> {
         let safe = quote!(::constrained::__private::safe_minimum::<T>());
         let k = self.k();
         if k == 1 {
-            let s = Self::entry(0, 0);
+            let s = self.s(0, 0);
             return quote!(usize::from(#s > #safe && #s.is_finite()));
         }
         let terms = (0..k).map(|j| {
@@ -130,7 +130,9 @@ impl<'a> StructuredLdlt<'a> {
             return TokenStream::new();
         }
         if k == 1 {
-            let (lam, r, s) = (&out[0], &rhs[0], Self::entry(0, 0));
+            // `S` may be structurally zero (a row of `A` that simplifies to
+            // 0): then the literal zero, and λ = 0.
+            let (lam, r, s) = (&out[0], &rhs[0], self.s(0, 0));
             return quote! {
                 let #lam = if #s > T::zero() { #r / #s } else { T::zero() };
             };

@@ -163,9 +163,16 @@ impl Graph {
 
     /// Every numeric constant in the arena.
     pub fn constants(&self) -> impl Iterator<Item = Num> + '_ {
-        self.nodes.iter().filter_map(|n| match n {
-            Node::Num(c) => Some(*c),
-            _ => None,
+        // The coefficients of sums and the exponents of products are
+        // constants too, written into the code like the `Num` nodes.
+        self.nodes.iter().flat_map(|n| {
+            let (own, weights): (Option<Num>, &[(Id, Num)]) = match n {
+                Node::Num(c) => (Some(*c), &[]),
+                Node::Add(terms, c0) => (Some(*c0), terms),
+                Node::Mul(factors) => (None, factors),
+                _ => (None, &[]),
+            };
+            own.into_iter().chain(weights.iter().map(|&(_, w)| w))
         })
     }
 
