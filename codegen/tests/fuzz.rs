@@ -51,7 +51,7 @@ impl Gen {
                     .to_string(),
             };
         }
-        let mut sub = |g: &mut Gen| g.expr(coords, others, depth - 1);
+        let sub = |g: &mut Gen| g.expr(coords, others, depth - 1);
         match self.below(14) {
             0 => format!("({} + {})", sub(self), sub(self)),
             1 => format!("({} - {})", sub(self), sub(self)),

@@ -273,3 +273,42 @@ fn overflowing_coefficients_of_sums_are_reported_not_a_panic() {
         "overflows f64",
     );
 }
+
+/// Found by the fuzz harness (seed 19728956540596): `#[doc = ".."]` mutated
+/// into `#[mass = ".."]` was forwarded to the struct, which then did not
+/// compile. Only built-in attributes and standard derives are forwarded.
+#[test]
+fn unknown_attributes_and_derives_are_rejected_not_forwarded() {
+    rejected(
+        "#[mass = \"text\"] struct S { coordinates: [x], mass: diag[1.0] }",
+        "cannot be forwarded",
+    );
+    rejected(
+        "#[derive(serde::Serialize)] struct S { coordinates: [x], mass: diag[1.0] }",
+        "standard derives",
+    );
+    for fine in [
+        "#[doc = \"A system.\"] #[allow(dead_code)] #[derive(Hash, Eq)] struct S { coordinates: [x], mass: diag[1.0] }",
+        "#[deprecated] #[must_use] struct S { coordinates: [x], mass: diag[1.0] }",
+    ] {
+        assert!(outcome(fine).is_ok(), "{fine}");
+    }
+}
+
+/// Found by the fuzz harness: `#[doc = dot]` (a mutated doc comment) is not
+/// an attribute rustc accepts.
+#[test]
+fn malformed_forwarded_attributes_are_rejected() {
+    for attr in [
+        "#[doc = dot]",
+        "#[allow(1.0)]",
+        "#[must_use(x)]",
+        "#[derive]",
+        "#[doc]",
+    ] {
+        rejected(
+            &format!("{attr} struct S {{ coordinates: [x], mass: diag[1.0] }}"),
+            "malformed attribute",
+        );
+    }
+}

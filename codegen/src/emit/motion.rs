@@ -62,14 +62,20 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     };
     let fallibility = if fallible(ctx) {
         "`Err` when `M` is not positive definite at this state (it is not \
-         known to be at compile time)."
+         known to be at compile time), when a value is not finite, or when no \
+         acceleration satisfies `A q̈ = b` to working precision (`Unsatisfiable`; \
+         see `constrained::rank`)."
     } else {
-        "Total: `M` is constant and positive definite."
+        "Total: `M` is constant and positive definite. Where no acceleration \
+         satisfies `A q̈ = b` to working precision, the least-squares one (the \
+         `ConstrainedSystem` method reports `Err(Unsatisfiable)` instead; see \
+         `constrained::rank`)."
     };
     let acc_doc = format!(
         " The acceleration `q̈` by the generalized-inverse equation (Udwadia & \
          Kalaba eq. 24–26): `M q̈ = F + Aᵀ λ` with `(A M⁻¹ Aᵀ) λ = b − A a`, \
-         solved with a rank-revealing {{1}}-inverse (see `constrained::inverse`). \
+         solved with a rank-revealing {{1}}-inverse (see `constrained::inverse`) \
+         whose rank decision is checked after the fact (`constrained::rank`). \
          Where `A` loses rank the result is the minimiser of Gauss's principle \
          over the constraints that remain independent (`q̈ = a` where `A = 0`); \
          never NaN for finite input. {fallibility}"

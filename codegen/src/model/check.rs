@@ -48,9 +48,64 @@ pub fn struct_name(errors: &mut Errors, name: &syn::Ident) {
 /// for systems without parameters).
 const GENERATED_DERIVES: &[&str] = &["Clone", "Copy", "Debug", "PartialEq", "Default"];
 
-/// Rule: forwarded attributes do not repeat a generated derive (two impls
-/// of one trait would not compile) and are not `#[cfg(..)]` (it would
-/// remove the struct but not the impls generated for it).
+/// The attributes forwarded to the generated struct: the built-in ones that
+/// compile on any struct.
+const FORWARDED_ATTRIBUTES: [&str; 9] = [
+    "doc",
+    "allow",
+    "warn",
+    "deny",
+    "forbid",
+    "expect",
+    "deprecated",
+    "must_use",
+    "derive",
+];
+
+/// The standard derives the generated struct does not already have and that
+/// need nothing else (`Ord` would need `Eq` and `PartialOrd` as well).
+const FORWARDED_DERIVES: [&str; 3] = ["Hash", "Eq", "PartialOrd"];
+
+/// Whether a forwarded attribute has the form rustc accepts: a string
+/// value for `doc`, `deprecated` and `must_use` (or none for the last two,
+/// or a list for `doc`), a list of paths for the lint levels and `derive`.
+fn well_formed(attr: &syn::Attribute) -> bool {
+    let string = |meta: &syn::MetaNameValue| {
+        matches!(
+            &meta.value,
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Str(_),
+                ..
+            })
+        )
+    };
+    let paths = |list: &syn::MetaList| {
+        list.parse_args_with(
+            syn::punctuated::Punctuated::<syn::Path, syn::Token![,]>::parse_terminated,
+        )
+        .is_ok_and(|p| !p.is_empty())
+    };
+    let name = attr
+        .path()
+        .get_ident()
+        .map(ToString::to_string)
+        .unwrap_or_default();
+    match (&attr.meta, name.as_str()) {
+        (syn::Meta::NameValue(m), "doc" | "deprecated" | "must_use") => string(m),
+        (syn::Meta::Path(_), "deprecated" | "must_use") => true,
+        (syn::Meta::List(l), "doc") => paths(l),
+        (syn::Meta::List(l), "allow" | "warn" | "deny" | "forbid" | "expect" | "derive") => {
+            paths(l)
+        }
+        _ => false,
+    }
+}
+
+/// Rule: forwarded attributes are built-in ones that compile on any struct
+/// (others, or unknown derives, would fail after the macro accepted the
+/// input), do not repeat a generated derive (two impls of one trait would
+/// not compile) and are not `#[cfg(..)]` (it would remove the struct but not
+/// the impls generated for it).
 pub fn forwarded_attributes(errors: &mut Errors, attrs: &[syn::Attribute]) {
     for attr in attrs {
         if attr.path().is_ident("cfg") {
@@ -59,9 +114,39 @@ pub fn forwarded_attributes(errors: &mut Errors, attrs: &[syn::Attribute]) {
                 "`#[cfg(..)]` on the struct would not apply to the generated impls: \
                  put the `constrained_system!` invocation itself under `#[cfg(..)]` (e.g. in a module)",
             );
+        } else if !FORWARDED_ATTRIBUTES.iter().any(|a| attr.path().is_ident(a)) {
+            // An attribute the macro cannot know (a misspelling, a derive
+            // helper without its derive) would fail to compile after the
+            // macro accepted the input: refused here, with its span.
+            errors.spanned(
+                attr.path(),
+                format!(
+                    "this attribute cannot be forwarded to the generated struct; supported: {}",
+                    FORWARDED_ATTRIBUTES.map(|a| format!("`#[{a}]`")).join(", ")
+                ),
+            );
+        } else if !well_formed(attr) {
+            errors.spanned(
+                attr,
+                "malformed attribute: `#[doc = \"..\"]`, `#[allow(lint, ..)]` (and the other lint \
+                 levels), `#[deprecated]`, `#[deprecated = \"..\"]`, `#[must_use]`, \
+                 `#[must_use = \"..\"]` or `#[derive(..)]`",
+            );
         } else if attr.path().is_ident("derive") {
             let _ = attr.parse_nested_meta(|meta| {
                 let name = meta.path.segments.last().map(|s| s.ident.to_string()).unwrap_or_default();
+                if !meta.path.is_ident(&name) || !FORWARDED_DERIVES.contains(&name.as_str()) {
+                    if !GENERATED_DERIVES.contains(&name.as_str()) {
+                        errors.spanned(
+                            &meta.path,
+                            format!(
+                                "only the standard derives {} can be added to the generated struct",
+                                FORWARDED_DERIVES.map(|d| format!("`{d}`")).join(", ")
+                            ),
+                        );
+                        return Ok(());
+                    }
+                }
                 if GENERATED_DERIVES.contains(&name.as_str()) {
                     errors.spanned(
                         &meta.path,
