@@ -18,7 +18,7 @@
 //!    the solve, `|Aᵢ q̈ − bᵢ|`, is at most [`consistency_tolerance`] times
 //!    its scale `Σⱼ |Aᵢⱼ q̈ⱼ| + |bᵢ|`.
 //!
-//! Otherwise the acceleration is recomputed by [`minimum_norm_motion`]: the
+//! Otherwise the acceleration is recomputed by the minimum-norm solve: the
 //! Moore–Penrose form on the rows scaled to unit size (no squaring of `A`,
 //! so no loss of the small singular values, and no underflow of `A M⁻¹ Aᵀ`
 //! for tiny coordinates in `f32`), keeping every singular value above
@@ -254,7 +254,7 @@ where
 }
 
 /// The Moore–Penrose form of eq. 24 (`acceleration_moore_penrose`):
-/// [`minimum_norm_motion`] with singular values below `√rank_tolerance` of
+/// the row-scaled minimum-norm solve with singular values below `√rank_tolerance` of
 /// the largest counted as zero (the same `sin θ` threshold as the default
 /// {1}-inverse).
 pub fn moore_penrose<T, S, const N: usize, const K: usize>(

@@ -135,17 +135,16 @@ pub fn forwarded_attributes(errors: &mut Errors, attrs: &[syn::Attribute]) {
         } else if attr.path().is_ident("derive") {
             let _ = attr.parse_nested_meta(|meta| {
                 let name = meta.path.segments.last().map(|s| s.ident.to_string()).unwrap_or_default();
-                if !meta.path.is_ident(&name) || !FORWARDED_DERIVES.contains(&name.as_str()) {
-                    if !GENERATED_DERIVES.contains(&name.as_str()) {
-                        errors.spanned(
-                            &meta.path,
-                            format!(
-                                "only the standard derives {} can be added to the generated struct",
-                                FORWARDED_DERIVES.map(|d| format!("`{d}`")).join(", ")
-                            ),
-                        );
-                        return Ok(());
-                    }
+                let forwarded = meta.path.is_ident(&name) && FORWARDED_DERIVES.contains(&name.as_str());
+                if !forwarded && !GENERATED_DERIVES.contains(&name.as_str()) {
+                    errors.spanned(
+                        &meta.path,
+                        format!(
+                            "only the standard derives {} can be added to the generated struct",
+                            FORWARDED_DERIVES.map(|d| format!("`{d}`")).join(", ")
+                        ),
+                    );
+                    return Ok(());
                 }
                 if GENERATED_DERIVES.contains(&name.as_str()) {
                     errors.spanned(
