@@ -250,7 +250,10 @@ where
     // A pivot of an underflowed S is not trusted either (crate::rank).
     let underflow = gram.diagonal().iter().any(|&s| s < safe_minimum());
     let kept = if underflow { 0 } else { ldlt.rank() };
-    checked(system, q, qd, t, correction, (qdd, force), kept)
+    match checked(system, q, qd, t, correction, qdd, kept) {
+        None => Ok((qdd, force)),
+        Some(recomputed) => recomputed,
+    }
 }
 
 /// The mass matrix and forces Gauss's principle is solved with: `(M, F)`

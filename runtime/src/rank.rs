@@ -56,12 +56,13 @@ pub fn consistency_tolerance<T: RealField + Copy>() -> T {
     T::default_epsilon() * nalgebra::convert::<f64, T>(1000.0)
 }
 
-/// `1/√ε`: where the unconstrained acceleration exceeds `q̈` by this
-/// factor, `q̈ = a + M⁻¹Aᵀλ` has cancelled more than half its digits, and
-/// the fast solve's answer is verified (`checked`).
+/// `1/ε`, the square of `1/√ε`: where the unconstrained acceleration
+/// exceeds `q̈` by `1/√ε` (compared squared, `max|aᵢ|² > ‖q̈‖²/ε`),
+/// `q̈ = a + M⁻¹Aᵀλ` has cancelled more than half its digits, and the fast
+/// solve's answer is verified (`checked`).
 #[inline]
 pub fn cancellation_limit<T: RealField + Copy>() -> T {
-    T::one() / T::default_epsilon().sqrt()
+    T::one() / T::default_epsilon()
 }
 
 /// Below this, a diagonal entry of `S = A M⁻¹ Aᵀ` may have lost its
@@ -108,50 +109,63 @@ pub fn relative_residual<T: RealField + Copy, const N: usize, const K: usize>(
     worst
 }
 
-/// The fast solve's `candidate`, which kept `kept` rows, checked by the
-/// rules of the module docs; the minimum-norm recomputation where they fail,
-/// itself checked: `Err(Unsatisfiable)` when it does not satisfy `A q̈ = b`
-/// either (no solution here, or none that `T` can resolve), and the error of
-/// the recomputation where it cannot be done (non-finite input).
+/// The fast solve's acceleration `candidate`, which kept `kept` rows,
+/// checked by the rules of the module docs: `None` when it stands (the
+/// caller keeps its own `q̈` and constraint force), else the minimum-norm
+/// recomputation, itself checked: `Err(Unsatisfiable)` when it does not
+/// satisfy `A q̈ = b` either (no solution here, or none that `T` can
+/// resolve), and the recomputation's error where it cannot be done
+/// (non-finite input).
+///
+/// The rare path: kept out of line, so that the fast solve it guards stays
+/// as small as it was (and the constraint force, when not asked for, is
+/// still never computed).
+#[cold]
+#[inline(never)]
 pub fn checked<T, S, const N: usize, const K: usize>(
     system: &S,
     q: &SVector<T, N>,
     qd: &SVector<T, N>,
     t: T,
     correction: Option<&SVector<T, K>>,
-    candidate: Motion<T, N>,
+    candidate: SVector<T, N>,
     kept: usize,
-) -> Result<Motion<T, N>, DynamicsError>
+) -> Option<Result<Motion<T, N>, DynamicsError>>
 where
     T: RealField + Copy,
     S: Generated<T, N, K>,
 {
     if kept >= S::GENERIC_RANK {
-        return Ok(candidate);
+        return None;
     }
     let (a, b) = system.constraint_matrices(q, qd, t);
     let b = match correction {
         Some(db) => b + db,
         None => b,
     };
-    if relative_residual(&a, &b, &candidate.0) <= consistency_tolerance() {
-        return Ok(candidate);
+    if relative_residual(&a, &b, &candidate) <= consistency_tolerance() {
+        return None;
     }
     let cut = tight_cut::<T, N, K>();
-    let motion = minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK)?;
+    let motion = match minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK) {
+        Ok(motion) => motion,
+        Err(error) => return Some(Err(error)),
+    };
     // A redundant model keeps its r strongest directions, and the rows it
     // drops off its surface are violated by design (rule 1): only a model
     // without redundancy can be held to every row.
     if S::GENERIC_RANK < K || relative_residual(&a, &b, &motion.0) <= consistency_tolerance() {
-        Ok(motion)
+        Some(Ok(motion))
     } else {
-        Err(DynamicsError::Unsatisfiable)
+        Some(Err(DynamicsError::Unsatisfiable))
     }
 }
 
 /// What the total (plain-valued) methods return where [`checked`] fails:
 /// the least-squares solution of the row-scaled `A q̈ = b` (minimum norm in
 /// the metric of `M`), NaN only where it is not representable.
+#[cold]
+#[inline(never)]
 pub fn least_squares<T, S, const N: usize, const K: usize>(
     system: &S,
     q: &SVector<T, N>,

@@ -101,22 +101,35 @@ impl<'a> StructuredLdlt<'a> {
         out
     }
 
-    /// The number of rows the factorization kept, as a `usize` expression:
-    /// pivots not dropped whose diagonal entry of `S` is finite and not so
-    /// small that underflow may have spoilt it (`safe_minimum`). For k = 1 the solve
-    /// divides by any positive `S`.
-    pub(super) fn kept(&self) -> TokenStream {
+    /// Whether the fast solve's rank decision must be verified, as a `bool`
+    /// expression: fewer than `rank` rows kept, counting a row as dropped
+    /// where its pivot was (`inv = 0`, which NaN and ∞ in `S` also give)
+    /// or where its diagonal entry of `S` is so small that underflow may
+    /// have spoilt it (`safe_minimum`). For k = 1 the solve divides by any
+    /// positive `S`, so an infinite `S` counts as dropped too.
+    pub(super) fn suspect(&self, rank: usize) -> TokenStream {
         let safe = quote!(::constrained::__private::safe_minimum::<T>());
         let k = self.k();
         if k == 1 {
             let s = self.s(0, 0);
-            return quote!(usize::from(#s > #safe && #s.is_finite()));
+            return quote!(!(#s > #safe && #s.is_finite()));
         }
-        let terms = (0..k).map(|j| {
+        let dropped = |j: usize| {
             let (inv, sjj) = (Context::local("inv", j), self.s(j, j));
-            quote!(usize::from(#inv != T::zero() && #sjj > #safe && #sjj.is_finite()))
+            quote!(((#inv == T::zero()) | (#sjj < #safe)))
+        };
+        if rank == k {
+            // Any drop at all: a branch-free OR (`|`, not `||`: one branch,
+            // not one per pivot), cheaper than a count.
+            let any = (0..k).map(dropped);
+            return quote!(#(#any)|*);
+        }
+        let r = Context::dim(rank);
+        let kept = (0..k).map(|j| {
+            let dropped = dropped(j);
+            quote!(usize::from(!#dropped))
         });
-        quote!(#(#terms)+*)
+        quote!((#(#kept)+*) < #r)
     }
 
     /// The solve step for the right-hand side `rhs` (one local per
