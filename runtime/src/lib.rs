@@ -9,6 +9,7 @@
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![deny(missing_docs)]
 
+mod dense;
 mod error;
 mod generated;
 pub mod gibbs_appell;
@@ -36,7 +37,8 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
-    pub use crate::generated::{gauss_dense, lit, signum, step, Generated, Motion};
+    pub use crate::dense::gauss_dense;
+    pub use crate::generated::{lit, signum, step, Generated, Motion};
     pub use crate::rank::{
         cancellation_limit, checked, least_squares, moore_penrose, safe_minimum,
     };

@@ -32,7 +32,8 @@
 //! ones (constant positive definite `M`) the [`least_squares`] solution
 //! (never NaN for finite input, unless it is not representable).
 //!
-//! A third trigger: where the unconstrained acceleration `a` exceeds `q̈`
+//! A third trigger, in models whose masses are parameters (constant masses
+//! fix their ratios at compile time): where the unconstrained acceleration `a` exceeds `q̈`
 //! by [`cancellation_limit`] (`q̈ = a + M⁻¹Aᵀλ` cancelled more than half
 //! its digits, e.g. a light trolley under a 1e154 kg load), the fast
 //! solve's answer is verified as if a row had been dropped.
@@ -138,11 +139,7 @@ where
     if kept >= S::GENERIC_RANK {
         return None;
     }
-    let (a, b) = system.constraint_matrices(q, qd, t);
-    let b = match correction {
-        Some(db) => b + db,
-        None => b,
-    };
+    let (a, b) = corrected_constraints(system, q, qd, t, correction);
     if relative_residual(&a, &b, &candidate) <= consistency_tolerance() {
         return None;
     }
@@ -158,6 +155,25 @@ where
         Some(Ok(motion))
     } else {
         Some(Err(DynamicsError::Unsatisfiable))
+    }
+}
+
+/// `(A, b + correction)` at the state: the constraints a solve must satisfy.
+pub(crate) fn corrected_constraints<T, S, const N: usize, const K: usize>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    correction: Option<&SVector<T, K>>,
+) -> (SMatrix<T, K, N>, SVector<T, K>)
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    let (a, b) = system.constraint_matrices(q, qd, t);
+    match correction {
+        Some(db) => (a, b + db),
+        None => (a, b),
     }
 }
 
@@ -177,11 +193,7 @@ where
     T: RealField + Copy,
     S: Generated<T, N, K>,
 {
-    let (a, b) = system.constraint_matrices(q, qd, t);
-    let b = match correction {
-        Some(db) => b + db,
-        None => b,
-    };
+    let (a, b) = corrected_constraints(system, q, qd, t, correction);
     let cut = tight_cut::<T, N, K>();
     minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK).unwrap_or_else(|_| {
         let nan = SVector::from_element(T::zero() / T::zero());

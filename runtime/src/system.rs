@@ -1,3 +1,5 @@
+use crate::generated::Generated;
+use crate::rank::moore_penrose;
 use crate::{ConstraintLevel, DynamicsError, GibbsAppellError, State};
 use nalgebra::{RealField, SMatrix, SVector};
 
@@ -153,5 +155,87 @@ impl<T: RealField + Copy, const N: usize> State<T, N> {
         S: ConstrainedSystem<T, N, K>,
     {
         system.acceleration_gibbs_appell(self)
+    }
+}
+
+/// Every generated system is a [`ConstrainedSystem`]: its inherent methods,
+/// taking a [`State`], with non-finite values turned into `Err`.
+impl<T, S, const N: usize, const K: usize> ConstrainedSystem<T, N, K> for S
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
+
+    #[inline]
+    fn mass_matrix(&self, s: &State<T, N>) -> SMatrix<T, N, N> {
+        Generated::mass_matrix(self, &s.q, s.t)
+    }
+    #[inline]
+    fn forces(&self, s: &State<T, N>) -> SVector<T, N> {
+        Generated::forces(self, &s.q, &s.qd, s.t)
+    }
+    #[inline]
+    fn constraint_residual(&self, s: &State<T, N>) -> SVector<T, K> {
+        Generated::constraint_residual(self, &s.q, &s.qd, s.t)
+    }
+    #[inline]
+    fn constraint_velocity_residual(&self, s: &State<T, N>) -> SVector<T, K> {
+        Generated::constraint_velocity_residual(self, &s.q, &s.qd, s.t)
+    }
+    #[inline]
+    fn constraint_matrices(&self, s: &State<T, N>) -> (SMatrix<T, K, N>, SVector<T, K>) {
+        Generated::constraint_matrices(self, &s.q, &s.qd, s.t)
+    }
+    #[inline]
+    fn acceleration(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
+        finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.0))
+    }
+    #[inline]
+    fn acceleration_moore_penrose(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
+        finite(moore_penrose(self, &s.q, &s.qd, s.t))
+    }
+    #[inline]
+    fn acceleration_corrected(
+        &self,
+        s: &State<T, N>,
+        db: &SVector<T, K>,
+    ) -> Result<SVector<T, N>, DynamicsError> {
+        finite(Generated::gauss(self, &s.q, &s.qd, s.t, Some(db)).map(|m| m.0))
+    }
+    #[inline]
+    fn constraint_force(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
+        finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.1))
+    }
+    #[inline]
+    fn gibbs_appell_matrices(
+        &self,
+        s: &State<T, N>,
+    ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError> {
+        Generated::gibbs_appell_matrices(self, &s.q, &s.qd, s.t)
+    }
+    #[inline]
+    fn acceleration_gibbs_appell(
+        &self,
+        s: &State<T, N>,
+    ) -> Result<SVector<T, N>, GibbsAppellError> {
+        let qdd = Generated::acceleration_gibbs_appell(self, &s.q, &s.qd, s.t)?;
+        if qdd.iter().all(|x| x.is_finite()) {
+            Ok(qdd)
+        } else {
+            Err(GibbsAppellError::NonFinite)
+        }
+    }
+}
+
+/// The contract of the `Result` methods: a non-finite value is an `Err`
+/// (the input was not finite, or the exact result is not representable).
+#[inline]
+fn finite<T: RealField + Copy, const N: usize>(
+    value: Result<SVector<T, N>, DynamicsError>,
+) -> Result<SVector<T, N>, DynamicsError> {
+    match value {
+        Ok(v) if !v.iter().all(|x| x.is_finite()) => Err(DynamicsError::NonFinite),
+        other => other,
     }
 }
