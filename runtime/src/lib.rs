@@ -39,7 +39,5 @@ pub mod __private {
     //! Items used by generated code; not part of the public API.
     pub use crate::dense::gauss_dense;
     pub use crate::generated::{lit, signum, step, Generated, Motion};
-    pub use crate::rank::{
-        cancellation_limit, checked, least_squares, moore_penrose, safe_minimum,
-    };
+    pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};
 }

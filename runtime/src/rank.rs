@@ -32,17 +32,17 @@
 //! ones (constant positive definite `M`) the [`least_squares`] solution
 //! (never NaN for finite input, unless it is not representable).
 //!
-//! A third trigger, in models whose masses are parameters (constant masses
-//! fix their ratios at compile time): where the unconstrained acceleration `a` exceeds `q̈`
-//! by [`cancellation_limit`] (`q̈ = a + M⁻¹Aᵀλ` cancelled more than half
-//! its digits, e.g. a light trolley under a 1e154 kg load), the fast
-//! solve's answer is verified as if a row had been dropped.
+//! The verdicts measure the backward error: a row holds when its residual
+//! is at most `1000 ε` of `‖Aᵢ‖₁ max(‖a‖, ‖z‖, ‖q̈‖) + |bᵢ|`, the size of
+//! the terms the solve summed (`q̈ = a + z`). Where `a` and `z` nearly cancel
+//! (a particle resting on a surface, or a light trolley under a 1e154 kg
+//! load) `q̈` is the exact answer of data perturbed by `ε`, not `q̈` to
+//! `ε` of itself.
 //!
 //! Limits, for *redundant* models: near a branch point a drop of no more
 //! rows than the model's redundancy is accepted unchecked (rule 1), the
 //! recomputation keeps the `r` strongest directions without a final check
-//! (off the surface the rows it drops are violated by design), and the
-//! cancellation trigger is off.
+//! (off the surface the rows it drops are violated by design).
 
 use crate::generated::{effective_mass, Generated, Motion};
 use crate::inverse::rank_tolerance;
@@ -55,15 +55,6 @@ use nalgebra::{RealField, SMatrix, SVector};
 #[inline]
 pub fn consistency_tolerance<T: RealField + Copy>() -> T {
     T::default_epsilon() * nalgebra::convert::<f64, T>(1000.0)
-}
-
-/// `1/ε`, the square of `1/√ε`: where the unconstrained acceleration
-/// exceeds `q̈` by `1/√ε` (compared squared, `max|aᵢ|² > ‖q̈‖²/ε`),
-/// `q̈ = a + M⁻¹Aᵀλ` has cancelled more than half its digits, and the fast
-/// solve's answer is verified (`checked`).
-#[inline]
-pub fn cancellation_limit<T: RealField + Copy>() -> T {
-    T::one() / T::default_epsilon()
 }
 
 /// Below this, a diagonal entry of `S = A M⁻¹ Aᵀ` may have lost its
@@ -85,8 +76,20 @@ pub fn relative_residual<T: RealField + Copy, const N: usize, const K: usize>(
     b: &SVector<T, K>,
     qdd: &SVector<T, N>,
 ) -> T {
+    relative_residual_at(a, b, qdd, qdd.amax())
+}
+
+/// [`relative_residual`] with the accelerations' size given: a solve that
+/// formed `q̈ = a + z` rounds at the size of `max(‖a‖, ‖z‖)`, not of `q̈`
+/// (a particle resting on a surface has `q̈ ≈ 0` from `a = g` and `z = −g`),
+/// so its backward error is measured against that.
+pub fn relative_residual_at<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    qdd: &SVector<T, N>,
+    size: T,
+) -> T {
     let mut worst = T::zero();
-    let size = qdd.amax();
     for i in 0..K {
         let (mut value, mut row) = (-b[i], T::zero());
         for j in 0..N {
@@ -144,14 +147,16 @@ where
         return None;
     }
     let cut = tight_cut::<T, N, K>();
-    let motion = match minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK) {
-        Ok(motion) => motion,
+    let (motion, size) = match minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK) {
+        Ok(solved) => solved,
         Err(error) => return Some(Err(error)),
     };
     // A redundant model keeps its r strongest directions, and the rows it
     // drops off its surface are violated by design (rule 1): only a model
     // without redundancy can be held to every row.
-    if S::GENERIC_RANK < K || relative_residual(&a, &b, &motion.0) <= consistency_tolerance() {
+    if S::GENERIC_RANK < K
+        || relative_residual_at(&a, &b, &motion.0, size) <= consistency_tolerance()
+    {
         Some(Ok(motion))
     } else {
         Some(Err(DynamicsError::Unsatisfiable))
@@ -195,10 +200,13 @@ where
 {
     let (a, b) = corrected_constraints(system, q, qd, t, correction);
     let cut = tight_cut::<T, N, K>();
-    minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK).unwrap_or_else(|_| {
-        let nan = SVector::from_element(T::zero() / T::zero());
-        (nan, nan)
-    })
+    match minimum_norm_motion(system, q, qd, t, &a, &b, cut, S::GENERIC_RANK) {
+        Ok((motion, _)) => motion,
+        Err(_) => {
+            let nan = SVector::from_element(T::zero() / T::zero());
+            (nan, nan)
+        }
+    }
 }
 
 /// `q̈ = a + L⁻ᵀ (D A L⁻ᵀ)⁺ D (b − A a)` with `M = L Lᵀ` (or the auxiliary
@@ -206,7 +214,8 @@ where
 /// largest entry, which changes nothing in `A q̈ = b` but keeps the SVD away
 /// from overflow and underflow. Singular values at or below `relative_cut`
 /// times the largest count as zero, and so do all but the `max_rank`
-/// largest. Returns `(q̈, Fᶜ)`.
+/// largest. Returns `(q̈, Fᶜ)` and the size of the accelerations it
+/// summed, `max(‖a‖, ‖z‖, ‖q̈‖)`, for [`relative_residual_at`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn minimum_norm_motion<T, S, const N: usize, const K: usize>(
     system: &S,
@@ -217,7 +226,7 @@ pub(crate) fn minimum_norm_motion<T, S, const N: usize, const K: usize>(
     b: &SVector<T, K>,
     relative_cut: T,
     max_rank: usize,
-) -> Result<Motion<T, N>, DynamicsError>
+) -> Result<(Motion<T, N>, T), DynamicsError>
 where
     T: RealField + Copy,
     S: Generated<T, N, K>,
@@ -237,7 +246,7 @@ where
         nalgebra::linalg::Cholesky::new(m_eff).ok_or(DynamicsError::MassNotPositiveDefinite)?;
     let acc = chol.solve(&f_eff);
     if K == 0 {
-        return Ok((acc, SVector::zeros()));
+        return Ok(((acc, SVector::zeros()), acc.amax()));
     }
     let (mut scaled_a, mut scaled_r) = (*a, b - a * acc);
     for i in 0..K {
@@ -276,7 +285,8 @@ where
     } else {
         l * y // M z = L Lᵀ L⁻ᵀ y
     };
-    Ok((qdd, force))
+    let size = acc.amax().max(z.amax()).max(qdd.amax());
+    Ok(((qdd, force), size))
 }
 
 /// The Moore–Penrose form of eq. 24 (`acceleration_moore_penrose`):
@@ -295,12 +305,12 @@ where
 {
     let (a, b) = system.constraint_matrices(q, qd, t);
     let cut = rank_tolerance::<T>().sqrt();
-    let (qdd, _) = minimum_norm_motion(system, q, qd, t, &a, &b, cut, K)?;
+    let ((qdd, _), size) = minimum_norm_motion(system, q, qd, t, &a, &b, cut, K)?;
     // The cut is a rank decision like the fast solve's, checked the same way.
-    if relative_residual(&a, &b, &qdd) <= consistency_tolerance() {
+    if relative_residual_at(&a, &b, &qdd, size) <= consistency_tolerance() {
         return Ok(qdd);
     }
-    let (qdd, _) = minimum_norm_motion(
+    let ((qdd, _), size) = minimum_norm_motion(
         system,
         q,
         qd,
@@ -312,7 +322,7 @@ where
     )?;
     // The Moore–Penrose form is the least-squares reading of inconsistent
     // constraints: its answer must satisfy them, or be that least-squares one.
-    if relative_residual(&a, &b, &qdd) <= consistency_tolerance()
+    if relative_residual_at(&a, &b, &qdd, size) <= consistency_tolerance()
         || least_squares_holds(&a, &b, &qdd)
     {
         Ok(qdd)

@@ -224,9 +224,6 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     roots.extend(&unchecked);
     roots.extend(&d.acceleration);
     roots.extend(&d.force);
-    if k > 0 {
-        roots.extend(&d.unconstrained);
-    }
     let body = Body::new(ctx.eq, &roots);
     let preamble = body.preamble();
     let bindings = named.iter().map(|(name, id)| {
@@ -260,40 +257,12 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         quote!(::core::result::Result::Ok((#acc, #force)))
     } else {
         let suspect = ldlt.suspect(ctx.generic_rank);
-        let (checked, limit) = (
-            ctx.private(quote!(checked)),
-            ctx.private(quote!(cancellation_limit)),
-        );
-        // `q̈ = a + M⁻¹Aᵀλ` cancels when the constraint force nearly
-        // balances the impressed one (a light trolley under a 1e154 kg
-        // load): q̈ far below a has lost digits, and is verified like a
-        // dropped row. Not for a redundant model: off its surface the rows
-        // it drops are violated by design (`constrained::rank`, rule 1), so
-        // verifying every row would reject the right answer.
-        let unconstrained = d
-            .unconstrained
-            .iter()
-            .filter(|&&e| !g.is_zero(e))
-            .map(|&e| {
-                let e = body.expr(e);
-                quote!((#e).abs())
-            });
-        // Only where the masses are parameters: with constant masses their
-        // ratios are fixed at compile time, and the check's cost on every
-        // call (10–40 % of a chain's q̈) buys nothing the fault matrix finds.
-        let cancelled = (ctx.generic_rank == k && !d.known_positive).then(|| {
-            // max|aᵢ|² against ‖q̈‖² (≥ max|q̈ᵢ|²): a dot product, which
-            // vectorizes, where a max over |q̈ᵢ| would not.
-            quote!(|| {
-                let __a_max = T::zero() #(.max(#unconstrained))*;
-                __a_max * __a_max > __acc.norm_squared() * #limit::<T>()
-            })
-        });
+        let checked = ctx.private(quote!(checked));
         // The force after the check, so that `acceleration` alone never
         // computes it.
         quote! {{
             let __acc = #acc;
-            if #suspect #cancelled {
+            if #suspect {
                 if let ::core::option::Option::Some(__recomputed) =
                     #checked(self, q, qd, t, correction, __acc, 0)
                 {
