@@ -56,6 +56,8 @@ trait Scalar: RealField + Copy + Debug + 'static {
     const HUGE: f64;
     const TINY: f64;
     const SUBNORMAL: f64;
+    /// The value in f64 (exact for both scalars).
+    fn f64(self) -> f64;
     fn of(x: f64) -> Self {
         constrained::nalgebra::convert(x)
     }
@@ -68,6 +70,9 @@ impl Scalar for f64 {
     const HUGE: f64 = 1e154;
     const TINY: f64 = 1e-154;
     const SUBNORMAL: f64 = 1e-310;
+    fn f64(self) -> f64 {
+        self
+    }
 }
 
 impl Scalar for f32 {
@@ -77,6 +82,9 @@ impl Scalar for f32 {
     const HUGE: f64 = 1e19;
     const TINY: f64 = 1e-19;
     const SUBNORMAL: f64 = 1e-40;
+    fn f64(self) -> f64 {
+        f64::from(self)
+    }
 }
 
 /// The hostile variants of a nominal state: name, state, and whether the
@@ -224,7 +232,7 @@ fn judge<T, S, const N: usize, const K: usize>(
         // Backward error, as the library states it: against the size of
         // the terms the solve summed, max(‖q̈‖, ‖a‖) with a = M⁻¹F.
         let size = qdd.amax().max(unconstrained_size(system, state));
-        let residual: f64 = nalgebra_f64(relative_residual_at(&a, &target, &qdd, size));
+        let residual: f64 = Scalar::f64(relative_residual_at(&a, &target, &qdd, size));
         // The Gibbs–Appell form enforces r independent rows of A q̈ = b.
         let consistent = residual <= T::RESIDUAL
             || least_squares(&a, &target, &qdd, T::RESIDUAL)
@@ -252,8 +260,8 @@ fn judge<T, S, const N: usize, const K: usize>(
                 if let Some(gi) = gi {
                     // Both are backward stable: they agree to the size of
                     // the terms they summed, not necessarily to ‖q̈‖.
-                    let scale = nalgebra_f64(gi.amax().max(qdd.amax()).max(size));
-                    let difference = nalgebra_f64((gi - qdd).amax()) / scale.max(f64::MIN_POSITIVE);
+                    let scale = Scalar::f64(gi.amax().max(qdd.amax()).max(size));
+                    let difference = Scalar::f64((gi - qdd).amax()) / scale.max(f64::MIN_POSITIVE);
                     if difference > T::AGREEMENT {
                         tally.fail(format!(
                             "{what}: differs from the GI acceleration by {difference:e}"
@@ -280,7 +288,7 @@ where
     T: Scalar,
     S: ConstrainedSystem<T, N, K>,
 {
-    let to64 = |x: T| nalgebra_f64(x);
+    let to64 = |x: T| x.f64();
     let m = ConstrainedSystem::mass_matrix(system, state).map(to64);
     let f = ConstrainedSystem::forces(system, state).map(to64);
     // Scaled by M's largest entry, so that M q̈ cannot overflow.
@@ -344,11 +352,6 @@ where
         }
         None => T::zero(),
     }
-}
-
-fn nalgebra_f64<T: Scalar>(x: T) -> f64 {
-    // T is f32 or f64: through the text form, exact for both.
-    format!("{x:?}").parse().unwrap_or(f64::NAN)
 }
 
 /// A consistent state near a pseudo-random one by projection (`true`),

@@ -66,8 +66,10 @@ where
     };
     // A pivot of an underflowed S is not trusted either (crate::rank).
     let underflow = gram.diagonal().iter().any(|&s| s < safe_minimum());
-    let kept = if underflow { 0 } else { ldlt.rank() };
-    match checked(system, q, qd, t, correction, qdd, kept) {
+    if !underflow && ldlt.rank() >= S::GENERIC_RANK {
+        return Ok((qdd, force));
+    }
+    match checked(system, q, qd, t, correction, qdd) {
         None => Ok((qdd, force)),
         Some(recomputed) => recomputed,
     }

@@ -113,8 +113,9 @@ pub fn relative_residual_at<T: RealField + Copy, const N: usize, const K: usize>
     worst
 }
 
-/// The fast solve's acceleration `candidate`, which kept `kept` rows,
-/// checked by the rules of the module docs: `None` when it stands (the
+/// The fast solve's acceleration `candidate`, called when it kept fewer
+/// rows than `GENERIC_RANK` (or `S` underflowed; the caller decides, rule 1
+/// of the module docs), checked by rule 2: `None` when it stands (the
 /// caller keeps its own `q̈` and constraint force), else the minimum-norm
 /// recomputation, itself checked: `Err(Unsatisfiable)` when it does not
 /// satisfy `A q̈ = b` either (no solution here, or none that `T` can
@@ -133,15 +134,11 @@ pub fn checked<T, S, const N: usize, const K: usize>(
     t: T,
     correction: Option<&SVector<T, K>>,
     candidate: SVector<T, N>,
-    kept: usize,
 ) -> Option<Result<Motion<T, N>, DynamicsError>>
 where
     T: RealField + Copy,
     S: Generated<T, N, K>,
 {
-    if kept >= S::GENERIC_RANK {
-        return None;
-    }
     let (a, b) = corrected_constraints(system, q, qd, t, correction);
     if relative_residual(&a, &b, &candidate) <= consistency_tolerance() {
         return None;

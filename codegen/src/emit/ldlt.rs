@@ -6,7 +6,9 @@
 //! Only structural nonzeros are touched, so a chain's tridiagonal `S` costs
 //! O(k). A pivot whose `sin²θ = dⱼ / Sⱼⱼ` is below `rank_tolerance` is
 //! dropped (`D⁺`), which removes its constraint; for k = 1 this is the scalar
-//! closed form `λ = r / S` with `λ = 0` where `S = 0`.
+//! closed form `λ = r / S` with `λ = 0` where `S = 0`. A drop the model's
+//! redundancy does not explain is flagged ([`StructuredLdlt::suspect`]) and
+//! verified at run time (`constrained::rank`).
 
 use super::context::Context;
 use crate::expr::Graph;

@@ -4,7 +4,10 @@
 //! `Generated` trait from which `ConstrainedSystem` follows.
 //!
 //! The public methods share one private solver, `gauss`, returning
-//! `(q̈, Aᵀλ)`; with `#[inline]` the unused half is optimised away. The
+//! `Result<(q̈, Aᵀλ), DynamicsError>`; it is `#[inline(always)]` and builds
+//! `Aᵀλ` after its rank check, so the unused half is optimised away. Where
+//! the rank decision is suspect, one out-of-line call into the runtime
+//! (`constrained::rank::checked`) verifies or recomputes it. The
 //! constraint force is emitted as `Aᵀ λ` rather than `M q̈ − F`, which is the
 //! same quantity without the cancellation. What cannot be specialised (the
 //! dense solve of a full `M(q)`, the Moore–Penrose form) is one call into
@@ -62,9 +65,10 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     };
     let fallibility = if fallible(ctx) {
         "`Err` when `M` is not positive definite at this state (it is not \
-         known to be at compile time), when a value is not finite, or when no \
-         acceleration satisfies `A q̈ = b` to working precision (`Unsatisfiable`; \
-         see `constrained::rank`)."
+         known to be at compile time), or when no acceleration satisfies \
+         `A q̈ = b` to working precision (`Unsatisfiable`; see `constrained::rank`). \
+         The `ConstrainedSystem` method also turns any non-finite value into \
+         `Err(NonFinite)`."
     } else {
         "Total: `M` is constant and positive definite. Where no acceleration \
          satisfies `A q̈ = b` to working precision, the least-squares one (the \
@@ -264,7 +268,7 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
             let __acc = #acc;
             if #suspect {
                 if let ::core::option::Option::Some(__recomputed) =
-                    #checked(self, q, qd, t, correction, __acc, 0)
+                    #checked(self, q, qd, t, correction, __acc)
                 {
                     return __recomputed;
                 }
