@@ -224,6 +224,47 @@ fn nested_compositions_expand() {
     }
 }
 
+/// Expanded size of a constraint and force built from a chain of `n`
+/// definitions (`link(i)` defines `dᵢ` from `dᵢ₋₁`, `d0 = x`).
+fn chain_size(n: usize, link: impl Fn(usize) -> String) -> usize {
+    let defs: Vec<String> = (1..=n).map(&link).collect();
+    let body = format!(
+        "struct S {{ coordinates: [x, y], mass: diag[1.0, 1.0], definitions: [d0 = x, {}], \
+         forces: [d{n}, 0.0], constraints: [y == d{n}] }}",
+        defs.join(", ")
+    );
+    finishes(body).expect("accepted").len()
+}
+
+/// A composition n deep is a DAG of O(n) nodes; its second derivative
+/// (the constraint's `b`) must be too, and so the emitted code and text.
+/// Flattening every product made both O(n²): `sin` 200 deep gave 3.3 MB,
+/// now 0.2 MB. Doubling the depth must at most double the output (2.3×
+/// allows for the fixed part); quadratic growth would give 4×.
+#[test]
+fn output_grows_linearly_with_the_depth_of_a_composition() {
+    let sin = |i: usize| format!("d{i} = d{}.sin()", i - 1);
+    let usinu = |i: usize| format!("d{i} = d{} * d{}.sin()", i - 1, i - 1);
+    for (name, link, depths) in [
+        (
+            "sin∘sin∘…",
+            &sin as &dyn Fn(usize) -> String,
+            [100, 200, 400],
+        ),
+        ("u·sin(u)", &usinu, [24, 48, 96]),
+    ] {
+        let sizes: Vec<usize> = depths.iter().map(|&n| chain_size(n, link)).collect();
+        for (pair, depth) in sizes.windows(2).zip(&depths[1..]) {
+            let ratio = pair[1] as f64 / pair[0] as f64;
+            println!(
+                "{name} at depth {depth}: {} bytes, {ratio:.2}× the half depth",
+                pair[1]
+            );
+            assert!(ratio < 2.3, "{name}: {sizes:?} bytes at depths {depths:?}");
+        }
+    }
+}
+
 #[test]
 fn contradictory_constraints_are_reported() {
     rejected(

@@ -4,6 +4,13 @@
 use super::{Args, Func, Graph, Id, Node, Parity};
 use crate::num::Num;
 
+/// The longest product that a product it multiplies absorbs factor by
+/// factor. Longer products stay one factor: flattening them made the
+/// derivative of a depth-n composition O(n²) in edges and text (issue 13).
+/// Eight factors cover every product of the reference models, so their
+/// canonical forms (and the snapshots) are unaffected.
+const FLATTENED_FACTORS: usize = 8;
+
 impl Graph {
     /// `Σ terms`.
     pub fn add(&mut self, terms: &[Id]) -> Id {
@@ -196,8 +203,11 @@ impl Graph {
                         }
                     }
                 }
-                // (Π bᵢ^eᵢ)^e = Π bᵢ^(eᵢ·e) for integer e.
-                Node::Mul(inner) if integer_power => {
+                // (Π bᵢ^eᵢ)^e = Π bᵢ^(eᵢ·e) for integer e, for a short
+                // product; a long one stays a factor, so that the chain and
+                // product rules on nested compositions (sin∘sin∘…) build
+                // O(1) new edges per level instead of copying every factor.
+                Node::Mul(inner) if integer_power && inner.len() <= FLATTENED_FACTORS => {
                     pending.extend(inner.iter().map(|&(b, k)| (b, k * e)));
                 }
                 _ => factors.push((id, e)),

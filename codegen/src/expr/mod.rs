@@ -11,7 +11,9 @@
 //! - sums are `Σ cᵢ·tᵢ + c₀` with terms sorted by `Id`, merged, no zero
 //!   coefficient; a term is never a number or a sum; `1·x + 0` is `x`;
 //! - products are `Π bᵢ^eᵢ` with rational exponents, bases sorted and merged,
-//!   no zero exponent; a numeric coefficient never sits inside a product but in
+//!   no zero exponent; a product of more than eight factors is not flattened
+//!   into a product that multiplies it (it stays one base), which keeps
+//!   derivatives of deep compositions linear in size; a numeric coefficient never sits inside a product but in
 //!   the sum around it (`3·x·y` is `Add[(x·y, 3)]`); a number is a base only
 //!   under a non-integer exponent (`√2`); `x^1` is `x`;
 //! - `Pow` only for a non-constant exponent (`x.powf(y)`);
