@@ -46,9 +46,11 @@ where
     let mut attempts = 0;
     while states.len() < STATES && attempts < 50 * STATES {
         attempts += 1;
+        // Parameters, then inputs: the constructor's order.
         let params: Vec<f64> = symbolic
             .parameters
             .iter()
+            .chain(symbolic.inputs)
             .map(|_| rng.uniform(0.5, 1.5))
             .collect();
         let system = make(&params);
@@ -98,7 +100,9 @@ where
     json!({
         "name": symbolic.name,
         "coordinates": symbolic.coordinates,
-        "parameters": symbolic.parameters,
+        // Every symbol with a value in `params`: the inputs are the last.
+        "parameters": symbolic.parameters.iter().chain(symbolic.inputs).collect::<Vec<_>>(),
+        "inputs": symbolic.inputs,
         "mass": symbolic.mass,
         "forces": symbolic.forces,
         "constraints": symbolic.constraints,
@@ -174,6 +178,11 @@ fn main() {
         export(
             CartPole::<f64>::SYMBOLIC,
             |p| CartPole::new(p[0], p[1], p[2], p[3], p[4]),
+            &mut rng,
+        ),
+        export(
+            CartPoleCartesian::<f64>::SYMBOLIC,
+            |p| CartPoleCartesian::new(p[0], p[1], p[2], p[3], p[4]),
             &mut rng,
         ),
         export(

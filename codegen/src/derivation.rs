@@ -42,8 +42,12 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     );
     let _ = writeln!(w);
     let _ = writeln!(w, "Coordinates  q = ({})", coordinates.join(", "));
-    if !parameters.is_empty() {
-        let _ = writeln!(w, "Parameters   {}", parameters.join(", "));
+    let (parameters_only, inputs) = parameters.split_at(parameters.len() - sys.inputs);
+    if !parameters_only.is_empty() {
+        let _ = writeln!(w, "Parameters   {}", parameters_only.join(", "));
+    }
+    if !inputs.is_empty() {
+        let _ = writeln!(w, "Inputs       u = ({})", inputs.join(", "));
     }
     let _ = writeln!(w);
 

@@ -5,6 +5,7 @@ use crate::diff::Differentiator;
 use crate::expr::Id;
 use crate::model::{Level, System};
 use crate::motion::{self, MassInverse};
+use crate::tangent::{self, Tangent};
 
 /// A system together with its derived constraint equations.
 pub struct Equations {
@@ -19,6 +20,9 @@ pub struct Equations {
     pub velocity_constraints: Vec<Id>,
     /// How Gauss's principle is solved (see [`motion`]).
     pub gauss: MassInverse,
+    /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
+    /// (see [`tangent`](crate::tangent)).
+    pub tangent: Tangent,
 }
 
 /// Differentiates every constraint: velocity-level φ once, position-level φ
@@ -43,11 +47,14 @@ pub fn constraint_equations(mut system: System) -> Equations {
         velocity_constraints.push(velocity_level);
     }
     let gauss = motion::gauss(g, &system.mass, &system.forces, &a, &b);
-    Equations {
+    let mut eq = Equations {
         system,
         a,
         b,
         velocity_constraints,
         gauss,
-    }
+        tangent: Tangent::default(),
+    };
+    eq.tangent = tangent::tangent(&mut eq);
+    eq
 }

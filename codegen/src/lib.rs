@@ -11,7 +11,8 @@
 //!    [`expr`], every rule checked, errors reported together;
 //! 3. [`derive`](mod@derive): constraints differentiated ([`diff`]) into `A q̈ = b`,
 //!    Gauss's principle set up ([`motion`]), the Gibbs–Appell partition
-//!    found at consistent states ([`partition`]);
+//!    found at consistent states ([`partition`]), and the derivatives
+//!    behind the Jacobian of `q̈` taken ([`tangent`]);
 //! 4. [`emit`]: straight-line Rust with shared subexpressions ([`cse`]) and
 //!    the derivation text ([`derivation`], [`print`](mod@print)).
 
@@ -35,6 +36,7 @@ pub mod parse;
 pub mod partition;
 pub mod print;
 pub mod rng;
+pub mod tangent;
 
 use proc_macro2::TokenStream;
 

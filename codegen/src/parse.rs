@@ -12,6 +12,7 @@ use syn::{braced, bracketed, Attribute, Expr, Ident, Token, Visibility};
 pub mod kw {
     syn::custom_keyword!(coordinates);
     syn::custom_keyword!(parameters);
+    syn::custom_keyword!(inputs);
     syn::custom_keyword!(mass);
     syn::custom_keyword!(forces);
     syn::custom_keyword!(definitions);
@@ -47,6 +48,7 @@ pub struct List<T> {
 /// ```text
 /// section := `coordinates` `:` `[` Ident,* `]`
 ///          | `parameters`  `:` `[` Ident,* `]`
+///          | `inputs`      `:` `[` Ident,* `]`
 ///          | `mass`        `:` (`diag` `[` expr,* `]` | `[` (`[` expr,* `]`),* `]`)
 ///          | `forces`      `:` `[` expr,* `]`
 ///          | `definitions` `:` `[` (Ident `=` expr),* `]`
@@ -60,6 +62,8 @@ pub enum Section {
     Coordinates(Ident, List<Ident>),
     /// Parameters (become struct fields).
     Parameters(Ident, List<Ident>),
+    /// Control inputs (struct fields after the parameters, in forces only).
+    Inputs(Ident, List<Ident>),
     /// The mass matrix.
     Mass(Ident, MassInput),
     /// Impressed forces.
@@ -82,6 +86,7 @@ impl Section {
         match self {
             Section::Coordinates(k, _)
             | Section::Parameters(k, _)
+            | Section::Inputs(k, _)
             | Section::Mass(k, _)
             | Section::Forces(k, _)
             | Section::Definitions(k, _)
@@ -155,6 +160,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::parameters) {
             let k = keyword!(parameters);
             Ok(Section::Parameters(k, list(input, Ident::parse)?))
+        } else if lookahead.peek(kw::inputs) {
+            let k = keyword!(inputs);
+            Ok(Section::Inputs(k, list(input, Ident::parse)?))
         } else if lookahead.peek(kw::mass) {
             let k = keyword!(mass);
             Ok(Section::Mass(k, input.parse()?))

@@ -16,6 +16,7 @@ pub mod gibbs_appell;
 pub mod integrate;
 pub mod inverse;
 mod level;
+pub mod linearize;
 pub mod rank;
 pub mod stabilize;
 mod state;
@@ -29,6 +30,7 @@ pub use integrate::{
     SemiImplicitEuler, Stats, ThreeEighthsRule,
 };
 pub use level::ConstraintLevel;
+pub use linearize::Jacobians;
 pub use stabilize::Stabilization;
 pub use state::State;
 pub use symbolic::{SymbolicEnergies, SymbolicSystem};
@@ -39,5 +41,6 @@ pub mod __private {
     //! Items used by generated code; not part of the public API.
     pub use crate::dense::gauss_dense;
     pub use crate::generated::{lit, signum, step, Generated, Motion};
+    pub use crate::linearize::Tangent;
     pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};
 }

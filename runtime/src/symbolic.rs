@@ -16,6 +16,9 @@ pub struct SymbolicSystem {
     pub coordinates: &'static [&'static str],
     /// Parameters (struct fields), in order.
     pub parameters: &'static [&'static str],
+    /// Control inputs (the struct fields after the parameters), in order;
+    /// they appear in `forces` (or the generalized forces) only.
+    pub inputs: &'static [&'static str],
     /// Mass matrix `M(q, t)`, row by row (n × n).
     pub mass: &'static [&'static [&'static str]],
     /// Impressed forces `F(q, q̇, t)` (n).

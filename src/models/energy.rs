@@ -6,14 +6,33 @@ constrained_system! {
     /// `l` with a point mass `mp` at its tip, at angle `th` from hanging
     /// down. Positions are written once; `dt` gives the velocities, and
     /// Lagrange's equations the non-diagonal `M(q)` and the `θ̇²` term.
+    /// `push` is a control input: `acceleration_jacobian` and `linearize`
+    /// differentiate by it (`examples/cart_pole_lqr.rs` balances the pole).
     pub struct CartPole {
         coordinates: [s, th],
-        parameters: [mc, mp, l, g, push],
+        parameters: [mc, mp, l, g],
+        inputs: [push],
         definitions: [xp = s + l * th.sin(), yp = -l * th.cos()],
         kinetic_energy: mc * dot(s).powi(2) / 2.0
             + mp * (dt(xp).powi(2) + dt(yp).powi(2)) / 2.0,
         potential_energy: mp * g * yp,
         forces: [push, 0.0],
+    }
+}
+
+constrained_system! {
+    /// The same cart-pole in Cartesian coordinates: the cart at `s`, the
+    /// pole's tip at `(x, y)`, the rod a position constraint. Linearized in
+    /// all three coordinates (six states) it carries the rod's direction; reduced to the
+    /// constraint manifold (`constrained::linearize::reduced`) it has the
+    /// eigenvalues of [`CartPole`].
+    pub struct CartPoleCartesian {
+        coordinates: [s, x, y],
+        parameters: [mc, mp, l, g],
+        inputs: [push],
+        mass: diag[mc, mp, mp],
+        forces: [push, 0.0, -mp * g],
+        constraints: [(x - s).powi(2) + y.powi(2) == l.powi(2)],
     }
 }
 

@@ -9,6 +9,7 @@
 mod body;
 mod context;
 mod gibbs_appell;
+mod jacobian;
 mod ldlt;
 mod motion;
 
@@ -28,7 +29,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let ctx = Context::new(eq, partition.rank);
     let sys = &eq.system;
     let (n, k) = (ctx.n, ctx.k);
-    let (n_lit, k_lit) = (Context::dim(n), Context::dim(k));
+    let (n_lit, k_lit, nu_lit) = (Context::dim(n), Context::dim(k), Context::dim(sys.inputs));
     let name = &sys.name;
     let vis = &sys.vis;
     let attrs = &sys.attrs;
@@ -41,7 +42,16 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         plural(n, "coordinate"),
         plural(k, "constraint"),
     );
-    let param_docs = params.iter().map(|p| format!(" Parameter `{p}`."));
+    let param_docs = params.iter().enumerate().map(|(i, p)| {
+        if i < params.len() - sys.inputs {
+            format!(" Parameter `{p}`.")
+        } else {
+            format!(
+                " Control input `{p}` (in `forces` only): set it between steps; \
+                 the integrators hold it over a step (zero-order hold)."
+            )
+        }
+    });
     let fields = if params.is_empty() {
         quote! {
             #[doc(hidden)]
@@ -95,6 +105,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let matrices = constraint_matrices(&ctx);
     let motion = motion::methods(&ctx);
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
+    let linearization = jacobian::methods(&ctx);
+    let tangent_impl = jacobian::tangent_impl(&ctx);
     let generated_impl = motion::generated_impl(&ctx);
     let levels = motion::levels(&ctx);
     let level = ctx.path(quote!(ConstraintLevel));
@@ -110,7 +122,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         #vis struct #name<T = f64> { #fields }
 
         impl<T> #name<T> {
-            /// Creates the system from its parameters, in the order declared.
+            /// Creates the system from its parameters, then its control
+            /// inputs, in the order declared.
             // One argument per parameter, however many the model has.
             #[allow(clippy::new_without_default, clippy::too_many_arguments)]
             pub const fn new(#(#params: T),*) -> Self { #constructor_body }
@@ -124,6 +137,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             pub const DOF: usize = #n_lit;
             /// Number of constraints `k` (rows of `A`, redundant ones included).
             pub const CONSTRAINTS: usize = #k_lit;
+            /// Number of control inputs (`inputs: [..]`, the last fields).
+            pub const INPUTS: usize = #nu_lit;
             /// For each constraint, whether it was differentiated twice
             /// (position level) or once (velocity level).
             pub const CONSTRAINT_LEVELS: [#level; #k_lit] = [#(#levels),*];
@@ -139,9 +154,11 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #matrices
             #motion
             #gibbs_appell
+            #linearization
         }
 
         #generated_impl
+        #tangent_impl
     }
 }
 
@@ -217,6 +234,7 @@ fn symbolic(eq: &Equations) -> TokenStream {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
     let parameters: Vec<String> = sys.parameters.iter().map(ToString::to_string).collect();
+    let (parameters_only, inputs) = parameters.split_at(parameters.len() - sys.inputs);
     // Shared subexpressions are named (`__s1`, …) and listed in
     // `definitions`, so that the text grows with the DAG.
     let mut roots: Vec<Id> = sys.mass.iter().flatten().copied().collect();
@@ -274,7 +292,8 @@ fn symbolic(eq: &Equations) -> TokenStream {
         ::constrained::SymbolicSystem {
             name: #name,
             coordinates: &[#(#coordinates),*],
-            parameters: &[#(#parameters),*],
+            parameters: &[#(#parameters_only),*],
+            inputs: &[#(#inputs),*],
             mass: #mass,
             forces: #forces,
             constraints: #constraints,

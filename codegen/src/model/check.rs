@@ -315,3 +315,16 @@ fn numerically_equal(g: &Graph, a: Id, b: Id) -> bool {
         (v[0] - v[1]).abs() <= 1e-12 * scale
     })
 }
+
+/// A control input where only `forces` may have one: inputs enter the
+/// dynamics as impressed forces (generalized forces `Q` with energies), so
+/// that `∂q̈/∂u` is the constrained response to `∂F/∂u`.
+pub fn input_outside_forces(errors: &mut Errors, at: impl ToTokens, what: &str) {
+    errors.spanned(
+        at,
+        format!(
+            "control inputs may appear in `forces` only, not in {what}; \
+             make it a parameter if it is not an input"
+        ),
+    );
+}

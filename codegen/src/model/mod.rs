@@ -47,8 +47,13 @@ pub struct System {
     pub name: Ident,
     /// Coordinates `q`, in order.
     pub coordinates: Vec<Ident>,
-    /// Parameters, in order.
+    /// Parameters, then the control inputs, in order: both are struct
+    /// fields and `Sym::Param` in expressions.
     pub parameters: Vec<Ident>,
+    /// How many of `parameters`, at the end, are control inputs
+    /// (`inputs: [..]`): they appear in `forces` only, and
+    /// `acceleration_jacobian` differentiates by them.
+    pub inputs: usize,
     /// The expression arena.
     pub graph: Graph,
     /// `M(q, t)`, n × n, symmetric (entry (j, i) is the node of (i, j)).
@@ -85,6 +90,21 @@ impl System {
     pub fn dof(&self) -> usize {
         self.coordinates.len()
     }
+
+    /// The parameters proper, without the inputs.
+    pub fn parameters_only(&self) -> &[Ident] {
+        &self.parameters[..self.parameters.len() - self.inputs]
+    }
+
+    /// The control inputs.
+    pub fn input_names(&self) -> &[Ident] {
+        &self.parameters[self.parameters.len() - self.inputs..]
+    }
+
+    /// The symbol of input `j`.
+    pub fn input(&self, j: usize) -> Sym {
+        Sym::Param(self.parameters.len() - self.inputs + j)
+    }
 }
 
 /// The sections of one input, each at most once.
@@ -92,6 +112,7 @@ impl System {
 struct Sections<'a> {
     coordinates: Option<&'a List<Ident>>,
     parameters: Option<&'a List<Ident>>,
+    inputs: Option<&'a List<Ident>>,
     mass: Option<(&'a Ident, &'a MassInput)>,
     forces: Option<&'a List<Expr>>,
     definitions: Option<&'a List<(Ident, Expr)>>,
@@ -108,6 +129,7 @@ impl<'a> Sections<'a> {
             let duplicate = match section {
                 Section::Coordinates(_, l) => s.coordinates.replace(l).is_some(),
                 Section::Parameters(_, l) => s.parameters.replace(l).is_some(),
+                Section::Inputs(_, l) => s.inputs.replace(l).is_some(),
                 Section::Mass(k, m) => s.mass.replace((k, m)).is_some(),
                 Section::Forces(_, l) => s.forces.replace(l).is_some(),
                 Section::Definitions(_, l) => s.definitions.replace(l).is_some(),
@@ -155,7 +177,17 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
         errors.at(list.span, "`coordinates` must name at least one coordinate");
     }
-    let parameters = sections.parameters.map_or(&empty, |l| &l.items);
+    // Inputs are parameters to every stage but the checks below and the
+    // Jacobian: fields after the parameters, `Sym::Param` after theirs.
+    let inputs = sections.inputs.map_or(&empty, |l| &l.items);
+    let parameters: Vec<Ident> = sections
+        .parameters
+        .map_or(&empty, |l| &l.items)
+        .iter()
+        .chain(inputs)
+        .cloned()
+        .collect();
+    let first_input = parameters.len() - inputs.len();
     let n = coordinates.len();
 
     let mut graph = Graph::new();
@@ -214,7 +246,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     } else {
         (applied, None)
     };
-    let constraints = sections
+    let constraints: Vec<Constraint> = sections
         .constraints
         .map_or(&[][..], |l| &l.items)
         .iter()
@@ -224,6 +256,31 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
 
+    if !inputs.is_empty() {
+        let is_input = |s: Sym| matches!(s, Sym::Param(i) if i >= first_input);
+        let g = &*lower.graph;
+        let mentions = |id: Id| g.mentions(id, is_input);
+        let where_mass = match (sections.mass, sections.kinetic_energy) {
+            (Some((keyword, _)), _) => Some(("`mass`", keyword)),
+            (None, Some((keyword, _))) => Some(("`kinetic_energy`", keyword)),
+            (None, None) => None,
+        };
+        let mass_has_input =
+            mass.iter().flatten().any(|&m| mentions(m)) || kinetic.is_some_and(&mentions);
+        if let (true, Some((what, keyword))) = (mass_has_input, where_mass) {
+            check::input_outside_forces(lower.errors, keyword, what);
+        }
+        if let (Some(v), Some((keyword, _))) = (potential, sections.potential_energy) {
+            if mentions(v) {
+                check::input_outside_forces(lower.errors, keyword, "`potential_energy`");
+            }
+        }
+        for c in &constraints {
+            if mentions(c.phi) {
+                check::input_outside_forces(lower.errors, &c.tokens, "a constraint");
+            }
+        }
+    }
     let named = std::mem::take(&mut lower.named);
     let mass_span = match (sections.mass, sections.kinetic_energy) {
         (Some((keyword, _)), _) | (None, Some((keyword, _))) => keyword.span(),
@@ -235,7 +292,8 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         vis: input.vis.clone(),
         name: input.name.clone(),
         coordinates: coordinates.clone(),
-        parameters: parameters.clone(),
+        parameters,
+        inputs: inputs.len(),
         graph,
         mass,
         forces,

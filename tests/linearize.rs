@@ -1,0 +1,243 @@
+//! The generated Jacobians of `q̈` (issue 12), for every reference model at
+//! consistent states, against two independent truths: central differences
+//! of `acceleration` (to 1e-7) and dual numbers (`num_dual::Dual64` as the
+//! scalar of the same generated code, forward mode through its
+//! factorization: to 1e-12). Dual numbers differentiate the code
+//! `acceleration` runs, rank decisions and all, so they also check that
+//! the Jacobian is the one of the `q̈` actually returned.
+
+// The macro's input counter is incremented after the last input too.
+#![allow(unused_assignments, clippy::reversed_empty_ranges)] // NU = 0 for most models
+
+use constrained::models::*;
+use constrained::nalgebra::{SMatrix, SVector};
+use constrained::stabilize::project;
+use constrained::{ConstrainedSystem, DynamicsError, Jacobians, State};
+use num_dual::Dual64;
+
+/// The inherent methods return a plain value or a `Result`, as
+/// `acceleration` does for the model: one shape for the test.
+trait Answer<V> {
+    fn answer(self) -> Result<V, DynamicsError>;
+}
+
+impl<V> Answer<V> for Result<V, DynamicsError> {
+    fn answer(self) -> Result<V, DynamicsError> {
+        self
+    }
+}
+
+impl<const N: usize, const NU: usize> Answer<Jacobians<f64, N, NU>> for Jacobians<f64, N, NU> {
+    fn answer(self) -> Result<Jacobians<f64, N, NU>, DynamicsError> {
+        Ok(self)
+    }
+}
+
+impl<const R: usize, const NU: usize> Answer<(SMatrix<f64, R, R>, SMatrix<f64, R, NU>)>
+    for (SMatrix<f64, R, R>, SMatrix<f64, R, NU>)
+{
+    fn answer(self) -> Result<(SMatrix<f64, R, R>, SMatrix<f64, R, NU>), DynamicsError> {
+        Ok(self)
+    }
+}
+
+/// A pseudo-random state projected onto the constraints (position and
+/// velocity level).
+fn consistent<S, const N: usize, const K: usize>(system: &S, seed: u64) -> State<f64, N>
+where
+    S: ConstrainedSystem<f64, N, K>,
+{
+    let mut x = seed;
+    let mut next = || {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((x >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+    };
+    let q = SVector::<f64, N>::from_fn(|_, _| next() + 0.3);
+    let qd = SVector::<f64, N>::from_fn(|_, _| 2.0 * next());
+    let mut state = State::new(0.25, q, qd);
+    project(system, &mut state, 1e-13, 50).expect("a consistent state near the seed");
+    state
+}
+
+/// The largest entry of `a − b` against the scale of `b`.
+fn error<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+    let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+    (a - b).iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale
+}
+
+/// Largest errors against central differences and dual numbers.
+#[derive(Default, Debug)]
+struct Errors {
+    central: f64,
+    dual: f64,
+}
+
+macro_rules! check_model {
+    ($errors:expr, $model:ident, $n:literal, $k:literal, [$($p:expr),*], [$($input:ident = $u:expr),*]) => {{
+        let build = || {
+            #[allow(unused_mut)]
+            let mut s = $model::<f64>::new($($p),*);
+            $( s.$input = $u; )*
+            s
+        };
+        #[allow(unused_variables)]
+        let build_dual = |seed: Option<usize>| {
+            #[allow(unused_mut)]
+            let mut s = $model::<Dual64>::new($(Dual64::from($p)),*);
+            #[allow(unused_mut, unused_variables, unused_assignments)]
+            let mut j = 0usize;
+            $(
+                s.$input = if seed == Some(j) { Dual64::new($u, 1.0) } else { Dual64::from($u) };
+                j += 1;
+            )*
+            s
+        };
+        let system = build();
+        let acc = |s: &$model<f64>, q: &SVector<f64, $n>, qd: &SVector<f64, $n>, t: f64| {
+            ConstrainedSystem::<f64, $n, $k>::acceleration(s, &State::new(t, *q, *qd))
+                .expect(concat!(stringify!($model), ": acceleration"))
+        };
+        for seed in [1u64, 2, 3] {
+            let x = consistent::<_, $n, $k>(&system, seed);
+            let (q, qd, t) = (x.q, x.qd, x.t);
+            let jac = system.acceleration_jacobian(&q, &qd, t).answer()
+                .expect(concat!(stringify!($model), ": acceleration_jacobian"));
+            const NU: usize = $model::<f64>::INPUTS;
+            // Central differences, column by column.
+            let mut dq = SMatrix::<f64, $n, $n>::zeros();
+            let mut dqd = SMatrix::<f64, $n, $n>::zeros();
+            for c in 0..$n {
+                let h = 1e-5 * q[c].abs().max(1.0);
+                let (mut plus, mut minus) = (q, q);
+                plus[c] += h;
+                minus[c] -= h;
+                dq.set_column(c, &((acc(&system, &plus, &qd, t) - acc(&system, &minus, &qd, t)) / (2.0 * h)));
+                let h = 1e-5 * qd[c].abs().max(1.0);
+                let (mut plus, mut minus) = (qd, qd);
+                plus[c] += h;
+                minus[c] -= h;
+                dqd.set_column(c, &((acc(&system, &q, &plus, t) - acc(&system, &q, &minus, t)) / (2.0 * h)));
+            }
+            #[allow(unused_mut)]
+            let mut du = SMatrix::<f64, $n, NU>::zeros();
+            #[allow(unused_mut, unused_variables, unused_assignments)]
+            let mut j = 0usize;
+            $(
+                let h = 1e-5 * ($u as f64).abs().max(1.0);
+                let (mut plus, mut minus) = (build(), build());
+                plus.$input += h;
+                minus.$input -= h;
+                du.set_column(j, &((acc(&plus, &q, &qd, t) - acc(&minus, &q, &qd, t)) / (2.0 * h)));
+                j += 1;
+            )*
+            let central = error(&jac.dq, &dq).max(error(&jac.dqd, &dqd)).max(if NU > 0 { error(&jac.du, &du) } else { 0.0 });
+            // Dual numbers: one column per seeded variable.
+            let dual_acc = |s: &$model<Dual64>, q: SVector<Dual64, $n>, qd: SVector<Dual64, $n>| {
+                let a = ConstrainedSystem::<Dual64, $n, $k>::acceleration(s, &State::new(Dual64::from(t), q, qd))
+                    .expect(concat!(stringify!($model), ": dual acceleration"));
+                SVector::<f64, $n>::from_fn(|i, _| a[i].eps)
+            };
+            let lift = |v: &SVector<f64, $n>, seed: Option<usize>| {
+                SVector::<Dual64, $n>::from_fn(|i, _| if Some(i) == seed { Dual64::new(v[i], 1.0) } else { Dual64::from(v[i]) })
+            };
+            let plain = build_dual(None);
+            let mut dual = 0.0f64;
+            for c in 0..$n {
+                let col = dual_acc(&plain, lift(&q, Some(c)), lift(&qd, None));
+                dual = dual.max(error(&jac.dq.column(c).into_owned(), &col));
+                let col = dual_acc(&plain, lift(&q, None), lift(&qd, Some(c)));
+                dual = dual.max(error(&jac.dqd.column(c).into_owned(), &col));
+            }
+            for c in 0..NU {
+                let col = dual_acc(&build_dual(Some(c)), lift(&q, None), lift(&qd, None));
+                dual = dual.max(error(&jac.du.column(c).into_owned(), &col));
+            }
+            // `linearize` is the Jacobian in block form.
+            let (a, b) = system.linearize(&q, &qd, t).answer().expect("linearize");
+            for i in 0..$n {
+                for c in 0..$n {
+                    assert_eq!(a[(i, c)], 0.0);
+                    assert_eq!(a[(i, $n + c)], if i == c { 1.0 } else { 0.0 });
+                    assert_eq!(a[($n + i, c)], jac.dq[(i, c)]);
+                    assert_eq!(a[($n + i, $n + c)], jac.dqd[(i, c)]);
+                }
+                for c in 0..NU {
+                    assert_eq!(b[(i, c)], 0.0);
+                    assert_eq!(b[($n + i, c)], jac.du[(i, c)]);
+                }
+            }
+            println!("{:<24} seed {seed}: central differences {central:.1e}, dual numbers {dual:.1e}", stringify!($model));
+            assert!(central < 1e-7, "{}: {central:e} against central differences", stringify!($model));
+            assert!(dual < 1e-12, "{}: {dual:e} against dual numbers", stringify!($model));
+            $errors.central = $errors.central.max(central);
+            $errors.dual = $errors.dual.max(dual);
+        }
+    }};
+}
+
+#[test]
+fn jacobians_agree_with_central_differences_and_dual_numbers_for_every_model() {
+    let mut e = Errors::default();
+    check_model!(e, Appell, 3, 1, [9.81, 0.7], []);
+    check_model!(e, AppellTimeDependent, 3, 1, [9.81, 0.7], []);
+    check_model!(e, SphericalPendulum, 3, 1, [1.5, 9.81, 1.2], []);
+    check_model!(e, DoublePendulum, 4, 2, [1.0, 2.0, 1.0, 0.8, 9.81], []);
+    check_model!(
+        e,
+        RedundantDoublePendulum,
+        4,
+        3,
+        [1.0, 2.0, 1.0, 0.8, 9.81],
+        []
+    );
+    check_model!(e, BeadOnRotatingHoop, 3, 2, [0.5, 9.81, 1.0, 2.0], []);
+    check_model!(e, ChaplyginSleigh, 3, 1, [2.0, 0.4, 0.3], []);
+    check_model!(e, SliderCrank, 4, 4, [1.0, 2.0, 0.5, 1.5, 3.0, 9.81], []);
+    check_model!(
+        e,
+        TwoLinkArmOnLine,
+        2,
+        1,
+        [1.0, 0.5, 1.0, 1.0, 9.81, 0.5],
+        []
+    );
+    check_model!(
+        e,
+        Crane,
+        3,
+        1,
+        [5.0, 1.0, 2.0, 9.81, 0.1, 4.0, 3.0, 20.0, 1.0],
+        []
+    );
+    check_model!(e, CartPole, 2, 0, [1.0, 0.3, 0.8, 9.81, 0.0], [push = 1.7]);
+    check_model!(
+        e,
+        CartPoleCartesian,
+        3,
+        1,
+        [1.0, 0.3, 0.8, 9.81, 0.0],
+        [push = -0.6]
+    );
+    check_model!(
+        e,
+        DoublePendulumAngles,
+        2,
+        0,
+        [1.0, 2.0, 1.0, 0.8, 9.81],
+        []
+    );
+    check_model!(e, RigidBodyQuaternion, 4, 1, [1.0, 2.0, 3.0], []);
+    check_model!(e, HeavyTop, 4, 1, [1.0, 2.0, 1.0, 9.81, 0.5], []);
+    check_model!(e, RollingDisk, 5, 2, [1.0, 0.5, 0.06, 0.12, 9.81], []);
+    check_model!(
+        e,
+        ParallelogramFourBar,
+        9,
+        8,
+        [1.2, 0.15, 1.0, 2.0, 9.81],
+        []
+    );
+    println!("largest errors over all models: {e:?}");
+}
