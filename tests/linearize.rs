@@ -241,3 +241,100 @@ fn jacobians_agree_with_central_differences_and_dual_numbers_for_every_model() {
     );
     println!("largest errors over all models: {e:?}");
 }
+
+/// Eigenvalues sorted by (real, imaginary) part.
+fn eigenvalues<const M: usize>(a: &SMatrix<f64, M, M>) -> Vec<(f64, f64)> {
+    let dynamic = constrained::nalgebra::DMatrix::from_column_slice(M, M, a.as_slice());
+    let mut e: Vec<(f64, f64)> = dynamic
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| (z.re, z.im))
+        .collect();
+    // By imaginary part, then real part: rounding leaves real parts of
+    // ±1e-15 on imaginary pairs.
+    e.sort_by(|x, y| (x.1, x.0).partial_cmp(&(y.1, y.0)).expect("finite"));
+    e
+}
+
+/// Each wanted eigenvalue matched to the nearest one not yet matched.
+fn assert_close(what: &str, got: &[(f64, f64)], want: &[(f64, f64)], tol: f64) {
+    assert_eq!(got.len(), want.len(), "{what}: {got:?} vs {want:?}");
+    let mut free: Vec<(f64, f64)> = got.to_vec();
+    for w in want {
+        let distance = |g: &(f64, f64)| (g.0 - w.0).hypot(g.1 - w.1);
+        let (i, d) = free
+            .iter()
+            .enumerate()
+            .map(|(i, g)| (i, distance(g)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("as many as wanted");
+        assert!(d < tol, "{what}: {got:?} vs {want:?}");
+        free.remove(i);
+    }
+}
+
+/// The upright cart-pole has eigenvalues 0, 0, ±√(g (mc + mp) / (mc l))
+/// (the textbook result for a point mass on a massless rod). The
+/// generalized form's `linearize` and the Cartesian form's reduced
+/// linearization both give them; the Cartesian form's full linearization
+/// has two more, spurious, from the rod's direction.
+#[test]
+fn cart_pole_eigenvalues_at_the_upright_state_in_both_forms() {
+    let (mc, mp, l, g) = (1.0f64, 0.3, 0.8, 9.81);
+    let rate = (g * (mc + mp) / (mc * l)).sqrt();
+    let want = vec![(-rate, 0.0), (0.0, 0.0), (0.0, 0.0), (rate, 0.0)];
+
+    let generalized = CartPole::new(mc, mp, l, g, 0.0);
+    let up = SVector::<f64, 2>::new(0.0, std::f64::consts::PI);
+    let (a, b) = generalized
+        .linearize(&up, &SVector::zeros(), 0.0)
+        .expect("upright");
+    assert_close("generalized", &eigenvalues(&a), &want, 1e-12);
+    // The push accelerates the cart by 1/mc and turns the pole by 1/(mc l).
+    assert!((b[(2, 0)] - 1.0 / mc).abs() < 1e-14);
+    assert!((b[(3, 0)] - 1.0 / (mc * l)).abs() < 1e-14);
+
+    let cartesian = CartPoleCartesian::new(mc, mp, l, g, 0.0);
+    let up = SVector::<f64, 3>::new(0.0, 0.0, l);
+    let reduced = cartesian
+        .linearize_reduced(&up, &SVector::zeros(), 0.0)
+        .expect("upright");
+    println!(
+        "Cartesian cart-pole, reduced state (q{:?}, q̇{:?})",
+        reduced.coordinates, reduced.speeds
+    );
+    // The double zero is a Jordan block: rounding splits it by ~√ε.
+    assert_close("Cartesian, reduced", &eigenvalues(&reduced.a), &want, 1e-7);
+    let (full, _) = cartesian
+        .linearize(&up, &SVector::zeros(), 0.0)
+        .expect("upright");
+    let spurious = eigenvalues(&full);
+    assert_eq!(spurious.len(), 6);
+    println!("Cartesian cart-pole, full linearization: {spurious:?}");
+}
+
+/// The double pendulum hanging at rest: the reduced linearization of the
+/// Cartesian form (two rod constraints) and the linearization of the
+/// angle form have the eigenvalues ±iω₁, ±iω₂ of the closed form
+/// `ω² = g (m₁ + m₂)(l₁ + l₂ ± √((l₁ + l₂)² − 4 l₁ l₂ m₁/(m₁ + m₂))) / (2 m₁ l₁ l₂)`.
+#[test]
+fn double_pendulum_normal_modes_in_both_forms() {
+    let (m1, m2, l1, l2, g): (f64, f64, f64, f64, f64) = (1.0, 2.0, 1.0, 0.8, 9.81);
+    let root = ((l1 + l2).powi(2) - 4.0 * l1 * l2 * m1 / (m1 + m2)).sqrt();
+    let omega = |sign: f64| (g * (m1 + m2) * (l1 + l2 + sign * root) / (2.0 * m1 * l1 * l2)).sqrt();
+    let (w1, w2) = (omega(-1.0), omega(1.0));
+    let want = vec![(0.0, -w2), (0.0, -w1), (0.0, w1), (0.0, w2)];
+
+    let angles = DoublePendulumAngles::new(m1, m2, l1, l2, g);
+    let (a, _) = angles
+        .linearize(&SVector::zeros(), &SVector::zeros(), 0.0)
+        .expect("hanging");
+    assert_close("angles", &eigenvalues(&a), &want, 1e-10);
+
+    let cartesian = DoublePendulum::new(m1, m2, l1, l2, g);
+    let hanging = SVector::<f64, 4>::new(0.0, -l1, 0.0, -l1 - l2);
+    let reduced = cartesian
+        .linearize_reduced(&hanging, &SVector::zeros(), 0.0)
+        .expect("hanging");
+    assert_close("Cartesian, reduced", &eigenvalues(&reduced.a), &want, 1e-10);
+}

@@ -25,6 +25,11 @@ pub struct Partition {
     pub rank: usize,
     /// The `r` eliminated coordinates (`q̈_e`), in the order given or chosen.
     pub eliminated: Vec<usize>,
+    /// The generic rank of the position-level rows of `A` alone: how many
+    /// coordinates the holonomic constraints determine (the reduced
+    /// linearization keeps `n − position_rank` coordinates and `n − rank`
+    /// speeds).
+    pub position_rank: usize,
     /// Whether `rank` was measured at consistent states.
     pub on_surface: bool,
     /// How many consistent states the rank and the choice were measured at.
@@ -63,6 +68,17 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
     let rank = matrices
         .iter()
         .map(|a| independent_columns(a, RANK_TOLERANCE).len())
+        .max()
+        .unwrap_or(0);
+    let position_rows: Vec<usize> = (0..eq.a.len())
+        .filter(|&i| eq.system.constraints[i].level == Level::Position)
+        .collect();
+    let position_rank = matrices
+        .iter()
+        .map(|a| {
+            let rows: Vec<Vec<f64>> = position_rows.iter().map(|&i| a[i].clone()).collect();
+            independent_columns(&rows, RANK_TOLERANCE).len()
+        })
         .max()
         .unwrap_or(0);
     let eliminated = match &eq.system.eliminate {
@@ -115,6 +131,7 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
     Ok(Partition {
         rank,
         eliminated,
+        position_rank,
         on_surface,
         states: states.len(),
     })

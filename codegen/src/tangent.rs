@@ -32,6 +32,10 @@ pub struct Tangent {
     pub a: Vec<Vec<(usize, usize, Id)>>,
     /// `∂bᵣ/∂v`, `[column][r]`.
     pub b: Vec<Vec<Id>>,
+    /// `∂ψᵣ/∂qⱼ` of the velocity-level constraints `ψ` (`φ̇` or `φ`),
+    /// `[r][j]`: how a change of the coordinates moves the velocities the
+    /// constraints allow (the reduced linearization).
+    pub velocity_constraints: Vec<Vec<Id>>,
 }
 
 /// Differentiates `F`, `M`, `A` and `b` of `eq` by every column variable.
@@ -52,6 +56,7 @@ pub fn tangent(eq: &mut Equations) -> Tangent {
     roots.extend(eq.system.mass.iter().flatten());
     roots.extend(eq.a.iter().flatten());
     roots.extend(&eq.b);
+    roots.extend(&eq.velocity_constraints);
     let order = g.reachable(&roots);
     for &v in &columns {
         for &id in &order {
@@ -64,7 +69,13 @@ pub fn tangent(eq: &mut Equations) -> Tangent {
         mass: Vec::new(),
         a: Vec::new(),
         b: Vec::new(),
+        velocity_constraints: Vec::new(),
     };
+    t.velocity_constraints = eq
+        .velocity_constraints
+        .iter()
+        .map(|&psi| (0..n).map(|j| d.partial(g, psi, Sym::Coord(j))).collect())
+        .collect();
     for &v in &columns {
         t.forces.push(
             eq.system

@@ -17,6 +17,11 @@ pub enum DynamicsError {
     /// singular configuration), or are too ill-conditioned for `T`
     /// (`constrained::rank`).
     Unsatisfiable,
+    /// The coordinates the Gibbs–Appell partition eliminates cannot be
+    /// solved for at this state (their columns of `A` are dependent here,
+    /// e.g. at a singular configuration): the reduced linearization does
+    /// not exist in this partition (`constrained::linearize::reduced`).
+    SingularPartition,
 }
 
 impl fmt::Display for DynamicsError {
@@ -28,6 +33,9 @@ impl fmt::Display for DynamicsError {
             DynamicsError::NonFinite => "the state or a derived quantity is not finite",
             DynamicsError::Unsatisfiable => {
                 "no acceleration satisfies the constraints to working precision at this state"
+            }
+            DynamicsError::SingularPartition => {
+                "the eliminated coordinates cannot be solved for at this state"
             }
         })
     }

@@ -25,7 +25,10 @@ constrained_system! {
     /// pole's tip at `(x, y)`, the rod a position constraint. Linearized in
     /// all three coordinates (six states) it carries the rod's direction; reduced to the
     /// constraint manifold (`constrained::linearize::reduced`) it has the
-    /// eigenvalues of [`CartPole`].
+    /// eigenvalues of [`CartPole`]. `eliminate: [y]` makes the tip's
+    /// height the Gibbs–Appell form's dependent coordinate, well defined
+    /// near the upright state (the default choice, `x`, is not: `∂φ/∂x = 0`
+    /// there).
     pub struct CartPoleCartesian {
         coordinates: [s, x, y],
         parameters: [mc, mp, l, g],
@@ -33,6 +36,7 @@ constrained_system! {
         mass: diag[mc, mp, mp],
         forces: [push, 0.0, -mp * g],
         constraints: [(x - s).powi(2) + y.powi(2) == l.powi(2)],
+        eliminate: [y],
     }
 }
 

@@ -12,11 +12,12 @@ use super::body::Body;
 use super::context::{Context, Inputs};
 use super::motion::fallible;
 use crate::expr::Id;
+use crate::partition::Partition;
 use proc_macro2::TokenStream;
 use quote::quote;
 
 /// The methods and the impl of the runtime's hidden `Tangent` trait.
-pub(super) fn methods(ctx: &Context) -> TokenStream {
+pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     let (n, nu) = (ctx.n, ctx.eq.system.inputs);
     let columns = 2 * n + nu;
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
@@ -94,8 +95,12 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
          linearization on the constraint manifold). {fallibility}"
     );
     let rhs = tangent_rhs(ctx);
+    let psi_q = velocity_constraint_jacobian(ctx);
+    let reduced = reduced(ctx, partition);
     quote! {
         #rhs
+        #psi_q
+        #reduced
 
         #[doc = #jac_doc]
         #[inline]
@@ -207,6 +212,72 @@ fn tangent_rhs(ctx: &Context) -> TokenStream {
     }
 }
 
+/// `∂ψ/∂q` of the velocity-level constraints, `k × n`.
+fn velocity_constraint_jacobian(ctx: &Context) -> TokenStream {
+    let rows = &ctx.eq.tangent.velocity_constraints;
+    let roots: Vec<Id> = rows.iter().flatten().copied().collect();
+    let body = Body::new(ctx.eq, &roots);
+    let preamble = body.preamble();
+    let columns: Vec<Vec<TokenStream>> = (0..ctx.n)
+        .map(|j| rows.iter().map(|row| body.expr(row[j])).collect())
+        .collect();
+    let value = ctx.matrix_value(ctx.k, columns);
+    let (params, ret) = (ctx.params(Inputs::States), ctx.matrix(ctx.k, ctx.n));
+    quote! {
+        /// `∂ψ/∂q` of the velocity-level constraints `ψ` (`φ̇` or `φ`).
+        #[inline]
+        fn velocity_constraint_jacobian(&self, #params) -> #ret {
+            #preamble
+            #value
+        }
+    }
+}
+
+/// `linearize_reduced`: the linearization on the constraint manifold.
+fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
+    let n = ctx.n;
+    let nu = ctx.eq.system.inputs;
+    let (r, rh) = (partition.rank, partition.position_rank);
+    let (nq, nv) = (n - rh, n - r);
+    let dims = |v: usize| Context::dim(v);
+    let (n_l, k_l, nu_l, d_l) = (
+        dims(n),
+        dims(ctx.k),
+        dims(nu),
+        dims(ctx.eq.tangent.columns.len()),
+    );
+    let (nq_l, nv_l, nx_l, r_l, rh_l) = (dims(nq), dims(nv), dims(nq + nv), dims(r), dims(rh));
+    let args = ctx.args(Inputs::States);
+    let params = ctx.params(Inputs::States);
+    let reduced_type = ctx.path(quote!(linearize::Reduced<T, #nx_l, #nu_l, #nq_l, #nv_l>));
+    let ret = ctx.result(reduced_type, quote!(DynamicsError));
+    let function = ctx.path(quote!(linearize::reduced));
+    let jacobian = if fallible(ctx) {
+        quote!(self.acceleration_jacobian(#args)?)
+    } else {
+        quote!(self.acceleration_jacobian(#args))
+    };
+    let doc = format!(
+        " The linearization on the constraint manifold \
+         (`constrained::linearize::Reduced`): `{nq}` coordinates and `{nv}` \
+         speeds, the dependent ones chosen at this state where they are best \
+         conditioned. The constraint directions are eliminated, so its \
+         eigenvalues are the physical ones. `Err(SingularPartition)` where \
+         the constraints lose rank at this state; otherwise as \
+         [`acceleration_jacobian`](Self::acceleration_jacobian)."
+    );
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        pub fn linearize_reduced(&self, #params) -> #ret {
+            let __j = #jacobian;
+            #function::<T, Self, #n_l, #k_l, #nu_l, #d_l, #nq_l, #nv_l, #nx_l, #r_l, #rh_l>(
+                self, #args, &__j,
+            )
+        }
+    }
+}
+
 /// The impl of the runtime's hidden `Tangent` trait.
 pub(super) fn tangent_impl(ctx: &Context) -> TokenStream {
     let name = &ctx.eq.system.name;
@@ -214,6 +285,7 @@ pub(super) fn tangent_impl(ctx: &Context) -> TokenStream {
     let d = Context::dim(ctx.eq.tangent.columns.len());
     let params = ctx.params(Inputs::States);
     let trait_path = ctx.private(quote!(Tangent<T, #n, #k, #d>));
+    let k_by_n = ctx.matrix(ctx.k, ctx.n);
     let (vector, k_vector) = (ctx.vector(ctx.n), ctx.vector(ctx.k));
     let (f_type, b_type) = (
         ctx.matrix(ctx.n, ctx.eq.tangent.columns.len()),
@@ -224,6 +296,10 @@ pub(super) fn tangent_impl(ctx: &Context) -> TokenStream {
             #[inline]
             fn tangent_rhs(&self, #params, qdd: &#vector, lam: &#k_vector) -> (#f_type, #b_type) {
                 Self::tangent_rhs(self, q, qd, t, qdd, lam)
+            }
+            #[inline]
+            fn velocity_constraint_jacobian(&self, #params) -> #k_by_n {
+                Self::velocity_constraint_jacobian(self, q, qd, t)
             }
         }
     }

@@ -105,7 +105,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let matrices = constraint_matrices(&ctx);
     let motion = motion::methods(&ctx);
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
-    let linearization = jacobian::methods(&ctx);
+    let linearization = jacobian::methods(&ctx, partition);
     let tangent_impl = jacobian::tangent_impl(&ctx);
     let generated_impl = motion::generated_impl(&ctx);
     let levels = motion::levels(&ctx);
