@@ -25,5 +25,8 @@ cargo test --quiet --manifest-path tests/std-feature/Cargo.toml
 for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top; do
     cargo run --quiet --release --example "$example" -- --duration 0.5 --out target/plots > /dev/null
 done
+# The LQR example at full length: it exits non-zero unless both forms of
+# the cart-pole balance and their gains agree.
+cargo run --quiet --release --example cart_pole_lqr -- --out target/plots > /dev/null
 bash scripts/sympy.sh
 bash scripts/embedded.sh

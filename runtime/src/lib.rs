@@ -9,6 +9,7 @@
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![deny(missing_docs)]
 
+pub mod control;
 mod dense;
 mod error;
 mod generated;
@@ -24,6 +25,7 @@ pub mod svd;
 mod symbolic;
 mod system;
 
+pub use control::ControlError;
 pub use error::{DynamicsError, GibbsAppellError, IntegrationError};
 pub use integrate::{
     BogackiShampine32, DormandPrince45, EmbeddedRungeKutta, ExplicitRungeKutta, Rk4,
