@@ -21,7 +21,7 @@ pub struct Equations {
     /// How Gauss's principle is solved (see [`motion`]).
     pub gauss: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
-    /// (see [`tangent`](crate::tangent)).
+    /// (see [`crate::tangent`]).
     pub tangent: Tangent,
 }
 

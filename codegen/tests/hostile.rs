@@ -353,3 +353,26 @@ fn malformed_forwarded_attributes_are_rejected() {
         );
     }
 }
+
+/// Control inputs enter through `forces` only (issue 12): anywhere else is
+/// an error at that section, also through a definition; in forces, also
+/// through a definition, they are accepted.
+#[test]
+fn inputs_outside_forces_are_spanned_errors() {
+    let why = "control inputs may appear in `forces` only";
+    for body in [
+        "struct S { coordinates: [x], inputs: [u], mass: diag[u], forces: [u] }",
+        "struct S { coordinates: [x, y], inputs: [u], mass: diag[1.0, 1.0], constraints: [x == u] }",
+        "struct S { coordinates: [x, y], inputs: [u], definitions: [d = u * x], mass: diag[1.0, 1.0], constraints: [y == d] }",
+        "struct S { coordinates: [x], inputs: [u], kinetic_energy: u * dot(x).powi(2) }",
+        "struct S { coordinates: [x], inputs: [u], kinetic_energy: dot(x).powi(2), potential_energy: u * x }",
+    ] {
+        rejected(body, why);
+    }
+    let code = outcome(
+        "struct S { coordinates: [x, y], parameters: [k], inputs: [u, v], definitions: [d = k * u], \
+         mass: diag[1.0, 1.0], forces: [d, v * y], constraints: [x == y] }",
+    )
+    .expect("inputs in forces, through a definition");
+    assert!(code.contains("INPUTS : usize = 2"), "INPUTS emitted");
+}
