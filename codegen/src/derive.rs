@@ -3,9 +3,10 @@
 
 use crate::diff::Differentiator;
 use crate::expr::Id;
+use crate::expr::Sym;
 use crate::model::{Level, System};
 use crate::motion::{self, MassInverse};
-use crate::tangent::{self, Tangent};
+use crate::tangent::{self, Pieces, Tangent};
 
 /// A system together with its derived constraint equations.
 pub struct Equations {
@@ -47,14 +48,21 @@ pub fn constraint_equations(mut system: System) -> Equations {
         velocity_constraints.push(velocity_level);
     }
     let gauss = motion::gauss(g, &system.mass, &system.forces, &a, &b);
-    let mut eq = Equations {
+    let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
+    let pieces = Pieces {
+        mass: &system.mass,
+        forces: &system.forces,
+        a: &a,
+        b: &b,
+        velocity_constraints: &velocity_constraints,
+    };
+    let tangent = tangent::tangent(&mut system.graph, &pieces, &inputs);
+    Equations {
         system,
         a,
         b,
         velocity_constraints,
         gauss,
-        tangent: Tangent::default(),
-    };
-    eq.tangent = tangent::tangent(&mut eq);
-    eq
+        tangent,
+    }
 }

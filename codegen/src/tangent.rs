@@ -13,13 +13,11 @@
 //! zero where structurally zero); the generated code contracts them with
 //! `q̈` and `λ` at run time.
 
-use crate::derive::Equations;
 use crate::diff::Differentiator;
-use crate::expr::{Id, Sym};
+use crate::expr::{Graph, Id, Sym};
 
 /// The derivatives of `F`, `M`, `A` and `b`, column by column of the
 /// Jacobian: `q₁ … qₙ, q̇₁ … q̇ₙ, u₁ … u_m`.
-#[derive(Default)]
 pub struct Tangent {
     /// The variable of each column.
     pub columns: Vec<Sym>,
@@ -38,25 +36,38 @@ pub struct Tangent {
     pub velocity_constraints: Vec<Vec<Id>>,
 }
 
-/// Differentiates `F`, `M`, `A` and `b` of `eq` by every column variable.
-pub fn tangent(eq: &mut Equations) -> Tangent {
-    let n = eq.system.dof();
-    let inputs = eq.system.inputs;
+/// What is differentiated: the pieces of the derived equations.
+pub struct Pieces<'a> {
+    /// `M`.
+    pub mass: &'a [Vec<Id>],
+    /// `F`.
+    pub forces: &'a [Id],
+    /// `A`.
+    pub a: &'a [Vec<Id>],
+    /// `b`.
+    pub b: &'a [Id],
+    /// `ψ`, the constraints at velocity level.
+    pub velocity_constraints: &'a [Id],
+}
+
+/// Differentiates `F`, `M`, `A`, `b` by every column variable (`q₁ … qₙ`,
+/// `q̇₁ … q̇ₙ`, then `inputs`) and `ψ` by the coordinates.
+pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
+    let n = p.forces.len();
     let columns: Vec<Sym> = (0..n)
         .map(Sym::Coord)
         .chain((0..n).map(Sym::Vel))
-        .chain((0..inputs).map(|j| eq.system.input(j)))
+        .chain(inputs.iter().copied())
         .collect();
     let mut d = Differentiator::new();
-    let g = &mut eq.system.graph;
     // Differentiate every node below the roots in arena order first, so
     // that the memoised recursion of `partial` is one level deep however
     // deep the expressions are.
-    let mut roots: Vec<Id> = eq.system.forces.clone();
-    roots.extend(eq.system.mass.iter().flatten());
-    roots.extend(eq.a.iter().flatten());
-    roots.extend(&eq.b);
-    roots.extend(&eq.velocity_constraints);
+    let mut roots: Vec<Id> = p.forces.to_vec();
+    roots.extend(p.mass.iter().flatten());
+    roots.extend(p.a.iter().flatten());
+    roots.extend(p.b);
+    roots.extend(p.velocity_constraints);
     let order = g.reachable(&roots);
     for &v in &columns {
         for &id in &order {
@@ -71,21 +82,16 @@ pub fn tangent(eq: &mut Equations) -> Tangent {
         b: Vec::new(),
         velocity_constraints: Vec::new(),
     };
-    t.velocity_constraints = eq
+    t.velocity_constraints = p
         .velocity_constraints
         .iter()
         .map(|&psi| (0..n).map(|j| d.partial(g, psi, Sym::Coord(j))).collect())
         .collect();
     for &v in &columns {
-        t.forces.push(
-            eq.system
-                .forces
-                .iter()
-                .map(|&f| d.partial(g, f, v))
-                .collect(),
-        );
+        t.forces
+            .push(p.forces.iter().map(|&f| d.partial(g, f, v)).collect());
         let mut mass = Vec::new();
-        for (i, row) in eq.system.mass.iter().enumerate() {
+        for (i, row) in p.mass.iter().enumerate() {
             for (j, &m) in row.iter().enumerate() {
                 let dm = d.partial(g, m, v);
                 if !g.is_zero(dm) {
@@ -95,7 +101,7 @@ pub fn tangent(eq: &mut Equations) -> Tangent {
         }
         t.mass.push(mass);
         let mut a = Vec::new();
-        for (r, row) in eq.a.iter().enumerate() {
+        for (r, row) in p.a.iter().enumerate() {
             for (i, &e) in row.iter().enumerate() {
                 let da = d.partial(g, e, v);
                 if !g.is_zero(da) {
@@ -104,7 +110,7 @@ pub fn tangent(eq: &mut Equations) -> Tangent {
             }
         }
         t.a.push(a);
-        t.b.push(eq.b.iter().map(|&e| d.partial(g, e, v)).collect());
+        t.b.push(p.b.iter().map(|&e| d.partial(g, e, v)).collect());
     }
     t
 }
