@@ -1,5 +1,5 @@
-//! Stage 3c: the exact partial derivatives the Jacobian of `q̈` needs
-//! (MATH in `docs/math.md`, "Linearization").
+//! Part of stage 3 (`derive`): the exact partial derivatives the Jacobian of `q̈` needs
+//! (`docs/math.md`, "Linearization").
 //!
 //! `q̈(q, q̇, u)` solves `M q̈ = F + Aᵀλ`, `A q̈ = b`. Differentiating both
 //! by one variable `v` (a coordinate, a velocity or an input) gives the

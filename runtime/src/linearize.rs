@@ -276,12 +276,10 @@ fn extend_independent<T: RealField + Copy, const K: usize, const N: usize, const
     let tolerance = T::default_epsilon().sqrt() * a.amax();
     for step in 0..R {
         let mut best: Option<(usize, SVector<T, K>, T)> = None;
-        let candidates = match start.get(step) {
-            Some(c) => core::slice::from_ref(c),
-            None => &ALL[..N],
-        };
-        for &c in candidates {
-            if c >= N || chosen[..step].contains(&c) {
+        for c in 0..N {
+            // The first steps take `start` in order; later ones any column.
+            let allowed = start.get(step).is_none_or(|&s| s == c);
+            if !allowed || chosen[..step].contains(&c) {
                 continue;
             }
             let mut v: SVector<T, K> = a.column(c).into_owned();
@@ -304,18 +302,6 @@ fn extend_independent<T: RealField + Copy, const K: usize, const N: usize, const
     chosen.sort_unstable();
     Some(chosen)
 }
-
-/// Column indices to iterate over (`N` is at most this in practice; the
-/// generated code asserts it).
-const ALL: [usize; 256] = {
-    let mut all = [0usize; 256];
-    let mut i = 0;
-    while i < 256 {
-        all[i] = i;
-        i += 1;
-    }
-    all
-};
 
 /// The reduced linearization at `(q, q̇, t)` from the Jacobians there.
 /// The dependent coordinates are chosen at this state, where they are best
@@ -357,7 +343,7 @@ where
     S: Generated<T, N, K> + Tangent<T, N, K, D>,
 {
     const {
-        assert!(NX == NQ + NV && R + NV == N && RH + NQ == N && RH <= R && N <= 256);
+        assert!(NX == NQ + NV && R + NV == N && RH + NQ == N && RH <= R);
     };
     let singular = crate::DynamicsError::SingularPartition;
     let (a, _) = system.constraint_matrices(q, qd, t);

@@ -1,5 +1,6 @@
-//! Code for the linearization: `acceleration_jacobian`, `linearize`, and
-//! the private `tangent_rhs` that both rest on.
+//! Code for the linearization: `acceleration_jacobian`, `linearize`,
+//! `linearize_reduced`, and the impl of the runtime's hidden `Tangent`
+//! trait (`tangent_rhs`, `velocity_constraint_jacobian`) they rest on.
 //!
 //! `tangent_rhs` evaluates, for every column variable `v` (coordinates,
 //! velocities, inputs), the right-hand sides `F̃ᵥ` and `b̃ᵥ` of the tangent
@@ -94,12 +95,8 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
          constraint directions (see `constrained::linearize::reduced` for the \
          linearization on the constraint manifold). {fallibility}"
     );
-    let rhs = tangent_rhs(ctx);
-    let psi_q = velocity_constraint_jacobian(ctx);
     let reduced = reduced(ctx, partition);
     quote! {
-        #rhs
-        #psi_q
         #reduced
 
         #[doc = #jac_doc]
@@ -278,29 +275,19 @@ fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
     }
 }
 
-/// The impl of the runtime's hidden `Tangent` trait.
+/// The impl of the runtime's hidden `Tangent` trait, with the bodies.
 pub(super) fn tangent_impl(ctx: &Context) -> TokenStream {
     let name = &ctx.eq.system.name;
     let (n, k) = (Context::dim(ctx.n), Context::dim(ctx.k));
     let d = Context::dim(ctx.eq.tangent.columns.len());
-    let params = ctx.params(Inputs::States);
     let trait_path = ctx.private(quote!(Tangent<T, #n, #k, #d>));
-    let k_by_n = ctx.matrix(ctx.k, ctx.n);
-    let (vector, k_vector) = (ctx.vector(ctx.n), ctx.vector(ctx.k));
-    let (f_type, b_type) = (
-        ctx.matrix(ctx.n, ctx.eq.tangent.columns.len()),
-        ctx.matrix(ctx.k, ctx.eq.tangent.columns.len()),
-    );
+    let rhs = tangent_rhs(ctx);
+    let psi_q = velocity_constraint_jacobian(ctx);
     quote! {
+        #[allow(unused_variables, non_snake_case, clippy::all, clippy::pedantic)]
         impl<T: ::constrained::nalgebra::RealField + Copy> #trait_path for #name<T> {
-            #[inline]
-            fn tangent_rhs(&self, #params, qdd: &#vector, lam: &#k_vector) -> (#f_type, #b_type) {
-                Self::tangent_rhs(self, q, qd, t, qdd, lam)
-            }
-            #[inline]
-            fn velocity_constraint_jacobian(&self, #params) -> #k_by_n {
-                Self::velocity_constraint_jacobian(self, q, qd, t)
-            }
+            #rhs
+            #psi_q
         }
     }
 }

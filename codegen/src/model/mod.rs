@@ -91,16 +91,6 @@ impl System {
         self.coordinates.len()
     }
 
-    /// The parameters proper, without the inputs.
-    pub fn parameters_only(&self) -> &[Ident] {
-        &self.parameters[..self.parameters.len() - self.inputs]
-    }
-
-    /// The control inputs.
-    pub fn input_names(&self) -> &[Ident] {
-        &self.parameters[self.parameters.len() - self.inputs..]
-    }
-
     /// The symbol of input `j`.
     pub fn input(&self, j: usize) -> Sym {
         Sym::Param(self.parameters.len() - self.inputs + j)
