@@ -216,7 +216,7 @@ fn models(c: &mut Criterion) {
     );
     both!(
         "chaplygin_sleigh",
-        ChaplyginSleigh::<f64>::new(1.0, 0.2, 0.5),
+        ChaplyginSleigh::<f64>::new(1.0, 0.2, 0.5, 0.3),
         q3,
         qd3
     );

@@ -16,7 +16,7 @@ use support::{plot, Options, Panel, Series};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = Options::parse(20.0);
     let (m, inertia, a) = (1.0, 0.2, 0.3);
-    let system = ChaplyginSleigh::<f64>::new(m, inertia, a);
+    let system = ChaplyginSleigh::<f64>::new(m, inertia, a, 0.0);
     // Contact-point speed u along the blade and spin ω fix a consistent q̇.
     let (theta, u, omega): (f64, f64, f64) = (0.0, 0.2, 3.0);
     let qd = Vector3::new(

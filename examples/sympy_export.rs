@@ -4,10 +4,15 @@
 //! the constraints by the runtime — for `A`, `b`, `q̈` of both equations of
 //! motion and the constraint force.
 //!
+//! It also writes the generated linearizations of the input-driven models
+//! (`acceleration_jacobian`, `linearize`, `linearize_reduced`) at random
+//! and equilibrium states, which the suite compares with
+//! `sympy.physics.mechanics` derivations of its own.
+//!
 //! `cargo run --example sympy_export -- target/sympy/systems.json`
 
 use constrained::models::*;
-use constrained::nalgebra::SVector;
+use constrained::nalgebra::{SMatrix, SVector, Vector2, Vector3};
 use constrained::stabilize::project;
 use constrained::{ConstrainedSystem, ConstraintLevel, State, SymbolicSystem};
 use serde_json::{json, Value};
@@ -32,6 +37,97 @@ impl Rng {
 
 fn vector<const M: usize>(v: &SVector<f64, M>) -> Value {
     json!(v.as_slice())
+}
+
+fn matrix<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> Value {
+    json!((0..R)
+        .map(|i| m.row(i).iter().copied().collect::<Vec<f64>>())
+        .collect::<Vec<_>>())
+}
+
+/// The generated linearizations of one model at one state: the Jacobians,
+/// `(A, B)` and the reduced form, each in the export's JSON.
+macro_rules! linearization {
+    ($system:expr, $params:expr, $q:expr, $qd:expr, $t:expr) => {{
+        let (system, q, qd, t) = (&$system, &$q, &$qd, $t);
+        let jacobians = system.acceleration_jacobian(q, qd, t).expect("the Jacobians exist");
+        let (a, b) = system.linearize(q, qd, t).expect("the linearization exists");
+        let reduced = system.linearize_reduced(q, qd, t).expect("the reduced linearization exists");
+        json!({
+            "t": t,
+            "q": vector(q),
+            "qd": vector(qd),
+            "params": $params,
+            "dq": matrix(&jacobians.dq),
+            "dqd": matrix(&jacobians.dqd),
+            "du": matrix(&jacobians.du),
+            "a": matrix(&a),
+            "b": matrix(&b),
+            "reduced": {
+                "a": matrix(&reduced.a),
+                "b": matrix(&reduced.b),
+                "coordinates": reduced.coordinates,
+                "speeds": reduced.speeds,
+            },
+        })
+    }};
+}
+
+/// The input-driven models' linearizations, at random states and at their
+/// equilibria: the cart-pole in both forms (upright, the pole's angle π) and
+/// the Chaplygin sleigh (random states with the blade's constraint met, and
+/// straight-line motion, a relative equilibrium).
+fn linearizations(rng: &mut Rng) -> Value {
+    let pi = std::f64::consts::PI;
+    let mut cart_pole = Vec::new();
+    let mut cartesian = Vec::new();
+    for k in 0..STATES {
+        let [mc, mp, l, g] = [(); 4].map(|_| rng.uniform(0.5, 1.5));
+        let upright = k == 0;
+        let push = if upright { 0.0 } else { rng.uniform(-2.0, 2.0) };
+        let system = CartPole::new(mc, mp, l, g, push);
+        let (q, qd) = if upright {
+            (Vector2::new(0.3, pi), Vector2::zeros())
+        } else {
+            (
+                Vector2::new(rng.uniform(-1.0, 1.0), rng.uniform(-pi, pi)),
+                Vector2::new(rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)),
+            )
+        };
+        let t = rng.uniform(0.0, 1.0);
+        cart_pole.push(linearization!(system, [mc, mp, l, g, push], q, qd, t));
+        if upright {
+            // The tip straight above the cart, at rest.
+            let system = CartPoleCartesian::new(mc, mp, l, g, 0.0);
+            let q = Vector3::new(0.3, 0.3, l);
+            cartesian.push(linearization!(system, [mc, mp, l, g, 0.0], q, Vector3::zeros(), t));
+        }
+    }
+    let mut sleigh = Vec::new();
+    for k in 0..STATES {
+        let [m, inertia, a] = [(); 3].map(|_| rng.uniform(0.5, 1.5));
+        let straight = k == 0;
+        let torque = if straight { 0.0 } else { rng.uniform(-2.0, 2.0) };
+        let system = ChaplyginSleigh::new(m, inertia, a, torque);
+        // The contact point's speed along the blade and the spin fix a q̇
+        // that meets the constraint; straight-line motion has no spin.
+        let theta = rng.uniform(-1.0, 1.0);
+        let speed = rng.uniform(0.5, 2.0);
+        let omega = if straight { 0.0 } else { rng.uniform(-2.0, 2.0) };
+        let q = Vector3::new(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), theta);
+        let qd = Vector3::new(
+            speed * theta.cos() - a * theta.sin() * omega,
+            speed * theta.sin() + a * theta.cos() * omega,
+            omega,
+        );
+        let t = rng.uniform(0.0, 1.0);
+        sleigh.push(linearization!(system, [m, inertia, a, torque], q, qd, t));
+    }
+    json!([
+        { "name": "CartPole", "states": cart_pole },
+        { "name": "CartPoleCartesian", "states": cartesian },
+        { "name": "ChaplyginSleigh", "states": sleigh },
+    ])
 }
 
 fn export<S, const N: usize, const K: usize>(
@@ -157,7 +253,7 @@ fn main() {
         ),
         export(
             ChaplyginSleigh::<f64>::SYMBOLIC,
-            |p| ChaplyginSleigh::new(p[0], p[1], p[2]),
+            |p| ChaplyginSleigh::new(p[0], p[1], p[2], p[3]),
             &mut rng,
         ),
         export(
@@ -214,7 +310,12 @@ fn main() {
     if let Some(dir) = std::path::Path::new(&path).parent() {
         std::fs::create_dir_all(dir).expect("the output folder can be made");
     }
-    let text = serde_json::to_string_pretty(&json!({ "systems": systems })).expect("serialisable");
+    let linearizations = linearizations(&mut rng);
+    let text = serde_json::to_string_pretty(&json!({
+        "systems": systems,
+        "linearizations": linearizations,
+    }))
+    .expect("serialisable");
     std::fs::write(&path, text).expect("the output file can be written");
     println!(
         "wrote {} systems × {STATES} consistent states to {path}",

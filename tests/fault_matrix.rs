@@ -453,11 +453,11 @@ macro_rules! every_model {
             |p| BeadOnRotatingHoop::new(p[0], p[1], p[2], p[3]),
             [0.5, 9.81, 1.0, 2.0],
         );
-        model::<$t, _, 3, 1, 3>(
+        model::<$t, _, 3, 1, 4>(
             t,
             "ChaplyginSleigh",
-            |p| ChaplyginSleigh::new(p[0], p[1], p[2]),
-            [2.0, 0.4, 0.3],
+            |p| ChaplyginSleigh::new(p[0], p[1], p[2], p[3]),
+            [2.0, 0.4, 0.3, 0.5],
         );
         model::<$t, _, 4, 4, 6>(
             t,

@@ -120,7 +120,7 @@ agrees_with_finite_differences!(bead_on_rotating_hoop, BeadOnRotatingHoop, 3, |p
     BeadOnRotatingHoop::new(p[0], p[1], p[2], p[3])
 });
 agrees_with_finite_differences!(chaplygin_sleigh, ChaplyginSleigh, 3, |p| {
-    ChaplyginSleigh::new(p[0], p[1], p[2])
+    ChaplyginSleigh::new(p[0], p[1], p[2], p[3])
 });
 agrees_with_finite_differences!(two_link_arm_on_line, TwoLinkArmOnLine, 2, |p| {
     TwoLinkArmOnLine::new(p[0], p[1], p[2], p[3], p[4], p[5])

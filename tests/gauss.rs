@@ -217,12 +217,12 @@ proptest! {
     }
 
     #[test]
-    fn chaplygin_sleigh(p in params::<3>(), pose in prop::array::uniform3(-3.0..3.0f64), rates in (rate(), rate()), seed: u64) {
-        let [m, inertia, a] = p;
+    fn chaplygin_sleigh(p in params::<4>(), pose in prop::array::uniform3(-3.0..3.0f64), rates in (rate(), rate()), seed: u64) {
+        let [m, inertia, a, torque] = p;
         let [x, y, th] = pose;
         let (u, thd) = rates; // u: speed of the contact point along the blade
         let qd = Vector3::new(u * th.cos() - a * th.sin() * thd, u * th.sin() + a * th.cos() * thd, thd);
-        check(&ChaplyginSleigh::new(m, inertia, a), &State::new(0.0, Vector3::new(x, y, th), qd), seed)?;
+        check(&ChaplyginSleigh::new(m, inertia, a, torque), &State::new(0.0, Vector3::new(x, y, th), qd), seed)?;
     }
 
     #[test]

@@ -19,16 +19,19 @@ def record(check, system, value):
     DISCREPANCIES[key] = max(DISCREPANCIES.get(key, 0.0), float(value))
 
 
-def load_systems():
+def load_export():
     if not EXPORT.exists():
         raise FileNotFoundError(
             f"{EXPORT} is missing: run `cargo run --example sympy_export -- {EXPORT}` first "
             "(scripts/sympy.sh does)"
         )
-    return json.loads(EXPORT.read_text())["systems"]
+    return json.loads(EXPORT.read_text())
 
 
-SYSTEMS = load_systems()
+_EXPORT = load_export()
+SYSTEMS = _EXPORT["systems"]
+# The input-driven models' generated linearizations (test_linearization.py).
+LINEARIZATIONS = _EXPORT["linearizations"]
 # The systems with constraints: the checks of A, b and Gauss's principle.
 CONSTRAINED = [s for s in SYSTEMS if s["constraints"]]
 

@@ -21,11 +21,17 @@ def test_accelerations_and_forces(system):
         b = numeric(b_sym, s, state).ravel()
         qdd = gauss_by_kkt(m, f, a, b)
         scale = 1.0 + np.abs(qdd).max()
+        # Near a coordinate singularity (the rolling disk lying almost flat,
+        # where its Euler angles φ and ψ turn about one axis) M is
+        # ill-conditioned and no method gets q̈ better than about κ(M)·ε:
+        # the bound grows with the condition number there, not elsewhere.
+        conditioning = np.linalg.cond(m)
+        tolerance = max(1e-9, 100 * np.finfo(float).eps * conditioning) if np.isfinite(conditioning) else 1e-9
         for key, check in [("qdd", "q̈ generalized inverse vs KKT"), ("qdd_gibbs_appell", "q̈ Gibbs–Appell vs KKT")]:
             assert state[key] is not None, f"{key} missing: the Gibbs–Appell form failed at a generic state"
             diff = np.abs(np.array(state[key]) - qdd).max() / scale
             record(check, system["name"], diff)
-            assert diff < 1e-9, f"{key}: {state[key]} vs KKT {qdd} (relative {diff:.2e})"
+            assert diff < tolerance, f"{key}: {state[key]} vs KKT {qdd} (relative {diff:.2e}, κ(M) {conditioning:.1e})"
         force = m @ qdd - f
         diff = np.abs(np.array(state["constraint_force"]) - force).max() / (1.0 + np.abs(f).max() + np.abs(force).max())
         record("constraint force vs KKT", system["name"], diff)
