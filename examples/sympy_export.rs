@@ -100,20 +100,34 @@ fn linearizations(rng: &mut Rng) -> Value {
             // The tip straight above the cart, at rest.
             let system = CartPoleCartesian::new(mc, mp, l, g, 0.0);
             let q = Vector3::new(0.3, 0.3, l);
-            cartesian.push(linearization!(system, [mc, mp, l, g, 0.0], q, Vector3::zeros(), t));
+            cartesian.push(linearization!(
+                system,
+                [mc, mp, l, g, 0.0],
+                q,
+                Vector3::zeros(),
+                t
+            ));
         }
     }
     let mut sleigh = Vec::new();
     for k in 0..STATES {
         let [m, inertia, a] = [(); 3].map(|_| rng.uniform(0.5, 1.5));
         let straight = k == 0;
-        let torque = if straight { 0.0 } else { rng.uniform(-2.0, 2.0) };
+        let torque = if straight {
+            0.0
+        } else {
+            rng.uniform(-2.0, 2.0)
+        };
         let system = ChaplyginSleigh::new(m, inertia, a, torque);
         // The contact point's speed along the blade and the spin fix a q̇
         // that meets the constraint; straight-line motion has no spin.
         let theta = rng.uniform(-1.0, 1.0);
         let speed = rng.uniform(0.5, 2.0);
-        let omega = if straight { 0.0 } else { rng.uniform(-2.0, 2.0) };
+        let omega = if straight {
+            0.0
+        } else {
+            rng.uniform(-2.0, 2.0)
+        };
         let q = Vector3::new(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), theta);
         let qd = Vector3::new(
             speed * theta.cos() - a * theta.sin() * omega,

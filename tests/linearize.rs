@@ -193,7 +193,14 @@ fn jacobians_agree_with_central_differences_and_dual_numbers_for_every_model() {
         []
     );
     check_model!(e, BeadOnRotatingHoop, 3, 2, [0.5, 9.81, 1.0, 2.0], []);
-    check_model!(e, ChaplyginSleigh, 3, 1, [2.0, 0.4, 0.3, 0.0], [torque = 0.6]);
+    check_model!(
+        e,
+        ChaplyginSleigh,
+        3,
+        1,
+        [2.0, 0.4, 0.3, 0.0],
+        [torque = 0.6]
+    );
     check_model!(e, SliderCrank, 4, 4, [1.0, 2.0, 0.5, 1.5, 3.0, 9.81], []);
     check_model!(
         e,

@@ -3,19 +3,60 @@
 
 #![no_std]
 
-use constrained::models::{Appell, DoublePendulum};
+use constrained::control::{discretize, lqr_gain, ControlError};
+use constrained::models::{Appell, CartPole, DoublePendulum};
 // nalgebra's functions (libm) rather than f32's inherent ones: available
 // without std, and the same code on the host and the target.
-use constrained::nalgebra::{ComplexField, Vector3, Vector4};
-use constrained::{Rk4, Stabilization, State};
+use constrained::nalgebra::{
+    convert, ComplexField, Matrix1, Matrix4, RealField, SMatrix, Vector2, Vector3, Vector4,
+};
+use constrained::{DynamicsError, IntegrationError, Rk4, Stabilization, State};
 
 /// Simulated time, s.
 pub const DURATION: f32 = 5.0;
 /// RK4 step, s.
 pub const STEP: f32 = 1e-3;
 
-/// The final states of both simulations and the largest constraint residual
-/// seen along each.
+/// The cart-pole's masses (cart, pole), pole length and gravity.
+const CART_POLE: [f32; 4] = [1.0, 0.3, 0.8, 9.81];
+/// The control period of the cart-pole's loop (zero-order hold), s.
+pub const PERIOD: f32 = 0.01;
+/// The pole's initial offset from upright, rad.
+pub const OFFSET: f32 = 0.3;
+/// Simulated time of the closed loop, s.
+pub const LOOP_DURATION: f32 = 6.0;
+
+/// Why the firmware's run stopped.
+#[derive(Debug)]
+pub enum Failure<T = f32> {
+    /// An integrator failed.
+    Integration(IntegrationError<T>),
+    /// The linearization failed.
+    Dynamics(DynamicsError),
+    /// The LQR design failed.
+    Control(ControlError),
+}
+
+impl<T> From<IntegrationError<T>> for Failure<T> {
+    fn from(e: IntegrationError<T>) -> Self {
+        Failure::Integration(e)
+    }
+}
+
+impl<T> From<DynamicsError> for Failure<T> {
+    fn from(e: DynamicsError) -> Self {
+        Failure::Dynamics(e)
+    }
+}
+
+impl<T> From<ControlError> for Failure<T> {
+    fn from(e: ControlError) -> Self {
+        Failure::Control(e)
+    }
+}
+
+/// The final states of the simulations, the largest constraint residual
+/// seen along each, and the cart-pole's gain and closed loop.
 pub struct Report {
     /// Appell's particle at `DURATION`.
     pub appell: State<f32, 3>,
@@ -25,12 +66,22 @@ pub struct Report {
     pub pendulum: State<f32, 4>,
     /// Largest |φ| of the double pendulum.
     pub pendulum_residual: f32,
+    /// The LQR gain for `(s, θ − π, ṡ, θ̇)`, designed on the device from the
+    /// generated `linearize` at the upright state.
+    pub gain: SMatrix<f32, 1, 4>,
+    /// The open-loop poles' scale: the upright linearization's `A[3][1]`
+    /// (`∂θ̈/∂θ`, `g (m_c + m_p)/(m_c l)` in closed form).
+    pub upright_stiffness: f32,
+    /// The cart-pole at `LOOP_DURATION` under that gain.
+    pub cart_pole: State<f32, 2>,
+    /// Largest |θ − π| over the last second of the loop.
+    pub cart_pole_late_offset: f32,
 }
 
 /// Appell's particle (g = 9.81, α = 0.5, h = z) from a state on its
 /// constraint, and a double pendulum (Baumgarte-stabilized), each `DURATION`
 /// seconds of RK4 with step `STEP`.
-pub fn simulate() -> Result<Report, constrained::IntegrationError<f32>> {
+pub fn simulate() -> Result<Report, Failure> {
     let appell_system = Appell::<f32>::new(9.81, 0.5);
     let (xd, yd, z) = (1.2f32, 0.7f32, 1.0f32);
     // ẋ² + ẏ² − ż² = 2αz fixes ż.
@@ -59,12 +110,78 @@ pub fn simulate() -> Result<Report, constrained::IntegrationError<f32>> {
             let phi = pendulum_system.constraint_residual(&s.q, &s.qd, s.t).amax();
             pendulum_residual = pendulum_residual.max(phi);
         })?;
+    let balanced = balance::<f32>()?;
     Ok(Report {
         appell,
         appell_residual,
         pendulum,
         pendulum_residual,
+        gain: balanced.gain,
+        upright_stiffness: balanced.upright_stiffness,
+        cart_pole: balanced.state,
+        cart_pole_late_offset: balanced.late_offset,
     })
+}
+
+/// The cart-pole balanced by an LQR, all on the device: the generated
+/// `linearize` at the upright state, its zero-order-hold discretization, the
+/// discrete Riccati iteration to the gain, then `LOOP_DURATION` seconds of
+/// the closed loop from a pole `OFFSET` off upright, the push set every
+/// `PERIOD` and held over four RK4 steps (`examples/cart_pole_lqr.rs` in
+/// f32). Generic so that the host can run it in f64 as a reference.
+pub fn balance<T: RealField + Copy>() -> Result<Balanced<T>, Failure<T>> {
+    let c = |x: f32| -> T { convert(f64::from(x)) };
+    let [mc, mp, l, g] = CART_POLE.map(c);
+    let mut system = CartPole::<T>::new(mc, mp, l, g, T::zero());
+    let upright = T::pi();
+    let (a, b) = system.linearize(
+        &Vector2::new(T::zero(), upright),
+        &Vector2::zeros(),
+        T::zero(),
+    )?;
+    let period = c(PERIOD);
+    let (ad, bd) = discretize(&a, &b, period)?;
+    let weights = Matrix4::from_diagonal(&Vector4::new(c(1.0), c(10.0), c(0.1), c(0.1)));
+    // Ten ulps in f32; the example's 1e-12 in f64.
+    let tolerance = (T::default_epsilon() * c(10.0)).max(convert(1e-12));
+    let gain = lqr_gain(&ad, &bd, &weights, &Matrix1::new(c(0.1)), tolerance, 10_000)?;
+    let mut state = State::new(
+        T::zero(),
+        Vector2::new(T::zero(), upright + c(OFFSET)),
+        Vector2::zeros(),
+    );
+    let rk4 = Rk4::new(period / c(4.0));
+    let mut late_offset = T::zero();
+    // A bounded loop: the number of control periods, not a time comparison.
+    let periods = (LOOP_DURATION / PERIOD) as usize;
+    let late = c(LOOP_DURATION - 1.0);
+    for k in 0..periods {
+        let x = Vector4::new(state.q[0], state.q[1] - upright, state.qd[0], state.qd[1]);
+        system.push = -(gain * x)[0];
+        let t_end = c((k + 1) as f32) * period;
+        rk4.advance(&system, &mut state, t_end)?;
+        if t_end > late {
+            late_offset = late_offset.max((state.q[1] - upright).abs());
+        }
+    }
+    Ok(Balanced {
+        gain,
+        upright_stiffness: a[(3, 1)],
+        state,
+        late_offset,
+    })
+}
+
+/// What [`balance`] reports.
+pub struct Balanced<T: RealField + Copy> {
+    /// The LQR gain for `(s, θ − π, ṡ, θ̇)`.
+    pub gain: SMatrix<T, 1, 4>,
+    /// `∂θ̈/∂θ` at upright: `g (m_c + m_p)/(m_c l)` in closed form.
+    pub upright_stiffness: T,
+    /// The cart-pole at `LOOP_DURATION`.
+    pub state: State<T, 2>,
+    /// Largest |θ − π| over the loop's last second.
+    pub late_offset: T,
 }
 
 /// Writes the report as `name value value …` lines, values in `{:e}` (the
@@ -84,5 +201,11 @@ pub fn write_report(out: &mut impl core::fmt::Write, report: &Report) -> core::f
     line("pendulum_t", &[report.pendulum.t])?;
     line("pendulum_q", report.pendulum.q.as_slice())?;
     line("pendulum_qd", report.pendulum.qd.as_slice())?;
-    line("pendulum_max_residual", &[report.pendulum_residual])
+    line("pendulum_max_residual", &[report.pendulum_residual])?;
+    line("cart_pole_gain", report.gain.as_slice())?;
+    line("cart_pole_upright_stiffness", &[report.upright_stiffness])?;
+    line("cart_pole_t", &[report.cart_pole.t])?;
+    line("cart_pole_q", report.cart_pole.q.as_slice())?;
+    line("cart_pole_qd", report.cart_pole.qd.as_slice())?;
+    line("cart_pole_late_offset", &[report.cart_pole_late_offset])
 }

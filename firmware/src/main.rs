@@ -50,4 +50,20 @@ fn main() {
     let mut out = String::new();
     constrained_firmware::write_report(&mut out, &report).expect("formatting into a String");
     print!("{out}");
+    // The host alone: the same loop in f64, the reference for the f32 gain
+    // and trajectory (on standard error, so that the reports compare).
+    let reference = constrained_firmware::balance::<f64>().expect("the f64 loop runs");
+    let gain = report.gain.map(f64::from) - reference.gain;
+    let gain = gain.amax() / reference.gain.amax();
+    let state = (report.cart_pole.q.map(f64::from) - reference.state.q).amax();
+    eprintln!(
+        "cart-pole f32 vs f64: gain {gain:.2e} (relative), final q {state:.2e}; \
+         late |θ − π| f32 {:.2e}, f64 {:.2e}",
+        report.cart_pole_late_offset, reference.late_offset
+    );
+    let balanced = report.cart_pole_late_offset < 1e-2 && reference.late_offset < 1e-2;
+    if gain > 1e-3 || state > 1e-3 || !balanced {
+        eprintln!("error: the f32 loop does not match the f64 one, or does not balance");
+        std::process::exit(1);
+    }
 }
