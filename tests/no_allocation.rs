@@ -1,9 +1,12 @@
 //! 10⁵ steps of each integrator (and each stabilization) on the double
-//! pendulum allocate nothing: a counting global allocator proves it.
+//! pendulum allocate nothing, nor do 10⁵ Jacobians and linearizations and
+//! an LQR design: a counting global allocator proves it.
 //! Runs without the test harness so that no other thread allocates
 //! meanwhile; prints a summary line the test runners understand.
 
-use constrained::models::DoublePendulum;
+use constrained::control::{discretize, lqr_gain};
+use constrained::models::{CartPole, DoublePendulum};
+use constrained::nalgebra::{Matrix1, Matrix4, Vector2, Vector4};
 use constrained::{DormandPrince45, Rk4, SemiImplicitEuler, Stabilization, State};
 use std::alloc::{GlobalAlloc, Layout, System};
 
@@ -77,9 +80,44 @@ fn main() {
         let (allocs, steps) = count(|| dopri.advance(&system, &mut s, 100.1).expect("dopri").steps);
         results.push((format!("DormandPrince45, {name}"), allocs, steps));
     }
+    // Linearization and control: 10⁵ Jacobians through the generated
+    // structured solve (constant M) and through the runtime's dense one
+    // (the cart-pole's M(q)), reduced linearizations, and the LQR design.
+    let (allocs, calls) = count(|| {
+        let mut calls = 0;
+        for i in 0..25_000 {
+            let mut s = initial;
+            s.q[0] += 1e-6 * f64::from(i % 7);
+            let j = system
+                .acceleration_jacobian(&s.q, &s.qd, s.t)
+                .expect("jacobian");
+            let r = system.linearize_reduced(&s.q, &s.qd, s.t).expect("reduced");
+            std::hint::black_box((&j, &r));
+            let cart_pole = CartPole::new(1.0, 0.3, 0.8, 9.81, 0.1 * f64::from(i % 5));
+            let q = Vector2::new(0.1, 2.9);
+            let j = cart_pole
+                .acceleration_jacobian(&q, &q, 0.0)
+                .expect("jacobian");
+            let (a, b) = cart_pole.linearize(&q, &q, 0.0).expect("linearize");
+            std::hint::black_box((&j, &a, &b));
+            calls += 4;
+        }
+        let cart_pole = CartPole::new(1.0, 0.3, 0.8, 9.81, 0.0);
+        let upright = Vector2::new(0.0, std::f64::consts::PI);
+        let (a, b) = cart_pole
+            .linearize(&upright, &Vector2::zeros(), 0.0)
+            .expect("linearize");
+        let (ad, bd) = discretize(&a, &b, 0.01).expect("discretize");
+        let q_weight = Matrix4::from_diagonal(&Vector4::new(1.0, 10.0, 0.1, 0.1));
+        let k = lqr_gain(&ad, &bd, &q_weight, &Matrix1::new(0.1), 1e-12, 10_000).expect("lqr");
+        std::hint::black_box(&k);
+        calls + 1
+    });
+    results.push(("Jacobians, linearizations, LQR".to_string(), allocs, calls));
     let mut failed = 0;
     for (name, allocs, steps) in &results {
         let ok = *allocs == 0 && *steps >= 100_000;
+        // (For the linearization row, `steps` counts the calls.)
         println!(
             "{}: {name}: {steps} steps, {allocs} allocations",
             if ok { "ok" } else { "FAILED" }

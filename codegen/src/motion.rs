@@ -45,6 +45,10 @@ pub struct Symbolic {
     pub known_positive: bool,
     /// Whether `M` is diagonal (else a constant with coupling terms).
     pub diagonal: bool,
+    /// `M⁻¹`, n × n (structural zeros are the literal 0).
+    pub inverse: Vec<Vec<Id>>,
+    /// `W = M⁻¹ Aᵀ`, n × k.
+    pub weighted: Vec<Vec<Id>>,
     /// `a = M⁻¹ F`.
     pub unconstrained: Vec<Id>,
     /// `S = A M⁻¹ Aᵀ`, k × k, symmetric (entry (j, i) is the node of (i, j)).
@@ -174,6 +178,8 @@ pub fn gauss(
         masses,
         known_positive,
         diagonal,
+        inverse,
+        weighted,
         unconstrained,
         gram,
         residual,

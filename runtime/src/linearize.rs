@@ -49,6 +49,16 @@ pub struct Jacobians<T, const N: usize, const NU: usize> {
 }
 
 impl<T: RealField + Copy, const N: usize, const NU: usize> Jacobians<T, N, NU> {
+    /// All zero: the generated code writes the columns in place.
+    #[must_use]
+    pub fn zeros() -> Self {
+        Jacobians {
+            dq: SMatrix::zeros(),
+            dqd: SMatrix::zeros(),
+            du: SMatrix::zeros(),
+        }
+    }
+
     /// Whether every entry is finite.
     #[must_use]
     pub fn is_finite(&self) -> bool {
@@ -64,8 +74,11 @@ impl<T: RealField + Copy, const N: usize, const NU: usize> Jacobians<T, N, NU> {
 /// of the tangent systems. Implemented by `constrained_system!`.
 #[doc(hidden)]
 pub trait Tangent<T: RealField + Copy, const N: usize, const K: usize, const D: usize> {
-    /// `(F̃, b̃)`, one column per variable: coordinates, velocities, inputs.
-    #[allow(clippy::type_complexity)]
+    /// Writes `(F̃, b̃)`, one column per variable (coordinates, velocities,
+    /// inputs), into `f` and `b`: their structural nonzeros only, so the
+    /// caller passes zeros. In place, because for a large system these
+    /// mostly zero matrices are bigger than the work on them.
+    #[allow(clippy::too_many_arguments)]
     fn tangent_rhs(
         &self,
         q: &SVector<T, N>,
@@ -73,7 +86,9 @@ pub trait Tangent<T: RealField + Copy, const N: usize, const K: usize, const D: 
         t: T,
         qdd: &SVector<T, N>,
         lam: &SVector<T, K>,
-    ) -> (SMatrix<T, N, D>, SMatrix<T, K, D>);
+        f: &mut SMatrix<T, N, D>,
+        b: &mut SMatrix<T, K, D>,
+    );
     /// `∂ψ/∂q` of the velocity-level constraints `ψ` (`φ̇` or `φ`).
     fn velocity_constraint_jacobian(
         &self,
@@ -149,12 +164,10 @@ where
     let ldlt = PivotedLdlt::new(&gram);
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve(&(w.transpose() * force));
-    let (f_tilde, b_tilde) = system.tangent_rhs(q, qd, t, &qdd, &lam);
-    let mut jac = Jacobians {
-        dq: SMatrix::<T, N, N>::zeros(),
-        dqd: SMatrix::<T, N, N>::zeros(),
-        du: SMatrix::<T, N, NU>::zeros(),
-    };
+    let mut f_tilde = SMatrix::<T, N, D>::zeros();
+    let mut b_tilde = SMatrix::<T, K, D>::zeros();
+    system.tangent_rhs(q, qd, t, &qdd, &lam, &mut f_tilde, &mut b_tilde);
+    let mut jac = Jacobians::<T, N, NU>::zeros();
     for c in 0..D {
         let b_c: SVector<T, K> = b_tilde.column(c).into_owned();
         let mut f_c: SVector<T, N> = f_tilde.column(c).into_owned();

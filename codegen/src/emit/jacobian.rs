@@ -5,14 +5,22 @@
 //! `tangent_rhs` evaluates, for every column variable `v` (coordinates,
 //! velocities, inputs), the right-hand sides `F̃ᵥ` and `b̃ᵥ` of the tangent
 //! system (see [`crate::tangent`]) as straight-line code over the exact
-//! derivatives, contracted with `q̈` and `λ`. The runtime
-//! (`constrained::linearize`) factors `M` and `S = A M⁻¹ Aᵀ` once and solves
-//! for every column.
+//! derivatives, contracted with `q̈` and `λ`.
+//!
+//! Where `M⁻¹` is symbolic (constant or diagonal `M`), the tangent systems
+//! are solved in generated code: the same straight-line Gauss solve as
+//! `acceleration` gives `q̈`, `λ` and the structured factorization of
+//! `S = A M⁻¹ Aᵀ`, and each column is one sparse solve through it
+//! (`q̈ᵥ = M⁻¹F̃ᵥ + W S⁺(b̃ᵥ − A M⁻¹F̃ᵥ)`, `W = M⁻¹Aᵀ`, only structural
+//! nonzeros touched). Where the rank decision is suspect, and for a full
+//! `M(q)`, the runtime (`constrained::linearize`) factors `M` and `S`
+//! densely once and solves for every column.
 
 use super::body::Body;
 use super::context::{Context, Inputs};
-use super::motion::fallible;
+use super::motion::{fallible, SymbolicGauss};
 use crate::expr::Id;
+use crate::motion::{MassInverse, Symbolic};
 use crate::partition::Partition;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -95,6 +103,10 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
          constraint directions (see `constrained::linearize::reduced` for the \
          linearization on the constraint manifold). {fallibility}"
     );
+    let jac_body = match &ctx.eq.gauss {
+        MassInverse::Symbolic(d) => structured(ctx, d, &jac_body),
+        MassInverse::Cholesky | MassInverse::Auxiliary => jac_body,
+    };
     let reduced = reduced(ctx, partition);
     quote! {
         #reduced
@@ -110,6 +122,146 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
         pub fn linearize(&self, #params) -> #lin_ret {
             #lin_body
         }
+    }
+}
+
+/// The body of `acceleration_jacobian` for a symbolic `M⁻¹`: the Gauss
+/// solve of `acceleration` up to `λ`, then `(F̃, b̃)` from `tangent_rhs`,
+/// then one sparse solve per column through the same factorization.
+/// `dense` (the runtime's solve) answers where the rank decision is
+/// suspect, exactly where `acceleration` consults the runtime.
+fn structured(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> TokenStream {
+    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
+    let g = &ctx.eq.system.graph;
+    let nonzero = |e: Id| !g.is_zero(e);
+    // The constant pieces of every column's solve: A, W = M⁻¹Aᵀ and M⁻¹,
+    // structural nonzeros only.
+    let mut extra: Vec<Id> = Vec::new();
+    extra.extend(ctx.eq.a.iter().flatten().copied().filter(|&e| nonzero(e)));
+    extra.extend(d.weighted.iter().flatten().copied().filter(|&e| nonzero(e)));
+    extra.extend(d.inverse.iter().flatten().copied().filter(|&e| nonzero(e)));
+    let gauss = SymbolicGauss::new(ctx, d, &extra, false);
+    let body = &gauss.body;
+    let bind = |role: &str, entries: &[Vec<Id>]| -> TokenStream {
+        let mut out = TokenStream::new();
+        for (i, row) in entries.iter().enumerate() {
+            for (j, &e) in row.iter().enumerate() {
+                if nonzero(e) {
+                    let (name, value) = (Context::local2(role, i, j), body.expr(e));
+                    out.extend(quote! { let #name = #value; });
+                }
+            }
+        }
+        out
+    };
+    let constants = [
+        bind("ja", &ctx.eq.a),
+        bind("jw", &d.weighted),
+        bind("jm", &d.inverse),
+    ];
+    // Σ entry·x over the structural nonzeros of one row, `T::zero()` if none.
+    let dot = |role: &str, i: usize, row: &[Id], x: &dyn Fn(usize) -> syn::Ident| {
+        let terms: Vec<TokenStream> = row
+            .iter()
+            .enumerate()
+            .filter(|&(_, &e)| nonzero(e))
+            .map(|(j, _)| {
+                let (entry, x) = (Context::local2(role, i, j), x(j));
+                quote!(#entry * #x)
+            })
+            .collect();
+        if terms.is_empty() {
+            quote!(T::zero())
+        } else {
+            quote!(#(#terms)+*)
+        }
+    };
+    let f: Vec<_> = (0..n).map(|i| Context::local("jf", i)).collect();
+    let b: Vec<_> = (0..k).map(|j| Context::local("jb", j)).collect();
+    let free: Vec<_> = (0..n).map(|i| Context::local("ju", i)).collect();
+    let r: Vec<_> = (0..k).map(|j| Context::local("jr", j)).collect();
+    let mu: Vec<_> = (0..k).map(|j| Context::local("jmu", j)).collect();
+    let free_values = (0..n).map(|i| dot("jm", i, &d.inverse[i], &|l| f[l].clone()));
+    let residual_values = (0..k).map(|j| {
+        let a_free = dot("ja", j, &ctx.eq.a[j], &|i| free[i].clone());
+        let bj = &b[j];
+        quote!(#bj - (#a_free))
+    });
+    let solve = gauss.ldlt.solve(&r, "jy", &mu);
+    let column = (0..n).map(|i| {
+        let (u, w) = (&free[i], dot("jw", i, &d.weighted[i], &|j| mu[j].clone()));
+        quote!(#u + (#w))
+    });
+    let unpack_b = (k > 0).then(|| quote!(let [#(#b),*] = *__b;));
+    let columns = 2 * n + nu;
+    let (n_l, nu_l, k_l, d_l) = (
+        Context::dim(n),
+        Context::dim(nu),
+        Context::dim(k),
+        Context::dim(columns),
+    );
+    let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
+    let qdd = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
+    let lam = ctx.vector_value((0..k).map(|j| {
+        let l = Context::local("lam", j);
+        quote!(#l)
+    }));
+    let jacobians_zero = ctx.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros()));
+    let value = if fallible(ctx) {
+        let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+        quote! {
+            if __jac.is_finite() {
+                ::core::result::Result::Ok(__jac)
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        }
+    } else {
+        quote!(__jac)
+    };
+    // One local holds the answer on every path, so that it is built where
+    // the caller wants it (a returned local assigned on two paths, or a
+    // second local, costs a copy of the whole Jacobian: 32 KiB at 32 links).
+    let (suspect, adopt) = if k > 0 {
+        let suspect = gauss.ldlt.suspect(ctx.generic_rank);
+        let adopt = if fallible(ctx) {
+            quote! {
+                match { #dense } {
+                    ::core::result::Result::Ok(__dense) => __jac = __dense,
+                    ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
+                }
+            }
+        } else {
+            quote!(__jac = { #dense };)
+        };
+        (suspect, adopt)
+    } else {
+        (quote!(false), TokenStream::new())
+    };
+    let to_multipliers = &gauss.to_multipliers;
+    quote! {
+        #to_multipliers
+        let mut __jac = #jacobians_zero;
+        if #suspect {
+            #adopt
+        } else {
+            let mut __ft = ::constrained::nalgebra::SMatrix::<T, #n_l, #d_l>::zeros();
+            let mut __bt = ::constrained::nalgebra::SMatrix::<T, #k_l, #d_l>::zeros();
+            <Self as #tangent>::tangent_rhs(self, q, qd, t, &#qdd, &#lam, &mut __ft, &mut __bt);
+            #(#constants)*
+            let __outs = __jac.dq.data.0.iter_mut()
+                .chain(__jac.dqd.data.0.iter_mut())
+                .chain(__jac.du.data.0.iter_mut());
+            for ((__f, __b), __out) in __ft.data.0.iter().zip(__bt.data.0.iter()).zip(__outs) {
+                let [#(#f),*] = *__f;
+                #unpack_b
+                #(let #free = #free_values;)*
+                #(let #r = #residual_values;)*
+                #solve
+                *__out = [#(#column),*];
+            }
+        }
+        #value
     }
 }
 
@@ -158,8 +310,9 @@ fn tangent_rhs(ctx: &Context) -> TokenStream {
             out
         }
     };
-    let mut f_columns = Vec::with_capacity(columns);
-    let mut b_columns = Vec::with_capacity(columns);
+    // Only the structural nonzeros are written: the caller passes zeros.
+    let mut writes = TokenStream::new();
+    let column_index = |c: usize| proc_macro2::Literal::usize_unsuffixed(c);
     for c in 0..columns {
         let mut f: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); n];
         for (i, &e) in tan.forces[c].iter().enumerate() {
@@ -180,31 +333,43 @@ fn tangent_rhs(ctx: &Context) -> TokenStream {
             f[i].push(times(e, &lam[r], false));
             b[r].push(times(e, &qdd[i], true));
         }
-        f_columns.push(f.into_iter().map(sum).collect());
-        b_columns.push(b.into_iter().map(sum).collect());
+        let cl = column_index(c);
+        for (i, terms) in f.into_iter().enumerate() {
+            if !terms.is_empty() {
+                let (il, value) = (column_index(i), sum(terms));
+                writes.extend(quote! { __f.data.0[#cl][#il] = #value; });
+            }
+        }
+        for (r, terms) in b.into_iter().enumerate() {
+            if !terms.is_empty() {
+                let (rl, value) = (column_index(r), sum(terms));
+                writes.extend(quote! { __b.data.0[#cl][#rl] = #value; });
+            }
+        }
     }
-    let f_value = ctx.matrix_value(n, f_columns);
-    let b_value = ctx.matrix_value(k, b_columns);
     let (f_type, b_type) = (ctx.matrix(n, columns), ctx.matrix(k, columns));
     let (vector, k_vector) = (ctx.vector(n), ctx.vector(k));
     let params = ctx.params(Inputs::States);
     let unpack_qdd = (n > 0).then(|| quote!(let [[#(#qdd),*]] = qdd.data.0;));
     let unpack_lam = (k > 0).then(|| quote!(let [[#(#lam),*]] = lam.data.0;));
     quote! {
-        /// The right-hand sides `(F̃, b̃)` of the tangent systems, one column
-        /// per variable (`q`, `q̇`, inputs): `F̃ᵥ = ∂F/∂v − (∂M/∂v) q̈ +
-        /// (∂A/∂v)ᵀ λ`, `b̃ᵥ = ∂b/∂v − (∂A/∂v) q̈`.
+        /// Writes the right-hand sides `(F̃, b̃)` of the tangent systems, one
+        /// column per variable (`q`, `q̇`, inputs), into `__f` and `__b`
+        /// (structural nonzeros only; the caller passes zeros):
+        /// `F̃ᵥ = ∂F/∂v − (∂M/∂v) q̈ + (∂A/∂v)ᵀ λ`, `b̃ᵥ = ∂b/∂v − (∂A/∂v) q̈`.
         #[inline]
         fn tangent_rhs(
             &self,
             #params,
             qdd: &#vector,
             lam: &#k_vector,
-        ) -> (#f_type, #b_type) {
+            __f: &mut #f_type,
+            __b: &mut #b_type,
+        ) {
             #unpack_qdd
             #unpack_lam
             #preamble
-            (#f_value, #b_value)
+            #writes
         }
     }
 }

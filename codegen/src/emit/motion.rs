@@ -200,57 +200,113 @@ pub(super) fn levels(ctx: &Context) -> Vec<TokenStream> {
         .collect()
 }
 
+/// The straight-line solve of Gauss's principle for a symbolic `M⁻¹`, up to
+/// the multipliers: shared by `gauss` and the structured Jacobian
+/// (`super::jacobian`), which both continue from `λ` in their own way.
+pub(super) struct SymbolicGauss<'a> {
+    /// The bodies' expressions: the Gauss pieces and the caller's roots.
+    pub body: Body<'a>,
+    /// The factorization of `S`, whose locals the code below defines.
+    pub ldlt: StructuredLdlt<'a>,
+    /// The code from the arguments to `λ` (`__lam{i}`) and the temporaries
+    /// that need it: variables, entries of `S` and `r`, the run-time check
+    /// of masses not known positive, the factorization and the solve.
+    pub to_multipliers: TokenStream,
+}
+
+impl<'a> SymbolicGauss<'a> {
+    /// `extra` are further expressions the caller will ask `body` for;
+    /// `correction` adds the `b + db` of `acceleration_corrected`.
+    pub(super) fn new(ctx: &'a Context, d: &'a Symbolic, extra: &[Id], correction: bool) -> Self {
+        let k = ctx.k;
+        let g = &ctx.eq.system.graph;
+        let residuals: Vec<_> = (0..k).map(|i| Context::local("r", i)).collect();
+        let mut named: Vec<(syn::Ident, Id)> = Vec::new();
+        for (i, (r, &residual)) in residuals.iter().zip(&d.residual).enumerate() {
+            for j in 0..=i {
+                if !g.is_zero(d.gram[i][j]) {
+                    named.push((StructuredLdlt::entry(i, j), d.gram[i][j]));
+                }
+            }
+            named.push((r.clone(), residual));
+        }
+        // Each distinct mass that is not a positive constant is checked once.
+        let mut unchecked: Vec<Id> = Vec::new();
+        for &m in &d.masses {
+            let constant_positive = g.as_num(m).is_some_and(|v| v.to_f64() > 0.0);
+            if !constant_positive && !unchecked.contains(&m) {
+                unchecked.push(m);
+            }
+        }
+        let mut roots: Vec<Id> = named.iter().map(|(_, id)| *id).collect();
+        roots.extend(&unchecked);
+        roots.extend(&d.acceleration);
+        roots.extend(&d.force);
+        roots.extend(extra);
+        let body = Body::new(ctx.eq, &roots);
+        let preamble = body.preamble();
+        let bindings = named.iter().map(|(name, id)| {
+            let value = body.expr(*id);
+            quote! { let #name = #value; }
+        });
+        let error = ctx.path(quote!(DynamicsError::MassNotPositiveDefinite));
+        let check = (!unchecked.is_empty()).then(|| {
+            let positive = unchecked.iter().map(|&m| {
+                let m = body.expr(m);
+                quote! { #m > T::zero() }
+            });
+            quote! {
+                if !(#(#positive)&&*) {
+                    return ::core::result::Result::Err(#error);
+                }
+            }
+        });
+        let corrected = (correction && k > 0).then(|| {
+            let d: Vec<_> = (0..k).map(|i| Context::local("db", i)).collect();
+            let r = &residuals;
+            quote! {
+                let (#(#r,)*) = match correction {
+                    ::core::option::Option::Some(__db) => {
+                        let [[#(#d),*]] = __db.data.0;
+                        (#(#r + #d,)*)
+                    }
+                    ::core::option::Option::None => (#(#r,)*),
+                };
+            }
+        });
+        let ldlt = StructuredLdlt::new(g, d);
+        let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
+        let factor = ldlt.factor();
+        let solve = ldlt.solve(&residuals, "y", &multipliers);
+        let after = body.after_multipliers();
+        let to_multipliers = quote! {
+            #preamble
+            #(#bindings)*
+            #corrected
+            #check
+            #factor
+            #solve
+            #after
+        };
+        SymbolicGauss {
+            body,
+            ldlt,
+            to_multipliers,
+        }
+    }
+}
+
 /// `M⁻¹` known symbolically (`M` diagonal or a numeric constant): `a`, `S`,
 /// `r`, `W` and `A` are straight-line expressions; `S λ = r` is solved by
 /// `LDLᵀ` on the structural pattern of `S`.
 fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     let k = ctx.k;
-    let g = &ctx.eq.system.graph;
-    let residuals: Vec<_> = (0..k).map(|i| Context::local("r", i)).collect();
-    let mut named: Vec<(syn::Ident, Id)> = Vec::new();
-    for (i, (r, &residual)) in residuals.iter().zip(&d.residual).enumerate() {
-        for j in 0..=i {
-            if !g.is_zero(d.gram[i][j]) {
-                named.push((StructuredLdlt::entry(i, j), d.gram[i][j]));
-            }
-        }
-        named.push((r.clone(), residual));
-    }
-    // Each distinct mass that is not a positive constant is checked once.
-    let mut unchecked: Vec<Id> = Vec::new();
-    for &m in &d.masses {
-        let constant_positive = g.as_num(m).is_some_and(|v| v.to_f64() > 0.0);
-        if !constant_positive && !unchecked.contains(&m) {
-            unchecked.push(m);
-        }
-    }
-    let mut roots: Vec<Id> = named.iter().map(|(_, id)| *id).collect();
-    roots.extend(&unchecked);
-    roots.extend(&d.acceleration);
-    roots.extend(&d.force);
-    let body = Body::new(ctx.eq, &roots);
-    let preamble = body.preamble();
-    let bindings = named.iter().map(|(name, id)| {
-        let value = body.expr(*id);
-        quote! { let #name = #value; }
-    });
-    let error = ctx.path(quote!(DynamicsError::MassNotPositiveDefinite));
-    let check = (!unchecked.is_empty()).then(|| {
-        let positive = unchecked.iter().map(|&m| {
-            let m = body.expr(m);
-            quote! { #m > T::zero() }
-        });
-        quote! {
-            if !(#(#positive)&&*) {
-                return ::core::result::Result::Err(#error);
-            }
-        }
-    });
-    let ldlt = StructuredLdlt::new(g, d);
-    let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
-    let factor = ldlt.factor();
-    let solve = ldlt.solve(&residuals, "y", &multipliers);
-    let after = body.after_multipliers();
+    let SymbolicGauss {
+        body,
+        ldlt,
+        to_multipliers,
+        ..
+    } = SymbolicGauss::new(ctx, d, &[], true);
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
     let vector = ctx.vector(ctx.n);
@@ -283,32 +339,13 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         ctx.result(quote!((#vector, #vector)), quote!(DynamicsError)),
         motion,
     );
-    let corrected = (k > 0).then(|| {
-        let d: Vec<_> = (0..k).map(|i| Context::local("db", i)).collect();
-        let r = &residuals;
-        quote! {
-            let (#(#r,)*) = match correction {
-                ::core::option::Option::Some(__db) => {
-                    let [[#(#d),*]] = __db.data.0;
-                    (#(#r + #d,)*)
-                }
-                ::core::option::Option::None => (#(#r,)*),
-            };
-        }
-    });
     let (params, correction) = (ctx.params(Inputs::States), ctx.correction_type());
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
         /// `constraint_force` and `acceleration_corrected` (`b + correction`).
         #[inline(always)]
         fn gauss(&self, #params, correction: #correction) -> #ret {
-            #preamble
-            #(#bindings)*
-            #corrected
-            #check
-            #factor
-            #solve
-            #after
+            #to_multipliers
             #value
         }
     }
