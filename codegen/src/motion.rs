@@ -16,7 +16,7 @@ use crate::num::Num;
 /// How `M⁻¹` is applied.
 pub enum MassInverse {
     /// `M⁻¹` as expressions: `M` diagonal, or a numeric constant.
-    Symbolic(Symbolic),
+    Symbolic(Box<Symbolic>),
     /// A full configuration-dependent `M`: Cholesky at run time.
     Cholesky,
     /// `M` only positive semi-definite (singular at every sampled point,
@@ -174,7 +174,7 @@ pub fn gauss(
         acceleration.push(g.add(&acc));
         force.push(g.add(&f));
     }
-    MassInverse::Symbolic(Symbolic {
+    MassInverse::Symbolic(Box::new(Symbolic {
         masses,
         known_positive,
         diagonal,
@@ -187,7 +187,7 @@ pub fn gauss(
         force,
         order,
         fill,
-    })
+    }))
 }
 
 /// The exact inverse of a constant matrix by Gauss–Jordan elimination in
