@@ -12,6 +12,8 @@ mod gibbs_appell;
 mod jacobian;
 mod ldlt;
 mod motion;
+mod structured;
+mod tangent;
 
 use crate::derivation;
 use crate::derive::Equations;

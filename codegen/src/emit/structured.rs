@@ -1,0 +1,224 @@
+//! `acceleration_jacobian` for a symbolic `M⁻¹` (constant or diagonal
+//! `M`), solved in generated code through the structure `acceleration`
+//! uses.
+//!
+//! Each tangent system `M q̈ᵥ = F̃ᵥ + Aᵀμᵥ`, `A q̈ᵥ = b̃ᵥ` is solved as
+//! `q̈ᵥ = aᵥ + W μᵥ`, `aᵥ = M⁻¹F̃ᵥ`, `S μᵥ = b̃ᵥ − A aᵥ`, `W = M⁻¹Aᵀ`, in
+//! two parts:
+//!
+//! - straight-line, column by column: `aᵥ` and `b̃ᵥ − A aᵥ` over the
+//!   structural nonzeros of `F̃ᵥ`, `b̃ᵥ`, `M⁻¹` and `A`. A column of a
+//!   chain touches a few entries, so this costs what `tangent_rhs` costs,
+//!   and no matrix of `F̃` is formed;
+//! - one loop over the columns: `μᵥ` by the solve step of `acceleration`'s
+//!   factorization of `S` (the same pivots, so the same rank decision),
+//!   and `W μᵥ` over the nonzeros of `W`. Its code grows with `n + k`, not
+//!   with the number of columns.
+//!
+//! Where the rank decision is suspect, the runtime's dense solve answers,
+//! exactly where `acceleration` consults the runtime.
+
+use super::context::Context;
+use super::motion::{fallible, SymbolicGauss};
+use super::tangent::{index, TangentTerms};
+use crate::expr::Id;
+use crate::motion::Symbolic;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// The body of `acceleration_jacobian`; `dense` is the runtime's solve, as
+/// an expression of the method's return type.
+pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> TokenStream {
+    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
+    let g = &ctx.eq.system.graph;
+    let a = &ctx.eq.a;
+    let nonzero = |e: Id| !g.is_zero(e);
+    // The constant pieces of every column's solve: A, W = M⁻¹Aᵀ and M⁻¹,
+    // structural nonzeros only, named once.
+    let mut extra: Vec<Id> = Vec::new();
+    for entries in [a, &d.weighted, &d.inverse] {
+        extra.extend(entries.iter().flatten().copied().filter(|&e| nonzero(e)));
+    }
+    extra.extend(&d.acceleration);
+    let gauss = SymbolicGauss::new(ctx, d, &extra, false);
+    let body = &gauss.body;
+    let bind = |role: &str, entries: &[Vec<Id>]| -> TokenStream {
+        let mut out = TokenStream::new();
+        for (i, row) in entries.iter().enumerate() {
+            for (j, &e) in row.iter().enumerate() {
+                if nonzero(e) {
+                    let (name, value) = (Context::local2(role, i, j), body.expr(e));
+                    out.extend(quote! { let #name = #value; });
+                }
+            }
+        }
+        out
+    };
+    let constants = [
+        bind("ja", a),
+        bind("jw", &d.weighted),
+        bind("jm", &d.inverse),
+    ];
+    let qdd = d.acceleration.iter().enumerate().map(|(i, &e)| {
+        let (name, value) = (Context::local("qdd", i), body.expr(e));
+        quote! { let #name = #value; }
+    });
+
+    let terms = TangentTerms::new(ctx);
+    let tangent_preamble = terms.body.preamble();
+    let mut columns = TokenStream::new();
+    for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
+        let (part, cc) = match c {
+            c if c < n => (quote!(dq), c),
+            c if c < 2 * n => (quote!(dqd), c - n),
+            c => (quote!(du), c - 2 * n),
+        };
+        let (cl, ccl) = (index(c), index(cc));
+        let mut code = TokenStream::new();
+        let mut f_nonzero = Vec::new();
+        for (i, value) in f.iter().enumerate() {
+            if let Some(value) = value {
+                let name = Context::local("jf", i);
+                code.extend(quote! { let #name = #value; });
+                f_nonzero.push(i);
+            }
+        }
+        // aᵥ = M⁻¹ F̃ᵥ, written into the Jacobian's column.
+        let mut a_nonzero = Vec::new();
+        for (i, row) in d.inverse.iter().enumerate() {
+            let products: Vec<TokenStream> = f_nonzero
+                .iter()
+                .filter(|&&l| nonzero(row[l]))
+                .map(|&l| {
+                    let (m, f) = (Context::local2("jm", i, l), Context::local("jf", l));
+                    quote!(#m * #f)
+                })
+                .collect();
+            if !products.is_empty() {
+                let (u, il) = (Context::local("ju", i), index(i));
+                code.extend(quote! {
+                    let #u = #(#products)+*;
+                    __jac.#part.data.0[#ccl][#il] = #u;
+                });
+                a_nonzero.push(i);
+            }
+        }
+        // b̃ᵥ − A aᵥ, the right-hand side of S μᵥ.
+        for (j, row) in a.iter().enumerate() {
+            let products: Vec<TokenStream> = a_nonzero
+                .iter()
+                .filter(|&&i| nonzero(row[i]))
+                .map(|&i| {
+                    let (a, u) = (Context::local2("ja", j, i), Context::local("ju", i));
+                    quote!(#a * #u)
+                })
+                .collect();
+            let value = match (&b[j], products.is_empty()) {
+                (Some(b), true) => quote!(#b),
+                (Some(b), false) => quote!(#b - (#(#products)+*)),
+                (None, false) => quote!(-(#(#products)+*)),
+                (None, true) => continue,
+            };
+            let jl = index(j);
+            code.extend(quote! { __rs[#cl][#jl] = #value; });
+        }
+        // A scope per column: its locals end with it.
+        columns.extend(quote! {{ #code }});
+    }
+
+    let (n_l, nu_l, k_l, d_l) = (
+        Context::dim(n),
+        Context::dim(nu),
+        Context::dim(k),
+        Context::dim(2 * n + nu),
+    );
+    let jacobians_zero = ctx.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros()));
+    let value = if fallible(ctx) {
+        let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+        quote! {
+            if __jac.is_finite() {
+                ::core::result::Result::Ok(__jac)
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        }
+    } else {
+        quote!(__jac)
+    };
+    let to_multipliers = &gauss.to_multipliers;
+    if k == 0 {
+        return quote! {
+            #to_multipliers
+            let mut __jac = #jacobians_zero;
+            #(#constants)*
+            #(#qdd)*
+            {
+                #tangent_preamble
+                #columns
+            }
+            #value
+        };
+    }
+
+    // μᵥ and W μᵥ, a loop over the columns.
+    let r: Vec<_> = (0..k).map(|j| Context::local("jr", j)).collect();
+    let mu: Vec<_> = (0..k).map(|j| Context::local("jmu", j)).collect();
+    let solve = gauss.ldlt.solve(&r, "jy", &mu);
+    let mut outputs = Vec::with_capacity(n);
+    let mut updates = TokenStream::new();
+    for (i, row) in d.weighted.iter().enumerate() {
+        let products: Vec<TokenStream> = (0..k)
+            .filter(|&j| nonzero(row[j]))
+            .map(|j| {
+                let (w, m) = (Context::local2("jw", i, j), &mu[j]);
+                quote!(#w * #m)
+            })
+            .collect();
+        if products.is_empty() {
+            outputs.push(quote!(_));
+        } else {
+            let o = Context::local("jo", i);
+            updates.extend(quote! { *#o += #(#products)+*; });
+            outputs.push(quote!(#o));
+        }
+    }
+    // One local holds the answer on every path, so that it is built where
+    // the caller wants it (a returned local assigned on two paths, or a
+    // second local, costs a copy of the whole Jacobian: 32 KiB at 32 links).
+    let suspect = gauss.ldlt.suspect(ctx.generic_rank);
+    let adopt = if fallible(ctx) {
+        quote! {
+            match { #dense } {
+                ::core::result::Result::Ok(__dense) => __jac = __dense,
+                ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
+            }
+        }
+    } else {
+        quote!(__jac = { #dense };)
+    };
+    quote! {
+        #to_multipliers
+        let mut __jac = #jacobians_zero;
+        if #suspect {
+            #adopt
+        } else {
+            #(#constants)*
+            #(#qdd)*
+            let mut __rs = [[T::zero(); #k_l]; #d_l];
+            {
+                #tangent_preamble
+                #columns
+            }
+            let __outs = __jac.dq.data.0.iter_mut()
+                .chain(__jac.dqd.data.0.iter_mut())
+                .chain(__jac.du.data.0.iter_mut());
+            for (__r, __out) in __rs.iter().zip(__outs) {
+                let [#(#r),*] = *__r;
+                #solve
+                let [#(#outputs),*] = __out;
+                #updates
+            }
+        }
+        #value
+    }
+}

@@ -1,0 +1,178 @@
+//! The right-hand sides of the tangent systems as code: for every column
+//! variable `v` (coordinates, velocities, inputs),
+//! `F̃ᵥ = ∂F/∂v − (∂M/∂v) q̈ + (∂A/∂v)ᵀ λ` and `b̃ᵥ = ∂b/∂v − (∂A/∂v) q̈`
+//! (see [`crate::tangent`]), contracted with the locals `__qdd{i}` and
+//! `__lam{r}`, structural zeros left out. [`TangentTerms`] is read twice:
+//! by the hidden `tangent_rhs` (the runtime's dense solve) and by the
+//! generated structured solve ([`super::structured`]), which needs no
+//! matrix of them.
+
+use super::body::{literal, Body};
+use super::context::{Context, Inputs};
+use crate::expr::Id;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// The entries of `F̃` and `b̃`, column by column, over one body.
+pub(super) struct TangentTerms<'a> {
+    /// The expressions' variables and temporaries.
+    pub body: Body<'a>,
+    /// `forces[c][i]`: `F̃` of column `c`, row `i`; `None` where it is a
+    /// structural zero.
+    pub forces: Vec<Vec<Option<TokenStream>>>,
+    /// `rhs[c][r]`: `b̃` of column `c`, constraint `r`.
+    pub rhs: Vec<Vec<Option<TokenStream>>>,
+}
+
+impl<'a> TangentTerms<'a> {
+    pub(super) fn new(ctx: &'a Context) -> Self {
+        let eq = ctx.eq;
+        let tan = &eq.tangent;
+        let (n, k, columns) = (ctx.n, ctx.k, tan.columns.len());
+        let g = &eq.system.graph;
+        let mut roots: Vec<Id> = Vec::new();
+        for c in 0..columns {
+            roots.extend(tan.forces[c].iter().filter(|&&e| !g.is_zero(e)));
+            roots.extend(tan.mass[c].iter().map(|&(_, _, e)| e));
+            roots.extend(tan.a[c].iter().map(|&(_, _, e)| e));
+            roots.extend(tan.b[c].iter().filter(|&&e| !g.is_zero(e)));
+        }
+        let body = Body::new(eq, &roots);
+        let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
+        let lam: Vec<_> = (0..k).map(|r| Context::local("lam", r)).collect();
+        // A term is `(negative, tokens)`; a derivative that is ±1
+        // multiplies by nothing, a negative constant flips the sign.
+        let times = |e: Id, x: &syn::Ident, negative: bool| -> (bool, TokenStream) {
+            match g.as_num(e) {
+                Some(c) if c.is_one() => (negative, quote!(#x)),
+                Some(c) if (-c).is_one() => (!negative, quote!(#x)),
+                Some(c) => {
+                    let magnitude = literal(if c.is_negative() { -c } else { c }).0;
+                    (negative != c.is_negative(), quote!(#magnitude * #x))
+                }
+                None => {
+                    let e = body.expr(e);
+                    (negative, quote!((#e) * #x))
+                }
+            }
+        };
+        let mut forces = Vec::with_capacity(columns);
+        let mut rhs = Vec::with_capacity(columns);
+        for c in 0..columns {
+            let mut f: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); n];
+            for (i, &e) in tan.forces[c].iter().enumerate() {
+                if !g.is_zero(e) {
+                    f[i].push((false, body.expr(e)));
+                }
+            }
+            for &(i, j, e) in &tan.mass[c] {
+                f[i].push(times(e, &qdd[j], true));
+            }
+            let mut b: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
+            for (r, &e) in tan.b[c].iter().enumerate() {
+                if !g.is_zero(e) {
+                    b[r].push((false, body.expr(e)));
+                }
+            }
+            for &(r, i, e) in &tan.a[c] {
+                f[i].push(times(e, &lam[r], false));
+                b[r].push(times(e, &qdd[i], true));
+            }
+            forces.push(f.into_iter().map(sum).collect());
+            rhs.push(b.into_iter().map(sum).collect());
+        }
+        TangentTerms { body, forces, rhs }
+    }
+}
+
+/// `t₁ + t₂ − t₃ …` of signed terms, `None` for no terms.
+fn sum(terms: Vec<(bool, TokenStream)>) -> Option<TokenStream> {
+    let mut out = TokenStream::new();
+    for (i, (negative, term)) in terms.into_iter().enumerate() {
+        out.extend(match (i, negative) {
+            (0, false) => term,
+            (0, true) => quote!(-#term),
+            (_, false) => quote!(+ #term),
+            (_, true) => quote!(- #term),
+        });
+    }
+    (!out.is_empty()).then_some(out)
+}
+
+/// A `usize` index as an unsuffixed literal.
+pub(super) fn index(i: usize) -> proc_macro2::Literal {
+    proc_macro2::Literal::usize_unsuffixed(i)
+}
+
+/// `tangent_rhs(q, qd, t, qdd, lam, f, b)`: writes `F̃` and `b̃`, one
+/// column per variable, for the runtime's dense solve.
+pub(super) fn tangent_rhs(ctx: &Context) -> TokenStream {
+    let (n, k, columns) = (ctx.n, ctx.k, ctx.eq.tangent.columns.len());
+    let terms = TangentTerms::new(ctx);
+    let preamble = terms.body.preamble();
+    let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
+    let lam: Vec<_> = (0..k).map(|r| Context::local("lam", r)).collect();
+    // Only the structural nonzeros are written: the caller passes zeros.
+    let mut writes = TokenStream::new();
+    for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
+        let cl = index(c);
+        for (i, value) in f.iter().enumerate() {
+            if let Some(value) = value {
+                let il = index(i);
+                writes.extend(quote! { __f.data.0[#cl][#il] = #value; });
+            }
+        }
+        for (r, value) in b.iter().enumerate() {
+            if let Some(value) = value {
+                let rl = index(r);
+                writes.extend(quote! { __b.data.0[#cl][#rl] = #value; });
+            }
+        }
+    }
+    let (f_type, b_type) = (ctx.matrix(n, columns), ctx.matrix(k, columns));
+    let (vector, k_vector) = (ctx.vector(n), ctx.vector(k));
+    let params = ctx.params(Inputs::States);
+    let unpack_qdd = (n > 0).then(|| quote!(let [[#(#qdd),*]] = qdd.data.0;));
+    let unpack_lam = (k > 0).then(|| quote!(let [[#(#lam),*]] = lam.data.0;));
+    quote! {
+        /// Writes the right-hand sides `(F̃, b̃)` of the tangent systems, one
+        /// column per variable (`q`, `q̇`, inputs), into `__f` and `__b`
+        /// (structural nonzeros only; the caller passes zeros):
+        /// `F̃ᵥ = ∂F/∂v − (∂M/∂v) q̈ + (∂A/∂v)ᵀ λ`, `b̃ᵥ = ∂b/∂v − (∂A/∂v) q̈`.
+        #[inline]
+        fn tangent_rhs(
+            &self,
+            #params,
+            qdd: &#vector,
+            lam: &#k_vector,
+            __f: &mut #f_type,
+            __b: &mut #b_type,
+        ) {
+            #unpack_qdd
+            #unpack_lam
+            #preamble
+            #writes
+        }
+    }
+}
+
+/// `∂ψ/∂q` of the velocity-level constraints, `k × n`.
+pub(super) fn velocity_constraint_jacobian(ctx: &Context) -> TokenStream {
+    let rows = &ctx.eq.tangent.velocity_constraints;
+    let roots: Vec<Id> = rows.iter().flatten().copied().collect();
+    let body = Body::new(ctx.eq, &roots);
+    let preamble = body.preamble();
+    let columns: Vec<Vec<TokenStream>> = (0..ctx.n)
+        .map(|j| rows.iter().map(|row| body.expr(row[j])).collect())
+        .collect();
+    let value = ctx.matrix_value(ctx.k, columns);
+    let (params, ret) = (ctx.params(Inputs::States), ctx.matrix(ctx.k, ctx.n));
+    quote! {
+        /// `∂ψ/∂q` of the velocity-level constraints `ψ` (`φ̇` or `φ`).
+        #[inline]
+        fn velocity_constraint_jacobian(&self, #params) -> #ret {
+            #preamble
+            #value
+        }
+    }
+}
