@@ -6,9 +6,10 @@ use crate::derive::Equations;
 use crate::expr::Id;
 use crate::gibbs_appell::{rank_one, RankOne};
 use crate::model::{Energies, Level};
-use crate::motion::MassInverse;
+use crate::motion::{Factored, MassInverse};
 use crate::partition::Partition;
 use crate::print::{shared_subexpressions, subscript, Printer, Style};
+use crate::sparsity::Structure;
 use std::collections::HashMap;
 use std::fmt::Write;
 
@@ -254,6 +255,79 @@ fn gibbs_appell(
     }
 }
 
+/// How `λ` is solved from `S λ = b − A a` (S = A M⁻¹ Aᵀ with the given
+/// compile-time structure).
+fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
+    let k = structure.len();
+    match k {
+        0 => {}
+        1 => {
+            let _ = writeln!(
+                w,
+                "  λ₁ = (b − A a)₁ / (A M⁻¹ Aᵀ)₁₁; where A M⁻¹ Aᵀ vanishes (or underflows), \
+                 q̈ is checked against A q̈ = b at run time and, if it fails, recomputed by \
+                 the row-scaled Moore–Penrose form"
+            );
+        }
+        _ => {
+            let _ = writeln!(
+                w,
+                "  λ by LDLᵀ of A M⁻¹ Aᵀ on its compile-time pattern, eliminating \
+                 constraints in the order {}\n  ({} of {} subdiagonal entries of L nonzero); \
+                 rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)\n  \
+                 when at least rank A = {rank} rows remain or every row still holds to 1000ε \
+                 (checked at run time); otherwise q̈ is recomputed by the row-scaled Moore–Penrose form",
+                order(structure, |i| format!("φ{}", subscript(i + 1))),
+                fill(structure),
+                k * (k - 1) / 2
+            );
+        }
+    }
+}
+
+/// The elimination order of a structure, each row named by `name`.
+fn order(structure: &Structure, name: impl Fn(usize) -> String) -> String {
+    structure
+        .order
+        .iter()
+        .map(|&i| name(i))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The number of structurally nonzero subdiagonal entries of `L`.
+fn fill(structure: &Structure) -> usize {
+    let k = structure.len();
+    (0..k)
+        .flat_map(|i| (0..i).map(move |j| (i, j)))
+        .filter(|&(i, j)| structure.fill[i][j])
+        .count()
+}
+
+/// Gauss's principle for a configuration-dependent `M`, as generated.
+fn factored(w: &mut String, f: &Factored, coordinates: &[String], rank: usize) {
+    let n = f.mass.len();
+    let weighted = f.weighted.iter().flatten().filter(|&&x| x).count();
+    let _ = writeln!(
+        w,
+        "  M depends on q and is not diagonal: P M Pᵀ = L D Lᵀ on its compile-time pattern, \
+         eliminating coordinates in the order {}\n  ({} of {} subdiagonal entries of L nonzero); \
+         a pivot dⱼ ≤ 0 means M is not positive definite there (Err, as Cholesky fails);\n  \
+         a = M⁻¹ F and W = M⁻¹ Aᵀ by sparse substitution ({weighted} of {} entries of W nonzero), \
+         A M⁻¹ Aᵀ = A W, b − A a",
+        order(&f.mass, |i| coordinates[i].clone()),
+        fill(&f.mass),
+        n * n.saturating_sub(1) / 2,
+        n * f.gram.len(),
+    );
+    multiplier_rule(w, &f.gram, rank);
+    if f.gram.is_empty() {
+        let _ = writeln!(w, "  q̈ = a");
+    } else {
+        let _ = writeln!(w, "  q̈ = a + W λ,  Fᶜ = Aᵀ λ");
+    }
+}
+
 /// The generalized-inverse equation (eq. 26) as it is solved.
 fn generalized_inverse(
     w: &mut String,
@@ -279,14 +353,13 @@ fn generalized_inverse(
         );
         return;
     }
-    let MassInverse::Symbolic(d) = &eq.gauss else {
-        let _ = writeln!(
-            w,
-            "  M is not diagonal: M = L Lᵀ (Cholesky) at run time, a = M⁻¹ F,\n  \
-             λ by pivoted LDLᵀ of A M⁻¹ Aᵀ (a {{1}}-inverse; rows with sin²θ < max(1e-6, 64ε) dropped),\n  \
-             q̈ = a + M⁻¹ Aᵀ λ,  Fᶜ = Aᵀ λ."
-        );
-        return;
+    let d = match &eq.gauss {
+        MassInverse::Symbolic(d) => d,
+        MassInverse::Factored(f) => {
+            factored(w, f, coordinates, rank);
+            return;
+        }
+        MassInverse::Auxiliary => return,
     };
     for (c, &a) in coordinates.iter().zip(&d.unconstrained) {
         let _ = writeln!(w, "  a[{c}] = {}", p.print(a));
@@ -312,37 +385,7 @@ fn generalized_inverse(
             p.print(d.residual[i])
         );
     }
-    match k {
-        0 => {}
-        1 => {
-            let _ = writeln!(
-                w,
-                "  λ₁ = (b − A a)₁ / (A M⁻¹ Aᵀ)₁₁; where A M⁻¹ Aᵀ vanishes (or underflows), \
-                 q̈ is checked against A q̈ = b at run time and, if it fails, recomputed by \
-                 the row-scaled Moore–Penrose form"
-            );
-        }
-        _ => {
-            let fill = (0..k)
-                .flat_map(|i| (0..i).map(move |j| (i, j)))
-                .filter(|&(i, j)| d.fill[i][j])
-                .count();
-            let _ = writeln!(
-                w,
-                "  λ by LDLᵀ of A M⁻¹ Aᵀ on its compile-time pattern, eliminating \
-                 constraints in the order {}\n  ({fill} of {} subdiagonal entries of L nonzero); \
-                 rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)\n  \
-                 when at least rank A = {rank} rows remain or every row still holds to 1000ε \
-                 (checked at run time); otherwise q̈ is recomputed by the row-scaled Moore–Penrose form",
-                d.order
-                    .iter()
-                    .map(|i| format!("φ{}", subscript(i + 1)))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                k * (k - 1) / 2
-            );
-        }
-    }
+    multiplier_rule(w, &d.structure, rank);
     for (c, &e) in coordinates.iter().zip(&d.acceleration) {
         let _ = writeln!(w, "  q̈[{c}] = {}", p.print(e));
     }

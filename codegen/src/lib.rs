@@ -36,6 +36,7 @@ pub mod parse;
 pub mod partition;
 pub mod print;
 pub mod rng;
+pub mod sparsity;
 pub mod tangent;
 
 use proc_macro2::TokenStream;

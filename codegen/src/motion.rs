@@ -12,13 +12,15 @@
 
 use crate::expr::{Graph, Id, Sym};
 use crate::num::Num;
+use crate::sparsity::Structure;
 
 /// How `M⁻¹` is applied.
 pub enum MassInverse {
     /// `M⁻¹` as expressions: `M` diagonal, or a numeric constant.
     Symbolic(Box<Symbolic>),
-    /// A full configuration-dependent `M`: Cholesky at run time.
-    Cholesky,
+    /// A configuration-dependent `M`: factored in generated code on its
+    /// compile-time pattern, then `W = M⁻¹ Aᵀ` and `S = A W` on theirs.
+    Factored(Box<Factored>),
     /// `M` only positive semi-definite (singular at every sampled point,
     /// e.g. a rigid body in unit quaternions): at run time Udwadia &
     /// Schutte's auxiliary system `M + s AᵀA`, `F + s Aᵀb`, which has the
@@ -31,6 +33,54 @@ impl MassInverse {
     /// independent coordinates (Gibbs–Appell eq. 18 rather than eq. 37).
     pub fn is_diagonal(&self) -> bool {
         matches!(self, MassInverse::Symbolic(s) if s.diagonal)
+    }
+}
+
+/// The compile-time structure of Gauss's principle for a configuration-
+/// dependent `M` (only `M`'s lower triangle is read, as by a Cholesky
+/// factorization).
+pub struct Factored {
+    /// The pattern of `M`, its elimination order and factor pattern.
+    pub mass: Structure,
+    /// `weighted[i][j]`: entry (i, j) of `W = M⁻¹ Aᵀ` can be nonzero.
+    pub weighted: Vec<Vec<bool>>,
+    /// The pattern of `S = A W`, its order and factor pattern.
+    pub gram: Structure,
+}
+
+impl Factored {
+    fn new(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>]) -> Self {
+        let (n, k) = (mass.len(), a.len());
+        let mass = Structure::new(
+            (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| !g.is_zero(mass[i.max(j)][i.min(j)]))
+                        .collect()
+                })
+                .collect(),
+        );
+        let mut weighted = vec![vec![false; k]; n];
+        for (j, row) in a.iter().enumerate() {
+            let rhs: Vec<bool> = row.iter().map(|&e| !g.is_zero(e)).collect();
+            for (i, reach) in mass.solution_pattern(&rhs).into_iter().enumerate() {
+                weighted[i][j] = reach;
+            }
+        }
+        let gram = Structure::new(
+            (0..k)
+                .map(|i| {
+                    (0..k)
+                        .map(|j| (0..n).any(|l| !g.is_zero(a[i][l]) && weighted[l][j]))
+                        .collect()
+                })
+                .collect(),
+        );
+        Factored {
+            mass,
+            weighted,
+            gram,
+        }
     }
 }
 
@@ -59,12 +109,10 @@ pub struct Symbolic {
     pub acceleration: Vec<Id>,
     /// `Fᶜ = Aᵀ λ`, in terms of the multipliers.
     pub force: Vec<Id>,
-    /// The elimination order: position `p` of the factorization is
-    /// constraint `order[p]` (`P S Pᵀ = L D Lᵀ`), chosen at compile time.
-    pub order: Vec<usize>,
-    /// `fill[p][q]` (p > q, positions): entry (p, q) of the unit lower factor
-    /// is not structurally zero.
-    pub fill: Vec<Vec<bool>>,
+    /// The pattern of `S`, its elimination order (position `p` of
+    /// `P S Pᵀ = L D Lᵀ` is constraint `order[p]`) and the pattern of `L`,
+    /// chosen at compile time.
+    pub structure: Structure,
 }
 
 /// Whether `M` is numerically singular at a few pseudo-random points (all
@@ -119,7 +167,7 @@ pub fn gauss(
             .collect();
         (inverse, Vec::new(), true)
     } else {
-        return MassInverse::Cholesky;
+        return MassInverse::Factored(Box::new(Factored::new(g, mass, a)));
     };
     // M⁻¹ v as expressions; structural zeros of M⁻¹ and v vanish.
     let apply = |g: &mut Graph, v: &dyn Fn(usize) -> Id, i: usize| -> Id {
@@ -153,14 +201,11 @@ pub fn gauss(
             g.sub(b[i], aa)
         })
         .collect();
-    let pattern: Vec<Vec<bool>> = (0..k)
-        .map(|i| (0..k).map(|j| i != j && !g.is_zero(gram[i][j])).collect())
-        .collect();
-    let order = elimination_order(&pattern);
-    let permuted: Vec<Vec<bool>> = (0..k)
-        .map(|p| (0..k).map(|q| pattern[order[p]][order[q]]).collect())
-        .collect();
-    let fill = factor_pattern(&permuted);
+    let structure = Structure::new(
+        (0..k)
+            .map(|i| (0..k).map(|j| !g.is_zero(gram[i][j])).collect())
+            .collect(),
+    );
     let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
     let mut acceleration = Vec::with_capacity(n);
     let mut force = Vec::with_capacity(n);
@@ -185,8 +230,7 @@ pub fn gauss(
         residual,
         acceleration,
         force,
-        order,
-        fill,
+        structure,
     }))
 }
 
@@ -224,89 +268,9 @@ fn exact_inverse(m: &[Vec<Num>]) -> Option<Vec<Vec<Num>>> {
     Some(work.into_iter().map(|row| row[n..].to_vec()).collect())
 }
 
-/// The structural nonzeros of the unit lower factor of `S = L D Lᵀ` in the
-/// given (already permuted) order: the off-diagonal pattern of `S` plus
-/// fill-in (`Lᵢⱼ ≠ 0` when `Sᵢⱼ ≠ 0` or an earlier column couples i and j).
-fn factor_pattern(pattern: &[Vec<bool>]) -> Vec<Vec<bool>> {
-    let k = pattern.len();
-    let mut l = vec![vec![false; k]; k];
-    for j in 0..k {
-        for i in j + 1..k {
-            l[i][j] = pattern[i][j] || (0..j).any(|c| l[i][c] && l[j][c]);
-        }
-    }
-    l
-}
-
-/// An elimination order for `S` chosen at compile time: greedily the
-/// constraint whose elimination adds the least fill (minimum degree), ties
-/// broken by the smallest dependency depth, then by index. The depth of a
-/// pivot is one more than that of the deepest earlier pivot that updated it;
-/// the factorization and both triangular solves are chains of dependent
-/// divisions and multiplications along it, so a shallow order is a fast one.
-/// On a chain's tridiagonal `S` this eliminates from both ends towards the
-/// middle: no fill, and half the sequential depth of the natural order.
-fn elimination_order(pattern: &[Vec<bool>]) -> Vec<usize> {
-    let k = pattern.len();
-    let mut adjacent: Vec<Vec<bool>> = pattern.to_vec();
-    let mut eliminated = vec![false; k];
-    let mut ready = vec![0usize; k];
-    let mut order = Vec::with_capacity(k);
-    for _ in 0..k {
-        let neighbours = |v: usize, adjacent: &[Vec<bool>], eliminated: &[bool]| -> Vec<usize> {
-            (0..k)
-                .filter(|&w| w != v && !eliminated[w] && adjacent[v][w])
-                .collect()
-        };
-        let fill = |v: usize| -> usize {
-            let n = neighbours(v, &adjacent, &eliminated);
-            n.iter()
-                .enumerate()
-                .map(|(i, &a)| n[i + 1..].iter().filter(|&&b| !adjacent[a][b]).count())
-                .sum()
-        };
-        let Some(v) = (0..k)
-            .filter(|&v| !eliminated[v])
-            .min_by_key(|&v| (fill(v), ready[v], v))
-        else {
-            break;
-        };
-        let n = neighbours(v, &adjacent, &eliminated);
-        for (i, &a) in n.iter().enumerate() {
-            for &b in &n[i + 1..] {
-                adjacent[a][b] = true;
-                adjacent[b][a] = true;
-            }
-            ready[a] = ready[a].max(ready[v] + 1);
-        }
-        eliminated[v] = true;
-        order.push(v);
-    }
-    order
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn pattern(k: usize, edge: impl Fn(usize, usize) -> bool) -> Vec<Vec<bool>> {
-        (0..k)
-            .map(|i| (0..k).map(|j| i != j && edge(i, j)).collect())
-            .collect()
-    }
-
-    fn permute(p: &[Vec<bool>], order: &[usize]) -> Vec<Vec<bool>> {
-        let k = p.len();
-        (0..k)
-            .map(|a| (0..k).map(|b| p[order[a]][order[b]]).collect())
-            .collect()
-    }
-
-    fn nonzeros(l: &[Vec<bool>]) -> usize {
-        (0..l.len())
-            .map(|i| (0..i).filter(|&j| l[i][j]).count())
-            .sum()
-    }
 
     #[test]
     fn constant_mass_is_inverted_exactly() {
@@ -327,33 +291,5 @@ mod tests {
             vec![Num::int(2), Num::int(4)]
         ])
         .is_none());
-    }
-
-    #[test]
-    fn chain_pattern_is_tridiagonal_without_fill() {
-        let l = factor_pattern(&pattern(6, |i, j| i.abs_diff(j) == 1));
-        for (i, row) in l.iter().enumerate() {
-            for (j, &nonzero) in row.iter().enumerate().take(i) {
-                assert_eq!(nonzero, i == j + 1, "({i}, {j})");
-            }
-        }
-    }
-
-    #[test]
-    fn chain_is_eliminated_from_both_ends_without_fill() {
-        let chain = pattern(6, |i, j| i.abs_diff(j) == 1);
-        let order = elimination_order(&chain);
-        assert_eq!(order, vec![0, 5, 1, 4, 2, 3]);
-        assert_eq!(nonzeros(&factor_pattern(&permute(&chain, &order))), 5);
-    }
-
-    #[test]
-    fn arrow_is_eliminated_hub_last_without_fill() {
-        // Row and column 0 full: eliminating 0 first would couple everything.
-        let arrow = pattern(4, |i, j| i == 0 || j == 0);
-        assert_eq!(nonzeros(&factor_pattern(&arrow)), 6);
-        let order = elimination_order(&arrow);
-        assert_eq!(order.last(), Some(&0));
-        assert_eq!(nonzeros(&factor_pattern(&permute(&arrow, &order))), 3);
     }
 }

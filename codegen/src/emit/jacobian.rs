@@ -18,7 +18,7 @@
 
 use super::context::{Context, Inputs};
 use super::motion::fallible;
-use super::{structured, tangent};
+use super::{factored, structured, tangent};
 use crate::motion::MassInverse;
 use crate::partition::Partition;
 use proc_macro2::TokenStream;
@@ -104,7 +104,8 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     );
     let jac_body = match &ctx.eq.gauss {
         MassInverse::Symbolic(d) => structured::jacobian(ctx, d, &jac_body),
-        MassInverse::Cholesky | MassInverse::Auxiliary => jac_body,
+        MassInverse::Factored(f) => factored::jacobian(ctx, f, &jac_body),
+        MassInverse::Auxiliary => jac_body,
     };
     let reduced = reduced(ctx, partition);
     quote! {

@@ -1,101 +1,181 @@
-//! `S λ = r` by `P S Pᵀ = L D Lᵀ` in the compile-time elimination order over
+//! `X y = r` by `P X Pᵀ = L D Lᵀ` in a compile-time elimination order over
 //! the compile-time pattern (fill included), emitted as two steps: the
-//! factorization of `S` (once), then a solve for a right-hand side (as often
-//! as there are right-hand sides), each with its own names.
+//! factorization (once), then a solve per right-hand side (as often as
+//! there are right-hand sides), each with its own names. Two matrices are
+//! factored this way: `S = A M⁻¹ Aᵀ` and a configuration-dependent `M`.
 //!
 //! Only structural nonzeros are touched, so a chain's tridiagonal `S` costs
-//! O(k). A pivot whose `sin²θ = dⱼ / Sⱼⱼ` is below `rank_tolerance` is
-//! dropped (`D⁺`), which removes its constraint; for k = 1 this is the scalar
-//! closed form `λ = r / S` with `λ = 0` where `S = 0`. A drop the model's
-//! redundancy does not explain is flagged ([`StructuredLdlt::suspect`]) and
-//! verified at run time (`constrained::rank`).
+//! O(k), and a solve for a sparse right-hand side touches only the entries
+//! it can reach. `S`'s pivots are rank-revealing: one whose
+//! `sin²θ = dⱼ / Sⱼⱼ` is below `rank_tolerance` is dropped (`D⁺`), which
+//! removes its constraint; for k = 1 this is the scalar closed form
+//! `λ = r / S` with `λ = 0` where `S = 0`. A drop the model's redundancy
+//! does not explain is flagged ([`StructuredLdlt::suspect`]) and verified at
+//! run time (`constrained::rank`). `M`'s pivots must be positive, as in a
+//! Cholesky factorization: otherwise `M` is not positive definite there,
+//! and the function returns that error.
 
 use super::context::Context;
-use crate::expr::Graph;
-use crate::motion::Symbolic;
+use crate::sparsity::Structure;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
-/// The factorization of `S = A M⁻¹ Aᵀ`, whose entries are the locals
-/// `__s{i}_{j}` (i ≥ j, structural nonzeros only).
+/// The roles of the generated locals of one factorization.
+struct Roles {
+    /// The matrix's entries (bound by the caller).
+    entry: &'static str,
+    /// Pivots `dⱼ`.
+    pivot: &'static str,
+    /// Their reciprocals.
+    inverse: &'static str,
+    /// Schur-updated (unscaled) entries.
+    update: &'static str,
+    /// The unit lower factor.
+    lower: &'static str,
+}
+
+/// What a pivot may be.
+enum Pivots {
+    /// Rank-revealing: a small pivot is dropped (`S`).
+    Dropped,
+    /// Positive, or `return` the given error (`M`).
+    Positive(TokenStream),
+}
+
+/// The factorization of one symmetric matrix, whose entries are the locals
+/// named by [`StructuredLdlt::entry`] (i ≥ j, structural nonzeros only).
 pub(super) struct StructuredLdlt<'a> {
-    graph: &'a Graph,
-    d: &'a Symbolic,
+    structure: &'a Structure,
+    roles: Roles,
+    pivots: Pivots,
 }
 
 impl<'a> StructuredLdlt<'a> {
-    pub(super) fn new(graph: &'a Graph, d: &'a Symbolic) -> Self {
-        StructuredLdlt { graph, d }
-    }
-
-    /// The local holding `S[i][j]`.
-    pub(super) fn entry(i: usize, j: usize) -> Ident {
-        Context::local2("s", i.max(j), i.min(j))
-    }
-
-    fn k(&self) -> usize {
-        self.d.gram.len()
-    }
-
-    /// `S` at positions `p`, `q` of the elimination order.
-    fn s(&self, p: usize, q: usize) -> TokenStream {
-        let (i, j) = (self.d.order[p], self.d.order[q]);
-        if self.graph.is_zero(self.d.gram[i][j]) {
-            quote!(T::zero())
-        } else {
-            let name = Self::entry(i, j);
-            quote!(#name)
+    /// `S = A M⁻¹ Aᵀ`: entries `__s{i}_{j}`, rank-revealing pivots.
+    pub(super) fn gram(structure: &'a Structure) -> Self {
+        StructuredLdlt {
+            structure,
+            roles: Roles {
+                entry: "s",
+                pivot: "d",
+                inverse: "inv",
+                update: "u",
+                lower: "l",
+            },
+            pivots: Pivots::Dropped,
         }
     }
 
-    /// The factor step: pivots `__d{j}`, their guarded reciprocals
-    /// `__inv{j}`, the Schur-updated entries `__u{i}_{j}` and the unit lower
-    /// factor `__l{i}_{j}`, all by position in the elimination order.
+    /// `M(q)`: entries `__m{i}_{j}`, pivots that must be positive, else
+    /// `return error`.
+    pub(super) fn mass(structure: &'a Structure, error: TokenStream) -> Self {
+        StructuredLdlt {
+            structure,
+            roles: Roles {
+                entry: "m",
+                pivot: "md",
+                inverse: "mi",
+                update: "mu",
+                lower: "ml",
+            },
+            pivots: Pivots::Positive(error),
+        }
+    }
+
+    /// The local holding entry (i, j) of the matrix.
+    pub(super) fn entry(&self, i: usize, j: usize) -> Ident {
+        Context::local2(self.roles.entry, i.max(j), i.min(j))
+    }
+
+    fn k(&self) -> usize {
+        self.structure.len()
+    }
+
+    /// The entry at positions `p`, `q` of the elimination order.
+    fn at(&self, p: usize, q: usize) -> TokenStream {
+        let (i, j) = (self.structure.order[p], self.structure.order[q]);
+        if self.structure.nonzero[i][j] {
+            let name = self.entry(i, j);
+            quote!(#name)
+        } else {
+            quote!(T::zero())
+        }
+    }
+
+    /// Whether this is `S`'s scalar case, solved in closed form.
+    fn scalar_gram(&self) -> bool {
+        self.k() == 1 && matches!(self.pivots, Pivots::Dropped)
+    }
+
+    /// The factor step: pivots `dⱼ`, their reciprocals, the Schur-updated
+    /// entries `uᵢⱼ` and the unit lower factor `lᵢⱼ`, all by position in
+    /// the elimination order.
     ///
     /// With u the Schur-updated (unscaled) entries and l = u·inv:
-    ///   dⱼ = Sⱼⱼ − Σ_c (u_jc·u_jc)·inv_c,  u_ij = S_ij − Σ_c u_ic·l_jc,  l_ij = u_ij·inv_j.
+    ///   dⱼ = Xⱼⱼ − Σ_c (u_jc·u_jc)·inv_c,  u_ij = X_ij − Σ_c u_ic·l_jc,  l_ij = u_ij·inv_j.
     /// (u·u)·inv equals l·l·d (inv·d = 1 for a kept pivot, both 0 for a
     /// dropped one) but leaves one multiplication, not three, between a
     /// pivot's reciprocal and the next division: the recurrence is the
     /// critical path of a chain, so this is what its cost per link is made of.
     pub(super) fn factor(&self) -> TokenStream {
         let k = self.k();
-        if k < 2 {
+        if k == 0 || self.scalar_gram() {
             return TokenStream::new(); // k = 1 divides by S itself in `solve`
         }
-        let l = &self.d.fill;
-        let rank_tolerance = quote!(::constrained::inverse::rank_tolerance::<T>());
-        let mut out = quote! { let __tol: T = #rank_tolerance; };
+        let l = &self.structure.fill;
+        let r = &self.roles;
+        let mut out = match self.pivots {
+            Pivots::Dropped => {
+                let rank_tolerance = quote!(::constrained::inverse::rank_tolerance::<T>());
+                quote! { let __tol: T = #rank_tolerance; }
+            }
+            Pivots::Positive(_) => TokenStream::new(),
+        };
         for j in 0..k {
-            let (dj, inv, sjj) = (
-                Context::local("d", j),
-                Context::local("inv", j),
-                self.s(j, j),
+            let (dj, inv, xjj) = (
+                Context::local(r.pivot, j),
+                Context::local(r.inverse, j),
+                self.at(j, j),
             );
             let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
-                let (ujc, invc) = (Context::local2("u", j, c), Context::local("inv", c));
+                let (ujc, invc) = (
+                    Context::local2(r.update, j, c),
+                    Context::local(r.inverse, c),
+                );
                 quote!(- (#ujc * #ujc) * #invc)
             });
-            out.extend(quote! {
-                let #dj = #sjj #(#updates)*;
-                let #inv = if #dj > __tol * #sjj { T::one() / #dj } else { T::zero() };
+            out.extend(quote! { let #dj = #xjj #(#updates)*; });
+            out.extend(match &self.pivots {
+                Pivots::Dropped => quote! {
+                    let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
+                },
+                // `!(d > 0)` also catches NaN.
+                Pivots::Positive(error) => quote! {
+                    if !(#dj > T::zero()) {
+                        return ::core::result::Result::Err(#error);
+                    }
+                    let #inv = T::one() / #dj;
+                },
             });
             for i in j + 1..k {
                 if !l[i][j] {
                     continue;
                 }
-                let (lij, uij, sij) = (
-                    Context::local2("l", i, j),
-                    Context::local2("u", i, j),
-                    self.s(i, j),
+                let (lij, uij, xij) = (
+                    Context::local2(r.lower, i, j),
+                    Context::local2(r.update, i, j),
+                    self.at(i, j),
                 );
                 let updates = (0..j).filter(|&c| l[i][c] && l[j][c]).map(|c| {
-                    let (uic, ljc) = (Context::local2("u", i, c), Context::local2("l", j, c));
+                    let (uic, ljc) = (
+                        Context::local2(r.update, i, c),
+                        Context::local2(r.lower, j, c),
+                    );
                     quote!(- #uic * #ljc)
                 });
                 out.extend(quote! {
-                    let #uij = #sij #(#updates)*;
+                    let #uij = #xij #(#updates)*;
                     let #lij = #uij * #inv;
                 });
             }
@@ -113,11 +193,11 @@ impl<'a> StructuredLdlt<'a> {
         let safe = quote!(::constrained::__private::safe_minimum::<T>());
         let k = self.k();
         if k == 1 {
-            let s = self.s(0, 0);
+            let s = self.at(0, 0);
             return quote!(!(#s > #safe && #s.is_finite()));
         }
         let dropped = |j: usize| {
-            let (inv, sjj) = (Context::local("inv", j), self.s(j, j));
+            let (inv, sjj) = (Context::local(self.roles.inverse, j), self.at(j, j));
             quote!(((#inv == T::zero()) | (#sjj < #safe)))
         };
         if rank == k {
@@ -134,42 +214,96 @@ impl<'a> StructuredLdlt<'a> {
         quote!((#(#kept)+*) < #r)
     }
 
-    /// The solve step for the right-hand side `rhs` (one local per
-    /// constraint, in constraint order): forward substitution into
-    /// `__{y}{i}`, then back substitution into `out` (one local per
-    /// constraint). `y` names the intermediate locals, so that several
-    /// solves can follow one factorization.
+    /// The solve step for the right-hand side `rhs` (one local per row, in
+    /// natural order): forward substitution into `__{y}{p}`, then back
+    /// substitution into `out` (one local per row). `y` names the
+    /// intermediate locals, so that several solves can follow one
+    /// factorization.
     pub(super) fn solve(&self, rhs: &[Ident], y: &str, out: &[Ident]) -> TokenStream {
+        let rhs: Vec<Option<TokenStream>> = rhs.iter().map(|r| Some(quote!(#r))).collect();
+        self.solve_sparse(&rhs, y, out).0
+    }
+
+    /// The solve step for a right-hand side with structural zeros (`None`):
+    /// only the entries it can reach are computed. Returns the code and
+    /// which of `out` it binds; the others are zero.
+    pub(super) fn solve_sparse(
+        &self,
+        rhs: &[Option<TokenStream>],
+        y: &str,
+        out: &[Ident],
+    ) -> (TokenStream, Vec<bool>) {
         let k = self.k();
         if k == 0 {
-            return TokenStream::new();
+            return (TokenStream::new(), Vec::new());
         }
-        if k == 1 {
+        if self.scalar_gram() {
             // `S` may be structurally zero (a row of `A` that simplifies to
             // 0): then the literal zero, and λ = 0.
-            let (lam, r, s) = (&out[0], &rhs[0], self.s(0, 0));
-            return quote! {
+            let Some(r) = &rhs[0] else {
+                return (TokenStream::new(), vec![false]);
+            };
+            let (lam, s) = (&out[0], self.at(0, 0));
+            let code = quote! {
                 let #lam = if #s > T::zero() { #r / #s } else { T::zero() };
             };
+            return (code, vec![true]);
         }
-        let (l, o) = (&self.d.fill, &self.d.order);
+        let (l, o) = (&self.structure.fill, &self.structure.order);
         let mut code = TokenStream::new();
+        let mut forward = vec![false; k];
         for i in 0..k {
-            let (yi, r) = (Context::local(y, i), &rhs[o[i]]);
-            let updates = (0..i).filter(|&c| l[i][c]).map(|c| {
-                let (lic, yc) = (Context::local2("l", i, c), Context::local(y, c));
-                quote!(- #lic * #yc)
-            });
-            code.extend(quote! { let #yi = #r #(#updates)*; });
+            let yi = Context::local(y, i);
+            let updates: Vec<TokenStream> = (0..i)
+                .filter(|&c| l[i][c] && forward[c])
+                .map(|c| {
+                    let (lic, yc) = (
+                        Context::local2(self.roles.lower, i, c),
+                        Context::local(y, c),
+                    );
+                    quote!(#lic * #yc)
+                })
+                .collect();
+            let value = match (&rhs[o[i]], updates.is_empty()) {
+                (None, true) => continue,
+                (Some(r), _) => quote!(#r #(- #updates)*),
+                (None, false) => {
+                    let (first, rest) = updates.split_first().expect("non-empty");
+                    quote!(-(#first) #(- #rest)*)
+                }
+            };
+            code.extend(quote! { let #yi = #value; });
+            forward[i] = true;
         }
+        let mut back = vec![false; k];
         for i in (0..k).rev() {
-            let (lam, yi, inv) = (&out[o[i]], Context::local(y, i), Context::local("inv", i));
-            let updates = (i + 1..k).filter(|&c| l[c][i]).map(|c| {
-                let (lci, lamc) = (Context::local2("l", c, i), &out[o[c]]);
-                quote!(- #lci * #lamc)
-            });
-            code.extend(quote! { let #lam = #yi * #inv #(#updates)*; });
+            let (x, yi, inv) = (
+                &out[o[i]],
+                Context::local(y, i),
+                Context::local(self.roles.inverse, i),
+            );
+            let updates: Vec<TokenStream> = (i + 1..k)
+                .filter(|&c| l[c][i] && back[c])
+                .map(|c| {
+                    let (lci, xc) = (Context::local2(self.roles.lower, c, i), &out[o[c]]);
+                    quote!(#lci * #xc)
+                })
+                .collect();
+            let value = match (forward[i], updates.is_empty()) {
+                (false, true) => continue,
+                (true, _) => quote!(#yi * #inv #(- #updates)*),
+                (false, false) => {
+                    let (first, rest) = updates.split_first().expect("non-empty");
+                    quote!(-(#first) #(- #rest)*)
+                }
+            };
+            code.extend(quote! { let #x = #value; });
+            back[i] = true;
         }
-        code
+        let mut bound = vec![false; k];
+        for (p, &row) in o.iter().enumerate() {
+            bound[row] = back[p];
+        }
+        (code, bound)
     }
 }

@@ -8,6 +8,7 @@
 
 mod body;
 mod context;
+mod factored;
 mod gibbs_appell;
 mod jacobian;
 mod ldlt;

@@ -27,7 +27,7 @@ use quote::quote;
 pub(super) fn fallible(ctx: &Context) -> bool {
     match &ctx.eq.gauss {
         MassInverse::Symbolic(d) => !d.known_positive,
-        MassInverse::Cholesky | MassInverse::Auxiliary => true,
+        MassInverse::Factored(_) | MassInverse::Auxiliary => true,
     }
 }
 
@@ -35,7 +35,8 @@ pub(super) fn fallible(ctx: &Context) -> bool {
 pub(super) fn methods(ctx: &Context) -> TokenStream {
     let solver = match &ctx.eq.gauss {
         MassInverse::Symbolic(d) => symbolic_solver(ctx, d),
-        MassInverse::Cholesky | MassInverse::Auxiliary => dense_solver(ctx),
+        MassInverse::Factored(f) => super::factored::solver(ctx, f),
+        MassInverse::Auxiliary => dense_solver(ctx),
     };
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let vector = ctx.vector(ctx.n);
@@ -221,11 +222,12 @@ impl<'a> SymbolicGauss<'a> {
         let k = ctx.k;
         let g = &ctx.eq.system.graph;
         let residuals: Vec<_> = (0..k).map(|i| Context::local("r", i)).collect();
+        let ldlt = StructuredLdlt::gram(&d.structure);
         let mut named: Vec<(syn::Ident, Id)> = Vec::new();
         for (i, (r, &residual)) in residuals.iter().zip(&d.residual).enumerate() {
             for j in 0..=i {
                 if !g.is_zero(d.gram[i][j]) {
-                    named.push((StructuredLdlt::entry(i, j), d.gram[i][j]));
+                    named.push((ldlt.entry(i, j), d.gram[i][j]));
                 }
             }
             named.push((r.clone(), residual));
@@ -274,7 +276,6 @@ impl<'a> SymbolicGauss<'a> {
                 };
             }
         });
-        let ldlt = StructuredLdlt::new(g, d);
         let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
         let factor = ldlt.factor();
         let solve = ldlt.solve(&residuals, "y", &multipliers);
@@ -351,8 +352,8 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     }
 }
 
-/// A full `M(q, t)`: the runtime's dense solve (Cholesky of `M`, pivoted
-/// `LDLᵀ` of `A M⁻¹ Aᵀ`).
+/// A semi-definite `M`: the runtime's dense solve of the auxiliary system
+/// (Cholesky of `M + s AᵀA`, pivoted `LDLᵀ` of `A M⁻¹ Aᵀ`).
 fn dense_solver(ctx: &Context) -> TokenStream {
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let vector = ctx.vector(ctx.n);

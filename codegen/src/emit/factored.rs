@@ -1,0 +1,405 @@
+//! Gauss's principle for a configuration-dependent `M(q)`, solved in
+//! generated code on compile-time patterns (`crate::motion::Factored`):
+//!
+//! 1. `M`, `F`, `A` and `b` as one straight-line body, so that CSE shares
+//!    their subexpressions;
+//! 2. `P M Pᵀ = L D Lᵀ` over `M`'s pattern (a pivot that is not positive
+//!    returns `MassNotPositiveDefinite`, as a Cholesky factorization fails);
+//! 3. `a = M⁻¹ F` and the columns of `W = M⁻¹ Aᵀ` by sparse substitution,
+//!    each touching only what its right-hand side reaches;
+//! 4. `S = A W`, `r = b − A a` over their patterns, then `S`'s
+//!    rank-revealing `LDLᵀ` exactly as for a constant `M`
+//!    ([`super::ldlt`]), with the same after-the-fact rank check.
+//!
+//! The Jacobian ([`jacobian`]) reuses both factorizations: the tangent
+//! right-hand sides are straight-line code column by column, and one loop
+//! solves every column through `L D Lᵀ` of `M` and of `S`.
+
+use super::body::Body;
+use super::context::{Context, Inputs};
+use super::ldlt::StructuredLdlt;
+use super::motion::fallible;
+use super::tangent::{index, TangentTerms};
+use crate::expr::Id;
+use crate::motion::Factored;
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::Ident;
+
+/// The generated solve up to `λ`, shared by `gauss` and the Jacobian.
+pub(super) struct FactoredGauss<'a> {
+    /// `M`'s factorization (locals `__m{i}_{j}`, `__ml…`, `__mi…`).
+    pub mass: StructuredLdlt<'a>,
+    /// `S`'s factorization (locals `__s{i}_{j}`, `__l…`, `__inv…`).
+    pub gram: StructuredLdlt<'a>,
+    /// The code from the arguments to `λ` (`__lam{j}`): `M`, `F`, `A`, `b`,
+    /// the finiteness check, both factorizations and solves.
+    pub to_multipliers: TokenStream,
+    /// `q̈ᵢ = aᵢ + Σⱼ Wᵢⱼ λⱼ`, one expression per coordinate.
+    pub acceleration: Vec<TokenStream>,
+    /// `Fᶜᵢ = Σⱼ Aⱼᵢ λⱼ`.
+    pub force: Vec<TokenStream>,
+}
+
+/// `Σ x·y` over the given pairs, `T::zero()` for none.
+fn dot(pairs: Vec<(TokenStream, TokenStream)>) -> TokenStream {
+    if pairs.is_empty() {
+        return quote!(T::zero());
+    }
+    let terms = pairs.into_iter().map(|(x, y)| quote!(#x * #y));
+    quote!(#(#terms)+*)
+}
+
+impl<'a> FactoredGauss<'a> {
+    pub(super) fn new(ctx: &'a Context, f: &'a Factored, correction: bool) -> Self {
+        let (n, k) = (ctx.n, ctx.k);
+        let sys = &ctx.eq.system;
+        let g = &sys.graph;
+        let a = &ctx.eq.a;
+        let nonzero = |e: Id| !g.is_zero(e);
+        let not_positive = ctx.path(quote!(DynamicsError::MassNotPositiveDefinite));
+        let mass = StructuredLdlt::mass(&f.mass, not_positive);
+        let gram = StructuredLdlt::gram(&f.gram);
+        let mut named: Vec<(Ident, Id)> = Vec::new();
+        for i in 0..n {
+            for j in 0..=i {
+                if f.mass.nonzero[i][j] {
+                    named.push((mass.entry(i, j), sys.mass[i][j]));
+                }
+            }
+        }
+        let force_names: Vec<Ident> = (0..n).map(|i| Context::local("f", i)).collect();
+        for (name, &e) in force_names.iter().zip(&sys.forces) {
+            named.push((name.clone(), e));
+        }
+        // M and F come first in `named`: the finiteness check reads them.
+        let mass_and_forces = named.len();
+        for (r, row) in a.iter().enumerate() {
+            for (i, &e) in row.iter().enumerate() {
+                if nonzero(e) {
+                    named.push((Context::local2("a", r, i), e));
+                }
+            }
+        }
+        let b_names: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
+        for (name, &e) in b_names.iter().zip(&ctx.eq.b) {
+            named.push((name.clone(), e));
+        }
+        let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
+        let body = Body::new(ctx.eq, &roots);
+        let preamble = body.preamble();
+        let bindings = named.iter().map(|(name, id)| {
+            let value = body.expr(*id);
+            quote! { let #name = #value; }
+        });
+        // An overflowed M or F would be solved as a limit (1/∞ = 0): say so.
+        let finite = named[..mass_and_forces]
+            .iter()
+            .map(|(name, _)| quote!(#name.is_finite()));
+        let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+        let check = quote! {
+            if !(#(#finite)&*) {
+                return ::core::result::Result::Err(#non_finite);
+            }
+        };
+        let factor_mass = mass.factor();
+        // a = M⁻¹ F.
+        let unconstrained: Vec<Ident> = (0..n).map(|i| Context::local("ua", i)).collect();
+        let f_rhs: Vec<Option<TokenStream>> = force_names
+            .iter()
+            .zip(&sys.forces)
+            .map(|(name, &e)| nonzero(e).then(|| quote!(#name)))
+            .collect();
+        let (solve_a, a_bound) = mass.solve_sparse(&f_rhs, "ay", &unconstrained);
+        // The columns of W = M⁻¹ Aᵀ.
+        let mut solve_w = TokenStream::new();
+        for (j, row) in a.iter().enumerate() {
+            let rhs: Vec<Option<TokenStream>> = row
+                .iter()
+                .enumerate()
+                .map(|(i, &e)| {
+                    nonzero(e).then(|| {
+                        let name = Context::local2("a", j, i);
+                        quote!(#name)
+                    })
+                })
+                .collect();
+            let out: Vec<Ident> = (0..n).map(|i| Context::local2("w", i, j)).collect();
+            let (code, bound) = mass.solve_sparse(&rhs, &format!("wy{j}x"), &out);
+            debug_assert!((0..n).all(|i| bound[i] == f.weighted[i][j]));
+            solve_w.extend(code);
+        }
+        let a_entry = |r: usize, i: usize| {
+            let name = Context::local2("a", r, i);
+            quote!(#name)
+        };
+        // S = A W and r = b − A a over their patterns.
+        let mut gram_entries = TokenStream::new();
+        for (i, row) in a.iter().enumerate() {
+            for j in 0..=i {
+                if f.gram.nonzero[i][j] {
+                    let pairs = (0..n)
+                        .filter(|&l| nonzero(row[l]) && f.weighted[l][j])
+                        .map(|l| {
+                            let w = Context::local2("w", l, j);
+                            (a_entry(i, l), quote!(#w))
+                        })
+                        .collect();
+                    let (name, value) = (gram.entry(i, j), dot(pairs));
+                    gram_entries.extend(quote! { let #name = #value; });
+                }
+            }
+        }
+        let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
+        let mut residual_code = TokenStream::new();
+        for (r, name) in residuals.iter().enumerate() {
+            let pairs: Vec<_> = (0..n)
+                .filter(|&l| nonzero(a[r][l]) && a_bound[l])
+                .map(|l| {
+                    let u = &unconstrained[l];
+                    (a_entry(r, l), quote!(#u))
+                })
+                .collect();
+            let b = &b_names[r];
+            let value = if pairs.is_empty() {
+                quote!(#b)
+            } else {
+                let aa = dot(pairs);
+                quote!(#b - (#aa))
+            };
+            residual_code.extend(quote! { let #name = #value; });
+        }
+        let corrected = (correction && k > 0).then(|| {
+            let d: Vec<_> = (0..k).map(|i| Context::local("db", i)).collect();
+            let r = &residuals;
+            quote! {
+                let (#(#r,)*) = match correction {
+                    ::core::option::Option::Some(__db) => {
+                        let [[#(#d),*]] = __db.data.0;
+                        (#(#r + #d,)*)
+                    }
+                    ::core::option::Option::None => (#(#r,)*),
+                };
+            }
+        });
+        let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
+        let factor_gram = gram.factor();
+        let solve_gram = gram.solve(&residuals, "y", &multipliers);
+        let acceleration = (0..n)
+            .map(|i| {
+                let mut pairs: Vec<(TokenStream, TokenStream)> = (0..k)
+                    .filter(|&j| f.weighted[i][j])
+                    .map(|j| {
+                        let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
+                        (quote!(#w), quote!(#lam))
+                    })
+                    .collect();
+                let u = &unconstrained[i];
+                match (a_bound[i], pairs.is_empty()) {
+                    (true, true) => quote!(#u),
+                    (true, false) => {
+                        let wl = dot(std::mem::take(&mut pairs));
+                        quote!(#u + (#wl))
+                    }
+                    (false, _) => dot(pairs),
+                }
+            })
+            .collect();
+        let force = (0..n)
+            .map(|i| {
+                dot((0..k)
+                    .filter(|&r| nonzero(a[r][i]))
+                    .map(|r| {
+                        let lam = &multipliers[r];
+                        (a_entry(r, i), quote!(#lam))
+                    })
+                    .collect())
+            })
+            .collect();
+        let to_multipliers = quote! {
+            #preamble
+            #(#bindings)*
+            #check
+            #factor_mass
+            #solve_a
+            #solve_w
+            #gram_entries
+            #residual_code
+            #corrected
+            #factor_gram
+            #solve_gram
+        };
+        FactoredGauss {
+            mass,
+            gram,
+            to_multipliers,
+            acceleration,
+            force,
+        }
+    }
+}
+
+/// `gauss` for a configuration-dependent `M`.
+pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
+    let gauss = FactoredGauss::new(ctx, f, true);
+    let to_multipliers = &gauss.to_multipliers;
+    let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
+    let force = ctx.vector_value(gauss.force.iter().cloned());
+    let vector = ctx.vector(ctx.n);
+    let ret = ctx.result(quote!((#vector, #vector)), quote!(DynamicsError));
+    let (params, correction) = (ctx.params(Inputs::States), ctx.correction_type());
+    let value = if ctx.k == 0 {
+        quote!(::core::result::Result::Ok((#acc, #force)))
+    } else {
+        // The rank decision, checked after the fact, as for a constant M.
+        let suspect = gauss.gram.suspect(ctx.generic_rank);
+        let checked = ctx.private(quote!(checked));
+        quote! {{
+            let __acc = #acc;
+            if #suspect {
+                if let ::core::option::Option::Some(__recomputed) =
+                    #checked(self, q, qd, t, correction, __acc)
+                {
+                    return __recomputed;
+                }
+            }
+            ::core::result::Result::Ok((__acc, #force))
+        }}
+    };
+    quote! {
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`).
+        #[inline(always)]
+        fn gauss(&self, #params, correction: #correction) -> #ret {
+            #to_multipliers
+            #value
+        }
+    }
+}
+
+/// The body of `acceleration_jacobian` for a configuration-dependent `M`;
+/// `dense` (the runtime's solve) answers where the rank decision is suspect.
+pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> TokenStream {
+    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
+    let g = &ctx.eq.system.graph;
+    let a = &ctx.eq.a;
+    let gauss = FactoredGauss::new(ctx, f, false);
+    let qdd = gauss.acceleration.iter().enumerate().map(|(i, value)| {
+        let name = Context::local("qdd", i);
+        quote! { let #name = #value; }
+    });
+    // F̃ and b̃, straight-line, into one column block each.
+    let terms = TangentTerms::new(ctx);
+    let tangent_preamble = terms.body.preamble();
+    let mut writes = TokenStream::new();
+    for (c, (fc, bc)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
+        let cl = index(c);
+        for (i, value) in fc.iter().enumerate() {
+            if let Some(value) = value {
+                let il = index(i);
+                writes.extend(quote! { __fs[#cl][#il] = #value; });
+            }
+        }
+        for (r, value) in bc.iter().enumerate() {
+            if let Some(value) = value {
+                let rl = index(r);
+                writes.extend(quote! { __rs[#cl][#rl] = #value; });
+            }
+        }
+    }
+    // Per column: u = M⁻¹ F̃, μ = S⁺ (b̃ − A u), q̈ᵥ = u + W μ.
+    let fv: Vec<Ident> = (0..n).map(|i| Context::local("jf", i)).collect();
+    let u: Vec<Ident> = (0..n).map(|i| Context::local("ju", i)).collect();
+    let rv: Vec<Ident> = (0..k).map(|j| Context::local("jb", j)).collect();
+    let r: Vec<Ident> = (0..k).map(|j| Context::local("jr", j)).collect();
+    let mu: Vec<Ident> = (0..k).map(|j| Context::local("jmu", j)).collect();
+    let solve_u = gauss.mass.solve(&fv, "jy", &u);
+    let residuals = (0..k).map(|j| {
+        let products = (0..n).filter(|&i| !g.is_zero(a[j][i])).map(|i| {
+            let (aji, ui) = (Context::local2("a", j, i), &u[i]);
+            quote!(#aji * #ui)
+        });
+        let b = &rv[j];
+        quote!(#b #(- #products)*)
+    });
+    let solve_mu = gauss.gram.solve(&r, "jz", &mu);
+    let column = (0..n).map(|i| {
+        let products: Vec<TokenStream> = (0..k)
+            .filter(|&j| f.weighted[i][j])
+            .map(|j| {
+                let (w, m) = (Context::local2("w", i, j), &mu[j]);
+                quote!(#w * #m)
+            })
+            .collect();
+        let ui = &u[i];
+        quote!(#ui #(+ #products)*)
+    });
+    let (n_l, nu_l, k_l, d_l) = (
+        Context::dim(n),
+        Context::dim(nu),
+        Context::dim(k),
+        Context::dim(2 * n + nu),
+    );
+    let jacobians_zero = ctx.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros()));
+    let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+    debug_assert!(
+        fallible(ctx),
+        "a configuration-dependent M is not known positive definite"
+    );
+    let to_multipliers = &gauss.to_multipliers;
+    let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
+    let (suspect, adopt) = if k > 0 {
+        let suspect = gauss.gram.suspect(ctx.generic_rank);
+        let adopt = quote! {
+            match { #dense } {
+                ::core::result::Result::Ok(__dense) => __jac = __dense,
+                ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
+            }
+        };
+        (suspect, adopt)
+    } else {
+        (quote!(false), TokenStream::new())
+    };
+    let solve_columns = quote! {
+        #(#qdd)*
+        let mut __fs = [[T::zero(); #n_l]; #d_l];
+        let mut __rs = [[T::zero(); #k_l]; #d_l];
+        {
+            #tangent_preamble
+            #writes
+        }
+        let __outs = __jac.dq.data.0.iter_mut()
+            .chain(__jac.dqd.data.0.iter_mut())
+            .chain(__jac.du.data.0.iter_mut());
+        for ((__f, __r), __out) in __fs.iter().zip(__rs.iter()).zip(__outs) {
+            let [#(#fv),*] = *__f;
+            #unpack_b
+            #solve_u
+            #(let #r = #residuals;)*
+            #solve_mu
+            *__out = [#(#column),*];
+        }
+    };
+    let solve = if k > 0 {
+        quote! {
+            if #suspect {
+                #adopt
+            } else {
+                #solve_columns
+            }
+        }
+    } else {
+        let _ = (suspect, adopt);
+        solve_columns
+    };
+    quote! {
+        #to_multipliers
+        let mut __jac = #jacobians_zero;
+        #solve
+        if __jac.is_finite() {
+            ::core::result::Result::Ok(__jac)
+        } else {
+            ::core::result::Result::Err(#non_finite)
+        }
+    }
+}
