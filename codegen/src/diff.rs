@@ -28,67 +28,7 @@ impl Differentiator {
     }
 
     fn partial_uncached(&mut self, g: &mut Graph, e: Id, v: Sym) -> Id {
-        match g.node(e).clone() {
-            Node::Num(_) => g.int(0),
-            Node::Sym(s) => g.int(i64::from(s == v)),
-            Node::Add(terms, _) => {
-                let items: Vec<(Id, Num)> = terms
-                    .iter()
-                    .map(|&(t, c)| (self.partial(g, t, v), c))
-                    .collect();
-                g.linear_combination(items)
-            }
-            // ∂(Π bᵢ^eᵢ) = Σᵢ eᵢ·∂bᵢ · bᵢ^(eᵢ−1) · Π_{j≠i} bⱼ^eⱼ
-            Node::Mul(factors) => {
-                let mut terms = Vec::with_capacity(factors.len());
-                for (i, &(b, k)) in factors.iter().enumerate() {
-                    let db = self.partial(g, b, v);
-                    if g.is_zero(db) {
-                        continue;
-                    }
-                    let mut items: Vec<(Id, Num)> = factors.to_vec();
-                    items[i].1 = k + Num::MINUS_ONE;
-                    items.push((db, Num::ONE));
-                    let term = g.product(items);
-                    terms.push((term, k));
-                }
-                g.linear_combination(terms)
-            }
-            // ∂(b^p) = b^p · (∂p·ln b + p·∂b / b)
-            Node::Pow([b, p]) => {
-                let (db, dp) = (self.partial(g, b, v), self.partial(g, p, v));
-                if g.is_zero(db) && g.is_zero(dp) {
-                    return g.int(0);
-                }
-                let ln_b = g.func(Func::Ln, b);
-                let t1 = g.mul2(dp, ln_b);
-                let t2 = g.product([(p, Num::ONE), (db, Num::ONE), (b, Num::MINUS_ONE)]);
-                let inner = g.add2(t1, t2);
-                g.mul2(e, inner)
-            }
-            // The chain rule over the table's partial derivatives:
-            // ∂f(a₁, …) = Σᵢ ∂f/∂aᵢ · ∂aᵢ. Where every ∂aᵢ is zero the result
-            // is zero even where f′ is singular (`asin(1)`), so the partials
-            // are not even built.
-            Node::Func(f, args) => {
-                let inner: Vec<Id> = args
-                    .as_slice()
-                    .iter()
-                    .map(|&a| self.partial(g, a, v))
-                    .collect();
-                if inner.iter().all(|&d| g.is_zero(d)) {
-                    return g.int(0);
-                }
-                let partials = f.partials(g, args.as_slice(), e);
-                let mut terms: Vec<(Id, Num)> = Vec::with_capacity(inner.len());
-                for (&outer, &d) in partials.as_slice().iter().zip(&inner) {
-                    if !g.is_zero(d) {
-                        terms.push((g.mul2(outer, d), Num::ONE));
-                    }
-                }
-                g.linear_combination(terms)
-            }
-        }
+        derive(&mut PartialBy { d: self, v }, g, e)
     }
 
     /// The total time derivative of `e(q, q̇, t)` split as `D e = Σⱼ rowⱼ·q̈ⱼ + rest`:
@@ -104,6 +44,131 @@ impl Differentiator {
         }
         rest.push(self.partial(g, e, Sym::Time));
         (row, g.add(&rest))
+    }
+}
+
+/// One rule of differentiation: how the derivative of a child is had, and
+/// what the derivative of a variable is.
+trait Rule {
+    /// The derivative of `e`, memoised by the implementation.
+    fn of(&mut self, g: &mut Graph, e: Id) -> Id;
+    /// The derivative of the variable `s`.
+    fn leaf(&self, g: &mut Graph, s: Sym) -> Id;
+}
+
+/// `∂/∂v`.
+struct PartialBy<'a> {
+    d: &'a mut Differentiator,
+    v: Sym,
+}
+
+impl Rule for PartialBy<'_> {
+    fn of(&mut self, g: &mut Graph, e: Id) -> Id {
+        self.d.partial(g, e, self.v)
+    }
+    fn leaf(&self, g: &mut Graph, s: Sym) -> Id {
+        g.int(i64::from(s == self.v))
+    }
+}
+
+/// The derivative of `e` by the sum, product, power and chain rules, each
+/// child's derivative from `d`.
+fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
+    match g.node(e).clone() {
+        Node::Num(_) => g.int(0),
+        Node::Sym(s) => d.leaf(g, s),
+        Node::Add(terms, _) => {
+            let items: Vec<(Id, Num)> = terms.iter().map(|&(t, c)| (d.of(g, t), c)).collect();
+            g.linear_combination(items)
+        }
+        // ∂(Π bᵢ^eᵢ) = Σᵢ eᵢ·∂bᵢ · bᵢ^(eᵢ−1) · Π_{j≠i} bⱼ^eⱼ
+        Node::Mul(factors) => {
+            let mut terms = Vec::with_capacity(factors.len());
+            for (i, &(b, k)) in factors.iter().enumerate() {
+                let db = d.of(g, b);
+                if g.is_zero(db) {
+                    continue;
+                }
+                let mut items: Vec<(Id, Num)> = factors.to_vec();
+                items[i].1 = k + Num::MINUS_ONE;
+                items.push((db, Num::ONE));
+                let term = g.product(items);
+                terms.push((term, k));
+            }
+            g.linear_combination(terms)
+        }
+        // ∂(b^p) = b^p · (∂p·ln b + p·∂b / b)
+        Node::Pow([b, p]) => {
+            let (db, dp) = (d.of(g, b), d.of(g, p));
+            if g.is_zero(db) && g.is_zero(dp) {
+                return g.int(0);
+            }
+            let ln_b = g.func(Func::Ln, b);
+            let t1 = g.mul2(dp, ln_b);
+            let t2 = g.product([(p, Num::ONE), (db, Num::ONE), (b, Num::MINUS_ONE)]);
+            let inner = g.add2(t1, t2);
+            g.mul2(e, inner)
+        }
+        // The chain rule over the table's partial derivatives:
+        // ∂f(a₁, …) = Σᵢ ∂f/∂aᵢ · ∂aᵢ. Where every ∂aᵢ is zero the result
+        // is zero even where f′ is singular (`asin(1)`), so the partials
+        // are not even built.
+        Node::Func(f, args) => {
+            let inner: Vec<Id> = args.as_slice().iter().map(|&a| d.of(g, a)).collect();
+            if inner.iter().all(|&d| g.is_zero(d)) {
+                return g.int(0);
+            }
+            let partials = f.partials(g, args.as_slice(), e);
+            let mut terms: Vec<(Id, Num)> = Vec::with_capacity(inner.len());
+            for (&outer, &d) in partials.as_slice().iter().zip(&inner) {
+                if !g.is_zero(d) {
+                    terms.push((g.mul2(outer, d), Num::ONE));
+                }
+            }
+            g.linear_combination(terms)
+        }
+    }
+}
+
+/// Forward mode: the directional derivative `Σᵢ sᵢ·∂e/∂vᵢ` along the seeds
+/// `Sym::Seed(i)` of the variables `vᵢ`. One derivative node per node of
+/// `e`, however many variables: the Jacobian's columns are then the
+/// directions `sᵢ = δᵢc` at run time, rather than one expression per column.
+pub struct Directional {
+    memo: HashMap<Id, Id>,
+    seeds: HashMap<Sym, usize>,
+}
+
+impl Directional {
+    /// Derivatives along the seeds of `variables` (`Sym::Seed(i)` for
+    /// `variables[i]`); other variables are constants.
+    pub fn new(variables: &[Sym]) -> Directional {
+        Directional {
+            memo: HashMap::new(),
+            seeds: variables.iter().enumerate().map(|(i, &v)| (v, i)).collect(),
+        }
+    }
+
+    /// `Σᵢ sᵢ·∂e/∂vᵢ`.
+    pub fn derivative(&mut self, g: &mut Graph, e: Id) -> Id {
+        if let Some(&d) = self.memo.get(&e) {
+            return d;
+        }
+        let d = derive(self, g, e);
+        self.memo.insert(e, d);
+        d
+    }
+}
+
+impl Rule for Directional {
+    fn of(&mut self, g: &mut Graph, e: Id) -> Id {
+        self.derivative(g, e)
+    }
+    fn leaf(&self, g: &mut Graph, s: Sym) -> Id {
+        match self.seeds.get(&s) {
+            Some(&i) => g.sym(Sym::Seed(i)),
+            None => g.int(0),
+        }
     }
 }
 

@@ -135,6 +135,10 @@ impl<'a> Printer<'a> {
                         Style::Unicode => format!("λ{}", subscript(i + 1)),
                         Style::Sympy => format!("lambda_{}", i + 1),
                     },
+                    Sym::Seed(i) => match self.style {
+                        Style::Unicode => format!("s{}", subscript(i + 1)),
+                        Style::Sympy => format!("s_{}", i + 1),
+                    },
                 },
                 Prec::Atom,
             ),

@@ -11,25 +11,58 @@
 //! so one factorization serves `q̈` and all its tangents. Here the
 //! derivatives of `F`, `M`, `A`, `b` are taken symbolically (exact, and
 //! zero where structurally zero); the generated code contracts them with
-//! `q̈` and `λ` at run time.
+//! `q̈` and `λ` at run time. Two forms:
+//!
+//! - [`Form::Columns`]: one set of derivatives per column variable. Where
+//!   each variable touches a few entries (a chain), this is sparse and the
+//!   fastest at run time;
+//! - [`Form::Directional`]: one directional derivative `Σᵥ sᵥ ∂/∂v` in the
+//!   seeds `Sym::Seed` (forward mode), whose code grows with the DAG of
+//!   `F`, `M`, `A`, `b` only; the generated code runs it once per column
+//!   with `s` the column's unit vector. Chosen where the columns would
+//!   cost more than [`COLUMN_BUDGET`] times as many nodes (a dense `M(q)`
+//!   from energies, whose every entry depends on every coordinate: the
+//!   16-link pendulum's columns took 280,000 nodes and 35 MB of code).
 
-use crate::diff::Differentiator;
+use crate::diff::{Differentiator, Directional};
 use crate::expr::{Graph, Id, Sym};
 
-/// The derivatives of `F`, `M`, `A` and `b`, column by column of the
-/// Jacobian: `q₁ … qₙ, q̇₁ … q̇ₙ, u₁ … u_m`.
+/// The per-column form is kept while its derivatives take at most this many
+/// times the nodes of the directional form (plus [`COLUMN_ALLOWANCE`]).
+pub const COLUMN_BUDGET: usize = 6;
+
+/// Nodes the per-column form may always take: small systems keep it.
+pub const COLUMN_ALLOWANCE: usize = 4_000;
+
+/// The derivatives of `F`, `M`, `A` and `b` by one variable or along one
+/// direction.
+pub struct Derivatives {
+    /// `∂Fᵢ`, per row.
+    pub forces: Vec<Id>,
+    /// The nonzero `∂Mᵢⱼ` as `(i, j, id)`.
+    pub mass: Vec<(usize, usize, Id)>,
+    /// The nonzero `∂Aᵣᵢ` as `(r, i, id)`.
+    pub a: Vec<(usize, usize, Id)>,
+    /// `∂bᵣ`, per row.
+    pub b: Vec<Id>,
+}
+
+/// How the right-hand sides of the tangent systems are expressed.
+pub enum Form {
+    /// One [`Derivatives`] per column of the Jacobian.
+    Columns(Vec<Derivatives>),
+    /// One [`Derivatives`] along the seeds `Sym::Seed(c)`, `c` indexing the
+    /// columns.
+    Directional(Derivatives),
+}
+
+/// The derivatives of `F`, `M`, `A`, `b`, for the columns of the Jacobian:
+/// `q₁ … qₙ, q̇₁ … q̇ₙ, u₁ … u_m`.
 pub struct Tangent {
     /// The variable of each column.
     pub columns: Vec<Sym>,
-    /// `∂Fᵢ/∂v`, `[column][i]`.
-    pub forces: Vec<Vec<Id>>,
-    /// The nonzero `∂Mᵢⱼ/∂v` as `(i, j, id)`, per column (`M` has no
-    /// velocities or inputs, so only coordinate columns have any).
-    pub mass: Vec<Vec<(usize, usize, Id)>>,
-    /// The nonzero `∂Aᵣᵢ/∂v` as `(r, i, id)`, per column.
-    pub a: Vec<Vec<(usize, usize, Id)>>,
-    /// `∂bᵣ/∂v`, `[column][r]`.
-    pub b: Vec<Vec<Id>>,
+    /// Per column, or along a direction.
+    pub form: Form,
     /// `∂ψᵣ/∂qⱼ` of the velocity-level constraints `ψ` (`φ̇` or `φ`),
     /// `[r][j]`: how a change of the coordinates moves the velocities the
     /// constraints allow (the reduced linearization).
@@ -50,8 +83,38 @@ pub struct Pieces<'a> {
     pub velocity_constraints: &'a [Id],
 }
 
+/// The pieces' derivatives, each entry by `derivative`.
+fn derivatives(
+    g: &mut Graph,
+    p: &Pieces,
+    mut derivative: impl FnMut(&mut Graph, Id) -> Id,
+) -> Derivatives {
+    let forces = p.forces.iter().map(|&f| derivative(g, f)).collect();
+    let mut mass = Vec::new();
+    for (i, row) in p.mass.iter().enumerate() {
+        for (j, &m) in row.iter().enumerate() {
+            let dm = derivative(g, m);
+            if !g.is_zero(dm) {
+                mass.push((i, j, dm));
+            }
+        }
+    }
+    let mut a = Vec::new();
+    for (r, row) in p.a.iter().enumerate() {
+        for (i, &e) in row.iter().enumerate() {
+            let da = derivative(g, e);
+            if !g.is_zero(da) {
+                a.push((r, i, da));
+            }
+        }
+    }
+    let b = p.b.iter().map(|&e| derivative(g, e)).collect();
+    Derivatives { forces, mass, a, b }
+}
+
 /// Differentiates `F`, `M`, `A`, `b` by every column variable (`q₁ … qₙ`,
-/// `q̇₁ … q̇ₙ`, then `inputs`) and `ψ` by the coordinates.
+/// `q̇₁ … q̇ₙ`, then `inputs`), per column or along a direction (see the
+/// module docs), and `ψ` by the coordinates.
 pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
     let n = p.forces.len();
     let columns: Vec<Sym> = (0..n)
@@ -59,58 +122,115 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
         .chain((0..n).map(Sym::Vel))
         .chain(inputs.iter().copied())
         .collect();
-    let mut d = Differentiator::new();
     // Differentiate every node below the roots in arena order first, so
-    // that the memoised recursion of `partial` is one level deep however
-    // deep the expressions are.
+    // that the memoised recursions are one level deep however deep the
+    // expressions are.
     let mut roots: Vec<Id> = p.forces.to_vec();
     roots.extend(p.mass.iter().flatten());
     roots.extend(p.a.iter().flatten());
     roots.extend(p.b);
-    roots.extend(p.velocity_constraints);
     let order = g.reachable(&roots);
-    for &v in &columns {
+    let before = g.len();
+    let mut directional = Directional::new(&columns);
+    for &id in &order {
+        directional.derivative(g, id);
+    }
+    let along = derivatives(g, p, |g, e| directional.derivative(g, e));
+    let budget = COLUMN_BUDGET * (g.len() - before) + COLUMN_ALLOWANCE;
+    let mut d = Differentiator::new();
+    let start = g.len();
+    let mut per_column = Vec::with_capacity(columns.len());
+    for (c, &v) in columns.iter().enumerate() {
         for &id in &order {
             d.partial(g, id, v);
         }
+        // Stop as soon as the columns so far, extrapolated to all of
+        // them, exceed the budget: the attempt itself must stay cheap.
+        if (g.len() - start) * columns.len() > budget * (c + 1) {
+            break;
+        }
+        per_column.push(derivatives(g, p, |g, e| d.partial(g, e, v)));
     }
-    let mut t = Tangent {
-        columns: columns.clone(),
-        forces: Vec::new(),
-        mass: Vec::new(),
-        a: Vec::new(),
-        b: Vec::new(),
-        velocity_constraints: Vec::new(),
+    let form = if per_column.len() == columns.len() {
+        Form::Columns(per_column)
+    } else {
+        Form::Directional(along)
     };
-    t.velocity_constraints = p
+    let velocity_constraints = p
         .velocity_constraints
         .iter()
-        .map(|&psi| (0..n).map(|j| d.partial(g, psi, Sym::Coord(j))).collect())
+        .map(|&psi| {
+            let nodes = g.reachable(&[psi]);
+            (0..n)
+                .map(|j| {
+                    for &id in &nodes {
+                        d.partial(g, id, Sym::Coord(j));
+                    }
+                    d.partial(g, psi, Sym::Coord(j))
+                })
+                .collect()
+        })
         .collect();
-    for &v in &columns {
-        t.forces
-            .push(p.forces.iter().map(|&f| d.partial(g, f, v)).collect());
-        let mut mass = Vec::new();
-        for (i, row) in p.mass.iter().enumerate() {
-            for (j, &m) in row.iter().enumerate() {
-                let dm = d.partial(g, m, v);
-                if !g.is_zero(dm) {
-                    mass.push((i, j, dm));
-                }
-            }
-        }
-        t.mass.push(mass);
-        let mut a = Vec::new();
-        for (r, row) in p.a.iter().enumerate() {
-            for (i, &e) in row.iter().enumerate() {
-                let da = d.partial(g, e, v);
-                if !g.is_zero(da) {
-                    a.push((r, i, da));
-                }
-            }
-        }
-        t.a.push(a);
-        t.b.push(p.b.iter().map(|&e| d.partial(g, e, v)).collect());
+    Tangent {
+        columns,
+        form,
+        velocity_constraints,
     }
-    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::{joint_angle_pendulum, planar_chain};
+
+    fn form(source: &str) -> (bool, usize) {
+        let (eq, _) = crate::analyse(source.parse().expect("tokens")).expect("expands");
+        let directional = matches!(eq.tangent.form, Form::Directional(_));
+        (directional, eq.system.graph.len())
+    }
+
+    /// Chains keep one sparse set of derivatives per column; a dense `M(q)`
+    /// from energies switches to the directional form before its columns
+    /// blow up (the 16-link pendulum's took 280,000 nodes; the directional
+    /// form keeps the whole graph under 100,000).
+    #[test]
+    fn columns_where_sparse_directional_where_dense() {
+        assert!(!form(&planar_chain("Chain", 32)).0);
+        assert!(!form(&joint_angle_pendulum("Pendulum", 4)).0);
+        let (directional, nodes) = form(&joint_angle_pendulum("Pendulum", 16));
+        assert!(directional);
+        assert!(nodes < 100_000, "{nodes} nodes");
+    }
+
+    /// The directional derivative along the unit seed of a column is that
+    /// column's partial derivative, at random points.
+    #[test]
+    fn directional_derivative_is_the_partial_along_a_unit_seed() {
+        let (mut eq, _) =
+            crate::analyse(joint_angle_pendulum("P", 3).parse().expect("tokens")).expect("ok");
+        let g = &mut eq.system.graph;
+        let f = eq.system.forces.clone();
+        let columns: Vec<Sym> = (0..3).map(Sym::Coord).chain((0..3).map(Sym::Vel)).collect();
+        let mut directional = Directional::new(&columns);
+        let mut d = Differentiator::new();
+        for (c, &v) in columns.iter().enumerate() {
+            for &fi in &f {
+                let along = directional.derivative(g, fi);
+                let partial = d.partial(g, fi, v);
+                for seed in 0..4u64 {
+                    let value = |s: Sym| match s {
+                        Sym::Seed(k) => f64::from(u8::from(k == c)),
+                        s => crate::rng::SplitMix64::value_for(seed, s),
+                    };
+                    let both = g.eval(&[along, partial], &value);
+                    assert!(
+                        (both[0] - both[1]).abs() <= 1e-12 * (1.0 + both[1].abs()),
+                        "column {c}: {} vs {}",
+                        both[0],
+                        both[1]
+                    );
+                }
+            }
+        }
+    }
 }

@@ -30,7 +30,8 @@ pub(super) struct Body<'a> {
     parameters: &'a [Ident],
     used: Vec<Sym>,
     temp_names: HashMap<Id, Ident>,
-    /// Nodes whose value needs the multipliers λ (computed mid-function).
+    /// Nodes whose value needs the multipliers λ (computed mid-function) or
+    /// the seeds `Sym::Seed` (set per column of a Jacobian).
     needs_multipliers: Vec<bool>,
 }
 
@@ -55,7 +56,7 @@ impl<'a> Body<'a> {
         let mut needs_multipliers = vec![false; g.len()];
         for id in g.reachable(roots) {
             needs_multipliers[id.index()] = match g.node(id) {
-                Node::Sym(s) => matches!(s, Sym::Multiplier(_)),
+                Node::Sym(s) => matches!(s, Sym::Multiplier(_) | Sym::Seed(_)),
                 _ => g.children(id).any(|c| needs_multipliers[c.index()]),
             };
         }
@@ -104,7 +105,13 @@ impl<'a> Body<'a> {
         quote! { #coords #vels #(#params)* #temps }
     }
 
-    /// The temporaries that need the multipliers λ, to emit once they are known.
+    /// Whether the body's expressions read the variable `s`.
+    pub(super) fn uses(&self, s: Sym) -> bool {
+        self.used.contains(&s)
+    }
+
+    /// The temporaries that need the multipliers λ or the seeds of a
+    /// directional derivative, to emit once they are known.
     pub(super) fn after_multipliers(&self) -> TokenStream {
         self.temporaries(true)
     }
@@ -165,6 +172,10 @@ impl<'a> Body<'a> {
                     Sym::Multiplier(i) => {
                         let l = Context::local("lam", i);
                         quote!(#l)
+                    }
+                    Sym::Seed(i) => {
+                        let s = Context::local("seed", i);
+                        quote!(#s)
                     }
                 },
                 Prec::Atom,

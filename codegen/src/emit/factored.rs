@@ -11,15 +11,14 @@
 //!    rank-revealing `LDLᵀ` exactly as for a constant `M`
 //!    ([`super::ldlt`]), with the same after-the-fact rank check.
 //!
-//! The Jacobian ([`jacobian`]) reuses both factorizations: the tangent
-//! right-hand sides are straight-line code column by column, and one loop
-//! solves every column through `L D Lᵀ` of `M` and of `S`.
+//! The Jacobian ([`jacobian`]) reuses both factorizations: `tangent_rhs`
+//! fills the right-hand sides, one column each, and one loop solves every
+//! column through `L D Lᵀ` of `M` and of `S`.
 
 use super::body::Body;
 use super::context::{Context, Inputs};
 use super::ldlt::StructuredLdlt;
 use super::motion::fallible;
-use super::tangent::{index, TangentTerms};
 use crate::expr::Id;
 use crate::motion::Factored;
 use proc_macro2::TokenStream;
@@ -284,29 +283,13 @@ pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> Toke
     let g = &ctx.eq.system.graph;
     let a = &ctx.eq.a;
     let gauss = FactoredGauss::new(ctx, f, false);
-    let qdd = gauss.acceleration.iter().enumerate().map(|(i, value)| {
-        let name = Context::local("qdd", i);
-        quote! { let #name = #value; }
-    });
-    // F̃ and b̃, straight-line, into one column block each.
-    let terms = TangentTerms::new(ctx);
-    let tangent_preamble = terms.body.preamble();
-    let mut writes = TokenStream::new();
-    for (c, (fc, bc)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
-        let cl = index(c);
-        for (i, value) in fc.iter().enumerate() {
-            if let Some(value) = value {
-                let il = index(i);
-                writes.extend(quote! { __fs[#cl][#il] = #value; });
-            }
-        }
-        for (r, value) in bc.iter().enumerate() {
-            if let Some(value) = value {
-                let rl = index(r);
-                writes.extend(quote! { __rs[#cl][#rl] = #value; });
-            }
-        }
-    }
+    let qdd = ctx.vector_value(gauss.acceleration.iter().cloned());
+    let lam = ctx.vector_value((0..k).map(|j| {
+        let l = Context::local("lam", j);
+        quote!(#l)
+    }));
+    // F̃ and b̃ into one column block each, by the `tangent_rhs` the
+    // runtime's dense solve calls too (one copy of that code).
     // Per column: u = M⁻¹ F̃, μ = S⁺ (b̃ − A u), q̈ᵥ = u + W μ.
     let fv: Vec<Ident> = (0..n).map(|i| Context::local("jf", i)).collect();
     let u: Vec<Ident> = (0..n).map(|i| Context::local("ju", i)).collect();
@@ -341,6 +324,7 @@ pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> Toke
         Context::dim(2 * n + nu),
     );
     let jacobians_zero = ctx.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros()));
+    let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
     debug_assert!(
         fallible(ctx),
@@ -361,17 +345,13 @@ pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> Toke
         (quote!(false), TokenStream::new())
     };
     let solve_columns = quote! {
-        #(#qdd)*
-        let mut __fs = [[T::zero(); #n_l]; #d_l];
-        let mut __rs = [[T::zero(); #k_l]; #d_l];
-        {
-            #tangent_preamble
-            #writes
-        }
+        let mut __fs = ::constrained::nalgebra::SMatrix::<T, #n_l, #d_l>::zeros();
+        let mut __rs = ::constrained::nalgebra::SMatrix::<T, #k_l, #d_l>::zeros();
+        <Self as #tangent>::tangent_rhs(self, q, qd, t, &#qdd, &#lam, &mut __fs, &mut __rs);
         let __outs = __jac.dq.data.0.iter_mut()
             .chain(__jac.dqd.data.0.iter_mut())
             .chain(__jac.du.data.0.iter_mut());
-        for ((__f, __r), __out) in __fs.iter().zip(__rs.iter()).zip(__outs) {
+        for ((__f, __r), __out) in __fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs) {
             let [#(#fv),*] = *__f;
             #unpack_b
             #solve_u

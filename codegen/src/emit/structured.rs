@@ -16,19 +16,27 @@
 //!   with the number of columns.
 //!
 //! Where the rank decision is suspect, the runtime's dense solve answers,
-//! exactly where `acceleration` consults the runtime.
+//! exactly where `acceleration` consults the runtime; so it does for the
+//! directional form of the derivatives (`crate::tangent`), which has no
+//! column structure.
 
 use super::context::Context;
 use super::motion::{fallible, SymbolicGauss};
 use super::tangent::{index, TangentTerms};
 use crate::expr::Id;
 use crate::motion::Symbolic;
+use crate::tangent::Form;
 use proc_macro2::TokenStream;
 use quote::quote;
 
 /// The body of `acceleration_jacobian`; `dense` is the runtime's solve, as
 /// an expression of the method's return type.
 pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> TokenStream {
+    // Right-hand sides along a direction have no column structure to
+    // exploit: the runtime's dense solve, looping over the columns.
+    if matches!(ctx.eq.tangent.form, Form::Directional(_)) {
+        return dense.clone();
+    }
     let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
     let g = &ctx.eq.system.graph;
     let a = &ctx.eq.a;

@@ -9,11 +9,13 @@
 
 use super::body::{literal, Body};
 use super::context::{Context, Inputs};
-use crate::expr::Id;
+use crate::expr::{Id, Sym};
+use crate::tangent::{Derivatives, Form};
 use proc_macro2::TokenStream;
-use quote::quote;
+use quote::{quote, ToTokens};
 
-/// The entries of `F̃` and `b̃`, column by column, over one body.
+/// The entries of `F̃` and `b̃` over one body: column by column, or along
+/// the seeds (one "column" whose terms read `__seed{c}`).
 pub(super) struct TangentTerms<'a> {
     /// The expressions' variables and temporaries.
     pub body: Body<'a>,
@@ -22,20 +24,25 @@ pub(super) struct TangentTerms<'a> {
     pub forces: Vec<Vec<Option<TokenStream>>>,
     /// `rhs[c][r]`: `b̃` of column `c`, constraint `r`.
     pub rhs: Vec<Vec<Option<TokenStream>>>,
+    /// Whether the one set of terms is along the seeds.
+    pub directional: bool,
 }
 
 impl<'a> TangentTerms<'a> {
     pub(super) fn new(ctx: &'a Context) -> Self {
         let eq = ctx.eq;
-        let tan = &eq.tangent;
-        let (n, k, columns) = (ctx.n, ctx.k, tan.columns.len());
+        let (n, k) = (ctx.n, ctx.k);
         let g = &eq.system.graph;
+        let (sets, directional): (Vec<&Derivatives>, bool) = match &eq.tangent.form {
+            Form::Columns(columns) => (columns.iter().collect(), false),
+            Form::Directional(along) => (vec![along], true),
+        };
         let mut roots: Vec<Id> = Vec::new();
-        for c in 0..columns {
-            roots.extend(tan.forces[c].iter().filter(|&&e| !g.is_zero(e)));
-            roots.extend(tan.mass[c].iter().map(|&(_, _, e)| e));
-            roots.extend(tan.a[c].iter().map(|&(_, _, e)| e));
-            roots.extend(tan.b[c].iter().filter(|&&e| !g.is_zero(e)));
+        for d in &sets {
+            roots.extend(d.forces.iter().filter(|&&e| !g.is_zero(e)));
+            roots.extend(d.mass.iter().map(|&(_, _, e)| e));
+            roots.extend(d.a.iter().map(|&(_, _, e)| e));
+            roots.extend(d.b.iter().filter(|&&e| !g.is_zero(e)));
         }
         let body = Body::new(eq, &roots);
         let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
@@ -56,32 +63,87 @@ impl<'a> TangentTerms<'a> {
                 }
             }
         };
-        let mut forces = Vec::with_capacity(columns);
-        let mut rhs = Vec::with_capacity(columns);
-        for c in 0..columns {
+        let mut forces = Vec::with_capacity(sets.len());
+        let mut rhs = Vec::with_capacity(sets.len());
+        for d in &sets {
             let mut f: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); n];
-            for (i, &e) in tan.forces[c].iter().enumerate() {
+            for (i, &e) in d.forces.iter().enumerate() {
                 if !g.is_zero(e) {
                     f[i].push((false, body.expr(e)));
                 }
             }
-            for &(i, j, e) in &tan.mass[c] {
+            for &(i, j, e) in &d.mass {
                 f[i].push(times(e, &qdd[j], true));
             }
             let mut b: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
-            for (r, &e) in tan.b[c].iter().enumerate() {
+            for (r, &e) in d.b.iter().enumerate() {
                 if !g.is_zero(e) {
                     b[r].push((false, body.expr(e)));
                 }
             }
-            for &(r, i, e) in &tan.a[c] {
+            for &(r, i, e) in &d.a {
                 f[i].push(times(e, &lam[r], false));
                 b[r].push(times(e, &qdd[i], true));
             }
             forces.push(f.into_iter().map(sum).collect());
             rhs.push(b.into_iter().map(sum).collect());
         }
-        TangentTerms { body, forces, rhs }
+        TangentTerms {
+            body,
+            forces,
+            rhs,
+            directional,
+        }
+    }
+
+    /// Code writing `F̃` and `b̃` of every column into the places `f`
+    /// (`[[T; n]; columns]`) and `b` (`[[T; k]; columns]`), which hold zeros:
+    /// straight-line over the columns' nonzeros, or a loop over the columns
+    /// running the directional derivative with the column's unit seed. In a
+    /// block of its own (its temporaries shadow the caller's). Reads the
+    /// locals `__qdd{i}` and `__lam{r}`.
+    pub(super) fn fill(&self, columns: usize, f: &TokenStream, b: &TokenStream) -> TokenStream {
+        let preamble = self.body.preamble();
+        let writes = |c: &TokenStream, set: usize| {
+            let mut out = TokenStream::new();
+            for (i, value) in self.forces[set].iter().enumerate() {
+                if let Some(value) = value {
+                    let il = index(i);
+                    out.extend(quote! { #f[#c][#il] = #value; });
+                }
+            }
+            for (r, value) in self.rhs[set].iter().enumerate() {
+                if let Some(value) = value {
+                    let rl = index(r);
+                    out.extend(quote! { #b[#c][#rl] = #value; });
+                }
+            }
+            out
+        };
+        if !self.directional {
+            let all = (0..self.forces.len()).map(|c| writes(&index(c).to_token_stream(), c));
+            return quote! {{
+                #preamble
+                #(#all)*
+            }};
+        }
+        let seeds = (0..columns)
+            .filter(|&c| self.body.uses(Sym::Seed(c)))
+            .map(|c| {
+                let (seed, cl) = (Context::local("seed", c), index(c));
+                quote! { let #seed = if __c == #cl { T::one() } else { T::zero() }; }
+            });
+        let after = self.body.after_multipliers();
+        let column = writes(&quote!(__c), 0);
+        let columns = index(columns);
+        quote! {{
+            #preamble
+            for __c in 0..#columns {
+                #(#seeds)*
+                #after
+                #column
+            }
+        }}
     }
 }
 
@@ -109,26 +171,10 @@ pub(super) fn index(i: usize) -> proc_macro2::Literal {
 pub(super) fn tangent_rhs(ctx: &Context) -> TokenStream {
     let (n, k, columns) = (ctx.n, ctx.k, ctx.eq.tangent.columns.len());
     let terms = TangentTerms::new(ctx);
-    let preamble = terms.body.preamble();
     let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
     let lam: Vec<_> = (0..k).map(|r| Context::local("lam", r)).collect();
     // Only the structural nonzeros are written: the caller passes zeros.
-    let mut writes = TokenStream::new();
-    for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
-        let cl = index(c);
-        for (i, value) in f.iter().enumerate() {
-            if let Some(value) = value {
-                let il = index(i);
-                writes.extend(quote! { __f.data.0[#cl][#il] = #value; });
-            }
-        }
-        for (r, value) in b.iter().enumerate() {
-            if let Some(value) = value {
-                let rl = index(r);
-                writes.extend(quote! { __b.data.0[#cl][#rl] = #value; });
-            }
-        }
-    }
+    let writes = terms.fill(columns, &quote!(__f.data.0), &quote!(__b.data.0));
     let (f_type, b_type) = (ctx.matrix(n, columns), ctx.matrix(k, columns));
     let (vector, k_vector) = (ctx.vector(n), ctx.vector(k));
     let params = ctx.params(Inputs::States);
@@ -150,7 +196,6 @@ pub(super) fn tangent_rhs(ctx: &Context) -> TokenStream {
         ) {
             #unpack_qdd
             #unpack_lam
-            #preamble
             #writes
         }
     }

@@ -61,6 +61,9 @@ pub enum Sym {
     /// Lagrange multiplier `λᵢ` of Gauss's principle: computed at run time
     /// by a factorization, then a variable of the expressions for `q̈`.
     Multiplier(usize),
+    /// Component `sᵢ` of the direction of a directional derivative
+    /// (`crate::tangent`): a column of the Jacobian at run time.
+    Seed(usize),
 }
 
 /// A node of the DAG, in canonical form (see the module docs).
