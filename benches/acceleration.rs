@@ -2,10 +2,13 @@
 //! write instead: Appell's closed form eq. 32 by hand, and a dynamic-size
 //! nalgebra implementation (A and b evaluated numerically into `DMatrix`,
 //! Moore–Penrose inverse by SVD); and the planar N-link chain for N = 1…32,
-//! whose cost should grow about linearly in N.
+//! whose cost should grow about linearly in N; the reference models, with
+//! the configuration-dependent `M(q)` ones against a dense KKT solve; and
+//! the Jacobian of `q̈` against central differences and dual numbers.
 
 use constrained::models::{
-    Appell, ChaplyginSleigh, DoublePendulum, RedundantDoublePendulum, TwoLinkArmOnLine,
+    four_bar_state, Appell, ChaplyginSleigh, DoublePendulum, ParallelogramFourBar,
+    ParallelogramFourBarAngles, RedundantDoublePendulum, RollingDisk, TwoLinkArmOnLine,
 };
 use constrained::nalgebra::Vector3;
 use constrained_chains::*;
@@ -230,7 +233,89 @@ fn models(c: &mut Criterion) {
         qa,
         qda
     );
+
+    // Configuration-dependent M(q), factored in generated code, against a
+    // dense heap-allocating KKT solve of the same M, F, A and b (what a
+    // user without the macro's structure would write).
+    macro_rules! kkt {
+        ($name:literal, $system:expr, $q:expr, $qd:expr, $n:literal, $k:literal) => {{
+            let (system, q, qd) = ($system, $q, $qd);
+            group.bench_function(concat!($name, "/dense_kkt"), |b| {
+                b.iter(|| {
+                    dense_kkt::<$n, $k>(
+                        &system.mass_matrix(black_box(&q), 0.0),
+                        &system.forces(black_box(&q), black_box(&qd), 0.0),
+                        &system.constraint_matrices(black_box(&q), black_box(&qd), 0.0),
+                    )
+                })
+            });
+        }};
+    }
+    let four_bar = ParallelogramFourBarAngles::<f64>::new(1.2, 0.15, 1.0, 2.0, G);
+    let (qf, qdf) = (Vector3::new(0.7, 0.0, 0.7), Vector3::new(1.3, 0.0, 1.3));
+    both!("four_bar_angles", four_bar, qf, qdf);
+    kkt!("four_bar_angles", four_bar, qf, qdf, 3, 2);
+    let cartesian = ParallelogramFourBar::<f64>::new(1.2, 0.15, 1.0, 2.0, G);
+    let s = four_bar_state(&cartesian, 0.7, 1.3);
+    both!("four_bar_cartesian", cartesian, s.q, s.qd);
+    let disk = RollingDisk::<f64>::new(1.0, 0.5, 0.06, 0.12, G);
+    let (qr, qdr) = rolling_disk_state(&disk);
+    both!("rolling_disk", disk, qr, qdr);
+    kkt!("rolling_disk", disk, qr, qdr, 5, 2);
+    let pendulum = PendulumAngles8::<f64>::new(G);
+    let (qp, qdp) = (
+        constrained::nalgebra::SVector::<f64, 8>::from_fn(|i, _| (0.7 * i as f64).sin()),
+        constrained::nalgebra::SVector::<f64, 8>::from_fn(|i, _| (1.1 * i as f64).cos()),
+    );
+    group.bench_function("pendulum_angles_8/acceleration", |b| {
+        b.iter(|| pendulum.acceleration(black_box(&qp), black_box(&qdp), black_box(0.0)))
+    });
+    kkt!("pendulum_angles_8", pendulum, qp, qdp, 8, 0);
     group.finish();
+}
+
+/// A consistent state of the rolling disk: tilt, heading and spin chosen,
+/// the contact point's velocity from the two rolling constraints (their
+/// rows of `A` start with the unit vectors of `ẋ` and `ẏ`).
+fn rolling_disk_state(
+    disk: &RollingDisk<f64>,
+) -> (
+    constrained::nalgebra::SVector<f64, 5>,
+    constrained::nalgebra::SVector<f64, 5>,
+) {
+    let q = constrained::nalgebra::SVector::<f64, 5>::from([0.1, -0.2, 0.9, 0.4, 0.3]);
+    let mut qd = constrained::nalgebra::SVector::<f64, 5>::from([0.0, 0.0, 0.3, -0.7, 2.5]);
+    let residual = disk.constraint_residual(&q, &qd, 0.0);
+    qd[0] -= residual[0];
+    qd[1] -= residual[1];
+    (q, qd)
+}
+
+/// `[[M, Aᵀ], [A, 0]] [q̈; −λ] = [F; b]` by dense LU on the heap.
+fn dense_kkt<const N: usize, const K: usize>(
+    m: &constrained::nalgebra::SMatrix<f64, N, N>,
+    f: &constrained::nalgebra::SVector<f64, N>,
+    (a, b): &(
+        constrained::nalgebra::SMatrix<f64, K, N>,
+        constrained::nalgebra::SVector<f64, K>,
+    ),
+) -> Option<DVector<f64>> {
+    let mut kkt = DMatrix::<f64>::zeros(N + K, N + K);
+    let mut rhs = DVector::<f64>::zeros(N + K);
+    for i in 0..N {
+        for j in 0..N {
+            kkt[(i, j)] = m[(i, j)];
+        }
+        for r in 0..K {
+            kkt[(i, N + r)] = a[(r, i)];
+            kkt[(N + r, i)] = a[(r, i)];
+        }
+        rhs[i] = f[i];
+    }
+    for r in 0..K {
+        rhs[N + r] = b[r];
+    }
+    kkt.lu().solve(&rhs).map(|x| x.rows(0, N).into_owned())
 }
 
 /// The Jacobian of q̈ (issue 12) against what a user would do instead:

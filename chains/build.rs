@@ -1,6 +1,7 @@
 //! Writes one `constrained_system!` invocation per chain length: the macro
 //! cannot loop over N, and the DSL text comes from one generator
-//! (`constrained_codegen::fixtures::planar_chain`) shared with the benches.
+//! (`constrained_codegen::fixtures::planar_chain`, and `joint_angle_pendulum`
+//! for the same pendulums in joint angles) shared with the benches.
 
 use std::fmt::Write;
 
@@ -8,6 +9,13 @@ fn main() {
     let mut out = String::new();
     for links in constrained_chains_lengths() {
         let source = constrained_codegen::fixtures::planar_chain(&format!("Chain{links}"), links);
+        let _ = writeln!(out, "constrained::constrained_system! {{\n{source}\n}}\n");
+    }
+    for links in constrained_pendulum_lengths() {
+        let source = constrained_codegen::fixtures::joint_angle_pendulum(
+            &format!("PendulumAngles{links}"),
+            links,
+        );
         let _ = writeln!(out, "constrained::constrained_system! {{\n{source}\n}}\n");
     }
     let path = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
@@ -20,4 +28,10 @@ fn main() {
 /// includes); keep in step with the list in its docs.
 fn constrained_chains_lengths() -> [usize; 9] {
     [1, 2, 3, 4, 8, 12, 16, 24, 32]
+}
+
+/// The joint-angle pendulums generated (`PendulumAngles2`, …): dense `M(q)`
+/// from energies. Keep in step with the docs of `src/lib.rs`.
+fn constrained_pendulum_lengths() -> [usize; 3] {
+    [2, 4, 8]
 }

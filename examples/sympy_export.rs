@@ -281,6 +281,11 @@ fn main() {
             &mut rng,
         ),
         export(
+            ParallelogramFourBarAngles::<f64>::SYMBOLIC,
+            |p| ParallelogramFourBarAngles::new(p[0], p[1], p[2], p[3], p[4]),
+            &mut rng,
+        ),
+        export(
             Crane::<f64>::SYMBOLIC,
             |p| Crane::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
             &mut rng,

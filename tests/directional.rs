@@ -1,25 +1,14 @@
 //! A model big enough that the macro differentiates `F`, `M`, `A`, `b`
 //! along a direction (forward mode, `Sym::Seed`) rather than column by
 //! column: the planar 8-link pendulum in joint angles from its energies
-//! (`codegen::fixtures::joint_angle_pendulum`), whose dense `M(q)` and
+//! (`constrained_chains::PendulumAngles8`), whose dense `M(q)` and
 //! `F` depend on every coordinate. Its Jacobians must still be the exact
 //! ones: against central differences and dual numbers run through the same
 //! generated code.
 
-use constrained::constrained_system;
 use constrained::nalgebra::SVector;
+use constrained_chains::PendulumAngles8 as Pendulum8;
 use num_dual::Dual64;
-
-constrained_system! {
-    /// A planar 8-link pendulum in joint angles, from its energies.
-    pub struct Pendulum8 {
-    coordinates: [th1, th2, th3, th4, th5, th6, th7, th8],
-    parameters: [g],
-    definitions: [p1 = th1, x1 = 1.05 * p1.sin(), y1 = - 1.05 * p1.cos(), p2 = p1 + th2, x2 = x1 + 1.1 * p2.sin(), y2 = y1 - 1.1 * p2.cos(), p3 = p2 + th3, x3 = x2 + 1.15 * p3.sin(), y3 = y2 - 1.15 * p3.cos(), p4 = p3 + th4, x4 = x3 + 1.2 * p4.sin(), y4 = y3 - 1.2 * p4.cos(), p5 = p4 + th5, x5 = x4 + 1.25 * p5.sin(), y5 = y4 - 1.25 * p5.cos(), p6 = p5 + th6, x6 = x5 + 1.3 * p6.sin(), y6 = y5 - 1.3 * p6.cos(), p7 = p6 + th7, x7 = x6 + 1.35 * p7.sin(), y7 = y6 - 1.35 * p7.cos(), p8 = p7 + th8, x8 = x7 + 1.4 * p8.sin(), y8 = y7 - 1.4 * p8.cos()],
-    kinetic_energy: (1.1 * (dt(x1).powi(2) + dt(y1).powi(2)) + 1.2 * (dt(x2).powi(2) + dt(y2).powi(2)) + 1.3 * (dt(x3).powi(2) + dt(y3).powi(2)) + 1.4 * (dt(x4).powi(2) + dt(y4).powi(2)) + 1.5 * (dt(x5).powi(2) + dt(y5).powi(2)) + 1.6 * (dt(x6).powi(2) + dt(y6).powi(2)) + 1.7 * (dt(x7).powi(2) + dt(y7).powi(2)) + 1.8 * (dt(x8).powi(2) + dt(y8).powi(2))) / 2.0,
-    potential_energy: g * (1.1 * y1 + 1.2 * y2 + 1.3 * y3 + 1.4 * y4 + 1.5 * y5 + 1.6 * y6 + 1.7 * y7 + 1.8 * y8),
-    }
-}
 
 fn state(seed: u64) -> (SVector<f64, 8>, SVector<f64, 8>) {
     let mut x = seed;

@@ -240,6 +240,14 @@ fn jacobians_agree_with_central_differences_and_dual_numbers_for_every_model() {
     check_model!(e, RollingDisk, 5, 2, [1.0, 0.5, 0.06, 0.12, 9.81], []);
     check_model!(
         e,
+        ParallelogramFourBarAngles,
+        3,
+        2,
+        [1.2, 0.15, 1.0, 2.0, 9.81],
+        []
+    );
+    check_model!(
+        e,
         ParallelogramFourBar,
         9,
         8,
@@ -420,6 +428,13 @@ fn the_structured_solve_equals_the_dense_one() {
     same!(DoublePendulumAngles, 2, 0, 0, [1.0, 2.0, 1.0, 0.8, 9.81]);
     same!(TwoLinkArmOnLine, 2, 1, 0, [1.0, 0.5, 1.0, 1.0, 9.81, 0.5]);
     same!(RollingDisk, 5, 2, 0, [1.0, 0.5, 0.06, 0.12, 9.81]);
+    same!(
+        ParallelogramFourBarAngles,
+        3,
+        2,
+        0,
+        [1.2, 0.15, 1.0, 2.0, 9.81]
+    );
 
     let four_bar = ParallelogramFourBar::<f64>::new(1.2, 0.15, 1.0, 2.0, 9.81);
     let mut worst = 0.0f64;
@@ -473,4 +488,10 @@ fn the_generated_factorization_of_m_equals_the_dense_solve() {
     same!(DoublePendulumAngles, 2, 0, [1.0, 2.0, 1.0, 0.8, 9.81]);
     same!(TwoLinkArmOnLine, 2, 1, [1.0, 0.5, 1.0, 1.0, 9.81, 0.5]);
     same!(RollingDisk, 5, 2, [1.0, 0.5, 0.06, 0.12, 9.81]);
+    same!(
+        ParallelogramFourBarAngles,
+        3,
+        2,
+        [1.2, 0.15, 1.0, 2.0, 9.81]
+    );
 }

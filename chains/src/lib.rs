@@ -3,6 +3,13 @@
 //! 12, 16, 24, 32: point masses `mᵢ = 1 + 0.1 i` on rods `Lᵢ = 1 + 0.05 i`,
 //! gravity `g` along −y (the masses and lengths of the sympy reference data).
 //! Used by the tests and benchmarks of chain scaling.
+//!
+//! The same pendulums in joint angles from their energies
+//! (`PendulumAngles2`, `PendulumAngles4`, `PendulumAngles8`: dense `M(q)`,
+//! `F` quadratic in the velocities; `constrained_codegen::fixtures::
+//! joint_angle_pendulum`): the configuration-dependent mass matrices of the
+//! benchmarks, and the 8-link one is big enough that the macro
+//! differentiates it along a direction (`tests/directional.rs`).
 #![no_std]
 
 include!(concat!(env!("OUT_DIR"), "/chains.rs"));

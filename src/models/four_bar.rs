@@ -32,6 +32,37 @@ constrained_system! {
     }
 }
 
+constrained_system! {
+    /// The same parallelogram four-bar in its three link angles `φ₁, φ₂, φ₃`
+    /// (crank, coupler, rocker), from its energies: a configuration-
+    /// dependent, block-diagonal `M(q)` (the coupler's centre moves with
+    /// the crank, the rocker's with itself) and 2 loop-closure constraints.
+    /// Its accelerations are the angle accelerations of
+    /// [`ParallelogramFourBar`] at the same motion; on the parallelogram
+    /// branch the state is `φ = (θ, 0, θ)`, `φ̇ = (ω, 0, ω)`.
+    pub struct ParallelogramFourBarAngles {
+        coordinates: [p1, p2, p3],
+        parameters: [m, jm, l, d, g],
+        definitions: [
+            x1 = l / 2.0 * p1.cos(),
+            y1 = l / 2.0 * p1.sin(),
+            x2 = l * p1.cos() + d / 2.0 * p2.cos(),
+            y2 = l * p1.sin() + d / 2.0 * p2.sin(),
+            x3 = d + l / 2.0 * p3.cos(),
+            y3 = l / 2.0 * p3.sin(),
+        ],
+        kinetic_energy: m / 2.0
+            * (dt(x1).powi(2) + dt(y1).powi(2) + dt(x2).powi(2) + dt(y2).powi(2)
+                + dt(x3).powi(2) + dt(y3).powi(2))
+            + jm / 2.0 * (dot(p1).powi(2) + dot(p2).powi(2) + dot(p3).powi(2)),
+        potential_energy: m * g * (y1 + y2 + y3),
+        constraints: [
+            l * p1.cos() + d * p2.cos() == d + l * p3.cos(),
+            l * p1.sin() + d * p2.sin() == l * p3.sin(),
+        ],
+    }
+}
+
 /// The state of [`ParallelogramFourBar`] on its parallelogram branch with
 /// crank angle `theta` and rate `omega` (`φ₁ = φ₃ = θ`, `φ₂ = 0`): exactly
 /// consistent, at position and velocity level.

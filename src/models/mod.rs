@@ -22,7 +22,9 @@ pub use arm::TwoLinkArmOnLine;
 pub use bead::BeadOnRotatingHoop;
 pub use crane::Crane;
 pub use energy::{CartPole, CartPoleCartesian, DoublePendulumAngles};
-pub use four_bar::{four_bar_acceleration, four_bar_state, ParallelogramFourBar};
+pub use four_bar::{
+    four_bar_acceleration, four_bar_state, ParallelogramFourBar, ParallelogramFourBarAngles,
+};
 pub use pendulum::{
     double_pendulum_state, DoublePendulum, RedundantDoublePendulum, SphericalPendulum,
 };
