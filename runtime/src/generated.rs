@@ -107,6 +107,21 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
         qd: &SVector<T, N>,
         t: T,
     ) -> Result<SVector<T, N>, GibbsAppellError>;
+    /// The constraint-space step of the projections, `W S⁺ r` with
+    /// `W = M⁻¹ Aᵀ`, `S = A W`, by the generated factorizations at this
+    /// state, and which rows the rank rule kept. `None` where the generated
+    /// solve does not answer (a singular `M`, `M` not positive definite, a
+    /// suspect rank decision): then the runtime solves densely.
+    #[allow(clippy::type_complexity)]
+    fn constraint_step(
+        &self,
+        _q: &SVector<T, N>,
+        _qd: &SVector<T, N>,
+        _t: T,
+        _r: &SVector<T, K>,
+    ) -> Option<(SVector<T, N>, [bool; K])> {
+        None
+    }
 }
 /// The mass matrix and forces Gauss's principle is solved with: `(M, F)`
 /// itself, or for a positive semi-definite `M` Udwadia & Schutte's

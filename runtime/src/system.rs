@@ -59,6 +59,19 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
         &self,
         state: &State<T, N>,
     ) -> Result<SVector<T, N>, GibbsAppellError>;
+    /// The projections' step `M⁻¹Aᵀ (A M⁻¹ Aᵀ)⁺ r` through the generated
+    /// factorizations, and the rows kept; `None` makes
+    /// [`stabilize::project`](crate::stabilize::project) solve densely (the
+    /// default, for systems without a generated solve).
+    #[doc(hidden)]
+    #[allow(clippy::type_complexity)]
+    fn constraint_step(
+        &self,
+        _state: &State<T, N>,
+        _r: &SVector<T, K>,
+    ) -> Option<(SVector<T, N>, [bool; K])> {
+        None
+    }
 }
 
 /// The [`ConstrainedSystem`] methods, called on the state:
@@ -213,6 +226,15 @@ where
         s: &State<T, N>,
     ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError> {
         Generated::gibbs_appell_matrices(self, &s.q, &s.qd, s.t)
+    }
+    #[inline]
+    fn constraint_step(
+        &self,
+        s: &State<T, N>,
+        r: &SVector<T, K>,
+    ) -> Option<(SVector<T, N>, [bool; K])> {
+        Generated::constraint_step(self, &s.q, &s.qd, s.t, r)
+            .filter(|(step, _)| step.iter().all(|x| x.is_finite()))
     }
     #[inline]
     fn acceleration_gibbs_appell(

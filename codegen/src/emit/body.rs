@@ -130,6 +130,12 @@ impl<'a> Body<'a> {
         quote! { #(#temps)* }
     }
 
+    /// The expression for `id` as the left operand of `*`: parenthesised
+    /// only where it binds more loosely (a sum).
+    pub(super) fn factor(&self, id: Id) -> TokenStream {
+        self.wrapped(id, Prec::Product)
+    }
+
     /// The expression for `id`: a temporary's name or the node inlined.
     pub(super) fn expr(&self, id: Id) -> TokenStream {
         self.operand(id).0

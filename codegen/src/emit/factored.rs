@@ -49,15 +49,49 @@ fn dot(pairs: Vec<(TokenStream, TokenStream)>) -> TokenStream {
     quote!(#(#terms)+*)
 }
 
+/// How much of the solve is built.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Scope {
+    /// All of it, to `λ` (`correction`: with the `b + db` of
+    /// `acceleration_corrected`); errors are `Err(DynamicsError)`.
+    Dynamics { correction: bool },
+    /// `M`'s factor, `W` and `S`'s factor only (the projections' step);
+    /// an error is `None`.
+    ConstraintSpace,
+}
+
 impl<'a> FactoredGauss<'a> {
+    /// The solve to `λ`.
     pub(super) fn new(ctx: &'a Context, f: &'a Factored, correction: bool) -> Self {
+        Self::build(ctx, f, Scope::Dynamics { correction })
+    }
+
+    /// `M`'s factor, `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`) and `S`'s factor,
+    /// in a function returning `Option` (no forces, no `b`).
+    pub(super) fn constraint_space(ctx: &'a Context, f: &'a Factored) -> Self {
+        Self::build(ctx, f, Scope::ConstraintSpace)
+    }
+
+    fn build(ctx: &'a Context, f: &'a Factored, scope: Scope) -> Self {
         let (n, k) = (ctx.n, ctx.k);
+        let dynamics = matches!(scope, Scope::Dynamics { .. });
+        let correction = matches!(scope, Scope::Dynamics { correction: true });
         let sys = &ctx.eq.system;
         let g = &sys.graph;
         let a = &ctx.eq.a;
         let nonzero = |e: Id| !g.is_zero(e);
-        let not_positive = ctx.path(quote!(DynamicsError::MassNotPositiveDefinite));
-        let mass = StructuredLdlt::mass(&f.mass, not_positive);
+        let bail = |error: TokenStream| {
+            if dynamics {
+                let error = ctx.path(error);
+                quote!(return ::core::result::Result::Err(#error);)
+            } else {
+                quote!(return ::core::option::Option::None;)
+            }
+        };
+        let mass = StructuredLdlt::mass(
+            &f.mass,
+            bail(quote!(DynamicsError::MassNotPositiveDefinite)),
+        );
         let gram = StructuredLdlt::gram(&f.gram);
         let mut named: Vec<(Ident, Id)> = Vec::new();
         for i in 0..n {
@@ -68,8 +102,10 @@ impl<'a> FactoredGauss<'a> {
             }
         }
         let force_names: Vec<Ident> = (0..n).map(|i| Context::local("f", i)).collect();
-        for (name, &e) in force_names.iter().zip(&sys.forces) {
-            named.push((name.clone(), e));
+        if dynamics {
+            for (name, &e) in force_names.iter().zip(&sys.forces) {
+                named.push((name.clone(), e));
+            }
         }
         // M and F come first in `named`: the finiteness check reads them.
         let mass_and_forces = named.len();
@@ -81,8 +117,10 @@ impl<'a> FactoredGauss<'a> {
             }
         }
         let b_names: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
-        for (name, &e) in b_names.iter().zip(&ctx.eq.b) {
-            named.push((name.clone(), e));
+        if dynamics {
+            for (name, &e) in b_names.iter().zip(&ctx.eq.b) {
+                named.push((name.clone(), e));
+            }
         }
         let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
         let body = Body::new(ctx.eq, &roots);
@@ -95,10 +133,10 @@ impl<'a> FactoredGauss<'a> {
         let finite = named[..mass_and_forces]
             .iter()
             .map(|(name, _)| quote!(#name.is_finite()));
-        let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+        let non_finite = bail(quote!(DynamicsError::NonFinite));
         let check = quote! {
             if !(#(#finite)&*) {
-                return ::core::result::Result::Err(#non_finite);
+                #non_finite
             }
         };
         let factor_mass = mass.factor();
@@ -215,18 +253,30 @@ impl<'a> FactoredGauss<'a> {
                     .collect())
             })
             .collect();
-        let to_multipliers = quote! {
-            #preamble
-            #(#bindings)*
-            #check
-            #factor_mass
-            #solve_a
-            #solve_w
-            #gram_entries
-            #residual_code
-            #corrected
-            #factor_gram
-            #solve_gram
+        let to_multipliers = if dynamics {
+            quote! {
+                #preamble
+                #(#bindings)*
+                #check
+                #factor_mass
+                #solve_a
+                #solve_w
+                #gram_entries
+                #residual_code
+                #corrected
+                #factor_gram
+                #solve_gram
+            }
+        } else {
+            quote! {
+                #preamble
+                #(#bindings)*
+                #check
+                #factor_mass
+                #solve_w
+                #gram_entries
+                #factor_gram
+            }
         };
         FactoredGauss {
             mass,

@@ -39,7 +39,8 @@ struct Roles {
 enum Pivots {
     /// Rank-revealing: a small pivot is dropped (`S`).
     Dropped,
-    /// Positive, or `return` the given error (`M`).
+    /// Positive, or the given statement runs (a `return` of the function's
+    /// error: `M`).
     Positive(TokenStream),
 }
 
@@ -68,8 +69,8 @@ impl<'a> StructuredLdlt<'a> {
     }
 
     /// `M(q)`: entries `__m{i}_{j}`, pivots that must be positive, else
-    /// `return error`.
-    pub(super) fn mass(structure: &'a Structure, error: TokenStream) -> Self {
+    /// `bail` runs (a `return` statement).
+    pub(super) fn mass(structure: &'a Structure, bail: TokenStream) -> Self {
         StructuredLdlt {
             structure,
             roles: Roles {
@@ -79,7 +80,7 @@ impl<'a> StructuredLdlt<'a> {
                 update: "mu",
                 lower: "ml",
             },
-            pivots: Pivots::Positive(error),
+            pivots: Pivots::Positive(bail),
         }
     }
 
@@ -151,9 +152,9 @@ impl<'a> StructuredLdlt<'a> {
                     let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
                 },
                 // `!(d > 0)` also catches NaN.
-                Pivots::Positive(error) => quote! {
+                Pivots::Positive(bail) => quote! {
                     if !(#dj > T::zero()) {
-                        return ::core::result::Result::Err(#error);
+                        #bail
                     }
                     let #inv = T::one() / #dj;
                 },
@@ -212,6 +213,23 @@ impl<'a> StructuredLdlt<'a> {
             quote!(usize::from(!#dropped))
         });
         quote!((#(#kept)+*) < #r)
+    }
+
+    /// Whether the factorization kept row `row` (its pivot was not
+    /// dropped), as a `bool` expression.
+    pub(super) fn kept(&self, row: usize) -> TokenStream {
+        if self.scalar_gram() {
+            let s = self.at(0, 0);
+            return quote!(#s > T::zero());
+        }
+        let p = self
+            .structure
+            .order
+            .iter()
+            .position(|&r| r == row)
+            .expect("every row has a position");
+        let inv = Context::local(self.roles.inverse, p);
+        quote!(#inv != T::zero())
     }
 
     /// The solve step for the right-hand side `rhs` (one local per row, in

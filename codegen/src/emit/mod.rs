@@ -13,6 +13,7 @@ mod gibbs_appell;
 mod jacobian;
 mod ldlt;
 mod motion;
+mod step;
 mod structured;
 mod tangent;
 

@@ -142,6 +142,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let level = ctx.path(quote!(ConstraintLevel));
     let ga_system = ctx.result(quote!((#m, #vector)), quote!(GibbsAppellError));
     let ga_acceleration = ctx.result(vector.clone(), quote!(GibbsAppellError));
+    let step = super::step::method(ctx);
     let semidefinite = matches!(ctx.eq.gauss, MassInverse::Auxiliary).then(|| {
         quote!(
             const SEMIDEFINITE_MASS: bool = true;
@@ -184,6 +185,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
             fn acceleration_gibbs_appell(&self, #states) -> #ga_acceleration {
                 Self::acceleration_gibbs_appell(self, #args)
             }
+            #step
         }
     }
 }
