@@ -14,6 +14,8 @@ quick=(--warm-up-time 1 --measurement-time 3)
 bash scripts/sympy.sh > /dev/null # sets up the pinned Python environment
 echo "== criterion: generated code (benches/acceleration.rs)"
 cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
+echo "== criterion: the Jacobian of q̈ (benches/jacobian.rs)"
+cargo bench --quiet --bench jacobian -- "${quick[@]}" > target/benchmarks-jacobian.log
 echo "== criterion: projection (benches/projection.rs)"
 cargo bench --quiet --bench projection -- "${quick[@]}" > target/benchmarks-projection.log
 echo "== criterion: macro expansion (codegen/benches/expand.rs)"
