@@ -99,6 +99,17 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// `Jacobians::<T, n, m>::zeros()`, and the number of Jacobian columns
+    /// `2n + m` as a literal.
+    pub(super) fn jacobians_zero(&self) -> (TokenStream, Literal) {
+        let nu = self.eq.system.inputs;
+        let (n_l, nu_l) = (Self::dim(self.n), Self::dim(nu));
+        (
+            self.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros())),
+            Self::dim(2 * self.n + nu),
+        )
+    }
+
     /// `Result<ok, ::constrained::error>`.
     pub(super) fn result(&self, ok: TokenStream, error: TokenStream) -> TokenStream {
         let error = self.path(error);

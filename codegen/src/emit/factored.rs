@@ -18,7 +18,7 @@
 use super::body::Body;
 use super::context::{Context, Inputs};
 use super::ldlt::StructuredLdlt;
-use super::motion::fallible;
+use super::motion::{checked_motion, corrected, fallible};
 use crate::expr::Id;
 use crate::motion::Factored;
 use proc_macro2::TokenStream;
@@ -206,19 +206,7 @@ impl<'a> FactoredGauss<'a> {
             };
             residual_code.extend(quote! { let #name = #value; });
         }
-        let corrected = (correction && k > 0).then(|| {
-            let d: Vec<_> = (0..k).map(|i| Context::local("db", i)).collect();
-            let r = &residuals;
-            quote! {
-                let (#(#r,)*) = match correction {
-                    ::core::option::Option::Some(__db) => {
-                        let [[#(#d),*]] = __db.data.0;
-                        (#(#r + #d,)*)
-                    }
-                    ::core::option::Option::None => (#(#r,)*),
-                };
-            }
-        });
+        let corrected = (correction && k > 0).then(|| corrected(&residuals));
         let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
         let factor_gram = gram.factor();
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
@@ -297,24 +285,8 @@ pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let vector = ctx.vector(ctx.n);
     let ret = ctx.result(quote!((#vector, #vector)), quote!(DynamicsError));
     let (params, correction) = (ctx.params(Inputs::States), ctx.correction_type());
-    let value = if ctx.k == 0 {
-        quote!(::core::result::Result::Ok((#acc, #force)))
-    } else {
-        // The rank decision, checked after the fact, as for a constant M.
-        let suspect = gauss.gram.suspect(ctx.generic_rank);
-        let checked = ctx.private(quote!(checked));
-        quote! {{
-            let __acc = #acc;
-            if #suspect {
-                if let ::core::option::Option::Some(__recomputed) =
-                    #checked(self, q, qd, t, correction, __acc)
-                {
-                    return __recomputed;
-                }
-            }
-            ::core::result::Result::Ok((__acc, #force))
-        }}
-    };
+    // The rank decision, checked after the fact, as for a constant M.
+    let value = checked_motion(ctx, &gauss.gram, &acc, &force);
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
         /// `constraint_force` and `acceleration_corrected` (`b + correction`).
@@ -329,7 +301,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
 /// The body of `acceleration_jacobian` for a configuration-dependent `M`;
 /// `dense` (the runtime's solve) answers where the rank decision is suspect.
 pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> TokenStream {
-    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
+    let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
     let a = &ctx.eq.a;
     let gauss = FactoredGauss::new(ctx, f, false);
@@ -367,13 +339,8 @@ pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> Toke
         let ui = &u[i];
         quote!(#ui #(+ #products)*)
     });
-    let (n_l, nu_l, k_l, d_l) = (
-        Context::dim(n),
-        Context::dim(nu),
-        Context::dim(k),
-        Context::dim(2 * n + nu),
-    );
-    let jacobians_zero = ctx.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros()));
+    let (n_l, k_l) = (Context::dim(n), Context::dim(k));
+    let (jacobians_zero, d_l) = ctx.jacobians_zero();
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
     debug_assert!(

@@ -203,6 +203,53 @@ pub(super) fn levels(ctx: &Context) -> Vec<TokenStream> {
         .collect()
 }
 
+/// `gauss`'s value `Ok((q̈, Aᵀλ))`, with the rank decision of `ldlt` (the
+/// factorization of `S`) checked after the fact (`constrained::rank`):
+/// where fewer rows than the generic rank were kept, the runtime verifies
+/// the dropped ones and recomputes if they are violated.
+pub(super) fn checked_motion(
+    ctx: &Context,
+    ldlt: &StructuredLdlt,
+    acc: &TokenStream,
+    force: &TokenStream,
+) -> TokenStream {
+    if ctx.k == 0 {
+        return quote!(::core::result::Result::Ok((#acc, #force)));
+    }
+    let suspect = ldlt.suspect(ctx.generic_rank);
+    let checked = ctx.private(quote!(checked));
+    // The force after the check, so that `acceleration` alone never
+    // computes it.
+    quote! {{
+        let __acc = #acc;
+        if #suspect {
+            if let ::core::option::Option::Some(__recomputed) =
+                #checked(self, q, qd, t, correction, __acc)
+            {
+                return __recomputed;
+            }
+        }
+        ::core::result::Result::Ok((__acc, #force))
+    }}
+}
+
+/// `r + db` where `gauss` was given a correction `db` (Baumgarte), over the
+/// locals holding `r`.
+pub(super) fn corrected(residuals: &[syn::Ident]) -> TokenStream {
+    let d: Vec<_> = (0..residuals.len())
+        .map(|i| Context::local("db", i))
+        .collect();
+    quote! {
+        let (#(#residuals,)*) = match correction {
+            ::core::option::Option::Some(__db) => {
+                let [[#(#d),*]] = __db.data.0;
+                (#(#residuals + #d,)*)
+            }
+            ::core::option::Option::None => (#(#residuals,)*),
+        };
+    }
+}
+
 /// The straight-line solve of Gauss's principle for a symbolic `M⁻¹`, up to
 /// the multipliers: shared by `gauss` and the structured Jacobian
 /// (`super::jacobian`), which both continue from `λ` in their own way.
@@ -265,19 +312,7 @@ impl<'a> SymbolicGauss<'a> {
                 }
             }
         });
-        let corrected = (correction && k > 0).then(|| {
-            let d: Vec<_> = (0..k).map(|i| Context::local("db", i)).collect();
-            let r = &residuals;
-            quote! {
-                let (#(#r,)*) = match correction {
-                    ::core::option::Option::Some(__db) => {
-                        let [[#(#d),*]] = __db.data.0;
-                        (#(#r + #d,)*)
-                    }
-                    ::core::option::Option::None => (#(#r,)*),
-                };
-            }
-        });
+        let corrected = (correction && k > 0).then(|| corrected(&residuals));
         let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
         let factor = ldlt.factor();
         let solve = ldlt.solve(&residuals, "y", &multipliers);
@@ -303,7 +338,6 @@ impl<'a> SymbolicGauss<'a> {
 /// `r`, `W` and `A` are straight-line expressions; `S λ = r` is solved by
 /// `LDLᵀ` on the structural pattern of `S`.
 fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
-    let k = ctx.k;
     let SymbolicGauss {
         body,
         ldlt,
@@ -313,28 +347,7 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
     let vector = ctx.vector(ctx.n);
-    // The rank decision, checked after the fact (`constrained::rank`):
-    // where fewer rows than the generic rank were kept, the runtime
-    // verifies the dropped ones and recomputes if they are violated.
-    let motion = if k == 0 {
-        quote!(::core::result::Result::Ok((#acc, #force)))
-    } else {
-        let suspect = ldlt.suspect(ctx.generic_rank);
-        let checked = ctx.private(quote!(checked));
-        // The force after the check, so that `acceleration` alone never
-        // computes it.
-        quote! {{
-            let __acc = #acc;
-            if #suspect {
-                if let ::core::option::Option::Some(__recomputed) =
-                    #checked(self, q, qd, t, correction, __acc)
-                {
-                    return __recomputed;
-                }
-            }
-            ::core::result::Result::Ok((__acc, #force))
-        }}
-    };
+    let motion = checked_motion(ctx, &ldlt, &acc, &force);
     // Fallible even where M is known positive definite: the rank check can
     // find the constraints unsatisfiable (the total methods then answer by
     // least squares).

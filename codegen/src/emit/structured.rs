@@ -37,7 +37,7 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
     if matches!(ctx.eq.tangent.form, Form::Directional(_)) {
         return dense.clone();
     }
-    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
+    let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
     let a = &ctx.eq.a;
     let nonzero = |e: Id| !g.is_zero(e);
@@ -134,13 +134,8 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
         columns.extend(quote! {{ #code }});
     }
 
-    let (n_l, nu_l, k_l, d_l) = (
-        Context::dim(n),
-        Context::dim(nu),
-        Context::dim(k),
-        Context::dim(2 * n + nu),
-    );
-    let jacobians_zero = ctx.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros()));
+    let k_l = Context::dim(k);
+    let (jacobians_zero, d_l) = ctx.jacobians_zero();
     let value = if fallible(ctx) {
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         quote! {
