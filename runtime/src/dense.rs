@@ -1,7 +1,8 @@
-//! Gauss's principle for a mass matrix known only at run time (`M(q)` of a
-//! configuration-dependent model, or a semi-definite one): a dense solve,
-//! one call from generated code, its rank decision checked like the
-//! generated solver's.
+//! Gauss's principle solved densely at run time: what generated code calls
+//! for a positive semi-definite `M` (through its auxiliary mass), and the
+//! reference the tests hold the generated solve of a configuration-
+//! dependent `M` to. Its rank decision is checked like the generated
+//! solver's.
 
 use crate::generated::{effective_mass, Generated, Motion};
 use crate::inverse::PivotedLdlt;

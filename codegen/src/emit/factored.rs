@@ -212,7 +212,7 @@ impl<'a> FactoredGauss<'a> {
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
         let acceleration = (0..n)
             .map(|i| {
-                let mut pairs: Vec<(TokenStream, TokenStream)> = (0..k)
+                let pairs: Vec<(TokenStream, TokenStream)> = (0..k)
                     .filter(|&j| f.weighted[i][j])
                     .map(|j| {
                         let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
@@ -223,7 +223,7 @@ impl<'a> FactoredGauss<'a> {
                 match (a_bound[i], pairs.is_empty()) {
                     (true, true) => quote!(#u),
                     (true, false) => {
-                        let wl = dot(std::mem::take(&mut pairs));
+                        let wl = dot(pairs);
                         quote!(#u + (#wl))
                     }
                     (false, _) => dot(pairs),

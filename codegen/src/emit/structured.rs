@@ -47,7 +47,6 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
     for entries in [a, &d.weighted, &d.inverse] {
         extra.extend(entries.iter().flatten().copied().filter(|&e| nonzero(e)));
     }
-    extra.extend(&d.acceleration);
     let gauss = SymbolicGauss::new(ctx, d, &extra, false);
     let body = &gauss.body;
     let bind = |role: &str, entries: &[Vec<Id>]| -> TokenStream {
