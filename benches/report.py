@@ -34,6 +34,16 @@ def ns(value):
     return f"{value:.2f} ns" if value < 100 else f"{value:.0f} ns"
 
 
+def peers():
+    """(peer, what, system, n) → the peer program's JSON result, from
+    benches/peers/run.sh (absent when the peers were not run)."""
+    path = ROOT / "target" / "benchmarks" / "peers.json"
+    if not path.exists():
+        return {}
+    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return {(r["peer"], r["what"], r["system"], r["n"]): r for r in rows}
+
+
 def machine():
     cpu = "unknown CPU"
     try:
@@ -45,6 +55,124 @@ def machine():
         pass
     rustc = subprocess.run(["rustc", "--version"], capture_output=True, text=True).stdout.strip()
     return f"{cpu}, {os.cpu_count()} cores, {platform.system()}; {rustc}"
+
+
+def peer_sections(peer, timed, chain, rk4, get, mq):
+    """The side-by-side tables against Pinocchio and MuJoCo."""
+    links = [1, 2, 4, 8, 16, 32]
+    agree = max((r["difference"] for r in peer.values() if r["ok"] and r["system"] == "chain"), default=float("nan"))
+    failed = [f"{r['peer']} {r['what']} ({r['system']}, N = {r['n']}: {r['difference']:.1e})"
+              for r in peer.values() if not r["ok"]]
+    ratio = lambda theirs, ours: f"{theirs / ours:.0f}×" if theirs and ours else "–"  # noqa: E731
+    show = lambda v: ns(v) if v else "–"  # noqa: E731
+    lines = [
+        "",
+        "## Against Pinocchio and MuJoCo",
+        "",
+        "Pinocchio 4.1 (C++) and MuJoCo 4.0 (C), compiled against the headers and",
+        "libraries of their Python wheels by `benches/peers/run.sh` (`-O3`, no",
+        "`-march=native`, like the Rust side), on the same systems and states, pinned",
+        "to one core like the criterion runs. Each peer's answer is checked against the",
+        "generated code's before it is timed; a disagreeing answer gets no time. Peer",
+        "times are the median of 31 batches of about 5 ms; ours are criterion means.",
+        f"On the chains every peer answer agreed to {agree:.1e} (MuJoCo needs a small",
+        "positive inertia, 1e-12, on each point mass; that is most of its difference).",
+        "",
+    ]
+    if failed:
+        lines += ["**Answers that disagreed (not timed):** " + "; ".join(failed), ""]
+    lines += [
+        "### Planar N-link chain: one q̈",
+        "",
+        "Ours in Cartesian coordinates (2N coordinates, N constraints, generalized",
+        "inverse); the peers in joint angles (N revolute joints, no constraints):",
+        "Pinocchio's articulated-body algorithm `aba`, MuJoCo's `mj_forward` (its",
+        "whole pipeline, which is what a user calls for q̈).",
+        "",
+        "| N | ours | Pinocchio `aba` | MuJoCo `mj_forward` | `aba` / ours | `mj_forward` / ours |",
+        "|---|---|---|---|---|---|",
+    ]
+    for n in links:
+        a, p, j = chain[n], timed(("pinocchio", "aba", "chain", n)), timed(("mujoco", "mj_forward", "chain", n))
+        lines.append(f"| {n} | {show(a)} | {show(p)} | {show(j)} | {ratio(p, a)} | {ratio(j, a)} |")
+    angles8 = mq.get("pendulum_angles_8/acceleration")
+    p8 = timed(("pinocchio", "aba", "chain", 8))
+    if angles8 and p8:
+        lines += [
+            "",
+            f"In joint angles, as the peers see it (`PendulumAngles8`, dense M(q) from the energies,",
+            f"no constraints), ours takes {ns(angles8)} at N = 8: {angles8 / p8:.2f}× Pinocchio's `aba`. The",
+            "generated code solves a dense 8 × 8 `M(q)` (O(N³), with every entry's trigonometry",
+            "expanded) where `aba` is O(N).",
+        ]
+    baumgarte = {n: get(f"chain_rk4_step_baumgarte/{n}") for n in links}
+    projection = {n: get(f"chain_rk4_step_projection/{n}") for n in links}
+    lines += [
+        "",
+        "### Planar N-link chain: one RK4 step (h = 1 ms)",
+        "",
+        "Ours plain, with Baumgarte's correction (rate 10/s) and with projection onto",
+        "the constraints to 1e-12 after the step; MuJoCo's `mj_step` with its RK4",
+        "integrator (joint angles: its joint constraints hold exactly, ours drift without",
+        "stabilization). MuJoCo's step agreed with ours to the digits RK4 leaves.",
+        "",
+        "| N | ours plain | ours Baumgarte | ours projection | MuJoCo `mj_step` RK4 | `mj_step` / ours (plain, Baumgarte, projection) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for n in links:
+        j = timed(("mujoco", "mj_step_rk4", "chain", n))
+        ours = (rk4[n], baumgarte[n], projection[n])
+        ratios = ", ".join(ratio(j, o) for o in ours)
+        lines.append(f"| {n} | {show(ours[0])} | {show(ours[1])} | {show(ours[2])} | {show(j)} | {ratios} |")
+    fb_cart, fb_angles = get("models/four_bar_cartesian/acceleration"), mq.get("four_bar_angles/acceleration")
+    lines += [
+        "",
+        "### Parallelogram four-bar (closed loop, 1 degree of freedom): one q̈",
+        "",
+        "Ours in body coordinates (9 coordinates, 8 constraints, constant M) and in link",
+        "angles (3 coordinates, 2 constraints, M(q)); the peers on a tree of 3 revolute",
+        "joints with a point constraint closing the loop: Pinocchio's `constraintDynamics`",
+        "(proximal KKT, damping 1e-10) and `lcaba` (loop-constrained ABA, damping 1e-6),",
+        "MuJoCo's `mj_forward` with an `equality/connect` as stiff as it allows.",
+        "",
+        "| implementation | time | / ours in body coordinates | / ours in link angles | answer vs ours |",
+        "|---|---|---|---|---|",
+        f"| ours, body coordinates | {show(fb_cart)} | 1× | – | – |",
+        f"| ours, link angles, M(q) | {show(fb_angles)} | – | 1× | – |",
+    ]
+    for who, what, label in (("pinocchio", "constraintDynamics", "Pinocchio `constraintDynamics`"),
+                             ("pinocchio", "lcaba", "Pinocchio `lcaba`"),
+                             ("mujoco", "mj_forward", "MuJoCo `mj_forward`")):
+        r = peer.get((who, what, "four_bar", 3))
+        if r:
+            t = r["ns"] if r["ok"] else None
+            lines.append(f"| {label} | {show(t)} | {ratio(t, fb_cart)} | {ratio(t, fb_angles)} | {r['difference']:.1e} |")
+    lines += [
+        "",
+        "MuJoCo's four-bar answer is checked at rest: its constraints are soft (it leaves",
+        "about 2e-4 of the exact q̈ at the stiffest `solimp`) and it drops the `J̇ q̇` term.",
+        "",
+        "### What makes the comparison unfair",
+        "",
+        "- **For us:** the generated code is specialised at compile time to one planar",
+        "  model: no joint-type dispatch, 2-D kinematics only, sparsity and constant",
+        "  masses folded in. Pinocchio and MuJoCo are general 3-D engines that read their",
+        "  model at run time: 6-D spatial algebra, a variant per joint, every quantity in",
+        "  3-D. `mj_forward` runs MuJoCo's whole pipeline (kinematics, inertia, collision",
+        "  detection with nothing to collide, the constraint solver, actuation, sensors);",
+        "  `mj_step` adds four of those per RK4 step.",
+        "- **For them:** in joint angles the peers solve N unknowns where our Cartesian",
+        "  chain solves 2N plus N multipliers, and their joint constraints hold exactly,",
+        "  while the Cartesian chain drifts unless stabilized (the Baumgarte and",
+        "  projection columns are the honest comparison for long runs). MuJoCo's soft",
+        "  constraints buy robustness (contacts, redundancy) that exact constraints do not",
+        "  have. Pinocchio also computes quantities (spatial forces, frame placements)",
+        "  that a user may want and our q̈ does not give.",
+        "- **Neither:** both sides are compiled for generic x86-64 at full optimisation;",
+        "  the peers' times are medians of a C loop, ours criterion means, so ratios within",
+        "  10 % should not be read closely.",
+    ]
+    return lines
 
 
 def main():
@@ -94,6 +222,12 @@ def main():
             ("M(q): rolling disk ≥ 3 × faster than a dense KKT solve",
              mq["rolling_disk/dense_kkt"] / mq["rolling_disk/acceleration"], "≥ 3", lambda r: r >= 3, "{:.1f}×"),
         ]
+    peer = peers()
+    timed = lambda key: peer[key]["ns"] if key in peer and peer[key]["ok"] else None  # noqa: E731
+    pin8 = timed(("pinocchio", "aba", "chain", 8))
+    if pin8 and mq["pendulum_angles_8/acceleration"]:
+        targets.append(("M(q): 8-link pendulum in joint angles within 3 × Pinocchio's `aba`",
+                        mq["pendulum_angles_8/acceleration"] / pin8, "≤ 3", lambda r: r <= 3, "{:.2f}×"))
     jac = {(model, way): get(f"jacobian/{model}/{way}") for model in ("cart_pole", "chain_8", "chain_32")
            for way in ("acceleration", "generated", "central_differences", "dual_numbers")}
     if jac[("cart_pole", "generated")]:
@@ -249,6 +383,8 @@ def main():
         for model in ("cart_pole", "chain_8", "chain_32"):
             a, g_, c_, d_ = (jac[(model, w)] for w in ("acceleration", "generated", "central_differences", "dual_numbers"))
             lines.append(f"| {model.replace('_', ' ')} | {ns(a)} | {ns(g_)} ({g_ / a:.1f}×) | {ns(c_)} ({c_ / g_:.2f}× ours) | {ns(d_)} ({d_ / g_:.2f}× ours) |")
+    if peer:
+        lines += peer_sections(peer, timed, chain, rk4, get, mq)
     lines.append("")
     (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))
     print("\n".join(lines[7:14]))

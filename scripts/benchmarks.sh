@@ -5,26 +5,40 @@
 # RK4 steps); macro expansion time and generated code size against N;
 # Lagrange's equations from energies (the N-link pendulum in joint angles)
 # against sympy's LagrangesMethod; RK4 steps with projection; the M(q)
-# models against a dense KKT solve; the Jacobian of q̈.
-# Takes about five minutes on two cores.
+# models against a dense KKT solve; the Jacobian of q̈; Pinocchio and
+# MuJoCo on the chain and the four-bar (benches/peers/run.sh; PEERS=0 skips
+# them, and a failure there leaves their rows out without stopping the
+# rest). Benchmarks run pinned to one core where taskset exists.
+# Takes about fifteen minutes on two cores (two of them compiling
+# Pinocchio's templates, once).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=(--warm-up-time 1 --measurement-time 3)
 
 bash scripts/sympy.sh > /dev/null # sets up the pinned Python environment
+pin=()
+if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
+echo "== build the benchmarks"
+cargo bench --quiet --no-run --bench acceleration --bench jacobian --bench projection
+cargo bench --quiet --no-run -p constrained-codegen --bench expand
 echo "== criterion: generated code (benches/acceleration.rs)"
-cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
+"${pin[@]}" cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
 echo "== criterion: the Jacobian of q̈ (benches/jacobian.rs)"
-cargo bench --quiet --bench jacobian -- "${quick[@]}" > target/benchmarks-jacobian.log
+"${pin[@]}" cargo bench --quiet --bench jacobian -- "${quick[@]}" > target/benchmarks-jacobian.log
 echo "== criterion: projection (benches/projection.rs)"
-cargo bench --quiet --bench projection -- "${quick[@]}" > target/benchmarks-projection.log
+"${pin[@]}" cargo bench --quiet --bench projection -- "${quick[@]}" > target/benchmarks-projection.log
 echo "== criterion: macro expansion (codegen/benches/expand.rs)"
-cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > target/benchmarks-expand.log
+"${pin[@]}" cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > target/benchmarks-expand.log
 echo "== generated code size"
 cargo run --quiet -p constrained-codegen --example expansion_size -- target/benchmarks/expansion.json
 echo "== sympy lambdify"
 tests/sympy/.venv/bin/python benches/lambdify.py
 echo "== sympy LagrangesMethod on the N-link pendulum in joint angles (up to 120 s per N)"
 tests/sympy/.venv/bin/python benches/lagrange_sympy.py 120
+rm -f target/benchmarks/peers.json
+if [ "${PEERS:-1}" != 0 ]; then
+  echo "== peers: Pinocchio and MuJoCo (benches/peers/run.sh)"
+  bash benches/peers/run.sh > /dev/null || echo "   the peers failed (see above): their rows are left out"
+fi
 echo "== report"
 python3 benches/report.py
