@@ -148,10 +148,13 @@ fn redundant_on_the_surface_projects_and_integrates_like_its_twin() {
         // branch points θ = 0, π, where the two branches meet and which way the
         // motion goes is decided by rounding.
         let start = four_bar_state(&plain, -1.2, 0.5);
+        // The rows are lengths of order `size`: 1e-12 relative to them is
+        // what the projection is asked for (an absolute 1e-12 at size 1000
+        // is below the rounding of the rows' own terms, ~2000 ε).
         for stabilization in [
             Stabilization::None,
             Stabilization::baumgarte(10.0),
-            Stabilization::projection(1e-12),
+            Stabilization::projection(1e-12 * size),
         ] {
             let integrator = DormandPrince45::new(1e-9, 1e-12).with_stabilization(stabilization);
             let (mut a, mut b) = (start, start);

@@ -89,7 +89,9 @@ fn chain<S: ConstrainedSystem<f64, M, K>, const M: usize, const K: usize>(
     let (q, qd) = benchmark_state::<M>();
     let mut s = State::new(0.0, q, qd);
     let qdd = system.acceleration(&s).expect("the chain's q̈");
-    Rk4::new(H).advance(system, &mut s, H).expect("one RK4 step");
+    Rk4::new(H)
+        .advance(system, &mut s, H)
+        .expect("one RK4 step");
     let (angles, rates) = link_angles(&q, &qd);
     let (angles1, rates1) = link_angles(&s.q, &s.qd);
     let _ = writeln!(out, "chain {n} {G:.17e} {H:.17e}");
@@ -117,12 +119,17 @@ fn main() {
     let (m, jm, l, d) = (1.2, 0.15, 1.0, 2.0);
     let four_bar = ParallelogramFourBarAngles::<f64>::new(m, jm, l, d, G);
     let to_joints = |p: &Vector3<f64>| [p[0], p[1] - p[0], p[2]];
-    let _ = writeln!(out, "four_bar {m:.17e} {jm:.17e} {l:.17e} {d:.17e} {G:.17e}");
+    let _ = writeln!(
+        out,
+        "four_bar {m:.17e} {jm:.17e} {l:.17e} {d:.17e} {G:.17e}"
+    );
     for (suffix, q, qd) in [
         ("", Vector3::new(0.7, 0.0, 0.7), Vector3::new(1.3, 0.0, 1.3)),
         ("_rest", Vector3::new(0.7, 0.0, 0.7), Vector3::zeros()),
     ] {
-        let qdd = four_bar.acceleration(&q, &qd, 0.0).expect("the four-bar's q̈");
+        let qdd = four_bar
+            .acceleration(&q, &qd, 0.0)
+            .expect("the four-bar's q̈");
         line(&mut out, &format!("q{suffix}"), &to_joints(&q));
         line(&mut out, &format!("v{suffix}"), &to_joints(&qd));
         line(&mut out, &format!("qdd{suffix}"), &to_joints(&qdd));

@@ -117,15 +117,9 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
         w,
         "Constraint equations  A q̈ = b  (ψ = Dφ or D²φ, A = ∂ψ/∂q̈, b = −ψ at q̈ = 0):"
     );
-    let row = |ids: &[Id]| {
-        ids.iter()
-            .map(|&e| p.print(e))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
     for (i, (a, &b)) in eq.a.iter().zip(&eq.b).enumerate() {
         let s = subscript(i + 1);
-        let _ = writeln!(w, "  A{s} = [{}]", row(a));
+        let _ = writeln!(w, "  A{s} = [{}]", row_text(g, &p, a, &coordinates));
         let _ = writeln!(w, "  b{s} = {}", p.print(b));
     }
     let _ = writeln!(w);
@@ -133,6 +127,28 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let _ = writeln!(w);
     gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
     out
+}
+
+/// A row of a k × n matrix: every entry when the row is short or mostly
+/// nonzero; otherwise the nonzero entries by coordinate (`x1: 2·x1, …; 0
+/// elsewhere`), so that a long chain's rows are as long as their
+/// nonzeros, not as the chain.
+fn row_text(g: &crate::expr::Graph, p: &Printer, ids: &[Id], coordinates: &[String]) -> String {
+    let nonzero = ids.iter().filter(|&&e| !g.is_zero(e)).count();
+    if ids.len() <= 8 || 2 * nonzero >= ids.len() {
+        return ids
+            .iter()
+            .map(|&e| p.print(e))
+            .collect::<Vec<_>>()
+            .join(", ");
+    }
+    let entries: Vec<String> = ids
+        .iter()
+        .zip(coordinates)
+        .filter(|(&e, _)| !g.is_zero(e))
+        .map(|(&e, c)| format!("{c}: {}", p.print(e)))
+        .collect();
+    format!("{}; 0 elsewhere", entries.join(", "))
 }
 
 /// Every expression the derivation prints, for naming the shared ones.
@@ -255,7 +271,7 @@ fn gibbs_appell(
     }
 }
 
-/// How `λ` is solved from `S λ = b − A a` (S = A M⁻¹ Aᵀ with the given
+/// How `λ` is solved from `S λ = r` (S = A M⁻¹ Aᵀ, r = b − A a, S with the given
 /// compile-time structure).
 fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
     let k = structure.len();
@@ -264,7 +280,7 @@ fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
         1 => {
             let _ = writeln!(
                 w,
-                "  λ₁ = (b − A a)₁ / (A M⁻¹ Aᵀ)₁₁; where A M⁻¹ Aᵀ vanishes (or underflows), \
+                "  λ₁ = r₁ / S₁₁; where S vanishes (or underflows), \
                  q̈ is checked against A q̈ = b at run time and, if it fails, recomputed by \
                  the row-scaled Moore–Penrose form"
             );
@@ -272,9 +288,9 @@ fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
         _ => {
             let _ = writeln!(
                 w,
-                "  λ by LDLᵀ of A M⁻¹ Aᵀ on its compile-time pattern, eliminating \
+                "  λ by LDLᵀ of S on its compile-time pattern, eliminating \
                  constraints in the order {}\n  ({} of {} subdiagonal entries of L nonzero); \
-                 rows with sin²θ = dⱼ/(A M⁻¹ Aᵀ)ⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)\n  \
+                 rows with sin²θ = dⱼ/Sⱼⱼ < max(1e-6, 64ε) are dropped (a {{1}}-inverse)\n  \
                  when at least rank A = {rank} rows remain or every row still holds to 1000ε \
                  (checked at run time); otherwise q̈ is recomputed by the row-scaled Moore–Penrose form",
                 order(structure, |i| format!("φ{}", subscript(i + 1))),
@@ -314,7 +330,7 @@ fn factored(w: &mut String, f: &Factored, coordinates: &[String], rank: usize) {
          eliminating coordinates in the order {}\n  ({} of {} subdiagonal entries of L nonzero); \
          a pivot dⱼ ≤ 0 means M is not positive definite there (Err, as Cholesky fails);\n  \
          a = M⁻¹ F and W = M⁻¹ Aᵀ by sparse substitution ({weighted} of {} entries of W nonzero), \
-         A M⁻¹ Aᵀ = A W, b − A a",
+         S = A W, r = b − A a",
         order(&f.mass, |i| coordinates[i].clone()),
         fill(&f.mass),
         n * n.saturating_sub(1) / 2,
@@ -340,7 +356,7 @@ fn generalized_inverse(
     let k = eq.a.len();
     let _ = writeln!(
         w,
-        "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  (A M⁻¹ Aᵀ) λ = b − A a,  a = M⁻¹ F:"
+        "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  S λ = r,  S = A M⁻¹ Aᵀ,  r = b − A a,  a = M⁻¹ F:"
     );
     if matches!(eq.gauss, MassInverse::Auxiliary) {
         let _ = writeln!(
@@ -369,7 +385,7 @@ fn generalized_inverse(
             if !g.is_zero(d.gram[i][j]) {
                 let _ = writeln!(
                     w,
-                    "  (A M⁻¹ Aᵀ){}{} = {}",
+                    "  S{}{} = {}",
                     subscript(i + 1),
                     subscript(j + 1),
                     p.print(d.gram[i][j])
@@ -378,12 +394,7 @@ fn generalized_inverse(
         }
     }
     for i in 0..k {
-        let _ = writeln!(
-            w,
-            "  (b − A a){} = {}",
-            subscript(i + 1),
-            p.print(d.residual[i])
-        );
+        let _ = writeln!(w, "  r{} = {}", subscript(i + 1), p.print(d.residual[i]));
     }
     multiplier_rule(w, &d.structure, rank);
     for (c, &e) in coordinates.iter().zip(&d.acceleration) {

@@ -4,6 +4,7 @@
 use crate::diff::Differentiator;
 use crate::expr::Id;
 use crate::expr::Sym;
+use crate::factor::Factorer;
 use crate::model::{Level, System};
 use crate::motion::{self, MassInverse};
 use crate::tangent::{self, Pieces, Tangent};
@@ -31,10 +32,16 @@ pub struct Equations {
 ///
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
 /// written, so that a user's scaling of φ shows up unchanged (API.md).
+/// `M`, `F`, `A` and `b` have their common factors pulled out
+/// ([`crate::factor`]) before anything is built from them, so that the
+/// derivation and the code both carry the factored forms.
 pub fn constraint_equations(mut system: System) -> Equations {
     let n = system.dof();
     let mut d = Differentiator::new();
+    let mut factorer = Factorer::keeping(system.named.iter().map(|(_, id)| *id));
     let g = &mut system.graph;
+    system.mass = factorer.factor_rows(g, &system.mass);
+    system.forces = factorer.factor_all(g, &system.forces);
     let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
     for c in &system.constraints {
         let velocity_level = match c.level {
@@ -43,11 +50,12 @@ pub fn constraint_equations(mut system: System) -> Equations {
             Level::Position => d.time_derivative(g, c.phi, n).1,
         };
         let (row, rest) = d.time_derivative(g, velocity_level, n);
-        a.push(row);
-        b.push(g.neg(rest));
+        a.push(factorer.factor_all(g, &row));
+        let rhs = g.neg(rest);
+        b.push(factorer.factor(g, rhs));
         velocity_constraints.push(velocity_level);
     }
-    let gauss = motion::gauss(g, &system.mass, &system.forces, &a, &b);
+    let gauss = motion::gauss(g, &mut factorer, &system.mass, &system.forces, &a, &b);
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     let pieces = Pieces {
         mass: &system.mass,

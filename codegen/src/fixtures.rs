@@ -95,3 +95,49 @@ pub fn joint_angle_pendulum(name: &str, links: usize) -> String {
     );
     out
 }
+
+/// A vehicle-sized model with many definitions, as `constrained_system!`
+/// input: 8 coordinates (a planar body `x, y, yaw` and five wheel and
+/// suspension coordinates) with unit masses, forces computed through
+/// `definitions` intermediate quantities (each definition combines the two
+/// before it with a coordinate's trigonometry or a velocity, the way a
+/// tyre and suspension model chains slip, load and force), and two
+/// constraints (a nonholonomic no-side-slip condition and a holonomic
+/// linkage through a definition). For measuring how the derivation's text
+/// grows with a large input.
+pub fn definition_heavy(name: &str, definitions: usize) -> String {
+    let coordinates = ["x", "y", "yaw", "w1", "w2", "w3", "s1", "s2"];
+    let mut defs = vec![
+        "d0 = yaw.cos() * dot(x) + yaw.sin() * dot(y)".to_string(),
+        "d1 = -yaw.sin() * dot(x) + yaw.cos() * dot(y)".to_string(),
+    ];
+    for i in 2..definitions {
+        let q = coordinates[i % coordinates.len()];
+        let (a, b) = (i - 1, i - 2);
+        defs.push(match i % 4 {
+            0 => format!("d{i} = c{} * d{a} + {q}.sin() * d{b}", i % 3),
+            1 => format!("d{i} = d{a} * {q}.cos() - c{} * d{b}", i % 3),
+            2 => format!("d{i} = (d{a} - d{b}) / (1.0 + {q}.powi(2))"),
+            _ => format!("d{i} = d{a} + dot({q}) * d{b} / (2.0 + d{b}.powi(2))"),
+        });
+    }
+    let last = definitions - 1;
+    let forces: Vec<String> = (0..coordinates.len())
+        .map(|j| format!("d{} - k * dot({})", last - j, coordinates[j]))
+        .collect();
+    format!(
+        "/// A model with {definitions} definitions (see `fixtures::definition_heavy`).\n\
+         pub struct {name} {{\n\
+         coordinates: [{}],\n\
+         parameters: [c0, c1, c2, k],\n\
+         mass: diag[1.0, 1.0, 0.5, 0.1, 0.1, 0.1, 2.0, 2.0],\n\
+         definitions: [{}],\n\
+         forces: [{}],\n\
+         constraints: [-yaw.sin() * dot(x) + yaw.cos() * dot(y) == 0.0, s1 - s2 == 0.1 * d{}],\n\
+         }}",
+        coordinates.join(", "),
+        defs.join(", "),
+        forces.join(", "),
+        (definitions / 50).max(2),
+    )
+}

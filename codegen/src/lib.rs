@@ -22,6 +22,7 @@ pub mod derive;
 pub mod diff;
 pub mod emit;
 pub mod expr;
+pub mod factor;
 #[doc(hidden)] // DSL text for the chains crate and the benches, not API
 pub mod fixtures;
 pub mod gibbs_appell;

@@ -11,6 +11,7 @@
 //! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
 use crate::expr::{Graph, Id, Sym};
+use crate::factor::Factorer;
 use crate::num::Num;
 use crate::sparsity::Structure;
 
@@ -135,6 +136,7 @@ fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
 /// Builds the Gauss pieces for `mass`, `forces`, `a`, `b`.
 pub fn gauss(
     g: &mut Graph,
+    factorer: &mut Factorer,
     mass: &[Vec<Id>],
     forces: &[Id],
     a: &[Vec<Id>],
@@ -219,6 +221,14 @@ pub fn gauss(
         acceleration.push(g.add(&acc));
         force.push(g.add(&f));
     }
+    // The pieces as the derivation prints them and the code computes
+    // them: with common factors pulled out (`crate::factor`).
+    let unconstrained = factorer.factor_all(g, &unconstrained);
+    let weighted = factorer.factor_rows(g, &weighted);
+    let gram = factorer.factor_rows(g, &gram);
+    let residual = factorer.factor_all(g, &residual);
+    let acceleration = factorer.factor_all(g, &acceleration);
+    let force = factorer.factor_all(g, &force);
     MassInverse::Symbolic(Box::new(Symbolic {
         masses,
         known_positive,

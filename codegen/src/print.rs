@@ -83,13 +83,19 @@ impl<'a> Printer<'a> {
         }
     }
 
-    /// The name of a velocity: `ẋ` for one-letter names, `dot(name)` otherwise
-    /// (a combining dot over a long name would sit on its last letter only).
+    /// The name of a velocity. For people, one convention for every name:
+    /// the dot over the name's first letter (`ẋ`, `ẋ1`, `ṫh1`, `θ̇`), so that
+    /// a velocity is always one token and reads as its coordinate's; for
+    /// sympy, `dot(name)`.
     fn velocity(&self, i: usize) -> String {
         let name = &self.coordinates[i];
         match self.style {
-            Style::Unicode if name.chars().count() == 1 => dotted(name),
-            _ => format!("dot({name})"),
+            Style::Unicode => {
+                let split = name.chars().next().map_or(0, char::len_utf8);
+                let (first, rest) = name.split_at(split);
+                format!("{}{rest}", dotted(first))
+            }
+            Style::Sympy => format!("dot({name})"),
         }
     }
 
@@ -434,7 +440,7 @@ mod tests {
         let uni = Printer::new(&g, &c, &p, Style::Unicode).print(e);
         let sym = Printer::new(&g, &c, &p, Style::Sympy).print(e);
         // Terms in canonical (creation) order.
-        assert_eq!(uni, "\u{1e8b}²/2 − alpha·sin(x) + dot(theta)/√theta");
+        assert_eq!(uni, "\u{1e8b}²/2 − alpha·sin(x) + \u{1e6b}heta/√theta");
         assert_eq!(sym, "dot(x)**2/2 - alpha*sin(x) + dot(theta)/sqrt(theta)");
     }
 

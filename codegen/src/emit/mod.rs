@@ -116,12 +116,14 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let level = ctx.path(quote!(ConstraintLevel));
     let symbolic_type = ctx.path(quote!(SymbolicSystem));
     let derivation = derivation::text(eq, partition);
+    let derivation_doc = derivation_doc(&derivation);
     let symbolic = symbolic(eq);
 
     quote! {
         #(#attrs)*
         #[doc = ""]
         #[doc = #struct_doc]
+        #[doc = #derivation_doc]
         #[derive(Clone, Copy, Debug, PartialEq)]
         #vis struct #name<T = f64> { #fields }
 
@@ -146,7 +148,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             /// For each constraint, whether it was differentiated twice
             /// (position level) or once (velocity level).
             pub const CONSTRAINT_LEVELS: [#level; #k_lit] = [#(#levels),*];
-            /// The derivation, as the paper would write it: M, F, φ, A and b.
+            /// The derivation, as the paper would write it: M, F, φ, A, b, S
+            /// and the solution (also in the type's documentation).
             pub const DERIVATION: &'static str = #derivation;
             /// The system in sympy syntax, for independent verification.
             pub const SYMBOLIC: #symbolic_type = #symbolic;
@@ -164,6 +167,26 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         #generated_impl
         #tangent_impl
     }
+}
+
+/// The longest derivation shown in the type's rustdoc; a longer one is
+/// only in `DERIVATION` (the page would not be read, and every build of
+/// the docs would carry it).
+const DOC_DERIVATION_LIMIT: usize = 64 * 1024;
+
+/// The derivation as a section of the generated type's documentation, so
+/// that `cargo doc` shows what the macro derived.
+fn derivation_doc(derivation: &str) -> String {
+    if derivation.len() > DOC_DERIVATION_LIMIT {
+        return format!(
+            "\n# Derivation\n\nThe derivation is {} KB long: read `DERIVATION`.",
+            derivation.len() / 1024
+        );
+    }
+    format!(
+        "\n# Derivation\n\n```text\n{}```",
+        derivation.replace("```", "` ` `")
+    )
 }
 
 fn vector_function(ctx: &Context, name: TokenStream, doc: &str, entries: &[Id]) -> TokenStream {
@@ -234,6 +257,13 @@ fn constraint_matrices(ctx: &Context) -> TokenStream {
 }
 
 /// The `SymbolicSystem` constant.
+/// The length of the emitted `SYMBOLIC` value as Rust tokens (its strings
+/// and their structure): what the macro writes for sympy, for measuring
+/// how it grows (`examples/derivation_size.rs`).
+pub fn symbolic_text_len(eq: &Equations) -> usize {
+    symbolic(eq).to_string().len()
+}
+
 fn symbolic(eq: &Equations) -> TokenStream {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
