@@ -1,7 +1,6 @@
-//! Stabilized RK4 steps of the planar N-link chain: with Baumgarte's
-//! correction, and with projection onto the constraints
-//! (`Stabilization::projection`, through the generated factorizations)
-//! after the step, and the projection alone from a state knocked
+//! Projection onto the constraints (`Stabilization::projection`), through
+//! the generated factorizations: one RK4 step of the planar N-link chain
+//! with projection after it, and the projection alone from a state knocked
 //! off the constraints. A binary of its own: sharing one with the plain RK4
 //! benchmarks changed how the compiler inlined those (their integrator then
 //! had two kinds of caller) and slowed them by up to half.
@@ -12,8 +11,8 @@ use std::hint::black_box;
 
 const G: f64 = 9.81;
 
-/// One RK4 step with Baumgarte stabilization (rate 10/s), one with
-/// projection onto the constraints after it, and the projection alone from a state knocked 1e-6 off the constraints (in q and
+/// One RK4 step with projection onto the constraints after it, and the
+/// projection alone from a state knocked 1e-6 off the constraints (in q and
 /// q̇, so that both Newton solves run).
 macro_rules! bench_projection {
     ($c:expr, $chain:ty, $links:literal, $m:literal) => {{
@@ -21,17 +20,6 @@ macro_rules! bench_projection {
         let (q, qd) = constrained_chains::benchmark_state::<$m>();
         let rk4 = constrained::Rk4::new(1e-3)
             .with_stabilization(constrained::Stabilization::projection(1e-12));
-        let baumgarte = constrained::Rk4::new(1e-3)
-            .with_stabilization(constrained::Stabilization::baumgarte(10.0));
-        let mut step = $c.benchmark_group("chain_rk4_step_baumgarte");
-        step.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
-            b.iter(|| {
-                let mut s = constrained::State::new(0.0, q, qd);
-                baumgarte.advance(&system, &mut s, 1e-3).expect("one step");
-                black_box(s)
-            })
-        });
-        step.finish();
         let mut step = $c.benchmark_group("chain_rk4_step_projection");
         step.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
             b.iter(|| {

@@ -19,7 +19,7 @@ bash scripts/sympy.sh > /dev/null # sets up the pinned Python environment
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
 echo "== build the benchmarks"
-cargo bench --quiet --no-run --bench acceleration --bench jacobian --bench projection
+cargo bench --quiet --no-run --bench acceleration --bench jacobian --bench projection --bench baumgarte
 cargo bench --quiet --no-run -p constrained-codegen --bench expand
 echo "== criterion: generated code (benches/acceleration.rs)"
 "${pin[@]}" cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
@@ -27,6 +27,8 @@ echo "== criterion: the Jacobian of q̈ (benches/jacobian.rs)"
 "${pin[@]}" cargo bench --quiet --bench jacobian -- "${quick[@]}" > target/benchmarks-jacobian.log
 echo "== criterion: projection (benches/projection.rs)"
 "${pin[@]}" cargo bench --quiet --bench projection -- "${quick[@]}" > target/benchmarks-projection.log
+echo "== criterion: Baumgarte-stabilized steps (benches/baumgarte.rs)"
+"${pin[@]}" cargo bench --quiet --bench baumgarte -- "${quick[@]}" > target/benchmarks-baumgarte.log
 echo "== criterion: macro expansion (codegen/benches/expand.rs)"
 "${pin[@]}" cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > target/benchmarks-expand.log
 echo "== generated code size"
