@@ -6,6 +6,9 @@
 //! the configuration-dependent `M(q)` ones against a dense KKT solve (the
 //! Jacobians and the projections have binaries of their own).
 
+#[macro_use]
+mod steps;
+
 use constrained::models::{
     four_bar_state, Appell, ChaplyginSleigh, DoublePendulum, ParallelogramFourBar,
     ParallelogramFourBarAngles, RedundantDoublePendulum, RollingDisk, TwoLinkArmOnLine,
@@ -153,22 +156,6 @@ macro_rules! bench_chains {
     }};
 }
 
-/// One RK4 step (four accelerations) of a chain, from the same state each time.
-macro_rules! bench_rk4 {
-    ($group:expr, $chain:ty, $links:literal, $m:literal) => {{
-        let system = <$chain>::new(G);
-        let (q, qd) = constrained_chains::benchmark_state::<$m>();
-        let rk4 = constrained::Rk4::new(1e-3);
-        $group.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
-            b.iter(|| {
-                let mut s = constrained::State::new(0.0, q, qd);
-                rk4.advance(&system, &mut s, 1e-3).expect("one step");
-                black_box(s)
-            })
-        });
-    }};
-}
-
 fn chain(c: &mut Criterion) {
     bench_chains!(c, "chain_acceleration", acceleration);
     bench_chains!(
@@ -177,12 +164,12 @@ fn chain(c: &mut Criterion) {
         acceleration_gibbs_appell
     );
     let mut group = c.benchmark_group("chain_rk4_step");
-    bench_rk4!(group, Chain1, 1, 2);
-    bench_rk4!(group, Chain2, 2, 4);
-    bench_rk4!(group, Chain4, 4, 8);
-    bench_rk4!(group, Chain8, 8, 16);
-    bench_rk4!(group, Chain16, 16, 32);
-    bench_rk4!(group, Chain32, 32, 64);
+    bench_rk4_step!(group, Chain1, 1, 2, constrained::Rk4::new(1e-3));
+    bench_rk4_step!(group, Chain2, 2, 4, constrained::Rk4::new(1e-3));
+    bench_rk4_step!(group, Chain4, 4, 8, constrained::Rk4::new(1e-3));
+    bench_rk4_step!(group, Chain8, 8, 16, constrained::Rk4::new(1e-3));
+    bench_rk4_step!(group, Chain16, 16, 32, constrained::Rk4::new(1e-3));
+    bench_rk4_step!(group, Chain32, 32, 64, constrained::Rk4::new(1e-3));
     group.finish();
 }
 

@@ -5,6 +5,9 @@
 //! benchmarks changed how the compiler inlined those (their integrator then
 //! had two kinds of caller) and slowed them by up to half.
 
+#[macro_use]
+mod steps;
+
 use constrained_chains::*;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use std::hint::black_box;
@@ -16,19 +19,18 @@ const G: f64 = 9.81;
 /// q̇, so that both Newton solves run).
 macro_rules! bench_projection {
     ($c:expr, $chain:ty, $links:literal, $m:literal) => {{
+        let mut step = $c.benchmark_group("chain_rk4_step_projection");
+        bench_rk4_step!(
+            step,
+            $chain,
+            $links,
+            $m,
+            constrained::Rk4::new(1e-3)
+                .with_stabilization(constrained::Stabilization::projection(1e-12))
+        );
+        step.finish();
         let system = <$chain>::new(G);
         let (q, qd) = constrained_chains::benchmark_state::<$m>();
-        let rk4 = constrained::Rk4::new(1e-3)
-            .with_stabilization(constrained::Stabilization::projection(1e-12));
-        let mut step = $c.benchmark_group("chain_rk4_step_projection");
-        step.bench_with_input(BenchmarkId::from_parameter($links), &$links, |b, _| {
-            b.iter(|| {
-                let mut s = constrained::State::new(0.0, q, qd);
-                rk4.advance(&system, &mut s, 1e-3).expect("one step");
-                black_box(s)
-            })
-        });
-        step.finish();
         let off = constrained::nalgebra::SVector::<f64, $m>::from_fn(|i, _| {
             1e-6 * (1.0 + i as f64).sin()
         });

@@ -3,7 +3,7 @@
 //! reads as a change in mathematics in code review.
 
 use crate::derive::Equations;
-use crate::expr::Id;
+use crate::expr::{Graph, Id};
 use crate::gibbs_appell::{rank_one, RankOne};
 use crate::model::{Energies, Level};
 use crate::motion::{Factored, MassInverse};
@@ -133,7 +133,7 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
 /// nonzero; otherwise the nonzero entries by coordinate (`x1: 2·x1, …; 0
 /// elsewhere`), so that a long chain's rows are as long as their
 /// nonzeros, not as the chain.
-fn row_text(g: &crate::expr::Graph, p: &Printer, ids: &[Id], coordinates: &[String]) -> String {
+fn row_text(g: &Graph, p: &Printer, ids: &[Id], coordinates: &[String]) -> String {
     let nonzero = ids.iter().filter(|&&e| !g.is_zero(e)).count();
     if ids.len() <= 8 || 2 * nonzero >= ids.len() {
         return ids

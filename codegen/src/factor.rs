@@ -33,8 +33,8 @@ const MAX_TERMS: usize = 48;
 /// How many levels of sums and products below a root are factored.
 const SURFACE_DEPTH: usize = 4;
 
-/// A memo of factored nodes over one graph: each node is factored once,
-/// however many roots reach it.
+/// A memo of factored roots over one graph: each is factored once, however
+/// many of the Gauss pieces reach it.
 #[derive(Default)]
 pub struct Factorer {
     done: HashMap<Id, Id>,
@@ -52,14 +52,13 @@ impl Factorer {
     /// A factorer that keeps `atoms` whole: neither factored inside nor
     /// split into their factors.
     pub fn keeping(atoms: impl IntoIterator<Item = Id>) -> Self {
-        let atoms: HashSet<Id> = atoms.into_iter().collect();
         Factorer {
-            done: atoms.iter().map(|&a| (a, a)).collect(),
-            atoms,
+            done: HashMap::new(),
+            atoms: atoms.into_iter().collect(),
         }
     }
 
-    /// `root` with every sum in it factored.
+    /// `root` with the sums near its surface factored (module docs).
     pub fn factor(&mut self, g: &mut Graph, root: Id) -> Id {
         self.factor_within(g, root, SURFACE_DEPTH)
     }

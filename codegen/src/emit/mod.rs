@@ -183,10 +183,8 @@ fn derivation_doc(derivation: &str) -> String {
             derivation.len() / 1024
         );
     }
-    format!(
-        "\n# Derivation\n\n```text\n{}```",
-        derivation.replace("```", "` ` `")
-    )
+    // The printer writes no backticks, so the text cannot close the fence.
+    format!("\n# Derivation\n\n```text\n{derivation}```")
 }
 
 fn vector_function(ctx: &Context, name: TokenStream, doc: &str, entries: &[Id]) -> TokenStream {
@@ -256,7 +254,6 @@ fn constraint_matrices(ctx: &Context) -> TokenStream {
     }
 }
 
-/// The `SymbolicSystem` constant.
 /// The length of the emitted `SYMBOLIC` value as Rust tokens (its strings
 /// and their structure): what the macro writes for sympy, for measuring
 /// how it grows (`examples/derivation_size.rs`).
@@ -264,6 +261,7 @@ pub fn symbolic_text_len(eq: &Equations) -> usize {
     symbolic(eq).to_string().len()
 }
 
+/// The `SymbolicSystem` constant.
 fn symbolic(eq: &Equations) -> TokenStream {
     let sys = &eq.system;
     let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
