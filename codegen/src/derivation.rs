@@ -301,6 +301,37 @@ fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
     }
 }
 
+/// How the solved system was scaled (`crate::motion::Symbolic`): the
+/// rows of `A q̈ = b` divided by their numeric content, `M` by a common
+/// mass. S, r and λ below are those of the scaled system; q̈ is the same.
+fn scaling_text(w: &mut String, d: &crate::motion::Symbolic, p: &Printer) {
+    let scaled = d.scale.iter().any(|s| !s.is_one());
+    if !scaled && d.common_mass.is_none() {
+        return;
+    }
+    let mut what = Vec::new();
+    if scaled {
+        let diagonal: Vec<String> = d.scale.iter().map(ToString::to_string).collect();
+        what.push(format!(
+            "each row of A q̈ = b by its numeric content (D = diag({}))",
+            diagonal.join(", ")
+        ));
+    }
+    if let Some(m) = d.common_mass {
+        what.push(format!("M by its common mass μ = {}", p.print(m)));
+    }
+    let (s, force) = match (scaled, d.common_mass.is_some()) {
+        (true, true) => ("S = μ D A M⁻¹ Aᵀ D,  r = D (b − A a)", "Fᶜ = μ (D A)ᵀ λ"),
+        (true, false) => ("S = D A M⁻¹ Aᵀ D,  r = D (b − A a)", "Fᶜ = (D A)ᵀ λ"),
+        (false, _) => ("S = μ A M⁻¹ Aᵀ", "Fᶜ = μ Aᵀ λ"),
+    };
+    let _ = writeln!(
+        w,
+        "  Solved scaled, the same q̈ in fewer operations: {}.\n  Below {s},  {force}:",
+        what.join(", and ")
+    );
+}
+
 /// The elimination order of a structure, each row named by `name`.
 fn order(structure: &Structure, name: impl Fn(usize) -> String) -> String {
     structure
@@ -380,6 +411,7 @@ fn generalized_inverse(
     for (c, &a) in coordinates.iter().zip(&d.unconstrained) {
         let _ = writeln!(w, "  a[{c}] = {}", p.print(a));
     }
+    scaling_text(w, d, p);
     for i in 0..k {
         for j in i..k {
             if !g.is_zero(d.gram[i][j]) {

@@ -33,6 +33,7 @@ pub mod motion;
 pub mod names;
 pub mod nesting;
 pub mod num;
+pub mod op_count;
 pub mod parse;
 pub mod partition;
 pub mod print;

@@ -10,7 +10,7 @@
 //! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
 //! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
-use crate::expr::{Graph, Id, Sym};
+use crate::expr::{Graph, Id, Node, Sym};
 use crate::factor::Factorer;
 use crate::num::Num;
 use crate::sparsity::Structure;
@@ -86,6 +86,16 @@ impl Factored {
 }
 
 /// The symbolic Gauss pieces, for a mass matrix whose inverse is known.
+///
+/// They are built for the constraints `Â q̈ = b̂`, `Â = D A`, `b̂ = D b`,
+/// where the diagonal `D` divides each row by the numeric content of its
+/// entries (`2·x1, 2·y1` becomes `x1, y1`), and with `M` divided by `μ`,
+/// the common mass of a diagonal `M` whose masses are all one expression
+/// (else `μ = 1`): `q̈` is the same, `S̃ = μ D S D`, `r̃ = D r`, `λ̃ = D⁻¹ λ / μ`,
+/// `Fᶜ = μ Âᵀ λ̃`. The scaled system needs fewer operations (the constants
+/// and the mass cancel, as a hand derivation would cancel them); a
+/// correction `db` of `acceleration_corrected` and the right-hand sides of
+/// the projection and of the Jacobian's tangent systems are scaled by `D`.
 pub struct Symbolic {
     /// The diagonal masses `mᵢ` of a diagonal `M` (the emitted code checks
     /// at run time those that are not positive constants); empty for a
@@ -98,17 +108,24 @@ pub struct Symbolic {
     pub diagonal: bool,
     /// `M⁻¹`, n × n (structural zeros are the literal 0).
     pub inverse: Vec<Vec<Id>>,
-    /// `W = M⁻¹ Aᵀ`, n × k.
+    /// The row scaling `D` (positive rationals; 1 where a row has no
+    /// numeric content).
+    pub scale: Vec<Num>,
+    /// The common mass `μ` that `M` was divided by, if any.
+    pub common_mass: Option<Id>,
+    /// `Â = D A`, k × n.
+    pub rows: Vec<Vec<Id>>,
+    /// `W̃ = μ M⁻¹ Âᵀ`, n × k.
     pub weighted: Vec<Vec<Id>>,
     /// `a = M⁻¹ F`.
     pub unconstrained: Vec<Id>,
-    /// `S = A M⁻¹ Aᵀ`, k × k, symmetric (entry (j, i) is the node of (i, j)).
+    /// `S̃ = Â W̃`, k × k, symmetric (entry (j, i) is the node of (i, j)).
     pub gram: Vec<Vec<Id>>,
-    /// `r = b − A a`.
+    /// `r̃ = b̂ − Â a`.
     pub residual: Vec<Id>,
-    /// `q̈ = a + M⁻¹ Aᵀ λ`, in terms of the multipliers `Sym::Multiplier`.
+    /// `q̈ = a + W̃ λ̃`, in terms of the multipliers `Sym::Multiplier` (λ̃).
     pub acceleration: Vec<Id>,
-    /// `Fᶜ = Aᵀ λ`, in terms of the multipliers.
+    /// `Fᶜ = μ Âᵀ λ̃`, in terms of the multipliers.
     pub force: Vec<Id>,
     /// The pattern of `S`, its elimination order (position `p` of
     /// `P S Pᵀ = L D Lᵀ` is constraint `order[p]`) and the pattern of `L`,
@@ -171,25 +188,62 @@ pub fn gauss(
     } else {
         return MassInverse::Factored(Box::new(Factored::new(g, mass, a)));
     };
+    // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a
+    // common mass μ).
+    let scale: Vec<Num> = a.iter().map(|row| row_scale(g, row)).collect();
+    let scaled = |g: &mut Graph, e: Id, d: Num| -> Id {
+        if d.is_one() {
+            e
+        } else {
+            let d = g.num(d);
+            g.mul2(d, e)
+        }
+    };
+    let rows: Vec<Vec<Id>> = a
+        .iter()
+        .zip(&scale)
+        .map(|(row, &d)| row.iter().map(|&e| scaled(g, e, d)).collect())
+        .collect();
+    let b_hat: Vec<Id> = b
+        .iter()
+        .zip(&scale)
+        .map(|(&e, &d)| scaled(g, e, d))
+        .collect();
+    let common_mass = (diagonal && n > 0 && masses.iter().all(|&m| m == masses[0]))
+        .then(|| masses[0])
+        .filter(|&m| !g.as_num(m).is_some_and(|v| v.is_one()));
+    let one = g.int(1);
+    let projection_inverse: Vec<Vec<Id>> = match common_mass {
+        Some(_) => (0..n)
+            .map(|i| (0..n).map(|j| if i == j { one } else { zero }).collect())
+            .collect(),
+        None => inverse.clone(),
+    };
     // M⁻¹ v as expressions; structural zeros of M⁻¹ and v vanish.
-    let apply = |g: &mut Graph, v: &dyn Fn(usize) -> Id, i: usize| -> Id {
+    let apply = |g: &mut Graph, inverse: &[Vec<Id>], v: &dyn Fn(usize) -> Id, i: usize| -> Id {
         let terms: Vec<Id> = (0..n).map(|l| g.mul2(inverse[i][l], v(l))).collect();
         g.add(&terms)
     };
-    let unconstrained: Vec<Id> = (0..n).map(|i| apply(g, &|l| forces[l], i)).collect();
+    let unconstrained: Vec<Id> = (0..n)
+        .map(|i| apply(g, &inverse, &|l| forces[l], i))
+        .collect();
     let k = a.len();
     let weighted: Vec<Vec<Id>> = (0..n)
-        .map(|i| (0..k).map(|j| apply(g, &|l| a[j][l], i)).collect())
+        .map(|i| {
+            (0..k)
+                .map(|j| apply(g, &projection_inverse, &|l| rows[j][l], i))
+                .collect()
+        })
         .collect();
     let mut gram = vec![vec![zero; k]; k];
     for i in 0..k {
         for j in i..k {
             let shared: Vec<usize> = (0..n)
-                .filter(|&l| !g.is_zero(a[i][l]) && !g.is_zero(weighted[l][j]))
+                .filter(|&l| !g.is_zero(rows[i][l]) && !g.is_zero(weighted[l][j]))
                 .collect();
             let terms: Vec<Id> = shared
                 .iter()
-                .map(|&l| g.mul2(a[i][l], weighted[l][j]))
+                .map(|&l| g.mul2(rows[i][l], weighted[l][j]))
                 .collect();
             let s = g.add(&terms);
             gram[i][j] = s;
@@ -198,9 +252,11 @@ pub fn gauss(
     }
     let residual: Vec<Id> = (0..k)
         .map(|i| {
-            let aa: Vec<Id> = (0..n).map(|l| g.mul2(a[i][l], unconstrained[l])).collect();
+            let aa: Vec<Id> = (0..n)
+                .map(|l| g.mul2(rows[i][l], unconstrained[l]))
+                .collect();
             let aa = g.add(&aa);
-            g.sub(b[i], aa)
+            g.sub(b_hat[i], aa)
         })
         .collect();
     let structure = Structure::new(
@@ -216,10 +272,14 @@ pub fn gauss(
         let mut f = Vec::with_capacity(k);
         for j in 0..k {
             acc.push(g.mul2(weighted[i][j], lambda[j]));
-            f.push(g.mul2(a[j][i], lambda[j]));
+            f.push(g.mul2(rows[j][i], lambda[j]));
         }
         acceleration.push(g.add(&acc));
-        force.push(g.add(&f));
+        let f = g.add(&f);
+        force.push(match common_mass {
+            Some(m) => g.mul2(m, f),
+            None => f,
+        });
     }
     // The pieces as the derivation prints them and the code computes
     // them: with common factors pulled out (`crate::factor`).
@@ -234,6 +294,9 @@ pub fn gauss(
         known_positive,
         diagonal,
         inverse,
+        scale,
+        common_mass,
+        rows,
         weighted,
         unconstrained,
         gram,
@@ -242,6 +305,29 @@ pub fn gauss(
         force,
         structure,
     }))
+}
+
+/// `1/c` for the numeric content `c` of a row of `A` (the rational
+/// content of the entries' own contents: `2·x1 − 2·x2` has 2, `l·sin p/2`
+/// has 1/2), or 1 where there is none to divide out.
+fn row_scale(g: &Graph, row: &[Id]) -> Num {
+    let entry_content = |e: Id| -> Option<Num> {
+        match g.node(e) {
+            Node::Num(n) => Some(*n),
+            Node::Add(terms, c0) => crate::num::content(terms.iter().map(|t| t.1).chain(Some(*c0))),
+            _ => Some(Num::ONE),
+        }
+    };
+    let contents: Option<Vec<Num>> = row
+        .iter()
+        .filter(|&&e| !g.is_zero(e))
+        .map(|&e| entry_content(e))
+        .collect();
+    contents
+        .and_then(crate::num::content)
+        .map(Num::recip)
+        .filter(|d| matches!(d, Num::Rational(..)))
+        .unwrap_or(Num::ONE)
 }
 
 /// The exact inverse of a constant matrix by Gauss–Jordan elimination in

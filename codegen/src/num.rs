@@ -51,6 +51,29 @@ fn gcd(a: i128, b: i128) -> i128 {
     i128::try_from(a).unwrap_or(0)
 }
 
+/// The content of rational coefficients: the positive rational `c` with
+/// every `xᵢ / c` an integer and those integers coprime (gcd of the
+/// numerators over lcm of the denominators). `None` when a coefficient is
+/// not an exact rational, when there are none, or when a step overflows.
+pub fn content(coefficients: impl IntoIterator<Item = Num>) -> Option<Num> {
+    let (mut numerator, mut denominator) = (0i128, 1i128);
+    let mut any = false;
+    for c in coefficients {
+        let Num::Rational(p, q) = c else { return None };
+        if p == 0 {
+            continue;
+        }
+        any = true;
+        numerator = gcd(numerator, p);
+        let g = gcd(denominator, q);
+        if numerator == 0 || g == 0 {
+            return None;
+        }
+        denominator = (denominator / g).checked_mul(q)?;
+    }
+    any.then(|| Num::ratio(numerator, denominator))
+}
+
 impl Num {
     /// Zero.
     pub const ZERO: Num = Num::Rational(0, 1);

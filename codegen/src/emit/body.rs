@@ -187,7 +187,7 @@ impl<'a> Body<'a> {
                 Prec::Atom,
             ),
             Node::Add(terms, c0) => self.sum(terms, *c0),
-            Node::Mul(factors) => self.product(factors),
+            Node::Mul(factors) => self.product(factors, None),
             Node::Pow([b, e]) => {
                 let (b, e) = (self.wrapped(*b, Prec::Atom), self.expr(*e));
                 (quote! { #b.powf(#e) }, Prec::Atom)
@@ -214,14 +214,78 @@ impl<'a> Body<'a> {
     /// `Σ cᵢ·tᵢ + c₀` as `a + b - 2·c + …`: subtraction for negative
     /// coefficients, no multiplication by ±1.
     fn sum(&self, terms: &[(Id, Num)], c0: Num) -> (TokenStream, Prec) {
+        self.signed_sum(terms, c0, false)
+    }
+
+    /// The sum, or its negation, in as few operations as its form allows:
+    /// a positive part first (no unary minus while one exists); where every
+    /// part is negative, one product's sum factor negated instead
+    /// (`−ż·(g − α)` is `ż·(α − g)`); and a shared rational content
+    /// multiplied once (`2·a − 2·b·c` is `2·(a − b·c)`) where that saves
+    /// multiplications.
+    fn signed_sum(&self, terms: &[(Id, Num)], c0: Num, negate: bool) -> (TokenStream, Prec) {
+        let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(terms, c0)
+            .into_iter()
+            .map(|(t, m, negative)| (t, m, negative != negate, None))
+            .collect();
+        if parts.iter().all(|p| p.2) {
+            let flip = parts
+                .iter()
+                .enumerate()
+                .find_map(|(i, p)| Some((i, self.negatable_factor(p.0?)?)));
+            if let Some((i, factor)) = flip {
+                parts[i].2 = false;
+                parts[i].3 = Some(factor);
+            }
+        }
+        if let Some(first) = parts.iter().position(|p| !p.2) {
+            let positive = parts.remove(first);
+            parts.insert(0, positive);
+        }
+        let multiplied = |parts: &[(Option<Id>, Num, bool, Option<usize>)]| {
+            parts
+                .iter()
+                .filter(|p| p.0.is_some() && !p.1.is_one())
+                .count()
+        };
+        let mut content = None;
+        if parts.len() > 1 {
+            if let Some(c) = crate::num::content(parts.iter().map(|p| p.1)) {
+                let inv = c.recip();
+                let scaled: Vec<_> = parts
+                    .iter()
+                    .map(|&(t, m, n, f)| (t, m * inv, n, f))
+                    .collect();
+                if !c.is_one() && multiplied(&scaled) + 1 < multiplied(&parts) {
+                    parts = scaled;
+                    content = Some(c);
+                }
+            }
+        }
         let mut out = TokenStream::new();
-        for (i, (term, magnitude, negative)) in signed_parts(terms, c0).into_iter().enumerate() {
+        for (i, &(term, magnitude, negative, flipped)) in parts.iter().enumerate() {
             let value = match term {
-                Some(t) if magnitude.is_one() => self.wrapped(t, Prec::Product),
                 Some(t) => {
-                    let (lit, _) = literal(magnitude);
-                    let t = self.wrapped(t, Prec::Unary);
-                    quote! { #lit * #t }
+                    let (tokens, prec) = match (flipped, self.graph.node(t)) {
+                        (Some(which), Node::Mul(factors)) => self.product(factors, Some(which)),
+                        _ => self.operand(t),
+                    };
+                    let at_least = if magnitude.is_one() {
+                        Prec::Product
+                    } else {
+                        Prec::Unary
+                    };
+                    let t = if prec < at_least {
+                        quote! { (#tokens) }
+                    } else {
+                        tokens
+                    };
+                    if magnitude.is_one() {
+                        t
+                    } else {
+                        let (lit, _) = literal(magnitude);
+                        quote! { #lit * #t }
+                    }
                 }
                 None => literal(magnitude).0,
             };
@@ -232,19 +296,49 @@ impl<'a> Body<'a> {
                 (_, true) => quote! { - #value },
             });
         }
-        let single = terms.len() == 1 && c0.is_zero();
-        let prec = match (single, terms.first().map(|t| t.1.is_negative())) {
-            (true, Some(true)) if terms[0].1 == Num::MINUS_ONE => Prec::Unary,
-            (true, _) => Prec::Product,
+        if let Some(c) = content {
+            let (lit, _) = literal(c);
+            return (quote! { #lit * (#out) }, Prec::Product);
+        }
+        let prec = match parts.as_slice() {
+            [(Some(_), m, true, _)] if m.is_one() => Prec::Unary,
+            [(Some(_), _, _, _)] => Prec::Product,
             _ => Prec::Sum,
         };
         (out, prec)
     }
 
+    /// For a product inlined into a sum, the position of a factor that is
+    /// itself an inlined sum with a negative part, so that negating the
+    /// product costs nothing: that sum is written negated.
+    fn negatable_factor(&self, t: Id) -> Option<usize> {
+        if self.temp_names.contains_key(&t) {
+            return None;
+        }
+        let Node::Mul(factors) = self.graph.node(t) else {
+            return None;
+        };
+        factors.iter().position(|&(b, e)| {
+            e.is_one()
+                && !self.temp_names.contains_key(&b)
+                && matches!(self.graph.node(b), Node::Add(terms, c0)
+                    if terms.len() + usize::from(!c0.is_zero()) > 1
+                        && (terms.iter().any(|t| t.1.is_negative()) || c0.is_negative()))
+        })
+    }
+
     /// `Π bᵢ^eᵢ` as `num / den`, small integer powers unrolled.
-    fn product(&self, factors: &[(Id, Num)]) -> (TokenStream, Prec) {
+    fn product(&self, factors: &[(Id, Num)], negated: Option<usize>) -> (TokenStream, Prec) {
         let (mut num, mut den) = (Vec::new(), Vec::new());
-        for &(b, e) in factors {
+        for (i, &(b, e)) in factors.iter().enumerate() {
+            if negated == Some(i) {
+                // A sum factor of power 1 (`negatable_factor`), negated.
+                if let Node::Add(terms, c0) = self.graph.node(b) {
+                    let (tokens, _) = self.signed_sum(terms, *c0, true);
+                    num.push(quote! { (#tokens) });
+                    continue;
+                }
+            }
             if e.is_negative() {
                 den.extend(self.power(b, -e));
             } else {

@@ -206,7 +206,7 @@ impl<'a> FactoredGauss<'a> {
             };
             residual_code.extend(quote! { let #name = #value; });
         }
-        let corrected = (correction && k > 0).then(|| corrected(&residuals));
+        let corrected = (correction && k > 0).then(|| corrected(&residuals, &[]));
         let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
         let factor_gram = gram.factor();
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
@@ -286,7 +286,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let ret = ctx.result(quote!((#vector, #vector)), quote!(DynamicsError));
     let (params, correction) = (ctx.params(Inputs::States), ctx.correction_type());
     // The rank decision, checked after the fact, as for a constant M.
-    let value = checked_motion(ctx, &gauss.gram, &acc, &force);
+    let value = checked_motion(ctx, &gauss.gram, &acc, &force, None);
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
         /// `constraint_force` and `acceleration_corrected` (`b + correction`).

@@ -13,12 +13,13 @@
 //! dense solve of a full `M(q)`, the Moore–Penrose form) is one call into
 //! the runtime.
 
-use super::body::Body;
+use super::body::{literal, Body};
 use super::context::{Context, Inputs};
 use super::ldlt::StructuredLdlt;
 use crate::expr::Id;
 use crate::model::Level;
 use crate::motion::{MassInverse, Symbolic};
+use crate::num::Num;
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -206,17 +207,23 @@ pub(super) fn levels(ctx: &Context) -> Vec<TokenStream> {
 /// `gauss`'s value `Ok((q̈, Aᵀλ))`, with the rank decision of `ldlt` (the
 /// factorization of `S`) checked after the fact (`constrained::rank`):
 /// where fewer rows than the generic rank were kept, the runtime verifies
-/// the dropped ones and recomputes if they are violated.
+/// the dropped ones and recomputes if they are violated. `also` is a
+/// further condition for that check.
 pub(super) fn checked_motion(
     ctx: &Context,
     ldlt: &StructuredLdlt,
     acc: &TokenStream,
     force: &TokenStream,
+    also: Option<TokenStream>,
 ) -> TokenStream {
     if ctx.k == 0 {
         return quote!(::core::result::Result::Ok((#acc, #force)));
     }
     let suspect = ldlt.suspect(ctx.generic_rank);
+    let suspect = match also {
+        Some(also) => quote!((#suspect) || #also),
+        None => suspect,
+    };
     let checked = ctx.private(quote!(checked));
     // The force after the check, so that `acceleration` alone never
     // computes it.
@@ -233,17 +240,25 @@ pub(super) fn checked_motion(
     }}
 }
 
-/// `r + db` where `gauss` was given a correction `db` (Baumgarte), over the
-/// locals holding `r`.
-pub(super) fn corrected(residuals: &[syn::Ident]) -> TokenStream {
+/// `r + D db` where `gauss` was given a correction `db` (Baumgarte), over
+/// the locals holding `r`; `scale` is the row scaling `D` of the system
+/// solved (`crate::motion::Symbolic`), empty for none.
+pub(super) fn corrected(residuals: &[syn::Ident], scale: &[Num]) -> TokenStream {
     let d: Vec<_> = (0..residuals.len())
         .map(|i| Context::local("db", i))
         .collect();
+    let scaled = d.iter().enumerate().map(|(i, db)| match scale.get(i) {
+        Some(&s) if !s.is_one() => {
+            let (s, _) = literal(s);
+            quote!(#s * #db)
+        }
+        _ => quote!(#db),
+    });
     quote! {
         let (#(#residuals,)*) = match correction {
             ::core::option::Option::Some(__db) => {
                 let [[#(#d),*]] = __db.data.0;
-                (#(#residuals + #d,)*)
+                (#(#residuals + #scaled,)*)
             }
             ::core::option::Option::None => (#(#residuals,)*),
         };
@@ -312,7 +327,7 @@ impl<'a> SymbolicGauss<'a> {
                 }
             }
         });
-        let corrected = (correction && k > 0).then(|| corrected(&residuals));
+        let corrected = (correction && k > 0).then(|| corrected(&residuals, &d.scale));
         let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
         let factor = ldlt.factor();
         let solve = ldlt.solve(&residuals, "y", &multipliers);
@@ -347,7 +362,21 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
     let vector = ctx.vector(ctx.n);
-    let motion = checked_motion(ctx, &ldlt, &acc, &force);
+    // A row scaled down (`D`) can be finite where the model's own `r` (and
+    // `b`) overflows: then the runtime answers from A and b (`NonFinite`),
+    // so that an `Ok` always satisfies the `A q̈ = b` it reports.
+    let overflows: Vec<TokenStream> = d
+        .scale
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.is_one())
+        .map(|(i, s)| {
+            let (r, (unscale, _)) = (Context::local("r", i), literal(s.recip()));
+            quote!(!(#r * #unscale).is_finite())
+        })
+        .collect();
+    let also = (!overflows.is_empty()).then(|| quote!(#(#overflows)||*));
+    let motion = checked_motion(ctx, &ldlt, &acc, &force, also);
     // Fallible even where M is known positive definite: the rank check can
     // find the constraints unsatisfiable (the total methods then answer by
     // least squares).

@@ -6,12 +6,13 @@
 //! `None` where the solve does not answer, as `acceleration` would consult
 //! the runtime: `M` not positive there, or a suspect rank decision.
 
-use super::body::Body;
+use super::body::{literal, Body};
 use super::context::{Context, Inputs};
 use super::factored::FactoredGauss;
 use super::ldlt::StructuredLdlt;
 use crate::expr::Id;
 use crate::motion::{Factored, MassInverse, Symbolic};
+use crate::num::Num;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
@@ -48,6 +49,7 @@ pub(super) fn method(ctx: &Context) -> TokenStream {
 fn finish(
     ctx: &Context,
     ldlt: &StructuredLdlt,
+    scale: &[Num],
     w: impl Fn(usize, usize) -> Option<TokenStream>,
 ) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
@@ -71,11 +73,21 @@ fn finish(
         }
     }));
     let kept = (0..k).map(|j| ldlt.kept(j));
+    // `W S⁻¹ r = W̃ S̃⁻¹ D r` for the scaled system (`crate::motion::Symbolic`).
+    let scaled = rhs
+        .iter()
+        .zip(scale)
+        .filter(|(_, s)| !s.is_one())
+        .map(|(r, &s)| {
+            let (s, _) = literal(s);
+            quote! { let #r = #s * #r; }
+        });
     quote! {
         if #suspect {
             return ::core::option::Option::None;
         }
         let [[#(#rhs),*]] = __rhs.data.0;
+        #(#scaled)*
         #solve
         ::core::option::Option::Some((#step, [#(#kept),*]))
     }
@@ -122,7 +134,7 @@ fn symbolic(ctx: &Context, d: &Symbolic) -> TokenStream {
         }
     });
     let factor = ldlt.factor();
-    let finish = finish(ctx, &ldlt, |i, j| {
+    let finish = finish(ctx, &ldlt, &d.scale, |i, j| {
         // An entry of W may be a sum (x₁ − x₂ over a mass): `factor`
         // parenthesises it.
         let e = d.weighted[i][j];
@@ -141,7 +153,7 @@ fn symbolic(ctx: &Context, d: &Symbolic) -> TokenStream {
 fn factored(ctx: &Context, f: &Factored) -> TokenStream {
     let gauss = FactoredGauss::constraint_space(ctx, f);
     let to_gram = &gauss.to_multipliers; // stops at S's factor in this scope
-    let finish = finish(ctx, &gauss.gram, |i, j| {
+    let finish = finish(ctx, &gauss.gram, &[], |i, j| {
         f.weighted[i][j].then(|| {
             let w = Context::local2("w", i, j);
             quote!(#w)

@@ -20,6 +20,7 @@
 //! directional form of the derivatives (`crate::tangent`), which has no
 //! column structure.
 
+use super::body::literal;
 use super::context::Context;
 use super::motion::{fallible, SymbolicGauss};
 use super::tangent::{index, TangentTerms};
@@ -39,7 +40,9 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
     }
     let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
-    let a = &ctx.eq.a;
+    // The scaled rows `Â = D A` of the system `acceleration` solves; the
+    // right-hand sides below are scaled by `D` to match.
+    let a = &d.rows;
     let nonzero = |e: Id| !g.is_zero(e);
     // The constant pieces of every column's solve: A, W = M⁻¹Aᵀ and M⁻¹,
     // structural nonzeros only, named once.
@@ -47,6 +50,7 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
     for entries in [a, &d.weighted, &d.inverse] {
         extra.extend(entries.iter().flatten().copied().filter(|&e| nonzero(e)));
     }
+    extra.extend(d.common_mass);
     let gauss = SymbolicGauss::new(ctx, d, &extra, false);
     let body = &gauss.body;
     let bind = |role: &str, entries: &[Vec<Id>]| -> TokenStream {
@@ -120,7 +124,15 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
                     quote!(#a * #u)
                 })
                 .collect();
-            let value = match (&b[j], products.is_empty()) {
+            let b = b[j].as_ref().map(|b| {
+                if d.scale[j].is_one() {
+                    b.clone()
+                } else {
+                    let (s, _) = literal(d.scale[j]);
+                    quote!(#s * (#b))
+                }
+            });
+            let value = match (&b, products.is_empty()) {
                 (Some(b), true) => quote!(#b),
                 (Some(b), false) => quote!(#b - (#(#products)+*)),
                 (None, false) => quote!(-(#(#products)+*)),
@@ -148,6 +160,30 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
         quote!(__jac)
     };
     let to_multipliers = &gauss.to_multipliers;
+    // The tangent terms hold the model's own multipliers λ = μ D λ̃, where
+    // `acceleration` solved the scaled system for λ̃ (`crate::motion::Symbolic`).
+    let mass = d.common_mass.map(|m| gauss.body.factor(m));
+    let unscaled: Vec<TokenStream> = d
+        .scale
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.is_one() || mass.is_some())
+        .map(|(j, s)| {
+            let lam = Context::local("lam", j);
+            let value = match (s.is_one(), &mass) {
+                (true, Some(m)) => quote!(#m * #lam),
+                (false, Some(m)) => {
+                    let (s, _) = literal(*s);
+                    quote!(#s * #m * #lam)
+                }
+                (_, None) => {
+                    let (s, _) = literal(*s);
+                    quote!(#s * #lam)
+                }
+            };
+            quote! { let #lam = #value; }
+        })
+        .collect();
     if k == 0 {
         return quote! {
             #to_multipliers
@@ -206,6 +242,7 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
         } else {
             #(#constants)*
             #(#qdd)*
+            #(#unscaled)*
             let mut __rs = [[T::zero(); #k_l]; #d_l];
             {
                 #tangent_preamble

@@ -1,0 +1,367 @@
+//! The arithmetic a generated `acceleration` performs, counted on the
+//! expanded code itself: the table of BENCHMARKS.md compares it with
+//! sympy's `cse` + `count_ops` on the same `q̈` (tests/sympy).
+//!
+//! The count follows sympy's `count_ops` rules: every `+`, `-`, `*`, `/`
+//! and unary minus is one operation, every elementary function (`sin`,
+//! `sqrt`, `powi`, …) one, a fused `mul_add` two; literals, loads, tuple
+//! and vector construction, comparisons and the finiteness checks count
+//! nothing. Only what `q̈` depends on is counted: the `let` bindings of the
+//! private solver `gauss` are sliced backwards from the acceleration it
+//! returns (`Aᵀ λ`, the constraint force, is left out), and of a
+//! `match correction` only the `None` arm, the plain `acceleration`. A
+//! solver that calls into the runtime for its answer (a dense `M(q)`) is
+//! not straight-line and has no count.
+
+use syn::{Expr, Pat, Stmt};
+
+/// Operations by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OpCount {
+    /// Additions.
+    pub add: usize,
+    /// Subtractions.
+    pub sub: usize,
+    /// Multiplications.
+    pub mul: usize,
+    /// Divisions.
+    pub div: usize,
+    /// Negations.
+    pub neg: usize,
+    /// Elementary-function calls (`sin`, `cos`, `sqrt`, `powi`, …).
+    pub functions: usize,
+}
+
+impl OpCount {
+    /// All operations.
+    pub fn total(&self) -> usize {
+        self.add + self.sub + self.mul + self.div + self.neg + self.functions
+    }
+
+    fn plus(&mut self, other: &OpCount) {
+        self.add += other.add;
+        self.sub += other.sub;
+        self.mul += other.mul;
+        self.div += other.div;
+        self.neg += other.neg;
+        self.functions += other.functions;
+    }
+}
+
+/// Method calls that are one elementary function each.
+const FUNCTIONS: &[&str] = &[
+    "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "exp", "ln",
+    "log", "sqrt", "cbrt", "powi", "powf", "abs", "recip", "hypot", "floor", "ceil", "signum",
+    "max", "min", "step",
+];
+
+/// Method and function calls that compute nothing (conversions, checks,
+/// constructors of the returned vectors).
+const FREE: &[&str] = &[
+    "is_finite",
+    "zero",
+    "one",
+    "lit",
+    "safe_minimum",
+    "rank_tolerance",
+    "from_array_storage",
+    "ArrayStorage",
+    "clone",
+];
+
+/// The operations of the `acceleration` of one expanded system: `None` when
+/// the expansion has no straight-line solver `gauss` (or uses something the
+/// counter does not know, which it refuses rather than under-counts).
+pub fn acceleration(expanded: &syn::File) -> Option<OpCount> {
+    let gauss = find_gauss(expanded)?;
+    let mut bindings = Vec::new();
+    let mut result = None;
+    collect(&gauss.block.stmts, &mut bindings, &mut result)?;
+    let (root, at) = result?;
+    let mut ops = OpCount::default();
+    let mut uses = Vec::new();
+    walk(root, &mut ops, &mut uses)?;
+    let mut needed = vec![false; bindings.len()];
+    let mut pending: Vec<(String, usize)> = uses.into_iter().map(|u| (u, at)).collect();
+    while let Some((name, before)) = pending.pop() {
+        // The latest binding of `name` before the use (shadowing resolves
+        // as Rust does); names with no binding are inputs.
+        let found = bindings[..before]
+            .iter()
+            .rposition(|b: &Binding| b.names.contains(&name));
+        if let Some(i) = found {
+            if !needed[i] {
+                needed[i] = true;
+                ops.plus(&bindings[i].ops);
+                pending.extend(bindings[i].uses.iter().map(|u| (u.clone(), i)));
+            }
+        }
+    }
+    Some(ops)
+}
+
+/// One `let`: the names it binds, the operations of its initializer and
+/// the names that initializer reads.
+struct Binding {
+    names: Vec<String>,
+    ops: OpCount,
+    uses: Vec<String>,
+}
+
+/// The inherent `fn gauss` with the solver's body (the trait's `gauss`
+/// only forwards to it).
+fn find_gauss(file: &syn::File) -> Option<&syn::ImplItemFn> {
+    file.items
+        .iter()
+        .filter_map(|item| match item {
+            syn::Item::Impl(i) if i.trait_.is_none() => Some(i),
+            _ => None,
+        })
+        .flat_map(|i| i.items.iter())
+        .find_map(|item| match item {
+            syn::ImplItem::Fn(f) if f.sig.ident == "gauss" => Some(f),
+            _ => None,
+        })
+}
+
+/// Collects the bindings of `stmts` in order (blocks are entered, early
+/// returns and checks skipped) and the acceleration: the first element of
+/// the returned `Ok((q̈, Fᶜ))`, with the number of bindings before it.
+fn collect<'a>(
+    stmts: &'a [Stmt],
+    bindings: &mut Vec<Binding>,
+    result: &mut Option<(&'a Expr, usize)>,
+) -> Option<()> {
+    for stmt in stmts {
+        match stmt {
+            Stmt::Local(local) => {
+                let mut names = Vec::new();
+                pattern_names(&local.pat, &mut names)?;
+                let mut ops = OpCount::default();
+                let mut uses = Vec::new();
+                if let Some(init) = &local.init {
+                    walk(&init.expr, &mut ops, &mut uses)?;
+                }
+                bindings.push(Binding { names, ops, uses });
+            }
+            Stmt::Expr(Expr::Block(block), _) => collect(&block.block.stmts, bindings, result)?,
+            Stmt::Expr(expr, _) => {
+                if let Some(acc) = returned_acceleration(expr) {
+                    *result = Some((acc, bindings.len()));
+                }
+            }
+            Stmt::Item(_) | Stmt::Macro(_) => return None,
+        }
+    }
+    Some(())
+}
+
+/// `Ok((q̈, Fᶜ))` → `q̈`.
+fn returned_acceleration(expr: &Expr) -> Option<&Expr> {
+    let Expr::Call(call) = expr else { return None };
+    let Expr::Path(path) = &*call.func else {
+        return None;
+    };
+    if path.path.segments.last()?.ident != "Ok" {
+        return None;
+    }
+    match call.args.first()? {
+        Expr::Tuple(t) => t.elems.first(),
+        _ => None,
+    }
+}
+
+fn pattern_names(pat: &Pat, names: &mut Vec<String>) -> Option<()> {
+    match pat {
+        Pat::Ident(p) => names.push(p.ident.to_string()),
+        Pat::Tuple(t) => {
+            for p in &t.elems {
+                pattern_names(p, names)?;
+            }
+        }
+        Pat::Slice(s) => {
+            for p in &s.elems {
+                pattern_names(p, names)?;
+            }
+        }
+        Pat::Wild(_) => {}
+        Pat::Type(t) => pattern_names(&t.pat, names)?,
+        _ => return None,
+    }
+    Some(())
+}
+
+/// Adds the operations of `expr` to `ops` and the names it reads to `uses`.
+fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
+    use syn::{BinOp, UnOp};
+    match expr {
+        Expr::Binary(b) => {
+            match b.op {
+                BinOp::Add(_) | BinOp::AddAssign(_) => ops.add += 1,
+                BinOp::Sub(_) | BinOp::SubAssign(_) => ops.sub += 1,
+                BinOp::Mul(_) | BinOp::MulAssign(_) => ops.mul += 1,
+                BinOp::Div(_) | BinOp::DivAssign(_) => ops.div += 1,
+                // Comparisons and the logic of checks compute no value of q̈.
+                _ => {}
+            }
+            walk(&b.left, ops, uses)?;
+            walk(&b.right, ops, uses)?;
+        }
+        Expr::Unary(u) => {
+            if matches!(u.op, UnOp::Neg(_)) {
+                ops.neg += 1;
+            }
+            walk(&u.expr, ops, uses)?;
+        }
+        Expr::MethodCall(m) => {
+            let name = m.method.to_string();
+            if name == "mul_add" {
+                ops.mul += 1;
+                ops.add += 1;
+            } else if name == "sin_cos" {
+                ops.functions += 2;
+            } else if FUNCTIONS.contains(&name.as_str()) {
+                ops.functions += 1;
+            } else if !FREE.contains(&name.as_str()) {
+                return None;
+            }
+            walk(&m.receiver, ops, uses)?;
+            for a in &m.args {
+                walk(a, ops, uses)?;
+            }
+        }
+        Expr::Call(c) => {
+            let Expr::Path(path) = &*c.func else {
+                return None;
+            };
+            let name = path.path.segments.last()?.ident.to_string();
+            if FUNCTIONS.contains(&name.as_str()) {
+                // The runtime's scalar helpers (`signum`, `step`).
+                ops.functions += 1;
+            } else if !FREE.contains(&name.as_str()) {
+                // A call into the runtime: not straight-line.
+                return None;
+            }
+            // `lit(2.5)` is a constant: its literal is not read.
+            if name != "lit" {
+                for a in &c.args {
+                    walk(a, ops, uses)?;
+                }
+            }
+        }
+        Expr::Path(p) => {
+            if let Some(ident) = p.path.get_ident() {
+                uses.push(ident.to_string());
+            }
+        }
+        Expr::Match(m) => {
+            let correction = matches!(&*m.expr, Expr::Path(p) if p.path.is_ident("correction"));
+            for arm in &m.arms {
+                if correction && !pattern_is_none(&arm.pat) {
+                    continue;
+                }
+                walk(&arm.body, ops, uses)?;
+            }
+        }
+        Expr::If(i) => {
+            walk(&i.cond, ops, uses)?;
+            block(&i.then_branch.stmts, ops, uses)?;
+            if let Some((_, e)) = &i.else_branch {
+                walk(e, ops, uses)?;
+            }
+        }
+        Expr::Block(b) => block(&b.block.stmts, ops, uses)?,
+        Expr::Paren(p) => walk(&p.expr, ops, uses)?,
+        Expr::Group(g) => walk(&g.expr, ops, uses)?,
+        Expr::Tuple(t) => {
+            for e in &t.elems {
+                walk(e, ops, uses)?;
+            }
+        }
+        Expr::Array(a) => {
+            for e in &a.elems {
+                walk(e, ops, uses)?;
+            }
+        }
+        Expr::Lit(_) => {}
+        Expr::Field(f) => walk(&f.base, ops, uses)?,
+        Expr::Reference(r) => walk(&r.expr, ops, uses)?,
+        _ => return None,
+    }
+    Some(())
+}
+
+/// The expression statements of a block inside an initializer.
+fn block(stmts: &[Stmt], ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
+    for stmt in stmts {
+        match stmt {
+            Stmt::Expr(e, _) => walk(e, ops, uses)?,
+            _ => return None,
+        }
+    }
+    Some(())
+}
+
+fn pattern_is_none(pat: &Pat) -> bool {
+    match pat {
+        Pat::Path(p) => p.path.segments.last().is_some_and(|s| s.ident == "None"),
+        Pat::Ident(p) => p.ident == "None",
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn count(body: &str) -> Option<OpCount> {
+        let file: syn::File = syn::parse_str(&format!(
+            "impl<T> S<T> {{ fn gauss(&self, q: Q, qd: Q, t: T, correction: C) -> R {{ {body} }} }}"
+        ))
+        .expect("test source parses");
+        acceleration(&file)
+    }
+
+    #[test]
+    fn counts_only_what_the_acceleration_reads() {
+        let ops = count(
+            "let [[x, y]] = q.data.0;
+             let __t0 = x * y + t.sin();
+             let __unused = x / y / y;
+             let (__r0,) = match correction {
+                 ::core::option::Option::Some(__db) => (__r0 + __db,),
+                 ::core::option::Option::None => (__t0,),
+             };
+             let __f = -__r0 * x;
+             let __t0 = __t0 - __f;
+             {
+                 let __acc = V::from_array_storage(ArrayStorage([[__t0, __f * __f]]));
+                 if !(__t0.is_finite()) { return Err(E); }
+                 Ok((__acc, x * x * x))
+             }",
+        )
+        .expect("straight-line");
+        // x·y, + sin t, one sin; −, ·; the second __t0's −; __f·__f.
+        assert_eq!(
+            ops,
+            OpCount {
+                add: 1,
+                sub: 1,
+                mul: 3,
+                div: 0,
+                neg: 1,
+                functions: 1
+            }
+        );
+        assert_eq!(ops.total(), 7);
+    }
+
+    #[test]
+    fn a_runtime_solve_has_no_count() {
+        assert_eq!(
+            count("let m = self.m; Ok((::constrained::__private::gauss_dense(m), m))"),
+            None
+        );
+        assert_eq!(count("let m = self.m;"), None, "no returned acceleration");
+    }
+}

@@ -1,0 +1,84 @@
+"""Operation counts: the generated `acceleration` (counted on its expansion
+by `op_count::acceleration`, exported by codegen's `op_counts` example)
+against sympy's common-subexpression elimination of the same q̈, derived
+here from the model's M, F and its constraints: a = M⁻¹F,
+q̈ = a + M⁻¹Aᵀ (A M⁻¹ Aᵀ)⁻¹ (b − A a), by sympy's LU solves, then `cse`
+(with and without its `basic` optimizations, the better of the two) and
+`count_ops`. The generated code must not need more. Writes the table's
+numbers to target/benchmarks/op_counts.json for BENCHMARKS.md."""
+
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from conftest import ROOT, SYSTEMS
+from derivation import derive_constraint_equations, numeric, parse, symbols_for
+
+GENERATED = Path(os.environ.get("CONSTRAINED_OP_COUNTS_JSON", ROOT / "target" / "sympy" / "op_counts.json"))
+TABLE = ROOT / "target" / "benchmarks" / "op_counts.json"
+COUNTS = json.loads(GENERATED.read_text()) if GENERATED.exists() else {}
+COUNTED = [s for s in SYSTEMS if COUNTS.get(s["name"])]
+RESULTS = {}
+
+
+def independent_rows(a_sym, s, state):
+    """The rows of A that stay independent at a generic state: the redundant
+    constraints' rows are dropped, as the generated code drops them at
+    compile time."""
+    a = numeric(a_sym, s, state)
+    kept = []
+    for i in range(a.shape[0]):
+        trial = a[kept + [i], :]
+        if np.linalg.matrix_rank(trial, tol=1e-9 * max(1.0, np.abs(a).max())) == len(kept) + 1:
+            kept.append(i)
+    return kept
+
+
+def sympy_acceleration(system):
+    s = symbols_for(system)
+    m = sp.Matrix([[parse(e, s) for e in row] for row in system["mass"]])
+    f = sp.Matrix([parse(e, s) for e in system["forces"]])
+    if m.is_diagonal():
+        solve = lambda x: sp.Matrix(x.rows, x.cols, lambda i, j: x[i, j] / m[i, i])  # noqa: E731
+    else:
+        solve = m.LUsolve
+    acc = solve(f)
+    if not system["constraints"]:
+        return list(acc)
+    a_sym, b_sym, _ = derive_constraint_equations(system)
+    rows = independent_rows(a_sym, s, system["states"][0])
+    a_mat = a_sym.extract(rows, list(range(a_sym.cols)))
+    b_vec = b_sym.extract(rows, [0])
+    minv_at = solve(a_mat.T)
+    lam = (a_mat * minv_at).LUsolve(b_vec - a_mat * acc)
+    return list(acc + minv_at * lam)
+
+
+def cse_ops(exprs, **options):
+    replacements, reduced = sp.cse(exprs, **options)
+    return sum(sp.count_ops(e) for _, e in replacements) + sum(sp.count_ops(e) for e in reduced)
+
+
+@pytest.mark.skipif(not COUNTS, reason=f"{GENERATED} is missing: scripts/sympy.sh writes it")
+@pytest.mark.parametrize("system", COUNTED, ids=[s["name"] for s in COUNTED])
+def test_generated_needs_no_more_operations_than_sympy_cse(system):
+    start = time.perf_counter()
+    qdd = sympy_acceleration(system)
+    plain = cse_ops(qdd)
+    basic = cse_ops(qdd, optimizations="basic")
+    elapsed = time.perf_counter() - start
+    ours = COUNTS[system["name"]]
+    RESULTS[system["name"]] = {"generated": ours, "sympy_cse": plain, "sympy_cse_basic": basic, "sympy_seconds": elapsed}
+    best = min(plain, basic)
+    assert ours["total"] <= best, f"generated {ours['total']} operations, sympy's cse {best}"
+
+
+def teardown_module(module):
+    if RESULTS:
+        TABLE.parent.mkdir(parents=True, exist_ok=True)
+        TABLE.write_text(json.dumps(RESULTS, indent=1, sort_keys=True))
