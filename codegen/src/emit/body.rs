@@ -33,6 +33,12 @@ pub(super) struct Body<'a> {
     /// Nodes whose value needs the multipliers λ (computed mid-function) or
     /// the seeds `Sym::Seed` (set per column of a Jacobian).
     needs_multipliers: Vec<bool>,
+    /// The temporaries that are products, by position in the schedule: a
+    /// product written later reuses one whose factors it contains.
+    temp_products: Vec<(usize, Id)>,
+    /// While the definition of temporary `i` is written, `i`: only those
+    /// before it may be reused. `usize::MAX` elsewhere.
+    defining: std::cell::Cell<usize>,
 }
 
 impl<'a> Body<'a> {
@@ -60,8 +66,17 @@ impl<'a> Body<'a> {
                 _ => g.children(id).any(|c| needs_multipliers[c.index()]),
             };
         }
+        let temp_products = schedule
+            .temporaries
+            .iter()
+            .enumerate()
+            .filter(|(_, &id)| matches!(g.node(id), Node::Mul(f) if f.len() > 1))
+            .map(|(i, &id)| (i, id))
+            .collect();
         Body {
             needs_multipliers,
+            temp_products,
+            defining: std::cell::Cell::new(usize::MAX),
             graph: g,
             schedule,
             coordinates: eq.system.coordinates.clone(),
@@ -124,7 +139,10 @@ impl<'a> Body<'a> {
             .filter(|id| self.needs_multipliers[id.index()] == need_multipliers)
             .map(|&id| {
                 let name = &self.temp_names[&id];
+                let position = self.schedule.temporaries.iter().position(|&t| t == id);
+                self.defining.set(position.unwrap_or(usize::MAX));
                 let value = self.node(id).0;
+                self.defining.set(usize::MAX);
                 quote! { let #name = #value; }
             });
         quote! { #(#temps)* }
@@ -308,6 +326,43 @@ impl<'a> Body<'a> {
         (out, prec)
     }
 
+    /// The largest earlier temporary product whose factors are a proper
+    /// subset of `factors` (exponents equal), with the positions it covers.
+    fn reusable_product(
+        &self,
+        factors: &[(Id, Num)],
+        negated: Option<usize>,
+    ) -> Option<(Id, Vec<usize>)> {
+        let limit = self.defining.get();
+        let mut best: Option<(Id, Vec<usize>)> = None;
+        for &(position, p) in &self.temp_products {
+            if position >= limit {
+                break;
+            }
+            let Node::Mul(inner) = self.graph.node(p) else {
+                continue;
+            };
+            if inner.len() >= factors.len()
+                || best.as_ref().is_some_and(|(_, c)| c.len() >= inner.len())
+            {
+                continue;
+            }
+            let covered: Option<Vec<usize>> = inner
+                .iter()
+                .map(|f| {
+                    factors
+                        .iter()
+                        .position(|g| g == f)
+                        .filter(|&i| negated != Some(i))
+                })
+                .collect();
+            if let Some(covered) = covered {
+                best = Some((p, covered));
+            }
+        }
+        best
+    }
+
     /// For a product inlined into a sum, the position of a factor that is
     /// itself an inlined sum with a negative part, so that negating the
     /// product costs nothing: that sum is written negated.
@@ -330,7 +385,20 @@ impl<'a> Body<'a> {
     /// `Π bᵢ^eᵢ` as `num / den`, small integer powers unrolled.
     fn product(&self, factors: &[(Id, Num)], negated: Option<usize>) -> (TokenStream, Prec) {
         let (mut num, mut den) = (Vec::new(), Vec::new());
+        // A temporary product whose factors are among these (`t·λ` inside
+        // `t·λ/m`) is reused rather than recomputed.
+        let reused = self.reusable_product(factors, negated);
+        if let Some((p, _)) = &reused {
+            let name = &self.temp_names[&p];
+            num.push(quote!(#name));
+        }
         for (i, &(b, e)) in factors.iter().enumerate() {
+            if reused
+                .as_ref()
+                .is_some_and(|(_, covered)| covered.contains(&i))
+            {
+                continue;
+            }
             if negated == Some(i) {
                 // A sum factor of power 1 (`negatable_factor`), negated.
                 if let Node::Add(terms, c0) = self.graph.node(b) {

@@ -139,6 +139,7 @@ impl<'a> StructuredLdlt<'a> {
                 Context::local(r.inverse, j),
                 self.at(j, j),
             );
+            let updated = (0..j).any(|c| l[j][c]);
             let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
                 let (ujc, invc) = (
                     Context::local2(r.update, j, c),
@@ -148,6 +149,11 @@ impl<'a> StructuredLdlt<'a> {
             });
             out.extend(quote! { let #dj = #xjj #(#updates)*; });
             out.extend(match &self.pivots {
+                // A pivot nothing updated is its diagonal entry, and
+                // `d > tol·d` is `d > 0` (also false for NaN and ∞, as before).
+                Pivots::Dropped if !updated => quote! {
+                    let #inv = if #dj > T::zero() && #dj.is_finite() { T::one() / #dj } else { T::zero() };
+                },
                 Pivots::Dropped => quote! {
                     let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
                 },

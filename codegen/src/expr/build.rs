@@ -177,12 +177,16 @@ impl Graph {
                         None => factors.push((id, e)),
                     }
                 }
-                // A sum as a factor is made primitive (leading coefficient 1)
-                // and its content joins the coefficient, so that g·(2y − 2z)
-                // and g·(−2y + 2z) become ±2·g·(y − z) and collect. Exact
-                // rational content under an integer power only.
+                // A sum as a factor is made primitive (coprime integer
+                // coefficients, the leading one positive) and its content
+                // joins the coefficient, so that g·(2y − 2z) and
+                // g·(−2y + 2z) become ±2·g·(y − z) and collect, while
+                // 4·a + b stays as it is. Exact rational content under an
+                // integer power only.
                 Node::Add(terms, c0) if integer_power => {
-                    let content = terms[0].1;
+                    let content = crate::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
+                        .map(|c| if terms[0].1.is_negative() { -c } else { c });
+                    let content = content.unwrap_or(Num::ONE);
                     if content.is_one() || !matches!(content, Num::Rational(..)) {
                         factors.push((id, e));
                     } else {
