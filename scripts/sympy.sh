@@ -26,6 +26,9 @@ fi
 
 export CONSTRAINED_SYSTEMS_JSON="$PWD/target/sympy/systems.json"
 cargo run --quiet --example sympy_export -- "$CONSTRAINED_SYSTEMS_JSON"
+# The generated accelerations' operation counts (tests/sympy/test_op_counts.py).
+export CONSTRAINED_OP_COUNTS_JSON="$PWD/target/sympy/op_counts.json"
+cargo run --quiet -p constrained-codegen --example op_counts -- "$CONSTRAINED_OP_COUNTS_JSON" > /dev/null
 if [ "${1:-}" = "--mutate" ]; then
     echo "== with a deliberately wrong derivative (b₁ of every system negated): this must fail"
     if CONSTRAINED_SYMPY_MUTATE=1 "$venv/bin/python" -m pytest tests/sympy -q -p no:cacheprovider; then
