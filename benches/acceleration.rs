@@ -10,8 +10,9 @@
 mod steps;
 
 use constrained::models::{
-    four_bar_state, Appell, ChaplyginSleigh, DoublePendulum, ParallelogramFourBar,
-    ParallelogramFourBarAngles, RedundantDoublePendulum, RollingDisk, TwoLinkArmOnLine,
+    four_bar_state, Appell, AppellTimeDependent, ChaplyginSleigh, DoublePendulum,
+    ParallelogramFourBar, ParallelogramFourBarAngles, RedundantDoublePendulum, RollingDisk,
+    TwoLinkArmOnLine,
 };
 use constrained::nalgebra::Vector3;
 use constrained_chains::*;
@@ -127,6 +128,103 @@ fn appell(c: &mut Criterion) {
         b.iter(|| {
             for (q, qd, t) in &dynamic {
                 black_box(appell_dynamic(black_box(q), black_box(qd), black_box(*t)));
+            }
+        })
+    });
+    group.finish();
+}
+
+/// The generated function for `h = x·y + sin t` behind the same call
+/// boundary as the hand-written one.
+#[inline(never)]
+fn appell_xy_generated(
+    system: &AppellTimeDependent<f64>,
+    q: &Vector3<f64>,
+    qd: &Vector3<f64>,
+    t: f64,
+) -> Vector3<f64> {
+    system.acceleration(q, qd, t)
+}
+
+/// Eq. 32 by hand for `h = x·y + sin t` (`h_x = y`, `h_y = x`, `h_z = 0`,
+/// `h_t = cos t`), with `g` and `α` arguments, as the generated code reads
+/// them from its struct: neither side can fold them.
+#[inline(never)]
+fn appell_xy_by_hand(
+    g: f64,
+    alpha: f64,
+    q: &Vector3<f64>,
+    qd: &Vector3<f64>,
+    t: f64,
+) -> Vector3<f64> {
+    let (x, y) = (q.x, q.y);
+    let (xd, yd, zd) = (qd.x, qd.y, qd.z);
+    let s = xd * xd + yd * yd + zd * zd;
+    let numerator = alpha * (y * xd + x * yd + t.cos()) - zd * g;
+    let factor = if s > 0.0 { numerator / s } else { 0.0 };
+    Vector3::new(factor * xd, factor * yd, -g - factor * zd)
+}
+
+/// 1024 varied states (SplitMix64 from a fixed seed): positions, velocities
+/// and times spread so that the branch predictor and `cos` see no pattern.
+fn appell_xy_states() -> Vec<(Vector3<f64>, Vector3<f64>, f64)> {
+    let mut seed = 0x5eed_a99e_11u64;
+    let mut uniform = |lo: f64, hi: f64| {
+        seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = seed;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    (0..APPELL_XY_STATES)
+        .map(|_| {
+            let q = Vector3::new(uniform(-2.0, 2.0), uniform(-2.0, 2.0), uniform(-2.0, 2.0));
+            let qd = Vector3::new(uniform(-3.0, 3.0), uniform(-3.0, 3.0), uniform(-3.0, 3.0));
+            (q, qd, uniform(0.0, 10.0))
+        })
+        .collect()
+}
+
+/// States per iteration of the `h = x·y + sin t` group.
+const APPELL_XY_STATES: usize = 1024;
+
+/// Appell's particle with `h = x·y + sin t` (issue 15's target): the
+/// generated `acceleration` against eq. 32 by hand over 1024 varied states,
+/// parameters behind `black_box` on both sides.
+fn appell_xy(c: &mut Criterion) {
+    let (g, alpha) = (black_box(G), black_box(ALPHA));
+    let system = AppellTimeDependent::<f64>::new(g, alpha);
+    let states = appell_xy_states();
+    for (q, qd, t) in &states {
+        let generated = system.acceleration(q, qd, *t);
+        let by_hand = appell_xy_by_hand(g, alpha, q, qd, *t);
+        assert!((generated - by_hand).norm() <= 1e-12 * (1.0 + generated.norm()));
+    }
+    let mut group = c.benchmark_group("appell_xy_sin_t_1024_states");
+    group.bench_function("generated", |b| {
+        let system = black_box(&system);
+        b.iter(|| {
+            for (q, qd, t) in &states {
+                black_box(appell_xy_generated(
+                    system,
+                    black_box(q),
+                    black_box(qd),
+                    black_box(*t),
+                ));
+            }
+        })
+    });
+    group.bench_function("hand_written_eq32", |b| {
+        b.iter(|| {
+            for (q, qd, t) in &states {
+                black_box(appell_xy_by_hand(
+                    black_box(g),
+                    black_box(alpha),
+                    black_box(q),
+                    black_box(qd),
+                    black_box(*t),
+                ));
             }
         })
     });
@@ -305,5 +403,5 @@ fn dense_kkt<const N: usize, const K: usize>(
     kkt.lu().solve(&rhs).map(|x| x.rows(0, N).into_owned())
 }
 
-criterion_group!(benches, appell, chain, models);
+criterion_group!(benches, appell, appell_xy, chain, models);
 criterion_main!(benches);
