@@ -40,6 +40,9 @@ echo "== sympy lambdify"
 tests/sympy/.venv/bin/python benches/lambdify.py
 echo "== sympy LagrangesMethod on the N-link pendulum in joint angles (up to 120 s per N)"
 tests/sympy/.venv/bin/python benches/lagrange_sympy.py 120
+echo "== factoring: rules against an e-graph (scripts/egg_compare.sh)"
+mkdir -p target/benchmarks
+bash scripts/egg_compare.sh > target/benchmarks/egg.md
 rm -f target/benchmarks/peers.json
 if [ "${PEERS:-1}" != 0 ]; then
   echo "== peers: Pinocchio and MuJoCo (benches/peers/run.sh)"
