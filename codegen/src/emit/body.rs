@@ -389,7 +389,7 @@ impl<'a> Body<'a> {
         // `t·λ/m`) is reused rather than recomputed.
         let reused = self.reusable_product(factors, negated);
         if let Some((p, _)) = &reused {
-            let name = &self.temp_names[&p];
+            let name = &self.temp_names[p];
             num.push(quote!(#name));
         }
         for (i, &(b, e)) in factors.iter().enumerate() {
