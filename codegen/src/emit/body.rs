@@ -39,6 +39,10 @@ pub(super) struct Body<'a> {
     /// While the definition of temporary `i` is written, `i`: only those
     /// before it may be reused. `usize::MAX` elsewhere.
     defining: std::cell::Cell<usize>,
+    /// Parameters that divide two or more products (a parametric mass in
+    /// `q̈`, `S` and `W`): one reciprocal each, bound in the preamble, and
+    /// a multiplication wherever one of them divides.
+    reciprocals: HashMap<Id, Ident>,
 }
 
 impl<'a> Body<'a> {
@@ -53,7 +57,7 @@ impl<'a> Body<'a> {
                 _ => None,
             })
             .collect();
-        let temp_names = schedule
+        let mut temp_names: HashMap<Id, Ident> = schedule
             .temporaries
             .iter()
             .enumerate()
@@ -73,7 +77,32 @@ impl<'a> Body<'a> {
             .filter(|(_, &id)| matches!(g.node(id), Node::Mul(f) if f.len() > 1))
             .map(|(i, &id)| (i, id))
             .collect();
+        let mut divides: HashMap<Id, usize> = HashMap::new();
+        for id in g.reachable(roots) {
+            if let Node::Mul(factors) = g.node(id) {
+                for &(b, e) in factors.iter() {
+                    if e.is_negative() && matches!(g.node(b), Node::Sym(Sym::Param(_))) {
+                        *divides.entry(b).or_default() += 1;
+                    }
+                }
+            }
+        }
+        let reciprocals: HashMap<Id, Ident> = divides
+            .into_iter()
+            .filter(|&(_, count)| count >= 2)
+            .filter_map(|(b, _)| match g.node(b) {
+                Node::Sym(Sym::Param(i)) => Some((b, Context::local("rp", *i))),
+                _ => None,
+            })
+            .collect();
+        // A temporary that is itself `1/p` is the reciprocal.
+        for id in &schedule.temporaries {
+            if let Some(name) = reciprocal_of(g, *id).and_then(|b| reciprocals.get(&b)) {
+                temp_names.insert(*id, name.clone());
+            }
+        }
         Body {
+            reciprocals,
             needs_multipliers,
             temp_products,
             defining: std::cell::Cell::new(usize::MAX),
@@ -116,8 +145,18 @@ impl<'a> Body<'a> {
             .enumerate()
             .filter(|(i, _)| self.used.contains(&Sym::Param(*i)))
             .map(|(_, p)| quote! { let #p = self.#p; });
+        let mut reciprocals: Vec<(&Ident, Id)> = self
+            .reciprocals
+            .iter()
+            .map(|(&b, name)| (name, b))
+            .collect();
+        reciprocals.sort_by_key(|&(_, b)| b);
+        let reciprocals = reciprocals.into_iter().map(|(name, b)| {
+            let p = self.expr(b);
+            quote! { let #name = T::one() / #p; }
+        });
         let temps = self.temporaries(false);
-        quote! { #coords #vels #(#params)* #temps }
+        quote! { #coords #vels #(#params)* #(#reciprocals)* #temps }
     }
 
     /// Whether the body's expressions read the variable `s`.
@@ -136,11 +175,14 @@ impl<'a> Body<'a> {
             .schedule
             .temporaries
             .iter()
-            .filter(|id| self.needs_multipliers[id.index()] == need_multipliers)
-            .map(|&id| {
+            .enumerate()
+            .filter(|(_, id)| self.needs_multipliers[id.index()] == need_multipliers)
+            .filter(|(_, &id)| {
+                !reciprocal_of(self.graph, id).is_some_and(|b| self.reciprocals.contains_key(&b))
+            })
+            .map(|(position, &id)| {
                 let name = &self.temp_names[&id];
-                let position = self.schedule.temporaries.iter().position(|&t| t == id);
-                self.defining.set(position.unwrap_or(usize::MAX));
+                self.defining.set(position);
                 let value = self.node(id).0;
                 self.defining.set(usize::MAX);
                 quote! { let #name = #value; }
@@ -407,6 +449,14 @@ impl<'a> Body<'a> {
                     continue;
                 }
             }
+            if let (true, Some(name), Some(k)) = (
+                e.is_negative(),
+                self.reciprocals.get(&b),
+                (-e).as_integer().filter(|&k| k <= MAX_UNROLLED_POWER),
+            ) {
+                num.extend((0..k).map(|_| quote!(#name)));
+                continue;
+            }
             if e.is_negative() {
                 den.extend(self.power(b, -e));
             } else {
@@ -455,6 +505,17 @@ impl<'a> Body<'a> {
                 vec![quote! { #atom.powf(#lit) }]
             }
         }
+    }
+}
+
+/// `p` when `id` is the node `1/p`.
+fn reciprocal_of(g: &Graph, id: Id) -> Option<Id> {
+    match g.node(id) {
+        Node::Mul(factors) => match factors.as_ref() {
+            [(b, e)] if *e == Num::MINUS_ONE => Some(*b),
+            _ => None,
+        },
+        _ => None,
     }
 }
 
