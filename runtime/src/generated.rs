@@ -20,6 +20,19 @@ pub fn lit<T: RealField + Copy>(value: f64) -> T {
     nalgebra::convert::<f64, T>(value)
 }
 
+/// The largest magnitude a row of the scaled constraints `D (b − A a)`
+/// (row scale `d < 1`) may have for the model's own row, that value over
+/// `d`, to stay finite: `T`'s largest finite value times `d`. Generated code
+/// compares against it branch-free, so that a row that is finite only
+/// because it was scaled sends the solve to the runtime's check.
+#[inline(always)]
+pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
+    match T::max_value() {
+        Some(max) => max * lit::<T>(d),
+        None => T::zero() / T::zero(),
+    }
+}
+
 /// The sign of `x` with `signum(0) = 0` (the DSL's `signum`; `f64::signum`
 /// returns 1 at +0). NaN stays NaN.
 #[inline(always)]

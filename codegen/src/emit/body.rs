@@ -278,11 +278,12 @@ impl<'a> Body<'a> {
     }
 
     /// The sum, or its negation, in as few operations as its form allows:
-    /// a positive part first (no unary minus while one exists); where every
-    /// part is negative, one product's sum factor negated instead
-    /// (`−ż·(g − α)` is `ż·(α − g)`); and a shared rational content
-    /// multiplied once (`2·a − 2·b·c` is `2·(a − b·c)`) where that saves
-    /// multiplications.
+    /// a positive part first (no unary minus while one exists), and where
+    /// every part is negative, one product's sum factor negated instead
+    /// (`−ż·(g − α)` is `ż·(α − g)`). A shared rational content is not
+    /// multiplied out once (`2·(a − b·c)`): it saved no operation on any
+    /// reference model once the rows of `A` are scaled, and the 32-link
+    /// chain ran slower with it (369 against 327 ns in one comparison).
     fn signed_sum(&self, terms: &[(Id, Num)], c0: Num, negate: bool) -> (TokenStream, Prec) {
         let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(terms, c0)
             .into_iter()
@@ -301,26 +302,6 @@ impl<'a> Body<'a> {
         if let Some(first) = parts.iter().position(|p| !p.2) {
             let positive = parts.remove(first);
             parts.insert(0, positive);
-        }
-        let multiplied = |parts: &[(Option<Id>, Num, bool, Option<usize>)]| {
-            parts
-                .iter()
-                .filter(|p| p.0.is_some() && !p.1.is_one())
-                .count()
-        };
-        let mut content = None;
-        if parts.len() > 1 {
-            if let Some(c) = crate::num::content(parts.iter().map(|p| p.1)) {
-                let inv = c.recip();
-                let scaled: Vec<_> = parts
-                    .iter()
-                    .map(|&(t, m, n, f)| (t, m * inv, n, f))
-                    .collect();
-                if !c.is_one() && multiplied(&scaled) + 1 < multiplied(&parts) {
-                    parts = scaled;
-                    content = Some(c);
-                }
-            }
         }
         let mut out = TokenStream::new();
         for (i, &(term, magnitude, negative, flipped)) in parts.iter().enumerate() {
@@ -355,10 +336,6 @@ impl<'a> Body<'a> {
                 (_, false) => quote! { + #value },
                 (_, true) => quote! { - #value },
             });
-        }
-        if let Some(c) = content {
-            let (lit, _) = literal(c);
-            return (quote! { #lit * (#out) }, Prec::Product);
         }
         let prec = match parts.as_slice() {
             [(Some(_), m, true, _)] if m.is_one() => Prec::Unary,

@@ -221,7 +221,7 @@ pub(super) fn checked_motion(
     }
     let suspect = ldlt.suspect(ctx.generic_rank);
     let suspect = match also {
-        Some(also) => quote!((#suspect) || #also),
+        Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
     let checked = ctx.private(quote!(checked));
@@ -362,20 +362,23 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
     let vector = ctx.vector(ctx.n);
-    // A row scaled down (`D`) can be finite where the model's own `r` (and
-    // `b`) overflows: then the runtime answers from A and b (`NonFinite`),
-    // so that an `Ok` always satisfies the `A q̈ = b` it reports.
+    // A row scaled down (`D`, d < 1) can be finite where the model's own
+    // `r` (and `b`) overflows: then the runtime answers from A and b
+    // (`NonFinite`), so that an `Ok` always satisfies the `A q̈ = b` it
+    // reports. One comparison per such row, branch-free (`|`).
     let overflows: Vec<TokenStream> = d
         .scale
         .iter()
         .enumerate()
-        .filter(|(_, s)| !s.is_one())
+        .filter(|(_, s)| s.to_f64() < 1.0)
         .map(|(i, s)| {
-            let (r, (unscale, _)) = (Context::local("r", i), literal(s.recip()));
-            quote!(!(#r * #unscale).is_finite())
+            let r = Context::local("r", i);
+            let bound = ctx.private(quote!(unscaled_bound));
+            let value = proc_macro2::Literal::f64_suffixed(s.to_f64());
+            quote!((#r.abs() > #bound::<T>(#value)))
         })
         .collect();
-    let also = (!overflows.is_empty()).then(|| quote!(#(#overflows)||*));
+    let also = (!overflows.is_empty()).then(|| quote!(#(#overflows)|*));
     let motion = checked_motion(ctx, &ldlt, &acc, &force, also);
     // Fallible even where M is known positive definite: the rank check can
     // find the constraints unsatisfiable (the total methods then answer by
