@@ -94,7 +94,7 @@ impl ToEgg<'_> {
                 let mut acc: Option<egg::Id> = None;
                 for &(t, c) in terms.iter() {
                     let t = self.convert(t);
-                    let magnitude = if c.is_negative() { -c } else { c };
+                    let magnitude = magnitude(c);
                     let term = if magnitude.is_one() {
                         t
                     } else {
@@ -120,7 +120,7 @@ impl ToEgg<'_> {
                 let (mut num, mut den) = (Vec::new(), Vec::new());
                 for &(b, e) in factors.iter() {
                     let b = self.convert(b);
-                    let magnitude = if e.is_negative() { -e } else { e };
+                    let magnitude = magnitude(e);
                     let power = if magnitude.is_one() {
                         b
                     } else {
@@ -153,6 +153,14 @@ impl ToEgg<'_> {
         };
         self.done.insert(id, out);
         out
+    }
+}
+
+fn magnitude(n: Num) -> Num {
+    if n.is_negative() {
+        -n
+    } else {
+        n
     }
 }
 
