@@ -150,9 +150,11 @@ impl<'a> StructuredLdlt<'a> {
             out.extend(quote! { let #dj = #xjj #(#updates)*; });
             out.extend(match &self.pivots {
                 // A pivot nothing updated is its diagonal entry, and
-                // `d > tol·d` is `d > 0` (also false for NaN and ∞, as before).
+                // `d > tol·d` is `d > 0`: NaN gives 0 either way, and ∞,
+                // which `d > tol·d` dropped, gives `1/∞ = 0` here, the same
+                // reciprocal and the same "dropped" (`inv == 0`).
                 Pivots::Dropped if !updated => quote! {
-                    let #inv = if #dj > T::zero() && #dj.is_finite() { T::one() / #dj } else { T::zero() };
+                    let #inv = if #dj > T::zero() { T::one() / #dj } else { T::zero() };
                 },
                 Pivots::Dropped => quote! {
                     let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
