@@ -52,9 +52,13 @@ pub fn constraint_equations(mut system: System) -> Equations {
         let (row, rest) = d.time_derivative(g, velocity_level, n);
         a.push(factorer.factor_all(g, &row));
         let rhs = g.neg(rest);
-        b.push(factorer.factor(g, rhs));
+        b.push(rhs);
         velocity_constraints.push(velocity_level);
     }
+    // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
+    // squares where that shortens the code, counted with everything else
+    // that is computed beside it (crate::squares).
+    let b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
     let gauss = motion::gauss(g, &mut factorer, &system.mass, &system.forces, &a, &b);
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     let pieces = Pieces {
@@ -73,4 +77,34 @@ pub fn constraint_equations(mut system: System) -> Equations {
         gauss,
         tangent,
     }
+}
+
+/// Every row of `b` factored, as a sum of squares where that costs fewer
+/// operations together with `M`, `F`, `A` and the other rows.
+fn complete_squares(
+    g: &mut crate::expr::Graph,
+    factorer: &mut Factorer,
+    mass: &[Vec<Id>],
+    forces: &[Id],
+    a: &[Vec<Id>],
+    b: &[Id],
+) -> Vec<Id> {
+    let mut rows = factorer.factor_all(g, b);
+    let shared: Vec<Id> = mass
+        .iter()
+        .chain(a)
+        .flatten()
+        .chain(forces)
+        .copied()
+        .collect();
+    for i in 0..b.len() {
+        let context: Vec<Id> = shared
+            .iter()
+            .chain(rows.iter().take(i))
+            .chain(rows.iter().skip(i + 1))
+            .copied()
+            .collect();
+        rows[i] = crate::squares::complete(g, factorer, b[i], &context);
+    }
+    rows
 }

@@ -58,6 +58,11 @@ impl Factorer {
         }
     }
 
+    /// Whether `id` is kept whole (a named definition).
+    pub fn keeps(&self, id: Id) -> bool {
+        self.atoms.contains(&id)
+    }
+
     /// `root` with the sums near its surface factored (module docs).
     pub fn factor(&mut self, g: &mut Graph, root: Id) -> Id {
         self.factor_within(g, root, SURFACE_DEPTH)

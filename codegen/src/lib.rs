@@ -39,6 +39,7 @@ pub mod partition;
 pub mod print;
 pub mod rng;
 pub mod sparsity;
+pub mod squares;
 pub mod tangent;
 
 use proc_macro2::TokenStream;

@@ -49,10 +49,6 @@ KNOWN_GAPS = {
     # sympy's LU divides the pole's row by l (θ̈ = x/l); the generated LDLᵀ
     # of M(q) keeps M as the energies give it.
     "CartPole": 1.25,
-    # b = l1·θ̇1²·sin θ1 + l2·(θ̇1 + θ̇2)²·sin(θ1 + θ2) is not recognised as
-    # holding a square, and m2·l1·l2 is recomputed inside two flattened
-    # products (only whole temporaries are reused).
-    "TwoLinkArmOnLine": 1.05,
 }
 
 
