@@ -243,11 +243,14 @@ fn multiply(g: &mut Graph, a: &Poly, b: &Poly) -> Option<Poly> {
     Some(product)
 }
 
+/// `dₖ·(Σ lₖⱼ·q̇ⱼ)²` as `(dₖ, [(j, lₖⱼ)])`.
+type Square = (Num, Vec<(usize, Num)>);
+
 /// Lagrange's reduction of the quadratic form `Σ c·q̇ᵢ·q̇ⱼ` over exact
 /// rationals: `Σ dₖ·(Σ lₖⱼ·q̇ⱼ)²`. `None` where a pivot would be an
 /// off-diagonal entry (a form such as `q̇₁·q̇₂` alone) or a number is not an
 /// exact rational.
-fn lagrange_reduction(entries: &[(usize, usize, Num)]) -> Option<Vec<(Num, Vec<(usize, Num)>)>> {
+fn lagrange_reduction(entries: &[(usize, usize, Num)]) -> Option<Vec<Square>> {
     let mut q: BTreeMap<(usize, usize), Num> = BTreeMap::new();
     let half = Num::ratio(1, 2);
     for &(i, j, c) in entries {
