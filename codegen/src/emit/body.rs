@@ -2,6 +2,7 @@
 //! shared temporaries in topological order, and the outputs themselves.
 
 use super::context::Context;
+use super::subproducts::{variables, Factor, SubProducts};
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
 use crate::expr::{signed_parts, Emission, Graph, Id, Node, Sym};
@@ -43,6 +44,9 @@ pub(super) struct Body<'a> {
     /// `q̈`, `S` and `W`): one reciprocal each, bound in the preamble, and
     /// a multiplication wherever one of them divides.
     reciprocals: HashMap<Id, Ident>,
+    /// Products of variables that several products share (`m·l`), bound
+    /// once in the preamble (`super::subproducts`).
+    subproducts: SubProducts,
 }
 
 impl<'a> Body<'a> {
@@ -95,6 +99,12 @@ impl<'a> Body<'a> {
                 _ => None,
             })
             .collect();
+        let products: Vec<Id> = g
+            .reachable(roots)
+            .into_iter()
+            .filter(|&id| matches!(g.node(id), Node::Mul(_)) && reciprocal_of(g, id).is_none())
+            .collect();
+        let subproducts = SubProducts::find(g, &products);
         // A temporary that is itself `1/p` is the reciprocal.
         for id in &schedule.temporaries {
             if let Some(name) = reciprocal_of(g, *id).and_then(|b| reciprocals.get(&b)) {
@@ -103,6 +113,7 @@ impl<'a> Body<'a> {
         }
         Body {
             reciprocals,
+            subproducts,
             needs_multipliers,
             temp_products,
             defining: std::cell::Cell::new(usize::MAX),
@@ -155,8 +166,29 @@ impl<'a> Body<'a> {
             let p = self.expr(b);
             quote! { let #name = T::one() / #p; }
         });
+        let subproducts = self
+            .subproducts
+            .pairs
+            .iter()
+            .enumerate()
+            .map(|(i, &(a, b))| {
+                let name = Context::local("sp", i);
+                let (a, b) = (self.shared_factor(a), self.shared_factor(b));
+                quote! { let #name = #a * #b; }
+            });
         let temps = self.temporaries(false);
-        quote! { #coords #vels #(#params)* #(#reciprocals)* #temps }
+        quote! { #coords #vels #(#params)* #(#reciprocals)* #(#subproducts)* #temps }
+    }
+
+    /// A factor of a sub-product: a variable, or an earlier sub-product.
+    fn shared_factor(&self, f: Factor) -> TokenStream {
+        match f {
+            Factor::Leaf(id) => self.expr(id),
+            Factor::Shared(i) => {
+                let name = Context::local("sp", i);
+                quote!(#name)
+            }
+        }
     }
 
     /// Whether the body's expressions read the variable `s`.
@@ -411,13 +443,41 @@ impl<'a> Body<'a> {
             let name = &self.temp_names[p];
             num.push(quote!(#name));
         }
-        for (i, &(b, e)) in factors.iter().enumerate() {
-            if reused
+        let covered = |i: usize| {
+            reused
                 .as_ref()
                 .is_some_and(|(_, covered)| covered.contains(&i))
-            {
+        };
+        // The variables left are written through the shared sub-products
+        // (`m·l` once for `m·l·cos θ` and `m·l²`); what remains of each
+        // variable's power is written below.
+        let rest = factors
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| !covered(i) && negated != Some(i))
+            .map(|(_, &f)| f);
+        let applied = self.subproducts.apply(variables(self.graph, rest));
+        for (&f, &k) in &applied {
+            if let Factor::Shared(i) = f {
+                let name = Context::local("sp", i);
+                num.extend((0..k).map(|_| quote!(#name)));
+            }
+        }
+        for (i, &(b, e)) in factors.iter().enumerate() {
+            if covered(i) {
                 continue;
             }
+            // A variable: only the power no sub-product took.
+            let e = if negated != Some(i) && !variables(self.graph, [(b, e)].into_iter()).is_empty()
+            {
+                let left = applied.get(&Factor::Leaf(b)).copied().unwrap_or(0);
+                if left == 0 {
+                    continue;
+                }
+                Num::int(i64::from(left))
+            } else {
+                e
+            };
             if negated == Some(i) {
                 // A sum factor of power 1 (`negatable_factor`), negated.
                 if let Node::Add(terms, c0) = self.graph.node(b) {

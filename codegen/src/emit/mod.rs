@@ -15,6 +15,7 @@ mod ldlt;
 mod motion;
 mod step;
 mod structured;
+mod subproducts;
 mod tangent;
 
 use crate::derivation;

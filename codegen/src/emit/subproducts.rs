@@ -1,0 +1,193 @@
+//! Products of variables shared by several products, computed once.
+//!
+//! Canonical products are flat (`m·l·cos θ`, `m·l²`, `m·l·θ̇²·sin θ`), so
+//! the DAG cannot share `m·l` between them; the emitter does. Over every
+//! product a body writes, the pair of variable factors that occurs in the
+//! most products (two at least) becomes a local `__sp{i} = a * b`, bound in
+//! the preamble; the pair is replaced by it wherever it occurs, and the
+//! search repeats, so a pair can grow into a longer sub-product
+//! (`(m·l)·g`). Each product of `k` uses saves `k − 1` multiplications;
+//! this is the greedy pair extraction of multiplier-block synthesis.
+//!
+//! Only variables qualify (coordinates, velocities, parameters, time, to a
+//! small positive integer power): they are bound before anything else, so
+//! a sub-product can be bound right after them whatever uses it.
+
+use crate::cse::MAX_UNROLLED_POWER;
+use crate::expr::{Graph, Id, Node, Sym};
+use std::collections::BTreeMap;
+
+/// How many pairs are extracted at most per body (each round removes at
+/// least two factors from the products, so real bodies stop far sooner).
+const MAX_ROUNDS: usize = 64;
+
+/// A factor of a product: a variable, or an earlier sub-product.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) enum Factor {
+    /// A variable node.
+    Leaf(Id),
+    /// Sub-product `i`.
+    Shared(usize),
+}
+
+/// A product's variable factors with their multiplicities.
+pub(super) type Multiset = BTreeMap<Factor, u32>;
+
+/// The sub-products of one body, in the order they were found (each made
+/// of variables and earlier sub-products).
+#[derive(Default)]
+pub(super) struct SubProducts {
+    pub(super) pairs: Vec<(Factor, Factor)>,
+}
+
+impl SubProducts {
+    /// The shared pairs among the products `products` (their nodes).
+    pub(super) fn find(g: &Graph, products: &[Id]) -> SubProducts {
+        let mut sets: Vec<Multiset> = products
+            .iter()
+            .map(|&p| match g.node(p) {
+                Node::Mul(factors) => variables(g, factors.iter().copied()),
+                _ => Multiset::new(),
+            })
+            .filter(|set| set.values().sum::<u32>() >= 2)
+            .collect();
+        let mut found = SubProducts::default();
+        for _ in 0..MAX_ROUNDS {
+            let mut counts: BTreeMap<(Factor, Factor), usize> = BTreeMap::new();
+            for set in &sets {
+                for (i, (&a, &ea)) in set.iter().enumerate() {
+                    if ea >= 2 {
+                        *counts.entry((a, a)).or_default() += 1;
+                    }
+                    for &b in set.keys().skip(i + 1) {
+                        *counts.entry((a, b)).or_default() += 1;
+                    }
+                }
+            }
+            // The most frequent pair; the first in key order among equals.
+            let mut best: Option<((Factor, Factor), usize)> = None;
+            for (pair, count) in counts {
+                if count >= 2 && best.is_none_or(|(_, c)| count > c) {
+                    best = Some((pair, count));
+                }
+            }
+            let Some((pair, _)) = best else {
+                break;
+            };
+            let shared = Factor::Shared(found.pairs.len());
+            found.pairs.push(pair);
+            for set in &mut sets {
+                replace(set, pair, shared);
+            }
+        }
+        found
+    }
+
+    /// `set` with every sub-product substituted, in the order found (which
+    /// reproduces the search's own substitutions).
+    pub(super) fn apply(&self, mut set: Multiset) -> Multiset {
+        for (i, &pair) in self.pairs.iter().enumerate() {
+            replace(&mut set, pair, Factor::Shared(i));
+        }
+        set
+    }
+}
+
+/// The factors of a product that qualify (module docs), as a multiset.
+pub(super) fn variables(
+    g: &Graph,
+    factors: impl Iterator<Item = (Id, crate::num::Num)>,
+) -> Multiset {
+    let mut set = Multiset::new();
+    for (b, e) in factors {
+        let variable = matches!(
+            g.node(b),
+            Node::Sym(Sym::Coord(_) | Sym::Vel(_) | Sym::Param(_) | Sym::Time)
+        );
+        match e.as_integer() {
+            Some(k) if variable && (1..=MAX_UNROLLED_POWER).contains(&k) => {
+                *set.entry(Factor::Leaf(b)).or_default() += k as u32;
+            }
+            _ => {}
+        }
+    }
+    set
+}
+
+/// Replaces `pair` in `set` by `shared` as often as it occurs.
+fn replace(set: &mut Multiset, (a, b): (Factor, Factor), shared: Factor) {
+    let (ea, eb) = (
+        set.get(&a).copied().unwrap_or(0),
+        set.get(&b).copied().unwrap_or(0),
+    );
+    let times = if a == b { ea / 2 } else { ea.min(eb) };
+    if times == 0 {
+        return;
+    }
+    for (f, by) in [(a, times), (b, times)] {
+        if let Some(e) = set.get_mut(&f) {
+            *e -= by;
+            if *e == 0 {
+                set.remove(&f);
+            }
+        }
+    }
+    *set.entry(shared).or_default() += times;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::num::Num;
+
+    #[test]
+    fn a_pair_in_four_products_is_shared_and_grows() {
+        // m·l·c, m·l², m·l·g·s, m·l·g·w: m·l in four, then (m·l)·g in two.
+        let mut g = Graph::new();
+        let (m, l, gr) = (
+            g.sym(Sym::Param(0)),
+            g.sym(Sym::Param(1)),
+            g.sym(Sym::Param(2)),
+        );
+        let (c, s, w) = (
+            g.sym(Sym::Coord(0)),
+            g.sym(Sym::Coord(1)),
+            g.sym(Sym::Vel(0)),
+        );
+        let l2 = g.pown(l, Num::int(2));
+        let products = [
+            g.mul(&[m, l, c]),
+            g.mul(&[m, l2]),
+            g.mul(&[m, l, gr, s]),
+            g.mul(&[m, l, gr, w]),
+        ];
+        let found = SubProducts::find(&g, &products);
+        assert_eq!(
+            found.pairs,
+            vec![
+                (Factor::Leaf(m), Factor::Leaf(l)),
+                (Factor::Leaf(gr), Factor::Shared(0)),
+            ]
+        );
+        let Node::Mul(f) = g.node(products[1]).clone() else {
+            panic!("a product");
+        };
+        let applied = found.apply(variables(&g, f.iter().copied()));
+        assert_eq!(
+            applied,
+            Multiset::from([(Factor::Leaf(l), 1), (Factor::Shared(0), 1)])
+        );
+    }
+
+    #[test]
+    fn a_pair_in_one_product_is_not_shared() {
+        let mut g = Graph::new();
+        let (a, b, c) = (
+            g.sym(Sym::Param(0)),
+            g.sym(Sym::Param(1)),
+            g.sym(Sym::Param(2)),
+        );
+        let products = [g.mul(&[a, b]), g.mul(&[b, c])];
+        assert!(SubProducts::find(&g, &products).pairs.is_empty());
+    }
+}
