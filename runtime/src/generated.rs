@@ -33,6 +33,18 @@ pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
     }
 }
 
+/// `T`'s largest finite value (NaN for a `T` without one, so that a
+/// comparison with it fails and sends the solve to the runtime's check).
+/// `s <= largest()` is a finiteness test in one floating-point comparison,
+/// where `is_finite` moves the bits to an integer register and back.
+#[inline(always)]
+pub fn largest<T: RealField + Copy>() -> T {
+    match T::max_value() {
+        Some(max) => max,
+        None => T::zero() / T::zero(),
+    }
+}
+
 /// The sign of `x` with `signum(0) = 0` (the DSL's `signum`; `f64::signum`
 /// returns 1 at +0). NaN stays NaN.
 #[inline(always)]

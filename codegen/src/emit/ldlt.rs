@@ -197,13 +197,17 @@ impl<'a> StructuredLdlt<'a> {
     /// where its pivot was (`inv = 0`, which NaN and ∞ in `S` also give)
     /// or where its diagonal entry of `S` is so small that underflow may
     /// have spoilt it (`safe_minimum`). For k = 1 the solve divides by any
-    /// positive `S`, so an infinite `S` counts as dropped too.
+    /// positive `S`, so an infinite `S` (above `largest`) counts as dropped
+    /// too.
     pub(super) fn suspect(&self, rank: usize) -> TokenStream {
         let safe = quote!(::constrained::__private::safe_minimum::<T>());
         let k = self.k();
         if k == 1 {
             let s = self.at(0, 0);
-            return quote!(!(#s > #safe && #s.is_finite()));
+            // `s ≤ largest` rather than `is_finite`: one floating-point
+            // comparison, no move to an integer register.
+            let largest = quote!(::constrained::__private::largest::<T>());
+            return quote!(!(#s > #safe && #s <= #largest));
         }
         let dropped = |j: usize| {
             let (inv, sjj) = (Context::local(self.roles.inverse, j), self.at(j, j));
