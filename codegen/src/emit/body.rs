@@ -44,9 +44,16 @@ pub(super) struct Body<'a> {
     /// `q̈`, `S` and `W`): one reciprocal each, bound in the preamble, and
     /// a multiplication wherever one of them divides.
     reciprocals: HashMap<Id, Ident>,
-    /// Products of variables that several products share (`m·l`), bound
-    /// once in the preamble (`super::subproducts`).
+    /// Products of variables and temporaries that several products share
+    /// (`m·l`), each bound once right after its last factor
+    /// (`super::subproducts`).
     subproducts: SubProducts,
+    /// Per sub-product, the schedule position of the temporary it is bound
+    /// after (`None`: only variables, bound in the preamble).
+    subproduct_after: Vec<Option<usize>>,
+    /// The nodes that may be factors of a sub-product besides variables:
+    /// temporaries that do not wait for the multipliers (by arena index).
+    shareable: Vec<bool>,
 }
 
 impl<'a> Body<'a> {
@@ -104,7 +111,27 @@ impl<'a> Body<'a> {
             .into_iter()
             .filter(|&id| matches!(g.node(id), Node::Mul(_)) && reciprocal_of(g, id).is_none())
             .collect();
-        let subproducts = SubProducts::find(g, &products);
+        let position: HashMap<Id, usize> = schedule
+            .temporaries
+            .iter()
+            .enumerate()
+            .map(|(i, &id)| (id, i))
+            .collect();
+        let mut shareable = vec![false; g.len()];
+        for &id in &schedule.temporaries {
+            shareable[id.index()] =
+                !needs_multipliers[id.index()] && reciprocal_of(g, id).is_none();
+        }
+        let subproducts = SubProducts::find(g, &products, &|id| shareable[id.index()]);
+        let mut subproduct_after: Vec<Option<usize>> = Vec::new();
+        for &(a, b) in &subproducts.pairs {
+            let after = |f: Factor| match f {
+                Factor::Leaf(id) => position.get(&id).copied(),
+                Factor::Shared(j) => subproduct_after[j],
+            };
+            let at = after(a).max(after(b));
+            subproduct_after.push(at);
+        }
         // A temporary that is itself `1/p` is the reciprocal.
         for id in &schedule.temporaries {
             if let Some(name) = reciprocal_of(g, *id).and_then(|b| reciprocals.get(&b)) {
@@ -114,6 +141,8 @@ impl<'a> Body<'a> {
         Body {
             reciprocals,
             subproducts,
+            subproduct_after,
+            shareable,
             needs_multipliers,
             temp_products,
             defining: std::cell::Cell::new(usize::MAX),
@@ -166,18 +195,31 @@ impl<'a> Body<'a> {
             let p = self.expr(b);
             quote! { let #name = T::one() / #p; }
         });
-        let subproducts = self
+        let subproducts = self.subproducts_after(None);
+        let temps = self.temporaries(false);
+        quote! { #coords #vels #(#params)* #(#reciprocals)* #subproducts #temps }
+    }
+
+    /// The `let`s of the sub-products bound right after the temporary at
+    /// `position` (`None`: those of variables only).
+    fn subproducts_after(&self, position: Option<usize>) -> TokenStream {
+        let lets = self
             .subproducts
             .pairs
             .iter()
             .enumerate()
+            .filter(|&(i, _)| self.subproduct_after[i] == position)
             .map(|(i, &(a, b))| {
                 let name = Context::local("sp", i);
                 let (a, b) = (self.shared_factor(a), self.shared_factor(b));
                 quote! { let #name = #a * #b; }
             });
-        let temps = self.temporaries(false);
-        quote! { #coords #vels #(#params)* #(#reciprocals)* #(#subproducts)* #temps }
+        quote! { #(#lets)* }
+    }
+
+    /// Whether `id` may be a factor of a sub-product besides a variable.
+    fn shareable(&self, id: Id) -> bool {
+        self.shareable.get(id.index()).copied().unwrap_or(false)
     }
 
     /// A factor of a sub-product: a variable, or an earlier sub-product.
@@ -217,7 +259,8 @@ impl<'a> Body<'a> {
                 self.defining.set(position);
                 let value = self.node(id).0;
                 self.defining.set(usize::MAX);
-                quote! { let #name = #value; }
+                let shared = self.subproducts_after(Some(position));
+                quote! { let #name = #value; #shared }
             });
         quote! { #(#temps)* }
     }
@@ -456,7 +499,9 @@ impl<'a> Body<'a> {
             .enumerate()
             .filter(|&(i, _)| !covered(i) && negated != Some(i))
             .map(|(_, &f)| f);
-        let applied = self.subproducts.apply(variables(self.graph, rest));
+        let applied = self
+            .subproducts
+            .apply(variables(self.graph, rest, &|id| self.shareable(id)));
         for (&f, &k) in &applied {
             if let Factor::Shared(i) = f {
                 let name = Context::local("sp", i);
@@ -468,7 +513,8 @@ impl<'a> Body<'a> {
                 continue;
             }
             // A variable: only the power no sub-product took.
-            let e = if negated != Some(i) && !variables(self.graph, [(b, e)].into_iter()).is_empty()
+            let e = if negated != Some(i)
+                && !variables(self.graph, [(b, e)].into_iter(), &|id| self.shareable(id)).is_empty()
             {
                 let left = applied.get(&Factor::Leaf(b)).copied().unwrap_or(0);
                 if left == 0 {

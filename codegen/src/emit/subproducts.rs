@@ -9,9 +9,10 @@
 //! (`(m·l)·g`). Each product of `k` uses saves `k − 1` multiplications;
 //! this is the greedy pair extraction of multiplier-block synthesis.
 //!
-//! Only variables qualify (coordinates, velocities, parameters, time, to a
-//! small positive integer power): they are bound before anything else, so
-//! a sub-product can be bound right after them whatever uses it.
+//! Variables qualify (coordinates, velocities, parameters, time, to a small
+//! positive integer power), and so do temporaries that do not wait for the
+//! multipliers λ (`sin θ` bound once): a sub-product is bound right after
+//! the last of its factors, which every product holding it comes after.
 
 use crate::cse::MAX_UNROLLED_POWER;
 use crate::expr::{Graph, Id, Node, Sym};
@@ -41,12 +42,13 @@ pub(super) struct SubProducts {
 }
 
 impl SubProducts {
-    /// The shared pairs among the products `products` (their nodes).
-    pub(super) fn find(g: &Graph, products: &[Id]) -> SubProducts {
+    /// The shared pairs among the products `products` (their nodes), whose
+    /// factors qualify where they are variables or where `bound` holds.
+    pub(super) fn find(g: &Graph, products: &[Id], bound: &dyn Fn(Id) -> bool) -> SubProducts {
         let mut sets: Vec<Multiset> = products
             .iter()
             .map(|&p| match g.node(p) {
-                Node::Mul(factors) => variables(g, factors.iter().copied()),
+                Node::Mul(factors) => variables(g, factors.iter().copied(), bound),
                 _ => Multiset::new(),
             })
             .filter(|set| set.values().sum::<u32>() >= 2)
@@ -93,17 +95,20 @@ impl SubProducts {
     }
 }
 
-/// The factors of a product that qualify (module docs), as a multiset.
+/// The factors of a product that qualify (module docs), as a multiset:
+/// variables, and the bases for which `bound` holds.
 pub(super) fn variables(
     g: &Graph,
     factors: impl Iterator<Item = (Id, crate::num::Num)>,
+    bound: &dyn Fn(Id) -> bool,
 ) -> Multiset {
     let mut set = Multiset::new();
     for (b, e) in factors {
-        let variable = matches!(
-            g.node(b),
-            Node::Sym(Sym::Coord(_) | Sym::Vel(_) | Sym::Param(_) | Sym::Time)
-        );
+        let variable = bound(b)
+            || matches!(
+                g.node(b),
+                Node::Sym(Sym::Coord(_) | Sym::Vel(_) | Sym::Param(_) | Sym::Time)
+            );
         match e.as_integer() {
             Some(k) if variable && (1..=MAX_UNROLLED_POWER).contains(&k) => {
                 *set.entry(Factor::Leaf(b)).or_default() += k as u32;
@@ -161,7 +166,7 @@ mod tests {
             g.mul(&[m, l, gr, s]),
             g.mul(&[m, l, gr, w]),
         ];
-        let found = SubProducts::find(&g, &products);
+        let found = SubProducts::find(&g, &products, &|_| false);
         assert_eq!(
             found.pairs,
             vec![
@@ -172,7 +177,7 @@ mod tests {
         let Node::Mul(f) = g.node(products[1]).clone() else {
             panic!("a product");
         };
-        let applied = found.apply(variables(&g, f.iter().copied()));
+        let applied = found.apply(variables(&g, f.iter().copied(), &|_| false));
         assert_eq!(
             applied,
             Multiset::from([(Factor::Leaf(l), 1), (Factor::Shared(0), 1)])
@@ -188,6 +193,8 @@ mod tests {
             g.sym(Sym::Param(2)),
         );
         let products = [g.mul(&[a, b]), g.mul(&[b, c])];
-        assert!(SubProducts::find(&g, &products).pairs.is_empty());
+        assert!(SubProducts::find(&g, &products, &|_| false)
+            .pairs
+            .is_empty());
     }
 }
