@@ -48,12 +48,6 @@ pub(super) struct Body<'a> {
     /// (`m·l`), each bound once right after its last factor
     /// (`super::subproducts`).
     subproducts: SubProducts,
-    /// Per sub-product, the schedule position of the temporary it is bound
-    /// after (`None`: only variables, bound in the preamble).
-    subproduct_after: Vec<Option<usize>>,
-    /// The nodes that may be factors of a sub-product besides variables:
-    /// temporaries that do not wait for the multipliers (by arena index).
-    shareable: Vec<bool>,
 }
 
 impl<'a> Body<'a> {
@@ -111,27 +105,10 @@ impl<'a> Body<'a> {
             .into_iter()
             .filter(|&id| matches!(g.node(id), Node::Mul(_)) && reciprocal_of(g, id).is_none())
             .collect();
-        let position: HashMap<Id, usize> = schedule
-            .temporaries
-            .iter()
-            .enumerate()
-            .map(|(i, &id)| (id, i))
-            .collect();
-        let mut shareable = vec![false; g.len()];
-        for &id in &schedule.temporaries {
-            shareable[id.index()] =
-                !needs_multipliers[id.index()] && reciprocal_of(g, id).is_none();
-        }
-        let subproducts = SubProducts::find(g, &products, &|id| shareable[id.index()]);
-        let mut subproduct_after: Vec<Option<usize>> = Vec::new();
-        for &(a, b) in &subproducts.pairs {
-            let after = |f: Factor| match f {
-                Factor::Leaf(id) => position.get(&id).copied(),
-                Factor::Shared(j) => subproduct_after[j],
-            };
-            let at = after(a).max(after(b));
-            subproduct_after.push(at);
-        }
+        // Temporaries that are reciprocals are bound in the preamble under
+        // another name, those that need λ later: neither joins a sub-product.
+        let shareable = |id: Id| !needs_multipliers[id.index()] && reciprocal_of(g, id).is_none();
+        let subproducts = SubProducts::plan(g, &products, &schedule.temporaries, &shareable);
         // A temporary that is itself `1/p` is the reciprocal.
         for id in &schedule.temporaries {
             if let Some(name) = reciprocal_of(g, *id).and_then(|b| reciprocals.get(&b)) {
@@ -141,8 +118,6 @@ impl<'a> Body<'a> {
         Body {
             reciprocals,
             subproducts,
-            subproduct_after,
-            shareable,
             needs_multipliers,
             temp_products,
             defining: std::cell::Cell::new(usize::MAX),
@@ -208,18 +183,13 @@ impl<'a> Body<'a> {
             .pairs
             .iter()
             .enumerate()
-            .filter(|&(i, _)| self.subproduct_after[i] == position)
+            .filter(|&(i, _)| self.subproducts.after[i] == position)
             .map(|(i, &(a, b))| {
                 let name = Context::local("sp", i);
                 let (a, b) = (self.shared_factor(a), self.shared_factor(b));
                 quote! { let #name = #a * #b; }
             });
         quote! { #(#lets)* }
-    }
-
-    /// Whether `id` may be a factor of a sub-product besides a variable.
-    fn shareable(&self, id: Id) -> bool {
-        self.shareable.get(id.index()).copied().unwrap_or(false)
     }
 
     /// A factor of a sub-product: a variable, or an earlier sub-product.
@@ -499,9 +469,9 @@ impl<'a> Body<'a> {
             .enumerate()
             .filter(|&(i, _)| !covered(i) && negated != Some(i))
             .map(|(_, &f)| f);
-        let applied = self
-            .subproducts
-            .apply(variables(self.graph, rest, &|id| self.shareable(id)));
+        let applied = self.subproducts.apply(variables(self.graph, rest, &|id| {
+            self.subproducts.shareable(id)
+        }));
         for (&f, &k) in &applied {
             if let Factor::Shared(i) = f {
                 let name = Context::local("sp", i);
@@ -514,7 +484,10 @@ impl<'a> Body<'a> {
             }
             // A variable: only the power no sub-product took.
             let e = if negated != Some(i)
-                && !variables(self.graph, [(b, e)].into_iter(), &|id| self.shareable(id)).is_empty()
+                && !variables(self.graph, [(b, e)].into_iter(), &|id| {
+                    self.subproducts.shareable(id)
+                })
+                .is_empty()
             {
                 let left = applied.get(&Factor::Leaf(b)).copied().unwrap_or(0);
                 if left == 0 {
