@@ -255,16 +255,8 @@ fn factor_sum_within(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::expr::sample as value;
     use crate::expr::{Func, Sym};
-
-    fn value(g: &Graph, id: Id) -> f64 {
-        g.eval(&[id], &|s| match s {
-            Sym::Coord(i) => 0.3 + 0.7 * i as f64,
-            Sym::Vel(i) => -0.4 + 0.9 * i as f64,
-            Sym::Param(i) => 1.1 + 0.5 * i as f64,
-            _ => 0.25,
-        })[0]
-    }
 
     #[test]
     fn a_common_factor_is_pulled_out_once() {

@@ -42,10 +42,10 @@ type Monomial = Vec<usize>;
 /// contributions to its coefficient (summed when the form is rebuilt).
 type Poly = BTreeMap<Monomial, Vec<(Id, Num)>>;
 
-/// `root` as a sum of squares where that costs at least [`MIN_SAVING`]
-/// fewer operations after factoring, counted together with `context` (the other pieces the code
-/// computes, whose subexpressions `root` may share); `root` factored
-/// otherwise (module docs).
+/// `root` as a sum of squares where that costs at least `MIN_SAVING` (3)
+/// fewer operations after factoring, counted together with `context` (the
+/// other pieces the code computes, whose subexpressions `root` may share);
+/// `root` factored otherwise (module docs).
 pub fn complete(g: &mut Graph, factorer: &mut Factorer, root: Id, context: &[Id]) -> Id {
     let factored = factorer.factor(g, root);
     let Some(candidate) = squares(g, factorer, root) else {
@@ -333,16 +333,8 @@ pub fn operations(g: &Graph, roots: &[Id]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::expr::sample as value;
     use crate::expr::Func;
-
-    fn value(g: &Graph, id: Id) -> f64 {
-        g.eval(&[id], &|s| match s {
-            Sym::Coord(i) => 0.3 + 0.7 * i as f64,
-            Sym::Vel(i) => -0.4 + 0.9 * i as f64,
-            Sym::Param(i) => 1.1 + 0.5 * i as f64,
-            _ => 0.25,
-        })[0]
-    }
 
     #[test]
     fn the_two_link_arms_b_becomes_two_squares() {

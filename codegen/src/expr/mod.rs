@@ -319,3 +319,15 @@ pub fn power(x: f64, e: Num) -> f64 {
         None => x.powf(e.to_f64()),
     }
 }
+
+/// `id` at one fixed generic point (each symbol a distinct value): the unit
+/// tests' check that a rewrite kept an expression's value.
+#[cfg(test)]
+pub(crate) fn sample(g: &Graph, id: Id) -> f64 {
+    g.eval(&[id], &|s| match s {
+        Sym::Coord(i) => 0.3 + 0.7 * i as f64,
+        Sym::Vel(i) => -0.4 + 0.9 * i as f64,
+        Sym::Param(i) => 1.1 + 0.5 * i as f64,
+        _ => 0.25,
+    })[0]
+}
