@@ -79,8 +79,8 @@ pub fn constraint_equations(mut system: System) -> Equations {
     }
 }
 
-/// Every row of `b` factored, as a sum of squares where that costs fewer
-/// operations together with `M`, `F`, `A` and the other rows.
+/// Every row of `b` factored, as a sum of squares where that costs at least
+/// three operations fewer, counted with `M`, `F`, `A` and the other rows.
 fn complete_squares(
     g: &mut crate::expr::Graph,
     factorer: &mut Factorer,

@@ -13,9 +13,10 @@
 //! Lagrange's method (`Q = Σ dₖ·lₖ·lₖᵀ`, exact rationals) into
 //! `Σ dₖ·(lₖ·q̇)²`, and a group is rewritten when that takes fewer squares
 //! than it had monomials. The rewritten sum, factored like every other
-//! (`crate::factor`), replaces the original only when it costs fewer
-//! operations ([`operations`]): values are unchanged, only the order of
-//! operations (and with it the rounding) moves.
+//! (`crate::factor`), replaces the original only when it costs at least
+//! three operations fewer ([`operations`], `MIN_SAVING`): values are
+//! unchanged, only the order of operations (and with it the rounding)
+//! moves.
 
 use crate::expr::{Graph, Id, Node, Sym};
 use crate::factor::Factorer;
@@ -176,17 +177,13 @@ fn expand(g: &mut Graph, factorer: &Factorer, root: Id) -> Option<Poly> {
                 sum
             }
             Node::Mul(factors) => {
-                let mut product = {
-                    let one = g.num(Num::ONE);
-                    Poly::from([(Vec::new(), vec![(one, Num::ONE)])])
-                };
+                let mut product = constant(g.num(Num::ONE));
                 for (base, e) in factors.iter().copied() {
                     if !moving[base.index()] {
                         // A velocity-free factor, at any power, is one
                         // coefficient.
-                        let factor = g.pown(base, e);
-                        let constant = Poly::from([(Vec::new(), vec![(factor, Num::ONE)])]);
-                        product = multiply(g, &product, &constant)?;
+                        let factor = constant(g.pown(base, e));
+                        product = multiply(g, &product, &factor)?;
                         continue;
                     }
                     // A velocity to a power other than 1 or 2 exceeds the
@@ -219,7 +216,12 @@ fn part(memo: &HashMap<Id, Poly>, moving: &[bool], id: Id) -> Option<Poly> {
     if moving[id.index()] {
         return memo.get(&id).cloned();
     }
-    Some(Poly::from([(Vec::new(), vec![(id, Num::ONE)])]))
+    Some(constant(id))
+}
+
+/// The polynomial that is the velocity-free coefficient `c` alone.
+fn constant(c: Id) -> Poly {
+    Poly::from([(Vec::new(), vec![(c, Num::ONE)])])
 }
 
 /// The product of two polynomials, `None` above degree two.

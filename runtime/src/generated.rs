@@ -27,10 +27,7 @@ pub fn lit<T: RealField + Copy>(value: f64) -> T {
 /// because it was scaled sends the solve to the runtime's check.
 #[inline(always)]
 pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
-    match T::max_value() {
-        Some(max) => max * lit::<T>(d),
-        None => T::zero() / T::zero(),
-    }
+    largest::<T>() * lit::<T>(d)
 }
 
 /// `T`'s largest finite value (NaN for a `T` without one, so that a

@@ -2,7 +2,7 @@
 //! shared temporaries in topological order, and the outputs themselves.
 
 use super::context::Context;
-use super::subproducts::{variables, Factor, SubProducts};
+use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
 use crate::expr::{signed_parts, Emission, Graph, Id, Node, Sym};
@@ -54,10 +54,10 @@ impl<'a> Body<'a> {
     pub(super) fn new(eq: &'a Equations, roots: &[Id]) -> Body<'a> {
         let g = &eq.system.graph;
         let schedule = Schedule::new(g, roots);
-        let used = g
-            .reachable(roots)
-            .into_iter()
-            .filter_map(|id| match g.node(id) {
+        let reachable = g.reachable(roots);
+        let used = reachable
+            .iter()
+            .filter_map(|&id| match g.node(id) {
                 Node::Sym(s) => Some(*s),
                 _ => None,
             })
@@ -69,7 +69,7 @@ impl<'a> Body<'a> {
             .map(|(i, &id)| (id, Context::local("t", i)))
             .collect();
         let mut needs_multipliers = vec![false; g.len()];
-        for id in g.reachable(roots) {
+        for &id in &reachable {
             needs_multipliers[id.index()] = match g.node(id) {
                 Node::Sym(s) => matches!(s, Sym::Multiplier(_) | Sym::Seed(_)),
                 _ => g.children(id).any(|c| needs_multipliers[c.index()]),
@@ -83,7 +83,7 @@ impl<'a> Body<'a> {
             .map(|(i, &id)| (i, id))
             .collect();
         let mut divides: HashMap<Id, usize> = HashMap::new();
-        for id in g.reachable(roots) {
+        for &id in &reachable {
             if let Node::Mul(factors) = g.node(id) {
                 for &(b, e) in factors.iter() {
                     if e.is_negative() && matches!(g.node(b), Node::Sym(Sym::Param(_))) {
@@ -100,8 +100,7 @@ impl<'a> Body<'a> {
                 _ => None,
             })
             .collect();
-        let products: Vec<Id> = g
-            .reachable(roots)
+        let products: Vec<Id> = reachable
             .into_iter()
             .filter(|&id| matches!(g.node(id), Node::Mul(_)) && reciprocal_of(g, id).is_none())
             .collect();
@@ -469,9 +468,10 @@ impl<'a> Body<'a> {
             .enumerate()
             .filter(|&(i, _)| !covered(i) && negated != Some(i))
             .map(|(_, &f)| f);
-        let applied = self.subproducts.apply(variables(self.graph, rest, &|id| {
-            self.subproducts.shareable(id)
-        }));
+        let shareable = |id: Id| self.subproducts.shareable(id);
+        let applied = self
+            .subproducts
+            .apply(qualifying(self.graph, rest, &shareable));
         for (&f, &k) in &applied {
             if let Factor::Shared(i) = f {
                 let name = Context::local("sp", i);
@@ -483,12 +483,7 @@ impl<'a> Body<'a> {
                 continue;
             }
             // A variable: only the power no sub-product took.
-            let e = if negated != Some(i)
-                && !variables(self.graph, [(b, e)].into_iter(), &|id| {
-                    self.subproducts.shareable(id)
-                })
-                .is_empty()
-            {
+            let e = if negated != Some(i) && qualifies(self.graph, b, e, &shareable).is_some() {
                 let left = applied.get(&Factor::Leaf(b)).copied().unwrap_or(0);
                 if left == 0 {
                     continue;

@@ -1,11 +1,10 @@
-//! Products of variables shared by several products, computed once.
+//! Sub-products shared by several products, computed once.
 //!
 //! Canonical products are flat (`m·l·cos θ`, `m·l²`, `m·l·θ̇²·sin θ`), so
 //! the DAG cannot share `m·l` between them; the emitter does. Over every
-//! product a body writes, the pair of variable factors that occurs in the
-//! most products (two at least) becomes a local `__sp{i} = a * b`, bound in
-//! the preamble; the pair is replaced by it wherever it occurs, and the
-//! search repeats, so a pair can grow into a longer sub-product
+//! product a body writes, the pair of qualifying factors that occurs in the
+//! most products (two at least) becomes a local `__sp{i} = a * b`; the pair
+//! is replaced by it wherever it occurs, and the search repeats, so a pair can grow into a longer sub-product
 //! (`(m·l)·g`). Each product of `k` uses saves `k − 1` multiplications;
 //! this is the greedy pair extraction of multiplier-block synthesis.
 //!
@@ -16,6 +15,7 @@
 
 use crate::cse::MAX_UNROLLED_POWER;
 use crate::expr::{Graph, Id, Node, Sym};
+use crate::num::Num;
 use std::collections::{BTreeMap, HashMap};
 
 /// How many pairs are extracted at most per body (each round removes at
@@ -25,17 +25,17 @@ const MAX_ROUNDS: usize = 64;
 /// A factor of a product: a variable, or an earlier sub-product.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub(super) enum Factor {
-    /// A variable node.
+    /// A variable, or a temporary that qualifies (module docs).
     Leaf(Id),
     /// Sub-product `i`.
     Shared(usize),
 }
 
-/// A product's variable factors with their multiplicities.
+/// A product's qualifying factors with their multiplicities.
 pub(super) type Multiset = BTreeMap<Factor, u32>;
 
 /// The sub-products of one body, in the order they were found (each made
-/// of variables and earlier sub-products).
+/// of qualifying factors and earlier sub-products).
 #[derive(Default)]
 pub(super) struct SubProducts {
     pub(super) pairs: Vec<(Factor, Factor)>,
@@ -83,11 +83,11 @@ impl SubProducts {
 
     /// The shared pairs among the products `products` (their nodes), whose
     /// factors qualify where they are variables or where `bound` holds.
-    pub(super) fn find(g: &Graph, products: &[Id], bound: &dyn Fn(Id) -> bool) -> SubProducts {
+    fn find(g: &Graph, products: &[Id], bound: &dyn Fn(Id) -> bool) -> SubProducts {
         let mut sets: Vec<Multiset> = products
             .iter()
             .map(|&p| match g.node(p) {
-                Node::Mul(factors) => variables(g, factors.iter().copied(), bound),
+                Node::Mul(factors) => qualifying(g, factors.iter().copied(), bound),
                 _ => Multiset::new(),
             })
             .filter(|set| set.values().sum::<u32>() >= 2)
@@ -136,26 +136,33 @@ impl SubProducts {
 
 /// The factors of a product that qualify (module docs), as a multiset:
 /// variables, and the bases for which `bound` holds.
-pub(super) fn variables(
+pub(super) fn qualifying(
     g: &Graph,
-    factors: impl Iterator<Item = (Id, crate::num::Num)>,
+    factors: impl Iterator<Item = (Id, Num)>,
     bound: &dyn Fn(Id) -> bool,
 ) -> Multiset {
     let mut set = Multiset::new();
     for (b, e) in factors {
-        let variable = bound(b)
-            || matches!(
-                g.node(b),
-                Node::Sym(Sym::Coord(_) | Sym::Vel(_) | Sym::Param(_) | Sym::Time)
-            );
-        match e.as_integer() {
-            Some(k) if variable && (1..=MAX_UNROLLED_POWER).contains(&k) => {
-                *set.entry(Factor::Leaf(b)).or_default() += k as u32;
-            }
-            _ => {}
+        if let Some(k) = qualifies(g, b, e, bound) {
+            *set.entry(Factor::Leaf(b)).or_default() += k;
         }
     }
     set
+}
+
+/// The multiplicity of the factor `b^e` in a sub-product, where it
+/// qualifies: a variable or a base for which `bound` holds, to a small
+/// positive integer power.
+pub(super) fn qualifies(g: &Graph, b: Id, e: Num, bound: &dyn Fn(Id) -> bool) -> Option<u32> {
+    let variable = bound(b)
+        || matches!(
+            g.node(b),
+            Node::Sym(Sym::Coord(_) | Sym::Vel(_) | Sym::Param(_) | Sym::Time)
+        );
+    let k = e
+        .as_integer()
+        .filter(|k| (1..=MAX_UNROLLED_POWER).contains(k))?;
+    variable.then_some(k as u32)
 }
 
 /// Adds (or removes) the pairs of factors of `set` to (from) `counts`: every
@@ -236,7 +243,7 @@ mod tests {
         let Node::Mul(f) = g.node(products[1]).clone() else {
             panic!("a product");
         };
-        let applied = found.apply(variables(&g, f.iter().copied(), &|_| false));
+        let applied = found.apply(qualifying(&g, f.iter().copied(), &|_| false));
         assert_eq!(
             applied,
             Multiset::from([(Factor::Leaf(l), 1), (Factor::Shared(0), 1)])
