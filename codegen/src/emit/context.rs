@@ -6,7 +6,7 @@
 use crate::derive::Equations;
 use crate::names::GENERATED_PREFIX;
 use proc_macro2::{Literal, Span, TokenStream};
-use quote::quote;
+use quote::{quote, ToTokens};
 use syn::Ident;
 
 /// Which arguments a generated function receives.
@@ -131,6 +131,34 @@ impl<'a> Context<'a> {
             Inputs::Positions => quote! { q, t },
             Inputs::States => quote! { q, qd, t },
         }
+    }
+
+    /// The private solver's signature: `gauss`, generic over what its
+    /// caller wants back (`constrained::__private::Finish`: `q̈` alone for
+    /// the total `acceleration`, `Result<(q̈, Aᵀλ), _>` for the trait).
+    pub(super) fn gauss_signature(&self) -> TokenStream {
+        let (params, correction) = (self.params(Inputs::States), self.correction_type());
+        let (finish, n) = (self.private(quote!(Finish)), Self::dim(self.n));
+        quote! {
+            fn gauss<__F: #finish<T, #n>>(&self, #params, correction: #correction) -> __F::Output
+        }
+    }
+
+    /// `gauss`'s exit for an error found before the solve: the caller's
+    /// `Finish` decides what it becomes (`Err`, or the least-squares answer).
+    pub(super) fn gauss_error(&self, error: TokenStream) -> TokenStream {
+        let error = self.path(error);
+        quote! {
+            return __F::settle(self, q, qd, t, correction, ::core::result::Result::Err(#error));
+        }
+    }
+
+    /// `self.gauss::<finish>(q, qd, t, correction)`, `finish` one of the
+    /// runtime's `Finish` types.
+    pub(super) fn call_gauss(&self, finish: &str, correction: TokenStream) -> TokenStream {
+        let finish = self.private(Ident::new(finish, Span::call_site()).into_token_stream());
+        let args = self.args(Inputs::States);
+        quote!(self.gauss::<#finish>(#args, #correction))
     }
 
     /// The optional correction of `b` taken by `gauss`.

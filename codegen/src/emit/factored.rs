@@ -16,7 +16,7 @@
 //! column through `L D Lᵀ` of `M` and of `S`.
 
 use super::body::Body;
-use super::context::{Context, Inputs};
+use super::context::Context;
 use super::ldlt::StructuredLdlt;
 use super::motion::{checked_motion, corrected, fallible};
 use crate::expr::Id;
@@ -52,18 +52,20 @@ fn dot(pairs: Vec<(TokenStream, TokenStream)>) -> TokenStream {
 /// How much of the solve is built.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Scope {
-    /// All of it, to `λ` (`correction`: with the `b + db` of
-    /// `acceleration_corrected`); errors are `Err(DynamicsError)`.
-    Dynamics { correction: bool },
+    /// All of it, to `λ`. `gauss`: the solver `gauss`'s code, with the
+    /// `b + db` of `acceleration_corrected`, errors through its `Finish`;
+    /// else the Jacobian's, errors as `Err(DynamicsError)`.
+    Dynamics { gauss: bool },
     /// `M`'s factor, `W` and `S`'s factor only (the projections' step);
     /// an error is `None`.
     ConstraintSpace,
 }
 
 impl<'a> FactoredGauss<'a> {
-    /// The solve to `λ`.
-    pub(super) fn new(ctx: &'a Context, f: &'a Factored, correction: bool) -> Self {
-        Self::build(ctx, f, Scope::Dynamics { correction })
+    /// The solve to `λ`, for the solver `gauss` or (`gauss` false) the
+    /// Jacobian.
+    pub(super) fn new(ctx: &'a Context, f: &'a Factored, gauss: bool) -> Self {
+        Self::build(ctx, f, Scope::Dynamics { gauss })
     }
 
     /// `M`'s factor, `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`) and `S`'s factor,
@@ -75,18 +77,18 @@ impl<'a> FactoredGauss<'a> {
     fn build(ctx: &'a Context, f: &'a Factored, scope: Scope) -> Self {
         let (n, k) = (ctx.n, ctx.k);
         let dynamics = matches!(scope, Scope::Dynamics { .. });
-        let correction = matches!(scope, Scope::Dynamics { correction: true });
+        let correction = matches!(scope, Scope::Dynamics { gauss: true });
         let sys = &ctx.eq.system;
         let g = &sys.graph;
         let a = &ctx.eq.a;
         let nonzero = |e: Id| !g.is_zero(e);
-        let bail = |error: TokenStream| {
-            if dynamics {
+        let bail = |error: TokenStream| match scope {
+            Scope::Dynamics { gauss: true } => ctx.gauss_error(error),
+            Scope::Dynamics { gauss: false } => {
                 let error = ctx.path(error);
                 quote!(return ::core::result::Result::Err(#error);)
-            } else {
-                quote!(return ::core::option::Option::None;)
             }
+            Scope::ConstraintSpace => quote!(return ::core::option::Option::None;),
         };
         let mass = StructuredLdlt::mass(
             &f.mass,
@@ -282,16 +284,15 @@ pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let to_multipliers = &gauss.to_multipliers;
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());
-    let vector = ctx.vector(ctx.n);
-    let ret = ctx.result(quote!((#vector, #vector)), quote!(DynamicsError));
-    let (params, correction) = (ctx.params(Inputs::States), ctx.correction_type());
     // The rank decision, checked after the fact, as for a constant M.
     let value = checked_motion(ctx, &gauss.gram, &acc, &force, None);
+    let signature = ctx.gauss_signature();
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`).
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
+        /// as `__F` makes it.
         #[inline(always)]
-        fn gauss(&self, #params, correction: #correction) -> #ret {
+        #signature {
             #to_multipliers
             #value
         }

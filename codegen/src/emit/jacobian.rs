@@ -39,7 +39,11 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     let (a_type, b_type) = (ctx.matrix(2 * n, 2 * n), ctx.matrix(2 * n, nu));
     let jacobian = ctx.path(quote!(linearize::acceleration_jacobian));
     let linearization = ctx.path(quote!(linearize::linearization));
-    let least_squares = ctx.private(quote!(least_squares));
+    let none = quote!(::core::option::Option::None);
+    let (fallible_solve, total_solve) = (
+        ctx.call_gauss("Fallible", none.clone()),
+        ctx.call_gauss("Total", none),
+    );
     let k_lit = Context::dim(ctx.k);
     let value =
         quote!(#jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion));
@@ -49,7 +53,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             ctx.result(jacobians.clone(), quote!(DynamicsError)),
             ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError)),
             quote! {
-                let __motion = self.gauss(#args, ::core::option::Option::None)?;
+                let __motion = #fallible_solve?;
                 let __j = #value;
                 if __j.is_finite() {
                     ::core::result::Result::Ok(__j)
@@ -67,12 +71,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             jacobians.clone(),
             quote!((#a_type, #b_type)),
             quote! {
-                let __motion = match self.gauss(#args, ::core::option::Option::None) {
-                    ::core::result::Result::Ok(m) => m,
-                    ::core::result::Result::Err(_) => {
-                        #least_squares(self, #args, ::core::option::Option::None)
-                    }
-                };
+                let __motion = #total_solve;
                 #value
             },
             quote! {

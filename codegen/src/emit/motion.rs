@@ -41,25 +41,26 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     };
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let vector = ctx.vector(ctx.n);
-    // The solver's `Err(Unsatisfiable)` becomes the least-squares answer in
-    // the total methods of a system with a constant positive definite M.
-    let least_squares = ctx.private(quote!(least_squares));
-    let gauss = |correction: TokenStream, part: TokenStream| {
-        if fallible(ctx) {
-            quote!(self.gauss(#args, #correction).map(|s| s.#part))
+    // The total methods of a system with a constant positive definite M
+    // ask the solver for their value directly (the least-squares answer
+    // where it fails: `TotalAcceleration`, `TotalForce`).
+    let gauss = |correction: TokenStream, force: bool| {
+        let (total, part) = if force {
+            ("TotalForce", quote!(1))
         } else {
-            quote! {
-                match self.gauss(#args, #correction) {
-                    ::core::result::Result::Ok(s) => s.#part,
-                    ::core::result::Result::Err(_) => #least_squares(self, #args, #correction).#part,
-                }
-            }
+            ("TotalAcceleration", quote!(0))
+        };
+        if fallible(ctx) {
+            let call = ctx.call_gauss("Fallible", correction);
+            quote!(#call.map(|s| s.#part))
+        } else {
+            ctx.call_gauss(total, correction)
         }
     };
     let none = quote!(::core::option::Option::None);
-    let acc = gauss(none.clone(), quote!(0));
-    let force = gauss(none, quote!(1));
-    let corrected = gauss(quote!(::core::option::Option::Some(db)), quote!(0));
+    let acc = gauss(none.clone(), false);
+    let force = gauss(none, true);
+    let corrected = gauss(quote!(::core::option::Option::Some(db)), false);
     let ret = if fallible(ctx) {
         ctx.result(vector.clone(), quote!(DynamicsError))
     } else {
@@ -137,7 +138,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let (m, a) = (ctx.matrix(ctx.n, ctx.n), ctx.matrix(ctx.k, ctx.n));
     let motion = ctx.private(quote!(Motion<T, #n>));
     let gauss_ret = ctx.result(motion, quote!(DynamicsError));
-    let gauss = quote!(Self::gauss(self, #args, correction));
+    let gauss = ctx.call_gauss("Fallible", quote!(correction));
     let correction = ctx.correction_type();
     let generated = ctx.private(quote!(Generated<T, #n, #k>));
     let level = ctx.path(quote!(ConstraintLevel));
@@ -216,28 +217,29 @@ pub(super) fn checked_motion(
     force: &TokenStream,
     also: Option<TokenStream>,
 ) -> TokenStream {
+    // The force as a closure that only the callers wanting it call, so
+    // that `acceleration` never computes it.
     if ctx.k == 0 {
-        return quote!(::core::result::Result::Ok((#acc, #force)));
+        return quote!(__F::stands(#acc, move || #force));
     }
     let suspect = ldlt.suspect(ctx.generic_rank);
     let suspect = match also {
         Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
-    let checked = ctx.private(quote!(checked));
-    // The force after the check, so that `acceleration` alone never
-    // computes it.
-    quote! {{
-        let __acc = #acc;
+    // The suspect path is one out-of-line call whose value is the caller's
+    // own: nothing of the fast solve lives across it
+    // (`constrained::__private::Finish::suspect`). Its arguments are built
+    // in its branch, not bound before it: a vector passed to that call is
+    // passed by address, and a local whose address escapes stays in memory
+    // on the fast path too (Appell's particle stored q̈ and the force's
+    // captures to the stack and loaded them back, on every call).
+    quote! {
         if #suspect {
-            if let ::core::option::Option::Some(__recomputed) =
-                #checked(self, q, qd, t, correction, __acc)
-            {
-                return __recomputed;
-            }
+            return __F::suspect(self, q, qd, t, correction, #acc, move || #force);
         }
-        ::core::result::Result::Ok((__acc, #force))
-    }}
+        __F::stands(#acc, move || #force)
+    }
 }
 
 /// `r + D db` where `gauss` was given a correction `db` (Baumgarte), over
@@ -281,8 +283,10 @@ pub(super) struct SymbolicGauss<'a> {
 
 impl<'a> SymbolicGauss<'a> {
     /// `extra` are further expressions the caller will ask `body` for;
-    /// `correction` adds the `b + db` of `acceleration_corrected`.
-    pub(super) fn new(ctx: &'a Context, d: &'a Symbolic, extra: &[Id], correction: bool) -> Self {
+    /// `gauss`: the code is the solver `gauss`'s (with the `b + db` of
+    /// `acceleration_corrected`, errors through its `Finish`), else the
+    /// Jacobian's (errors as `Err`).
+    pub(super) fn new(ctx: &'a Context, d: &'a Symbolic, extra: &[Id], gauss: bool) -> Self {
         let k = ctx.k;
         let g = &ctx.eq.system.graph;
         let residuals: Vec<_> = (0..k).map(|i| Context::local("r", i)).collect();
@@ -315,7 +319,13 @@ impl<'a> SymbolicGauss<'a> {
             let value = body.expr(*id);
             quote! { let #name = #value; }
         });
-        let error = ctx.path(quote!(DynamicsError::MassNotPositiveDefinite));
+        let error = quote!(DynamicsError::MassNotPositiveDefinite);
+        let exit = if gauss {
+            ctx.gauss_error(error)
+        } else {
+            let error = ctx.path(error);
+            quote!(return ::core::result::Result::Err(#error);)
+        };
         let check = (!unchecked.is_empty()).then(|| {
             let positive = unchecked.iter().map(|&m| {
                 let m = body.expr(m);
@@ -323,11 +333,11 @@ impl<'a> SymbolicGauss<'a> {
             });
             quote! {
                 if !(#(#positive)&&*) {
-                    return ::core::result::Result::Err(#error);
+                    #exit
                 }
             }
         });
-        let corrected = (correction && k > 0).then(|| corrected(&residuals, &d.scale));
+        let corrected = (gauss && k > 0).then(|| corrected(&residuals, &d.scale));
         let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
         let factor = ldlt.factor();
         let solve = ldlt.solve(&residuals, "y", &multipliers);
@@ -361,7 +371,6 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     } = SymbolicGauss::new(ctx, d, &[], true);
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
-    let vector = ctx.vector(ctx.n);
     // A row scaled down (`D`, d < 1) can be finite where the model's own
     // `r` (and `b`) overflows: then the runtime answers from A and b
     // (`NonFinite`), so that an `Ok` always satisfies the `A q̈ = b` it
@@ -379,20 +388,17 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         })
         .collect();
     let also = (!overflows.is_empty()).then(|| quote!(#(#overflows)|*));
-    let motion = checked_motion(ctx, &ldlt, &acc, &force, also);
     // Fallible even where M is known positive definite: the rank check can
     // find the constraints unsatisfiable (the total methods then answer by
-    // least squares).
-    let (ret, value) = (
-        ctx.result(quote!((#vector, #vector)), quote!(DynamicsError)),
-        motion,
-    );
-    let (params, correction) = (ctx.params(Inputs::States), ctx.correction_type());
+    // least squares, through their `Finish`).
+    let value = checked_motion(ctx, &ldlt, &acc, &force, also);
+    let signature = ctx.gauss_signature();
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`).
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
+        /// as `__F` makes it.
         #[inline(always)]
-        fn gauss(&self, #params, correction: #correction) -> #ret {
+        #signature {
             #to_multipliers
             #value
         }
@@ -402,16 +408,16 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
 /// A semi-definite `M`: the runtime's dense solve of the auxiliary system
 /// (Cholesky of `M + s AᵀA`, pivoted `LDLᵀ` of `A M⁻¹ Aᵀ`).
 fn dense_solver(ctx: &Context) -> TokenStream {
-    let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
-    let vector = ctx.vector(ctx.n);
-    let ret = ctx.result(quote!((#vector, #vector)), quote!(DynamicsError));
-    let (correction, gauss_dense) = (ctx.correction_type(), ctx.private(quote!(gauss_dense)));
+    let args = ctx.args(Inputs::States);
+    let (signature, gauss_dense) = (ctx.gauss_signature(), ctx.private(quote!(gauss_dense)));
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`).
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
+        /// as `__F` makes it.
         #[inline]
-        fn gauss(&self, #params, correction: #correction) -> #ret {
-            #gauss_dense(self, #args, correction)
+        #signature {
+            let __motion = #gauss_dense(self, #args, correction);
+            __F::settle(self, #args, correction, __motion)
         }
     }
 }
