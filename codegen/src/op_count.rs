@@ -125,8 +125,9 @@ fn find_gauss(file: &syn::File) -> Option<&syn::ImplItemFn> {
 }
 
 /// Collects the bindings of `stmts` in order (blocks are entered, early
-/// returns and checks skipped) and the acceleration: the first element of
-/// the returned `Ok((q̈, Fᶜ))`, with the number of bindings before it.
+/// returns and checks skipped, and with them the suspect path) and the
+/// acceleration: the first argument of the fast path's `__F::stands`,
+/// with the number of bindings before it.
 fn collect<'a>(
     stmts: &'a [Stmt],
     bindings: &mut Vec<Binding>,
@@ -156,19 +157,16 @@ fn collect<'a>(
     Some(())
 }
 
-/// `Ok((q̈, Fᶜ))` → `q̈`.
+/// The fast path's value `__F::stands(q̈, move || Fᶜ)` → `q̈`.
 fn returned_acceleration(expr: &Expr) -> Option<&Expr> {
     let Expr::Call(call) = expr else { return None };
     let Expr::Path(path) = &*call.func else {
         return None;
     };
-    if path.path.segments.last()?.ident != "Ok" {
+    if path.path.segments.last()?.ident != "stands" {
         return None;
     }
-    match call.args.first()? {
-        Expr::Tuple(t) => t.elems.first(),
-        _ => None,
-    }
+    call.args.first()
 }
 
 fn pattern_names(pat: &Pat, names: &mut Vec<String>) -> Option<()> {
@@ -334,14 +332,19 @@ mod tests {
              };
              let __f = -__r0 * x;
              let __t0 = __t0 - __f;
-             {
-                 let __acc = V::from_array_storage(ArrayStorage([[__t0, __f * __f]]));
-                 if !(__t0.is_finite()) { return Err(E); }
-                 Ok((__acc, x * x * x))
-             }",
+             if !(__t0.is_finite()) {
+                 let __f = x / y / y;
+                 return __F::suspect(self, q, qd, t, correction,
+                     V::from_array_storage(ArrayStorage([[__f, __f]])), move || x);
+             }
+             __F::stands(
+                 V::from_array_storage(ArrayStorage([[__t0, __f * __f]])),
+                 move || x * x * x,
+             )",
         )
         .expect("straight-line");
-        // x·y, + sin t, one sin; −, ·; the second __t0's −; __f·__f.
+        // x·y, + sin t, one sin; −, ·; the second __t0's −; __f·__f. Not
+        // the suspect path's divisions, not the force's products.
         assert_eq!(
             ops,
             OpCount {
@@ -359,7 +362,10 @@ mod tests {
     #[test]
     fn a_runtime_solve_has_no_count() {
         assert_eq!(
-            count("let m = self.m; Ok((::constrained::__private::gauss_dense(m), m))"),
+            count(
+                "let __motion = ::constrained::__private::gauss_dense(self, q, qd, t, correction);
+                 __F::settle(self, q, qd, t, correction, __motion)"
+            ),
             None
         );
         assert_eq!(count("let m = self.m;"), None, "no returned acceleration");

@@ -285,7 +285,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());
     // The rank decision, checked after the fact, as for a constant M.
-    let value = checked_motion(ctx, &gauss.gram, &acc, &force, None);
+    let value = checked_motion(ctx, &gauss.gram, &acc, &force, None, None);
     let signature = ctx.gauss_signature();
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,

@@ -254,6 +254,17 @@ impl<'a> StructuredLdlt<'a> {
         self.solve_sparse(&rhs, y, out).0
     }
 
+    /// `S`'s scalar case (`k = 1`) as the solver's fast path writes it:
+    /// `λ = r / S` bare, for use only where [`suspect`](Self::suspect) is
+    /// false (then `S` lies in (safe minimum, largest], so the division is
+    /// safe). `None` where `S` is not a scalar.
+    pub(super) fn scalar_division(&self, r: &Ident, lam: &Ident) -> Option<TokenStream> {
+        self.scalar_gram().then(|| {
+            let s = self.at(0, 0);
+            quote! { let #lam = #r / #s; }
+        })
+    }
+
     /// The solve step for a right-hand side with structural zeros (`None`):
     /// only the entries it can reach are computed. Returns the code and
     /// which of `out` it binds; the others are zero.

@@ -205,17 +205,23 @@ pub(super) fn levels(ctx: &Context) -> Vec<TokenStream> {
         .collect()
 }
 
-/// `gauss`'s value `Ok((q̈, Aᵀλ))`, with the rank decision of `ldlt` (the
-/// factorization of `S`) checked after the fact (`constrained::rank`):
-/// where fewer rows than the generic rank were kept, the runtime verifies
-/// the dropped ones and recomputes if they are violated. `also` is a
-/// further condition for that check.
+/// The two paths' own code before `gauss`'s value, where the rank check
+/// comes before `λ` (a scalar `S`): `(suspect, fast)`.
+pub(super) type PathCode = (TokenStream, TokenStream);
+
+/// `gauss`'s value `(q̈, Aᵀλ)` as its `Finish` makes it, with the rank
+/// decision of `ldlt` (the factorization of `S`) checked after the fact
+/// (`constrained::rank`): where fewer rows than the generic rank were kept,
+/// the runtime verifies the dropped ones and recomputes if they are
+/// violated. `also` is a further condition for that check; `paths`, code
+/// each path runs first.
 pub(super) fn checked_motion(
     ctx: &Context,
     ldlt: &StructuredLdlt,
     acc: &TokenStream,
     force: &TokenStream,
     also: Option<TokenStream>,
+    paths: Option<PathCode>,
 ) -> TokenStream {
     // The force as a closure that only the callers wanting it call, so
     // that `acceleration` never computes it.
@@ -227,6 +233,7 @@ pub(super) fn checked_motion(
         Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
+    let (suspect_code, fast_code) = paths.unwrap_or_default();
     // The suspect path is one out-of-line call whose value is the caller's
     // own: nothing of the fast solve lives across it
     // (`constrained::__private::Finish::suspect`). Its arguments are built
@@ -236,8 +243,10 @@ pub(super) fn checked_motion(
     // captures to the stack and loaded them back, on every call).
     quote! {
         if #suspect {
+            #suspect_code
             return __F::suspect(self, q, qd, t, correction, #acc, move || #force);
         }
+        #fast_code
         __F::stands(#acc, move || #force)
     }
 }
@@ -279,6 +288,22 @@ pub(super) struct SymbolicGauss<'a> {
     /// that need it: variables, entries of `S` and `r`, the run-time check
     /// of masses not known positive, the factorization and the solve.
     pub to_multipliers: TokenStream,
+    /// `to_multipliers` in three parts, for `gauss` with a scalar `S`
+    /// (`k = 1`): the code up to `S` and `r`, the guarded division, and
+    /// the temporaries after `λ`.
+    pub scalar: Option<ScalarSolve>,
+}
+
+/// The scalar (`k = 1`) solve of [`SymbolicGauss`] in parts.
+pub(super) struct ScalarSolve {
+    /// From the arguments to `S` and `r` (`__s0_0`, `__r0`).
+    to_gram: TokenStream,
+    /// `λ = r / S`, bare: the fast path, once the rank check passed.
+    division: TokenStream,
+    /// `λ = r / S` where `S > 0`, else 0: the suspect path.
+    guarded: TokenStream,
+    /// The temporaries that need `λ`.
+    after: TokenStream,
 }
 
 impl<'a> SymbolicGauss<'a> {
@@ -342,19 +367,32 @@ impl<'a> SymbolicGauss<'a> {
         let factor = ldlt.factor();
         let solve = ldlt.solve(&residuals, "y", &multipliers);
         let after = body.after_multipliers();
-        let to_multipliers = quote! {
+        let to_gram = quote! {
             #preamble
             #(#bindings)*
             #corrected
             #check
             #factor
+        };
+        let to_multipliers = quote! {
+            #to_gram
             #solve
             #after
+        };
+        let scalar = match (&residuals[..], &multipliers[..]) {
+            ([r], [lam]) => ldlt.scalar_division(r, lam).map(|division| ScalarSolve {
+                to_gram,
+                division,
+                guarded: solve,
+                after,
+            }),
+            _ => None,
         };
         SymbolicGauss {
             body,
             ldlt,
             to_multipliers,
+            scalar,
         }
     }
 }
@@ -367,7 +405,7 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         body,
         ldlt,
         to_multipliers,
-        ..
+        scalar,
     } = SymbolicGauss::new(ctx, d, &[], true);
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
@@ -391,8 +429,25 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     // Fallible even where M is known positive definite: the rank check can
     // find the constraints unsatisfiable (the total methods then answer by
     // least squares, through their `Finish`).
-    let value = checked_motion(ctx, &ldlt, &acc, &force, also);
     let signature = ctx.gauss_signature();
+    // k = 1: the rank check is the division's own branch. The fast path
+    // divides once, unguarded (S is in (safe minimum, largest] there); the
+    // suspect path makes the guarded λ and what follows from it. The fast
+    // path tests S once where it tested it twice (S > 0, then the check):
+    // Appell's particle has as many instructions as eq. 32 by hand.
+    let (to_multipliers, paths) = match scalar {
+        Some(ScalarSolve {
+            to_gram,
+            division,
+            guarded,
+            after,
+        }) => (
+            to_gram,
+            Some((quote!(#guarded #after), quote!(#division #after))),
+        ),
+        None => (to_multipliers, None),
+    };
+    let value = checked_motion(ctx, &ldlt, &acc, &force, also, paths);
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
         /// `constraint_force` and `acceleration_corrected` (`b + correction`),
