@@ -21,19 +21,31 @@ quick=(--warm-up-time 1 --measurement-time 3)
 CONSTRAINED_OP_COUNTS_ALL=1 bash scripts/sympy.sh > /dev/null
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
+# The criterion binaries are built with every function and loop on a
+# 64-byte boundary, in a target directory of their own (target/aligned;
+# results still under target/criterion). Without it a ratio of two small
+# functions depended on where the linker happened to place them: the same
+# Appell comparison, unchanged, read 0.82× in one build and 1.50× in the
+# next (eq. 32 by hand alone moved from 3.3 to 5.8 ns per call); with it,
+# eq. 32 by hand, unchanged in three builds that differed elsewhere,
+# measured 38.0-38.5 ns (12 states) and 20.6-21.0 µs (1024 states).
+aligned=(env "RUSTFLAGS=-C llvm-args=-align-all-functions=6 -C llvm-args=-align-loops=64"
+    "CARGO_TARGET_DIR=$PWD/target/aligned" "CRITERION_HOME=$PWD/target/criterion")
+# Only this run's results reach the report.
+rm -rf target/criterion
 echo "== build the benchmarks"
-cargo bench --quiet --no-run --bench acceleration --bench jacobian --bench projection --bench baumgarte
-cargo bench --quiet --no-run -p constrained-codegen --bench expand
+"${aligned[@]}" cargo bench --quiet --no-run --bench acceleration --bench jacobian --bench projection --bench baumgarte
+"${aligned[@]}" cargo bench --quiet --no-run -p constrained-codegen --bench expand
 echo "== criterion: generated code (benches/acceleration.rs)"
-"${pin[@]}" cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
+"${aligned[@]}" "${pin[@]}" cargo bench --quiet --bench acceleration -- "${quick[@]}" > target/benchmarks-acceleration.log
 echo "== criterion: the Jacobian of q̈ (benches/jacobian.rs)"
-"${pin[@]}" cargo bench --quiet --bench jacobian -- "${quick[@]}" > target/benchmarks-jacobian.log
+"${aligned[@]}" "${pin[@]}" cargo bench --quiet --bench jacobian -- "${quick[@]}" > target/benchmarks-jacobian.log
 echo "== criterion: projection (benches/projection.rs)"
-"${pin[@]}" cargo bench --quiet --bench projection -- "${quick[@]}" > target/benchmarks-projection.log
+"${aligned[@]}" "${pin[@]}" cargo bench --quiet --bench projection -- "${quick[@]}" > target/benchmarks-projection.log
 echo "== criterion: Baumgarte-stabilized steps (benches/baumgarte.rs)"
-"${pin[@]}" cargo bench --quiet --bench baumgarte -- "${quick[@]}" > target/benchmarks-baumgarte.log
+"${aligned[@]}" "${pin[@]}" cargo bench --quiet --bench baumgarte -- "${quick[@]}" > target/benchmarks-baumgarte.log
 echo "== criterion: macro expansion (codegen/benches/expand.rs)"
-"${pin[@]}" cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > target/benchmarks-expand.log
+"${aligned[@]}" "${pin[@]}" cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > target/benchmarks-expand.log
 echo "== generated code size"
 cargo run --quiet -p constrained-codegen --example expansion_size -- target/benchmarks/expansion.json
 echo "== sympy lambdify"

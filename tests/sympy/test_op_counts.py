@@ -46,11 +46,6 @@ KNOWN_GAPS = {
     # solves the three independent rows where the generated solve keeps
     # all four and decides at run time (126 against 105).
     "SliderCrank": 1.21,
-    # sympy's LU divides once per use, where the generated LDLᵀ of M(q)
-    # forms each pivot's reciprocal and multiplies by it (two operations
-    # where a pivot divides once, fewer and faster where it divides twice
-    # or more): 24 against 23.
-    "CartPole": 1.05,
 }
 
 

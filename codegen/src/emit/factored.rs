@@ -17,7 +17,7 @@
 
 use super::body::Body;
 use super::context::Context;
-use super::ldlt::StructuredLdlt;
+use super::ldlt::{Solves, StructuredLdlt};
 use super::motion::{checked_motion, corrected, fallible};
 use crate::expr::Id;
 use crate::motion::Factored;
@@ -90,9 +90,17 @@ impl<'a> FactoredGauss<'a> {
             }
             Scope::ConstraintSpace => quote!(return ::core::option::Option::None;),
         };
+        // `gauss` without constraints solves with M once (for `a`); with
+        // them, once more per column of W, and the Jacobian once per column.
+        let solves = if correction && k == 0 {
+            Solves::Once
+        } else {
+            Solves::Many
+        };
         let mass = StructuredLdlt::mass(
             &f.mass,
             bail(quote!(DynamicsError::MassNotPositiveDefinite)),
+            solves,
         );
         let gram = StructuredLdlt::gram(&f.gram);
         let mut named: Vec<(Ident, Id)> = Vec::new();

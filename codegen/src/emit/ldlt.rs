@@ -44,12 +44,23 @@ enum Pivots {
     Positive(TokenStream),
 }
 
+/// How often the function solves with the factorization.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Solves {
+    /// Once: the last pivot, which only the solve reads, divides there
+    /// instead of forming its reciprocal (one operation fewer).
+    Once,
+    /// More than once: every pivot's reciprocal is formed once and shared.
+    Many,
+}
+
 /// The factorization of one symmetric matrix, whose entries are the locals
 /// named by [`StructuredLdlt::entry`] (i ≥ j, structural nonzeros only).
 pub(super) struct StructuredLdlt<'a> {
     structure: &'a Structure,
     roles: Roles,
     pivots: Pivots,
+    solves: Solves,
 }
 
 impl<'a> StructuredLdlt<'a> {
@@ -65,12 +76,14 @@ impl<'a> StructuredLdlt<'a> {
                 lower: "l",
             },
             pivots: Pivots::Dropped,
+            solves: Solves::Many,
         }
     }
 
     /// `M(q)`: entries `__m{i}_{j}`, pivots that must be positive, else
-    /// `bail` runs (a `return` statement).
-    pub(super) fn mass(structure: &'a Structure, bail: TokenStream) -> Self {
+    /// `bail` runs (a `return` statement); `solves`: how often the function
+    /// solves with it.
+    pub(super) fn mass(structure: &'a Structure, bail: TokenStream, solves: Solves) -> Self {
         StructuredLdlt {
             structure,
             roles: Roles {
@@ -81,7 +94,14 @@ impl<'a> StructuredLdlt<'a> {
                 lower: "ml",
             },
             pivots: Pivots::Positive(bail),
+            solves,
         }
+    }
+
+    /// Whether pivot `j`'s reciprocal is formed: not the last one's where
+    /// the function solves once (nothing in the factorization reads it).
+    fn reciprocal(&self, j: usize) -> bool {
+        !(self.solves == Solves::Once && j + 1 == self.k())
     }
 
     /// The local holding entry (i, j) of the matrix.
@@ -160,12 +180,17 @@ impl<'a> StructuredLdlt<'a> {
                     let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
                 },
                 // `!(d > 0)` also catches NaN.
-                Pivots::Positive(bail) => quote! {
-                    if !(#dj > T::zero()) {
-                        #bail
+                Pivots::Positive(bail) => {
+                    let reciprocal = self
+                        .reciprocal(j)
+                        .then(|| quote! { let #inv = T::one() / #dj; });
+                    quote! {
+                        if !(#dj > T::zero()) {
+                            #bail
+                        }
+                        #reciprocal
                     }
-                    let #inv = T::one() / #dj;
-                },
+                }
             });
             for i in j + 1..k {
                 if !l[i][j] {
@@ -330,9 +355,15 @@ impl<'a> StructuredLdlt<'a> {
                     quote!(#lci * #xc)
                 })
                 .collect();
+            let scaled = if self.reciprocal(i) {
+                quote!(#yi * #inv)
+            } else {
+                let di = Context::local(self.roles.pivot, i);
+                quote!(#yi / #di)
+            };
             let value = match (forward[i], updates.is_empty()) {
                 (false, true) => continue,
-                (true, _) => quote!(#yi * #inv #(- #updates)*),
+                (true, _) => quote!(#scaled #(- #updates)*),
                 (false, false) => {
                     let (first, rest) = updates.split_first().expect("non-empty");
                     quote!(-(#first) #(- #rest)*)
