@@ -334,8 +334,11 @@ mod tests {
              let __t0 = __t0 - __f;
              if !(__t0.is_finite()) {
                  let __f = x / y / y;
-                 return __F::suspect(self, q, qd, t, correction,
-                     V::from_array_storage(ArrayStorage([[__f, __f]])), move || x);
+                 let __acc = V::from_array_storage(ArrayStorage([[__f, __f]]));
+                 if let Some(__r) = checked(self, q, qd, t, correction, __acc) {
+                     return __F::settle(self, q, qd, t, correction, __r);
+                 }
+                 return __F::stands(__acc, move || x);
              }
              __F::stands(
                  V::from_array_storage(ArrayStorage([[__t0, __f * __f]])),

@@ -1,26 +1,23 @@
 //! What a generated solve hands back, chosen by the method that calls it.
 //!
 //! Every generated system has one private solver, `gauss`, shared by
-//! `acceleration`, `constraint_force`, `acceleration_corrected` and the
-//! [`Generated`] trait. It is generic over a [`Finish`]: the caller's type
-//! says what the solve returns on each of its three exits, so that no
-//! caller post-processes a `Result` that the solve built for it:
+//! `acceleration`, `constraint_force`, `acceleration_corrected`, the
+//! Jacobian and the [`Generated`] trait. It is generic over a [`Finish`]:
+//! the caller's type says what the solve returns on its exits, so that the
+//! total `acceleration` returns `q̈` itself and never makes the constraint
+//! force, and no caller post-processes a `Result` built for it:
 //!
-//! - the fast path, whose rank decision needs no check ([`Finish::stands`]):
-//!   the total `acceleration` returns `q̈` and never makes the constraint
-//!   force;
-//! - the suspect path ([`Finish::suspect`], out of line): the runtime's check
-//!   ([`checked`]) and, for the total methods, the least-squares answer,
-//!   in one call whose value is the method's own. Nothing of the fast solve
-//!   is live after it, so the fast path needs no stack frame: with the
-//!   `Result` matched in the caller, Appell's particle saved and restored
-//!   four registers and reserved 136 bytes of stack on every call, suspect
-//!   or not (its fast path was 44 instructions; it is 24 now);
-//! - an error found before the solve (`M` not positive definite, the dense
-//!   solve's errors: [`Finish::settle`]).
+//! - the fast path, or a suspect rank decision that [`checked`] let stand
+//!   ([`Finish::stands`]);
+//! - an error found before the solve (`M` not positive definite), the
+//!   dense solve's outcome, or the checked recomputation
+//!   ([`Finish::settle`]): for the total methods, the least-squares answer
+//!   where the solve failed.
+//!
+//! [`checked`]: crate::rank::checked
 
 use crate::generated::{Generated, Motion};
-use crate::rank::{checked, least_squares};
+use crate::rank::least_squares;
 use crate::DynamicsError;
 use nalgebra::{RealField, SVector};
 
@@ -45,29 +42,6 @@ pub trait Finish<T: RealField + Copy, const N: usize> {
     ) -> Self::Output
     where
         S: Generated<T, N, K>;
-
-    /// The fast solve's `candidate` where its rank decision is suspect:
-    /// checked by [`checked`], kept if it stands, else the recomputation.
-    #[cold]
-    #[inline(never)]
-    fn suspect<S, F, const K: usize>(
-        system: &S,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-        correction: Option<&SVector<T, K>>,
-        candidate: SVector<T, N>,
-        force: F,
-    ) -> Self::Output
-    where
-        S: Generated<T, N, K>,
-        F: FnOnce() -> SVector<T, N>,
-    {
-        match checked(system, q, qd, t, correction, candidate) {
-            None => Self::stands(candidate, force),
-            Some(recomputed) => Self::settle(system, q, qd, t, correction, recomputed),
-        }
-    }
 }
 
 /// `Result<(q̈, Aᵀλ), DynamicsError>`: the fallible methods and the
@@ -80,6 +54,38 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for Fallible {
     #[inline(always)]
     fn stands(acceleration: SVector<T, N>, force: impl FnOnce() -> SVector<T, N>) -> Self::Output {
         Ok((acceleration, force()))
+    }
+
+    #[inline(always)]
+    fn settle<S, const K: usize>(
+        _: &S,
+        _: &SVector<T, N>,
+        _: &SVector<T, N>,
+        _: T,
+        _: Option<&SVector<T, K>>,
+        motion: Result<Motion<T, N>, DynamicsError>,
+    ) -> Self::Output
+    where
+        S: Generated<T, N, K>,
+    {
+        motion
+    }
+}
+
+/// The fallible `acceleration`: [`Fallible`]'s `Result<(q̈, Aᵀλ), _>` with
+/// the constraint force never made (zero where the fast path stands). The
+/// caller takes `q̈` from the pair: returning `Result<q̈, _>` instead, in
+/// an earlier form of the solve, made LLVM assemble it on the stack (four
+/// scalar stores read back as two vectors, a failed store forwarding), 1 ns
+/// a call on the double pendulum.
+pub struct FallibleAcceleration;
+
+impl<T: RealField + Copy, const N: usize> Finish<T, N> for FallibleAcceleration {
+    type Output = Result<Motion<T, N>, DynamicsError>;
+
+    #[inline(always)]
+    fn stands(acceleration: SVector<T, N>, _: impl FnOnce() -> SVector<T, N>) -> Self::Output {
+        Ok((acceleration, SVector::zeros()))
     }
 
     #[inline(always)]

@@ -3,10 +3,12 @@
 //! `acceleration_moore_penrose`, and the impl of the runtime's hidden
 //! `Generated` trait from which `ConstrainedSystem` follows.
 //!
-//! The public methods share one private solver, `gauss`, returning
-//! `Result<(q̈, Aᵀλ), DynamicsError>`; it is `#[inline(always)]` and builds
-//! `Aᵀλ` after its rank check, so the unused half is optimised away. Where
-//! the rank decision is suspect, one out-of-line call into the runtime
+//! The public methods share one private solver, `gauss`, generic over
+//! what its caller wants back (`constrained::__private::Finish`: `q̈`
+//! alone for the total `acceleration`, `Result<(q̈, Aᵀλ), DynamicsError>`
+//! for the trait); it is `#[inline(always)]` and makes `Aᵀλ` only for the
+//! callers that use it (a closure the others drop). Where the rank
+//! decision is suspect, one out-of-line call into the runtime
 //! (`constrained::rank::checked`) verifies or recomputes it. The
 //! constraint force is emitted as `Aᵀ λ` rather than `M q̈ − F`, which is the
 //! same quantity without the cancellation. What cannot be specialised (the
@@ -44,18 +46,17 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     // The total methods of a system with a constant positive definite M
     // ask the solver for their value directly (the least-squares answer
     // where it fails: `TotalAcceleration`, `TotalForce`).
-    let gauss = |correction: TokenStream, force: bool| {
-        let (total, part) = if force {
-            ("TotalForce", quote!(1))
-        } else {
-            ("TotalAcceleration", quote!(0))
-        };
-        if fallible(ctx) {
+    let gauss = |correction: TokenStream, force: bool| match (fallible(ctx), force) {
+        (true, true) => {
             let call = ctx.call_gauss("Fallible", correction);
-            quote!(#call.map(|s| s.#part))
-        } else {
-            ctx.call_gauss(total, correction)
+            quote!(#call.map(|s| s.1))
         }
+        (true, false) => {
+            let call = ctx.call_gauss("FallibleAcceleration", correction);
+            quote!(#call.map(|s| s.0))
+        }
+        (false, true) => ctx.call_gauss("TotalForce", correction),
+        (false, false) => ctx.call_gauss("TotalAcceleration", correction),
     };
     let none = quote!(::core::option::Option::None);
     let acc = gauss(none.clone(), false);
@@ -234,17 +235,42 @@ pub(super) fn checked_motion(
         None => suspect,
     };
     let (suspect_code, fast_code) = paths.unwrap_or_default();
-    // The suspect path is one out-of-line call whose value is the caller's
-    // own: nothing of the fast solve lives across it
-    // (`constrained::__private::Finish::suspect`). Its arguments are built
-    // in its branch, not bound before it: a vector passed to that call is
-    // passed by address, and a local whose address escapes stays in memory
-    // on the fast path too (Appell's particle stored q̈ and the force's
-    // captures to the stack and loaded them back, on every call).
+    let checked = ctx.private(quote!(checked));
+    // Two shapes, each the faster where it is used (measured against the
+    // solve before `Finish`, alternating binaries of one run,
+    // scripts/compare_acceleration.sh). k ≥ 2: q̈ bound once and the check
+    // merging back into the fast path (the double pendulum, the chains,
+    // the four-bars: within 1 %, the 32-link chain 0.91×). k = 1: the
+    // suspect path complete in its own branch, with its own q̈ and return,
+    // so that nothing of the fast path lives across the runtime call and
+    // the fast path keeps no stack frame (the 1-link chain 0.89×, Appell's
+    // particle 0.93×, the sleigh 0.94×, the two-link arm 0.96×; where that
+    // path instead returned the runtime's answer through one generic call
+    // taking the force as a closure, the k ≥ 2 models were up to 1.48×
+    // slower, the closure's captures kept alive to the check).
+    if ctx.k > 1 {
+        return quote! {
+            let __acc = #acc;
+            if #suspect {
+                if let ::core::option::Option::Some(__recomputed) =
+                    #checked(self, q, qd, t, correction, __acc)
+                {
+                    return __F::settle(self, q, qd, t, correction, __recomputed);
+                }
+            }
+            __F::stands(__acc, move || #force)
+        };
+    }
     quote! {
         if #suspect {
             #suspect_code
-            return __F::suspect(self, q, qd, t, correction, #acc, move || #force);
+            let __acc = #acc;
+            if let ::core::option::Option::Some(__recomputed) =
+                #checked(self, q, qd, t, correction, __acc)
+            {
+                return __F::settle(self, q, qd, t, correction, __recomputed);
+            }
+            return __F::stands(__acc, move || #force);
         }
         #fast_code
         __F::stands(#acc, move || #force)
