@@ -30,8 +30,17 @@ pub trait Finish<T: RealField + Copy, const N: usize> {
     /// `Aᵀλ`, called only by a caller that wants it.
     fn stands(acceleration: SVector<T, N>, force: impl FnOnce() -> SVector<T, N>) -> Self::Output;
 
+    /// `motion` as this caller returns it; `least_squares` makes the
+    /// least-squares motion, for a caller that answers with it where the
+    /// solve failed.
+    fn decided(
+        motion: Result<Motion<T, N>, DynamicsError>,
+        least_squares: impl FnOnce() -> Motion<T, N>,
+    ) -> Self::Output;
+
     /// The solve's outcome where it was decided outside the fast path: an
     /// error before the solve, a checked recomputation, the dense solve.
+    #[inline(always)]
     fn settle<S, const K: usize>(
         system: &S,
         q: &SVector<T, N>,
@@ -41,7 +50,10 @@ pub trait Finish<T: RealField + Copy, const N: usize> {
         motion: Result<Motion<T, N>, DynamicsError>,
     ) -> Self::Output
     where
-        S: Generated<T, N, K>;
+        S: Generated<T, N, K>,
+    {
+        Self::decided(motion, || least_squares(system, q, qd, t, correction))
+    }
 }
 
 /// `Result<(q̈, Aᵀλ), DynamicsError>`: the fallible methods and the
@@ -57,17 +69,7 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for Fallible {
     }
 
     #[inline(always)]
-    fn settle<S, const K: usize>(
-        _: &S,
-        _: &SVector<T, N>,
-        _: &SVector<T, N>,
-        _: T,
-        _: Option<&SVector<T, K>>,
-        motion: Result<Motion<T, N>, DynamicsError>,
-    ) -> Self::Output
-    where
-        S: Generated<T, N, K>,
-    {
+    fn decided(motion: Self::Output, _: impl FnOnce() -> Motion<T, N>) -> Self::Output {
         motion
     }
 }
@@ -89,17 +91,7 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for FallibleAcceleration 
     }
 
     #[inline(always)]
-    fn settle<S, const K: usize>(
-        _: &S,
-        _: &SVector<T, N>,
-        _: &SVector<T, N>,
-        _: T,
-        _: Option<&SVector<T, K>>,
-        motion: Result<Motion<T, N>, DynamicsError>,
-    ) -> Self::Output
-    where
-        S: Generated<T, N, K>,
-    {
+    fn decided(motion: Self::Output, _: impl FnOnce() -> Motion<T, N>) -> Self::Output {
         motion
     }
 }
@@ -118,18 +110,11 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for Total {
     }
 
     #[inline(always)]
-    fn settle<S, const K: usize>(
-        system: &S,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-        correction: Option<&SVector<T, K>>,
+    fn decided(
         motion: Result<Motion<T, N>, DynamicsError>,
-    ) -> Self::Output
-    where
-        S: Generated<T, N, K>,
-    {
-        total(system, q, qd, t, correction, motion)
+        least_squares: impl FnOnce() -> Motion<T, N>,
+    ) -> Self::Output {
+        motion.unwrap_or_else(|_| least_squares())
     }
 }
 
@@ -145,18 +130,11 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for TotalAcceleration {
     }
 
     #[inline(always)]
-    fn settle<S, const K: usize>(
-        system: &S,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-        correction: Option<&SVector<T, K>>,
+    fn decided(
         motion: Result<Motion<T, N>, DynamicsError>,
-    ) -> Self::Output
-    where
-        S: Generated<T, N, K>,
-    {
-        total(system, q, qd, t, correction, motion).0
+        least_squares: impl FnOnce() -> Motion<T, N>,
+    ) -> Self::Output {
+        <Total as Finish<T, N>>::decided(motion, least_squares).0
     }
 }
 
@@ -172,37 +150,10 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for TotalForce {
     }
 
     #[inline(always)]
-    fn settle<S, const K: usize>(
-        system: &S,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-        correction: Option<&SVector<T, K>>,
+    fn decided(
         motion: Result<Motion<T, N>, DynamicsError>,
-    ) -> Self::Output
-    where
-        S: Generated<T, N, K>,
-    {
-        total(system, q, qd, t, correction, motion).1
-    }
-}
-
-/// The motion, or the least-squares one where the solve failed.
-#[inline(always)]
-fn total<T, S, const N: usize, const K: usize>(
-    system: &S,
-    q: &SVector<T, N>,
-    qd: &SVector<T, N>,
-    t: T,
-    correction: Option<&SVector<T, K>>,
-    motion: Result<Motion<T, N>, DynamicsError>,
-) -> Motion<T, N>
-where
-    T: RealField + Copy,
-    S: Generated<T, N, K>,
-{
-    match motion {
-        Ok(motion) => motion,
-        Err(_) => least_squares(system, q, qd, t, correction),
+        least_squares: impl FnOnce() -> Motion<T, N>,
+    ) -> Self::Output {
+        <Total as Finish<T, N>>::decided(motion, least_squares).1
     }
 }
