@@ -21,16 +21,11 @@ quick=(--warm-up-time 1 --measurement-time 3)
 CONSTRAINED_OP_COUNTS_ALL=1 bash scripts/sympy.sh > /dev/null
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
-# The criterion binaries are built with every function and loop on a
-# 64-byte boundary, in a target directory of their own (target/aligned;
-# results still under target/criterion). Without it a ratio of two small
-# functions depended on where the linker happened to place them: the same
-# Appell comparison, unchanged, read 0.82× in one build and 1.50× in the
-# next (eq. 32 by hand alone moved from 3.3 to 5.8 ns per call); with it,
-# eq. 32 by hand, unchanged in three builds that differed elsewhere,
-# measured 38.0-38.5 ns (12 states) and 20.6-21.0 µs (1024 states).
-aligned=(env "RUSTFLAGS=-C llvm-args=-align-all-functions=6 -C llvm-args=-align-loops=64"
-    "CARGO_TARGET_DIR=$PWD/target/aligned" "CRITERION_HOME=$PWD/target/criterion")
+# The criterion binaries are built aligned (scripts/aligned.sh says why),
+# their results still under target/criterion.
+source scripts/aligned.sh
+aligned=(env "RUSTFLAGS=$ALIGNED_RUSTFLAGS" "CARGO_TARGET_DIR=$ALIGNED_TARGET_DIR"
+    "CRITERION_HOME=$PWD/target/criterion")
 # Only this run's results reach the report.
 rm -rf target/criterion
 echo "== build the benchmarks"

@@ -3,7 +3,8 @@
 # (in a git worktree under the target directory) and at the working tree,
 # then runs the two binaries alternately, ROUNDS times each, on the same
 # benchmarks, and prints the median times side by side with their ratio.
-# Alternating spreads the machine's noise over both sides.
+# Alternating spreads the machine's noise over both sides; both binaries are
+# built aligned, as scripts/benchmarks.sh builds them (scripts/aligned.sh).
 #
 #   scripts/compare_acceleration.sh BASE_REV [FILTER] [ROUNDS]
 #
@@ -15,7 +16,9 @@ cd "$(dirname "$0")/.."
 base_rev=${1:?usage: compare_acceleration.sh BASE_REV [FILTER] [ROUNDS]}
 filter=${2:-'^(models/.*/acceleration|chain_acceleration/|appell_acceleration_12_states/generated)'}
 rounds=${3:-2}
-target=${CARGO_TARGET_DIR:-target}
+source scripts/aligned.sh
+export RUSTFLAGS="$ALIGNED_RUSTFLAGS"
+target=$ALIGNED_TARGET_DIR
 base_dir="$target/compare/base"
 
 executable() { # prints the bench executable cargo builds in $1 with target dir $2

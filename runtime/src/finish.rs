@@ -74,28 +74,6 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for Fallible {
     }
 }
 
-/// The fallible `acceleration`: [`Fallible`]'s `Result<(q̈, Aᵀλ), _>` with
-/// the constraint force never made (zero where the fast path stands). The
-/// caller takes `q̈` from the pair: returning `Result<q̈, _>` instead, in
-/// an earlier form of the solve, made LLVM assemble it on the stack (four
-/// scalar stores read back as two vectors, a failed store forwarding), 1 ns
-/// a call on the double pendulum.
-pub struct FallibleAcceleration;
-
-impl<T: RealField + Copy, const N: usize> Finish<T, N> for FallibleAcceleration {
-    type Output = Result<Motion<T, N>, DynamicsError>;
-
-    #[inline(always)]
-    fn stands(acceleration: SVector<T, N>, _: impl FnOnce() -> SVector<T, N>) -> Self::Output {
-        Ok((acceleration, SVector::zeros()))
-    }
-
-    #[inline(always)]
-    fn decided(motion: Self::Output, _: impl FnOnce() -> Motion<T, N>) -> Self::Output {
-        motion
-    }
-}
-
 /// `(q̈, Aᵀλ)` of a total method (`M` constant and positive definite):
 /// where the solve fails (no acceleration satisfies `A q̈ = b`), the
 /// least-squares one. The Jacobian's starting point.

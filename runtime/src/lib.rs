@@ -43,9 +43,7 @@ pub use system::ConstrainedSystem;
 pub mod __private {
     //! Items used by generated code; not part of the public API.
     pub use crate::dense::gauss_dense;
-    pub use crate::finish::{
-        Fallible, FallibleAcceleration, Finish, Total, TotalAcceleration, TotalForce,
-    };
+    pub use crate::finish::{Fallible, Finish, Total, TotalAcceleration, TotalForce};
     pub use crate::generated::{largest, lit, signum, step, unscaled_bound, Generated, Motion};
     pub use crate::linearize::Tangent;
     pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};

@@ -46,14 +46,13 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     // The total methods of a system with a constant positive definite M
     // ask the solver for their value directly (the least-squares answer
     // where it fails: `TotalAcceleration`, `TotalForce`).
+    // The fallible ones take their half of `Fallible`'s pair: the half not
+    // taken is computed by nothing (straight-line arithmetic, removed).
     let gauss = |correction: TokenStream, force: bool| match (fallible(ctx), force) {
-        (true, true) => {
+        (true, force) => {
             let call = ctx.call_gauss("Fallible", correction);
-            quote!(#call.map(|s| s.1))
-        }
-        (true, false) => {
-            let call = ctx.call_gauss("FallibleAcceleration", correction);
-            quote!(#call.map(|s| s.0))
+            let part = if force { quote!(1) } else { quote!(0) };
+            quote!(#call.map(|s| s.#part))
         }
         (false, true) => ctx.call_gauss("TotalForce", correction),
         (false, false) => ctx.call_gauss("TotalAcceleration", correction),
@@ -248,15 +247,19 @@ pub(super) fn checked_motion(
     // path instead returned the runtime's answer through one generic call
     // taking the force as a closure, the k ≥ 2 models were up to 1.48×
     // slower, the closure's captures kept alive to the check).
+    // The runtime's check of `__acc`, returning its recomputation.
+    let recheck = quote! {
+        if let ::core::option::Option::Some(__recomputed) =
+            #checked(self, q, qd, t, correction, __acc)
+        {
+            return __F::settle(self, q, qd, t, correction, __recomputed);
+        }
+    };
     if ctx.k > 1 {
         return quote! {
             let __acc = #acc;
             if #suspect {
-                if let ::core::option::Option::Some(__recomputed) =
-                    #checked(self, q, qd, t, correction, __acc)
-                {
-                    return __F::settle(self, q, qd, t, correction, __recomputed);
-                }
+                #recheck
             }
             __F::stands(__acc, move || #force)
         };
@@ -265,11 +268,7 @@ pub(super) fn checked_motion(
         if #suspect {
             #suspect_code
             let __acc = #acc;
-            if let ::core::option::Option::Some(__recomputed) =
-                #checked(self, q, qd, t, correction, __acc)
-            {
-                return __F::settle(self, q, qd, t, correction, __recomputed);
-            }
+            #recheck
             return __F::stands(__acc, move || #force);
         }
         #fast_code
