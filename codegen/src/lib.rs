@@ -16,6 +16,7 @@
 //! 4. [`emit`]: straight-line Rust with shared subexpressions ([`cse`]) and
 //!    the derivation text ([`derivation`], [`print`](mod@print)).
 
+pub mod bodies;
 pub mod cse;
 pub mod derivation;
 pub mod derive;

@@ -9,6 +9,7 @@ pub const RESERVED: &[&str] = &[
     "dt",
     "q",
     "qd",
+    "qdd",
     "T",
     "Self",
     "self",
@@ -31,4 +32,10 @@ pub const GENERATED_PREFIX: &str = "__";
 /// The local name generated code gives the velocity of coordinate `name`.
 pub fn velocity_name(name: &str) -> String {
     format!("{name}_dot")
+}
+
+/// The local name generated code gives the acceleration of coordinate
+/// `name` (in inverse dynamics).
+pub fn acceleration_name(name: &str) -> String {
+    format!("{name}_ddot")
 }

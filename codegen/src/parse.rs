@@ -21,6 +21,11 @@ pub mod kw {
     syn::custom_keyword!(kinetic_energy);
     syn::custom_keyword!(potential_energy);
     syn::custom_keyword!(diag);
+    syn::custom_keyword!(bodies);
+    syn::custom_keyword!(gravity);
+    syn::custom_keyword!(urdf);
+    syn::custom_keyword!(locked);
+    syn::custom_keyword!(inertia);
 }
 
 /// ```text
@@ -56,6 +61,10 @@ pub struct List<T> {
 ///          | `eliminate`   `:` `[` Ident,* `]`
 ///          | `kinetic_energy`   `:` expr
 ///          | `potential_energy` `:` expr
+///          | `bodies`      `:` `[` body,* `]`
+///          | `gravity`     `:` `[` expr `,` expr `,` expr `]`
+///          | `urdf`        `:` LitStr
+///          | `locked`      `:` `[` Ident,* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -78,6 +87,14 @@ pub enum Section {
     KineticEnergy(Ident, Expr),
     /// `V(q, t)`.
     PotentialEnergy(Ident, Expr),
+    /// A kinematic tree of rigid bodies (`crate::bodies`).
+    Bodies(Ident, List<BodyInput>),
+    /// The acceleration of gravity, in world coordinates.
+    Gravity(Ident, List<Expr>),
+    /// A URDF file, relative to the user's crate manifest.
+    Urdf(Ident, syn::LitStr),
+    /// URDF joints held fixed (their names as coordinates would be).
+    Locked(Ident, List<Ident>),
 }
 
 impl Section {
@@ -93,7 +110,11 @@ impl Section {
             | Section::Constraints(k, _)
             | Section::Eliminate(k, _)
             | Section::KineticEnergy(k, _)
-            | Section::PotentialEnergy(k, _) => k,
+            | Section::PotentialEnergy(k, _)
+            | Section::Bodies(k, _)
+            | Section::Gravity(k, _)
+            | Section::Urdf(k, _)
+            | Section::Locked(k, _) => k,
         }
     }
 }
@@ -187,6 +208,18 @@ impl Parse for Section {
         } else if lookahead.peek(kw::potential_energy) {
             let k = keyword!(potential_energy);
             Ok(Section::PotentialEnergy(k, input.parse()?))
+        } else if lookahead.peek(kw::bodies) {
+            let k = keyword!(bodies);
+            Ok(Section::Bodies(k, list(input, BodyInput::parse)?))
+        } else if lookahead.peek(kw::gravity) {
+            let k = keyword!(gravity);
+            Ok(Section::Gravity(k, list(input, Expr::parse)?))
+        } else if lookahead.peek(kw::urdf) {
+            let k = keyword!(urdf);
+            Ok(Section::Urdf(k, input.parse()?))
+        } else if lookahead.peek(kw::locked) {
+            let k = keyword!(locked);
+            Ok(Section::Locked(k, list(input, Ident::parse)?))
         } else {
             Err(lookahead.error())
         }
@@ -228,6 +261,59 @@ impl Parse for ConstraintInput {
                 rhs: None,
                 tokens,
             },
+        })
+    }
+}
+
+/// One rigid body of a `bodies` section:
+/// ```text
+/// body  := Ident `{` field,* `}`
+/// field := `inertia` `:` (`diag` `[` expr,* `]` | `[` (`[` expr,* `]`),* `]`)
+///        | Ident `:` expr
+/// ```
+/// The fields' names and values are checked by `crate::model::bodies`.
+pub struct BodyInput {
+    /// The body's name (its frame's, for `parent:` of other bodies).
+    pub name: Ident,
+    /// The fields other than `inertia`, in order.
+    pub fields: Vec<(Ident, Expr)>,
+    /// The inertia tensor about the centre of mass, in body axes.
+    pub inertia: Option<(Ident, MassInput)>,
+    /// Span of the braces, for missing-field errors.
+    pub span: Span,
+}
+
+impl Parse for BodyInput {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name: Ident = input.parse()?;
+        let content;
+        let brace = braced!(content in input);
+        let mut fields = Vec::new();
+        let mut inertia = None;
+        while !content.is_empty() {
+            if content.peek(kw::inertia) {
+                let k: kw::inertia = content.parse()?;
+                content.parse::<Token![:]>()?;
+                let key = Ident::new("inertia", k.span);
+                if inertia.is_some() {
+                    return Err(syn::Error::new(k.span, "duplicate field `inertia`"));
+                }
+                inertia = Some((key, content.parse()?));
+            } else {
+                let key: Ident = content.parse()?;
+                content.parse::<Token![:]>()?;
+                fields.push((key, content.parse()?));
+            }
+            if content.is_empty() {
+                break;
+            }
+            content.parse::<Token![,]>()?;
+        }
+        Ok(BodyInput {
+            name,
+            fields,
+            inertia,
+            span: brace.span.join(),
         })
     }
 }

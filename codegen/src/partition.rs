@@ -216,7 +216,7 @@ impl StateValues {
             Sym::Vel(i) => self.qd[i],
             Sym::Time => self.t,
             Sym::Param(i) => self.params[i],
-            Sym::Multiplier(_) | Sym::Seed(_) => f64::NAN,
+            Sym::Multiplier(_) | Sym::Seed(_) | Sym::Accel(_) => f64::NAN,
         }
     }
 }

@@ -145,6 +145,10 @@ impl<'a> Printer<'a> {
                         Style::Unicode => format!("s{}", subscript(i + 1)),
                         Style::Sympy => format!("s_{}", i + 1),
                     },
+                    Sym::Accel(i) => match self.style {
+                        Style::Unicode => format!("{}̈", self.coordinates[i]),
+                        Style::Sympy => format!("ddot({})", self.coordinates[i]),
+                    },
                 },
                 Prec::Atom,
             ),

@@ -41,6 +41,7 @@ impl SplitMix64 {
             Sym::Time => 3,
             Sym::Multiplier(i) => 4 * i as u64 + 7,
             Sym::Seed(i) => 4 * i as u64 + 9,
+            Sym::Accel(i) => 4 * i as u64 + 11,
         };
         let mut r = SplitMix64::new(seed ^ tag.wrapping_mul(0x2545_f491_4f6c_dd1d));
         0.2 + 0.7 * r.next_f64()

@@ -6,7 +6,7 @@ use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
 use crate::expr::{signed_parts, Emission, Graph, Id, Node, Sym};
-use crate::names::velocity_name;
+use crate::names::{acceleration_name, velocity_name};
 use crate::num::Num;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::quote;
@@ -28,6 +28,7 @@ pub(super) struct Body<'a> {
     schedule: Schedule,
     coordinates: Vec<Ident>,
     velocities: Vec<Ident>,
+    accelerations: Vec<Ident>,
     parameters: &'a [Ident],
     used: Vec<Sym>,
     temp_names: HashMap<Id, Ident>,
@@ -129,6 +130,12 @@ impl<'a> Body<'a> {
                 .iter()
                 .map(|c| Ident::new(&velocity_name(&c.to_string()), c.span()))
                 .collect(),
+            accelerations: eq
+                .system
+                .coordinates
+                .iter()
+                .map(|c| Ident::new(&acceleration_name(&c.to_string()), c.span()))
+                .collect(),
             parameters: &eq.system.parameters,
             used,
             temp_names,
@@ -153,6 +160,8 @@ impl<'a> Body<'a> {
         };
         let coords = pattern(&self.coordinates, Sym::Coord).map(|p| quote! { let #p = q.data.0; });
         let vels = pattern(&self.velocities, Sym::Vel).map(|p| quote! { let #p = qd.data.0; });
+        let accs =
+            pattern(&self.accelerations, Sym::Accel).map(|p| quote! { let #p = qdd.data.0; });
         let params = self
             .parameters
             .iter()
@@ -171,7 +180,7 @@ impl<'a> Body<'a> {
         });
         let subproducts = self.subproducts_after(None);
         let temps = self.temporaries(false);
-        quote! { #coords #vels #(#params)* #(#reciprocals)* #subproducts #temps }
+        quote! { #coords #vels #accs #(#params)* #(#reciprocals)* #subproducts #temps }
     }
 
     /// The `let`s of the sub-products bound right after the temporary at
@@ -286,6 +295,10 @@ impl<'a> Body<'a> {
                     Sym::Seed(i) => {
                         let s = Context::local("seed", i);
                         quote!(#s)
+                    }
+                    Sym::Accel(i) => {
+                        let a = &self.accelerations[i];
+                        quote!(#a)
                     }
                 },
                 Prec::Atom,

@@ -8,6 +8,7 @@
 
 mod body;
 mod context;
+mod dynamics;
 mod factored;
 mod gibbs_appell;
 mod jacobian;
@@ -111,6 +112,13 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let motion = motion::methods(&ctx);
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
     let linearization = jacobian::methods(&ctx, partition);
+    let evaluation = dynamics::methods(&ctx);
+    // A model read from a file is rebuilt when the file changes.
+    let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
+        quote! {
+            const _: &[u8] = ::core::include_bytes!(#f);
+        }
+    });
     let tangent_impl = jacobian::tangent_impl(&ctx);
     let generated_impl = motion::generated_impl(&ctx);
     let levels = motion::levels(&ctx);
@@ -163,7 +171,10 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #motion
             #gibbs_appell
             #linearization
+            #evaluation
         }
+
+        #(#files)*
 
         #generated_impl
         #tangent_impl

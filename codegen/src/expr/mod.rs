@@ -64,6 +64,8 @@ pub enum Sym {
     /// Component `sᵢ` of the direction of a directional derivative
     /// (`crate::tangent`): a column of the Jacobian at run time.
     Seed(usize),
+    /// Acceleration `q̈ᵢ`: an argument of inverse dynamics only.
+    Accel(usize),
 }
 
 /// A node of the DAG, in canonical form (see the module docs).

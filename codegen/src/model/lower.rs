@@ -6,7 +6,7 @@ use super::check;
 use super::ctxt::Errors;
 use crate::diff::Differentiator;
 use crate::expr::{Args, Func, Graph, Id, Sym};
-use crate::names::{velocity_name, CONSTANTS, GENERATED_PREFIX, RESERVED};
+use crate::names::{acceleration_name, velocity_name, CONSTANTS, GENERATED_PREFIX, RESERVED};
 use crate::num::Num;
 use quote::ToTokens;
 use std::collections::HashMap;
@@ -83,14 +83,21 @@ impl Lowerer<'_> {
                 name,
                 format!("`{text}` is a reserved name: it is a function of the DSL"),
             );
-        } else if let Some(c) = coordinates
-            .iter()
-            .find(|c| text == velocity_name(&c.to_string()))
-        {
+        } else if let Some((c, what)) = coordinates.iter().find_map(|c| {
+            let c = c.to_string();
+            let what = if text == velocity_name(&c) {
+                "velocity"
+            } else if text == acceleration_name(&c) {
+                "acceleration"
+            } else {
+                return None;
+            };
+            Some((c, what))
+        }) {
             self.errors.spanned(
                 name,
                 format!(
-                    "`{text}` is a reserved name: it names the velocity of `{c}` in generated code"
+                    "`{text}` is a reserved name: it names the {what} of `{c}` in generated code"
                 ),
             );
         } else if self.names.insert(text.clone(), binding).is_some() {

@@ -4,12 +4,14 @@
 //! - [`lower`]: name resolution and lowering;
 //! - [`check`](mod@check): the rules on lowered expressions, one function each.
 
+pub mod bodies;
 pub mod check;
 pub mod ctxt;
 pub mod lower;
+pub mod urdf;
 
 use crate::expr::{Graph, Id, Sym};
-use crate::parse::{ConstraintInput, List, MassInput, Section, SystemInput};
+use crate::parse::{BodyInput, ConstraintInput, List, MassInput, Section, SystemInput};
 use check::MassSource;
 use ctxt::Errors;
 use lower::{Binding, Lowerer};
@@ -72,6 +74,38 @@ pub struct System {
     pub named: Vec<(String, Id)>,
     /// The energies `M` and `F` were derived from, when given.
     pub energies: Option<Energies>,
+    /// What the bodies' recursions produced, for systems with bodies.
+    pub bodies: Option<BodyTerms>,
+    /// `T`, `V` and `T + V`, for systems given by energies or bodies.
+    pub energy: Option<EnergyTerms>,
+}
+
+/// The expressions of a system with bodies beyond `M` and `F`.
+#[derive(Clone, Debug)]
+pub struct BodyTerms {
+    /// The bodies' names, in the tree's order (movable ones).
+    pub names: Vec<String>,
+    /// `τ = M q̈ + c(q, q̇)`, with `q̈` as `Sym::Accel`.
+    pub inverse: Vec<Id>,
+    /// The generalized gravity `g(q)`.
+    pub gravity: Vec<Id>,
+    /// The bias forces `c(q, q̇)`.
+    pub bias: Vec<Id>,
+    /// Files the model was read from (a URDF), so that the build is redone
+    /// when they change.
+    pub files: Vec<String>,
+}
+
+/// The energies of a system given by energies or bodies, for the
+/// generated `kinetic_energy`, `potential_energy` and `energy`.
+#[derive(Clone, Copy, Debug)]
+pub struct EnergyTerms {
+    /// `T(q, q̇, t)`: as written, the bodies' `Σ ½ vᵢᵀ Iᵢ vᵢ`, or `½ q̇ᵀ M q̇`.
+    pub kinetic: Id,
+    /// `V(q, t)`: as written plus gravity's for bodies; 0 if neither.
+    pub potential: Id,
+    /// `T + V`.
+    pub total: Id,
 }
 
 /// The input of Lagrange's equations, kept for the derivation's text.
@@ -110,6 +144,10 @@ struct Sections<'a> {
     eliminate: Option<&'a List<Ident>>,
     kinetic_energy: Option<(&'a Ident, &'a Expr)>,
     potential_energy: Option<(&'a Ident, &'a Expr)>,
+    bodies: Option<(&'a Ident, &'a List<BodyInput>)>,
+    gravity: Option<&'a List<Expr>>,
+    urdf: Option<(&'a Ident, &'a syn::LitStr)>,
+    locked: Option<&'a List<Ident>>,
 }
 
 impl<'a> Sections<'a> {
@@ -127,6 +165,10 @@ impl<'a> Sections<'a> {
                 Section::Eliminate(_, l) => s.eliminate.replace(l).is_some(),
                 Section::KineticEnergy(k, e) => s.kinetic_energy.replace((k, e)).is_some(),
                 Section::PotentialEnergy(k, e) => s.potential_energy.replace((k, e)).is_some(),
+                Section::Bodies(k, l) => s.bodies.replace((k, l)).is_some(),
+                Section::Gravity(_, l) => s.gravity.replace(l).is_some(),
+                Section::Urdf(k, l) => s.urdf.replace((k, l)).is_some(),
+                Section::Locked(_, l) => s.locked.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();
@@ -137,38 +179,137 @@ impl<'a> Sections<'a> {
     }
 }
 
+/// Where `M` and the velocity-dependent forces come from: the one
+/// decision every later stage reads.
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    /// `mass: ..`, written.
+    Mass(&'a Ident, &'a MassInput),
+    /// `kinetic_energy: T`, by Lagrange's equations.
+    Kinetic(&'a Ident, &'a Expr),
+    /// `bodies: [..]`, by the recursions of `crate::bodies`.
+    Bodies(&'a Ident, &'a List<BodyInput>),
+    /// `urdf: ".."`, the same recursions on the file's tree.
+    Urdf(&'a Ident, &'a urdf::Robot),
+    /// None given (an error has been recorded).
+    Missing,
+}
+
+impl<'a> Source<'a> {
+    fn keyword(self) -> Option<&'a Ident> {
+        match self {
+            Source::Mass(k, _)
+            | Source::Kinetic(k, _)
+            | Source::Bodies(k, _)
+            | Source::Urdf(k, _) => Some(k),
+            Source::Missing => None,
+        }
+    }
+
+    /// The section's name, for messages.
+    fn what(self) -> &'static str {
+        match self {
+            Source::Mass(..) => "`mass`",
+            Source::Kinetic(..) => "`kinetic_energy`",
+            Source::Bodies(..) => "`bodies`",
+            Source::Urdf(..) => "`urdf`",
+            Source::Missing => "",
+        }
+    }
+
+    fn has_tree(self) -> bool {
+        matches!(self, Source::Bodies(..) | Source::Urdf(..))
+    }
+}
+
+/// Decides [`Source`]: exactly one of `mass`, `kinetic_energy`, `bodies`
+/// and `urdf`, and `coordinates` exactly when there is no tree (a tree's
+/// coordinates are its joints').
+fn source<'a>(
+    input: &SystemInput,
+    sections: &Sections<'a>,
+    robot: Option<&'a urdf::Robot>,
+    errors: &mut Errors,
+) -> Source<'a> {
+    let mut given: Vec<Source<'a>> = Vec::new();
+    given.extend(sections.mass.map(|(k, m)| Source::Mass(k, m)));
+    given.extend(sections.kinetic_energy.map(|(k, e)| Source::Kinetic(k, e)));
+    given.extend(sections.bodies.map(|(k, b)| Source::Bodies(k, b)));
+    if let (Some((k, _)), Some(r)) = (sections.urdf, robot) {
+        given.push(Source::Urdf(k, r));
+    }
+    let chosen = match given.as_slice() {
+        [] if sections.urdf.is_some() => Source::Missing, // the file's error is recorded
+        [] => {
+            errors.spanned(
+                &input.name,
+                "missing section `mass` (or `kinetic_energy`, to derive it, or `bodies` or `urdf`)",
+            );
+            Source::Missing
+        }
+        [one] => *one,
+        several => {
+            let names: Vec<&str> = several.iter().map(|s| s.what()).collect();
+            for s in several {
+                errors.spanned(
+                    s.keyword(),
+                    format!(
+                        "{} are mutually exclusive: give M, or T to derive M = ∂²T/∂q̇∂q̇ᵀ from, \
+                         or the bodies",
+                        names.join(" and ")
+                    ),
+                );
+            }
+            *several.first().unwrap_or(&Source::Missing)
+        }
+    };
+    let tree = chosen.has_tree() || sections.urdf.is_some();
+    match (sections.coordinates, tree) {
+        (None, false) => errors.spanned(&input.name, "missing section `coordinates`"),
+        (Some(list), true) => errors.at(
+            list.span,
+            "with `bodies` or `urdf` the coordinates are the joints': remove `coordinates`",
+        ),
+        _ => {}
+    }
+    if !tree {
+        for (what, given) in [
+            ("`gravity`", sections.gravity.map(|l| l.span)),
+            ("`locked`", sections.locked.map(|l| l.span)),
+        ] {
+            if let Some(span) = given {
+                errors.at(span, format!("{what} applies to `bodies` or `urdf` only"));
+            }
+        }
+    }
+    chosen
+}
+
 /// Checks the input and lowers it into a [`System`].
 pub fn check(input: &SystemInput) -> syn::Result<System> {
     let mut errors = Errors::new();
     let sections = Sections::collect(input, &mut errors);
     check::struct_name(&mut errors, &input.name);
     check::forwarded_attributes(&mut errors, &input.attrs);
-    if sections.coordinates.is_none() {
-        errors.spanned(&input.name, "missing section `coordinates`");
-    }
-    match (sections.mass, sections.kinetic_energy) {
-        (None, None) => errors.spanned(
-            &input.name,
-            "missing section `mass` (or `kinetic_energy`, to derive it)",
-        ),
-        (Some((mass, _)), Some((kinetic, _))) => {
-            for keyword in [mass, kinetic] {
-                errors.spanned(
-                    keyword,
-                    "`mass` and `kinetic_energy` are mutually exclusive: \
-                     give M, or T to derive M = ∂²T/∂q̇∂q̇ᵀ from",
-                );
-            }
-        }
-        _ => {}
-    }
-    let empty = Vec::new();
-    let coordinates = sections.coordinates.map_or(&empty, |l| &l.items);
+    let robot = sections.urdf.and_then(|(_, path)| {
+        urdf::Robot::read(path, sections.locked)
+            .map_err(|e| errors.push(e))
+            .ok()
+    });
+    let source = source(input, &sections, robot.as_ref(), &mut errors);
+    let coordinates: Vec<Ident> = match source {
+        Source::Bodies(_, list) => bodies::joint_coordinates(list),
+        Source::Urdf(_, robot) => robot.coordinates(),
+        _ => sections
+            .coordinates
+            .map_or_else(Vec::new, |l| l.items.clone()),
+    };
     if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
         errors.at(list.span, "`coordinates` must name at least one coordinate");
     }
     // Inputs are parameters to every stage but the checks below and the
     // Jacobian: fields after the parameters, `Sym::Param` after theirs.
+    let empty = Vec::new();
     let inputs = sections.inputs.map_or(&empty, |l| &l.items);
     let parameters: Vec<Ident> = sections
         .parameters
@@ -179,21 +320,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .collect();
     let first_input = parameters.len() - inputs.len();
     let n = coordinates.len();
-
-    let mut graph = Graph::new();
-    // Interning the variables first, in a fixed order, makes canonical term
-    // order (by node id) read naturally: parameters before time before
-    // coordinates before velocities, each in declaration order (`α·ż`, `x + y`).
-    for i in 0..parameters.len() {
-        graph.sym(Sym::Param(i));
-    }
-    graph.sym(Sym::Time);
-    for i in 0..n {
-        graph.sym(Sym::Coord(i));
-    }
-    for i in 0..n {
-        graph.sym(Sym::Vel(i));
-    }
+    let mut graph = new_graph(parameters.len(), n);
     let mut lower = Lowerer {
         graph: &mut graph,
         names: HashMap::new(),
@@ -202,40 +329,17 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         named: Vec::new(),
     };
     for (i, c) in coordinates.iter().enumerate() {
-        lower.declare(c, Binding::Coordinate(i), coordinates);
+        lower.declare(c, Binding::Coordinate(i), &coordinates);
     }
     for (i, p) in parameters.iter().enumerate() {
-        lower.declare(p, Binding::Parameter(i), coordinates);
+        lower.declare(p, Binding::Parameter(i), &coordinates);
     }
     for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
         let id = lower.lower(value);
-        lower.declare(name, Binding::Definition(id), coordinates);
+        lower.declare(name, Binding::Definition(id), &coordinates);
         lower.name_node(name.to_string(), id);
     }
-
-    // In the usual order of the input, so that errors come in source order.
-    let (mass, kinetic) = match (sections.mass, sections.kinetic_energy) {
-        (Some((keyword, m)), _) => (lower.mass(keyword, m, n), None),
-        (None, Some((keyword, e))) => lower.kinetic(keyword, e, n),
-        (None, None) => (Vec::new(), None),
-    };
-    let potential = sections.potential_energy.map(|(_, e)| lower.potential(e));
-    let applied = match sections.forces {
-        Some(list) => lower.vector(list, "`forces`", n),
-        None => vec![lower.graph.int(0); n],
-    };
-    let (forces, energies) = if kinetic.is_some() || potential.is_some() {
-        let mut d = crate::diff::Differentiator::new();
-        let forces = crate::lagrange::forces(lower.graph, &mut d, kinetic, potential, &applied);
-        let energies = Energies {
-            kinetic,
-            potential,
-            applied,
-        };
-        (forces, Some(energies))
-    } else {
-        (applied, None)
-    };
+    let dynamics = lower.dynamics(source, &sections, &coordinates);
     let constraints: Vec<Constraint> = sections
         .constraints
         .map_or(&[][..], |l| &l.items)
@@ -245,57 +349,222 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
-
     if !inputs.is_empty() {
         let is_input = |s: Sym| matches!(s, Sym::Param(i) if i >= first_input);
-        let g = &*lower.graph;
-        let mentions = |id: Id| g.mentions(id, is_input);
-        let where_mass = match (sections.mass, sections.kinetic_energy) {
-            (Some((keyword, _)), _) => Some(("`mass`", keyword)),
-            (None, Some((keyword, _))) => Some(("`kinetic_energy`", keyword)),
-            (None, None) => None,
-        };
-        let mass_has_input =
-            mass.iter().flatten().any(|&m| mentions(m)) || kinetic.is_some_and(&mentions);
-        if let (true, Some((what, keyword))) = (mass_has_input, where_mass) {
-            check::input_outside_forces(lower.errors, keyword, what);
-        }
-        if let (Some(v), Some((keyword, _))) = (potential, sections.potential_energy) {
-            if mentions(v) {
-                check::input_outside_forces(lower.errors, keyword, "`potential_energy`");
-            }
-        }
-        for c in &constraints {
-            if mentions(c.phi) {
-                check::input_outside_forces(lower.errors, &c.tokens, "a constraint");
-            }
-        }
+        inputs_in_forces_only(
+            &mut lower,
+            &is_input,
+            source,
+            &sections,
+            &dynamics,
+            &constraints,
+        );
     }
     let named = std::mem::take(&mut lower.named);
-    let mass_span = match (sections.mass, sections.kinetic_energy) {
-        (Some((keyword, _)), _) | (None, Some((keyword, _))) => keyword.span(),
-        (None, None) => input.name.span(),
-    };
+    let mass_span = source.keyword().map_or(input.name.span(), Ident::span);
     errors.finish()?;
     Ok(System {
         attrs: input.attrs.clone(),
         vis: input.vis.clone(),
         name: input.name.clone(),
-        coordinates: coordinates.clone(),
+        coordinates,
         parameters,
         inputs: inputs.len(),
         graph,
-        mass,
-        forces,
+        mass: dynamics.mass,
+        forces: dynamics.forces,
         constraints,
         eliminate,
         mass_span,
         named,
-        energies,
+        energies: dynamics.energies,
+        bodies: dynamics.bodies,
+        energy: dynamics.energy,
     })
 }
 
+/// A graph with the variables interned first, in a fixed order, so that
+/// canonical term order (by node id) reads naturally: parameters before
+/// time before coordinates before velocities, each in declaration order
+/// (`α·ż`, `x + y`).
+fn new_graph(parameters: usize, n: usize) -> Graph {
+    let mut graph = Graph::new();
+    for i in 0..parameters {
+        graph.sym(Sym::Param(i));
+    }
+    graph.sym(Sym::Time);
+    for i in 0..n {
+        graph.sym(Sym::Coord(i));
+    }
+    for i in 0..n {
+        graph.sym(Sym::Vel(i));
+    }
+    graph
+}
+
+/// `M`, `F` and what came with them, from the chosen [`Source`].
+struct Lowered {
+    mass: Vec<Vec<Id>>,
+    forces: Vec<Id>,
+    /// The kinetic energy as written (energy form), for the input check.
+    kinetic: Option<Id>,
+    potential: Option<Id>,
+    energies: Option<Energies>,
+    bodies: Option<BodyTerms>,
+    energy: Option<EnergyTerms>,
+}
+
+/// Control inputs may appear in `forces` only.
+fn inputs_in_forces_only(
+    lower: &mut Lowerer,
+    is_input: &dyn Fn(Sym) -> bool,
+    source: Source,
+    sections: &Sections,
+    dynamics: &Lowered,
+    constraints: &[Constraint],
+) {
+    let g = &*lower.graph;
+    let mentions = |id: Id| g.mentions(id, is_input);
+    let mass_has_input = dynamics.mass.iter().flatten().any(|&m| mentions(m))
+        || dynamics.kinetic.is_some_and(&mentions);
+    if let (true, Some(keyword)) = (mass_has_input, source.keyword()) {
+        check::input_outside_forces(lower.errors, keyword, source.what());
+    }
+    if let (Some(v), Some((keyword, _))) = (dynamics.potential, sections.potential_energy) {
+        if mentions(v) {
+            check::input_outside_forces(lower.errors, keyword, "`potential_energy`");
+        }
+    }
+    for c in constraints {
+        if mentions(c.phi) {
+            check::input_outside_forces(lower.errors, &c.tokens, "a constraint");
+        }
+    }
+}
+
 impl Lowerer<'_> {
+    /// `M` and `F` from the [`Source`], in the usual order of the input so
+    /// that errors come in source order.
+    fn dynamics(&mut self, source: Source, sections: &Sections, coordinates: &[Ident]) -> Lowered {
+        let n = coordinates.len();
+        let (mass, kinetic, tree) = match source {
+            Source::Mass(keyword, m) => (self.mass(keyword, m, n), None, None),
+            Source::Kinetic(keyword, e) => {
+                let (m, t) = self.kinetic(keyword, e, n);
+                (m, t, None)
+            }
+            Source::Bodies(_, list) => {
+                let described = self.bodies(list, coordinates);
+                let gravity = self.gravity(sections.gravity);
+                let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
+                let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
+                (d.mass.clone(), None, Some((tree, d)))
+            }
+            Source::Urdf(_, robot) => {
+                let described = robot.described(self.graph);
+                let gravity = self.gravity(sections.gravity);
+                let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
+                let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
+                (d.mass.clone(), None, Some((tree, d)))
+            }
+            Source::Missing => (Vec::new(), None, None),
+        };
+        let potential = sections.potential_energy.map(|(_, e)| self.potential(e));
+        let applied = match sections.forces {
+            Some(list) => self.vector(list, "`forces`", n),
+            None => vec![self.graph.int(0); n],
+        };
+        let mut d = crate::diff::Differentiator::new();
+        if let Some((tree, dynamics)) = tree {
+            // M q̈ = Q − ∂V/∂q − c(q, q̇).
+            let applied_less_v =
+                crate::lagrange::forces(self.graph, &mut d, None, potential, &applied);
+            let forces = applied_less_v
+                .iter()
+                .zip(&dynamics.bias)
+                .map(|(&f, &c)| self.graph.sub(f, c))
+                .collect();
+            let total_v = match potential {
+                Some(v) => self.graph.add2(dynamics.potential, v),
+                None => dynamics.potential,
+            };
+            let energy = self.energy_terms(dynamics.kinetic, total_v);
+            let files = match source {
+                Source::Urdf(_, robot) => vec![robot.path.clone()],
+                _ => Vec::new(),
+            };
+            let bodies = BodyTerms {
+                names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
+                inverse: dynamics.inverse,
+                gravity: dynamics.gravity,
+                bias: dynamics.bias,
+                files,
+            };
+            return Lowered {
+                mass,
+                forces,
+                kinetic: None,
+                potential,
+                energies: None,
+                bodies: Some(bodies),
+                energy: Some(energy),
+            };
+        }
+        if kinetic.is_some() || potential.is_some() {
+            let forces = crate::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
+            let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
+            let v = potential.unwrap_or_else(|| self.graph.int(0));
+            let energy = self.energy_terms(t, v);
+            let energies = Energies {
+                kinetic,
+                potential,
+                applied,
+            };
+            return Lowered {
+                mass,
+                forces,
+                kinetic,
+                potential,
+                energies: Some(energies),
+                bodies: None,
+                energy: Some(energy),
+            };
+        }
+        Lowered {
+            mass,
+            forces: applied,
+            kinetic: None,
+            potential: None,
+            energies: None,
+            bodies: None,
+            energy: None,
+        }
+    }
+
+    fn energy_terms(&mut self, kinetic: Id, potential: Id) -> EnergyTerms {
+        let total = self.graph.add2(kinetic, potential);
+        EnergyTerms {
+            kinetic,
+            potential,
+            total,
+        }
+    }
+
+    /// `½ q̇ᵀ M q̇`.
+    fn quadratic_form(&mut self, mass: &[Vec<Id>]) -> Id {
+        let g = &mut *self.graph;
+        let mut terms = Vec::new();
+        for (i, row) in mass.iter().enumerate() {
+            for (j, &m) in row.iter().enumerate() {
+                let (vi, vj) = (g.sym(Sym::Vel(i)), g.sym(Sym::Vel(j)));
+                terms.push(g.mul(&[m, vi, vj]));
+            }
+        }
+        let sum = g.add(&terms);
+        let half = g.num(crate::num::Num::Rational(1, 2));
+        g.mul2(half, sum)
+    }
+
     fn mass(&mut self, keyword: &Ident, input: &MassInput, n: usize) -> Vec<Vec<Id>> {
         let before = self.errors.count();
         let zero = self.graph.int(0);

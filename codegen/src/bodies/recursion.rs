@@ -1,0 +1,328 @@
+//! The recursive algorithms on a [`Tree`], built on expressions
+//! (Featherstone ch. 5–6, spatial_v2's `ID.m` and `HandC.m`):
+//! - outward, each body's velocity and acceleration from its parent's
+//!   (`vᵢ = Xᵢ v_λ + Sᵢ q̇ᵢ`, `aᵢ = Xᵢ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ`, gravity as
+//!   the base's acceleration `a₀ = −g`);
+//! - inward, the forces (`fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ`, `τᵢ = Sᵢᵀ fᵢ`,
+//!   `f_λ += Xᵢᵀ fᵢ`): recursive Newton–Euler;
+//! - inward, the composite inertias (`I_λ += Xᵢᵀ Iᵢ Xᵢ`) and `Mᵢⱼ = Sⱼᵀ ⱼXᵢ* Iᵢ Sᵢ`:
+//!   the composite-rigid-body algorithm.
+//!
+//! A transform `Xᵢ` is applied in two steps, the constant placement and
+//! then the joint's own motion (a rotation about, or a translation along,
+//! its axis), so that only the second involves `qᵢ`.
+
+use super::spatial::{self, Inertia, Spatial, V3};
+use super::{Body, Dynamics, JointKind, Tree};
+use crate::expr::{Graph, Id, Sym};
+
+/// The joint variables of one body as expressions.
+#[derive(Clone, Copy)]
+struct JointState {
+    /// `qᵢ`.
+    q: Id,
+    /// `sin qᵢ`, `cos qᵢ` for a revolute joint.
+    sin_cos: (Id, Id),
+}
+
+fn joint_state(g: &mut Graph, body: &Body) -> JointState {
+    let q = g.sym(Sym::Coord(body.joint.coordinate));
+    let sin_cos = match body.joint.kind {
+        JointKind::Revolute => spatial::sin_cos(g, q),
+        JointKind::Prismatic => (g.int(0), g.int(1)),
+    };
+    JointState { q, sin_cos }
+}
+
+/// `Xᵢ m`: a motion vector of the parent's frame in the body's frame.
+fn motion_to_child(g: &mut Graph, body: &Body, js: JointState, m: Spatial) -> Spatial {
+    let p = &body.placement;
+    // The joint frame: ω' = Rᵀ ω, v' = Rᵀ (v + ω × p).
+    let w = spatial::mat_t_vec(g, &p.rotation, m.angular);
+    let shifted = spatial::cross(g, m.angular, p.translation);
+    let v = spatial::add(g, m.linear, shifted);
+    let v = spatial::mat_t_vec(g, &p.rotation, v);
+    let a = body.joint.axis;
+    match body.joint.kind {
+        JointKind::Revolute => {
+            // The child's axes are the joint's turned by qᵢ: coordinates by −qᵢ.
+            let (s, c) = js.sin_cos;
+            let back = (g.neg(s), c);
+            Spatial {
+                angular: spatial::rotate(g, a, back, w),
+                linear: spatial::rotate(g, a, back, v),
+            }
+        }
+        JointKind::Prismatic => {
+            let offset = spatial::scale(g, js.q, a);
+            let shifted = spatial::cross(g, w, offset);
+            Spatial {
+                angular: w,
+                linear: spatial::add(g, v, shifted),
+            }
+        }
+    }
+}
+
+/// `Xᵢᵀ f`: a force vector of the body's frame in the parent's frame.
+fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Spatial {
+    let a = body.joint.axis;
+    let (n, force) = match body.joint.kind {
+        JointKind::Revolute => (
+            spatial::rotate(g, a, js.sin_cos, f.angular),
+            spatial::rotate(g, a, js.sin_cos, f.linear),
+        ),
+        JointKind::Prismatic => {
+            let offset = spatial::scale(g, js.q, a);
+            let moment = spatial::cross(g, offset, f.linear);
+            (spatial::add(g, f.angular, moment), f.linear)
+        }
+    };
+    let p = &body.placement;
+    let force = spatial::mat_vec(g, &p.rotation, force);
+    let n = spatial::mat_vec(g, &p.rotation, n);
+    let moment = spatial::cross(g, p.translation, force);
+    Spatial {
+        angular: spatial::add(g, n, moment),
+        linear: force,
+    }
+}
+
+/// `Sᵢ`: the joint's motion subspace, a motion vector.
+fn subspace(g: &mut Graph, body: &Body) -> Spatial {
+    let z = spatial::zero(g);
+    match body.joint.kind {
+        JointKind::Revolute => Spatial {
+            angular: body.joint.axis,
+            linear: z,
+        },
+        JointKind::Prismatic => Spatial {
+            angular: z,
+            linear: body.joint.axis,
+        },
+    }
+}
+
+/// What the outward pass includes.
+#[derive(Clone, Copy)]
+struct Terms {
+    velocities: bool,
+    accelerations: bool,
+    gravity: bool,
+}
+
+/// Recursive Newton–Euler: the generalized force of each coordinate
+/// (`None` where no body moves it).
+fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
+    let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
+    let base_acceleration = if terms.gravity {
+        let z = spatial::zero(g);
+        Spatial {
+            angular: z,
+            linear: spatial::neg(g, tree.gravity),
+        }
+    } else {
+        Spatial::zero(g)
+    };
+    let base_velocity = Spatial::zero(g);
+    let mut v: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
+    let mut f: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
+    let mut a: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
+    for (i, body) in tree.bodies.iter().enumerate() {
+        let (vp, ap) = match body.parent {
+            Some(p) => (v[p], a[p]),
+            None => (base_velocity, base_acceleration),
+        };
+        let s = subspace(g, body);
+        let c = body.joint.coordinate;
+        let vi = motion_to_child(g, body, states[i], vp);
+        let vi = if terms.velocities {
+            let qd = g.sym(Sym::Vel(c));
+            let sq = s.scale(g, qd);
+            let vi = vi.add(g, sq);
+            v.push(vi);
+            let coriolis = vi.cross_motion(g, sq);
+            let ai = motion_to_child(g, body, states[i], ap);
+            a.push(ai.add(g, coriolis));
+            vi
+        } else {
+            v.push(vi);
+            a.push(motion_to_child(g, body, states[i], ap));
+            vi
+        };
+        if terms.accelerations {
+            let qdd = g.sym(Sym::Accel(c));
+            let sq = s.scale(g, qdd);
+            a[i] = a[i].add(g, sq);
+        }
+        let momentum = body.inertia.apply(g, vi);
+        let ia = body.inertia.apply(g, a[i]);
+        let gyroscopic = vi.cross_force(g, momentum);
+        f.push(ia.add(g, gyroscopic));
+    }
+    let zero = g.int(0);
+    let mut tau = vec![zero; n];
+    for (i, body) in tree.bodies.iter().enumerate().rev() {
+        let s = subspace(g, body);
+        tau[body.joint.coordinate] = s.dot(g, f[i]);
+        if let Some(p) = body.parent {
+            let up = force_to_parent(g, body, states[i], f[i]);
+            f[p] = f[p].add(g, up);
+        }
+    }
+    tau
+}
+
+/// The inertia of a body about its parent's origin, in its parent's axes.
+fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inertia) -> Inertia {
+    let a = body.joint.axis;
+    let in_joint = match body.joint.kind {
+        JointKind::Revolute => {
+            let turn = |g: &mut Graph, v: V3| spatial::rotate(g, a, js.sin_cos, v);
+            let h = turn(g, inertia.first_moment);
+            // R Ī Rᵀ: each column turned, then each row; symmetric.
+            let cols = spatial::transpose(&inertia.rotational).map(|col| turn(g, col));
+            let half = spatial::transpose(&cols);
+            let full = half.map(|row| turn(g, row));
+            let rotational = [0, 1, 2].map(|r| [0, 1, 2].map(|c| full[r.min(c)][r.max(c)]));
+            Inertia {
+                mass: inertia.mass,
+                first_moment: h,
+                rotational,
+            }
+        }
+        JointKind::Prismatic => {
+            let identity = spatial::identity(g);
+            let offset = spatial::scale(g, js.q, a);
+            inertia.to_parent(g, &identity, offset)
+        }
+    };
+    let p = &body.placement;
+    in_joint.to_parent(g, &p.rotation, p.translation)
+}
+
+/// The composite-rigid-body algorithm: `M(q)`, n × n.
+fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> Vec<Vec<Id>> {
+    let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
+    let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
+    for (i, body) in tree.bodies.iter().enumerate().rev() {
+        if let Some(p) = body.parent {
+            let moved = inertia_to_parent(g, body, states[i], &composite[i]);
+            composite[p] = composite[p].add(g, &moved);
+        }
+    }
+    let zero = g.int(0);
+    let mut m = vec![vec![zero; n]; n];
+    for (i, body) in tree.bodies.iter().enumerate() {
+        let s = subspace(g, body);
+        let mut force = composite[i].apply(g, s);
+        let ci = body.joint.coordinate;
+        m[ci][ci] = s.dot(g, force);
+        let mut j = i;
+        while let Some(p) = tree.bodies[j].parent {
+            force = force_to_parent(g, &tree.bodies[j], states[j], force);
+            j = p;
+            let sj = subspace(g, &tree.bodies[j]);
+            let cj = tree.bodies[j].joint.coordinate;
+            let mij = sj.dot(g, force);
+            m[ci][cj] = mij;
+            m[cj][ci] = mij;
+        }
+    }
+    m
+}
+
+/// `T = Σ ½ vᵢᵀ Iᵢ vᵢ` and `V = −Σ gᵀ (mᵢ pᵢ + Rᵢ hᵢ)`, with each body's
+/// `gᵀ pᵢ` and gravity in its axes carried outward.
+fn energies(g: &mut Graph, tree: &Tree) -> (Id, Id) {
+    let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
+    let zero = spatial::zero(g);
+    let mut v: Vec<Spatial> = Vec::new();
+    // Gravity as a "motion" with no angular part: Xᵢ only rotates it.
+    let mut gravity: Vec<Spatial> = Vec::new();
+    let mut height: Vec<Id> = Vec::new();
+    let (mut kinetic, mut potential) = (Vec::new(), Vec::new());
+    for (i, body) in tree.bodies.iter().enumerate() {
+        let (vp, gp, hp) = match body.parent {
+            Some(p) => (v[p], gravity[p], height[p]),
+            None => {
+                let z = g.int(0);
+                let world = Spatial {
+                    angular: zero,
+                    linear: tree.gravity,
+                };
+                (Spatial::zero(g), world, z)
+            }
+        };
+        let c = body.joint.coordinate;
+        let qd = g.sym(Sym::Vel(c));
+        let s = subspace(g, body);
+        let sq = s.scale(g, qd);
+        let vi = motion_to_child(g, body, states[i], vp);
+        let vi = vi.add(g, sq);
+        // gᵀ pᵢ = gᵀ p_λ + g_λᵀ rᵢ, rᵢ the origin in the parent's frame.
+        let origin = match body.joint.kind {
+            JointKind::Revolute => body.placement.translation,
+            JointKind::Prismatic => {
+                let slide = spatial::scale(g, states[i].q, body.joint.axis);
+                let slide = spatial::mat_vec(g, &body.placement.rotation, slide);
+                spatial::add(g, body.placement.translation, slide)
+            }
+        };
+        let rise = spatial::dot(g, gp.linear, origin);
+        let hi = g.add2(hp, rise);
+        let gi = motion_to_child(g, body, states[i], gp);
+        let momentum = body.inertia.apply(g, vi);
+        kinetic.push(vi.dot(g, momentum));
+        let mh = g.mul2(body.inertia.mass, hi);
+        let gh = spatial::dot(g, gi.linear, body.inertia.first_moment);
+        potential.push(g.add2(mh, gh));
+        v.push(vi);
+        gravity.push(gi);
+        height.push(hi);
+    }
+    let t = g.add(&kinetic);
+    let half = g.num(crate::num::Num::Rational(1, 2));
+    let t = g.mul2(half, t);
+    let v_sum = g.add(&potential);
+    (t, g.neg(v_sum))
+}
+
+/// Everything the pipeline takes from a tree.
+pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
+    let all = Terms {
+        velocities: true,
+        accelerations: false,
+        gravity: true,
+    };
+    let bias = newton_euler(g, tree, n, all);
+    let mass = composite_rigid_body(g, tree, n);
+    let inverse = newton_euler(
+        g,
+        tree,
+        n,
+        Terms {
+            accelerations: true,
+            ..all
+        },
+    );
+    let gravity = newton_euler(
+        g,
+        tree,
+        n,
+        Terms {
+            velocities: false,
+            accelerations: false,
+            gravity: true,
+        },
+    );
+    let (kinetic, potential) = energies(g, tree);
+    Dynamics {
+        mass,
+        bias,
+        inverse,
+        gravity,
+        kinetic,
+        potential,
+    }
+}

@@ -1,0 +1,312 @@
+//! 3-vectors and 3×3 matrices of expressions, and the spatial (6-D)
+//! quantities of rigid-body dynamics built from them (Featherstone, *Rigid
+//! Body Dynamics Algorithms*, ch. 2): motion vectors `[ω; v]`, force
+//! vectors `[n; f]`, rigid-body inertias by their ten parameters. Every
+//! operation goes through the graph's constructors, so the zeros and ones
+//! of axis-aligned frames fold away exactly and nothing is built for them.
+
+use crate::expr::{Func, Graph, Id};
+use crate::num::Num;
+
+/// A 3-vector of expressions.
+pub type V3 = [Id; 3];
+/// A 3×3 matrix of expressions, row by row.
+pub type M3 = [[Id; 3]; 3];
+
+/// The zero vector.
+pub fn zero(g: &mut Graph) -> V3 {
+    let z = g.int(0);
+    [z; 3]
+}
+
+/// The identity matrix.
+pub fn identity(g: &mut Graph) -> M3 {
+    let (z, o) = (g.int(0), g.int(1));
+    [[o, z, z], [z, o, z], [z, z, o]]
+}
+
+/// `a + b`.
+pub fn add(g: &mut Graph, a: V3, b: V3) -> V3 {
+    [0, 1, 2].map(|i| g.add2(a[i], b[i]))
+}
+
+/// `a − b`.
+pub fn sub(g: &mut Graph, a: V3, b: V3) -> V3 {
+    [0, 1, 2].map(|i| g.sub(a[i], b[i]))
+}
+
+/// `s·a` for an expression `s`.
+pub fn scale(g: &mut Graph, s: Id, a: V3) -> V3 {
+    a.map(|x| g.mul2(s, x))
+}
+
+/// `−a`.
+pub fn neg(g: &mut Graph, a: V3) -> V3 {
+    a.map(|x| g.neg(x))
+}
+
+/// `a · b`.
+pub fn dot(g: &mut Graph, a: V3, b: V3) -> Id {
+    let terms = [0, 1, 2].map(|i| g.mul2(a[i], b[i]));
+    g.add(&terms)
+}
+
+/// `a × b`.
+pub fn cross(g: &mut Graph, a: V3, b: V3) -> V3 {
+    let mut c = |i: usize, j: usize| {
+        let (p, q) = (g.mul2(a[i], b[j]), g.mul2(a[j], b[i]));
+        g.sub(p, q)
+    };
+    [c(1, 2), c(2, 0), c(0, 1)]
+}
+
+/// `m v`.
+pub fn mat_vec(g: &mut Graph, m: &M3, v: V3) -> V3 {
+    [0, 1, 2].map(|i| dot(g, m[i], v))
+}
+
+/// `mᵀ v`.
+pub fn mat_t_vec(g: &mut Graph, m: &M3, v: V3) -> V3 {
+    mat_vec(g, &transpose(m), v)
+}
+
+/// `mᵀ`.
+pub fn transpose(m: &M3) -> M3 {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[j][i]))
+}
+
+/// `a b`.
+pub fn mat_mul(g: &mut Graph, a: &M3, b: &M3) -> M3 {
+    let bt = transpose(b);
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| dot(g, a[i], bt[j])))
+}
+
+/// `a + b`.
+pub fn mat_add(g: &mut Graph, a: &M3, b: &M3) -> M3 {
+    [0, 1, 2].map(|i| add(g, a[i], b[i]))
+}
+
+/// The cross-product matrix `ã` (`ã v = a × v`).
+pub fn skew(g: &mut Graph, a: V3) -> M3 {
+    let z = g.int(0);
+    let n = a.map(|x| g.neg(x));
+    [[z, n[2], a[1]], [a[2], z, n[0]], [n[1], a[0], z]]
+}
+
+/// `sin x` and `cos x`, exact where `x` is a constant multiple of π/2 (to
+/// within a few units in the last place, as `PI / 2.0` evaluates): a frame
+/// turned by a right angle has exact zeros and ones, which then fold.
+pub fn sin_cos(g: &mut Graph, x: Id) -> (Id, Id) {
+    if let Some(value) = g.as_num(x).map(Num::to_f64) {
+        let quarter = value / std::f64::consts::FRAC_PI_2;
+        let k = quarter.round();
+        if (quarter - k).abs() <= 4.0 * f64::EPSILON * k.abs().max(1.0) {
+            let (s, c) = match (k as i64).rem_euclid(4) {
+                0 => (0, 1),
+                1 => (1, 0),
+                2 => (0, -1),
+                _ => (-1, 0),
+            };
+            return (g.int(s), g.int(c));
+        }
+    }
+    (g.func(Func::Sin, x), g.func(Func::Cos, x))
+}
+
+/// The rotation matrix `R = Rz(yaw) Ry(pitch) Rx(roll)` (URDF's `rpy`): its
+/// columns are the rotated frame's axes in the fixed frame.
+pub fn rpy(g: &mut Graph, angles: V3) -> M3 {
+    let [(sr, cr), (sp, cp), (sy, cy)] = angles.map(|a| sin_cos(g, a));
+    let z = g.int(0);
+    let o = g.int(1);
+    let rx = [[o, z, z], [z, cr, g.neg(sr)], [z, sr, cr]];
+    let ry = [[cp, z, sp], [z, o, z], [g.neg(sp), z, cp]];
+    let rz = [[cy, g.neg(sy), z], [sy, cy, z], [z, z, o]];
+    let yx = mat_mul(g, &ry, &rx);
+    mat_mul(g, &rz, &yx)
+}
+
+/// The rotation by `angle` about the unit `axis` (Rodrigues), as a matrix.
+pub fn axis_angle(g: &mut Graph, axis: V3, angle: Id) -> M3 {
+    let (s, c) = sin_cos(g, angle);
+    let one = g.int(1);
+    let v = g.sub(one, c);
+    let k = skew(g, axis);
+    [0, 1, 2].map(|i| {
+        [0, 1, 2].map(|j| {
+            let aa = g.mul(&[v, axis[i], axis[j]]);
+            let sk = g.mul2(s, k[i][j]);
+            let diag = if i == j { c } else { g.int(0) };
+            g.add(&[aa, sk, diag])
+        })
+    })
+}
+
+/// `R(θ) v` for the rotation by `θ` (given by its sine and cosine) about
+/// the unit `axis`: `a(a·v) + cos θ (v − a(a·v)) + sin θ (a × v)`, written
+/// so that the components along an axis-aligned `a` cancel exactly.
+pub fn rotate(g: &mut Graph, axis: V3, (s, c): (Id, Id), v: V3) -> V3 {
+    let along = dot(g, axis, v);
+    let parallel = scale(g, along, axis);
+    let normal = sub(g, v, parallel);
+    let turned = cross(g, axis, v);
+    let normal = scale(g, c, normal);
+    let turned = scale(g, s, turned);
+    let sum = add(g, parallel, normal);
+    add(g, sum, turned)
+}
+
+/// A motion vector `[ω; v]` (angular velocity, velocity of the frame's
+/// origin) or a force vector `[n; f]` (moment about the origin, force).
+#[derive(Clone, Copy, Debug)]
+pub struct Spatial {
+    /// `ω` or `n`.
+    pub angular: V3,
+    /// `v` or `f`.
+    pub linear: V3,
+}
+
+impl Spatial {
+    /// The zero vector.
+    pub fn zero(g: &mut Graph) -> Spatial {
+        let z = zero(g);
+        Spatial {
+            angular: z,
+            linear: z,
+        }
+    }
+
+    /// `self + other`.
+    pub fn add(self, g: &mut Graph, other: Spatial) -> Spatial {
+        Spatial {
+            angular: add(g, self.angular, other.angular),
+            linear: add(g, self.linear, other.linear),
+        }
+    }
+
+    /// `s · self`.
+    pub fn scale(self, g: &mut Graph, s: Id) -> Spatial {
+        Spatial {
+            angular: scale(g, s, self.angular),
+            linear: scale(g, s, self.linear),
+        }
+    }
+
+    /// The motion cross product `self × m` (`crm`).
+    pub fn cross_motion(self, g: &mut Graph, m: Spatial) -> Spatial {
+        let angular = cross(g, self.angular, m.angular);
+        let a = cross(g, self.angular, m.linear);
+        let b = cross(g, self.linear, m.angular);
+        Spatial {
+            angular,
+            linear: add(g, a, b),
+        }
+    }
+
+    /// The force cross product `self ×* f` (`crf`).
+    pub fn cross_force(self, g: &mut Graph, f: Spatial) -> Spatial {
+        let a = cross(g, self.angular, f.angular);
+        let b = cross(g, self.linear, f.linear);
+        Spatial {
+            angular: add(g, a, b),
+            linear: cross(g, self.angular, f.linear),
+        }
+    }
+
+    /// `selfᵀ other` (a force applied to a motion: power).
+    pub fn dot(self, g: &mut Graph, other: Spatial) -> Id {
+        let a = dot(g, self.angular, other.angular);
+        let b = dot(g, self.linear, other.linear);
+        g.add2(a, b)
+    }
+}
+
+/// A rigid-body inertia about a frame's origin, in that frame's axes, by
+/// its ten parameters: mass `m`, first moment `h = m c`, and the rotational
+/// inertia about the origin `Ī_O = Ī_C + m c̃ c̃ᵀ`.
+#[derive(Clone, Copy, Debug)]
+pub struct Inertia {
+    /// `m`.
+    pub mass: Id,
+    /// `h = m c`.
+    pub first_moment: V3,
+    /// `Ī_O`, symmetric.
+    pub rotational: M3,
+}
+
+impl Inertia {
+    /// No mass.
+    pub fn zero(g: &mut Graph) -> Inertia {
+        let z = g.int(0);
+        Inertia {
+            mass: z,
+            first_moment: [z; 3],
+            rotational: [[z; 3]; 3],
+        }
+    }
+
+    /// From mass, centre of mass and inertia about the centre of mass
+    /// (Featherstone eq. 2.63: `Ī_O = Ī_C + m c̃ c̃ᵀ`).
+    pub fn from_com(g: &mut Graph, mass: Id, com: V3, about_com: &M3) -> Inertia {
+        let h = scale(g, mass, com);
+        let c = skew(g, com);
+        let hc = skew(g, h);
+        // m c̃ c̃ᵀ = −h̃ c̃.
+        let shift = mat_mul(g, &hc, &c);
+        let rotational = [0, 1, 2].map(|i| [0, 1, 2].map(|j| g.sub(about_com[i][j], shift[i][j])));
+        Inertia {
+            mass,
+            first_moment: h,
+            rotational,
+        }
+    }
+
+    /// `I m` for a motion vector `m = [ω; v]`: the momentum
+    /// `[Ī_O ω + h × v; m v − h × ω]`.
+    pub fn apply(&self, g: &mut Graph, m: Spatial) -> Spatial {
+        let iw = mat_vec(g, &self.rotational, m.angular);
+        let hv = cross(g, self.first_moment, m.linear);
+        let mv = scale(g, self.mass, m.linear);
+        let hw = cross(g, self.first_moment, m.angular);
+        Spatial {
+            angular: add(g, iw, hv),
+            linear: sub(g, mv, hw),
+        }
+    }
+
+    /// `self + other` (both about the same origin, in the same axes).
+    pub fn add(&self, g: &mut Graph, other: &Inertia) -> Inertia {
+        Inertia {
+            mass: g.add2(self.mass, other.mass),
+            first_moment: add(g, self.first_moment, other.first_moment),
+            rotational: mat_add(g, &self.rotational, &other.rotational),
+        }
+    }
+
+    /// The same inertia about the origin of a frame in which this frame has
+    /// rotation `r` (columns: this frame's axes) and origin `p`:
+    /// `h' = R h + m p`, `Ī' = R Ī Rᵀ − (h̃ p̃ + p̃ h̃) − m p̃ p̃` with `h = R h`.
+    pub fn to_parent(&self, g: &mut Graph, r: &M3, p: V3) -> Inertia {
+        let h = mat_vec(g, r, self.first_moment);
+        let ri = mat_mul(g, r, &self.rotational);
+        let rirt = mat_mul(g, &ri, &transpose(r));
+        let (hs, ps) = (skew(g, h), skew(g, p));
+        let hp = mat_mul(g, &hs, &ps);
+        let ph = mat_mul(g, &ps, &hs);
+        let pp = mat_mul(g, &ps, &ps);
+        let m = self.mass;
+        let rotational = [0, 1, 2].map(|i| {
+            [0, 1, 2].map(|j| {
+                let mpp = g.mul2(m, pp[i][j]);
+                let cross = g.add(&[hp[i][j], ph[i][j], mpp]);
+                g.sub(rirt[i][j], cross)
+            })
+        });
+        let mp = scale(g, m, p);
+        Inertia {
+            mass: m,
+            first_moment: add(g, h, mp),
+            rotational,
+        }
+    }
+}

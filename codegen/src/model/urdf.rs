@@ -1,0 +1,425 @@
+//! The `urdf` section: a URDF file read at compile time into the
+//! [`Described`] bodies of `crate::bodies`.
+//!
+//! Read: `<link>` (its `<inertial>`: `<origin xyz rpy>`, `<mass value>`,
+//! `<inertia ixx ixy ixz iyy iyz izz>`, about the inertial frame's origin,
+//! which is the centre of mass), `<joint>` of type `revolute`,
+//! `continuous`, `prismatic` or `fixed` (`<origin xyz rpy>`,
+//! `<parent link>`, `<child link>`, `<axis xyz>`, default `1 0 0`).
+//! Ignored, as by the rigid-body algorithms of Pinocchio: visual and
+//! collision geometry, `<limit>`, `<dynamics>`, `<safety_controller>`,
+//! `<calibration>`, `<transmission>`, `<gazebo>`, `<material>`. Refused
+//! with the file and line: other joint types (`floating`, `planar`),
+//! `<mimic>`, a tree with no single root, a link that is two joints'
+//! child, a missing or unreadable number.
+//!
+//! The joints become the coordinates, named after the joints (characters
+//! other than letters, digits and `_` replaced by `_`), in depth-first
+//! order from the root with children in file order, as Pinocchio numbers
+//! them. Joints named in `locked: [..]` are held at zero (fixed).
+//!
+//! Numbers are read exactly where they are short decimals. An angle of
+//! `rpy` that is a multiple of π/2 written to as many digits as it has
+//! (`1.5707963267949`, `-1.57079632679`, at least five significant
+//! digits) is taken as that multiple exactly, so that frames turned by
+//! right angles keep their exact zeros: the difference from the literal is
+//! below half a unit of its last digit (5e-12 rad for 11 decimals).
+
+use crate::bodies::spatial::{self, Inertia, V3};
+use crate::bodies::{Described, Joint, JointKind, Placement};
+use crate::expr::Graph;
+use crate::num::Num;
+use crate::parse::List;
+use proc_macro2::Span;
+use syn::{Ident, LitStr};
+
+/// A URDF tree, its numbers as written.
+pub struct Robot {
+    /// The file as the build reads it, for `include_bytes!`.
+    pub path: String,
+    links: Vec<Link>,
+    span: Span,
+}
+
+/// One link in depth-first order; the joint that carries it, if any.
+struct Link {
+    name: String,
+    parent: Option<usize>,
+    joint: Option<JointSpec>,
+    inertial: Option<([String; 3], [String; 3], String, [String; 6])>,
+}
+
+struct JointSpec {
+    name: String,
+    kind: Option<JointKind>,
+    xyz: [String; 3],
+    rpy: [String; 3],
+    axis: [String; 3],
+}
+
+type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
+
+struct Reader<'a> {
+    doc: &'a roxmltree::Document<'a>,
+    file: &'a str,
+    span: Span,
+}
+
+impl Reader<'_> {
+    fn error(&self, node: Node, message: impl std::fmt::Display) -> syn::Error {
+        let pos = self.doc.text_pos_at(node.range().start);
+        syn::Error::new(self.span, format!("{}:{}: {message}", self.file, pos.row))
+    }
+
+    fn attribute(&self, node: Node, name: &str) -> syn::Result<String> {
+        node.attribute(name).map(str::to_string).ok_or_else(|| {
+            self.error(
+                node,
+                format!("<{}> needs the attribute `{name}`", node.tag_name().name()),
+            )
+        })
+    }
+
+    fn numbers<const N: usize>(
+        &self,
+        node: Node,
+        name: &str,
+        default: &str,
+    ) -> syn::Result<[String; N]> {
+        let text = node.attribute(name).unwrap_or(default);
+        let parts: Vec<&str> = text.split_whitespace().collect();
+        if parts.len() != N
+            || parts
+                .iter()
+                .any(|p| Num::parse_decimal(p).is_none_or(|n| !n.to_f64().is_finite()))
+        {
+            return Err(self.error(
+                node,
+                format!("`{name}` must be {N} finite numbers, not \"{text}\""),
+            ));
+        }
+        Ok(std::array::from_fn(|i| parts[i].to_string()))
+    }
+
+    fn child<'a, 'i>(node: Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
+        node.children().find(|c| c.has_tag_name(name))
+    }
+
+    fn origin(&self, node: Node) -> syn::Result<([String; 3], [String; 3])> {
+        match Self::child(node, "origin") {
+            Some(o) => Ok((
+                self.numbers(o, "xyz", "0 0 0")?,
+                self.numbers(o, "rpy", "0 0 0")?,
+            )),
+            None => Ok((zeros(), zeros())),
+        }
+    }
+
+    fn inertial(
+        &self,
+        link: Node,
+    ) -> syn::Result<Option<([String; 3], [String; 3], String, [String; 6])>> {
+        let Some(inertial) = Self::child(link, "inertial") else {
+            return Ok(None);
+        };
+        let (xyz, rpy) = self.origin(inertial)?;
+        let mass = Self::child(inertial, "mass")
+            .ok_or_else(|| self.error(inertial, "<inertial> needs <mass>"))?;
+        let [mass] = self.numbers::<1>(mass, "value", "")?;
+        let inertia = Self::child(inertial, "inertia")
+            .ok_or_else(|| self.error(inertial, "<inertial> needs <inertia>"))?;
+        let names = ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"];
+        let mut values: [String; 6] = Default::default();
+        for (value, name) in values.iter_mut().zip(names) {
+            [*value] = self.numbers::<1>(inertia, name, "")?;
+        }
+        Ok(Some((xyz, rpy, mass, values)))
+    }
+
+    fn joint(&self, joint: Node, locked: &[String]) -> syn::Result<JointSpec> {
+        let name = self.attribute(joint, "name")?;
+        let kind = match self.attribute(joint, "type")?.as_str() {
+            _ if locked.contains(&identifier(&name)) => None,
+            "revolute" | "continuous" => Some(JointKind::Revolute),
+            "prismatic" => Some(JointKind::Prismatic),
+            "fixed" => None,
+            other => {
+                return Err(self.error(joint, format!(
+                    "joint `{name}` of type `{other}` is not supported (revolute, continuous, prismatic, fixed)"
+                )))
+            }
+        };
+        if let Some(mimic) = Self::child(joint, "mimic") {
+            return Err(self.error(mimic, format!("joint `{name}`: <mimic> is not supported")));
+        }
+        let (xyz, rpy) = self.origin(joint)?;
+        let axis = match Self::child(joint, "axis") {
+            Some(a) => self.numbers(a, "xyz", "1 0 0")?,
+            None => ["1".into(), "0".into(), "0".into()],
+        };
+        Ok(JointSpec {
+            name,
+            kind,
+            xyz,
+            rpy,
+            axis,
+        })
+    }
+}
+
+fn zeros() -> [String; 3] {
+    ["0".into(), "0".into(), "0".into()]
+}
+
+/// A joint's name as a Rust identifier.
+fn identifier(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
+        s.insert(0, 'j');
+    }
+    s
+}
+
+impl Robot {
+    /// Reads the file named by `path`, relative to the directory of the
+    /// crate being compiled (`CARGO_MANIFEST_DIR`).
+    pub fn read(path: &LitStr, locked: Option<&List<Ident>>) -> syn::Result<Robot> {
+        let base = std::env::var("CARGO_MANIFEST_DIR").unwrap_or_else(|_| ".".into());
+        let full = std::path::Path::new(&base).join(path.value());
+        let file = full.display().to_string();
+        let text = std::fs::read_to_string(&full)
+            .map_err(|e| syn::Error::new(path.span(), format!("cannot read `{file}`: {e}")))?;
+        let doc = roxmltree::Document::parse(&text).map_err(|e| {
+            syn::Error::new(
+                path.span(),
+                format!("{file}: not a well-formed XML file: {e}"),
+            )
+        })?;
+        let reader = Reader {
+            doc: &doc,
+            file: &file,
+            span: path.span(),
+        };
+        let locked: Vec<String> = locked.map_or_else(Vec::new, |l| {
+            l.items.iter().map(ToString::to_string).collect()
+        });
+        let links = reader.tree(&locked)?;
+        let known: Vec<String> = links
+            .iter()
+            .filter_map(|l| l.joint.as_ref())
+            .map(|j| identifier(&j.name))
+            .collect();
+        if let Some(unknown) = locked.iter().find(|name| !known.contains(name)) {
+            let at = locked_span(unknown, &locked, path.span());
+            return Err(syn::Error::new(
+                at,
+                format!("`{unknown}` is not a joint of `{file}`"),
+            ));
+        }
+        Ok(Robot {
+            path: full.display().to_string(),
+            links,
+            span: path.span(),
+        })
+    }
+
+    /// The coordinates: the movable joints' names, in the tree's order.
+    pub fn coordinates(&self) -> Vec<Ident> {
+        self.links
+            .iter()
+            .filter_map(|l| l.joint.as_ref().filter(|j| j.kind.is_some()))
+            .map(|j| Ident::new(&identifier(&j.name), self.span))
+            .collect()
+    }
+
+    /// The links as bodies, numbers lowered into `g`.
+    pub fn described(&self, g: &mut Graph) -> Vec<Described> {
+        let mut coordinate = 0;
+        let mut out = Vec::with_capacity(self.links.len());
+        for link in &self.links {
+            let zero = spatial::zero(g);
+            let (placement, joint) = match &link.joint {
+                Some(j) => {
+                    let a = angles(g, &j.rpy);
+                    let translation = numbers(g, &j.xyz);
+                    let placement = Placement {
+                        rotation: spatial::rpy(g, a),
+                        translation,
+                    };
+                    let joint = j.kind.map(|kind| {
+                        let axis = numbers(g, &j.axis);
+                        let norm2 = spatial::dot(g, axis, axis);
+                        let norm = g.sqrt(norm2);
+                        coordinate += 1;
+                        Joint {
+                            kind,
+                            coordinate: coordinate - 1,
+                            axis: axis.map(|c| g.div(c, norm)),
+                        }
+                    });
+                    (placement, joint)
+                }
+                None => (Placement::identity(g), None),
+            };
+            let inertia = match &link.inertial {
+                Some((xyz, rpy, mass, i)) => {
+                    let a = angles(g, rpy);
+                    let r = spatial::rpy(g, a);
+                    let [xx, xy, xz, yy, yz, zz] = i.clone().map(|v| number(g, &v));
+                    let local = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
+                    let rl = spatial::mat_mul(g, &r, &local);
+                    let about_com = spatial::mat_mul(g, &rl, &spatial::transpose(&r));
+                    let mass = number(g, mass);
+                    let com = numbers(g, xyz);
+                    Inertia::from_com(g, mass, com, &about_com)
+                }
+                None => Inertia {
+                    mass: g.int(0),
+                    first_moment: zero,
+                    rotational: [zero; 3],
+                },
+            };
+            out.push(Described {
+                name: link.name.clone(),
+                parent: link.parent,
+                placement,
+                joint,
+                inertia,
+            });
+        }
+        out
+    }
+}
+
+fn locked_span(name: &str, _locked: &[String], fallback: Span) -> Span {
+    let _ = name;
+    fallback
+}
+
+fn number(g: &mut Graph, text: &str) -> crate::expr::Id {
+    g.num(Num::parse_decimal(text).unwrap_or(Num::ZERO))
+}
+
+fn numbers(g: &mut Graph, texts: &[String; 3]) -> V3 {
+    [0, 1, 2].map(|i| number(g, &texts[i]))
+}
+
+/// Angles, each a multiple of π/2 exactly where it is one to the digits
+/// written (see the module docs).
+fn angles(g: &mut Graph, texts: &[String; 3]) -> V3 {
+    [0, 1, 2].map(|i| {
+        let text = &texts[i];
+        let value: f64 = text.parse().unwrap_or(0.0);
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let k = (value / quarter).round();
+        let digits = text
+            .trim_start_matches(['-', '+'])
+            .chars()
+            .filter(char::is_ascii_digit)
+            .count();
+        let decimals = text.split_once('.').map_or(0, |(_, f)| f.len()) as i32;
+        let close = (value - k * quarter).abs() <= 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-9);
+        if k != 0.0 && digits >= 5 && !text.contains(['e', 'E']) && close {
+            let pi = g.num(Num::Float(std::f64::consts::PI));
+            let half = g.num(Num::Rational(k as i128, 2));
+            g.mul2(half, pi)
+        } else {
+            number(g, text)
+        }
+    })
+}
+
+impl Reader<'_> {
+    /// The links in depth-first order from the single root.
+    fn tree(&self, locked: &[String]) -> syn::Result<Vec<Link>> {
+        let robot = self.doc.root_element();
+        if !robot.has_tag_name("robot") {
+            return Err(self.error(robot, "the root element must be <robot>"));
+        }
+        let link_nodes: Vec<Node> = robot
+            .children()
+            .filter(|c| c.has_tag_name("link"))
+            .collect();
+        let joint_nodes: Vec<Node> = robot
+            .children()
+            .filter(|c| c.has_tag_name("joint"))
+            .collect();
+        let names: Vec<String> = link_nodes
+            .iter()
+            .map(|l| self.attribute(*l, "name"))
+            .collect::<syn::Result<_>>()?;
+        let mut parent_of: Vec<Option<(usize, Node)>> = vec![None; names.len()];
+        for &j in &joint_nodes {
+            let link_of = |tag: &str| -> syn::Result<usize> {
+                let node = Self::child(j, tag)
+                    .ok_or_else(|| self.error(j, format!("<joint> needs <{tag} link=..>")))?;
+                let name = self.attribute(node, "link")?;
+                names
+                    .iter()
+                    .position(|n| *n == name)
+                    .ok_or_else(|| self.error(node, format!("unknown link `{name}`")))
+            };
+            let (parent, child) = (link_of("parent")?, link_of("child")?);
+            if parent_of[child].is_some() {
+                return Err(self.error(
+                    j,
+                    format!("link `{}` is the child of two joints", names[child]),
+                ));
+            }
+            parent_of[child] = Some((parent, j));
+        }
+        let roots: Vec<usize> = (0..names.len())
+            .filter(|&i| parent_of[i].is_none())
+            .collect();
+        let [root] = roots[..] else {
+            return Err(self.error(
+                robot,
+                format!(
+                    "the links must form one tree; roots: {:?}",
+                    roots.iter().map(|&r| &names[r]).collect::<Vec<_>>()
+                ),
+            ));
+        };
+        let mut links = Vec::with_capacity(names.len());
+        let mut stack = vec![(root, None)];
+        let mut visited = 0;
+        while let Some((i, parent)) = stack.pop() {
+            visited += 1;
+            if visited > names.len() {
+                break;
+            }
+            let joint = match parent_of[i] {
+                Some((_, j)) => Some(self.joint(j, locked)?),
+                None => None,
+            };
+            links.push(Link {
+                name: names[i].clone(),
+                parent,
+                joint,
+                inertial: self.inertial(link_nodes[i])?,
+            });
+            let me = links.len() - 1;
+            // Children in file order: pushed in reverse onto the stack.
+            let children: Vec<usize> = joint_nodes
+                .iter()
+                .filter_map(|j| {
+                    (0..names.len()).find(|&c| parent_of[c].is_some_and(|(p, n)| p == i && n == *j))
+                })
+                .collect();
+            stack.extend(children.into_iter().rev().map(|c| (c, Some(me))));
+        }
+        if links.len() != names.len() {
+            return Err(self.error(robot, "the joints form a loop: a URDF is a tree"));
+        }
+        Ok(links)
+    }
+}
