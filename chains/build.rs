@@ -18,6 +18,9 @@ fn main() {
         );
         let _ = writeln!(out, "constrained::constrained_system! {{\n{source}\n}}\n");
     }
+    // The Franka Panda from published parameters, as bodies.
+    let panda = constrained_codegen::fixtures::panda("Panda", 7);
+    let _ = writeln!(out, "constrained::constrained_system! {{\n{panda}\n}}\n");
     let path = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
         .join("chains.rs");
     std::fs::write(path, out).expect("OUT_DIR is writable");

@@ -10,6 +10,11 @@
 //! joint_angle_pendulum`): the configuration-dependent mass matrices of the
 //! benchmarks, and the 8-link one is big enough that the macro
 //! differentiates it along a direction (`tests/directional.rs`).
+//!
+//! `Panda`: the Franka Emika Panda's seven links as bodies, from published
+//! parameters (`constrained_codegen::fixtures::PANDA`), with a torque input
+//! per joint: the robot of the examples and of the comparison with
+//! Pinocchio.
 #![no_std]
 
 include!(concat!(env!("OUT_DIR"), "/chains.rs"));

@@ -73,7 +73,7 @@ const FREE: &[&str] = &[
 /// the expansion has no straight-line solver `gauss` (or uses something the
 /// counter does not know, which it refuses rather than under-counts).
 pub fn acceleration(expanded: &syn::File) -> Option<OpCount> {
-    let gauss = find_gauss(expanded)?;
+    let gauss = find_method(expanded, "gauss")?;
     let mut bindings = Vec::new();
     let mut result = None;
     collect(&gauss.block.stmts, &mut bindings, &mut result)?;
@@ -81,6 +81,40 @@ pub fn acceleration(expanded: &syn::File) -> Option<OpCount> {
     let mut ops = OpCount::default();
     let mut uses = Vec::new();
     walk(root, &mut ops, &mut uses)?;
+    needed(&bindings, uses, at, &mut ops);
+    Some(ops)
+}
+
+/// The operations of a straight-line generated method that is not a solver
+/// (`inverse_dynamics`, `mass_matrix`, …): its value is its tail expression,
+/// or the `__value` it checks for finiteness.
+pub fn method(expanded: &syn::File, name: &str) -> Option<OpCount> {
+    let f = find_method(expanded, name)?;
+    let mut bindings = Vec::new();
+    let mut result = None;
+    collect(&f.block.stmts, &mut bindings, &mut result)?;
+    let mut ops = OpCount::default();
+    let uses = match f.block.stmts.last()? {
+        _ if bindings
+            .iter()
+            .any(|b| b.names.iter().any(|n| n == "__value")) =>
+        {
+            vec!["__value".to_string()]
+        }
+        Stmt::Expr(tail, None) => {
+            let mut uses = Vec::new();
+            walk(tail, &mut ops, &mut uses)?;
+            uses
+        }
+        _ => return None,
+    };
+    needed(&bindings, uses, bindings.len(), &mut ops);
+    Some(ops)
+}
+
+/// Adds the operations of every binding the names `uses` (read after
+/// binding `at`) need, transitively.
+fn needed(bindings: &[Binding], uses: Vec<String>, at: usize, ops: &mut OpCount) {
     let mut needed = vec![false; bindings.len()];
     let mut pending: Vec<(String, usize)> = uses.into_iter().map(|u| (u, at)).collect();
     while let Some((name, before)) = pending.pop() {
@@ -97,7 +131,6 @@ pub fn acceleration(expanded: &syn::File) -> Option<OpCount> {
             }
         }
     }
-    Some(ops)
 }
 
 /// One `let`: the names it binds, the operations of its initializer and
@@ -108,9 +141,9 @@ struct Binding {
     uses: Vec<String>,
 }
 
-/// The inherent `fn gauss` with the solver's body (the trait's `gauss`
-/// only forwards to it).
-fn find_gauss(file: &syn::File) -> Option<&syn::ImplItemFn> {
+/// The inherent method `name` (for `gauss`, the solver's body: the
+/// trait's `gauss` only forwards to it).
+fn find_method<'a>(file: &'a syn::File, name: &str) -> Option<&'a syn::ImplItemFn> {
     file.items
         .iter()
         .filter_map(|item| match item {
@@ -119,7 +152,7 @@ fn find_gauss(file: &syn::File) -> Option<&syn::ImplItemFn> {
         })
         .flat_map(|i| i.items.iter())
         .find_map(|item| match item {
-            syn::ImplItem::Fn(f) if f.sig.ident == "gauss" => Some(f),
+            syn::ImplItem::Fn(f) if f.sig.ident == name => Some(f),
             _ => None,
         })
 }

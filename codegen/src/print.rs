@@ -1,7 +1,7 @@
 //! Expressions as text: Unicode mathematics for `DERIVATION`, sympy syntax
 //! for `SYMBOLIC`. One precedence-aware printer serves both styles.
 
-use crate::expr::{signed_parts, Graph, Id, Node, Sym};
+use crate::expr::{signed_parts, Func, Graph, Id, Node, Sym};
 use crate::num::Num;
 use std::collections::HashMap;
 
@@ -223,6 +223,7 @@ impl<'a> Printer<'a> {
                 let args: Vec<String> = args.as_slice().iter().map(|&a| self.print(a)).collect();
                 let args = args.join(", ");
                 let call = match self.style {
+                    Style::Unicode if *f == Func::Hold => format!("({args})"),
                     Style::Unicode => format!("{}({args})", f.name()),
                     Style::Sympy => f.sympy_call(&args),
                 };

@@ -139,7 +139,7 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
         let vi = if terms.velocities {
             let qd = g.sym(Sym::Vel(c));
             let sq = s.scale(g, qd);
-            let vi = vi.add(g, sq);
+            let vi = vi.add(g, sq).held(g);
             v.push(vi);
             let coriolis = vi.cross_motion(g, sq);
             let ai = motion_to_child(g, body, states[i], ap);
@@ -150,15 +150,16 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
             a.push(motion_to_child(g, body, states[i], ap));
             vi
         };
+        a[i] = a[i].held(g);
         if terms.accelerations {
             let qdd = g.sym(Sym::Accel(c));
             let sq = s.scale(g, qdd);
-            a[i] = a[i].add(g, sq);
+            a[i] = a[i].add(g, sq).held(g);
         }
         let momentum = body.inertia.apply(g, vi);
         let ia = body.inertia.apply(g, a[i]);
         let gyroscopic = vi.cross_force(g, momentum);
-        f.push(ia.add(g, gyroscopic));
+        f.push(ia.add(g, gyroscopic).held(g));
     }
     let zero = g.int(0);
     let mut tau = vec![zero; n];
@@ -167,7 +168,7 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
         tau[body.joint.coordinate] = s.dot(g, f[i]);
         if let Some(p) = body.parent {
             let up = force_to_parent(g, body, states[i], f[i]);
-            f[p] = f[p].add(g, up);
+            f[p] = f[p].add(g, up).held(g);
         }
     }
     tau
@@ -208,19 +209,19 @@ fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> Vec<Vec<Id>> {
     for (i, body) in tree.bodies.iter().enumerate().rev() {
         if let Some(p) = body.parent {
             let moved = inertia_to_parent(g, body, states[i], &composite[i]);
-            composite[p] = composite[p].add(g, &moved);
+            composite[p] = composite[p].add(g, &moved).held(g);
         }
     }
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
     for (i, body) in tree.bodies.iter().enumerate() {
         let s = subspace(g, body);
-        let mut force = composite[i].apply(g, s);
+        let mut force = composite[i].apply(g, s).held(g);
         let ci = body.joint.coordinate;
         m[ci][ci] = s.dot(g, force);
         let mut j = i;
         while let Some(p) = tree.bodies[j].parent {
-            force = force_to_parent(g, &tree.bodies[j], states[j], force);
+            force = force_to_parent(g, &tree.bodies[j], states[j], force).held(g);
             j = p;
             let sj = subspace(g, &tree.bodies[j]);
             let cj = tree.bodies[j].joint.coordinate;
@@ -259,7 +260,7 @@ fn energies(g: &mut Graph, tree: &Tree) -> (Id, Id) {
         let s = subspace(g, body);
         let sq = s.scale(g, qd);
         let vi = motion_to_child(g, body, states[i], vp);
-        let vi = vi.add(g, sq);
+        let vi = vi.add(g, sq).held(g);
         // gᵀ pᵢ = gᵀ p_λ + g_λᵀ rᵢ, rᵢ the origin in the parent's frame.
         let origin = match body.joint.kind {
             JointKind::Revolute => body.placement.translation,
@@ -271,7 +272,8 @@ fn energies(g: &mut Graph, tree: &Tree) -> (Id, Id) {
         };
         let rise = spatial::dot(g, gp.linear, origin);
         let hi = g.add2(hp, rise);
-        let gi = motion_to_child(g, body, states[i], gp);
+        let hi = spatial::hold(g, hi);
+        let gi = motion_to_child(g, body, states[i], gp).held(g);
         let momentum = body.inertia.apply(g, vi);
         kinetic.push(vi.dot(g, momentum));
         let mh = g.mul2(body.inertia.mass, hi);

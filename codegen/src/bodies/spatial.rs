@@ -5,13 +5,34 @@
 //! operation goes through the graph's constructors, so the zeros and ones
 //! of axis-aligned frames fold away exactly and nothing is built for them.
 
-use crate::expr::{Func, Graph, Id};
+use crate::expr::{Func, Graph, Id, Node};
 use crate::num::Num;
 
 /// A 3-vector of expressions.
 pub type V3 = [Id; 3];
 /// A 3×3 matrix of expressions, row by row.
 pub type M3 = [[Id; 3]; 3];
+
+/// `x` as one operand ([`Func::Hold`]) where it is a sum of two or more
+/// parts, so that scaling it by a constant (a rotation by a right angle, a
+/// mass) does not copy its terms: what keeps the recursions' expressions
+/// O(n) rather than growing with every body they pass through.
+pub fn hold(g: &mut Graph, x: Id) -> Id {
+    let parts = match g.node(x) {
+        Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
+        _ => 0,
+    };
+    if parts >= 2 {
+        g.func(Func::Hold, x)
+    } else {
+        x
+    }
+}
+
+/// [`hold`] on each component.
+pub fn hold3(g: &mut Graph, v: V3) -> V3 {
+    v.map(|x| hold(g, x))
+}
 
 /// The zero vector.
 pub fn zero(g: &mut Graph) -> V3 {
@@ -176,6 +197,14 @@ impl Spatial {
         }
     }
 
+    /// Each component [`hold`]: a body's velocity, acceleration or force.
+    pub fn held(self, g: &mut Graph) -> Spatial {
+        Spatial {
+            angular: hold3(g, self.angular),
+            linear: hold3(g, self.linear),
+        }
+    }
+
     /// `self + other`.
     pub fn add(self, g: &mut Graph, other: Spatial) -> Spatial {
         Spatial {
@@ -271,6 +300,15 @@ impl Inertia {
         Spatial {
             angular: add(g, iw, hv),
             linear: sub(g, mv, hw),
+        }
+    }
+
+    /// Each parameter [`hold`]: a composite inertia.
+    pub fn held(&self, g: &mut Graph) -> Inertia {
+        Inertia {
+            mass: hold(g, self.mass),
+            first_moment: hold3(g, self.first_moment),
+            rotational: self.rotational.map(|row| hold3(g, row)),
         }
     }
 

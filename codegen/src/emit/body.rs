@@ -5,7 +5,7 @@ use super::context::Context;
 use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
 use crate::cse::{Schedule, MAX_UNROLLED_POWER};
 use crate::derive::Equations;
-use crate::expr::{signed_parts, Emission, Graph, Id, Node, Sym};
+use crate::expr::{signed_parts, Emission, Func, Graph, Id, Node, Sym};
 use crate::names::{acceleration_name, velocity_name};
 use crate::num::Num;
 use proc_macro2::{Literal, Span, TokenStream};
@@ -311,6 +311,7 @@ impl<'a> Body<'a> {
             }
             // `receiver.method(rest…)`: the table's name is the method of
             // `RealField` / `ComplexField`; or a runtime helper of that name.
+            Node::Func(Func::Hold, args) => self.operand(args.as_slice()[0]),
             Node::Func(f, args) => {
                 let method = Ident::new(f.name(), Span::call_site());
                 if f.emission() == Emission::Helper {

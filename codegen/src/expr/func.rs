@@ -359,6 +359,17 @@ functions! {
         partials: |g, _a, _fa| Args::one(g.int(0)),
         parity: None, at_zero: Some(Num::ONE), inverse: None, differentiable: Some(0),
     }
+    /// the identity, kept as a node: a sum under it is one operand that
+    /// constant factors do not distribute into (the rigid-body recursions
+    /// hold each body's spatial quantities, so that `c·(a + b)` costs one
+    /// product rather than one per term, and the expressions stay O(n));
+    /// emitted and printed as its argument
+    Hold: "hold" / "({})", 1, Internal, Helper {
+        eval: |x| x[0],
+        exact: |n| Some(n[0]),
+        partials: |g, _a, _fa| Args::one(g.int(1)),
+        parity: Odd, at_zero: Some(Num::ZERO), inverse: None, differentiable: None,
+    }
 }
 
 /// `(step(d), 1 − step(d))`: the partials of `min`/`max`, whose value is
