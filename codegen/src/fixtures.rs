@@ -148,27 +148,27 @@ pub fn definition_heavy(name: &str, definitions: usize) -> String {
 /// the joint frames turned by ±π/2 about x), and the inertial parameters
 /// identified by Ledezma & Haddadin (mass; first moment `m c` in the joint
 /// frame; inertia about the centre of mass `Ixx, Ixy, Ixz, Iyy, Iyz, Izz`).
-/// Each row: joint origin `xyz`, `roll` (a multiple of π/2), mass, `m c`,
-/// inertia.
+/// Each row: joint origin `xyz`, roll in quarter turns (π/2 each), mass,
+/// `m c`, inertia.
 #[allow(clippy::type_complexity)]
-pub const PANDA: [([&str; 3], &str, &str, [&str; 3], [&str; 6]); 7] = [
+pub const PANDA: [([&str; 3], i32, &str, [&str; 3], [&str; 6]); 7] = [
     (
         ["0.0", "0.0", "0.333"],
-        "0.0",
+        0,
         "4.9707",
         ["0.0193", "0.0103", "-0.4654"],
         ["0.7470", "-0.0002", "0.0086", "0.7503", "0.0201", "0.0092"],
     ),
     (
         ["0.0", "0.0", "0.0"],
-        "-PI / 2.0",
+        -1,
         "0.6469",
         ["-0.0020", "-0.0186", "0.0023"],
         ["0.0085", "-0.0040", "0.0103", "0.0281", "0.0008", "0.0265"],
     ),
     (
         ["0.0", "-0.316", "0.0"],
-        "PI / 2.0",
+        1,
         "3.2286",
         ["0.0888", "0.1267", "-0.2147"],
         [
@@ -177,28 +177,28 @@ pub const PANDA: [([&str; 3], &str, &str, [&str; 3], [&str; 6]); 7] = [
     ),
     (
         ["0.0825", "0.0", "0.0"],
-        "PI / 2.0",
+        1,
         "3.5879",
         ["-0.1908", "0.3746", "0.0985"],
         ["0.0677", "0.0277", "0.0039", "0.0324", "-0.0016", "0.0776"],
     ),
     (
         ["-0.0825", "0.384", "0.0"],
-        "-PI / 2.0",
+        -1,
         "1.2259",
         ["-0.0147", "0.0503", "-0.0471"],
         ["0.0394", "-0.0015", "-0.0046", "0.0315", "0.0022", "0.0109"],
     ),
     (
         ["0.0", "0.0", "0.0"],
-        "PI / 2.0",
+        1,
         "1.6666",
         ["0.1002", "-0.0235", "-0.0175"],
         ["0.0025", "0.0015", "-0.0001", "0.0106", "0.0001", "0.0118"],
     ),
     (
         ["0.088", "0.0", "0.0"],
-        "PI / 2.0",
+        1,
         "1.4655",
         ["0.0004", "-0.0031", "0.1453"],
         ["0.0308", "0.0004", "-0.0007", "0.0284", "-0.0005", "0.0067"],
@@ -210,6 +210,7 @@ pub const PANDA: [([&str; 3], &str, &str, [&str; 3], [&str; 6]); 7] = [
 pub fn panda(name: &str, joints: usize) -> String {
     let mut bodies = String::new();
     for (i, (xyz, roll, mass, first, inertia)) in PANDA.iter().take(joints).enumerate() {
+        let roll = f64::from(*roll);
         let parent = if i == 0 {
             "world".to_string()
         } else {
@@ -219,7 +220,7 @@ pub fn panda(name: &str, joints: usize) -> String {
         let [xx, xy, xz, yy, yz, zz] = inertia;
         bodies.push_str(&format!(
             "        link{k} {{\n            parent: {parent},\n            joint: revolute(q{k}, [0.0, 0.0, 1.0]),\n            \
-             xyz: [{xyz}],\n            rpy: [{roll}, 0.0, 0.0],\n            mass: {mass},\n            com: [{com}],\n            \
+             xyz: [{xyz}],\n            rpy: [{roll} * PI / 2.0, 0.0, 0.0],\n            mass: {mass},\n            com: [{com}],\n            \
              inertia: [[{xx}, {xy}, {xz}], [{xy}, {yy}, {yz}], [{xz}, {yz}, {zz}]],\n        }},\n",
             k = i + 1,
             xyz = xyz.join(", "),
