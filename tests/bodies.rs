@@ -257,3 +257,53 @@ fn panda_inverse_dynamics_and_acceleration_equal_the_reference() {
         );
     }
 }
+
+constrained_system! {
+    /// The same Panda from a URDF file written from the same table, its
+    /// gripper's fingers locked and a massless fixed flange.
+    pub struct PandaUrdf {
+        urdf: "tests/data/panda_published.urdf",
+        locked: [finger_joint1, finger_joint2],
+    }
+}
+
+#[test]
+fn urdf_section_reads_the_same_panda_as_the_bodies_section() {
+    assert_eq!(PandaUrdf::<f64>::DOF, 7);
+    let (urdf, bodies) = (
+        PandaUrdf::<f64>::new(),
+        constrained_chains::Panda::<f64>::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    );
+    for (q, qd, qdd) in panda_states() {
+        let (a, b) = (urdf.mass_matrix(&q, 0.0), bodies.mass_matrix(&q, 0.0));
+        assert!((a - b).norm() <= 1e-12 * b.norm(), "{a}{b}");
+        let (a, b) = (
+            urdf.acceleration(&q, &qd, 0.0).unwrap(),
+            bodies.acceleration(&q, &qd, 0.0).unwrap(),
+        );
+        assert!((a - b).norm() <= 1e-12 * b.norm(), "{a}{b}");
+        let (a, b) = (
+            urdf.inverse_dynamics(&q, &qd, &qdd, 0.0).unwrap(),
+            bodies.inverse_dynamics(&q, &qd, &qdd, 0.0).unwrap(),
+        );
+        assert!((a - b).norm() <= 1e-12 * b.norm(), "{a}{b}");
+    }
+}
+
+#[test]
+fn energy_of_the_panda_is_conserved_along_an_unforced_run() {
+    use constrained::{DormandPrince45, State};
+    let panda = PandaUrdf::<f64>::new();
+    let (q, qd, _) = panda_states()[3];
+    let mut state = State::new(0.0, q, qd);
+    let before = panda.energy(&state.q, &state.qd, 0.0).unwrap();
+    DormandPrince45::new(1e-11, 1e-12)
+        .advance(&panda, &mut state, 1.0)
+        .unwrap();
+    let after = panda.energy(&state.q, &state.qd, state.t).unwrap();
+    assert!(
+        (after - before).abs() <= 1e-8 * before.abs().max(1.0),
+        "{before} -> {after}"
+    );
+    assert!((state.q - q).norm() > 0.1, "it moved");
+}

@@ -195,7 +195,8 @@ impl Robot {
     pub fn read(path: &LitStr, locked: Option<&List<Ident>>) -> syn::Result<Robot> {
         let base = std::env::var("CARGO_MANIFEST_DIR").unwrap_or_else(|_| ".".into());
         let full = std::path::Path::new(&base).join(path.value());
-        let file = full.display().to_string();
+        // Messages name the file as written (relative to the manifest).
+        let file = path.value();
         let text = std::fs::read_to_string(&full)
             .map_err(|e| syn::Error::new(path.span(), format!("cannot read `{file}`: {e}")))?;
         let doc = roxmltree::Document::parse(&text).map_err(|e| {
