@@ -22,7 +22,7 @@ cargo test --workspace --doc
 cargo test --quiet --manifest-path tests/std-feature/Cargo.toml
 # Every example, briefly, so that none can rot (the main one checks itself
 # and exits non-zero on disagreement). Plots go to target/plots.
-for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top; do
+for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda; do
     cargo run --quiet --release --example "$example" -- --duration 0.5 --out target/plots > /dev/null
 done
 # The LQR example at full length: it exits non-zero unless both forms of

@@ -226,3 +226,105 @@ fn four_bar_in_link_angles_has_the_closed_form_motion() {
     println!("four-bar in link angles against the closed form: {worst:.1e}");
     assert!(worst < 1e-9, "{worst:e}");
 }
+
+/// `energy()` of an energy-form model along an unforced `DormandPrince45`
+/// run: the largest relative change over `duration`.
+fn energy_drift<S, const N: usize, const K: usize>(
+    system: &S,
+    mut state: State<f64, N>,
+    energy: impl Fn(&S, &State<f64, N>) -> f64,
+    duration: f64,
+) -> f64
+where
+    S: constrained::ConstrainedSystem<f64, N, K>,
+{
+    let start = energy(system, &state);
+    let mut worst = 0.0f64;
+    let times: Vec<f64> = (1..=50).map(|i| duration * i as f64 / 50.0).collect();
+    DormandPrince45::new(1e-11, 1e-13)
+        .advance_sampled(system, &mut state, duration, &times, |s| {
+            worst = worst.max((energy(system, s) - start).abs());
+        })
+        .expect("the run completes");
+    worst / start.abs().max(1.0)
+}
+
+#[test]
+fn cart_pole_energy_is_conserved() {
+    let system = CartPole::new(1.0, 0.3, 0.5, 9.81, 0.0);
+    let state = State::new(0.0, Vector2::new(0.1, 2.5), Vector2::new(0.4, -1.0));
+    let drift = energy_drift(
+        &system,
+        state,
+        |s, x| s.energy(&x.q, &x.qd, x.t).unwrap(),
+        3.0,
+    );
+    assert!(drift < 1e-9, "{drift:e}");
+}
+
+#[test]
+fn double_pendulum_angles_energy_is_conserved() {
+    let system = DoublePendulumAngles::new(1.0, 0.7, 1.0, 0.8, 9.81);
+    let state = State::new(0.0, Vector2::new(1.2, -0.4), Vector2::new(0.3, 1.1));
+    let drift = energy_drift(
+        &system,
+        state,
+        |s, x| s.energy(&x.q, &x.qd, x.t).unwrap(),
+        3.0,
+    );
+    assert!(drift < 1e-9, "{drift:e}");
+}
+
+#[test]
+fn rigid_body_quaternion_energy_is_conserved() {
+    use constrained::models::{quaternion_state, RigidBodyQuaternion};
+    use constrained::nalgebra::{Vector3, Vector4};
+    let system = RigidBodyQuaternion::new(1.0, 2.0, 3.0);
+    let state = quaternion_state(
+        0.0,
+        Vector4::new(1.0, 0.2, -0.1, 0.3),
+        Vector3::new(0.5, 2.0, -0.3),
+    );
+    // Kinetic only, and the intermediate axis tumbles: a demanding run.
+    let drift = energy_drift(
+        &system,
+        state,
+        |s, x| s.energy(&x.q, &x.qd, x.t).unwrap(),
+        5.0,
+    );
+    assert!(drift < 1e-8, "{drift:e}");
+}
+
+#[test]
+fn heavy_top_energy_is_conserved() {
+    use constrained::models::{quaternion_state, HeavyTop};
+    use constrained::nalgebra::{Vector3, Vector4};
+    let system = HeavyTop::new(1.0, 0.5, 1.0, 9.81, 0.3);
+    let state = quaternion_state(
+        0.0,
+        Vector4::new(0.9, 0.3, 0.0, 0.1),
+        Vector3::new(0.2, -0.1, 20.0),
+    );
+    let drift = energy_drift(
+        &system,
+        state,
+        |s, x| s.energy(&x.q, &x.qd, x.t).unwrap(),
+        2.0,
+    );
+    assert!(drift < 1e-8, "{drift:e}");
+}
+
+#[test]
+fn energies_are_what_was_written() {
+    // T and V of the cart-pole at a state, by hand.
+    let (mc, mp, l, g) = (1.0, 0.3, 0.5, 9.81);
+    let system = CartPole::new(mc, mp, l, g, 0.0);
+    let (s, th, sd, thd) = (0.2, 0.7, -0.4, 1.3);
+    let (q, qd) = (Vector2::new(s, th), Vector2::new(sd, thd));
+    let (xd, yd) = (sd + l * th.cos() * thd, l * th.sin() * thd);
+    let t = mc * sd * sd / 2.0 + mp * (xd * xd + yd * yd) / 2.0;
+    let v = -mp * g * l * th.cos();
+    assert!((system.kinetic_energy(&q, &qd, 0.0).unwrap() - t).abs() < 1e-14);
+    assert!((system.potential_energy(&q, 0.0).unwrap() - v).abs() < 1e-14);
+    assert!((system.energy(&q, &qd, 0.0).unwrap() - t - v).abs() < 1e-14);
+}
