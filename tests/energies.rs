@@ -317,9 +317,9 @@ fn heavy_top_energy_is_conserved() {
 #[test]
 fn energies_are_what_was_written() {
     // T and V of the cart-pole at a state, by hand.
-    let (mc, mp, l, g) = (1.0, 0.3, 0.5, 9.81);
+    let (mc, mp, l, g): (f64, f64, f64, f64) = (1.0, 0.3, 0.5, 9.81);
     let system = CartPole::new(mc, mp, l, g, 0.0);
-    let (s, th, sd, thd) = (0.2, 0.7, -0.4, 1.3);
+    let (s, th, sd, thd): (f64, f64, f64, f64) = (0.2, 0.7, -0.4, 1.3);
     let (q, qd) = (Vector2::new(s, th), Vector2::new(sd, thd));
     let (xd, yd) = (sd + l * th.cos() * thd, l * th.sin() * thd);
     let t = mc * sd * sd / 2.0 + mp * (xd * xd + yd * yd) / 2.0;
