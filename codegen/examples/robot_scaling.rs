@@ -6,12 +6,14 @@
 //! `cargo run --release -p constrained-codegen --example robot_scaling`
 
 use constrained_codegen::fixtures::panda;
-use constrained_codegen::{expand, op_count};
+use constrained_codegen::{expand, expand_with, op_count, Options};
 use std::time::Instant;
 
 fn main() {
-    println!("| joints | operations per q̈ | of which inverse dynamics | expansion (s) | expansion (lines) |");
-    println!("|---|---|---|---|---|");
+    println!(
+        "| joints | operations per q̈ | inverse dynamics | expansion (s) | lines | without `jacobians`: expansion (s) | lines |"
+    );
+    println!("|---|---|---|---|---|---|---|");
     for joints in 1..=7 {
         let source = panda(&format!("Panda{joints}"), joints);
         let tokens: proc_macro2::TokenStream = source.parse().expect("the fixture is tokens");
@@ -26,6 +28,15 @@ fn main() {
         }
         let ops = op_count::acceleration(&file).map_or(0, |o| o.total());
         let inverse = op_count::method(&file, "inverse_dynamics").map_or(0, |o| o.total());
-        println!("| {joints} | {ops} | {inverse} | {seconds:.3} | {lines} |");
+        let lean = Options { jacobians: false };
+        let tokens: proc_macro2::TokenStream = source.parse().expect("the fixture is tokens");
+        let start = Instant::now();
+        let expanded = expand_with(tokens, lean).expect("the Panda expands");
+        let lean_seconds = start.elapsed().as_secs_f64();
+        let file: syn::File = syn::parse2(expanded).expect("the expansion is Rust");
+        let lean_lines = prettyplease::unparse(&file).lines().count();
+        println!(
+            "| {joints} | {ops} | {inverse} | {seconds:.3} | {lines} | {lean_seconds:.3} | {lean_lines} |"
+        );
     }
 }

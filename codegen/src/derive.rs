@@ -23,8 +23,11 @@ pub struct Equations {
     /// How Gauss's principle is solved (see [`motion`]).
     pub gauss: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
-    /// (see [`crate::tangent`]).
+    /// (see [`crate::tangent`]); none when not `jacobians`.
     pub tangent: Tangent,
+    /// Whether the Jacobian and linearization are generated
+    /// ([`crate::Options`]).
+    pub jacobians: bool,
 }
 
 /// Differentiates every constraint: velocity-level φ once, position-level φ
@@ -35,7 +38,7 @@ pub struct Equations {
 /// `M`, `F`, `A` and `b` have their common factors pulled out
 /// ([`crate::factor`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
-pub fn constraint_equations(mut system: System) -> Equations {
+pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();
     let mut d = Differentiator::new();
     let mut factorer = Factorer::keeping(system.named.iter().map(|(_, id)| *id));
@@ -68,8 +71,13 @@ pub fn constraint_equations(mut system: System) -> Equations {
         b: &b,
         velocity_constraints: &velocity_constraints,
     };
-    let tangent = tangent::tangent(&mut system.graph, &pieces, &inputs);
+    let tangent = if jacobians {
+        tangent::tangent(&mut system.graph, &pieces, &inputs)
+    } else {
+        Tangent::none()
+    };
     Equations {
+        jacobians,
         system,
         a,
         b,

@@ -196,6 +196,7 @@ mod tests {
             (Func::Abs, 1.0),
             (Func::Signum, 0.0),
             (Func::Step, 0.0),
+            (Func::Hold, 1.0),
         ];
         let unary = Func::ALL.iter().filter(|f| f.arity() == 1).count();
         assert_eq!(

@@ -45,9 +45,30 @@ pub mod tangent;
 
 use proc_macro2::TokenStream;
 
+/// What an expansion generates beyond the equations of motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// `acceleration_jacobian`, `linearize`, `linearize_reduced` and the
+    /// `Tangent` impl they rest on: the exact derivatives of `q̈`, most of
+    /// the expansion of a large model (three quarters of the Panda's
+    /// lines). The `jacobians` feature of `constrained`, on by default.
+    pub jacobians: bool,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options { jacobians: true }
+    }
+}
+
 /// Expands one `constrained_system! { ... }` invocation body.
 pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
-    let (equations, partition) = analyse(input)?;
+    expand_with(input, Options::default())
+}
+
+/// [`expand`] with [`Options`].
+pub fn expand_with(input: TokenStream, options: Options) -> syn::Result<TokenStream> {
+    let (equations, partition) = analyse_with(input, options)?;
     overflow_free(&equations)?;
     Ok(emit::system(&equations, &partition))
 }
@@ -77,10 +98,18 @@ fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
 /// Stages 1–3: the checked system, its derived equations and the
 /// Gibbs–Appell partition, before emission.
 pub fn analyse(input: TokenStream) -> syn::Result<(derive::Equations, partition::Partition)> {
+    analyse_with(input, Options::default())
+}
+
+/// [`analyse`] with [`Options`].
+pub fn analyse_with(
+    input: TokenStream,
+    options: Options,
+) -> syn::Result<(derive::Equations, partition::Partition)> {
     nesting::check(&input)?;
     let input: parse::SystemInput = syn::parse2(input)?;
     let system = model::check(&input)?;
-    let equations = derive::constraint_equations(system);
+    let equations = derive::constraint_equations(system, options.jacobians);
     let partition = partition::partition(&equations)?;
     Ok((equations, partition))
 }

@@ -69,6 +69,17 @@ pub struct Tangent {
     pub velocity_constraints: Vec<Vec<Id>>,
 }
 
+impl Tangent {
+    /// No derivatives: for an expansion without Jacobians.
+    pub fn none() -> Tangent {
+        Tangent {
+            columns: Vec::new(),
+            form: Form::Columns(Vec::new()),
+            velocity_constraints: Vec::new(),
+        }
+    }
+}
+
 /// What is differentiated: the pieces of the derived equations.
 pub struct Pieces<'a> {
     /// `M`.

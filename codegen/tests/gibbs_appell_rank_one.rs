@@ -18,7 +18,7 @@ fn env(s: &StateValues) -> impl Fn(Sym) -> f64 + '_ {
         Sym::Vel(i) => s.qd[i],
         Sym::Time => s.t,
         Sym::Param(i) => s.params[i],
-        Sym::Multiplier(_) | Sym::Seed(_) => f64::NAN,
+        Sym::Multiplier(_) | Sym::Seed(_) | Sym::Accel(_) => f64::NAN,
     }
 }
 

@@ -91,7 +91,7 @@ impl Tree {
                     Func::Ln => v.ln(),
                     Func::Abs => v.abs(),
                     Func::Signum => v.signum(),
-                    Func::Step | Func::Atan2 | Func::Min | Func::Max => {
+                    Func::Step | Func::Hold | Func::Atan2 | Func::Min | Func::Max => {
                         unreachable!("not a DSL function of one argument: {f:?}")
                     }
                 }

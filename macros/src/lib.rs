@@ -8,7 +8,10 @@ use proc_macro::TokenStream;
 /// compile time. See the `constrained` crate for the DSL and what it generates.
 #[proc_macro]
 pub fn constrained_system(input: TokenStream) -> TokenStream {
-    constrained_codegen::expand(input.into())
+    let options = constrained_codegen::Options {
+        jacobians: cfg!(feature = "jacobians"),
+    };
+    constrained_codegen::expand_with(input.into(), options)
         .unwrap_or_else(syn::Error::into_compile_error)
         .into()
 }

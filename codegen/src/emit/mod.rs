@@ -111,7 +111,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let matrices = constraint_matrices(&ctx);
     let motion = motion::methods(&ctx);
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
-    let linearization = jacobian::methods(&ctx, partition);
+    let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
     let evaluation = dynamics::methods(&ctx);
     // A model read from a file is rebuilt when the file changes.
     let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
@@ -119,7 +119,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             const _: &[u8] = ::core::include_bytes!(#f);
         }
     });
-    let tangent_impl = jacobian::tangent_impl(&ctx);
+    let tangent_impl = eq.jacobians.then(|| jacobian::tangent_impl(&ctx));
     let generated_impl = motion::generated_impl(&ctx);
     let levels = motion::levels(&ctx);
     let level = ctx.path(quote!(ConstraintLevel));

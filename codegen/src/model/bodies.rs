@@ -262,13 +262,21 @@ impl Lowerer<'_> {
                         self.constant_of_state(e, out[i][j], "`inertia`");
                     }
                 }
-                for i in 0..3 {
-                    for j in 0..i {
-                        if out[i][j] != out[j][i] {
-                            let e = &rows.items[i.min(rows.items.len() - 1)];
-                            self.errors.at(e.span, format!("`inertia` is not symmetric: entries ({}, {}) and ({}, {}) differ", i + 1, j + 1, j + 1, i + 1));
-                        }
-                    }
+                let asymmetric = [(1, 0), (2, 0), (2, 1)]
+                    .into_iter()
+                    .filter(|&(i, j)| out[i][j] != out[j][i]);
+                for (i, j) in asymmetric.collect::<Vec<_>>() {
+                    let row = &rows.items[i.min(rows.items.len() - 1)];
+                    self.errors.at(
+                        row.span,
+                        format!(
+                            "`inertia` is not symmetric: entries ({}, {}) and ({}, {}) differ",
+                            i + 1,
+                            j + 1,
+                            j + 1,
+                            i + 1
+                        ),
+                    );
                 }
             }
         }

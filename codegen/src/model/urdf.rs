@@ -46,7 +46,16 @@ struct Link {
     name: String,
     parent: Option<usize>,
     joint: Option<JointSpec>,
-    inertial: Option<([String; 3], [String; 3], String, [String; 6])>,
+    inertial: Option<Inertial>,
+}
+
+/// A link's `<inertial>` as written: origin `xyz`, `rpy`, mass, and
+/// `ixx ixy ixz iyy iyz izz`.
+struct Inertial {
+    xyz: [String; 3],
+    rpy: [String; 3],
+    mass: String,
+    inertia: [String; 6],
 }
 
 struct JointSpec {
@@ -115,10 +124,7 @@ impl Reader<'_> {
         }
     }
 
-    fn inertial(
-        &self,
-        link: Node,
-    ) -> syn::Result<Option<([String; 3], [String; 3], String, [String; 6])>> {
+    fn inertial(&self, link: Node) -> syn::Result<Option<Inertial>> {
         let Some(inertial) = Self::child(link, "inertial") else {
             return Ok(None);
         };
@@ -133,7 +139,12 @@ impl Reader<'_> {
         for (value, name) in values.iter_mut().zip(names) {
             [*value] = self.numbers::<1>(inertia, name, "")?;
         }
-        Ok(Some((xyz, rpy, mass, values)))
+        Ok(Some(Inertial {
+            xyz,
+            rpy,
+            mass,
+            inertia: values,
+        }))
     }
 
     fn joint(&self, joint: Node, locked: &[String]) -> syn::Result<JointSpec> {
@@ -272,7 +283,12 @@ impl Robot {
                 None => (Placement::identity(g), None),
             };
             let inertia = match &link.inertial {
-                Some((xyz, rpy, mass, i)) => {
+                Some(Inertial {
+                    xyz,
+                    rpy,
+                    mass,
+                    inertia: i,
+                }) => {
                     let a = angles(g, rpy);
                     let r = spatial::rpy(g, a);
                     let [xx, xy, xz, yy, yz, zz] = i.clone().map(|v| number(g, &v));
