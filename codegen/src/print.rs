@@ -128,30 +128,32 @@ impl<'a> Printer<'a> {
         }
     }
 
+    /// A variable's name in this style.
+    fn symbol(&self, s: Sym) -> String {
+        match s {
+            Sym::Coord(i) => self.coordinates[i].clone(),
+            Sym::Vel(i) => self.velocity(i),
+            Sym::Param(i) => self.parameters[i].clone(),
+            Sym::Time => "t".to_string(),
+            Sym::Multiplier(i) => match self.style {
+                Style::Unicode => format!("λ{}", subscript(i + 1)),
+                Style::Sympy => format!("lambda_{}", i + 1),
+            },
+            Sym::Seed(i) => match self.style {
+                Style::Unicode => format!("s{}", subscript(i + 1)),
+                Style::Sympy => format!("s_{}", i + 1),
+            },
+            Sym::Accel(i) => match self.style {
+                Style::Unicode => format!("{}̈", self.coordinates[i]),
+                Style::Sympy => format!("ddot({})", self.coordinates[i]),
+            },
+        }
+    }
+
     fn render_node(&self, id: Id) -> (String, Prec) {
         match self.graph.node(id) {
             Node::Num(n) => self.number(*n),
-            Node::Sym(s) => (
-                match *s {
-                    Sym::Coord(i) => self.coordinates[i].clone(),
-                    Sym::Vel(i) => self.velocity(i),
-                    Sym::Param(i) => self.parameters[i].clone(),
-                    Sym::Time => "t".to_string(),
-                    Sym::Multiplier(i) => match self.style {
-                        Style::Unicode => format!("λ{}", subscript(i + 1)),
-                        Style::Sympy => format!("lambda_{}", i + 1),
-                    },
-                    Sym::Seed(i) => match self.style {
-                        Style::Unicode => format!("s{}", subscript(i + 1)),
-                        Style::Sympy => format!("s_{}", i + 1),
-                    },
-                    Sym::Accel(i) => match self.style {
-                        Style::Unicode => format!("{}̈", self.coordinates[i]),
-                        Style::Sympy => format!("ddot({})", self.coordinates[i]),
-                    },
-                },
-                Prec::Atom,
-            ),
+            Node::Sym(s) => (self.symbol(*s), Prec::Atom),
             Node::Add(terms, c0) => {
                 let mut out = String::new();
                 for (i, (term, magnitude, negative)) in

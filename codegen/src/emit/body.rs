@@ -13,6 +13,14 @@ use quote::quote;
 use std::collections::HashMap;
 use syn::Ident;
 
+/// The local name of each coordinate's velocity or acceleration.
+fn local_names(eq: &Equations, name: fn(&str) -> String) -> Vec<Ident> {
+    let c = &eq.system.coordinates;
+    c.iter()
+        .map(|c| Ident::new(&name(&c.to_string()), c.span()))
+        .collect()
+}
+
 /// Binding strength of emitted Rust expressions, for parentheses.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) enum Prec {
@@ -124,18 +132,8 @@ impl<'a> Body<'a> {
             graph: g,
             schedule,
             coordinates: eq.system.coordinates.clone(),
-            velocities: eq
-                .system
-                .coordinates
-                .iter()
-                .map(|c| Ident::new(&velocity_name(&c.to_string()), c.span()))
-                .collect(),
-            accelerations: eq
-                .system
-                .coordinates
-                .iter()
-                .map(|c| Ident::new(&acceleration_name(&c.to_string()), c.span()))
-                .collect(),
+            velocities: local_names(eq, velocity_name),
+            accelerations: local_names(eq, acceleration_name),
             parameters: &eq.system.parameters,
             used,
             temp_names,
@@ -296,10 +294,7 @@ impl<'a> Body<'a> {
                         let s = Context::local("seed", i);
                         quote!(#s)
                     }
-                    Sym::Accel(i) => {
-                        let a = &self.accelerations[i];
-                        quote!(#a)
-                    }
+                    Sym::Accel(i) => quote::ToTokens::to_token_stream(&self.accelerations[i]),
                 },
                 Prec::Atom,
             ),

@@ -1,0 +1,259 @@
+//! Where `M` and the velocity-dependent forces come from — written `mass`,
+//! `kinetic_energy` by Lagrange, or a tree of `bodies` or a `urdf` file by
+//! the recursions of `crate::bodies` — decided once ([`source`]) and
+//! lowered once ([`Lowerer::dynamics`]), with the energies the generated
+//! `kinetic_energy`, `potential_energy` and `energy` evaluate.
+
+use super::ctxt::Errors;
+use super::lower::Lowerer;
+use super::{urdf, BodyTerms, Energies, EnergyTerms, Sections};
+use crate::expr::{Id, Sym};
+use crate::parse::{BodyInput, List, MassInput, SystemInput};
+use syn::{Expr, Ident};
+
+/// Where `M` and the velocity-dependent forces come from: the one
+/// decision every later stage reads.
+#[derive(Clone, Copy)]
+pub(super) enum Source<'a> {
+    /// `mass: ..`, written.
+    Mass(&'a Ident, &'a MassInput),
+    /// `kinetic_energy: T`, by Lagrange's equations.
+    Kinetic(&'a Ident, &'a Expr),
+    /// `bodies: [..]`, by the recursions of `crate::bodies`.
+    Bodies(&'a Ident, &'a List<BodyInput>),
+    /// `urdf: ".."`, the same recursions on the file's tree.
+    Urdf(&'a Ident, &'a urdf::Robot),
+    /// None given (an error has been recorded).
+    Missing,
+}
+
+impl<'a> Source<'a> {
+    pub(super) fn keyword(self) -> Option<&'a Ident> {
+        match self {
+            Source::Mass(k, _)
+            | Source::Kinetic(k, _)
+            | Source::Bodies(k, _)
+            | Source::Urdf(k, _) => Some(k),
+            Source::Missing => None,
+        }
+    }
+
+    /// The section's name, for messages.
+    pub(super) fn what(self) -> &'static str {
+        match self {
+            Source::Mass(..) => "`mass`",
+            Source::Kinetic(..) => "`kinetic_energy`",
+            Source::Bodies(..) => "`bodies`",
+            Source::Urdf(..) => "`urdf`",
+            Source::Missing => "",
+        }
+    }
+
+    fn has_tree(self) -> bool {
+        matches!(self, Source::Bodies(..) | Source::Urdf(..))
+    }
+}
+
+/// Decides [`Source`]: exactly one of `mass`, `kinetic_energy`, `bodies`
+/// and `urdf`, and `coordinates` exactly when there is no tree (a tree's
+/// coordinates are its joints').
+pub(super) fn source<'a>(
+    input: &SystemInput,
+    sections: &Sections<'a>,
+    robot: Option<&'a urdf::Robot>,
+    errors: &mut Errors,
+) -> Source<'a> {
+    let mut given: Vec<Source<'a>> = Vec::new();
+    given.extend(sections.mass.map(|(k, m)| Source::Mass(k, m)));
+    given.extend(sections.kinetic_energy.map(|(k, e)| Source::Kinetic(k, e)));
+    given.extend(sections.bodies.map(|(k, b)| Source::Bodies(k, b)));
+    if let (Some((k, _)), Some(r)) = (sections.urdf, robot) {
+        given.push(Source::Urdf(k, r));
+    }
+    let chosen = match given.as_slice() {
+        [] if sections.urdf.is_some() => Source::Missing, // the file's error is recorded
+        [] => {
+            errors.spanned(
+                &input.name,
+                "missing section `mass` (or `kinetic_energy`, to derive it, or `bodies` or `urdf`)",
+            );
+            Source::Missing
+        }
+        [one] => *one,
+        several => {
+            let names: Vec<&str> = several.iter().map(|s| s.what()).collect();
+            for s in several {
+                errors.spanned(
+                    s.keyword(),
+                    format!(
+                        "{} are mutually exclusive: give M, or T to derive M = ∂²T/∂q̇∂q̇ᵀ from, \
+                         or the bodies",
+                        names.join(" and ")
+                    ),
+                );
+            }
+            *several.first().unwrap_or(&Source::Missing)
+        }
+    };
+    let tree = chosen.has_tree() || sections.urdf.is_some();
+    match (sections.coordinates, tree) {
+        (None, false) => errors.spanned(&input.name, "missing section `coordinates`"),
+        (Some(list), true) => errors.at(
+            list.span,
+            "with `bodies` or `urdf` the coordinates are the joints': remove `coordinates`",
+        ),
+        _ => {}
+    }
+    if !tree {
+        for (what, given) in [
+            ("`gravity`", sections.gravity.map(|l| l.span)),
+            ("`locked`", sections.locked.map(|l| l.span)),
+        ] {
+            if let Some(span) = given {
+                errors.at(span, format!("{what} applies to `bodies` or `urdf` only"));
+            }
+        }
+    }
+    chosen
+}
+
+/// `M`, `F` and what came with them, from the chosen [`Source`].
+pub(super) struct Lowered {
+    pub(super) mass: Vec<Vec<Id>>,
+    pub(super) forces: Vec<Id>,
+    /// The kinetic energy as written (energy form), for the input check.
+    pub(super) kinetic: Option<Id>,
+    pub(super) potential: Option<Id>,
+    pub(super) energies: Option<Energies>,
+    pub(super) bodies: Option<BodyTerms>,
+    pub(super) energy: Option<EnergyTerms>,
+}
+
+impl Lowerer<'_> {
+    /// `M` and `F` from the [`Source`], in the usual order of the input so
+    /// that errors come in source order.
+    pub(super) fn dynamics(
+        &mut self,
+        source: Source,
+        sections: &Sections,
+        coordinates: &[Ident],
+    ) -> Lowered {
+        let n = coordinates.len();
+        let (mass, kinetic, tree) = match source {
+            Source::Mass(keyword, m) => (self.mass(keyword, m, n), None, None),
+            Source::Kinetic(keyword, e) => {
+                let (m, t) = self.kinetic(keyword, e, n);
+                (m, t, None)
+            }
+            Source::Bodies(_, list) => {
+                let described = self.bodies(list, coordinates);
+                let gravity = self.gravity(sections.gravity);
+                let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
+                let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
+                (d.mass.clone(), None, Some((tree, d)))
+            }
+            Source::Urdf(_, robot) => {
+                let described = robot.described(self.graph);
+                let gravity = self.gravity(sections.gravity);
+                let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
+                let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
+                (d.mass.clone(), None, Some((tree, d)))
+            }
+            Source::Missing => (Vec::new(), None, None),
+        };
+        let potential = sections.potential_energy.map(|(_, e)| self.potential(e));
+        let applied = match sections.forces {
+            Some(list) => self.vector(list, "`forces`", n),
+            None => vec![self.graph.int(0); n],
+        };
+        let mut d = crate::diff::Differentiator::new();
+        if let Some((tree, dynamics)) = tree {
+            // M q̈ = Q − ∂V/∂q − c(q, q̇).
+            let applied_less_v =
+                crate::lagrange::forces(self.graph, &mut d, None, potential, &applied);
+            let forces = applied_less_v
+                .iter()
+                .zip(&dynamics.bias)
+                .map(|(&f, &c)| self.graph.sub(f, c))
+                .collect();
+            let total_v = match potential {
+                Some(v) => self.graph.add2(dynamics.potential, v),
+                None => dynamics.potential,
+            };
+            let energy = self.energy_terms(dynamics.kinetic, total_v);
+            let files = match source {
+                Source::Urdf(_, robot) => vec![robot.path.clone()],
+                _ => Vec::new(),
+            };
+            let bodies = BodyTerms {
+                names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
+                inverse: dynamics.inverse,
+                gravity: dynamics.gravity,
+                bias: dynamics.bias,
+                files,
+            };
+            return Lowered {
+                mass,
+                forces,
+                kinetic: None,
+                potential,
+                energies: None,
+                bodies: Some(bodies),
+                energy: Some(energy),
+            };
+        }
+        if kinetic.is_some() || potential.is_some() {
+            let forces = crate::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
+            let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
+            let v = potential.unwrap_or_else(|| self.graph.int(0));
+            let energy = self.energy_terms(t, v);
+            let energies = Energies {
+                kinetic,
+                potential,
+                applied,
+            };
+            return Lowered {
+                mass,
+                forces,
+                kinetic,
+                potential,
+                energies: Some(energies),
+                bodies: None,
+                energy: Some(energy),
+            };
+        }
+        Lowered {
+            mass,
+            forces: applied,
+            kinetic: None,
+            potential: None,
+            energies: None,
+            bodies: None,
+            energy: None,
+        }
+    }
+
+    fn energy_terms(&mut self, kinetic: Id, potential: Id) -> EnergyTerms {
+        let total = self.graph.add2(kinetic, potential);
+        EnergyTerms {
+            kinetic,
+            potential,
+            total,
+        }
+    }
+
+    /// `½ q̇ᵀ M q̇`.
+    fn quadratic_form(&mut self, mass: &[Vec<Id>]) -> Id {
+        let g = &mut *self.graph;
+        let mut terms = Vec::new();
+        for (i, row) in mass.iter().enumerate() {
+            for (j, &m) in row.iter().enumerate() {
+                let (vi, vj) = (g.sym(Sym::Vel(i)), g.sym(Sym::Vel(j)));
+                terms.push(g.mul(&[m, vi, vj]));
+            }
+        }
+        let sum = g.add(&terms);
+        let half = g.num(crate::num::Num::Rational(1, 2));
+        g.mul2(half, sum)
+    }
+}
