@@ -141,7 +141,8 @@ pub enum IntegrationError<T> {
     },
     /// A setting that cannot work, found before any step: a step size,
     /// tolerance, rate or sample time that is not positive and finite (or
-    /// out of order), or a zero step budget.
+    /// out of order), a zero step budget, a non-finite end time, or a
+    /// starting state whose `t`, `q` or `q̇` is not finite.
     InvalidParameter,
 }
 
@@ -175,7 +176,8 @@ impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
             ),
             IntegrationError::InvalidParameter => f.write_str(
                 "invalid setting: step sizes, tolerances and stabilization parameters must be \
-                 positive and finite, sample times ordered",
+                 positive and finite, sample times ordered, the starting state and end time \
+                 finite",
             ),
         }
     }
