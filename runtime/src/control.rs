@@ -24,6 +24,7 @@
 //! stable (some power `(A_d − B_d K)^{2^j}` has 1-norm below ½, which
 //! bounds its spectral radius below 1).
 
+use crate::pow2::{exponent, ldexp, pow2};
 use nalgebra::{Cholesky, RealField, SMatrix};
 
 /// Why no gain was computed.
@@ -66,31 +67,6 @@ impl std::error::Error for ControlError {}
 /// `x` as `T`.
 fn c<T: RealField + Copy>(x: f64) -> T {
     nalgebra::convert::<f64, T>(x)
-}
-
-/// `2^k` for `|k| ≤ 60`, exact in `f32` and `f64`.
-fn pow2<T: RealField + Copy>(k: i32) -> T {
-    debug_assert!(k.abs() <= 60);
-    c(f64::from_bits(((1023 + i64::from(k)) as u64) << 52))
-}
-
-/// `x · 2^k`, exact unless the result leaves `T`'s normal range.
-fn ldexp<T: RealField + Copy>(mut x: T, mut k: i32) -> T {
-    while k > 60 {
-        x *= pow2(60);
-        k -= 60;
-    }
-    while k < -60 {
-        x *= pow2(-60);
-        k += 60;
-    }
-    x * pow2(k)
-}
-
-/// `⌊log₂ x⌋` (within one) for a positive finite `x`, saturated to `±2000`.
-fn exponent<T: RealField + Copy>(x: T) -> i32 {
-    let e = nalgebra::try_convert::<T, f64>(x.log2().floor()).unwrap_or(0.0);
-    e.clamp(-2000.0, 2000.0) as i32
 }
 
 /// `φ₁(y) = (e^y − 1)/y`, 1 at 0.

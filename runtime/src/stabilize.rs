@@ -140,9 +140,9 @@ where
             error: DynamicsError::MassNotPositiveDefinite,
         })?;
         let minv_jt = chol.solve(&j.transpose());
-        let ldlt = PivotedLdlt::new(&(j * minv_jt));
+        let ldlt = PivotedLdlt::factor(&(j * minv_jt));
         let kept: [bool; K] = core::array::from_fn(|i| ldlt.is_kept(i));
-        Ok((minv_jt * ldlt.solve(r), kept))
+        Ok((minv_jt * ldlt.solve_unchecked(r), kept))
     };
     // Positions: Newton on the position-level rows only.
     let position_rows = |s: &State<T, N>| {
