@@ -9,8 +9,9 @@
 //!   `q̈` is its least-squares solution (the normal equations hold); the
 //!   exception is a redundant model off its constraint surface, whose
 //!   dependent rows are dropped unchecked by design (`constrained::rank`);
-//! - the Gibbs–Appell acceleration, where it answers, agrees with the
-//!   generalized-inverse one on models without redundancy.
+//! - the Gibbs–Appell acceleration, where it answers, holds every row of
+//!   `A q̈ = b` (redundant models off their surface included: issue 30), and
+//!   agrees with the generalized-inverse one on models without redundancy.
 //!
 //! It prints its tally; every failure is listed with its model, state and
 //! method.
@@ -217,7 +218,8 @@ fn judge<T, S, const N: usize, const K: usize>(
             continue;
         }
         // Rule 1 of constrained::rank: a redundant model's dependent rows are
-        // dropped unchecked off its surface, and b + db is off it too.
+        // dropped unchecked off its surface, and b + db is off it too. Not
+        // so Gibbs–Appell's: every Ok of it holds every row (issue 30).
         if redundant
             && (!on_surface || name == "acceleration_corrected")
             && name != "acceleration_gibbs_appell"
@@ -233,10 +235,13 @@ fn judge<T, S, const N: usize, const K: usize>(
         // the terms the solve summed, max(‖q̈‖, ‖a‖) with a = M⁻¹F.
         let size = qdd.amax().max(unconstrained_size(system, state));
         let residual: f64 = Scalar::f64(relative_residual_at(&a, &target, &qdd, size));
-        // The Gibbs–Appell form enforces r independent rows of A q̈ = b.
-        let consistent = residual <= T::RESIDUAL
-            || least_squares(&a, &target, &qdd, T::RESIDUAL)
-            || (name == "acceleration_gibbs_appell" && redundant);
+        // The Gibbs–Appell form enforces r independent rows of A q̈ = b and
+        // answers only where the others hold too (no least squares).
+        let consistent = if name == "acceleration_gibbs_appell" {
+            residual <= T::RESIDUAL.max(Scalar::f64(T::default_epsilon().sqrt()))
+        } else {
+            residual <= T::RESIDUAL || least_squares(&a, &target, &qdd, T::RESIDUAL)
+        };
         if !consistent {
             tally.fail(format!(
                 "{what}: relative residual {residual:e}, not least squares either"

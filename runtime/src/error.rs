@@ -61,6 +61,13 @@ pub enum GibbsAppellError {
     /// violates its rows of `A q̈ = b` by more than `√ε` (relative). The
     /// generalized-inverse form is better conditioned.
     IllConditioned,
+    /// The result violates a row of `A q̈ = b` that the partition left out
+    /// by more than `√ε` (relative): the form enforces `r` rows and answers
+    /// only where the others follow from them, i.e. on the surface where a
+    /// redundant model's extra rows depend on the rest. Off it (a redundant
+    /// row independent, `A` of rank above `r`), no `q̈` of the form satisfies
+    /// every row; the generalized-inverse form says what does.
+    Inconsistent,
 }
 
 impl fmt::Display for GibbsAppellError {
@@ -76,6 +83,11 @@ impl fmt::Display for GibbsAppellError {
             GibbsAppellError::IllConditioned => {
                 "the Gibbs–Appell form is too ill-conditioned at this state to give q̈ to \
                  working precision (use the generalized-inverse form)"
+            }
+            GibbsAppellError::Inconsistent => {
+                "the Gibbs–Appell acceleration violates a row of A q̈ = b outside its partition \
+                 (off the surface where the redundant rows depend on the others; use the \
+                 generalized-inverse form)"
             }
             GibbsAppellError::NonFinite => {
                 "the Gibbs–Appell acceleration is not finite (non-finite input, or a result \

@@ -54,7 +54,11 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
         state: &State<T, N>,
     ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>;
     /// `q̈` from the Gibbs–Appell system; equal to
-    /// [`acceleration`](Self::acceleration) wherever both are defined.
+    /// [`acceleration`](Self::acceleration) wherever both are defined. An
+    /// `Ok` satisfies every row of `A q̈ = b` to `√ε` (relative), not only
+    /// the `r` rows of its partition: off the surface of a redundant model,
+    /// where a redundant row is independent, it is
+    /// `Err(GibbsAppellError::Inconsistent)`.
     fn acceleration_gibbs_appell(
         &self,
         state: &State<T, N>,
