@@ -16,6 +16,9 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// Whether each constraint is position level (differentiated twice) or
     /// velocity level (once).
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
+    /// The rank of `A` at consistent states (measured by the macro): `K`
+    /// less the model's redundancy.
+    const GENERIC_RANK: usize = K;
 
     /// `M(q, t)`.
     fn mass_matrix(&self, state: &State<T, N>) -> SMatrix<T, N, N>;
@@ -183,6 +186,7 @@ where
     S: Generated<T, N, K>,
 {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
+    const GENERIC_RANK: usize = <S as Generated<T, N, K>>::GENERIC_RANK;
 
     #[inline]
     fn mass_matrix(&self, s: &State<T, N>) -> SMatrix<T, N, N> {
