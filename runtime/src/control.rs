@@ -13,6 +13,8 @@
 //! `e^{Aτ} − I` rather than `e^{Aτ}` keeps a slow mode of a stiff `A`
 //! (`e^{−2^{-55}}` rounds to 1; `−2^{-55}` does not), and `W` carries its
 //! own power of two, so neither is lost to rounding or to the range of `T`.
+//! Once every mode has decayed (`‖I + F‖₁ < ½`) `e^{Aτ}` itself is carried
+//! and squared, which keeps a decayed `A_d` to its own relative precision.
 //! For a triangular `A` the diagonals are set from `expm1` at every
 //! doubling (Al-Mohy & Higham, SIAM J. Matrix Anal. Appl. 31, 2009).
 //!
@@ -78,20 +80,22 @@ fn phi1<T: RealField + Copy>(y: T) -> T {
     }
 }
 
-/// The diagonals of `F = e^{Aτ} − I` and `W = φ₁(Aτ)` (stored as
-/// `2^{-e} W`) of a triangular `A` after `doubling` doublings of
-/// `X = A τ₀`: `e^{2^k x_ii} − 1` and `φ₁(2^k x_ii)`.
+/// The diagonals of `F = e^{Aτ} − I` (or of `e^{Aτ}` itself once
+/// `decayed`) and `W = φ₁(Aτ)` (stored as `2^{-e} W`) of a triangular `A`
+/// after `doubling` doublings of `X = A τ₀`: `e^{2^k x_ii} − 1` (or
+/// `e^{2^k x_ii}`) and `φ₁(2^k x_ii)`.
 fn exact_diagonal<T: RealField + Copy, const N: usize>(
     x: &SMatrix<T, N, N>,
     doubling: i32,
     e: i32,
+    decayed: bool,
     f: &mut SMatrix<T, N, N>,
     w: &mut SMatrix<T, N, N>,
 ) {
     for i in 0..N {
         let xi = x[(i, i)];
         let y = ldexp(xi, doubling);
-        f[(i, i)] = y.exp_m1();
+        f[(i, i)] = if decayed { y.exp() } else { y.exp_m1() };
         w[(i, i)] = if y >= T::zero() || y.exp() > T::default_epsilon() {
             ldexp(phi1(y), -e)
         } else {
@@ -175,11 +179,25 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
         // kept as 2^e W with |W| near 1, so that it does not underflow
         // where h W does not.
         let mut e = 0i32;
+        // Once every mode has decayed (‖I + F‖ < ½), e^{Aτ} itself is
+        // carried and squared: I + F would keep a decayed e^{λτ} only to ε
+        // absolutely (all of A_d to nothing where every mode has decayed),
+        // E = e^{Aτ} keeps it relatively.
+        let mut decayed = false;
         for doubling in 1..=s {
-            w += f * w * c::<T>(0.5);
-            f = f * c::<T>(2.0) + f * f;
+            if decayed {
+                w = (w + f * w) * c::<T>(0.5);
+                f = f * f;
+            } else {
+                w += f * w * c::<T>(0.5);
+                f = f * c::<T>(2.0) + f * f;
+            }
             if triangular {
-                exact_diagonal(&x, doubling, e, &mut f, &mut w);
+                exact_diagonal(&x, doubling, e, decayed, &mut f, &mut w);
+            }
+            if !decayed && norm1(&(identity + f)) < c(0.5) {
+                f += identity;
+                decayed = true;
             }
             let size = w.amax();
             if size < pow2::<T>(-60) && size > T::zero() {
@@ -193,7 +211,7 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
                 return Err(ControlError::NonFinite);
             }
         }
-        let mut ad = identity + f;
+        let mut ad = if decayed { f } else { identity + f };
         if triangular {
             // 1 + (e^{λh} − 1) keeps e^{λh} only to ε absolutely.
             for i in 0..NX {
@@ -279,7 +297,16 @@ pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
     // next waits until the iteration count has doubled.
     let mut next_check = 0usize;
     for iteration in 0..max_iterations {
-        let k = gain(&p)?;
+        // R + BᵀPB is positive definite for a positive definite R and a
+        // positive semi-definite P, which the iteration keeps in exact
+        // arithmetic: a failure after the first step is a P that diverged
+        // (an unstable mode out of reach of B) and lost it to rounding.
+        let k = match gain(&p) {
+            Err(ControlError::NotPositiveDefinite) if iteration > 0 => {
+                return Err(ControlError::NotConverged)
+            }
+            other => other?,
+        };
         let next = q + a.transpose() * p * (a - b * k);
         // Symmetrize: rounding would otherwise accumulate an antisymmetric part.
         let next = (next + next.transpose()) * c::<T>(0.5);

@@ -160,7 +160,7 @@ where
         SMatrix::<T, K, N>::from_fn(|i, c| if position(i) { a[(i, c)] } else { T::zero() })
     };
     // A redundant model's positions go to rounding level (module docs).
-    let redundant = S::GENERIC_RANK < K;
+    let redundant = S::REDUNDANCY > 0;
     newton(
         state,
         tolerance,

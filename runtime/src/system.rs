@@ -16,9 +16,10 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// Whether each constraint is position level (differentiated twice) or
     /// velocity level (once).
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
-    /// The rank of `A` at consistent states (measured by the macro): `K`
-    /// less the model's redundancy.
-    const GENERIC_RANK: usize = K;
+    /// The model's redundancy: `K` less the rank of `A` at consistent
+    /// states (measured by the macro); 0 unless some rows depend on the
+    /// others on the constraint surface.
+    const REDUNDANCY: usize = 0;
 
     /// `M(q, t)`.
     fn mass_matrix(&self, state: &State<T, N>) -> SMatrix<T, N, N>;
@@ -186,7 +187,7 @@ where
     S: Generated<T, N, K>,
 {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
-    const GENERIC_RANK: usize = <S as Generated<T, N, K>>::GENERIC_RANK;
+    const REDUNDANCY: usize = K - <S as Generated<T, N, K>>::GENERIC_RANK;
 
     #[inline]
     fn mass_matrix(&self, s: &State<T, N>) -> SMatrix<T, N, N> {
