@@ -916,7 +916,8 @@ fn control_against_references_from_fixed_seeds() {
                 gains += 1;
                 let closed = a - b * k;
                 let rho = spectral_radius(&closed);
-                if !(rho < 1.0) {
+                let stable = rho < 1.0;
+                if !stable {
                     failures.push(format!(
                         "lqr_gain case {case} (tolerance {tolerance}): ρ(A − BK) = {rho}"
                     ));

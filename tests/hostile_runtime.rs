@@ -162,6 +162,13 @@ fn fixed_step_time_does_not_drift_in_f32() {
 /// `Ok` after 0 steps with `t` still NaN, from `advance` and from
 /// `advance_sampled` with no samples; a non-finite `q` or `q̇` likewise
 /// reached the first step. All are refused before any evaluation.
+/// One integrator's `advance` (or a variant) from a state to an end time.
+type Run = fn(
+    &SphericalPendulum<f64>,
+    &mut State<f64, 3>,
+    f64,
+) -> Result<constrained::Stats, IntegrationError<f64>>;
+
 /// Whether two states are bit for bit the same (NaN included).
 fn same_bits(a: &State<f64, 3>, b: &State<f64, 3>) -> bool {
     let bits = |s: &State<f64, 3>| {
@@ -194,10 +201,7 @@ fn non_finite_starting_state_is_an_invalid_parameter() {
     for start in starts {
         // Every end time, the state's own included.
         for t_end in [0.0, 1.0, start.t] {
-            let runs: [(
-                &str,
-                fn(&SphericalPendulum<f64>, &mut State<f64, 3>, f64) -> _,
-            ); 7] = [
+            let runs: [(&str, Run); 7] = [
                 ("Rk4", |sys, s, t| Rk4::new(1e-3).advance(sys, s, t)),
                 ("ThreeEighthsRule", |sys, s, t| {
                     ThreeEighthsRule::new(1e-3).advance(sys, s, t)

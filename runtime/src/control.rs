@@ -284,7 +284,8 @@ pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
         return Err(ControlError::NonFinite);
     }
     // NaN fails both comparisons.
-    if !(tolerance > T::zero() && tolerance < T::one()) || max_iterations == 0 {
+    let usable = tolerance > T::zero() && tolerance < T::one();
+    if !usable || max_iterations == 0 {
         return Err(ControlError::InvalidParameter);
     }
     let gain = |p: &SMatrix<T, NX, NX>| -> Result<SMatrix<T, NU, NX>, ControlError> {

@@ -251,7 +251,8 @@ where
             let (dx, _) = step(state, &r)?;
             let before = *state;
             apply(state, dx);
-            if !(residual(state).amax() <= tolerance) {
+            let within = residual(state).amax() <= tolerance;
+            if !within {
                 *state = before;
             }
             return Ok(());
