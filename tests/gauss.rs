@@ -306,7 +306,10 @@ fn pivoted_and_structured_inverses_agree() {
     let s = a * minv * a.transpose();
     let sv = s.singular_values();
     assert!(sv.min() < 1e-12 * sv.max(), "S should be singular: {sv}");
-    let lambda = constrained::inverse::PivotedLdlt::new(&s).solve(&(b - a * acc));
+    let lambda = constrained::inverse::PivotedLdlt::new(&s)
+        .expect("finite")
+        .solve(&(b - a * acc))
+        .expect("representable");
     let pivoted: SVector<f64, 4> = acc + minv * a.transpose() * lambda;
     let generated = system.acceleration(&state.q, &state.qd, 0.0).unwrap();
     assert!(

@@ -7,8 +7,8 @@
 //! error grows.
 
 use constrained::gibbs_appell::WELL_CONDITIONED;
-use constrained::models::{Appell, DoublePendulum};
-use constrained::nalgebra::{Matrix3, Vector3};
+use constrained::models::{Appell, DoublePendulum, RedundantDoublePendulum, SliderCrank};
+use constrained::nalgebra::{Matrix3, SMatrix, SVector, Vector3, Vector4};
 use constrained::GibbsAppellError;
 use proptest::prelude::*;
 
@@ -127,6 +127,113 @@ fn re_pivots_where_the_eliminated_columns_are_nearly_parallel() {
             let (s, _) = sys.gibbs_appell_matrices(&q, &qd, 0.0).expect("rank 2");
             let preferred_kept = (2..4).all(|row| s[(row, 0)] == 0.0 && s[(row, 1)] == 0.0);
             assert!(!preferred_kept, "δ = {delta:e}: kept x₁, y₁\n{s}");
+        }
+    }
+}
+
+/// Largest `|A q̈ − b|ᵢ / (Σⱼ|Aᵢⱼ| ‖q̈‖∞ + |bᵢ|)` over the rows: the backward
+/// error of `q̈` for every row of `A q̈ = b`, computed here independently.
+fn worst_row<const N: usize, const K: usize>(
+    a: &SMatrix<f64, K, N>,
+    b: &SVector<f64, K>,
+    qdd: &SVector<f64, N>,
+) -> f64 {
+    (0..K)
+        .map(|i| {
+            let value = (a.row(i) * qdd)[0] - b[i];
+            let scale = a.row(i).abs().sum() * qdd.amax() + b[i].abs();
+            value.abs() / scale
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The slider-crank (`r = 0.3`, `l = 1`) with the crank at `theta` and
+/// turning at `omega`, its slider lifted `lift` off its guide.
+fn slider_crank_state(theta: f64, omega: f64, lift: f64) -> (Vector4<f64>, Vector4<f64>) {
+    let (r, l) = (0.3, 1.0);
+    let (x1, y1) = (r * theta.cos(), r * theta.sin());
+    let (xd1, yd1) = (-y1 * omega, x1 * omega);
+    let x2 = x1 + (l * l - (lift - y1).powi(2)).sqrt();
+    // The rod's length is constant: (x2 − x1)(ẋ2 − ẋ1) + (y2 − y1)(ẏ2 − ẏ1) = 0, ẏ2 = 0.
+    let xd2 = xd1 + (lift - y1) * yd1 / (x2 - x1);
+    (
+        Vector4::new(x1, y1, x2, lift),
+        Vector4::new(xd1, yd1, xd2, 0.0),
+    )
+}
+
+/// On the surface: `Ok`, every row held, equal to the generalized inverse's
+/// `gi`; off it: `Err(Inconsistent)`.
+fn check_every_row<const K: usize>(
+    name: &str,
+    a: &SMatrix<f64, K, 4>,
+    b: &SVector<f64, K>,
+    result: Result<Vector4<f64>, GibbsAppellError>,
+    gi: Vector4<f64>,
+    on_surface: bool,
+) {
+    if on_surface {
+        let qdd = result.unwrap_or_else(|e| panic!("{name}: {e}"));
+        let worst = worst_row(a, b, &qdd);
+        assert!(worst < 1e-12, "{name}: {worst:e}");
+        assert!(
+            (qdd - gi).amax() < 1e-10 * gi.amax(),
+            "{name}: {qdd} vs {gi}"
+        );
+    } else {
+        match result {
+            Ok(qdd) => panic!("{name}: Ok with row residual {:e}", worst_row(a, b, &qdd)),
+            Err(e) => assert_eq!(e, GibbsAppellError::Inconsistent, "{name}"),
+        }
+    }
+}
+
+/// The Gibbs–Appell form enforces the `r` rows of its partition; the others
+/// of `A q̈ = b` follow only on the surface where a redundant row depends on
+/// the rest. Off it, `acceleration_gibbs_appell` returned `Ok` violating the
+/// left-out row: the redundant double pendulum with every coordinate scaled
+/// by 1e-8 (relative residual 1.01, `A` of full rank 3) and the slider-crank
+/// lifted off its guide (1.5e-3). Every `Ok` now satisfies every row, and
+/// on the surface the form still answers, equal to the generalized inverse.
+#[test]
+fn gibbs_appell_holds_every_row_or_is_inconsistent() {
+    let pendulum = RedundantDoublePendulum::new(1.0, 1.0, 1.0, 1.0, 9.81);
+    let on = pendulum.state_from_angles(0.0, [0.7, -1.9], [1.3, -0.4]);
+    let scaled = (on.q * 1e-8, on.qd * 1e-8);
+    let crank = SliderCrank::new(1.0, 0.5, 0.3, 1.0, 2.0, 9.81);
+    let cases: [(&str, Vector4<f64>, Vector4<f64>, bool); 5] = [
+        ("pendulum on its surface", on.q, on.qd, true),
+        ("pendulum scaled by 1e-8", scaled.0, scaled.1, false),
+        (
+            "slider-crank on its guide",
+            slider_crank_state(0.9, 2.0, 0.0).0,
+            slider_crank_state(0.9, 2.0, 0.0).1,
+            true,
+        ),
+        (
+            "slider-crank 1e-3 off its guide",
+            slider_crank_state(0.9, 2.0, 1e-3).0,
+            slider_crank_state(0.9, 2.0, 1e-3).1,
+            false,
+        ),
+        (
+            "slider-crank 0.1 off its guide",
+            slider_crank_state(-2.0, 1.0, 0.1).0,
+            slider_crank_state(-2.0, 1.0, 0.1).1,
+            false,
+        ),
+    ];
+    for (name, q, qd, on_surface) in cases {
+        if name.starts_with("pendulum") {
+            let (a, b) = pendulum.constraint_matrices(&q, &qd, 0.0);
+            let result = pendulum.acceleration_gibbs_appell(&q, &qd, 0.0);
+            let gi = pendulum.acceleration(&q, &qd, 0.0).unwrap();
+            check_every_row(name, &a, &b, result, gi, on_surface);
+        } else {
+            let (a, b) = crank.constraint_matrices(&q, &qd, 0.0);
+            let result = crank.acceleration_gibbs_appell(&q, &qd, 0.0);
+            let gi = crank.acceleration(&q, &qd, 0.0).unwrap();
+            check_every_row(name, &a, &b, result, gi, on_surface);
         }
     }
 }

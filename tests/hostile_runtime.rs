@@ -5,8 +5,8 @@
 use constrained::models::{DoublePendulum, SphericalPendulum};
 use constrained::nalgebra::{Vector1, Vector2, Vector3};
 use constrained::{
-    constrained_system, DormandPrince45, DynamicsError, IntegrationError, Rk4, SemiImplicitEuler,
-    Stabilization, State,
+    constrained_system, BogackiShampine32, DormandPrince45, DynamicsError, IntegrationError, Rk4,
+    SemiImplicitEuler, Stabilization, State, ThreeEighthsRule,
 };
 
 constrained_system! {
@@ -156,4 +156,87 @@ fn fixed_step_time_does_not_drift_in_f32() {
         })
         .expect("integrates");
     assert_eq!(s.t, 150.0);
+}
+
+/// Started from `t = NaN` (every comparison false) the integrators returned
+/// `Ok` after 0 steps with `t` still NaN, from `advance` and from
+/// `advance_sampled` with no samples; a non-finite `q` or `q̇` likewise
+/// reached the first step. All are refused before any evaluation.
+/// One integrator's `advance` (or a variant) from a state to an end time.
+type Run = fn(
+    &SphericalPendulum<f64>,
+    &mut State<f64, 3>,
+    f64,
+) -> Result<constrained::Stats, IntegrationError<f64>>;
+
+/// Whether two states are bit for bit the same (NaN included).
+fn same_bits(a: &State<f64, 3>, b: &State<f64, 3>) -> bool {
+    let bits = |s: &State<f64, 3>| {
+        let mut v = vec![s.t.to_bits()];
+        v.extend(s.q.iter().chain(s.qd.iter()).map(|x| x.to_bits()));
+        v
+    };
+    bits(a) == bits(b)
+}
+
+#[test]
+fn non_finite_starting_state_is_an_invalid_parameter() {
+    let system = SphericalPendulum::<f64>::new(1.0, 9.81, 0.8);
+    let good = State::new(
+        0.0,
+        Vector3::new(0.48, 0.0, -0.64),
+        Vector3::new(0.0, 1.9, 0.0),
+    );
+    let mut starts = Vec::new();
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        starts.push(State { t: bad, ..good });
+        let mut s = good;
+        s.q[1] = bad;
+        starts.push(s);
+        let mut s = good;
+        s.qd[2] = bad;
+        starts.push(s);
+    }
+    let invalid = Err(IntegrationError::InvalidParameter);
+    for start in starts {
+        // Every end time, the state's own included.
+        for t_end in [0.0, 1.0, start.t] {
+            let runs: [(&str, Run); 7] = [
+                ("Rk4", |sys, s, t| Rk4::new(1e-3).advance(sys, s, t)),
+                ("ThreeEighthsRule", |sys, s, t| {
+                    ThreeEighthsRule::new(1e-3).advance(sys, s, t)
+                }),
+                ("SemiImplicitEuler", |sys, s, t| {
+                    SemiImplicitEuler::new(1e-3).advance(sys, s, t)
+                }),
+                ("DormandPrince45", |sys, s, t| {
+                    DormandPrince45::new(1e-8, 1e-10).advance(sys, s, t)
+                }),
+                ("BogackiShampine32", |sys, s, t| {
+                    BogackiShampine32::new(1e-6, 1e-8).advance(sys, s, t)
+                }),
+                ("DormandPrince45::advance_fixed", |sys, s, t| {
+                    DormandPrince45::new(1e-8, 1e-10).advance_fixed(sys, s, t, 1e-3)
+                }),
+                ("DormandPrince45::advance_sampled", |sys, s, t| {
+                    DormandPrince45::new(1e-8, 1e-10).advance_sampled(sys, s, t, &[], |_| {})
+                }),
+            ];
+            for (name, run) in runs {
+                let mut s = start;
+                let result = run(&system, &mut s, t_end);
+                assert_eq!(result, invalid, "{name} from {start:?} to {t_end}");
+                assert!(same_bits(&s, &start), "{name}: the state was not touched");
+            }
+            let mut s = start;
+            let result = BogackiShampine32::new(1e-6, 1e-8).advance_sampled(
+                &system,
+                &mut s,
+                t_end,
+                &[],
+                |_| panic!("no sample"),
+            );
+            assert_eq!(result, invalid, "BogackiShampine32::advance_sampled");
+        }
+    }
 }

@@ -114,3 +114,133 @@ fn a_singular_mass_has_no_generated_step() {
     let r = SVector::<f64, 1>::new(0.1);
     assert!(ConstrainedSystem::<f64, 4, 1>::constraint_step(&top, &state, &r).is_none());
 }
+
+constrained::constrained_system! {
+    /// A four-bar in its three link angles: crank (length `a`, about the
+    /// origin), coupler (`b`) and rocker (`c`, about `(d, 0)`), uniform bars
+    /// of mass `m` and moment of inertia `jm`, gravity along −y; the two loop
+    /// closures.
+    struct FourBarAngles {
+        coordinates: [p1, p2, p3],
+        parameters: [m, jm, a, b, c, d, g],
+        definitions: [
+            x1 = a / 2.0 * p1.cos(),
+            y1 = a / 2.0 * p1.sin(),
+            x2 = a * p1.cos() + b / 2.0 * p2.cos(),
+            y2 = a * p1.sin() + b / 2.0 * p2.sin(),
+            x3 = d + c / 2.0 * p3.cos(),
+            y3 = c / 2.0 * p3.sin(),
+        ],
+        kinetic_energy: m / 2.0
+            * (dt(x1).powi(2) + dt(y1).powi(2) + dt(x2).powi(2) + dt(y2).powi(2)
+                + dt(x3).powi(2) + dt(y3).powi(2))
+            + jm / 2.0 * (dot(p1).powi(2) + dot(p2).powi(2) + dot(p3).powi(2)),
+        potential_energy: m * g * (y1 + y2 + y3),
+        constraints: [
+            a * p1.cos() + b * p2.cos() == d + c * p3.cos(),
+            a * p1.sin() + b * p2.sin() == c * p3.sin(),
+        ],
+    }
+}
+
+constrained::constrained_system! {
+    /// [`FourBarAngles`] with a third closure, redundant on the surface:
+    /// the crank tip and the rocker tip are the coupler's length apart
+    /// (which the two loop closures already imply).
+    struct FourBarAnglesRedundant {
+        coordinates: [p1, p2, p3],
+        parameters: [m, jm, a, b, c, d, g],
+        definitions: [
+            x1 = a / 2.0 * p1.cos(),
+            y1 = a / 2.0 * p1.sin(),
+            x2 = a * p1.cos() + b / 2.0 * p2.cos(),
+            y2 = a * p1.sin() + b / 2.0 * p2.sin(),
+            x3 = d + c / 2.0 * p3.cos(),
+            y3 = c / 2.0 * p3.sin(),
+        ],
+        kinetic_energy: m / 2.0
+            * (dt(x1).powi(2) + dt(y1).powi(2) + dt(x2).powi(2) + dt(y2).powi(2)
+                + dt(x3).powi(2) + dt(y3).powi(2))
+            + jm / 2.0 * (dot(p1).powi(2) + dot(p2).powi(2) + dot(p3).powi(2)),
+        potential_energy: m * g * (y1 + y2 + y3),
+        constraints: [
+            a * p1.cos() + b * p2.cos() == d + c * p3.cos(),
+            a * p1.sin() + b * p2.sin() == c * p3.sin(),
+            (a * p1.cos() - d - c * p3.cos()).powi(2) + (a * p1.sin() - c * p3.sin()).powi(2)
+                == b.powi(2),
+        ],
+    }
+}
+
+/// A consistent state of the four-bar `[a, b, c, d]` with the crank at
+/// `p1` turning at `w1`, the coupler above the line from the crank tip to
+/// the rocker pivot.
+fn four_bar_angles_state([a, b, c, d]: [f64; 4], p1: f64, w1: f64) -> State<f64, 3> {
+    // The rocker tip Q: |Q − P| = b, |Q − (d, 0)| = c.
+    let (px, py) = (a * p1.cos(), a * p1.sin());
+    let (ex, ey) = (d - px, -py);
+    let e = ex.hypot(ey);
+    let along = (b * b - c * c + e * e) / (2.0 * e);
+    let across = (b * b - along * along).sqrt();
+    let (qx, qy) = (
+        px + (along * ex - across * ey) / e,
+        py + (along * ey + across * ex) / e,
+    );
+    let p2 = (qy - py).atan2(qx - px);
+    let p3 = qy.atan2(qx - d);
+    // Rates from the differentiated closures: a 2 × 2 solve for ω₂, ω₃.
+    let (m11, m12, m21, m22) = (-b * p2.sin(), c * p3.sin(), b * p2.cos(), -c * p3.cos());
+    let (r1, r2) = (a * p1.sin() * w1, -a * p1.cos() * w1);
+    let det = m11 * m22 - m12 * m21;
+    let (w2, w3) = ((r1 * m22 - m12 * r2) / det, (m11 * r2 - m21 * r1) / det);
+    State::new(
+        0.0,
+        SVector::<f64, 3>::new(p1, p2, p3),
+        SVector::<f64, 3>::new(w1, w2, w3),
+    )
+}
+
+/// The four-bar in its three link angles with the two loop closures and a
+/// third, distance closure that is redundant on the surface, integrated by
+/// `DormandPrince45::new(1e-12, 1e-13)` with `Stabilization::projection(1e-12)`,
+/// stopped with `ProjectionFailed` (here `residual: 3.7e-12` at t = 1.18:
+/// the redundant row's velocity residual, left by positions within the
+/// tolerance but not on the surface, which no velocity step reduces),
+/// while its twin without the redundant row integrated fine. It must follow
+/// the twin's trajectory (to 1e-9).
+#[test]
+fn projection_on_a_redundant_set_in_link_angles_follows_its_twin() {
+    use constrained::{DormandPrince45, Stabilization};
+    let lengths = [1.0, 2.5, 2.0, 3.0];
+    let [a, b, c, d] = lengths;
+    let (m, jm, g) = (1.2, 0.15, 9.81);
+    let twin = FourBarAngles::<f64>::new(m, jm, a, b, c, d, g);
+    let redundant = FourBarAnglesRedundant::<f64>::new(m, jm, a, b, c, d, g);
+    let integrator =
+        DormandPrince45::new(1e-12, 1e-13).with_stabilization(Stabilization::projection(1e-12));
+    let times: Vec<f64> = (1..=40).map(|i| 0.1 * f64::from(i)).collect();
+    for (p1, w1) in [(0.3, 6.0), (-1.0, 0.0), (2.0, -8.0), (0.0, 15.0)] {
+        let start = four_bar_angles_state(lengths, p1, w1);
+        let on_surface = twin.constraint_residual(&start.q, &start.qd, 0.0).amax();
+        assert!(on_surface < 1e-14, "{on_surface:e}");
+        let mut twin_samples = Vec::new();
+        let mut redundant_samples = Vec::new();
+        let mut s = start;
+        integrator
+            .advance_sampled(&twin, &mut s, 4.0, &times, |s| twin_samples.push(*s))
+            .expect("the twin integrates");
+        let mut s = start;
+        integrator
+            .advance_sampled(&redundant, &mut s, 4.0, &times, |s| {
+                redundant_samples.push(*s)
+            })
+            .unwrap_or_else(|e| panic!("p1 = {p1}, w1 = {w1}: {e}"));
+        let worst = twin_samples
+            .iter()
+            .zip(&redundant_samples)
+            .map(|(a, b)| (a.q - b.q).amax().max((a.qd - b.qd).amax()))
+            .fold(0.0, f64::max);
+        println!("p1 = {p1}, w1 = {w1}: largest difference from the twin {worst:.1e}");
+        assert!(worst < 1e-9, "p1 = {p1}, w1 = {w1}: {worst:e}");
+    }
+}

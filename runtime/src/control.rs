@@ -4,24 +4,48 @@
 //! device.
 //!
 //! For `δẋ = A δx + B δu` held over steps of `h`:
-//! `A_d = e^{A h}`, `B_d = ∫₀ʰ e^{A s} ds B`, both by one Taylor series of
-//! the block matrix after scaling `h` down until `‖A h‖ ≤ ½` and squaring
-//! back. The gain `K` of `u = −K δx` minimises `Σ δxᵀ Q δx + δuᵀ R δu`:
+//! `A_d = e^{A h}`, `B_d = ∫₀ʰ e^{A s} ds B = h φ₁(A h) B` with
+//! `φ₁(X) = Σ Xᵏ/(k+1)!`, by scaling and squaring: `h` is split as
+//! `2^s τ` with `s` chosen from `log₂ ‖A‖₁ + log₂ h` (never by halving `h`,
+//! which underflowed to zero for `‖A h‖` beyond `T`'s range), the Taylor
+//! series of `F = e^{Aτ} − I` and `W = φ₁(Aτ)` summed at `‖Aτ‖₁ ≤ ½`, then
+//! doubled back `s` times as `F ← 2F + F²`, `W ← W + F W / 2`. Carrying
+//! `e^{Aτ} − I` rather than `e^{Aτ}` keeps a slow mode of a stiff `A`
+//! (`e^{−2^{-55}}` rounds to 1; `−2^{-55}` does not), and `W` carries its
+//! own power of two, so neither is lost to rounding or to the range of `T`.
+//! Once every mode has decayed (`‖I + F‖₁ < ½`) `e^{Aτ}` itself is carried
+//! and squared, which keeps a decayed `A_d` to its own relative precision.
+//! For a triangular `A` the diagonals are set from `expm1` at every
+//! doubling (Al-Mohy & Higham, SIAM J. Matrix Anal. Appl. 31, 2009).
+//!
+//! The gain `K` of `u = −K δx` minimises `Σ δxᵀ Q δx + δuᵀ R δu`:
 //! `P = Q + A_dᵀ P A_d − A_dᵀ P B_d (R + B_dᵀ P B_d)⁻¹ B_dᵀ P A_d` iterated
-//! from `P = Q` to a fixed point, `K = (R + B_dᵀ P B_d)⁻¹ B_dᵀ P A_d`.
+//! from `P = Q`, `K = (R + B_dᵀ P B_d)⁻¹ B_dᵀ P A_d`. A gain is returned
+//! only when both checks hold for it: the Riccati residual of its `P` is
+//! within the tolerance, and the closed loop `A_d − B_d K` is certified
+//! stable (some power `(A_d − B_d K)^{2^j}` has 1-norm below ½, which
+//! bounds its spectral radius below 1).
 
+use crate::pow2::{exponent, ldexp, pow2};
 use nalgebra::{Cholesky, RealField, SMatrix};
 
 /// Why no gain was computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ControlError {
-    /// A matrix or the step was not finite, or the step not positive.
+    /// A matrix or the step was not finite, or the step not positive, or
+    /// the result is beyond the range of the scalar type.
     NonFinite,
     /// `R + B_dᵀ P B_d` is not positive definite (`R` must be).
     NotPositiveDefinite,
-    /// The Riccati iteration did not settle within its iterations: the
-    /// pair `(A_d, B_d)` is not stabilizable, or it converges slowly.
+    /// The Riccati iteration did not reach, within its iterations, a `P`
+    /// whose residual is within the tolerance and whose gain stabilizes the
+    /// closed loop: the pair `(A_d, B_d)` is not stabilizable (or `(Q, A_d)`
+    /// not detectable), or it converges slowly.
     NotConverged,
+    /// A setting that cannot work: a tolerance that is not in `(0, 1)`
+    /// (NaN, infinite, zero, negative, or so loose that any `P` passes), or
+    /// no iterations allowed.
+    InvalidParameter,
 }
 
 impl core::fmt::Display for ControlError {
@@ -29,7 +53,12 @@ impl core::fmt::Display for ControlError {
         f.write_str(match self {
             ControlError::NonFinite => "a matrix or the step is not finite",
             ControlError::NotPositiveDefinite => "R + BᵀPB is not positive definite",
-            ControlError::NotConverged => "the Riccati iteration did not converge",
+            ControlError::NotConverged => {
+                "the Riccati iteration did not converge to a stabilizing gain"
+            }
+            ControlError::InvalidParameter => {
+                "the tolerance must lie in (0, 1) and at least one iteration be allowed"
+            }
         })
     }
 }
@@ -37,8 +66,70 @@ impl core::fmt::Display for ControlError {
 #[cfg(feature = "std")]
 impl std::error::Error for ControlError {}
 
+/// `x` as `T`.
+fn c<T: RealField + Copy>(x: f64) -> T {
+    nalgebra::convert::<f64, T>(x)
+}
+
+/// `φ₁(y) = (e^y − 1)/y`, 1 at 0.
+fn phi1<T: RealField + Copy>(y: T) -> T {
+    if y == T::zero() {
+        T::one()
+    } else {
+        y.exp_m1() / y
+    }
+}
+
+/// The diagonals of `F = e^{Aτ} − I` (or of `e^{Aτ}` itself once
+/// `decayed`) and `W = φ₁(Aτ)` (stored as `2^{-e} W`) of a triangular `A`
+/// after `doubling` doublings of `X = A τ₀`: `e^{2^k x_ii} − 1` (or
+/// `e^{2^k x_ii}`) and `φ₁(2^k x_ii)`.
+fn exact_diagonal<T: RealField + Copy, const N: usize>(
+    x: &SMatrix<T, N, N>,
+    doubling: i32,
+    e: i32,
+    decayed: bool,
+    f: &mut SMatrix<T, N, N>,
+    w: &mut SMatrix<T, N, N>,
+) {
+    for i in 0..N {
+        let xi = x[(i, i)];
+        let y = ldexp(xi, doubling);
+        f[(i, i)] = if decayed { y.exp() } else { y.exp_m1() };
+        w[(i, i)] = if y >= T::zero() || y.exp() > T::default_epsilon() {
+            ldexp(phi1(y), -e)
+        } else {
+            // φ₁(y) = −1/y to working precision, and y may have overflowed
+            // (λh beyond T's range) where 2^{-e}/y does not underflow:
+            // −1/y = −2^{-k}/(2^{k-doubling}·x) with x scaled near 1.
+            let k = -exponent(-xi);
+            ldexp(-T::one() / ldexp(xi, k), k - doubling - e)
+        };
+    }
+}
+
+/// The 1-norm (largest column sum of magnitudes).
+fn norm1<T: RealField + Copy, const R: usize, const C: usize>(m: &SMatrix<T, R, C>) -> T {
+    m.column_iter().fold(T::zero(), |acc, col| {
+        acc.max(col.iter().fold(T::zero(), |s, x| s + x.abs()))
+    })
+}
+
+/// Terms of the Taylor series of `F` and `W`: at `‖X‖₁ ≤ ½` the first term
+/// left out is below `2⁻¹⁷/17! ≈ 2e-20` of `‖X‖` (`F`) or of 1 (`W`).
+const TAYLOR_TERMS: i32 = 16;
+
 /// `(A_d, B_d)`: the exact zero-order-hold discretization of
-/// `δẋ = A δx + B δu` over a step `h`.
+/// `δẋ = A δx + B δu` over a step `h` (module docs), for `‖A h‖` up to the
+/// end of `T`'s range (`A = −10³⁰⁸ I`, `h = 50` gives `A_d = 0`,
+/// `B_d = 10⁻³⁰⁸ B`). Accuracy: for a triangular (or diagonal) `A` the
+/// diagonal of `A_d` and of `∫e^{As}ds` is `e^{λh}` and `(e^{λh} − 1)/λ`
+/// entry by entry, slow modes of a stiff `A` included; otherwise the
+/// error is of order `ε ‖A h‖ ‖e^{Ah}‖`, that of a backward-stable
+/// exponential (the condition of `e^X` for a normal `X` is `‖X‖`: the slow
+/// mode of a full stiff `A` is carried by differences of its fast entries).
+/// `Err(NonFinite)` for a non-finite input or a step that is not positive,
+/// or when `A_d` or `B_d` exceeds `T`'s range.
 pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     a: &SMatrix<T, NX, NX>,
     b: &SMatrix<T, NX, NU>,
@@ -48,35 +139,93 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     if !finite || h <= T::zero() {
         return Err(ControlError::NonFinite);
     }
-    // Scale h by 2^-s so that ‖A h‖₁ ≤ 1/2 (at most 1100 halvings: f64's range).
-    let norm = a.column_iter().fold(T::zero(), |m, c| m.max(c.lp_norm(1))) * h;
-    let half = nalgebra::convert::<f64, T>(0.5);
-    let mut squarings = 0u32;
-    let mut scaled = h;
-    let mut size = norm;
-    while size > half && squarings < 1100 {
-        scaled *= half;
-        size *= half;
-        squarings += 1;
-    }
-    // Taylor series of e^{A τ} and ∫₀^τ e^{A s} ds to 20 terms (‖Aτ‖ ≤ ½:
-    // the remainder is below 2^-20/20!).
-    let mut phi = SMatrix::<T, NX, NX>::identity();
-    let mut gamma = SMatrix::<T, NX, NX>::identity() * scaled;
-    let mut term = SMatrix::<T, NX, NX>::identity();
-    let mut k = T::one();
-    for _ in 0..20 {
-        term = term * a * scaled / k;
-        phi += term;
-        gamma += term * scaled / (k + T::one());
-        k += T::one();
-    }
-    // Doubling: e^{2Aτ} = e^{Aτ}², ∫₀^{2τ} = ∫₀^τ + e^{Aτ} ∫₀^τ.
-    for _ in 0..squarings {
-        gamma = gamma + phi * gamma;
-        phi = phi * phi;
-    }
-    let out = (phi, gamma * b);
+    let identity = SMatrix::<T, NX, NX>::identity();
+    let largest = a.amax();
+    // For a triangular A (diagonal included) the diagonals of F and W are
+    // set from e^{λτ} − 1 and φ₁(λτ) at every doubling (Al-Mohy & Higham,
+    // 2009): exact entry by entry, where the doubling keeps them only to ε
+    // of the largest entry (a decayed e^{−21} beside a fast mode).
+    let upper = (0..NX).all(|i| (0..i).all(|j| a[(i, j)] == T::zero()));
+    let lower = (0..NX).all(|i| (i + 1..NX).all(|j| a[(i, j)] == T::zero()));
+    let triangular = upper || lower;
+    let (ad, w, w_exponent) = if largest == T::zero() {
+        (identity, identity, 0)
+    } else {
+        // A = 2^ea A' with |A'| < 2 entrywise, exactly; ‖A h‖₁ =
+        // 2^ea h ‖A'‖₁ is found by its logarithm, which cannot overflow.
+        let ea = exponent(largest);
+        let a_scaled = a.map(|x| ldexp(x, -ea));
+        let theta = c::<T>(0.5);
+        let log_norm = norm1(&a_scaled).log2() + c::<T>(f64::from(ea)) + h.log2();
+        let mut s = nalgebra::try_convert::<T, f64>((log_norm - theta.log2()).ceil())
+            .unwrap_or(0.0)
+            .clamp(0.0, 4000.0) as i32;
+        // X = A τ = A' · h 2^(ea − s); one more halving if the logarithm
+        // rounded the wrong way.
+        let mut x = a_scaled * ldexp(h, ea - s);
+        while norm1(&x) > theta {
+            s += 1;
+            x = a_scaled * ldexp(h, ea - s);
+        }
+        let mut term = x;
+        let mut f = x;
+        let mut w = identity + x * c::<T>(0.5);
+        for k in 2..=TAYLOR_TERMS {
+            term = term * x * c::<T>(1.0 / f64::from(k));
+            f += term;
+            w += term * c::<T>(1.0 / f64::from(k + 1));
+        }
+        // Doubling: e^{2Aτ} − I = 2F + F², φ₁(2Aτ) = (I + F/2) φ₁(Aτ). W is
+        // kept as 2^e W with |W| near 1, so that it does not underflow
+        // where h W does not.
+        let mut e = 0i32;
+        // Once every mode has decayed (‖I + F‖ < ½), e^{Aτ} itself is
+        // carried and squared: I + F would keep a decayed e^{λτ} only to ε
+        // absolutely (all of A_d to nothing where every mode has decayed),
+        // E = e^{Aτ} keeps it relatively.
+        let mut decayed = false;
+        for doubling in 1..=s {
+            if decayed {
+                w = (w + f * w) * c::<T>(0.5);
+                f = f * f;
+            } else {
+                w += f * w * c::<T>(0.5);
+                f = f * c::<T>(2.0) + f * f;
+            }
+            if triangular {
+                exact_diagonal(&x, doubling, e, decayed, &mut f, &mut w);
+            }
+            if !decayed && norm1(&(identity + f)) < c(0.5) {
+                f += identity;
+                decayed = true;
+            }
+            let size = w.amax();
+            if size < pow2::<T>(-60) && size > T::zero() {
+                w *= pow2::<T>(60);
+                e -= 60;
+            } else if size > pow2::<T>(60) {
+                w *= pow2::<T>(-60);
+                e += 60;
+            }
+            if !f.iter().all(|v| v.is_finite()) {
+                return Err(ControlError::NonFinite);
+            }
+        }
+        let mut ad = if decayed { f } else { identity + f };
+        if triangular {
+            // 1 + (e^{λh} − 1) keeps e^{λh} only to ε absolutely.
+            for i in 0..NX {
+                ad[(i, i)] = ldexp(x[(i, i)], s).exp();
+            }
+        }
+        (ad, w, e)
+    };
+    // Γ = h W 2^e, with h split into its power of two so that h·W cannot
+    // overflow where Γ does not.
+    let eh = exponent(h);
+    let h_scaled = ldexp(h, -eh);
+    let gamma = w.map(|v| ldexp(v * h_scaled, w_exponent + eh));
+    let out = (ad, gamma * b);
     if out.0.iter().chain(out.1.iter()).all(|x| x.is_finite()) {
         Ok(out)
     } else {
@@ -84,10 +233,39 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     }
 }
 
+/// Whether `m` is certified Schur stable (spectral radius below 1): some
+/// `m^{2^j}`, `j < 64`, has 1-norm below ½, and `ρ(m)^{2^j} ≤ ‖m^{2^j}‖₁`.
+/// Not certified when the powers overflow (`ρ > 1`) or never fall (`ρ = 1`,
+/// or so close to 1 that 2⁶⁴ steps do not tell).
+fn certified_stable<T: RealField + Copy, const N: usize>(m: &SMatrix<T, N, N>) -> bool {
+    let mut power = *m;
+    for _ in 0..64 {
+        // Entry by entry: an overflowed power holds NaN (∞ − ∞), which a
+        // `max` over column sums would skip.
+        if !power.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        let size = norm1(&power);
+        if size < c(0.5) {
+            return true;
+        }
+        power = power * power;
+    }
+    false
+}
+
 /// The gain `K` (`u = −K δx`) of the discrete-time LQR for `(A_d, B_d)`
 /// with weights `Q` (positive semi-definite) and `R` (positive definite):
-/// the Riccati iteration to a relative change below `tolerance`, at most
-/// `max_iterations` steps.
+/// the Riccati iteration until the residual of `P` (its relative change in
+/// one more step) is below `tolerance` *and* `A_d − B_d K` is certified
+/// stable (module docs), at most `max_iterations` steps. A tolerance met by
+/// a gain that does not stabilize (a loose one, early in the iteration)
+/// does not end the iteration.
+///
+/// `Err(InvalidParameter)` for a tolerance outside `(0, 1)` or
+/// `max_iterations = 0`; `Err(NotConverged)` when no certified gain is
+/// reached (the pair is not stabilizable: `diag(1, 0.5)`, `B = [0, 1]ᵀ`);
+/// `Err(NonFinite)` for a non-finite input.
 pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
     a: &SMatrix<T, NX, NX>,
     b: &SMatrix<T, NX, NU>,
@@ -105,26 +283,52 @@ pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
     if !finite {
         return Err(ControlError::NonFinite);
     }
+    // NaN fails both comparisons.
+    let usable = tolerance > T::zero() && tolerance < T::one();
+    if !usable || max_iterations == 0 {
+        return Err(ControlError::InvalidParameter);
+    }
     let gain = |p: &SMatrix<T, NX, NX>| -> Result<SMatrix<T, NU, NX>, ControlError> {
         let s = r + b.transpose() * p * b;
         let chol = Cholesky::new(s).ok_or(ControlError::NotPositiveDefinite)?;
         Ok(chol.solve(&(b.transpose() * p * a)))
     };
     let mut p = *q;
-    for _ in 0..max_iterations {
-        let k = gain(&p)?;
+    // The stability check costs up to 64 products; after a failed one the
+    // next waits until the iteration count has doubled.
+    let mut next_check = 0usize;
+    for iteration in 0..max_iterations {
+        // R + BᵀPB is positive definite for a positive definite R and a
+        // positive semi-definite P, which the iteration keeps in exact
+        // arithmetic: a failure after the first step is a P that diverged
+        // (an unstable mode out of reach of B) and lost it to rounding.
+        let k = match gain(&p) {
+            Err(ControlError::NotPositiveDefinite) if iteration > 0 => {
+                return Err(ControlError::NotConverged)
+            }
+            other => other?,
+        };
         let next = q + a.transpose() * p * (a - b * k);
         // Symmetrize: rounding would otherwise accumulate an antisymmetric part.
-        let next = (next + next.transpose()) * nalgebra::convert::<f64, T>(0.5);
-        let change = (next - p).amax();
+        let next = (next + next.transpose()) * c::<T>(0.5);
+        // The Riccati residual of P (and of the gain K it gives).
+        let residual = (next - p).amax();
         let scale = next.amax();
-        if !change.is_finite() {
+        if !residual.is_finite() {
             return Err(ControlError::NotConverged);
         }
-        p = next;
-        if change <= tolerance * scale {
-            return gain(&p);
+        if residual <= tolerance * scale && iteration >= next_check {
+            if certified_stable(&(a - b * k)) {
+                return Ok(k);
+            }
+            if residual == T::zero() {
+                // A fixed point whose gain does not stabilize: no further
+                // iteration changes it.
+                return Err(ControlError::NotConverged);
+            }
+            next_check = 2 * iteration + 1;
         }
+        p = next;
     }
     Err(ControlError::NotConverged)
 }
@@ -132,7 +336,239 @@ pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{Matrix1, Matrix2, Matrix2x1};
+    use nalgebra::{Matrix1, Matrix2, Matrix2x1, Matrix4, Matrix4x1};
+
+    /// Largest entrywise relative error of `got` against `want` (absolute
+    /// where `want` is zero).
+    fn relative<const R: usize, const C: usize>(
+        got: &SMatrix<f64, R, C>,
+        want: &SMatrix<f64, R, C>,
+    ) -> f64 {
+        got.iter().zip(want.iter()).fold(0.0, |m, (g, w)| {
+            let e = if *w == 0.0 {
+                g.abs()
+            } else {
+                ((g - w) / w).abs()
+            };
+            m.max(e)
+        })
+    }
+
+    /// `diag(λ)` discretized: `A_d = diag(e^{λh})`, `B_d = diag((e^{λh} − 1)/λ) B`,
+    /// the reference by `exp_m1` of each entry.
+    fn diagonal_reference(l: [f64; 2], b: [f64; 2], h: f64) -> (Matrix2<f64>, Matrix2x1<f64>) {
+        let ad = Matrix2::new((l[0] * h).exp(), 0.0, 0.0, (l[1] * h).exp());
+        let gamma = |x: f64| (x * h).exp_m1() / x;
+        let bd = Matrix2x1::new(gamma(l[0]) * b[0], gamma(l[1]) * b[1]);
+        (ad, bd)
+    }
+
+    /// `diag(−1e308, −1e308)` over `h = 50`: `‖A h‖` overflows, and the old
+    /// scaling halved `h` 1100 times into 0 and returned `(I, 0)`. Exact:
+    /// `A_d = 0`, `B_d = 1e-308` (subnormal: to ~2 ulps of a normal number).
+    #[test]
+    fn discretize_survives_a_norm_beyond_the_range() {
+        let a = Matrix2::new(-1e308, 0.0, 0.0, -1e308);
+        let b = Matrix2x1::new(1.0f64, 1.0);
+        let (ad, bd) = discretize(&a, &b, 50.0).expect("representable");
+        assert_eq!(ad, Matrix2::zeros());
+        for x in bd.iter() {
+            assert!(((x - 1e-308) / 1e-308).abs() < 1e-13, "{bd}");
+        }
+        // A huge step on a moderately stiff A: A_d = 0 to the last bit,
+        // B_d = −A⁻¹ B.
+        for h in [1e300, 1e306, f64::MAX] {
+            let l = [-1e6, -1.0];
+            let a = Matrix2::new(l[0], 0.0, 0.0, l[1]);
+            let (ad, bd) = discretize(&a, &b, h).expect("representable");
+            assert_eq!(ad, Matrix2::zeros(), "h = {h}");
+            assert!(relative(&bd, &Matrix2x1::new(1e-6, 1.0)) < 1e-14, "{bd}");
+        }
+        // The unstable counterpart overflows and says so.
+        let a = Matrix2::new(1e308, 0.0, 0.0, 1.0);
+        assert_eq!(discretize(&a, &b, 50.0), Err(ControlError::NonFinite));
+    }
+
+    /// A stiff `A` keeps its slow mode: `diag(−1e16, −1)`, `h = 1` gave
+    /// `A_d[1,1] = 1` (`e^{−2⁻⁵⁵}` rounds to 1 before squaring back), and
+    /// `diag(−1e12, −1)`, `h = 0.02` was off by 3.4e-6.
+    #[test]
+    fn discretize_keeps_the_slow_mode_of_a_stiff_matrix() {
+        let b = [1.0, 1.0];
+        for (l, h) in [
+            ([-1e16f64, -1.0], 1.0f64),
+            ([-1e12, -1.0], 0.02),
+            ([-1e12, -1e-6], 0.02),
+            ([-1e200, -3.0], 7.0),
+            ([-1e3, 0.5], 3.0),
+        ] {
+            let a = Matrix2::new(l[0], 0.0, 0.0, l[1]);
+            let (ad, bd) = discretize(&a, &Matrix2x1::from(b), h).expect("finite");
+            let (ad_ref, bd_ref) = diagonal_reference(l, b, h);
+            // Each squaring adds a rounding: ~log₂‖A h‖ of them.
+            let allowed = 1e-15 * (l[0].abs() * h).log2().max(1.0);
+            assert!(
+                relative(&ad, &ad_ref) < allowed,
+                "{l:?} {h}: {ad} vs {ad_ref}"
+            );
+            assert!(
+                relative(&bd, &bd_ref) < allowed,
+                "{l:?} {h}: {bd} vs {bd_ref}"
+            );
+        }
+    }
+
+    /// Non-diagonal references by closed forms: a stiff `A = V diag(λ) V⁻¹`
+    /// with `V = [[1, 1], [0, 1]]`, a rotation generator, and a Jordan
+    /// block.
+    #[test]
+    fn discretize_matches_closed_forms_of_non_diagonal_matrices() {
+        let b = Matrix2x1::new(0.3, -1.7);
+        // e^{Ah} = V e^{Dh} V⁻¹ = [[e₁, e₂ − e₁], [0, e₂]], Γ likewise.
+        for (l, h) in [
+            ([-1e12f64, -1.0], 0.02f64),
+            ([-1e9, -2.0], 1.0),
+            ([-50.0, -0.1], 0.3),
+        ] {
+            let a = Matrix2::new(l[0], l[1] - l[0], 0.0, l[1]);
+            let (e1, e2) = ((l[0] * h).exp(), (l[1] * h).exp());
+            let (g1, g2) = ((l[0] * h).exp_m1() / l[0], (l[1] * h).exp_m1() / l[1]);
+            let ad_ref = Matrix2::new(e1, e2 - e1, 0.0, e2);
+            let gamma = Matrix2::new(g1, g2 - g1, 0.0, g2);
+            let (ad, bd) = discretize(&a, &b, h).expect("finite");
+            assert!((ad - ad_ref).amax() < 1e-13, "{ad} vs {ad_ref}");
+            assert!(relative(&bd, &(gamma * b)) < 1e-12, "{bd} vs {}", gamma * b);
+        }
+        // Full (not triangular) and exact in f64: A = Q diag(λ) Qᵀ with the
+        // Hadamard Q = [[1, 1], [1, −1]]/√2, A = ½[[λ₁+λ₂, λ₁−λ₂], [λ₁−λ₂, λ₁+λ₂]].
+        // A backward-stable exponential is accurate to ε ‖A h‖ ‖e^{Ah}‖ here
+        // (the condition of e^X for a normal X is ‖X‖): the slow mode of a
+        // full stiff A is held by the difference of two fast entries, and
+        // forming A τ rounds each of them.
+        for (l, h) in [
+            ([-1e12f64, -1.0], 0.02f64),
+            ([-1e6, -1.0], 1.0),
+            ([-1e3, -0.5], 4.0),
+        ] {
+            let (sum, diff) = (l[0] + l[1], l[0] - l[1]);
+            let a = Matrix2::new(sum, diff, diff, sum) * 0.5;
+            let (e1, e2) = ((l[0] * h).exp(), (l[1] * h).exp());
+            let (g1, g2) = ((l[0] * h).exp_m1() / l[0], (l[1] * h).exp_m1() / l[1]);
+            let ad_ref = Matrix2::new(e1 + e2, e1 - e2, e1 - e2, e1 + e2) * 0.5;
+            let gamma = Matrix2::new(g1 + g2, g1 - g2, g1 - g2, g1 + g2) * 0.5;
+            let (ad, bd) = discretize(&a, &b, h).expect("finite");
+            let bound = f64::EPSILON * l[0].abs() * h;
+            let (ead, ebd) = (
+                (ad - ad_ref).amax(),
+                (bd - gamma * b).amax() / (gamma * b).amax(),
+            );
+            assert!(ead < bound, "{l:?}: {ead:e} ≥ {bound:e}: {ad} vs {ad_ref}");
+            assert!(ebd < bound, "{l:?}: {ebd:e} ≥ {bound:e}");
+        }
+        // Rotation: e^{Ah} = [[cos, sin], [−sin, cos]] (ω h = 1000 rad).
+        let (omega, h) = (2.0, 500.0);
+        let a = Matrix2::new(0.0, omega, -omega, 0.0);
+        let (ad, bd) = discretize(&a, &b, h).expect("finite");
+        let (s, co) = (omega * h).sin_cos();
+        let ad_ref = Matrix2::new(co, s, -s, co);
+        let gamma = Matrix2::new(s, 1.0 - co, co - 1.0, s) / omega;
+        assert!((ad - ad_ref).amax() < 1e-12, "{ad} vs {ad_ref}");
+        assert!((bd - gamma * b).amax() < 1e-12, "{bd} vs {}", gamma * b);
+        // Jordan block: e^{Ah} = e^{λh} [[1, h], [0, 1]].
+        let (l, h) = (-1e4f64, 1e-3f64);
+        let a = Matrix2::new(l, 1.0, 0.0, l);
+        let (ad, _) = discretize(&a, &b, h).expect("finite");
+        let e = (l * h).exp();
+        assert!(
+            relative(&ad, &Matrix2::new(e, e * h, 0.0, e)) < 1e-14,
+            "{ad}"
+        );
+    }
+
+    /// The Riccati residual is small with a tight tolerance but the gain
+    /// does not stabilize: `diag(1, 0.5)`, `B = [0, 1]ᵀ` (the unit mode
+    /// is out of reach) returned `Ok(K = [0, 0.266])`, `ρ(A − BK) = 1`.
+    #[test]
+    fn lqr_gain_of_an_unstabilizable_pair_is_not_converged() {
+        let a = Matrix2::new(1.0, 0.0, 0.0, 0.5);
+        let b = Matrix2x1::new(0.0, 1.0);
+        let q = Matrix2::identity();
+        let r = Matrix1::new(1.0);
+        for tolerance in [1e-12, 1e-3, 0.1, 0.9] {
+            assert_eq!(
+                lqr_gain(&a, &b, &q, &r, tolerance, 10_000),
+                Err(ControlError::NotConverged),
+                "tolerance {tolerance}"
+            );
+        }
+    }
+
+    /// Tolerances `inf`, NaN (which ran every iteration: a hang at 10⁹),
+    /// zero, negative and ≥ 1, and a zero budget, are refused up front.
+    #[test]
+    fn lqr_gain_refuses_tolerances_that_cannot_work() {
+        let a = Matrix1::new(1.2);
+        let b = Matrix1::new(0.5);
+        let (q, r) = (Matrix1::new(2.0), Matrix1::new(0.3));
+        for tolerance in [f64::INFINITY, f64::NAN, 0.0, -1e-9, 1.0, 5.0] {
+            assert_eq!(
+                lqr_gain(&a, &b, &q, &r, tolerance, usize::MAX),
+                Err(ControlError::InvalidParameter),
+                "tolerance {tolerance}"
+            );
+        }
+        assert_eq!(
+            lqr_gain(&a, &b, &q, &r, 1e-12, 0),
+            Err(ControlError::InvalidParameter)
+        );
+    }
+
+    /// The cart-pole of `examples/cart_pole_lqr.rs` (upright, 10 ms hold):
+    /// a loose tolerance (0.1) used to return the early iteration's gain,
+    /// whose closed loop has ρ = 1.02. Every returned gain must stabilize:
+    /// ρ(A_d − B_d K) < 1, checked by the eigenvalues (an independent
+    /// test from the library's certificate).
+    #[test]
+    fn lqr_gain_with_a_loose_tolerance_still_stabilizes() {
+        // ẍ, θ̈ of the cart-pole linearized upright (mc = 1, mp = 0.1,
+        // l = 0.5, g = 9.81): A = [[0, I], [[0, mp g/mc], [0, (mc+mp) g/(mc l)]]].
+        let (mc, mp, l, g) = (1.0f64, 0.1, 0.5, 9.81);
+        let a = Matrix4::new(
+            0.0,
+            0.0,
+            1.0,
+            0.0, //
+            0.0,
+            0.0,
+            0.0,
+            1.0, //
+            0.0,
+            mp * g / mc,
+            0.0,
+            0.0, //
+            0.0,
+            (mc + mp) * g / (mc * l),
+            0.0,
+            0.0,
+        );
+        let b = Matrix4x1::new(0.0, 0.0, 1.0 / mc, 1.0 / (mc * l));
+        let (ad, bd) = discretize(&a, &b, 0.01).expect("finite");
+        let q = Matrix4::from_diagonal(&nalgebra::Vector4::new(1.0, 10.0, 0.1, 0.1));
+        let r = Matrix1::new(0.1);
+        let tight = lqr_gain(&ad, &bd, &q, &r, 1e-13, 100_000).expect("stabilizable");
+        for tolerance in [0.5, 0.1, 1e-2, 1e-4, 1e-8, 1e-12] {
+            let k = lqr_gain(&ad, &bd, &q, &r, tolerance, 100_000).expect("stabilizable");
+            let closed: Matrix4<f64> = ad - bd * k;
+            let rho = closed
+                .complex_eigenvalues()
+                .iter()
+                .fold(0.0f64, |m, z| m.max(z.re.hypot(z.im)));
+            assert!(rho < 1.0, "tolerance {tolerance}: ρ = {rho}");
+            if tolerance <= 1e-8 {
+                assert!((k - tight).amax() < 1e-4 * tight.amax(), "{k} vs {tight}");
+            }
+        }
+    }
 
     /// The double integrator: `A_d = [[1, h], [0, 1]]`, `B_d = [h²/2, h]`.
     #[test]

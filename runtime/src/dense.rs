@@ -55,8 +55,8 @@ where
     }
     let w = chol.solve(&a.transpose());
     let gram = a * w;
-    let ldlt = PivotedLdlt::new(&gram);
-    let lambda = ldlt.solve(&(b - a * acc));
+    let ldlt = PivotedLdlt::factor(&gram);
+    let lambda = ldlt.solve_unchecked(&(b - a * acc));
     let qdd = acc + w * lambda;
     // The actual system's constraint force (the auxiliary one's λ carries
     // the added s AᵀA term).

@@ -61,6 +61,13 @@ pub enum GibbsAppellError {
     /// violates its rows of `A q̈ = b` by more than `√ε` (relative). The
     /// generalized-inverse form is better conditioned.
     IllConditioned,
+    /// The result violates a row of `A q̈ = b` that the partition left out
+    /// by more than `√ε` (relative): the form enforces `r` rows and answers
+    /// only where the others follow from them, i.e. on the surface where a
+    /// redundant model's extra rows depend on the rest. Off it (a redundant
+    /// row independent, `A` of rank above `r`), no `q̈` of the form satisfies
+    /// every row; the generalized-inverse form says what does.
+    Inconsistent,
 }
 
 impl fmt::Display for GibbsAppellError {
@@ -76,6 +83,11 @@ impl fmt::Display for GibbsAppellError {
             GibbsAppellError::IllConditioned => {
                 "the Gibbs–Appell form is too ill-conditioned at this state to give q̈ to \
                  working precision (use the generalized-inverse form)"
+            }
+            GibbsAppellError::Inconsistent => {
+                "the Gibbs–Appell acceleration violates a row of A q̈ = b outside its partition \
+                 (off the surface where the redundant rows depend on the others; use the \
+                 generalized-inverse form)"
             }
             GibbsAppellError::NonFinite => {
                 "the Gibbs–Appell acceleration is not finite (non-finite input, or a result \
@@ -141,7 +153,8 @@ pub enum IntegrationError<T> {
     },
     /// A setting that cannot work, found before any step: a step size,
     /// tolerance, rate or sample time that is not positive and finite (or
-    /// out of order), or a zero step budget.
+    /// out of order), a zero step budget, a non-finite end time, or a
+    /// starting state whose `t`, `q` or `q̇` is not finite.
     InvalidParameter,
 }
 
@@ -175,7 +188,8 @@ impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
             ),
             IntegrationError::InvalidParameter => f.write_str(
                 "invalid setting: step sizes, tolerances and stabilization parameters must be \
-                 positive and finite, sample times ordered",
+                 positive and finite, sample times ordered, the starting state and end time \
+                 finite",
             ),
         }
     }

@@ -90,7 +90,10 @@ pub fn system<
 
 /// `q̈` from the Gibbs–Appell system, solved through its block structure:
 /// the reduced (positive definite) block for `q̈_I` by Cholesky, then the
-/// `r` chosen rows of `A q̈ = b` for `q̈_e`.
+/// `r` chosen rows of `A q̈ = b` for `q̈_e`. Checked after the fact: the
+/// chosen rows must hold to `√ε` (relative; else `IllConditioned`) and so
+/// must every other row of `A q̈ = b` (else `Inconsistent`: off a redundant
+/// model's surface).
 pub fn acceleration<
     T: RealField + Copy,
     const N: usize,
@@ -156,6 +159,13 @@ pub fn acceleration<
         } else {
             GibbsAppellError::NonFinite
         });
+    }
+    // And so must every other row: the form's promise is A q̈ = b, which
+    // the partition's rows imply only where the rest depend on them (a
+    // redundant model on its surface). Off it the left-out row is violated
+    // (the redundant double pendulum at 1e-8 scale: relative 1.01).
+    if K > R && crate::rank::relative_residual(a, b, &qdd) > T::default_epsilon().sqrt() {
+        return Err(GibbsAppellError::Inconsistent);
     }
     Ok(qdd)
 }

@@ -40,7 +40,9 @@ pub fn rank_tolerance<T: RealField + Copy>() -> T {
 /// which removes them from the system. Factor once with
 /// [`PivotedLdlt::new`], then [`solve`](PivotedLdlt::solve) for any number
 /// of right-hand sides. `O(K³)` operations on the stack; never divides by
-/// zero.
+/// zero. Non-finite input is refused (`None`), and so is a solution beyond
+/// `T`'s range (`S = 5e-324 I`: `λ = 2e323 r`), rather than returned as
+/// NaN or infinite.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PivotedLdlt<T, const K: usize> {
     /// Unit lower factor, rows in the original order, columns by step.
@@ -53,8 +55,34 @@ pub struct PivotedLdlt<T, const K: usize> {
 
 impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
     /// Factors `s` (only its values are read; it need not be definite).
+    /// `None` when an entry of `s` is not finite.
+    #[must_use]
+    pub fn new(s: &SMatrix<T, K, K>) -> Option<Self> {
+        if s.iter().all(|x| x.is_finite()) {
+            Some(Self::factor(s))
+        } else {
+            None
+        }
+    }
+
+    /// `λ = S^{1} r` with the {1}-inverse `Pᵀ L⁻ᵀ D⁺ L⁻¹ P`: for a
+    /// consistent system (`r` in the range of `S`) `S λ = r`, and `Aᵀλ` is
+    /// the same as with the Moore–Penrose inverse. `None` when `r` or the
+    /// result is not finite: the exact solution is beyond `T`'s range (a
+    /// subnormal pivot), never returned as NaN or infinite entries.
+    #[must_use]
+    pub fn solve(&self, r: &SVector<T, K>) -> Option<SVector<T, K>> {
+        if !r.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let lambda = self.solve_unchecked(r);
+        lambda.iter().all(|x| x.is_finite()).then_some(lambda)
+    }
+
+    /// [`new`](Self::new) without the finiteness check, for the runtime's
+    /// own solvers, which check their results.
     #[inline]
-    pub fn new(s: &SMatrix<T, K, K>) -> Self {
+    pub(crate) fn factor(s: &SMatrix<T, K, K>) -> Self {
         let tol = rank_tolerance::<T>();
         let mut a = *s; // Schur complements, in the original row order
         let mut l = SMatrix::<T, K, K>::zeros();
@@ -115,12 +143,12 @@ impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
         (0..K).any(|step| self.order[step] == row && self.d[step] != T::zero())
     }
 
-    /// `λ = S^{1} r` with the {1}-inverse `Pᵀ L⁻ᵀ D⁺ L⁻¹ P`: for a
-    /// consistent system (`r` in the range of `S`) `S λ = r`, and `Aᵀλ` is
-    /// the same as with the Moore–Penrose inverse.
+    /// [`solve`](Self::solve) without the finiteness check: a result
+    /// beyond `T`'s range comes back as infinite or NaN entries (the
+    /// runtime's solvers check what they derive from it).
     #[inline]
     #[must_use]
-    pub fn solve(&self, r: &SVector<T, K>) -> SVector<T, K> {
+    pub(crate) fn solve_unchecked(&self, r: &SVector<T, K>) -> SVector<T, K> {
         let (l, d, order) = (&self.l, &self.d, &self.order);
         // Solve L y = P r, z = D⁺ y, Lᵀ w = z, λ = Pᵀ w.
         let mut y = SVector::<T, K>::zeros();
@@ -161,7 +189,7 @@ mod tests {
     fn solves_a_definite_system() {
         let s = Matrix3::new(4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0);
         let r = Vector3::new(1.0, -2.0, 0.5);
-        let lambda = PivotedLdlt::new(&s).solve(&r);
+        let lambda = PivotedLdlt::new(&s).unwrap().solve(&r).unwrap();
         assert!((s * lambda - r).norm() < 1e-14);
     }
 
@@ -171,9 +199,9 @@ mod tests {
         let b = nalgebra::Matrix3x2::new(1.0, 2.0, 0.5, -1.0, 1.5, 1.0);
         let s = b * b.transpose();
         let r = s * Vector3::new(0.3, -0.7, 1.1);
-        let ldlt = PivotedLdlt::new(&s);
+        let ldlt = PivotedLdlt::new(&s).unwrap();
         assert_eq!(ldlt.rank(), 2);
-        let lambda = ldlt.solve(&r);
+        let lambda = ldlt.solve(&r).unwrap();
         assert!(
             (s * lambda - r).norm() < 1e-12,
             "{}",
@@ -182,16 +210,47 @@ mod tests {
         // S G S = S for the {1}-inverse G applied column by column.
         for j in 0..3 {
             let col = s.column(j).into_owned();
-            assert!((s * ldlt.solve(&col) - col).norm() < 1e-12);
+            assert!((s * ldlt.solve(&col).unwrap() - col).norm() < 1e-12);
         }
     }
 
     #[test]
     fn zero_matrix_gives_zero() {
-        let ldlt = PivotedLdlt::new(&Matrix3::<f64>::zeros());
+        let ldlt = PivotedLdlt::new(&Matrix3::<f64>::zeros()).unwrap();
         assert_eq!(ldlt.rank(), 0);
-        let lambda = ldlt.solve(&Vector3::new(1.0, 2.0, 3.0));
+        let lambda = ldlt.solve(&Vector3::new(1.0, 2.0, 3.0)).unwrap();
         assert_eq!(lambda, Vector3::zeros());
+    }
+
+    /// `S = 5e-324 I` gave `[NaN, NaN, inf]` for `r = [1, 1, 1]` (the
+    /// exact `λ = 2e323` overflows): `None` now. A subnormal `S` whose
+    /// solution is representable is still solved (to the few digits a
+    /// subnormal holds).
+    #[test]
+    fn subnormal_pivots_give_a_finite_solution_or_none() {
+        let tiny = f64::from_bits(1); // 5e-324
+        let ldlt = PivotedLdlt::new(&(Matrix3::identity() * tiny)).unwrap();
+        assert_eq!(ldlt.solve(&Vector3::new(1.0, 1.0, 1.0)), None);
+        let s = Matrix3::from_diagonal(&Vector3::new(1e-310, 2e-310, 4e-310));
+        let lambda = PivotedLdlt::new(&s)
+            .unwrap()
+            .solve(&Vector3::new(1e-310, 1e-310, 1e-310))
+            .unwrap();
+        for (got, want) in lambda.iter().zip([1.0f64, 0.5, 0.25]) {
+            assert!((got - want).abs() < 1e-12 * want, "{lambda}");
+        }
+    }
+
+    /// Non-finite input is refused, not factored into NaN.
+    #[test]
+    fn non_finite_input_is_refused() {
+        for bad in [f64::NAN, f64::INFINITY] {
+            let mut s = Matrix3::<f64>::identity();
+            s[(1, 2)] = bad;
+            assert!(PivotedLdlt::new(&s).is_none());
+            let ldlt = PivotedLdlt::new(&Matrix3::<f64>::identity()).unwrap();
+            assert_eq!(ldlt.solve(&Vector3::new(1.0, bad, 0.0)), None);
+        }
     }
 
     #[test]

@@ -19,6 +19,7 @@ pub mod integrate;
 pub mod inverse;
 mod level;
 pub mod linearize;
+mod pow2;
 pub mod rank;
 pub mod stabilize;
 mod state;

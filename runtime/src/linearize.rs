@@ -110,14 +110,14 @@ impl<T: RealField + Copy, const N: usize> MassSolve<T, N> {
     fn new(m: SMatrix<T, N, N>) -> Self {
         match Cholesky::new(m) {
             Some(c) => MassSolve::Cholesky(c),
-            None => MassSolve::Ldlt(PivotedLdlt::new(&m)),
+            None => MassSolve::Ldlt(PivotedLdlt::factor(&m)),
         }
     }
 
     fn solve(&self, v: &SVector<T, N>) -> SVector<T, N> {
         match self {
             MassSolve::Cholesky(c) => c.solve(v),
-            MassSolve::Ldlt(l) => l.solve(v),
+            MassSolve::Ldlt(l) => l.solve_unchecked(v),
         }
     }
 }
@@ -161,9 +161,9 @@ where
         w.set_column(r, &column);
     }
     let gram = a * w;
-    let ldlt = PivotedLdlt::new(&gram);
+    let ldlt = PivotedLdlt::factor(&gram);
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
-    let lam = ldlt.solve(&(w.transpose() * force));
+    let lam = ldlt.solve_unchecked(&(w.transpose() * force));
     let mut f_tilde = SMatrix::<T, N, D>::zeros();
     let mut b_tilde = SMatrix::<T, K, D>::zeros();
     system.tangent_rhs(q, qd, t, &qdd, &lam, &mut f_tilde, &mut b_tilde);
@@ -175,7 +175,7 @@ where
             f_c += a.transpose() * (b_c * s);
         }
         let unconstrained = mass.solve(&f_c);
-        let mu = ldlt.solve(&(b_c - a * unconstrained));
+        let mu = ldlt.solve_unchecked(&(b_c - a * unconstrained));
         let dqdd = unconstrained + w * mu;
         if c < N {
             jac.dq.set_column(c, &dqdd);

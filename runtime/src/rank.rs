@@ -271,7 +271,7 @@ where
             .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
         cut = cut.max(sorted[max_rank]);
     }
-    let y = svd.solve(&scaled_r, cut);
+    let y = svd.solve(&scaled_r, cut).ok_or(DynamicsError::NonFinite)?;
     let z = l
         .transpose()
         .solve_upper_triangular(&y)

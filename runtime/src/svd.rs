@@ -8,6 +8,7 @@
 //! One-sided Jacobi is short, needs no bidiagonalisation, and computes small
 //! singular values to high relative accuracy.
 
+use crate::pow2::{exponent, ldexp};
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// Sweeps after which an input is declared non-convergent (only non-finite
@@ -20,40 +21,66 @@ const MAX_SWEEPS: usize = 64;
 ///
 /// Jacobi is applied to the columns of `B = Xᵀ` (`C × R`): `B V = W` with
 /// orthogonal columns `wᵢ` of norms `σᵢ`, so that `X = V Σ Uᵀ` with
-/// `uᵢ = wᵢ/σᵢ` and `X⁺ r = Σᵢ wᵢ (vᵢ · r) / σᵢ²`.
+/// `uᵢ = wᵢ/σᵢ` and `X⁺ r = Σᵢ wᵢ (vᵢ · r) / σᵢ²`. `X` is first scaled by
+/// a power of two (exactly) to a largest entry near 1, so that no squared
+/// norm overflows or underflows for an input whose entries are finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JacobiSvd<T, const R: usize, const C: usize> {
+    /// `B V` of the scaled `X`.
     w: SMatrix<T, C, R>,
     v: SMatrix<T, R, R>,
+    /// `X = 2^scale · X_scaled`.
+    scale: i32,
 }
 
 impl<T: RealField + Copy, const R: usize, const C: usize> JacobiSvd<T, R, C> {
-    /// Decomposes `x`. `None` when the rotations do not converge, which
-    /// happens only for non-finite input.
+    /// Decomposes `x`. `None` when an entry of `x` is not finite, or its
+    /// largest singular value is beyond `T`'s range (up to `√(R C)` times
+    /// the largest entry), or the rotations do not converge (not observed
+    /// for finite input).
     pub fn new(x: &SMatrix<T, R, C>) -> Option<Self> {
-        let (w, v) = orthogonalize(x.transpose())?;
-        Some(JacobiSvd { w, v })
+        if !x.iter().all(|e| e.is_finite()) {
+            return None;
+        }
+        let largest = x.amax();
+        let scale = if largest > T::zero() {
+            exponent(largest)
+        } else {
+            0
+        };
+        let (w, v) = orthogonalize(x.map(|e| ldexp(e, -scale)).transpose())?;
+        let svd = JacobiSvd { w, v, scale };
+        svd.singular_values()
+            .iter()
+            .all(|s| s.is_finite())
+            .then_some(svd)
     }
 
     /// The singular values, in no particular order (`min(R, C)` of them
     /// are meaningful; the others are zero).
     #[must_use]
     pub fn singular_values(&self) -> SVector<T, R> {
-        SVector::from_fn(|i, _| self.w.column(i).norm())
+        SVector::from_fn(|i, _| ldexp(self.w.column(i).norm(), self.scale))
     }
 
     /// `X⁺ r`, the minimum-norm least-squares solution of `X y = r`, with
-    /// singular values at or below `cut` counted as zero.
+    /// singular values at or below `cut` counted as zero. `None` when `r`
+    /// or the solution is not finite (the solution is beyond `T`'s range).
     #[must_use]
-    pub fn solve(&self, r: &SVector<T, R>, cut: T) -> SVector<T, C> {
+    pub fn solve(&self, r: &SVector<T, R>, cut: T) -> Option<SVector<T, C>> {
+        if !r.iter().all(|e| e.is_finite()) {
+            return None;
+        }
+        // X⁺ = 2^{-scale} X_scaled⁺.
         let mut y = SVector::<T, C>::zeros();
         for i in 0..R {
             let sigma2 = self.w.column(i).norm_squared();
-            if sigma2.sqrt() > cut {
+            if ldexp(sigma2.sqrt(), self.scale) > cut && sigma2 > T::zero() {
                 y += self.w.column(i) * (self.v.column(i).dot(r) / sigma2);
             }
         }
-        y
+        let y = y.map(|e| ldexp(e, -self.scale));
+        y.iter().all(|e| e.is_finite()).then_some(y)
     }
 }
 
@@ -162,7 +189,8 @@ mod tests {
         let svd = JacobiSvd::new(&x).unwrap();
         let cut = 1e-10 * svd.singular_values().max();
         // X⁺ applied to each unit vector gives X⁺ column by column.
-        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut)[i]);
+        let xp =
+            SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut).unwrap()[i]);
         assert!((x * xp * x - x).norm() < 1e-13 * x.norm()); // (1)
         assert!((xp * x * xp - xp).norm() < 1e-12 * xp.norm()); // (2)
         assert!(((x * xp).transpose() - x * xp).norm() < 1e-13); // (3)
@@ -194,15 +222,47 @@ mod tests {
         let rank = sv.iter().filter(|&&s| s > 1e-10 * sv.max()).count();
         assert_eq!(rank, 2, "{sv}");
         let cut = 1e-8 * sv.max();
-        let xp = SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut)[i]);
+        let xp =
+            SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut).unwrap()[i]);
         assert!((x * xp * x - x).norm() < 1e-13 * x.norm());
         assert!((xp * x * xp - xp).norm() < 1e-12 * xp.norm());
     }
 
     #[test]
     fn non_finite_input_is_reported() {
-        let mut x = redundant_pendulum_x();
-        x[(0, 0)] = f64::NAN;
-        assert!(JacobiSvd::new(&x).is_none());
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut x = redundant_pendulum_x();
+            x[(0, 0)] = bad;
+            assert!(JacobiSvd::new(&x).is_none(), "{bad}");
+        }
+        // An infinite matrix was `Some`, and its solve NaN.
+        assert!(JacobiSvd::new(&SMatrix::<f64, 2, 3>::repeat(f64::INFINITY)).is_none());
+        let svd = JacobiSvd::new(&redundant_pendulum_x()).unwrap();
+        assert_eq!(svd.solve(&Vector3::new(1.0, f64::NAN, 0.0), 0.0), None);
+    }
+
+    /// Entries near the ends of the range: the squared column norms
+    /// overflowed (1e200) or underflowed (1e-200) and the singular values
+    /// came out infinite or zero. Scaled by a power of two, the singular
+    /// values and `X⁺` are those of the unscaled matrix times the scale,
+    /// bit for bit.
+    #[test]
+    fn extreme_magnitudes_are_decomposed_exactly_scaled() {
+        let x = redundant_pendulum_x();
+        let reference = JacobiSvd::new(&x).unwrap();
+        let r = Vector3::new(0.3, -1.2, 0.7);
+        let cut = 1e-8 * reference.singular_values().max();
+        let y = reference.solve(&r, cut).unwrap();
+        for k in [-1000, -700, 700, 1000] {
+            let scale = 2f64.powi(k);
+            let svd = JacobiSvd::new(&(x * scale)).expect("finite");
+            assert_eq!(svd.singular_values(), reference.singular_values() * scale);
+            assert_eq!(svd.solve(&r, cut * scale), Some(y / scale), "2^{k}");
+        }
+        // Beyond the range: the largest singular value (√15 · 1e308) is not
+        // representable; the solution of a subnormal matrix overflows.
+        assert!(JacobiSvd::new(&SMatrix::<f64, 3, 5>::repeat(1e308)).is_none());
+        let tiny = JacobiSvd::new(&SMatrix::<f64, 3, 5>::repeat(5e-324)).unwrap();
+        assert_eq!(tiny.solve(&Vector3::new(1.0, 1.0, 1.0), 0.0), None);
     }
 }

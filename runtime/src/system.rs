@@ -16,6 +16,10 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// Whether each constraint is position level (differentiated twice) or
     /// velocity level (once).
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
+    /// The model's redundancy: `K` less the rank of `A` at consistent
+    /// states (measured by the macro); 0 unless some rows depend on the
+    /// others on the constraint surface.
+    const REDUNDANCY: usize = 0;
 
     /// `M(q, t)`.
     fn mass_matrix(&self, state: &State<T, N>) -> SMatrix<T, N, N>;
@@ -54,7 +58,11 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
         state: &State<T, N>,
     ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>;
     /// `q̈` from the Gibbs–Appell system; equal to
-    /// [`acceleration`](Self::acceleration) wherever both are defined.
+    /// [`acceleration`](Self::acceleration) wherever both are defined. An
+    /// `Ok` satisfies every row of `A q̈ = b` to `√ε` (relative), not only
+    /// the `r` rows of its partition: off the surface of a redundant model,
+    /// where a redundant row is independent, it is
+    /// `Err(GibbsAppellError::Inconsistent)`.
     fn acceleration_gibbs_appell(
         &self,
         state: &State<T, N>,
@@ -179,6 +187,7 @@ where
     S: Generated<T, N, K>,
 {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
+    const REDUNDANCY: usize = K - <S as Generated<T, N, K>>::GENERIC_RANK;
 
     #[inline]
     fn mass_matrix(&self, s: &State<T, N>) -> SMatrix<T, N, N> {

@@ -269,12 +269,15 @@ where
     Ok(stats)
 }
 
-/// Validates the end time and returns the span to cover.
+/// Validates the starting state and the end time and returns the span to
+/// cover. A non-finite `t`, `q` or `q̇` is refused up front: from
+/// `t = NaN` every comparison is false, and the loops returned `Ok` after
+/// no step with `t` still NaN.
 fn span<T: RealField + Copy, const N: usize>(
     state: &State<T, N>,
     t_end: T,
 ) -> Result<T, IntegrationError<T>> {
-    if !t_end.is_finite() {
+    if !(t_end.is_finite() && state.is_finite()) {
         return Err(IntegrationError::InvalidParameter);
     }
     if t_end < state.t {
