@@ -1,0 +1,171 @@
+//! Issue 30: the Jacobians of `q̈` never answer `Ok` where `acceleration`
+//! does not, nor with entries that are not the derivative of the `q̈` it
+//! returned: at extreme states (overflow, underflow, `f32`) and near the
+//! four-bar's branch point, where `acceleration` recomputes the rank
+//! decision of its fast solve. The truth is the library's own
+//! `acceleration`, by central differences where those converge.
+
+use constrained::models::*;
+use constrained::nalgebra::{RealField, SVector};
+use constrained::{DynamicsError, Jacobians};
+
+/// The inherent methods return a plain value or a `Result`, as
+/// `acceleration` does for the model: one shape for the tests.
+trait Answer<V> {
+    fn answer(self) -> Result<V, DynamicsError>;
+}
+
+impl<V> Answer<V> for Result<V, DynamicsError> {
+    fn answer(self) -> Result<V, DynamicsError> {
+        self
+    }
+}
+
+impl<T, const N: usize, const NU: usize> Answer<Jacobians<T, N, NU>> for Jacobians<T, N, NU> {
+    fn answer(self) -> Result<Jacobians<T, N, NU>, DynamicsError> {
+        Ok(self)
+    }
+}
+
+impl<T: RealField, const N: usize> Answer<SVector<T, N>> for SVector<T, N> {
+    fn answer(self) -> Result<SVector<T, N>, DynamicsError> {
+        Ok(self)
+    }
+}
+
+/// Whether every entry is finite.
+fn finite<T: RealField + Copy, const N: usize, const NU: usize>(j: &Jacobians<T, N, NU>) -> bool {
+    j.is_finite()
+}
+
+/// `acceleration` and `acceleration_jacobian` of `$system` at `($q, $qd)`,
+/// as `Result`s.
+macro_rules! both {
+    ($system:expr, $q:expr, $qd:expr) => {{
+        let (q, qd) = ($q, $qd);
+        let acc = $system.acceleration(&q, &qd, 0.0).answer();
+        let jac = $system.acceleration_jacobian(&q, &qd, 0.0).answer();
+        (acc, jac)
+    }};
+}
+
+/// Central differences of `acceleration` along coordinate or velocity `c`
+/// with step `h`, `None` where either side fails.
+macro_rules! central {
+    ($system:expr, $q:expr, $qd:expr, $c:expr, $n:expr, $h:expr) => {{
+        let (mut qp, mut qm, mut qdp, mut qdm) = ($q, $q, $qd, $qd);
+        if $c < $n {
+            qp[$c] += $h;
+            qm[$c] -= $h;
+        } else {
+            qdp[$c - $n] += $h;
+            qdm[$c - $n] -= $h;
+        }
+        let plus = $system.acceleration(&qp, &qdp, 0.0).answer();
+        let minus = $system.acceleration(&qm, &qdm, 0.0).answer();
+        match (plus, minus) {
+            (Ok(p), Ok(m)) => Some((p - m) / (2.0 * $h)),
+            _ => None,
+        }
+    }};
+}
+
+/// Where `acceleration` is `Err(NonFinite)` the Jacobian is an `Err` too,
+/// never an `Ok` (the crane once answered `Ok` at 1e154: its row scaled to
+/// finite values hid the overflow of `A M⁻¹ Aᵀ` that sends `acceleration`
+/// to the runtime's check).
+#[test]
+fn the_jacobian_is_err_wherever_acceleration_is_err_at_overflowing_states() {
+    let crane = Crane::<f64>::new(5.0, 1.0, 2.0, 9.81, 0.1, 4.0, 3.0, 20.0, 1.0);
+    let big = SVector::<f64, 3>::from_element(1e154);
+    let (acc, jac) = both!(crane, big, big);
+    assert_eq!(
+        acc.err(),
+        Some(DynamicsError::NonFinite),
+        "crane acceleration at 1e154"
+    );
+    assert!(jac.is_err(), "crane Jacobian at 1e154: {jac:?}");
+
+    let sphere = SphericalPendulum::<f32>::new(1.5, 9.81, 1.2);
+    let bead = BeadOnRotatingHoop::<f32>::new(0.5, 9.81, 1.0, 2.0);
+    let big = SVector::<f32, 3>::from_element(1e19);
+    for (name, acc, ok) in [
+        {
+            let (q, qd) = (big, big);
+            let acc = sphere.acceleration(&q, &qd, 0.0).answer();
+            let jac = sphere.acceleration_jacobian(&q, &qd, 0.0).answer();
+            ("spherical pendulum", acc, jac.map(|j| finite(&j)))
+        },
+        {
+            let (q, qd) = (big, big);
+            let acc = bead.acceleration(&q, &qd, 0.0).answer();
+            let jac = bead.acceleration_jacobian(&q, &qd, 0.0).answer();
+            ("bead on hoop", acc, jac.map(|j| finite(&j)))
+        },
+    ] {
+        if acc.is_err() {
+            assert!(
+                ok.is_err(),
+                "{name} (f32, 1e19): acceleration {acc:?}, Jacobian Ok"
+            );
+        } else {
+            assert_eq!(ok, Ok(true), "{name} (f32, 1e19): an Ok Jacobian is finite");
+        }
+    }
+}
+
+/// Near the parallelogram four-bar's branch point `acceleration` finds the
+/// fast solve's dropped row violated and recomputes with every row kept:
+/// the Jacobian must be the derivative of that `q̈`, equal to central
+/// differences of `acceleration` wherever they converge (two steps 10×
+/// apart agreeing to 1e-7), or an `Err`. It once gave ∂p̈₁/∂p₁ = −2.29
+/// at θ = 1e-4 where the differences converge to 5.6058e4.
+#[test]
+fn the_four_bar_jacobian_near_its_branch_point_is_the_derivative_of_acceleration() {
+    let four_bar = ParallelogramFourBar::<f64>::new(1.2, 0.15, 1.0, 2.0, 9.81);
+    let mut compared = 0;
+    for theta in [
+        1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7, 1e-8,
+    ] {
+        let state = four_bar_state(&four_bar, theta, 1.3);
+        let (q, qd) = (state.q, state.qd);
+        let jac = match four_bar.acceleration_jacobian(&q, &qd, 0.0) {
+            Ok(j) => j,
+            Err(e) => {
+                println!("θ = {theta:e}: {e:?}");
+                continue;
+            }
+        };
+        assert!(jac.is_finite(), "θ = {theta:e}: an Ok Jacobian is finite");
+        for c in 0..18 {
+            let column = if c < 9 {
+                jac.dq.column(c)
+            } else {
+                jac.dqd.column(c - 9)
+            };
+            // Steps relative to θ, so that the differences stay on one side
+            // of the branch point.
+            let h = theta * 1e-3;
+            let (Some(d1), Some(d2)) = (
+                central!(four_bar, q, qd, c, 9, h),
+                central!(four_bar, q, qd, c, 9, h / 10.0),
+            ) else {
+                continue;
+            };
+            let scale = d2.amax().max(1e-300);
+            if (d1 - d2).amax() > 1e-7 * scale {
+                continue; // the differences have not converged
+            }
+            compared += 1;
+            let err = (column - d2).amax() / scale;
+            assert!(
+                err < 1e-6,
+                "θ = {theta:e}, column {c}: Jacobian {:?} against central differences {:?} ({err:e})",
+                column.as_slice(),
+                d2.as_slice()
+            );
+        }
+    }
+    println!("{compared} columns equal to converged central differences");
+    assert!(compared > 100, "only {compared} columns compared");
+}
