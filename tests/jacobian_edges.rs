@@ -169,3 +169,145 @@ fn the_four_bar_jacobian_near_its_branch_point_is_the_derivative_of_acceleration
     println!("{compared} columns equal to converged central differences");
     assert!(compared > 100, "only {compared} columns compared");
 }
+
+/// Central differences of `acceleration` along every coordinate and
+/// velocity with steps relative to each component, where two steps 10×
+/// apart agree to 1e-7 of the column: `(column, difference)` pairs.
+macro_rules! converged_columns {
+    ($system:expr, $q:expr, $qd:expr, $n:expr) => {{
+        let mut out = Vec::new();
+        for c in 0..2 * $n {
+            let x: f64 = if c < $n { $q[c] } else { $qd[c - $n] };
+            let h = x.abs().max(1e-300) * 1e-5;
+            if let (Some(d1), Some(d2)) = (
+                central!($system, $q, $qd, c, $n, h),
+                central!($system, $q, $qd, c, $n, h / 10.0),
+            ) {
+                let scale = d2.amax();
+                if scale.is_finite() && (d1 - d2).amax() <= 1e-7 * scale {
+                    out.push((c, d2));
+                }
+            }
+        }
+        out
+    }};
+}
+
+/// At extreme states an `Ok` Jacobian is finite and the derivative of
+/// `acceleration`: `AppellTimeDependent` at q̇ = 1e154 (`A M⁻¹ Aᵀ`
+/// overflows), `RigidBodyQuaternion` and `Appell` at 1e-154.
+#[test]
+fn an_ok_jacobian_at_extreme_states_is_the_derivative_of_acceleration() {
+    macro_rules! probe {
+        ($system:expr, $n:literal, $q:expr, $qd:expr) => {{
+            let (q, qd): (SVector<f64, $n>, SVector<f64, $n>) = ($q, $qd);
+            let (acc, jac) = both!($system, q, qd);
+            println!("{}: acceleration {acc:?}", stringify!($system));
+            match jac {
+                Err(e) => println!("  Jacobian {e:?}"),
+                Ok(j) => {
+                    let columns = converged_columns!($system, q, qd, $n);
+                    let mut worst = 0.0f64;
+                    for (c, d) in &columns {
+                        let column = if *c < $n {
+                            j.dq.column(*c).into_owned()
+                        } else {
+                            j.dqd.column(*c - $n).into_owned()
+                        };
+                        let err = (column - d).amax() / d.amax().max(f64::MIN_POSITIVE);
+                        if err.is_nan() || err > 1e-6 {
+                            println!(
+                                "  column {c}: {:?} against {:?}",
+                                column.as_slice(),
+                                d.as_slice()
+                            );
+                        }
+                        worst = worst.max(if err.is_nan() { f64::INFINITY } else { err });
+                    }
+                    println!(
+                        "  Jacobian Ok, finite {}, {} columns compared, worst {worst:e}",
+                        j.is_finite(),
+                        columns.len()
+                    );
+                    assert!(
+                        j.is_finite(),
+                        "{}: an Ok Jacobian is finite",
+                        stringify!($system)
+                    );
+                    assert!(worst <= 1e-6, "{}: {worst:e}", stringify!($system));
+                }
+            }
+        }};
+    }
+    let appell_t = AppellTimeDependent::<f64>::new(9.81, 0.7);
+    probe!(
+        appell_t,
+        3,
+        SVector::from([1.0, 1.0, 1.0]),
+        SVector::from_element(1e154)
+    );
+    let appell = Appell::<f64>::new(9.81, 0.7);
+    probe!(
+        appell,
+        3,
+        SVector::from_element(1e-154),
+        SVector::from_element(1e-154)
+    );
+    let body = RigidBodyQuaternion::<f64>::new(1.0, 2.0, 3.0);
+    probe!(
+        body,
+        4,
+        SVector::from_element(1e-154),
+        SVector::from_element(1e-154)
+    );
+}
+
+/// `f32` at 1e-40 (subnormal): the true derivative (≈4e40) overflows
+/// `f32`, so the Jacobian must be an `Err`, not the all-zero `dq` it once
+/// was; wherever an `f32` Jacobian is `Ok`, it is finite and agrees with
+/// the `f64` one at the same state.
+#[test]
+fn f32_jacobians_at_subnormal_states_are_err_or_the_f64_derivative() {
+    macro_rules! probe {
+        ($model:ident, $n:literal, $fallible:literal, [$($p:expr),*]) => {{
+            let (s32, s64) = ($model::<f32>::new($($p as f32),*), $model::<f64>::new($($p),*));
+            let x = 1e-40f32;
+            let (q32, q64) = (SVector::<f32, $n>::from_element(x), SVector::<f64, $n>::from_element(f64::from(x)));
+            let j32 = s32.acceleration_jacobian(&q32, &q32, 0.0).answer();
+            let j64 = s64.acceleration_jacobian(&q64, &q64, 0.0).answer();
+            println!(
+                "{}: f32 {:?}, f64 {:?}",
+                stringify!($model),
+                j32.as_ref().map(|j| j.dq.amax().max(j.dqd.amax())),
+                j64.as_ref().map(|j| j.dq.amax().max(j.dqd.amax()))
+            );
+            // A plain-valued Jacobian (constant `M`) says "no derivative" by
+            // non-finite entries, as it does for one that overflows.
+            let plain = !$fallible;
+            let overflows = j64.as_ref().map_or(true, |j| {
+                !j.is_finite() || j.dq.amax().max(j.dqd.amax()) > f64::from(f32::MAX)
+            });
+            if let (true, Ok(j)) = (plain && overflows, &j32) {
+                assert!(!j.is_finite(), "{}: f32 finite where the derivative overflows", stringify!($model));
+            } else if let Ok(j) = j32 {
+                assert!(j.is_finite(), "{}: an Ok f32 Jacobian is finite", stringify!($model));
+                let j64 = j64.expect("f64 Jacobian where the f32 one is Ok");
+                for (a, b) in [(j.dq, j64.dq), (j.dqd, j64.dqd)] {
+                    let a = a.map(f64::from);
+                    let err = (a - b).amax() / b.amax().max(f64::MIN_POSITIVE);
+                    assert!(err < 1e-3, "{}: f32 {a} against f64 {b}", stringify!($model));
+                }
+            }
+        }};
+    }
+    probe!(SphericalPendulum, 3, true, [1.5, 9.81, 1.2]);
+    probe!(BeadOnRotatingHoop, 3, true, [0.5, 9.81, 1.0, 2.0]);
+    probe!(
+        Crane,
+        3,
+        true,
+        [5.0, 1.0, 2.0, 9.81, 0.1, 4.0, 3.0, 20.0, 1.0]
+    );
+    probe!(DoublePendulum, 4, true, [1.0, 2.0, 1.0, 0.8, 9.81]);
+    probe!(AppellTimeDependent, 3, false, [9.81, 0.7]);
+}

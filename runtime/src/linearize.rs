@@ -155,6 +155,12 @@ where
     } else {
         (m, T::one())
     };
+    // A mass matrix in the range where products underflow (a rigid body's
+    // `M = 4 Gᵀ J G` at `e = 1e-154` is 4e-308) has lost its digits, and
+    // so have the tangent terms made from it: no derivative to trust.
+    if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
+        return not_a_number();
+    }
     let mass = MassSolve::new(m);
     // W = M⁻¹ Aᵀ, S = A W, one factorization of each.
     let mut w = SMatrix::<T, N, K>::zeros();
@@ -248,8 +254,15 @@ where
     // reciprocal overflows).
     let mut scaled = *a;
     let mut largest = SVector::<T, K>::from_element(T::one());
+    // 2^-1022 in f64 (4 over the largest value); NaN, so never below, for
+    // a `T` without one.
+    let smallest_normal = nalgebra::convert::<f64, T>(4.0) / crate::generated::largest::<T>();
     for i in 0..K {
         let x = scaled.row(i).amax();
+        // A subnormal row has lost its digits (f32 at 1e-40).
+        if x > T::zero() && x < smallest_normal {
+            return None;
+        }
         if x > T::zero() {
             scaled.row_mut(i).unscale_mut(x);
             largest[i] = x;
