@@ -311,3 +311,41 @@ fn f32_jacobians_at_subnormal_states_are_err_or_the_f64_derivative() {
     probe!(DoublePendulum, 4, true, [1.0, 2.0, 1.0, 0.8, 9.81]);
     probe!(AppellTimeDependent, 3, false, [9.81, 0.7]);
 }
+
+/// The four-bar near its branch point in `f32` (once wrong for θ ≤ 1e-3):
+/// an `Ok` Jacobian agrees with the `f64` one, which the test above holds
+/// to central differences, to 2e-2 (`f32`'s precision times the
+/// conditioning of `S`: 5e-3 at θ = 3e-3, where the fast solve still keeps
+/// every row; the recomputed solve is within 1e-4 below), or is an `Err`
+/// (θ ≤ 1e-5, where `A`'s smallest singular value is at `f32`'s rounding).
+#[test]
+fn the_f32_four_bar_jacobian_near_its_branch_point_is_err_or_the_f64_one() {
+    let (f32_bar, f64_bar) = (
+        ParallelogramFourBar::<f32>::new(1.2, 0.15, 1.0, 2.0, 9.81),
+        ParallelogramFourBar::<f64>::new(1.2, 0.15, 1.0, 2.0, 9.81),
+    );
+    for theta in [1e-1f32, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 1e-5, 1e-6] {
+        let s32 = four_bar_state(&f32_bar, theta, 1.3);
+        let s64 = four_bar_state(&f64_bar, f64::from(theta), 1.3);
+        let j32 = f32_bar.acceleration_jacobian(&s32.q, &s32.qd, 0.0);
+        let j64 = f64_bar
+            .acceleration_jacobian(&s64.q, &s64.qd, 0.0)
+            .expect("f64 Jacobian");
+        let Ok(j) = j32 else {
+            println!("θ = {theta:e}: f32 {j32:?}");
+            continue;
+        };
+        assert!(j.is_finite());
+        let mut worst = 0.0f64;
+        for (a, b) in [(j.dq, j64.dq), (j.dqd, j64.dqd)] {
+            let a = a.map(f64::from);
+            worst = worst.max((a - b).amax() / b.amax());
+        }
+        let bound = 2e-2;
+        println!("θ = {theta:e}: f32 against f64 {worst:.1e} (bound {bound:.1e})");
+        assert!(
+            worst < bound,
+            "θ = {theta:e}: f32 Jacobian off by {worst:e}"
+        );
+    }
+}
