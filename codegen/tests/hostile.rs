@@ -496,3 +496,84 @@ fn constants_that_overflow_only_when_evaluated_are_rejected() {
         }
     }
 }
+
+/// A seeded family of kinetic energies (issue 30's fuzz of the energy
+/// surface): quadratic forms in two velocities whose coefficients are
+/// random functions of the coordinates and `t` (kinks included) are
+/// accepted; the same forms with one hostile term added (a velocity under
+/// a function or a fractional power, or a term of degree 3 or 4 with a
+/// tiny or far-away coefficient) are rejected with the quadratic error.
+/// None panics.
+#[test]
+fn seeded_kinetic_energies_are_accepted_exactly_when_quadratic() {
+    let mut seed = 0x5eed_0030_u64;
+    let mut next = |n: usize| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) as usize) % n
+    };
+    let coefficients = [
+        "1.0",
+        "(x.cos() + 2.0)",
+        "(x - 5.0).max(0.0)",
+        "y.abs()",
+        "(x * y).hypot(1.0)",
+        "(t.sin() + 1.5)",
+        "x.signum()",
+        "1e-12",
+        "(x - 1.0).sqrt()",
+        "y.clamp(-1.0, 1.0)",
+    ];
+    let monomials = [
+        "dot(x).powi(2)",
+        "dot(y).powi(2)",
+        "dot(x) * dot(y)",
+        "dot(x)",
+        "dot(y)",
+    ];
+    let hostile = [
+        "dot(x).abs() * dot(x)",
+        "dot(y).max(0.0).powi(2)",
+        "dot(x).clamp(-1.0, 1.0).powi(2)",
+        "dot(y).signum() * dot(y).powi(2)",
+        "dot(x).hypot(dot(y))",
+        "dot(x).powi(2).sqrt()",
+        "dot(x).powi(3)",
+        "dot(x).powi(2) * dot(y).powi(2)",
+        "(dot(x) + y).powi(3)",
+        "dot(y).cos()",
+        "dot(x).exp()",
+        "1.0 / (1.0 + dot(x).powi(2))",
+    ];
+    let (mut accepted, mut rejected_count) = (0, 0);
+    for case in 0..120 {
+        let terms: Vec<String> = (0..1 + next(4))
+            .map(|_| {
+                format!(
+                    "{} * {}",
+                    coefficients[next(coefficients.len())],
+                    monomials[next(monomials.len())]
+                )
+            })
+            .collect();
+        // Positive definite for certain: both squares with weight 1.
+        let quadratic = format!("dot(x).powi(2) + dot(y).powi(2) + {}", terms.join(" + "));
+        let bad = format!(
+            "{quadratic} + {} * {}",
+            coefficients[next(coefficients.len())],
+            hostile[next(hostile.len())]
+        );
+        for (t, valid) in [(quadratic, true), (bad, false)] {
+            let body = format!("struct S {{ coordinates: [x, y], kinetic_energy: {t} }}");
+            match (outcome(&body), valid) {
+                (Ok(_), true) => accepted += 1,
+                (Err(e), false) if e.contains("polynomial of degree at most 2") => {
+                    rejected_count += 1
+                }
+                (result, _) => panic!("case {case}, {t}: valid {valid}, got {result:?}"),
+            }
+        }
+    }
+    assert_eq!((accepted, rejected_count), (120, 120));
+}
