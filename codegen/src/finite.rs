@@ -41,94 +41,109 @@ pub struct NonFinite {
     pub value: f64,
 }
 
-/// The first constant subexpression of `g` (in arena order) that is not
-/// finite in `f64` as generated code evaluates it, or `None`.
-pub fn first_non_finite(g: &Graph) -> Option<NonFinite> {
-    // The value of each constant node; `None` for nodes with variables.
+/// Every constant subexpression of `g` (in arena order) that is not finite
+/// in `f64` as generated code evaluates it: the nodes themselves, or the
+/// sums and products one of whose constant parts is not.
+pub fn non_finite(g: &Graph) -> Vec<NonFinite> {
+    // The value of each constant node; `None` for nodes with variables
+    // (and for those already reported).
     let mut value: Vec<Option<f64>> = Vec::with_capacity(g.len());
+    let mut found = Vec::new();
     for id in g.ids() {
-        let report = |v: f64| (!v.is_finite()).then_some(NonFinite { node: id, value: v });
-        let own = match g.node(id) {
-            Node::Num(n) => Some(n.to_f64()),
-            Node::Sym(_) => None,
-            Node::Add(terms, c0) => {
-                let mut bound = c0.to_f64().abs();
-                let mut sum = Some(c0.to_f64());
-                for &(t, c) in terms.iter() {
-                    match value[t.index()] {
-                        Some(v) => {
-                            let term = c.to_f64() * v;
-                            if let Some(bad) = report(term) {
-                                return Some(bad);
-                            }
-                            bound += term.abs();
-                            sum = sum.map(|s| s + term);
-                        }
-                        None => sum = None,
-                    }
-                }
-                if let Some(bad) = report(bound) {
-                    return Some(bad);
-                }
-                sum
+        match node_value(g, id, &value) {
+            Ok(own) => value.push(own),
+            Err(bad) => {
+                found.push(bad);
+                value.push(None);
             }
-            Node::Mul(factors) => {
-                let (mut big_num, mut big_den, mut small_den) = (1.0f64, 1.0f64, 1.0f64);
-                let mut product = Some((1.0f64, 1.0f64));
-                for &(b, e) in factors.iter() {
-                    let Some(base) = value[b.index()] else {
-                        product = None;
-                        continue;
-                    };
-                    let divides = e.is_negative();
-                    let magnitude = if divides { -e } else { e };
-                    // As emitted: the base under the exponent's magnitude,
-                    // a divisor where the exponent is negative.
-                    let p = power(base, magnitude);
-                    if let Some(bad) = report(p) {
-                        return Some(bad);
-                    }
-                    if divides {
-                        big_den *= p.abs().max(1.0);
-                        small_den *= p.abs().min(1.0);
-                    } else {
-                        big_num *= p.abs().max(1.0);
-                    }
-                    product = product.map(|(n, d)| if divides { (n, d * p) } else { (n * p, d) });
-                }
-                for bound in [big_num, big_den] {
-                    if let Some(bad) = report(bound) {
-                        return Some(bad);
-                    }
-                }
-                if small_den == 0.0 {
-                    return Some(NonFinite {
-                        node: id,
-                        value: f64::INFINITY,
-                    });
-                }
-                product.map(|(n, d)| n / d)
-            }
-            Node::Pow([b, x]) => match (value[b.index()], value[x.index()]) {
-                (Some(b), Some(x)) => Some(b.powf(x)),
-                _ => None,
-            },
-            Node::Func(f, args) => {
-                let mut values = [0.0; 2];
-                let mut constant = true;
-                for (v, a) in values.iter_mut().zip(args.as_slice()) {
-                    match value[a.index()] {
-                        Some(x) => *v = x,
-                        None => constant = false,
-                    }
-                }
-                constant.then(|| f.eval(&values[..f.arity()]))
-            }
-        };
-        if let Some(bad) = own.and_then(report) {
-            return Some(bad);
         }
-        value.push(own);
     }
-    None
+    found
+}
+
+/// The value of `id` where it is constant (`None` where it has variables),
+/// given those of the nodes before it, or what of it is not finite.
+fn node_value(g: &Graph, id: Id, value: &[Option<f64>]) -> Result<Option<f64>, NonFinite> {
+    let report = |v: f64| (!v.is_finite()).then_some(NonFinite { node: id, value: v });
+    let own = match g.node(id) {
+        Node::Num(n) => Some(n.to_f64()),
+        Node::Sym(_) => None,
+        Node::Add(terms, c0) => {
+            let mut bound = c0.to_f64().abs();
+            let mut sum = Some(c0.to_f64());
+            for &(t, c) in terms.iter() {
+                match value[t.index()] {
+                    Some(v) => {
+                        let term = c.to_f64() * v;
+                        if let Some(bad) = report(term) {
+                            return Err(bad);
+                        }
+                        bound += term.abs();
+                        sum = sum.map(|s| s + term);
+                    }
+                    None => sum = None,
+                }
+            }
+            if let Some(bad) = report(bound) {
+                return Err(bad);
+            }
+            sum
+        }
+        Node::Mul(factors) => {
+            let (mut big_num, mut big_den, mut small_den) = (1.0f64, 1.0f64, 1.0f64);
+            let mut product = Some((1.0f64, 1.0f64));
+            for &(b, e) in factors.iter() {
+                let Some(base) = value[b.index()] else {
+                    product = None;
+                    continue;
+                };
+                let divides = e.is_negative();
+                let magnitude = if divides { -e } else { e };
+                // As emitted: the base under the exponent's magnitude,
+                // a divisor where the exponent is negative.
+                let p = power(base, magnitude);
+                if let Some(bad) = report(p) {
+                    return Err(bad);
+                }
+                if divides {
+                    big_den *= p.abs().max(1.0);
+                    small_den *= p.abs().min(1.0);
+                } else {
+                    big_num *= p.abs().max(1.0);
+                }
+                product = product.map(|(n, d)| if divides { (n, d * p) } else { (n * p, d) });
+            }
+            for bound in [big_num, big_den] {
+                if let Some(bad) = report(bound) {
+                    return Err(bad);
+                }
+            }
+            if small_den == 0.0 {
+                return Err(NonFinite {
+                    node: id,
+                    value: f64::INFINITY,
+                });
+            }
+            product.map(|(n, d)| n / d)
+        }
+        Node::Pow([b, x]) => match (value[b.index()], value[x.index()]) {
+            (Some(b), Some(x)) => Some(b.powf(x)),
+            _ => None,
+        },
+        Node::Func(f, args) => {
+            let mut values = [0.0; 2];
+            let mut constant = true;
+            for (v, a) in values.iter_mut().zip(args.as_slice()) {
+                match value[a.index()] {
+                    Some(x) => *v = x,
+                    None => constant = false,
+                }
+            }
+            constant.then(|| f.eval(&values[..f.arity()]))
+        }
+    };
+    match own.and_then(report) {
+        Some(bad) => Err(bad),
+        None => Ok(own),
+    }
 }

@@ -86,32 +86,48 @@ fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
             format!("deriving the equations produced a row scale that overflows f64 ({value})"),
         ));
     }
-    let Some(bad) = finite::first_non_finite(&sys.graph) else {
+    let found = finite::non_finite(&sys.graph);
+    let Some(&first) = found.first() else {
         return Ok(());
     };
     let names = |v: &[syn::Ident]| v.iter().map(ToString::to_string).collect::<Vec<_>>();
     let (coordinates, parameters) = (names(&sys.coordinates), names(&sys.parameters));
-    let text = print::Printer::new(&sys.graph, &coordinates, &parameters, print::Style::Unicode)
-        .print(bad.node);
-    let what = if bad.value.is_nan() {
-        "is not a number (NaN)"
-    } else {
-        "overflows f64"
+    let printer = print::Printer::new(&sys.graph, &coordinates, &parameters, print::Style::Unicode);
+    let message = |bad: finite::NonFinite| {
+        let what = if bad.value.is_nan() {
+            "is not a number (NaN)"
+        } else {
+            "overflows f64"
+        };
+        format!(
+            "a constant in `{}` {what} where the generated code evaluates it \
+             ({}); rescale the model's constants or units so that every constant, and every \
+             power and product of them, stays within f64",
+            printer.print(bad.node),
+            bad.value
+        )
     };
-    let message = format!(
-        "the constant subexpression `{text}` {what} where the generated code evaluates it \
-         ({}); rescale the model's constants or units so that every constant, and every \
-         power and product of them, stays within f64",
-        bad.value
-    );
-    let within = |root: expr::Id| sys.graph.reachable(&[root]).contains(&bad.node);
-    if let Some(c) = sys.constraints.iter().find(|c| within(c.phi)) {
-        return Err(syn::Error::new_spanned(&c.tokens, message));
+    // Spanned on the input that holds one, where one does.
+    let mut flagged = vec![false; sys.graph.len()];
+    for bad in &found {
+        flagged[bad.node.index()] = true;
     }
-    if sys.mass.iter().flatten().any(|&m| within(m)) {
-        return Err(syn::Error::new(sys.mass_span, message));
+    let within = |root: expr::Id| {
+        sys.graph
+            .reachable(&[root])
+            .into_iter()
+            .find(|id| flagged[id.index()])
+            .and_then(|id| found.iter().copied().find(|bad| bad.node == id))
+    };
+    for c in &sys.constraints {
+        if let Some(bad) = within(c.phi) {
+            return Err(syn::Error::new_spanned(&c.tokens, message(bad)));
+        }
     }
-    Err(syn::Error::new(sys.name.span(), message))
+    if let Some(bad) = sys.mass.iter().flatten().find_map(|&m| within(m)) {
+        return Err(syn::Error::new(sys.mass_span, message(bad)));
+    }
+    Err(syn::Error::new(sys.name.span(), message(first)))
 }
 
 /// Stages 1–3: the checked system, its derived equations and the
