@@ -10,19 +10,53 @@
 //! Used by the model stage, which checks the results like written input.
 
 use crate::diff::Differentiator;
-use crate::expr::{Graph, Id, Sym};
-use crate::rng::SplitMix64;
+use crate::expr::{Graph, Id, Node, Sym};
+use std::fmt;
 
-/// `∂²T/∂q̇∂q̇ᵀ` (upper triangle mirrored), or `None` when it still depends
-/// on the velocities, i.e. `T` is not at most quadratic in them (checked
-/// numerically at a few pseudo-random points; a symbolic form that cancels
-/// to a velocity-free value is then evaluated with the velocities at zero).
+/// Why a kinetic energy has no mass matrix: it is not a polynomial of
+/// degree at most 2 in the velocities.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum NotQuadratic {
+    /// A velocity occurs where no polynomial has one: under a function
+    /// (`abs`, `max`, `signum`, …), under a fractional power (`sqrt`,
+    /// `hypot`, `powf(2.5)`), in a denominator, or in a variable exponent.
+    /// The text names the construct.
+    NotPolynomial(String),
+    /// A polynomial in the velocities with a term of this degree (> 2)
+    /// whose coefficient is not identically zero.
+    Degree(u32),
+}
+
+impl fmt::Display for NotQuadratic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            NotQuadratic::NotPolynomial(what) => write!(f, "a velocity occurs {what}"),
+            NotQuadratic::Degree(d) => write!(f, "it has a term of degree {d} in them"),
+        }
+    }
+}
+
+/// `M = ∂²T/∂q̇∂q̇ᵀ` (upper triangle mirrored), or why there is none: `T`
+/// must be a polynomial of degree at most 2 in the velocities, whose
+/// coefficients may be anything of `q`, `t` and the parameters.
+///
+/// Decided exactly on the expression ([`velocity_degree`]), not by sampling:
+/// a velocity under a function, a fractional or negative power or a
+/// variable exponent is rejected wherever it occurs (`|ẋ|·ẋ` looks
+/// quadratic at positive velocities, `max(x − 5, 0)·ẋ⁴` at small `x`),
+/// and so is a term of degree 3 or more, however small its coefficient
+/// (`1e-12·ẋ⁴`), unless the terms of degree above 2 cancel symbolically
+/// (every third derivative in the velocities simplifies to zero).
 pub fn mass_from_kinetic_energy(
     g: &mut Graph,
     d: &mut Differentiator,
     kinetic: Id,
     n: usize,
-) -> Option<Vec<Vec<Id>>> {
+) -> Result<Vec<Vec<Id>>, NotQuadratic> {
+    let degree = velocity_degree(g, kinetic)?;
+    if degree > 2 && !higher_terms_cancel(g, d, kinetic, n) {
+        return Err(NotQuadratic::Degree(degree));
+    }
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
     #[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
@@ -30,37 +64,100 @@ pub fn mass_from_kinetic_energy(
         let first = d.partial(g, kinetic, Sym::Vel(i));
         for j in i..n {
             let entry = d.partial(g, first, Sym::Vel(j));
-            let entry = velocity_free(g, entry)?;
+            // A polynomial of degree ≤ 2 has velocity-free second
+            // derivatives; a form that still mentions a velocity (terms
+            // that cancel only in value) is that constant, read at zero
+            // velocity, where it is defined: no velocity divides.
+            let entry = if g.mentions(entry, |s| matches!(s, Sym::Vel(_))) {
+                g.substitute(entry, &|s| matches!(s, Sym::Vel(_)).then_some(zero))
+            } else {
+                entry
+            };
             m[i][j] = entry;
             m[j][i] = entry;
         }
     }
-    Some(m)
+    Ok(m)
 }
 
-/// `e` with the velocities set to zero, when its value does not depend on
-/// them (else `None`).
-fn velocity_free(g: &mut Graph, e: Id) -> Option<Id> {
-    if !g.mentions(e, |s| matches!(s, Sym::Vel(_))) {
-        return Some(e);
-    }
-    let mut rng = SplitMix64::new(0x7e57_ab1e);
-    for _ in 0..4 {
-        let (a, b) = (rng.next_u64(), rng.next_u64());
-        // The same positions, time and parameters; different velocities.
-        let at = |velocities: u64| {
-            move |s: Sym| match s {
-                Sym::Vel(_) => SplitMix64::value_for(velocities, s),
-                _ => SplitMix64::value_for(a, s),
+/// The degree of `e` as a polynomial in the velocities, read off its
+/// structure (an upper bound where terms of a sum cancel in value only;
+/// saturating), or why it is none: every velocity must stand in sums and in
+/// products under non-negative integer powers, never inside a function, a
+/// fractional or negative power, or a variable exponent. Coefficients (the
+/// subexpressions without velocities) may be anything.
+pub fn velocity_degree(g: &Graph, e: Id) -> Result<u32, NotQuadratic> {
+    let order = g.reachable(&[e]);
+    let mut degree: Vec<u32> = vec![0; g.len()];
+    for &id in &order {
+        let of = |c: Id| degree[c.index()];
+        let value = match g.node(id) {
+            Node::Num(_) => 0,
+            Node::Sym(s) => u32::from(matches!(s, Sym::Vel(_))),
+            Node::Add(terms, _) => terms.iter().map(|&(t, _)| of(t)).max().unwrap_or(0),
+            Node::Mul(factors) => {
+                let mut total = 0u32;
+                for &(b, p) in factors.iter() {
+                    if of(b) == 0 {
+                        continue;
+                    }
+                    let power = match p.as_integer() {
+                        Some(k) if k > 0 => u32::try_from(k).unwrap_or(u32::MAX),
+                        Some(_) => {
+                            return Err(NotQuadratic::NotPolynomial(
+                                "in a denominator (a negative power)".into(),
+                            ))
+                        }
+                        None => {
+                            return Err(NotQuadratic::NotPolynomial(format!(
+                                "under the fractional power {p} (`sqrt`, `hypot`, `powf`)"
+                            )))
+                        }
+                    };
+                    total = total.saturating_add(of(b).saturating_mul(power));
+                }
+                total
+            }
+            Node::Pow([b, x]) => {
+                if of(*b) > 0 || of(*x) > 0 {
+                    return Err(NotQuadratic::NotPolynomial(
+                        "in a power with a variable exponent (`powf`)".into(),
+                    ));
+                }
+                0
+            }
+            Node::Func(f, args) => {
+                if args.as_slice().iter().any(|&a| of(a) > 0) {
+                    return Err(NotQuadratic::NotPolynomial(format!(
+                        "under the function `{}`",
+                        f.name()
+                    )));
+                }
+                0
             }
         };
-        let (x, y) = (g.eval(&[e], &at(a))[0], g.eval(&[e], &at(b))[0]);
-        if x.is_finite() && y.is_finite() && (x - y).abs() > 1e-9 * x.abs().max(y.abs()).max(1.0) {
-            return None;
+        degree[id.index()] = value;
+    }
+    Ok(degree[e.index()])
+}
+
+/// Whether every third partial derivative of the polynomial `t` in the
+/// velocities simplifies to zero, i.e. its terms of degree above 2 cancel.
+fn higher_terms_cancel(g: &mut Graph, d: &mut Differentiator, t: Id, n: usize) -> bool {
+    for i in 0..n {
+        let first = d.partial(g, t, Sym::Vel(i));
+        for j in i..n {
+            let second = d.partial(g, first, Sym::Vel(j));
+            for k in j..n {
+                let third = d.partial(g, second, Sym::Vel(k));
+                let third = g.distribute(third);
+                if !g.is_zero(third) {
+                    return false;
+                }
+            }
         }
     }
-    let zero = g.int(0);
-    Some(g.substitute(e, &|s| matches!(s, Sym::Vel(_)).then_some(zero)))
+    true
 }
 
 /// `F = Q − ∂V/∂q + ∂T/∂q − (∂²T/∂q̇∂qᵀ) q̇ − ∂²T/∂q̇∂t`; `kinetic` absent
@@ -130,6 +227,9 @@ mod tests {
         let mut g = Graph::new();
         let xd = g.sym(Sym::Vel(0));
         let t = g.pown(xd, Num::int(3));
-        assert!(mass_from_kinetic_energy(&mut g, &mut Differentiator::new(), t, 1).is_none());
+        assert_eq!(
+            mass_from_kinetic_energy(&mut g, &mut Differentiator::new(), t, 1),
+            Err(NotQuadratic::Degree(3))
+        );
     }
 }

@@ -24,6 +24,7 @@ pub mod diff;
 pub mod emit;
 pub mod expr;
 pub mod factor;
+pub mod finite;
 #[doc(hidden)] // DSL text for the chains crate and the benches, not API
 pub mod fixtures;
 pub mod gibbs_appell;
@@ -75,24 +76,80 @@ pub fn expand_with(input: TokenStream, options: Options) -> syn::Result<TokenStr
 
 /// A constant of the derivation that overflows `f64` (`x·1e155` in a
 /// constraint makes `A M⁻¹ Aᵀ` hold `1e310`) would compute `∞` at run time
-/// too and silently drop the constraint: a compile error instead.
+/// too and silently drop the constraint: a compile error instead. So is a
+/// constant that is finite as written but not where generated code
+/// evaluates it (`E.powi(710)`, `exp(1000)`, `ln(0)`; [`finite`]): spanned
+/// on the constraint or the mass matrix it occurs in, where it does.
 fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
-    let overflow = eq
-        .system
+    let sys = &eq.system;
+    let overflow = sys
         .graph
         .constants()
         .map(num::Num::to_f64)
         .find(|v| !v.is_finite());
-    match overflow {
-        None => Ok(()),
-        Some(value) => Err(syn::Error::new(
-            eq.system.name.span(),
+    if let Some(value) = overflow {
+        return Err(syn::Error::new(
+            sys.name.span(),
             format!(
                 "deriving the equations produced a constant that overflows f64 ({value}); \
                  rescale the constraints or the units so that their coefficients and products stay below ~1e154"
             ),
-        )),
+        ));
     }
+    let scale = match &eq.gauss {
+        motion::MassInverse::Symbolic(d) => {
+            d.scale.iter().map(|s| s.to_f64()).find(|v| !v.is_finite())
+        }
+        _ => None,
+    };
+    if let Some(value) = scale {
+        return Err(syn::Error::new(
+            sys.name.span(),
+            format!("deriving the equations produced a row scale that overflows f64 ({value})"),
+        ));
+    }
+    let found = finite::non_finite(&sys.graph);
+    let Some(&first) = found.first() else {
+        return Ok(());
+    };
+    let names = |v: &[syn::Ident]| v.iter().map(ToString::to_string).collect::<Vec<_>>();
+    let (coordinates, parameters) = (names(&sys.coordinates), names(&sys.parameters));
+    let printer = print::Printer::new(&sys.graph, &coordinates, &parameters, print::Style::Unicode);
+    let message = |bad: finite::NonFinite| {
+        let what = if bad.value.is_nan() {
+            "is not a number (NaN)"
+        } else {
+            "overflows f64"
+        };
+        format!(
+            "a constant in `{}` {what} where the generated code evaluates it \
+             ({}); rescale the model's constants or units so that every constant, and every \
+             power and product of them, stays within f64",
+            printer.print(bad.node),
+            bad.value
+        )
+    };
+    // Spanned on the input that holds one, where one does.
+    let mut flagged = vec![false; sys.graph.len()];
+    for bad in &found {
+        flagged[bad.node.index()] = true;
+    }
+    let within = |root: expr::Id| {
+        sys.graph
+            .reachable(&[root])
+            .into_iter()
+            .find(|id| flagged[id.index()])
+            .and_then(|id| found.iter().copied().find(|bad| bad.node == id))
+    };
+    for c in &sys.constraints {
+        if let Some(bad) = within(c.phi) {
+            return Err(syn::Error::new_spanned(&c.tokens, message(bad)));
+        }
+    }
+    if let Some(bad) = sys.mass.iter().flatten().find_map(|&m| within(m)) {
+        return Err(syn::Error::new(sys.mass_span, message(bad)));
+    }
+    Err(syn::Error::new(sys.name.span(), message(first)))
 }
 
 /// Stages 1–3: the checked system, its derived equations and the

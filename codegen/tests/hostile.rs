@@ -376,3 +376,204 @@ fn inputs_outside_forces_are_spanned_errors() {
     .expect("inputs in forces, through a definition");
     assert!(code.contains("INPUTS : usize = 2"), "INPUTS emitted");
 }
+
+/// Issue 30: a kinetic energy that only looks quadratic at the velocities
+/// a sampling check draws (positive, below 1) is rejected, decided on the
+/// expression: a velocity under a function or a fractional power, and a
+/// term of degree above 2 however small or far away its coefficient.
+/// `|ẋ|·ẋ/2 + ẋ²` once gave `M = 3` and `q̈ = −1/3` where Lagrange's
+/// equations give −1.
+#[test]
+fn kinetic_energy_that_is_not_quadratic_in_the_velocities_is_rejected() {
+    let why = "must be a polynomial of degree at most 2 in the velocities";
+    for (t, detail) in [
+        ("dot(x).abs() * dot(x) / 2.0 + dot(x).powi(2)", "`abs`"),
+        ("dot(x).abs() * dot(x)", "`abs`"),
+        ("dot(x).max(0.0).powi(2)", "`max`"),
+        ("dot(x).clamp(-1.0, 1.0).powi(2)", "under the function"),
+        ("dot(x).signum() * dot(x).powi(2)", "`signum`"),
+        ("dot(x).hypot(dot(x))", "fractional power"),
+        ("dot(x).powi(2).sqrt()", "fractional power"),
+        ("dot(x).powf(2.5)", "fractional power"),
+        ("dot(x).powi(3) / x.powi(2) + 1.0 / dot(x)", "denominator"),
+        (
+            "(x - 5.0).max(0.0) * dot(x).powi(4) + dot(x).powi(2)",
+            "degree 4",
+        ),
+        (
+            "dot(x).powi(3) * (x - 1.0).sqrt() + dot(x).powi(2)",
+            "degree 3",
+        ),
+        ("1e-12 * dot(x).powi(4) + dot(x).powi(2) / 2.0", "degree 4"),
+        ("dot(x).powi(2) * 2.0.powf(dot(x))", "variable exponent"),
+        ("dot(x).sin().powi(2)", "`sin`"),
+        ("(dot(x) + x.exp()).powi(3)", "degree 3"),
+    ] {
+        let body = format!("struct S {{ coordinates: [x], kinetic_energy: {t} }}");
+        match outcome(&body) {
+            Err(e) => assert!(
+                e.contains(why) && e.contains(detail),
+                "{t}: expected an error about {why:?} ({detail}), got {e:?}"
+            ),
+            Ok(_) => panic!("accepted a kinetic energy that is not quadratic: {t}"),
+        }
+    }
+    // Two velocities, one of them under a function.
+    rejected(
+        "struct S { coordinates: [x, y], kinetic_energy: dot(x).powi(2) + dot(y).powi(2) + dot(x).abs() * dot(y) }",
+        why,
+    );
+}
+
+/// What is quadratic in the velocities stays accepted: coefficients may be
+/// any function of the coordinates, `t` and parameters (kinks included),
+/// velocities may sit in sums raised to the second power, and terms of
+/// higher degree that cancel symbolically are no obstacle.
+#[test]
+fn kinetic_energy_quadratic_in_the_velocities_with_any_coefficients_is_accepted() {
+    for t in [
+        "(x.cos() + 2.0) * dot(x).powi(2) / 2.0 + x.abs() * dot(x) + (dot(x) + dot(y)).powi(2) + dot(y).powi(2)",
+        "(2.0 + (x - 5.0).max(0.0)) * dot(x).powi(2) + (x * y).hypot(1.0) * dot(y).powi(2) + t.sin() * dot(y)",
+        "(dot(x) * x.cos()).hypot(dot(y) * 2.0).powi(2) + dot(x).powi(2)",
+        "m / 2.0 * (dt(x * y.cos()).powi(2) + dt(x * y.sin()).powi(2)) + dot(y).powi(2) + (m * x).signum() * dot(x)",
+        "dot(x).powf(2.0) + dot(y).powf(2.0) / 2.0",
+    ] {
+        let body = format!(
+            "struct S {{ coordinates: [x, y], parameters: [m], kinetic_energy: {t} }}"
+        );
+        if let Err(e) = outcome(&body) {
+            panic!("rejected a quadratic kinetic energy {t}: {e}");
+        }
+    }
+}
+
+/// A polynomial of degree above 2 whose extra terms cancel only once
+/// multiplied out, `(ẋ + ẏ)³ − ẋ³ − 3ẋ²ẏ − 3ẋẏ² − ẏ³ + ẋ² + ẏ²`: still
+/// quadratic, still accepted (the third derivatives vanish).
+#[test]
+fn kinetic_energy_whose_cubic_terms_cancel_is_accepted() {
+    let t = "(dot(x) + dot(y)).powi(3) - dot(x).powi(3) - 3.0 * dot(x).powi(2) * dot(y) \
+             - 3.0 * dot(x) * dot(y).powi(2) - dot(y).powi(3) + dot(x).powi(2) + dot(y).powi(2)";
+    let body = format!("struct S {{ coordinates: [x, y], kinetic_energy: {t} }}");
+    if let Err(e) = outcome(&body) {
+        panic!("rejected a quadratic kinetic energy: {e}");
+    }
+}
+
+/// Issue 30: constants finite as written that overflow (or are NaN) where
+/// the generated code evaluates them are compile errors, wherever they
+/// occur: `E.powi(710)` once reached the Jacobian and `linearize` as NaN.
+#[test]
+fn constants_that_overflow_only_when_evaluated_are_rejected() {
+    for (body, why) in [
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [E.powi(710) * x] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [PI.powi(1000)] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [PI.powi(-1000) * x] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [x / E.powi(710)] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [10.0.powf(500.5) * x] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [1000.0.exp() * x.sin()] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [0.0.ln() + x] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [2.0.asin() * x] }", "NaN"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [(-1.0).sqrt() * x] }", "NaN"),
+        ("struct S { coordinates: [x], mass: diag[E.powi(710)] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [x.powf(E.powi(710))] }", "overflows f64"),
+        ("struct S { coordinates: [x], mass: diag[1.0], forces: [(E.powi(710) - 1.0).atan() * x] }", "overflows f64"),
+        ("struct S { coordinates: [x, y], mass: diag[1.0, 1.0], constraints: [x * PI.powi(1000) == y] }", "overflows f64"),
+        ("struct S { coordinates: [x], kinetic_energy: E.powi(710) * dot(x).powi(2) }", "overflows f64"),
+        ("struct S { coordinates: [x], kinetic_energy: dot(x).powi(2), potential_energy: 1000.0.exp() * x }", "overflows f64"),
+    ] {
+        rejected(body, why);
+    }
+    // In range: accepted.
+    for body in [
+        "struct S { coordinates: [x], mass: diag[1.0], forces: [E.powi(709) * x] }",
+        "struct S { coordinates: [x], mass: diag[1.0], forces: [PI.powi(600) * PI.powi(-600) * x] }",
+        "struct S { coordinates: [x], mass: diag[1.0], forces: [700.0.exp() * x + 2.0.sqrt() + 0.5.ln()] }",
+        "struct S { coordinates: [x], mass: diag[1.0], forces: [10.0.powf(300.5) * x] }",
+    ] {
+        if let Err(e) = outcome(body) {
+            panic!("rejected {body}: {e}");
+        }
+    }
+}
+
+/// A seeded family of kinetic energies (issue 30's fuzz of the energy
+/// surface): quadratic forms in two velocities whose coefficients are
+/// random functions of the coordinates and `t` (kinks included) are
+/// accepted; the same forms with one hostile term added (a velocity under
+/// a function or a fractional power, or a term of degree 3 or 4 with a
+/// tiny or far-away coefficient) are rejected with the quadratic error.
+/// None panics.
+#[test]
+fn seeded_kinetic_energies_are_accepted_exactly_when_quadratic() {
+    let mut seed = 0x5eed_0030_u64;
+    let mut next = |n: usize| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) as usize) % n
+    };
+    let coefficients = [
+        "1.0",
+        "(x.cos() + 2.0)",
+        "(x - 5.0).max(0.0)",
+        "y.abs()",
+        "(x * y).hypot(1.0)",
+        "(t.sin() + 1.5)",
+        "x.signum()",
+        "1e-12",
+        "(x - 1.0).sqrt()",
+        "y.clamp(-1.0, 1.0)",
+    ];
+    let monomials = [
+        "dot(x).powi(2)",
+        "dot(y).powi(2)",
+        "dot(x) * dot(y)",
+        "dot(x)",
+        "dot(y)",
+    ];
+    let hostile = [
+        "dot(x).abs() * dot(x)",
+        "dot(y).max(0.0).powi(2)",
+        "dot(x).clamp(-1.0, 1.0).powi(2)",
+        "dot(y).signum() * dot(y).powi(2)",
+        "dot(x).hypot(dot(y))",
+        "dot(x).powi(2).sqrt()",
+        "dot(x).powi(3)",
+        "dot(x).powi(2) * dot(y).powi(2)",
+        "(dot(x) + y).powi(3)",
+        "dot(y).cos()",
+        "dot(x).exp()",
+        "1.0 / (1.0 + dot(x).powi(2))",
+    ];
+    let (mut accepted, mut rejected_count) = (0, 0);
+    for case in 0..120 {
+        let terms: Vec<String> = (0..1 + next(4))
+            .map(|_| {
+                format!(
+                    "{} * {}",
+                    coefficients[next(coefficients.len())],
+                    monomials[next(monomials.len())]
+                )
+            })
+            .collect();
+        // Positive definite for certain: both squares with weight 1.
+        let quadratic = format!("dot(x).powi(2) + dot(y).powi(2) + {}", terms.join(" + "));
+        let bad = format!(
+            "{quadratic} + {} * {}",
+            coefficients[next(coefficients.len())],
+            hostile[next(hostile.len())]
+        );
+        for (t, valid) in [(quadratic, true), (bad, false)] {
+            let body = format!("struct S {{ coordinates: [x, y], kinetic_energy: {t} }}");
+            match (outcome(&body), valid) {
+                (Ok(_), true) => accepted += 1,
+                (Err(e), false) if e.contains("polynomial of degree at most 2") => {
+                    rejected_count += 1
+                }
+                (result, _) => panic!("case {case}, {t}: valid {valid}, got {result:?}"),
+            }
+        }
+    }
+    assert_eq!((accepted, rejected_count), (120, 120));
+}

@@ -33,6 +33,8 @@
 
 use crate::generated::{auxiliary_mass, Generated, Motion};
 use crate::inverse::PivotedLdlt;
+use crate::rank::{safe_minimum, tight_cut};
+use crate::svd::JacobiSvd;
 use nalgebra::{Cholesky, Const, RealField, SMatrix, SVector};
 
 /// The Jacobians of `q̈(q, q̇, u)`: `dq = ∂q̈/∂q`, `dqd = ∂q̈/∂q̇`,
@@ -153,6 +155,12 @@ where
     } else {
         (m, T::one())
     };
+    // A mass matrix in the range where products underflow (a rigid body's
+    // `M = 4 Gᵀ J G` at `e = 1e-154` is 4e-308) has lost its digits, and
+    // so have the tangent terms made from it: no derivative to trust.
+    if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
+        return not_a_number();
+    }
     let mass = MassSolve::new(m);
     // W = M⁻¹ Aᵀ, S = A W, one factorization of each.
     let mut w = SMatrix::<T, N, K>::zeros();
@@ -162,6 +170,14 @@ where
     }
     let gram = a * w;
     let ldlt = PivotedLdlt::factor(&gram);
+    // Where the fast solve's rank decision is suspect (`crate::rank`),
+    // `acceleration` checked it and kept the rows it must: differentiate
+    // that `q̈` the way it was recomputed.
+    let underflow = gram.diagonal().iter().any(|&x| x < safe_minimum());
+    if K > 0 && (underflow || ldlt.rank() < S::GENERIC_RANK) {
+        return recomputed_jacobian::<T, S, N, K, NU, D>(system, q, qd, t, &m, s, &a, motion)
+            .unwrap_or_else(not_a_number);
+    }
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
     let mut f_tilde = SMatrix::<T, N, D>::zeros();
@@ -186,6 +202,114 @@ where
         }
     }
     jac
+}
+
+/// Every entry NaN: the Jacobian where it cannot be trusted, which the
+/// fallible methods return as `Err(NonFinite)`.
+fn not_a_number<T: RealField + Copy, const N: usize, const NU: usize>() -> Jacobians<T, N, NU> {
+    let nan = T::zero() / T::zero();
+    Jacobians {
+        dq: SMatrix::from_element(nan),
+        dqd: SMatrix::from_element(nan),
+        du: SMatrix::from_element(nan),
+    }
+}
+
+/// The Jacobians where `acceleration`'s fast solve dropped more rows than
+/// the model's redundancy (or `S` underflowed), so that `acceleration`
+/// checked its answer and, near a branch point, recomputed it with the
+/// rows kept ([`crate::rank::checked`]). Whichever it returned satisfies
+/// every row of `A q̈ = b` (or it was an `Err`); where `A` keeps its
+/// generic rank to rounding level, that `q̈` is the unique solution of
+/// Gauss's principle with every row, on both sides of the fast solve's
+/// threshold, and its derivative solves the tangent systems with every
+/// row: by the row-scaled SVD the recomputation uses, `q̈ᵥ = uᵥ + L⁻ᵀ X⁺
+/// D (b̃ᵥ − A uᵥ)`, `X = D A L⁻ᵀ`, `uᵥ = M⁻¹F̃ᵥ`, with the same cut (no
+/// squaring of `A`: at `θ = 1e-8` the four-bar's `S` has lost every digit
+/// of its smallest pivot, `X` none). `λ` solves `Xᵀ ν = L⁻¹ Fᶜ`, `λ = D ν`.
+/// `None` where `A` has lost rank to rounding level (at the branch point
+/// itself `q̈` is not differentiable) or the solve cannot be done.
+#[allow(clippy::too_many_arguments, clippy::many_single_char_names)]
+fn recomputed_jacobian<T, S, const N: usize, const K: usize, const NU: usize, const D: usize>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    m: &SMatrix<T, N, N>,
+    s: T,
+    a: &SMatrix<T, K, N>,
+    motion: Motion<T, N>,
+) -> Option<Jacobians<T, N, NU>>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K> + Tangent<T, N, K, D>,
+{
+    let (qdd, force) = motion;
+    if !(m.iter().chain(a.iter()).all(|x| x.is_finite())) {
+        return None;
+    }
+    let chol = Cholesky::new(*m)?;
+    let l = chol.l();
+    // D: each row to unit largest entry (divided: a subnormal row's
+    // reciprocal overflows).
+    let mut scaled = *a;
+    let mut largest = SVector::<T, K>::from_element(T::one());
+    // 2^-1022 in f64 (4 over the largest value); NaN, so never below, for
+    // a `T` without one.
+    let smallest_normal = nalgebra::convert::<f64, T>(4.0) / crate::generated::largest::<T>();
+    for i in 0..K {
+        let x = scaled.row(i).amax();
+        // A subnormal row has lost its digits (f32 at 1e-40).
+        if x > T::zero() && x < smallest_normal {
+            return None;
+        }
+        if x > T::zero() {
+            scaled.row_mut(i).unscale_mut(x);
+            largest[i] = x;
+        }
+    }
+    let xt = l.solve_lower_triangular(&scaled.transpose())?;
+    let svd = JacobiSvd::new(&xt.transpose())?;
+    let sigma = svd.singular_values();
+    let cut = tight_cut::<T, N, K>() * sigma.max();
+    let kept = sigma.iter().filter(|&&x| x > cut).count();
+    if kept < S::GENERIC_RANK {
+        return None;
+    }
+    let mut cut = cut;
+    if S::GENERIC_RANK < K {
+        let mut sorted = sigma;
+        sorted
+            .as_mut_slice()
+            .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
+        cut = cut.max(sorted[S::GENERIC_RANK]);
+    }
+    let transposed = JacobiSvd::new(&xt)?;
+    let nu = transposed.solve(&l.solve_lower_triangular(&force)?, cut)?;
+    let lam = nu.component_div(&largest);
+    let mut f_tilde = SMatrix::<T, N, D>::zeros();
+    let mut b_tilde = SMatrix::<T, K, D>::zeros();
+    system.tangent_rhs(q, qd, t, &qdd, &lam, &mut f_tilde, &mut b_tilde);
+    let mut jac = Jacobians::<T, N, NU>::zeros();
+    for c in 0..D {
+        let b_c: SVector<T, K> = b_tilde.column(c).into_owned();
+        let mut f_c: SVector<T, N> = f_tilde.column(c).into_owned();
+        if S::SEMIDEFINITE_MASS {
+            f_c += a.transpose() * (b_c * s);
+        }
+        let u = chol.solve(&f_c);
+        let r = (b_c - a * u).component_div(&largest);
+        let z = l.transpose().solve_upper_triangular(&svd.solve(&r, cut)?)?;
+        let dqdd = u + z;
+        if c < N {
+            jac.dq.set_column(c, &dqdd);
+        } else if c < 2 * N {
+            jac.dqd.set_column(c - N, &dqdd);
+        } else {
+            jac.du.set_column(c - 2 * N, &dqdd);
+        }
+    }
+    jac.is_finite().then_some(jac)
 }
 
 /// `(A, B)` of `δẋ = A δx + B δu` for `x = (q, q̇)`:

@@ -348,7 +348,7 @@ fn least_squares_holds<T: RealField + Copy, const N: usize, const K: usize>(
 
 /// The relative singular-value cut of the recomputation: rounding level,
 /// `4 (N + K) ε`.
-fn tight_cut<T: RealField + Copy, const N: usize, const K: usize>() -> T {
+pub(crate) fn tight_cut<T: RealField + Copy, const N: usize, const K: usize>() -> T {
     T::default_epsilon() * nalgebra::convert::<f64, T>((4 * (N + K)) as f64)
 }
 

@@ -81,10 +81,13 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     };
     let fallibility = if fallible(ctx) {
         "`Err` exactly where [`acceleration`](Self::acceleration) fails, \
-         and `Err(NonFinite)` where a derivative overflows."
+         and `Err(NonFinite)` where a derivative overflows or cannot be \
+         trusted (at a branch point, where `A` has lost rank to rounding; \
+         where `M` or a row of `A` has lost its digits to underflow)."
     } else {
         "Total, as [`acceleration`](Self::acceleration) is (where a derivative \
-         overflows, the entries are not finite)."
+         overflows or cannot be trusted, at a branch point where `A` has lost \
+         rank to rounding, the entries are not finite)."
     };
     let jac_doc = format!(
         " The exact Jacobians of `q̈(q, q̇, u)` at this state: `dq = ∂q̈/∂q`, \

@@ -434,23 +434,7 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     } = SymbolicGauss::new(ctx, d, &[], true);
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
-    // A row scaled down (`D`, d < 1) can be finite where the model's own
-    // `r` (and `b`) overflows: then the runtime answers from A and b
-    // (`NonFinite`), so that an `Ok` always satisfies the `A q̈ = b` it
-    // reports. One comparison per such row, branch-free (`|`).
-    let overflows: Vec<TokenStream> = d
-        .scale
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.to_f64() < 1.0)
-        .map(|(i, s)| {
-            let r = Context::local("r", i);
-            let bound = ctx.private(quote!(unscaled_bound));
-            let value = proc_macro2::Literal::f64_suffixed(s.to_f64());
-            quote!((#r.abs() > #bound::<T>(#value)))
-        })
-        .collect();
-    let also = (!overflows.is_empty()).then(|| quote!(#(#overflows)|*));
+    let also = overflowing_rows(ctx, d);
     // Fallible even where M is known positive definite: the rank check can
     // find the constraints unsatisfiable (the total methods then answer by
     // least squares, through their `Finish`).
@@ -483,6 +467,29 @@ fn symbolic_solver(ctx: &Context, d: &Symbolic) -> TokenStream {
             #value
         }
     }
+}
+
+/// Whether a row scaled down (`D`, d < 1) overflows in the model's own
+/// units: it can be finite where the model's own `r` (and `b`) is not, and
+/// then the runtime answers from A and b (`NonFinite`), so that an `Ok`
+/// always satisfies the `A q̈ = b` it reports. One comparison per such row,
+/// branch-free (`|`), over the locals `__r{i}`; `None` without such rows.
+/// The Jacobian tests the same condition, so that it takes the runtime's
+/// path (and its `Err`) exactly where `acceleration` does.
+pub(super) fn overflowing_rows(ctx: &Context, d: &Symbolic) -> Option<TokenStream> {
+    let overflows: Vec<TokenStream> = d
+        .scale
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.to_f64() < 1.0)
+        .map(|(i, s)| {
+            let r = Context::local("r", i);
+            let bound = ctx.private(quote!(unscaled_bound));
+            let value = proc_macro2::Literal::f64_suffixed(s.to_f64());
+            quote!((#r.abs() > #bound::<T>(#value)))
+        })
+        .collect();
+    (!overflows.is_empty()).then(|| quote!(#(#overflows)|*))
 }
 
 /// A semi-definite `M`: the runtime's dense solve of the auxiliary system

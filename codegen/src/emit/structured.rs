@@ -22,7 +22,7 @@
 
 use super::body::literal;
 use super::context::Context;
-use super::motion::{fallible, SymbolicGauss};
+use super::motion::{fallible, overflowing_rows, SymbolicGauss};
 use super::tangent::{index, TangentTerms};
 use crate::expr::Id;
 use crate::motion::Symbolic;
@@ -223,7 +223,12 @@ pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> Toke
     // One local holds the answer on every path, so that it is built where
     // the caller wants it (a returned local assigned on two paths, or a
     // second local, costs a copy of the whole Jacobian: 32 KiB at 32 links).
+    // The same condition as `acceleration`'s check (`checked_motion`).
     let suspect = gauss.ldlt.suspect(ctx.generic_rank);
+    let suspect = match overflowing_rows(ctx, d) {
+        Some(also) => quote!((#suspect) | #also),
+        None => suspect,
+    };
     let adopt = if fallible(ctx) {
         quote! {
             match { #dense } {

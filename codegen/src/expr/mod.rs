@@ -183,6 +183,11 @@ impl Graph {
         })
     }
 
+    /// Every node's `Id`, in arena (topological) order.
+    pub fn ids(&self) -> impl Iterator<Item = Id> {
+        (0..self.nodes.len()).map(|i| Id(i as u32))
+    }
+
     /// Number of nodes.
     pub fn len(&self) -> usize {
         self.nodes.len()

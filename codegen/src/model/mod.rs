@@ -381,14 +381,19 @@ impl Lowerer<'_> {
         let before = self.errors.count();
         let t = self.lower(e);
         let mut d = crate::diff::Differentiator::new();
-        let Some(m) = crate::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) else {
-            self.errors.spanned(
-                e,
-                "`kinetic_energy` must be at most quadratic in the velocities \
-                 (its second derivatives in `dot(..)` form the mass matrix and may not depend on them)",
-            );
-            let zero = self.graph.int(0);
-            return (vec![vec![zero; n]; n], Some(t));
+        let m = match crate::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) {
+            Ok(m) => m,
+            Err(why) => {
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "`kinetic_energy` must be a polynomial of degree at most 2 in the velocities \
+                         (`dot(..)`), with coefficients of the coordinates, `t` and parameters only: {why}"
+                    ),
+                );
+                let zero = self.graph.int(0);
+                return (vec![vec![zero; n]; n], Some(t));
+            }
         };
         if self.errors.count() == before {
             check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
