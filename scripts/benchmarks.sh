@@ -6,9 +6,10 @@
 # Lagrange's equations from energies (the N-link pendulum in joint angles)
 # against sympy's LagrangesMethod; RK4 steps with projection; the M(q)
 # models against a dense KKT solve; the Jacobian of q̈; Pinocchio and
-# MuJoCo on the chain and the four-bar (benches/peers/run.sh; PEERS=0 skips
-# them, and a failure there leaves their rows out without stopping the
-# rest). Benchmarks run pinned to one core where taskset exists.
+# MuJoCo on the chain and the four-bar, and the Panda and the UR5 from
+# URDF against Pinocchio's aba, crba and rnea (benches/peers/run.sh;
+# PEERS=0 skips them, and a failure there leaves their rows out without
+# stopping the rest). Benchmarks run pinned to one core where taskset exists.
 # Takes about fifteen minutes on two cores (two of them compiling
 # Pinocchio's templates, once).
 set -euo pipefail
@@ -52,7 +53,7 @@ mkdir -p target/benchmarks
 bash scripts/egg_compare.sh > target/benchmarks/egg.md
 rm -f target/benchmarks/peers.json
 if [ "${PEERS:-1}" != 0 ]; then
-  echo "== peers: Pinocchio and MuJoCo (benches/peers/run.sh)"
+  echo "== peers: Pinocchio and MuJoCo, and the robots (benches/peers/run.sh)"
   bash benches/peers/run.sh > /dev/null || echo "   the peers failed (see above): their rows are left out"
 fi
 echo "== report"

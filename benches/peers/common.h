@@ -2,8 +2,9 @@
  * by chains/examples/peer_reference.rs) and timing a call.
  *
  * The reference file is a sequence of records; a record starts with a
- * header line (`chain N g h` or `four_bar m jm l d g`) followed by named
- * vector lines (`q 0.1 0.2 …`). */
+ * header line (`chain N g h` or `four_bar m jm l d g`; `panda 7` or `ur5 6`
+ * in the robots' file, benches/peers/robots) followed by named vector lines
+ * (`q 0.1 0.2 …`). */
 #ifndef PEERS_COMMON_H
 #define PEERS_COMMON_H
 
@@ -22,7 +23,7 @@ typedef struct {
 } peer_vector;
 
 typedef struct {
-  char kind[16];    /* "chain" or "four_bar" */
+  char kind[16];    /* "chain", "four_bar", "panda" or "ur5" */
   double head[8];   /* the numbers on the header line */
   int nhead;
   peer_vector vec[12];
@@ -41,7 +42,8 @@ static int peer_read(const char *path, peer_record *out, int max) {
   while (fgets(line, sizeof line, f)) {
     char *tok = strtok(line, " \n");
     if (!tok) continue;
-    if (!strcmp(tok, "chain") || !strcmp(tok, "four_bar")) {
+    if (!strcmp(tok, "chain") || !strcmp(tok, "four_bar") || !strcmp(tok, "panda") ||
+        !strcmp(tok, "ur5")) {
       if (++n >= max) break;
       memset(&out[n], 0, sizeof out[n]);
       snprintf(out[n].kind, sizeof out[n].kind, "%s", tok);

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The peers' rows of BENCHMARKS.md: Pinocchio (C++) and MuJoCo (C), compiled
 # against the headers and libraries of their Python wheels, on the same
-# systems and states as the generated code. Each program checks its answer
+# systems and states as the generated code; and the Robots rows, the Panda
+# and the UR5 from example-robot-data's URDFs (benches/peers/robots, our
+# side and its times; benches/peers/robots.cpp, Pinocchio's). Each program checks its answer
 # against the generated code's (chains/examples/peer_reference.rs) before it
 # times anything, and exits with 1 if one disagrees.
 #
@@ -22,6 +24,9 @@ fi
 site=$("$here/.venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 prefix="$site/cmeel.prefix"
 mujoco="$site/mujoco"
+robots="$prefix/share/example-robot-data/robots"
+panda_urdf="$robots/panda_description/urdf/panda.urdf"
+ur5_urdf="$robots/ur_description/urdf/ur5_robot.urdf"
 
 # The same optimisation as the Rust side's release profile (-O3, no
 # -march=native: neither side is built for this particular CPU). Pinocchio's
@@ -35,6 +40,19 @@ if [ ! -x "$out/pinocchio" ] || [ "$here/pinocchio.cpp" -nt "$out/pinocchio" ] |
     -I"$prefix/include" -I"$prefix/include/eigen3" "$here/pinocchio.cpp" -o "$out/pinocchio" \
     -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_default
 fi
+# The robots' rows are optional: a failure to build them leaves them out
+# (and the script's status 1) without losing the rows above.
+robots_ok=1
+if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$here/common.h" -nt "$out/robots" ]; then
+  echo "   compiling Pinocchio's robots (its URDF parser's templates too: minutes)"
+  rm -f "$out/robots"
+  g++ -std=c++17 -O3 -DNDEBUG -w \
+    -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION -DBOOST_MPL_LIMIT_LIST_SIZE=30 \
+    -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS \
+    -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
+    -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/robots.cpp" -o "$out/robots" \
+    -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || robots_ok=0
+fi
 if [ ! -x "$out/mujoco" ] || [ "$here/mujoco.c" -nt "$out/mujoco" ] || [ "$here/common.h" -nt "$out/mujoco" ]; then
   library=$(cd "$mujoco" && ls libmujoco.so.* | head -1)
   gcc -std=c11 -O3 -DNDEBUG -D_POSIX_C_SOURCE=200809L -I"$mujoco/include" "$here/mujoco.c" \
@@ -42,12 +60,23 @@ if [ ! -x "$out/mujoco" ] || [ "$here/mujoco.c" -nt "$out/mujoco" ] || [ "$here/
 fi
 
 cargo run --quiet --release -p constrained-chains --example peer_reference -- "$out/reference.txt"
+# The robots' crate (outside the workspace) reads the URDFs at compile
+# time; built here, unpinned, and run pinned below.
+export EXAMPLE_ROBOT_DATA="$robots"
+cargo build --quiet --release --manifest-path "$here/robots/Cargo.toml" || robots_ok=0
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
-status=0
+status=$((1 - robots_ok))
 {
   "${pin[@]}" "$out/pinocchio" "$out/reference.txt" || status=1
   "${pin[@]}" "$out/mujoco" "$out/reference.txt" "$out/scratch.xml" || status=1
+  # Ours writes the robots' states and answers, then times itself; then
+  # Pinocchio checks against them and times its own.
+  if [ "$robots_ok" = 1 ]; then
+    "${pin[@]}" cargo run --quiet --release --manifest-path "$here/robots/Cargo.toml" -- \
+      "$out/robots.txt" || status=1
+    "${pin[@]}" "$out/robots" "$panda_urdf" "$ur5_urdf" "$out/robots.txt" || status=1
+  fi
 } > target/benchmarks/peers.json
 cat target/benchmarks/peers.json
 exit $status

@@ -8,10 +8,11 @@
 //! `<parent link>`, `<child link>`, `<axis xyz>`, default `1 0 0`).
 //! Ignored, as by the rigid-body algorithms of Pinocchio: visual and
 //! collision geometry, `<limit>`, `<dynamics>`, `<safety_controller>`,
-//! `<calibration>`, `<transmission>`, `<gazebo>`, `<material>`. Refused
-//! with the file and line: other joint types (`floating`, `planar`),
-//! `<mimic>`, a tree with no single root, a link that is two joints'
-//! child, a missing or unreadable number.
+//! `<calibration>`, `<transmission>`, `<gazebo>`, `<material>`, and
+//! `<mimic>` on a locked joint. Refused with the file and line: other
+//! joint types (`floating`, `planar`), `<mimic>` on a joint that moves, a
+//! tree with no single root, a link that is two joints' child, a missing
+//! or unreadable number.
 //!
 //! The joints become the coordinates, named after the joints (characters
 //! other than letters, digits and `_` replaced by `_`), in depth-first
@@ -149,8 +150,9 @@ impl Reader<'_> {
 
     fn joint(&self, joint: Node, locked: &[String]) -> syn::Result<JointSpec> {
         let name = self.attribute(joint, "name")?;
+        let is_locked = locked.contains(&identifier(&name));
         let kind = match self.attribute(joint, "type")?.as_str() {
-            _ if locked.contains(&identifier(&name)) => None,
+            _ if is_locked => None,
             "revolute" | "continuous" => Some(JointKind::Revolute),
             "prismatic" => Some(JointKind::Prismatic),
             "fixed" => None,
@@ -160,7 +162,9 @@ impl Reader<'_> {
                 )))
             }
         };
-        if let Some(mimic) = Self::child(joint, "mimic") {
+        // A locked joint does not move, so whom it would mimic is moot (the
+        // Panda's second finger mimics the first).
+        if let Some(mimic) = Self::child(joint, "mimic").filter(|_| !is_locked) {
             return Err(self.error(mimic, format!("joint `{name}`: <mimic> is not supported")));
         }
         let (xyz, rpy) = self.origin(joint)?;
@@ -438,5 +442,56 @@ impl Reader<'_> {
             return Err(self.error(robot, "the joints form a loop: a URDF is a tree"));
         }
         Ok(links)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A revolute joint and a finger on a prismatic joint that mimics it
+    /// (as the Panda's second finger mimics the first).
+    const MIMIC: &str = r#"<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+  <link name="finger"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+  <joint name="finger_joint" type="prismatic"><parent link="arm"/><child link="finger"/>
+    <mimic joint="shoulder"/>
+  </joint>
+</robot>"#;
+
+    fn read(locked: &[&str]) -> syn::Result<Robot> {
+        let path =
+            std::env::temp_dir().join(format!("constrained-mimic-{}.urdf", std::process::id()));
+        std::fs::write(&path, MIMIC).expect("the temporary directory is writable");
+        let literal = LitStr::new(&path.display().to_string(), Span::call_site());
+        let list = List {
+            items: locked
+                .iter()
+                .map(|n| Ident::new(n, Span::call_site()))
+                .collect(),
+            span: Span::call_site(),
+        };
+        let robot = Robot::read(&literal, Some(&list));
+        let _ = std::fs::remove_file(&path);
+        robot
+    }
+
+    #[test]
+    fn mimic_is_refused_on_a_moving_joint_and_ignored_on_a_locked_one() {
+        let error = read(&[]).err().expect("a moving mimic joint is refused");
+        let message = error.to_string();
+        assert!(
+            message.contains(":7: joint `finger_joint`: <mimic> is not supported"),
+            "{message}"
+        );
+        let robot = read(&["finger_joint"]).expect("a locked mimic joint is read");
+        let names: Vec<String> = robot
+            .coordinates()
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        assert_eq!(names, ["shoulder"]);
     }
 }

@@ -1,0 +1,223 @@
+// Pinocchio (C++, from the `pin` wheel) on the robots of the reference
+// file written by benches/peers/robots (the Panda with its fingers locked,
+// the UR5), both read from example-robot-data's URDFs with
+// `pinocchio::urdf::buildModel` (fixed base). At every state of the file it
+// checks `aba` against the generated `acceleration`, `crba` (symmetrised)
+// against `mass_matrix` and `rnea` against `inverse_dynamics`, relative to
+// the largest entry of the generated answer; only if all of a robot's
+// states agree does it time the three over the same states (common.h's
+// statistic, per state). One JSON line per result.
+//
+// Our URDF reader takes an angle of `rpy` written as a multiple of π/2 to
+// all its digits (the UR5's `1.57079632679`) as that multiple exactly,
+// where Pinocchio takes the decimal: 4.9e-12 rad apart, which moves the
+// UR5's answers by some 1e-11 of their size. So Pinocchio is checked on
+// the file with those angles written to double precision (the same rule,
+// `exact_angles` here); the literal file's difference is printed too
+// (`literal_difference`), and it is that model that is timed (the angles
+// do not change Pinocchio's work).
+//
+// Usage: robots PANDA_URDF UR5_URDF REFERENCE_FILE
+#include "common.h"
+
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/joint-configuration.hpp>
+#include <pinocchio/algorithm/model.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/multibody.hpp>
+#include <pinocchio/parsers/urdf.hpp>
+
+#include <cctype>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace pin = pinocchio;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+struct State {
+  VectorXd q, v, tau, qdd, a, tau_id;
+  MatrixXd m;
+};
+
+static VectorXd vec(const peer_record &r, const char *name, int n) {
+  int len = 0;
+  const double *v = peer_get(&r, name, &len);
+  if (len != n) {
+    fprintf(stderr, "%s: %s has %d entries, not %d\n", r.kind, name, len, n);
+    exit(2);
+  }
+  return Eigen::Map<const VectorXd>(v, n);
+}
+
+// codegen/src/model/urdf.rs's `angles`: a decimal with at least five
+// digits, no exponent, within half a unit of its last digit of a nonzero
+// multiple of π/2, is that multiple.
+static std::string exact_angle(const std::string &text) {
+  const double value = strtod(text.c_str(), nullptr), quarter = M_PI / 2;
+  const double k = std::round(value / quarter);
+  int digits = 0;
+  for (char c : text) digits += isdigit((unsigned char)c) ? 1 : 0;
+  const size_t dot = text.find('.');
+  const int decimals = dot == std::string::npos ? 0 : (int)(text.size() - dot - 1);
+  const bool close = fabs(value - k * quarter) <= 0.5 * pow(10.0, -decimals) * (1 + 1e-9);
+  if (k == 0 || digits < 5 || text.find_first_of("eE") != std::string::npos || !close) return text;
+  char exact[32];
+  snprintf(exact, sizeof exact, "%.17g", k * quarter);
+  return exact;
+}
+
+// The URDF's text with every `rpy` angle passed through `exact_angle`.
+static std::string exact_angles(const char *path) {
+  std::ifstream file(path);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  const std::string text = buffer.str();
+  const std::regex rpy("rpy=\"([^\"]*)\"");
+  std::string out;
+  auto last = text.cbegin();
+  for (std::sregex_iterator it(text.begin(), text.end(), rpy), end; it != end; ++it) {
+    out.append(last, (*it)[0].first);
+    std::istringstream angles((*it)[1].str());
+    std::string angle, joined;
+    while (angles >> angle) joined += (joined.empty() ? "" : " ") + exact_angle(angle);
+    out += "rpy=\"" + joined + "\"";
+    last = (*it)[0].second;
+  }
+  out.append(last, text.cend());
+  return out;
+}
+
+// The model of a URDF (as written, or with exact right angles), with the
+// joints named in `locked` held at zero.
+static pin::Model load(const char *path, bool exact, const std::vector<std::string> &locked) {
+  pin::Model full;
+  if (exact)
+    pin::urdf::buildModelFromXML(exact_angles(path), full);
+  else
+    pin::urdf::buildModel(path, full);
+  std::vector<pin::JointIndex> ids;
+  for (const std::string &name : locked) {
+    if (!full.existJointName(name)) {
+      fprintf(stderr, "%s has no joint %s\n", path, name.c_str());
+      exit(2);
+    }
+    ids.push_back(full.getJointId(name));
+  }
+  if (ids.empty()) return full;
+  return pin::buildReducedModel(full, ids, VectorXd::Zero(full.nq));
+}
+
+struct Timed {
+  const pin::Model *model;
+  pin::Data *data;
+  const std::vector<State> *states;
+};
+
+static void call_aba(void *p) {
+  Timed *c = (Timed *)p;
+  for (const State &s : *c->states) {
+    pin::aba(*c->model, *c->data, s.q, s.v, s.tau);
+    PEER_KEEP(c->data->ddq.data());
+  }
+}
+
+static void call_crba(void *p) {
+  Timed *c = (Timed *)p;
+  for (const State &s : *c->states) {
+    pin::crba(*c->model, *c->data, s.q);
+    PEER_KEEP(c->data->M.data());
+  }
+}
+
+static void call_rnea(void *p) {
+  Timed *c = (Timed *)p;
+  for (const State &s : *c->states) {
+    pin::rnea(*c->model, *c->data, s.q, s.v, s.a);
+    PEER_KEEP(c->data->tau.data());
+  }
+}
+
+static double relative(const MatrixXd &pinocchio, const MatrixXd &generated) {
+  return (pinocchio - generated).lpNorm<Eigen::Infinity>() / generated.lpNorm<Eigen::Infinity>();
+}
+
+// The largest relative differences of aba, crba and rnea over the states.
+static void check(const pin::Model &model, pin::Data &data, const std::vector<State> &states,
+                  double worst[3]) {
+  worst[0] = worst[1] = worst[2] = 0;
+  for (const State &s : states) {
+    pin::aba(model, data, s.q, s.v, s.tau);
+    worst[0] = fmax(worst[0], relative(data.ddq, s.qdd));
+    pin::crba(model, data, s.q);
+    MatrixXd m = data.M;
+    m.triangularView<Eigen::StrictlyLower>() = m.transpose();
+    worst[1] = fmax(worst[1], relative(m, s.m));
+    pin::rnea(model, data, s.q, s.v, s.a);
+    worst[2] = fmax(worst[2], relative(data.tau, s.tau_id));
+  }
+}
+
+static void robot(const char *name, const char *path, const std::vector<std::string> &locked,
+                  const peer_record *records, int count) {
+  const pin::Model model = load(path, false, locked), exact = load(path, true, locked);
+  pin::Data data(model);
+  const int n = model.nv;
+  std::vector<State> states;
+  for (int i = 0; i < count; i++) {
+    if (strcmp(records[i].kind, name)) continue;
+    if ((int)records[i].head[0] != n) {
+      fprintf(stderr, "%s: the reference has %d joints, Pinocchio's model %d\n", name,
+              (int)records[i].head[0], n);
+      exit(2);
+    }
+    State s{vec(records[i], "q", n),   vec(records[i], "v", n),      vec(records[i], "tau", n),
+            vec(records[i], "qdd", n), vec(records[i], "a", n),      vec(records[i], "tau_id", n),
+            Eigen::Map<const MatrixXd>(peer_get(&records[i], "M", nullptr), n, n).transpose()};
+    states.push_back(s);
+  }
+  if (states.empty()) {
+    fprintf(stderr, "the reference has no %s states\n", name);
+    exit(2);
+  }
+  double worst[3], literal[3];
+  check(model, data, states, literal);
+  pin::Data exact_data(exact);
+  check(exact, exact_data, states, worst);
+  Timed ctx{&model, &data, &states};
+  const char *what[3] = {"aba", "crba", "rnea"};
+  void (*calls[3])(void *) = {call_aba, call_crba, call_rnea};
+  for (int k = 0; k < 3; k++) {
+    const double tolerance = 1e-12;
+    const int ok = worst[k] <= tolerance;
+    char time[32] = "null";
+    if (ok) snprintf(time, sizeof time, "%.3f", peer_time(calls[k], &ctx) / states.size());
+    printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"system\": \"%s\", \"n\": %d, \"ns\": %s, "
+           "\"states\": %zu, \"difference\": %.3e, \"literal_difference\": %.3e, "
+           "\"tolerance\": %.1e, \"ok\": %s}\n",
+           what[k], name, n, time, states.size(), worst[k], literal[k], tolerance,
+           ok ? "true" : "false");
+    fflush(stdout);
+    if (!ok) {
+      peer_failures++;
+      fprintf(stderr, "pinocchio %s %s: relative difference %.3e (> %.1e)\n", what[k], name,
+              worst[k], tolerance);
+    }
+  }
+}
+
+int main(int argc, char **argv) {
+  if (argc != 4) {
+    fprintf(stderr, "usage: %s PANDA_URDF UR5_URDF REFERENCE_FILE\n", argv[0]);
+    return 2;
+  }
+  static peer_record records[64];
+  const int n = peer_read(argv[3], records, 64);
+  robot("panda", argv[1], {"panda_finger_joint1", "panda_finger_joint2"}, records, n);
+  robot("ur5", argv[2], {}, records, n);
+  return peer_failures ? 1 : 0;
+}
