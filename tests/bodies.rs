@@ -307,3 +307,118 @@ fn energy_of_the_panda_is_conserved_along_an_unforced_run() {
     );
     assert!((state.q - q).norm() > 0.1, "it moved");
 }
+
+constrained_system! {
+    /// `TwoLinkArmOnLine` as bodies: point masses at the ends of the links,
+    /// the tip held on `y = height` through `position(..)`.
+    pub struct TwoLinkArmBodies {
+        parameters: [m1, m2, l1, l2, g, height],
+        gravity: [0.0, -g, 0.0],
+        bodies: [
+            upper { joint: revolute(th1, [0.0, 0.0, 1.0]), mass: m1, com: [l1, 0.0, 0.0] },
+            fore {
+                parent: upper,
+                joint: revolute(th2, [0.0, 0.0, 1.0]),
+                xyz: [l1, 0.0, 0.0],
+                mass: m2,
+                com: [l2, 0.0, 0.0],
+            },
+        ],
+        constraints: [position(fore, [l2, 0.0, 0.0]).y == height],
+    }
+}
+
+#[test]
+fn a_point_of_a_body_in_a_constraint_gives_the_hand_written_arm() {
+    use constrained::models::TwoLinkArmOnLine;
+    use constrained::nalgebra::Vector2;
+    let p = (1.0, 0.8, 1.0, 0.8, 9.81);
+    for (th1, th2, w1) in [(1.2, -1.6, 0.4), (0.3, 0.9, -1.0), (2.0, -2.5, 0.7)] {
+        let height = p.2 * f64::sin(th1) + p.3 * f64::sin(th1 + th2);
+        let bodies = TwoLinkArmBodies::new(p.0, p.1, p.2, p.3, p.4, height);
+        let hand = TwoLinkArmOnLine::new(p.0, p.1, p.2, p.3, p.4, height);
+        // A velocity along the line: the tip's ẏ = 0.
+        let (c1, c12) = (p.2 * f64::cos(th1), p.3 * f64::cos(th1 + th2));
+        let w2 = -w1 * (c1 + c12) / c12;
+        let (q, qd) = (Vector2::new(th1, th2), Vector2::new(w1, w2));
+        assert!(bodies.constraint_residual(&q, &qd, 0.0)[0].abs() < 1e-14);
+        let (a, b) = (
+            bodies.acceleration(&q, &qd, 0.0).unwrap(),
+            hand.acceleration(&q, &qd, 0.0).unwrap(),
+        );
+        assert!((a - b).norm() <= 1e-12 * b.norm(), "{a} vs {b}");
+        let ga = bodies.acceleration_gibbs_appell(&q, &qd, 0.0).unwrap();
+        assert!((ga - b).norm() <= 1e-12 * b.norm(), "{ga} vs {b}");
+    }
+}
+
+constrained_system! {
+    /// A rod turning about z; its tip's position and velocity as forces,
+    /// to read them back.
+    pub struct RodPoints {
+        bodies: [rod { joint: revolute(th, [0.0, 0.0, 1.0]), mass: 1.0, com: [0.5, 0.0, 0.0] }],
+        gravity: [0.0, 0.0, 0.0],
+        forces: [position(rod, [2.0, 0.0, 0.5]).x + velocity(rod, [2.0, 0.0, 0.5]).y],
+    }
+}
+
+#[test]
+fn position_and_velocity_of_a_point_are_the_closed_forms() {
+    let rod = RodPoints::new();
+    for (th, w) in [(0.3f64, 1.7f64), (-2.0, 0.4)] {
+        let f = rod.forces(&SVector::from([th]), &SVector::from([w]), 0.0)[0];
+        let expected = 2.0 * th.cos() + 2.0 * th.cos() * w;
+        assert!((f - expected).abs() < 1e-14, "{f} vs {expected}");
+    }
+}
+
+constrained_system! {
+    /// The spatial arm with the slider's tip held at a point of the world:
+    /// three rows from one line, leaving one degree of freedom.
+    pub struct ArmTipHeld {
+        gravity: [0.0, 0.0, -9.81],
+        parameters: [px, py, pz],
+        bodies: [
+            base { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 2.0, com: [0.0, 0.0, 0.2], inertia: diag[0.05, 0.06, 0.03] },
+            upper {
+                parent: base, joint: revolute(q2, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.4],
+                mass: 1.5, com: [0.25, 0.0, 0.0], inertia: diag[0.01, 0.04, 0.045],
+            },
+            fore {
+                parent: upper, joint: revolute(q3, [0.0, 1.0, 0.0]), xyz: [0.5, 0.0, 0.0],
+                mass: 1.0, com: [0.2, 0.0, 0.0], inertia: diag[0.005, 0.02, 0.021],
+            },
+            slider {
+                parent: fore, joint: prismatic(s, [1.0, 0.0, 0.0]), xyz: [0.3, 0.0, 0.0],
+                mass: 0.5, inertia: diag[0.0004, 0.0005, 0.0006],
+            },
+        ],
+        constraints: [position(slider, [0.0, 0.0, 0.0]) == [px, py, pz]],
+    }
+}
+
+#[test]
+fn a_point_held_in_space_is_three_rows_that_both_forms_satisfy() {
+    assert_eq!(ArmTipHeld::<f64>::CONSTRAINTS, 3);
+    // The tip where the arm puts it at q = (0.4, −0.3, 0.8, 0.1); a velocity
+    // in the null space of A (the one free direction).
+    let q = SVector::<f64, 4>::new(0.4, -0.3, 0.8, 0.1);
+    let free = ArmTipHeld::new(0.0, 0.0, 0.0);
+    let tip = free.constraint_residual(&q, &SVector::zeros(), 0.0);
+    let arm = ArmTipHeld::new(tip[0], tip[1], tip[2]);
+    assert!(arm.constraint_residual(&q, &SVector::zeros(), 0.0).norm() < 1e-14);
+    let (a, _) = arm.constraint_matrices(&q, &SVector::zeros(), 0.0);
+    let eigen = (a.transpose() * a).symmetric_eigen();
+    let smallest = eigen.eigenvalues.imin();
+    let null = eigen.eigenvectors.column(smallest).into_owned();
+    let qd = 0.7 * null;
+    assert!(arm.constraint_velocity_residual(&q, &qd, 0.0).norm() < 1e-14);
+    let qdd = arm.acceleration(&q, &qd, 0.0).unwrap();
+    let (a, b) = arm.constraint_matrices(&q, &qd, 0.0);
+    assert!((a * qdd - b).norm() < 1e-12 * (1.0 + b.norm()));
+    let ga = arm.acceleration_gibbs_appell(&q, &qd, 0.0).unwrap();
+    assert!(
+        (ga - qdd).norm() < 1e-12 * (1.0 + qdd.norm()),
+        "{ga} vs {qdd}"
+    );
+}

@@ -178,3 +178,39 @@ pub struct Dynamics {
     /// The potential energy of gravity `V = −Σ mᵢ gᵀ cᵢ`.
     pub potential: Id,
 }
+
+/// Every described body's frame in the world, as expressions of `q`: `R`
+/// and the origin `p`, each entry held ([`spatial::hold`]). For points of
+/// bodies in `forces` and `constraints` (`position(body, [x, y, z])`).
+pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
+    let mut frames: Vec<Placement> = Vec::with_capacity(described.len());
+    for d in described {
+        let parent = match d.parent {
+            Some(p) => frames[p],
+            None => Placement::identity(g),
+        };
+        let joint_frame = parent.then(g, &d.placement);
+        let motion = match d.joint {
+            Some(j) => {
+                let q = g.sym(crate::expr::Sym::Coord(j.coordinate));
+                match j.kind {
+                    JointKind::Revolute => Placement {
+                        rotation: spatial::axis_angle(g, j.axis, q),
+                        translation: spatial::zero(g),
+                    },
+                    JointKind::Prismatic => Placement {
+                        rotation: spatial::identity(g),
+                        translation: spatial::scale(g, q, j.axis),
+                    },
+                }
+            }
+            None => Placement::identity(g),
+        };
+        let world = joint_frame.then(g, &motion);
+        frames.push(Placement {
+            rotation: world.rotation.map(|row| spatial::hold3(g, row)),
+            translation: spatial::hold3(g, world.translation),
+        });
+    }
+    frames
+}

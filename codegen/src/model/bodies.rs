@@ -313,3 +313,107 @@ fn check_fields(errors: &mut Errors, body: &BodyInput) {
         seen.push(k);
     }
 }
+
+/// Points of bodies in expressions: `position(body, [x, y, z])` is the
+/// world position of the point fixed at `[x, y, z]` in the body's frame,
+/// `velocity(body, [x, y, z])` its velocity; `.x`, `.y`, `.z` pick a
+/// component, and a constraint between two points (or a point and
+/// `[x, y, z]`) is three rows.
+impl Lowerer<'_> {
+    /// `position(..).x` and the like.
+    pub fn point_component(&mut self, field: &syn::ExprField) -> syn::Result<Id> {
+        let axis = match &field.member {
+            syn::Member::Named(m) if m == "x" => 0,
+            syn::Member::Named(m) if m == "y" => 1,
+            syn::Member::Named(m) if m == "z" => 2,
+            _ => {
+                return Err(syn::Error::new_spanned(
+                    &field.member,
+                    "a point's component is `.x`, `.y` or `.z`",
+                ))
+            }
+        };
+        Ok(self.point(&field.base)?[axis])
+    }
+
+    /// The world coordinates of `position(body, [..])` or
+    /// `velocity(body, [..])`.
+    pub fn point(&mut self, e: &Expr) -> syn::Result<V3> {
+        let usage = "expected `position(body, [x, y, z])` or `velocity(body, [x, y, z])`";
+        let Expr::Call(call) = e else {
+            return Err(syn::Error::new_spanned(e, usage));
+        };
+        let kind = single_ident(&call.func).map(ToString::to_string);
+        let args: Vec<&Expr> = call.args.iter().collect();
+        let (Some("position" | "velocity"), [body, at]) = (kind.as_deref(), &args[..]) else {
+            return Err(syn::Error::new_spanned(e, usage));
+        };
+        let Some(name) = single_ident(body) else {
+            return Err(syn::Error::new_spanned(body, "expected a body's name"));
+        };
+        let Some(frame) = self.frames.iter().find(|(n, _)| name == n).map(|f| f.1) else {
+            let why = if self.frames.is_empty() {
+                "points of bodies need a `bodies` or `urdf` section".to_string()
+            } else {
+                format!("unknown body `{name}`")
+            };
+            return Err(syn::Error::new_spanned(body, why));
+        };
+        let Some(local) = self.triple(at, "the point") else {
+            return Err(syn::Error::new_spanned(
+                at,
+                "the point is `[x, y, z]` in the body's frame",
+            ));
+        };
+        let turned = spatial::mat_vec(self.graph, &frame.rotation, local);
+        let position = spatial::add(self.graph, frame.translation, turned);
+        if kind.as_deref() == Some("position") {
+            return Ok(position);
+        }
+        let mut d = crate::diff::Differentiator::new();
+        Ok(position.map(|p| d.time_derivative(self.graph, p, self.n).1))
+    }
+
+    /// The rows of a constraint between points, or `None` when it is not one.
+    pub fn point_rows(&mut self, c: &crate::parse::ConstraintInput) -> Option<Vec<Id>> {
+        let is_point = |e: &Expr| match e {
+            Expr::Call(call) => {
+                single_ident(&call.func).is_some_and(|f| f == "position" || f == "velocity")
+            }
+            _ => false,
+        };
+        if !is_point(&c.lhs) {
+            return None;
+        }
+        let lhs = self.point(&c.lhs).map_err(|e| self.errors.push(e)).ok()?;
+        let rhs = match &c.rhs {
+            Some(e) if is_point(e) => self.point(e).map_err(|e| self.errors.push(e)).ok()?,
+            Some(e @ Expr::Array(_)) => {
+                let ids: Vec<Id> = match e {
+                    Expr::Array(a) if a.elems.len() == 3 => {
+                        a.elems.iter().map(|x| self.lower(x)).collect()
+                    }
+                    _ => {
+                        self.errors
+                            .spanned(e, "a point equals `[x, y, z]` or another point");
+                        return Some(Vec::new());
+                    }
+                };
+                [ids[0], ids[1], ids[2]]
+            }
+            Some(e) => {
+                self.errors
+                    .spanned(e, "a point equals `[x, y, z]` or another point");
+                return Some(Vec::new());
+            }
+            None => {
+                self.errors.spanned(
+                    &c.tokens,
+                    "a point alone is not a constraint: write `position(..) == [x, y, z]`",
+                );
+                return Some(Vec::new());
+            }
+        };
+        Some((0..3).map(|i| self.graph.sub(lhs[i], rhs[i])).collect())
+    }
+}

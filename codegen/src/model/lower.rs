@@ -58,6 +58,8 @@ pub struct Lowerer<'a> {
     /// Named expressions for the derivation's text, in order: definitions,
     /// and `dt(name)` of a definition.
     pub named: Vec<(String, Id)>,
+    /// Each body's frame in the world, by name (systems with bodies).
+    pub frames: Vec<(String, crate::bodies::Placement)>,
 }
 
 impl Lowerer<'_> {
@@ -174,6 +176,7 @@ impl Lowerer<'_> {
                     _ => self.graph.div(l, r),
                 })
             }
+            Expr::Field(field) => self.point_component(field),
             Expr::MethodCall(call) => {
                 let mut args: Vec<&Expr> = vec![&call.receiver];
                 args.extend(call.args.iter());

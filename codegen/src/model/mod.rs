@@ -223,6 +223,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         errors: &mut errors,
         n,
         named: Vec::new(),
+        frames: Vec::new(),
     };
     for (i, c) in coordinates.iter().enumerate() {
         lower.declare(c, Binding::Coordinate(i), &coordinates);
@@ -230,17 +231,20 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     for (i, p) in parameters.iter().enumerate() {
         lower.declare(p, Binding::Parameter(i), &coordinates);
     }
+    // The bodies come before the definitions, so that every expression
+    // may name their points (`position(body, [x, y, z]).z`).
+    let described = lower.described(source, &coordinates);
     for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
         let id = lower.lower(value);
         lower.declare(name, Binding::Definition(id), &coordinates);
         lower.name_node(name.to_string(), id);
     }
-    let dynamics = lower.dynamics(source, &sections, &coordinates);
+    let dynamics = lower.dynamics(source, &sections, &coordinates, described);
     let constraints: Vec<Constraint> = sections
         .constraints
         .map_or(&[][..], |l| &l.items)
         .iter()
-        .map(|c| lower.constraint(c))
+        .flat_map(|c| lower.constraints(c))
         .collect();
     let eliminate = sections
         .eliminate
@@ -401,6 +405,17 @@ impl Lowerer<'_> {
         (m, Some(t))
     }
 
+    /// One constraint, or three where both sides are points
+    /// (`position(a, [..]) == position(b, [..])`, or `== [x, y, z]`).
+    fn constraints(&mut self, c: &ConstraintInput) -> Vec<Constraint> {
+        let Some(rows) = self.point_rows(c) else {
+            return vec![self.constraint(c)];
+        };
+        rows.into_iter()
+            .map(|phi| self.constraint_of(phi, &c.tokens))
+            .collect()
+    }
+
     fn constraint(&mut self, c: &ConstraintInput) -> Constraint {
         let before = self.errors.count();
         let lhs = self.lower(&c.lhs);
@@ -411,9 +426,20 @@ impl Lowerer<'_> {
             }
             None => lhs,
         };
-        if self.errors.count() == before {
-            check::constraint_involves_state(self.errors, self.graph, phi, &c.tokens);
+        if self.errors.count() != before {
+            return Constraint {
+                phi,
+                level: Level::Position,
+                tokens: c.tokens.clone(),
+            };
         }
+        self.constraint_of(phi, &c.tokens)
+    }
+
+    /// φ checked and classified by level.
+    fn constraint_of(&mut self, phi: Id, tokens: &proc_macro2::TokenStream) -> Constraint {
+        let before = self.errors.count();
+        check::constraint_involves_state(self.errors, self.graph, phi, tokens);
         let velocity = self.graph.mentions(phi, |s| matches!(s, Sym::Vel(_)));
         let level = if velocity {
             Level::Velocity
@@ -421,12 +447,12 @@ impl Lowerer<'_> {
             Level::Position
         };
         if self.errors.count() == before {
-            check::constraint_differentiable(self.errors, self.graph, phi, level, &c.tokens);
+            check::constraint_differentiable(self.errors, self.graph, phi, level, tokens);
         }
         Constraint {
             phi,
             level,
-            tokens: c.tokens.clone(),
+            tokens: tokens.clone(),
         }
     }
 

@@ -132,11 +132,33 @@ pub(super) struct Lowered {
 impl Lowerer<'_> {
     /// `M` and `F` from the [`Source`], in the usual order of the input so
     /// that errors come in source order.
+    /// The bodies of a tree source, lowered, and their frames in the world
+    /// recorded for `position(..)` and `velocity(..)`.
+    pub(super) fn described(
+        &mut self,
+        source: Source,
+        coordinates: &[Ident],
+    ) -> Vec<crate::bodies::Described> {
+        let described = match source {
+            Source::Bodies(_, list) => self.bodies(list, coordinates),
+            Source::Urdf(_, robot) => robot.described(self.graph),
+            _ => return Vec::new(),
+        };
+        let frames = crate::bodies::world_frames(self.graph, &described);
+        self.frames = described
+            .iter()
+            .map(|d| d.name.clone())
+            .zip(frames)
+            .collect();
+        described
+    }
+
     pub(super) fn dynamics(
         &mut self,
         source: Source,
         sections: &Sections,
         coordinates: &[Ident],
+        described: Vec<crate::bodies::Described>,
     ) -> Lowered {
         let n = coordinates.len();
         let (mass, kinetic, tree) = match source {
@@ -145,15 +167,7 @@ impl Lowerer<'_> {
                 let (m, t) = self.kinetic(keyword, e, n);
                 (m, t, None)
             }
-            Source::Bodies(_, list) => {
-                let described = self.bodies(list, coordinates);
-                let gravity = self.gravity(sections.gravity);
-                let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
-                let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
-                (d.mass.clone(), None, Some((tree, d)))
-            }
-            Source::Urdf(_, robot) => {
-                let described = robot.described(self.graph);
+            Source::Bodies(..) | Source::Urdf(..) => {
                 let gravity = self.gravity(sections.gravity);
                 let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
                 let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
