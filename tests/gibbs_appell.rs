@@ -12,7 +12,7 @@ use constrained::nalgebra::{Matrix3, Vector3};
 use constrained::GibbsAppellError;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(10_000))]
