@@ -27,7 +27,9 @@ fn literature_names_compile_without_warnings_and_roll_as_the_closed_form() {
     let (mw, wf_rad, iwr11, g, theta, tw) = (2.0, 0.35, 0.09, 9.81, 0.2_f64, 1.5);
     let wheel = RollingWheel::<f64>::new(mw, wf_rad, iwr11, g, theta, tw);
     let (q, qd) = (Vector2::new(0.3, -1.0), Vector2::new(1.4, 4.0));
-    let qdd = wheel.acceleration(&q, &qd, 0.0).expect("M is positive definite");
+    let qdd = wheel
+        .acceleration(&q, &qd, 0.0)
+        .expect("M is positive definite");
     // Rolling: ẍ (Mw + Iwr11/WFrad²) = Mw g sin Θ + Tw/WFrad, φ̈ = ẍ/WFrad.
     let xdd = (mw * g * theta.sin() + tw / wf_rad) / (mw + iwr11 / (wf_rad * wf_rad));
     assert!((qdd[0] - xdd).abs() <= 1e-12 * xdd.abs(), "{qdd} vs {xdd}");

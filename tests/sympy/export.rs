@@ -231,13 +231,11 @@ where
 }
 
 fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| {
-            // Under cargo's target directory (CARGO_TARGET_DIR when set).
-            let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
-            format!("{target}/sympy/systems.json")
-        });
+    let path = std::env::args().nth(1).unwrap_or_else(|| {
+        // Under cargo's target directory (CARGO_TARGET_DIR when set).
+        let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+        format!("{target}/sympy/systems.json")
+    });
     let mut rng = Rng(0x5eed_5e1f);
     let systems = vec![
         export(
