@@ -36,10 +36,14 @@ mkdir -p "$logs"
 summary="$logs/summary.txt"
 : > "$summary"
 
-# CPU seconds (user + sys) of every finished child so far, from `times`.
-cpu() {
-    times | tail -n 1 | python3 -c 'import re, sys
-print(sum(float(m) * 60 + float(s) for m, s in re.findall(r"(\d+)m([\d.]+)s", sys.stdin.read())))'
+# Sets cpu_seconds to the CPU time (user + sys) of every finished child so
+# far: `times` runs in this shell, since a command substitution's subshell
+# would report children of its own.
+cpu_now() {
+    times > "$logs/.times"
+    cpu_seconds=$(python3 -c 'import re, sys
+text = open(sys.argv[1]).read().splitlines()[-1]
+print(sum(float(m) * 60 + float(s) for m, s in re.findall(r"(\d+)m([\d.]+)s", text)))' "$logs/.times")
 }
 
 # stage NAME LOG COMMAND...: runs COMMAND with its output in LOG, times it,
@@ -49,14 +53,16 @@ stage() {
     shift 2
     local start cpu_start
     start=$(date +%s.%N)
-    cpu_start=$(cpu)
+    cpu_now
+    cpu_start=$cpu_seconds
     echo "== $name"
     if ! "$@" > "$log" 2>&1; then
         cat "$log"
         echo "== FAILED: $name (log: $log)" >&2
         exit 1
     fi
-    python3 - "$name" "$start" "$(date +%s.%N)" "$cpu_start" "$(cpu)" >> "$summary" <<'PY'
+    cpu_now
+    python3 - "$name" "$start" "$(date +%s.%N)" "$cpu_start" "$cpu_seconds" >> "$summary" <<'PY'
 import sys
 name, start, end, cpu_start, cpu_end = sys.argv[1], *map(float, sys.argv[2:])
 print(f"{name}\t{end - start:.0f}\t{cpu_end - cpu_start:.0f}")
