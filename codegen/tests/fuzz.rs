@@ -399,9 +399,10 @@ fn generated_and_mutated_inputs_expand_or_fail_with_a_spanned_error() {
 /// Compiles and runs up to 48 accepted inputs as a user's crate would: each
 /// one a module with the macro call, instantiated in f64 and f32 and
 /// evaluated at a state. The crate is built in the workspace's target
-/// directory with the test profile's settings and the workspace's features
-/// (`std`), so that it reuses what `cargo test` built (the facade, the
-/// macro, nalgebra) instead of building them again.
+/// directory with the test profile's settings (no second copy of the
+/// dependencies on disk). It does not reuse the workspace's facade and
+/// macro: its features differ (syn's on the host side, nalgebra's), so
+/// those are built again, as they were in a target directory of its own.
 fn compile_a_sample(accepted: &[String], seed: u64) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let tmp = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
