@@ -17,7 +17,7 @@ def test_binaries(text):
     lines as passed."""
     rows, current, benches = [], None, 0
     for line in text.splitlines():
-        running = re.match(r"\s+Running (\S+) \((.+)\)", line)
+        running = re.match(r"\s+Running (.+?) \((.+)\)$", line)
         doc = re.match(r"\s+Doc-tests (\S+)", line)
         if running or doc:
             if current and benches:
@@ -35,7 +35,9 @@ def test_binaries(text):
             r"test result: \w+\. (\d+) passed; (\d+) failed; (\d+) ignored", line
         )
         if result and current:
-            rows.append((current, *map(int, result.groups())))
+            counts = tuple(map(int, result.groups()))
+            if any(counts):  # binaries without tests (the examples) are left out
+                rows.append((current, *counts))
             current = None
     if current and benches:
         rows.append((current, benches, 0, 0))
