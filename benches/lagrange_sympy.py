@@ -6,6 +6,7 @@ ran before the macro took energies. Times the derivation of M and F
 stops trying larger N once one takes longer than the budget. Writes
 seconds per N as JSON."""
 
+import os
 import json
 import multiprocessing
 import sys
@@ -16,6 +17,9 @@ import sympy as sp
 from sympy.physics.mechanics import LagrangesMethod, dynamicsymbols
 
 ROOT = Path(__file__).resolve().parents[1]
+# Cargo's target directory (scripts/benchmarks.sh passes it: CARGO_TARGET_DIR
+# when set).
+TARGET = Path(os.environ.get("CONSTRAINED_TARGET_DIR", ROOT / "target"))
 BUDGET = float(sys.argv[1]) if len(sys.argv) > 1 else 120.0
 
 
@@ -60,7 +64,7 @@ def main():
         seconds = queue.get()
         results[links] = seconds
         print(f"N = {links}: sympy LagrangesMethod {seconds:.3f} s")
-    out = ROOT / "target" / "benchmarks" / "lagrange_sympy.json"
+    out = TARGET / "benchmarks" / "lagrange_sympy.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps({"budget": BUDGET, "seconds": results}))
 

@@ -5,6 +5,7 @@ compiled by lambdify twice: with numpy (the common choice) and with the
 math module and common-subexpression elimination (the fastest variant for
 scalar calls). Writes the time per call, in ns, as JSON."""
 
+import os
 import json
 import sys
 import timeit
@@ -13,6 +14,9 @@ from pathlib import Path
 import sympy as sp
 
 ROOT = Path(__file__).resolve().parents[1]
+# Cargo's target directory (scripts/benchmarks.sh passes it: CARGO_TARGET_DIR
+# when set).
+TARGET = Path(os.environ.get("CONSTRAINED_TARGET_DIR", ROOT / "target"))
 sys.path.insert(0, str(ROOT / "tests" / "sympy"))
 from derivation import derive_constraint_equations, symbols_for  # noqa: E402
 
@@ -48,6 +52,6 @@ for name, f in variants.items():
     results[name] = best / len(states) * 1e9
     print(f"{name}: {results[name]:.0f} ns per call")
 
-out = ROOT / "target" / "benchmarks" / "lambdify.json"
+out = TARGET / "benchmarks" / "lambdify.json"
 out.parent.mkdir(parents=True, exist_ok=True)
 out.write_text(json.dumps(results, indent=1))

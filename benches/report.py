@@ -1,6 +1,6 @@
 """Writes BENCHMARKS.md from one run of scripts/benchmarks.sh: criterion's
-estimates (target/criterion), the lambdify timings and the expansion sizes
-(target/benchmarks). Checks the performance targets and reports each ratio.
+estimates (<target>/criterion), the lambdify timings and the expansion sizes
+(<target>/benchmarks). Checks the performance targets and reports each ratio.
 Standard library only."""
 
 import json
@@ -12,7 +12,10 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-CRITERION = ROOT / "target" / "criterion"
+# Cargo's target directory (scripts/benchmarks.sh passes it: CARGO_TARGET_DIR
+# when set).
+TARGET = Path(os.environ.get("CONSTRAINED_TARGET_DIR", ROOT / "target"))
+CRITERION = TARGET / "criterion"
 STATES = 12  # Appell benches evaluate all shared states per iteration
 XY_STATES = 1024  # the h = x·y + sin t group evaluates this many per iteration
 
@@ -64,7 +67,7 @@ def ns(value):
 def peers():
     """(peer, what, system, n) → the peer program's JSON result, from
     benches/peers/run.sh (absent when the peers were not run)."""
-    path = ROOT / "target" / "benchmarks" / "peers.json"
+    path = TARGET / "benchmarks" / "peers.json"
     if not path.exists():
         return {}
     rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
@@ -268,7 +271,7 @@ def robot_section(peer):
 def op_count_section():
     """The generated accelerations' operation counts against sympy's cse
     (tests/sympy/test_op_counts.py writes them)."""
-    path = ROOT / "target" / "benchmarks" / "op_counts.json"
+    path = TARGET / "benchmarks" / "op_counts.json"
     if not path.exists():
         return []
     counts = json.loads(path.read_text())
@@ -312,7 +315,7 @@ def op_count_section():
 def egg_section():
     """egg's equality saturation against the rule-based factoring
     (scripts/egg_compare.sh writes the table)."""
-    path = ROOT / "target" / "benchmarks" / "egg.md"
+    path = TARGET / "benchmarks" / "egg.md"
     if not path.exists():
         return []
     return [
@@ -332,8 +335,8 @@ def egg_section():
 
 def main():
     m = criterion_means()
-    lam = json.loads((ROOT / "target" / "benchmarks" / "lambdify.json").read_text())
-    sizes = json.loads((ROOT / "target" / "benchmarks" / "expansion.json").read_text())
+    lam = json.loads((TARGET / "benchmarks" / "lambdify.json").read_text())
+    sizes = json.loads((TARGET / "benchmarks" / "expansion.json").read_text())
     get = lambda key: m.get(key)  # noqa: E731
 
     pair = paired(m, "appell_acceleration_12_states")
@@ -352,7 +355,7 @@ def main():
     rk4 = {n: get(f"chain_rk4_step/{n}") for n in links}
     expand = {n: get(f"expand_planar_chain/{n}") for n in links}
     size = {row["links"]: row for row in sizes}
-    lagrange = json.loads((ROOT / "target" / "benchmarks" / "lagrange_sympy.json").read_text())
+    lagrange = json.loads((TARGET / "benchmarks" / "lagrange_sympy.json").read_text())
     pendulum_links = [2, 4, 8, 16]
     from_energies = {n: get(f"expand_joint_angle_pendulum/{n}") for n in pendulum_links}
 

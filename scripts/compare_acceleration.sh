@@ -22,7 +22,11 @@ target=$ALIGNED_TARGET_DIR
 base_dir="$target/compare/base"
 
 executable() { # prints the bench executable cargo builds in $1 with target dir $2
-    (cd "$1" && CARGO_TARGET_DIR="$2" cargo bench --bench acceleration --no-run \
+    # The benches are the package constrained-tests' since it exists
+    # (tests/Cargo.toml), the root package's before.
+    local package=()
+    [ -f "$1/tests/Cargo.toml" ] && package=(-p constrained-tests)
+    (cd "$1" && CARGO_TARGET_DIR="$2" cargo bench "${package[@]}" --bench acceleration --no-run \
         --message-format=json 2>/dev/null |
         python3 -c 'import json,sys
 for line in sys.stdin:

@@ -5,7 +5,8 @@
 #   bash scripts/explore.sh [RUNS]      (default 20)
 # FUZZ_CASES (default 20000) sets the macro inputs per seed; a failing fuzz
 # seed reruns with FUZZ_SEED=<seed> cargo test -p constrained-codegen --test fuzz.
-# Prints each failing seed; rerun one with PROPTEST_RNG_SEED=<seed> cargo test,
+# Prints each failing seed; rerun one with PROPTEST_RNG_SEED=<seed> cargo test
+# -p constrained-tests --test integration,
 # which also saves the shrunk case in *.proptest-regressions: commit that
 # line with the fix. Here nothing is saved or replayed, so that one failure
 # does not repeat in every later run and each seed is counted on its own.
@@ -14,8 +15,9 @@ cd "$(dirname "$0")/.."
 export PROPTEST_DISABLE_FAILURE_PERSISTENCE=1
 
 runs="${1:-20}"
-property_tests=(--test appell_eq30 --test appell_eq32 --test finite_differences --test gauss --test gibbs_appell)
-cargo test --quiet --no-run "${property_tests[@]}"
+# The property tests are modules of the integration binary (tests/main.rs).
+property_tests=(-p constrained-tests --test integration -- appell_eq30:: appell_eq32:: finite_differences:: gauss:: gibbs_appell::)
+cargo test --quiet --no-run -p constrained-tests --test integration
 cargo test --quiet --no-run -p constrained-codegen --test random_expressions --test fuzz
 export FUZZ_CASES="${FUZZ_CASES:-20000}"
 failed=0

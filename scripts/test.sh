@@ -1,32 +1,105 @@
 #!/usr/bin/env bash
 # Runs every test of the project: unit, integration, property, snapshot,
 # compile-fail (trybuild) and doc tests; the benches once each in test mode
-# so that they cannot rot; the main example; the independent sympy suite
-# (in a virtual environment with pinned requirements); and the embedded run
-# (firmware on an emulated Cortex-M4F under QEMU, compared with the host).
+# so that they cannot rot; every example, briefly; the independent sympy
+# suite (in a virtual environment with pinned requirements); and the
+# embedded run (firmware on an emulated Cortex-M4F under QEMU, compared
+# with the host). Ends with a summary of what ran, stage by stage.
 # Needs cargo and python3; installs the thumbv7em target, QEMU (Debian
 # package) and the Python requirements when missing.
+#
+# One build serves every stage: the workspace's tests, benches and
+# examples are compiled once, in the test profile, and the examples and
+# the sympy export are run from that build rather than rebuilt in another
+# profile. Everything it writes goes to the target directory
+# (CARGO_TARGET_DIR when set), and no tracked file changes (`--locked`).
+# Each stage's full output is in <target>/test-logs/; the console shows
+# what ran and, on a failure, that stage's log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# A plain log: no colours, progress bars or interactive prompts.
+export CARGO_TERM_COLOR=never CARGO_TERM_PROGRESS_WHEN=never TERM=dumb NO_COLOR=1 PY_COLORS=0
+export DEBIAN_FRONTEND=noninteractive
+# A fresh clone gains nothing from incremental caches (CPU and disk).
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 export INSTA_UPDATE=no # snapshots are compared, never written, here
 # Property tests draw their cases from a fixed seed here, so that a run is
 # reproducible and a failure seen once is seen on every machine. Fresh
 # seeds are for scripts/explore.sh (or set PROPTEST_RNG_SEED yourself).
 export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261121}"
-echo "property tests: PROPTEST_RNG_SEED=$PROPTEST_RNG_SEED"
-cargo test --workspace --all-targets
-cargo test --workspace --doc
+
+target=$(cargo metadata --format-version 1 --no-deps --locked |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+logs="$target/test-logs"
+mkdir -p "$logs"
+summary="$logs/summary.txt"
+: > "$summary"
+
+# Sets cpu_seconds to the CPU time (user + sys) of every finished child so
+# far: `times` runs in this shell, since a command substitution's subshell
+# would report children of its own.
+cpu_now() {
+    times > "$logs/.times"
+    cpu_seconds=$(python3 -c 'import re, sys
+text = open(sys.argv[1]).read().splitlines()[-1]
+print(sum(float(m) * 60 + float(s) for m, s in re.findall(r"(\d+)m([\d.]+)s", text)))' "$logs/.times")
+}
+
+# stage NAME LOG COMMAND...: runs COMMAND with its output in LOG, times it,
+# and on failure prints the log and stops.
+stage() {
+    local name=$1 log=$2
+    shift 2
+    local start cpu_start
+    start=$(date +%s.%N)
+    cpu_now
+    cpu_start=$cpu_seconds
+    echo "== $name"
+    if ! "$@" > "$log" 2>&1; then
+        cat "$log"
+        echo "== FAILED: $name (log: $log)" >&2
+        exit 1
+    fi
+    cpu_now
+    python3 - "$name" "$start" "$(date +%s.%N)" "$cpu_start" "$cpu_seconds" >> "$summary" <<'PY'
+import sys
+name, start, end, cpu_start, cpu_end = sys.argv[1], *map(float, sys.argv[2:])
+print(f"{name}\t{end - start:.0f}\t{cpu_end - cpu_start:.0f}")
+PY
+}
+
+echo "property tests: PROPTEST_RNG_SEED=$PROPTEST_RNG_SEED; logs in $logs"
+stage "build: tests, benches and examples (test profile)" "$logs/build.log" \
+    cargo test --locked --workspace --all-targets --no-run
+stage "tests: unit, integration, property, snapshot, compile-fail; benches once" "$logs/tests.log" \
+    cargo test --locked --workspace --all-targets
+stage "doc tests: the crates, the guides and the README" "$logs/doctests.log" \
+    cargo test --locked --workspace --doc
 # A user's crate with `features = ["std"]`, outside the workspace (whose
 # dev-dependencies would enable std for it).
-cargo test --quiet --manifest-path tests/std-feature/Cargo.toml
+stage "std feature: a user's crate outside the workspace" "$logs/std-feature.log" \
+    cargo test --locked --manifest-path tests/std-feature/Cargo.toml
+
 # Every example, briefly, so that none can rot (the main one checks itself
-# and exits non-zero on disagreement). Plots go to target/plots.
-for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda; do
-    cargo run --quiet --release --example "$example" -- --duration 0.5 --out target/plots > /dev/null
-done
-# The LQR example at full length: it exits non-zero unless both forms of
-# the cart-pole balance and their gains agree.
-cargo run --quiet --release --example cart_pole_lqr -- --out target/plots > /dev/null
-bash scripts/sympy.sh
-bash scripts/embedded.sh
+# and exits non-zero on disagreement); the LQR example at full length: it
+# exits non-zero unless both forms of the cart-pole balance and their gains
+# agree. Run from the build above.
+examples="$target/debug/examples"
+run_examples() {
+    for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda; do
+        echo "-- $example"
+        "$examples/$example" --duration 0.5 --out "$target/plots"
+    done
+    echo "-- cart_pole_lqr"
+    "$examples/cart_pole_lqr" --out "$target/plots"
+}
+stage "examples: 11, plots in $target/plots" "$logs/examples.log" run_examples
+# The sympy export and the operation counts from the same build.
+export CONSTRAINED_EXAMPLES_DIR="$examples"
+stage "sympy: the independent suite" "$logs/sympy.log" \
+    bash scripts/sympy.sh
+stage "embedded: firmware under QEMU against the host" "$logs/embedded.log" \
+    bash scripts/embedded.sh
+
+python3 scripts/test_summary.py "$logs" "$summary"

@@ -6,7 +6,7 @@ use constrained::models::{Appell, AppellTimeDependent};
 use constrained::nalgebra::Vector3;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 /// Equal to 1e-14 relative to `scale`, the sum of the magnitudes of the
 /// terms that make up `expected` (relative to `|expected|` itself would ask

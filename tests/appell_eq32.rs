@@ -7,7 +7,7 @@ use constrained::models::{Appell, AppellTimeDependent};
 use constrained::nalgebra::Vector3;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 /// Eq. 32: q̈ = [0, 0, −g] + (b − ż g) / (ẋ² + ẏ² + ż²) · [ẋ, ẏ, −ż].
 fn eq32(qd: [f64; 3], g: f64, b: f64) -> [f64; 3] {

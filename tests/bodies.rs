@@ -262,7 +262,7 @@ constrained_system! {
     /// The same Panda from a URDF file written from the same table, its
     /// gripper's fingers locked and a massless fixed flange.
     pub struct PandaUrdf {
-        urdf: "tests/data/panda_published.urdf",
+        urdf: "data/panda_published.urdf",
         locked: [finger_joint1, finger_joint2],
     }
 }

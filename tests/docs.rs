@@ -5,7 +5,8 @@
 
 use std::path::{Component, Path, PathBuf};
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+/// The repository (this package is its `tests/` folder).
+const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 
 /// README.md, docs/*.md, and the Rust sources whose comments become docs.
 fn documents() -> Vec<PathBuf> {

@@ -12,7 +12,7 @@ use constrained::nalgebra::{Matrix3, SMatrix, SVector, Vector3, Vector4};
 use constrained::GibbsAppellError;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(10_000))]

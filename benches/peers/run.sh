@@ -8,14 +8,16 @@
 # times anything, and exits with 1 if one disagrees.
 #
 # Sets up its own virtual environment (benches/peers/.venv); writes
-# target/benchmarks/peers.json (one JSON object per line). Called by
+# <target>/benchmarks/peers.json (one JSON object per line). Called by
 # scripts/benchmarks.sh; not part of the test command. Pins the peers to one
 # core (taskset, where there is one), as the script pins criterion.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 here=benches/peers
-out=target/peers
-mkdir -p "$out" target/benchmarks
+target=$(cargo metadata --format-version 1 --no-deps |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+out=$target/peers
+mkdir -p "$out" "$target/benchmarks"
 
 if [ ! -x "$here/.venv/bin/python" ]; then
   python3 -m venv "$here/.venv"
@@ -77,6 +79,6 @@ status=$((1 - robots_ok))
       "$out/robots.txt" || status=1
     "${pin[@]}" "$out/robots" "$panda_urdf" "$ur5_urdf" "$out/robots.txt" || status=1
   fi
-} > target/benchmarks/peers.json
-cat target/benchmarks/peers.json
+} > "$target/benchmarks/peers.json"
+cat "$target/benchmarks/peers.json"
 exit $status

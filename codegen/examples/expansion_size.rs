@@ -10,9 +10,11 @@
 use constrained_codegen::{expand, fixtures::planar_chain};
 
 fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "target/benchmarks/expansion.json".to_string());
+    let path = std::env::args().nth(1).unwrap_or_else(|| {
+        // Under cargo's target directory (CARGO_TARGET_DIR when set).
+        let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+        format!("{target}/benchmarks/expansion.json")
+    });
     let mut rows = Vec::new();
     for links in [1usize, 2, 4, 8, 16, 32] {
         let tokens = planar_chain("Chain", links).parse().expect("valid tokens");

@@ -12,9 +12,11 @@ use constrained_codegen::{expand, op_count};
 use std::fmt::Write;
 
 fn main() {
-    let out = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "target/sympy/op_counts.json".to_string());
+    let out = std::env::args().nth(1).unwrap_or_else(|| {
+        // Under cargo's target directory (CARGO_TARGET_DIR when set).
+        let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+        format!("{target}/sympy/op_counts.json")
+    });
     let mut json = String::from("{\n");
     let models = common::model_invocations();
     for (i, model) in models.iter().enumerate() {

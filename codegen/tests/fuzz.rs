@@ -398,10 +398,16 @@ fn generated_and_mutated_inputs_expand_or_fail_with_a_spanned_error() {
 
 /// Compiles and runs up to 48 accepted inputs as a user's crate would: each
 /// one a module with the macro call, instantiated in f64 and f32 and
-/// evaluated at a state.
+/// evaluated at a state. The crate is built in the workspace's target
+/// directory with the test profile's settings (no second copy of the
+/// dependencies on disk). It does not reuse the workspace's facade and
+/// macro: its features differ (syn's on the host side, nalgebra's), so
+/// those are built again, as they were in a target directory of its own.
 fn compile_a_sample(accepted: &[String], seed: u64) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-compile");
+    let tmp = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let dir = tmp.join("fuzz-compile");
+    let target_dir = tmp.parent().unwrap_or(tmp);
     std::fs::create_dir_all(dir.join("src")).expect("temp crate");
     let step = (accepted.len() / 48).max(1);
     let mut main = String::from("#![allow(warnings)]\nuse constrained::nalgebra::SVector;\nuse constrained::{ConstrainedSystem, State};\n");
@@ -440,7 +446,7 @@ fn compile_a_sample(accepted: &[String], seed: u64) {
     std::fs::write(
         dir.join("Cargo.toml"),
         format!(
-            "[package]\nname = \"fuzz-compile\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n[dependencies]\nconstrained = {{ path = {:?} }}\n\n[workspace]\n",
+            "[package]\nname = \"fuzz-compile\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n[dependencies]\nconstrained = {{ path = {:?}, features = [\"std\"] }}\n\n[workspace]\n\n[profile.dev]\nopt-level = 1\ndebug = \"line-tables-only\"\n",
             root.canonicalize().expect("workspace root")
         ),
     )
@@ -449,7 +455,7 @@ fn compile_a_sample(accepted: &[String], seed: u64) {
     let output = std::process::Command::new(env!("CARGO"))
         .args(["run", "--quiet", "--offline"])
         .current_dir(&dir)
-        .env("CARGO_TARGET_DIR", dir.join("target"))
+        .env("CARGO_TARGET_DIR", target_dir)
         .output()
         .expect("cargo runs");
     assert!(

@@ -6,7 +6,8 @@ use plotters::prelude::*;
 use std::path::PathBuf;
 
 /// `--duration SECONDS` (simulated time), `--progress` (report on stderr),
-/// `--out DIR` (where the SVG goes; `target/plots` by default).
+/// `--out DIR` (where the SVG goes; `plots` in cargo's target directory by
+/// default).
 pub struct Options {
     /// Simulated time, s.
     pub duration: f64,
@@ -23,7 +24,7 @@ impl Options {
         let mut options = Options {
             duration,
             progress: false,
-            out_dir: PathBuf::from("target/plots"),
+            out_dir: target_dir().join("plots"),
         };
         let mut args = std::env::args().skip(1);
         while let Some(arg) = args.next() {
@@ -65,6 +66,22 @@ impl Options {
             started: std::time::Instant::now(),
         }
     }
+}
+
+/// Cargo's target directory: `CARGO_TARGET_DIR` when set, else the one
+/// this example was built in (`<target>/<profile>/examples/<name>`), else
+/// `target`. Outputs never land in the clone's `target/` when the build
+/// went elsewhere.
+fn target_dir() -> PathBuf {
+    if let Some(dir) = std::env::var_os("CARGO_TARGET_DIR") {
+        return PathBuf::from(dir);
+    }
+    let exe = std::env::current_exe().ok();
+    let built_in = exe.as_deref().and_then(|exe| {
+        let examples = exe.parent()?;
+        (examples.file_name()? == "examples").then_some(examples.parent()?.parent()?)
+    });
+    built_in.map_or_else(|| PathBuf::from("target"), PathBuf::from)
 }
 
 fn usage(problem: &str) -> ! {

@@ -1,4 +1,4 @@
-"""Loads the macro's export (examples/sympy_export.rs) and reports the
+"""Loads the macro's export (tests/sympy/export.rs) and reports the
 largest discrepancy each check saw."""
 
 import json
@@ -8,7 +8,10 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-EXPORT = Path(os.environ.get("CONSTRAINED_SYSTEMS_JSON", ROOT / "target" / "sympy" / "systems.json"))
+# Cargo's target directory (scripts/sympy.sh passes it: CARGO_TARGET_DIR
+# when set), where the inputs are read and the outputs written.
+TARGET = Path(os.environ.get("CONSTRAINED_TARGET_DIR", ROOT / "target"))
+EXPORT = Path(os.environ.get("CONSTRAINED_SYSTEMS_JSON", TARGET / "sympy" / "systems.json"))
 
 DISCREPANCIES = {}
 
@@ -22,7 +25,7 @@ def record(check, system, value):
 def load_export():
     if not EXPORT.exists():
         raise FileNotFoundError(
-            f"{EXPORT} is missing: run `cargo run --example sympy_export -- {EXPORT}` first "
+            f"{EXPORT} is missing: run `cargo run -p constrained-tests --example sympy_export -- {EXPORT}` first "
             "(scripts/sympy.sh does)"
         )
     return json.loads(EXPORT.read_text())

@@ -7,7 +7,7 @@ q̈ = a + M⁻¹Aᵀ (A M⁻¹ Aᵀ)⁻¹ (b − A a), by sympy's LU solves, the
 `count_ops`. The generated code must not need more, except on the models
 of KNOWN_GAPS, each held to its measured ratio so that it cannot grow
 unnoticed (and flagged when it closes). Writes the table's numbers to
-target/benchmarks/op_counts.json for BENCHMARKS.md.
+<target>/benchmarks/op_counts.json for BENCHMARKS.md.
 
 A model with redundant constraints is counted twice on sympy's side: with
 the rows that stay independent at a consistent state (chosen here, by
@@ -29,11 +29,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from conftest import ROOT, SYSTEMS
+from conftest import SYSTEMS, TARGET
 from derivation import derive_constraint_equations, numeric, parse, symbols_for
 
-GENERATED = Path(os.environ.get("CONSTRAINED_OP_COUNTS_JSON", ROOT / "target" / "sympy" / "op_counts.json"))
-TABLE = ROOT / "target" / "benchmarks" / "op_counts.json"
+GENERATED = Path(os.environ.get("CONSTRAINED_OP_COUNTS_JSON", TARGET / "sympy" / "op_counts.json"))
+TABLE = TARGET / "benchmarks" / "op_counts.json"
 COUNTS = json.loads(GENERATED.read_text()) if GENERATED.exists() else {}
 SLOW_CONSTRAINTS = 4
 EVERY = os.environ.get("CONSTRAINED_OP_COUNTS_ALL") == "1"

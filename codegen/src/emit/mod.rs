@@ -180,13 +180,16 @@ fn struct_definition(
         #[doc = #struct_doc]
         #[doc = #derivation_doc]
         #[derive(Clone, Copy, Debug, PartialEq)]
+        // The fields are the user's parameter names, often the literature's
+        // (`WFrad`, `Iwr11`): no naming lint on them, here or in `new`.
+        #[allow(non_snake_case)]
         #vis struct #name<T = f64> { #fields }
 
         impl<T> #name<T> {
             /// Creates the system from its parameters, then its control
             /// inputs, in the order declared.
             // One argument per parameter, however many the model has.
-            #[allow(clippy::new_without_default, clippy::too_many_arguments)]
+            #[allow(non_snake_case, clippy::new_without_default, clippy::too_many_arguments)]
             pub const fn new(#(#params: T),*) -> Self { #constructor_body }
         }
 

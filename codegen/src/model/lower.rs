@@ -162,6 +162,7 @@ impl Lowerer<'_> {
                     BinOp::Eq(_) => {
                         return err(e, "`==` may only stand at the top of a constraint")
                     }
+                    BinOp::BitXor(_) => return power_hint(b),
                     _ => return err(&b.op, "unsupported operator: expected `+`, `-`, `*` or `/`"),
                 };
                 // Lower both sides even if one fails, to report both.
@@ -192,6 +193,10 @@ impl Lowerer<'_> {
                 }
                 self.apply(name, &args, e)
             }
+            Expr::Assign(a) => err(
+                &a.eq_token,
+                "`=` assigns: did you mean `==`? (a constraint is written `lhs == rhs`)",
+            ),
             _ => err(
                 e,
                 "unsupported expression: expected numbers, names, `dot(q)`, `+ - * /`, \
@@ -388,4 +393,26 @@ fn single_ident(e: &Expr) -> Option<&Ident> {
         Expr::Path(p) if p.qself.is_none() => p.path.get_ident(),
         _ => None,
     }
+}
+
+/// `x^2`: in Rust `^` is the bitwise xor (and binds more loosely than `*`,
+/// so `m * x^2` is `(m * x) ^ 2`), not a power. The error spans `^` and
+/// the exponent, and names the method to use instead.
+fn power_hint(b: &syn::ExprBinary) -> syn::Result<Id> {
+    let exponent = match &*b.right {
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(k),
+            ..
+        }) => Some(k.base10_digits().to_string()),
+        _ => None,
+    };
+    let message = match exponent {
+        Some(k) => format!("`^` is not a power in Rust: use `.powi({k})`, as in `x.powi({k})`"),
+        None => "`^` is not a power in Rust: use `.powi(n)` for an integer exponent, \
+                 `.powf(y)` otherwise"
+            .to_string(),
+    };
+    let op = &b.op;
+    let right = &b.right;
+    Err(syn::Error::new_spanned(quote::quote!(#op #right), message))
 }

@@ -9,7 +9,8 @@
 //! and equilibrium states, which the suite compares with
 //! `sympy.physics.mechanics` derivations of its own.
 //!
-//! `cargo run --example sympy_export -- target/sympy/systems.json`
+//! `cargo run -p constrained-tests --example sympy_export [-- PATH]` (default:
+//! `<target>/sympy/systems.json`)
 
 use constrained::models::*;
 use constrained::nalgebra::{SMatrix, SVector, Vector2, Vector3};
@@ -230,9 +231,11 @@ where
 }
 
 fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "target/sympy/systems.json".to_string());
+    let path = std::env::args().nth(1).unwrap_or_else(|| {
+        // Under cargo's target directory (CARGO_TARGET_DIR when set).
+        let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+        format!("{target}/sympy/systems.json")
+    });
     let mut rng = Rng(0x5eed_5e1f);
     let systems = vec![
         export(

@@ -4,5 +4,6 @@
 
 #[test]
 fn errors() {
-    trybuild::TestCases::new().compile_fail("tests/ui/errors/*.rs");
+    // Paths are relative to this package (tests/ui), as in the `.stderr`.
+    trybuild::TestCases::new().compile_fail("errors/*.rs");
 }

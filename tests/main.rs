@@ -1,0 +1,30 @@
+//! The integration tests of `constrained`, one binary with a module per
+//! file (each file's own docs say what it checks). One binary because the
+//! reference models are generic: every test binary used to compile and link
+//! its own instances of the generated code, and their link steps dominated
+//! the build. A new test file is added here as a module. `no_allocation`
+//! stays a binary of its own (a counting global allocator, no harness), as
+//! do the compile-fail tests (`tests/ui`, a package of their own).
+
+mod common;
+
+mod appell_eq30;
+mod appell_eq32;
+mod bodies;
+mod directional;
+mod docs;
+mod energies;
+mod fault_matrix;
+mod finite_differences;
+mod gauss;
+mod gibbs_appell;
+mod hostile_runtime;
+mod integrators;
+mod jacobian_edges;
+mod linearize;
+mod nonsmooth;
+mod projection;
+mod rank_decisions;
+mod rigid_body;
+mod robustness;
+mod user_names;
