@@ -70,8 +70,14 @@ PY
 }
 
 echo "property tests: PROPTEST_RNG_SEED=$PROPTEST_RNG_SEED; logs in $logs"
-stage "build: tests, benches and examples (test profile)" "$logs/build.log" \
-    cargo test --locked --workspace --all-targets --no-run
+# `cargo test --no-run` leaves the examples under hashed names; the
+# `cargo build` of the same profile puts them at debug/examples/NAME, where
+# the stages below run them.
+build_all() {
+    cargo test --locked --workspace --all-targets --no-run &&
+        cargo build --locked --profile test --workspace --examples
+}
+stage "build: tests, benches and examples (test profile)" "$logs/build.log" build_all
 stage "tests: unit, integration, property, snapshot, compile-fail; benches once" "$logs/tests.log" \
     cargo test --locked --workspace --all-targets
 stage "doc tests: the crates, the guides and the README" "$logs/doctests.log" \
