@@ -73,6 +73,9 @@ pub fn mass_from_kinetic_energy(
             } else {
                 entry
             };
+            // sin² + cos² = 1 where it shortens (the Furuta pendulum's
+            // θ-free arm inertia, a Cartesian pendulum's constant m·l²).
+            let entry = crate::trig::simplify(g, entry);
             m[i][j] = entry;
             m[j][i] = entry;
         }
@@ -192,7 +195,8 @@ pub fn forces(
             // Distributed, so that the terms of ∂T/∂q and of the coupling
             // (∂²T/∂q̇∂qᵀ) q̇ that cancel do (the cart-pole's θ equation).
             let terms: Vec<Id> = terms.into_iter().map(|t| g.distribute(t)).collect();
-            g.add(&terms)
+            let sum = g.add(&terms);
+            crate::trig::simplify(g, sum)
         })
         .collect()
 }

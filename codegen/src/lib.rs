@@ -43,6 +43,7 @@ pub mod rng;
 pub mod sparsity;
 pub mod squares;
 pub mod tangent;
+pub mod trig;
 
 use proc_macro2::TokenStream;
 

@@ -251,6 +251,14 @@ impl<'a> Printer<'a> {
         if e.is_one() {
             return self.wrap(self.render(b), Prec::Power);
         }
+        // An even power of a sum whose negation is named is that name's
+        // power: `dt(px)²`, not the negated expansion of `dt(px)`.
+        let named = |id: Id| self.names.is_some_and(|names| names.contains_key(&id));
+        let even = e.as_integer().is_some_and(|k| k % 2 == 0);
+        let b = match self.graph.existing_negation(b) {
+            Some(negated) if even && !named(b) && named(negated) => negated,
+            _ => b,
+        };
         let half = Num::ratio(1, 2);
         match self.style {
             Style::Unicode if e == half => format!("√{}", self.wrap(self.render(b), Prec::Atom)),

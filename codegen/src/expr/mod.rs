@@ -198,6 +198,17 @@ impl Graph {
         self.nodes.is_empty()
     }
 
+    /// The sum `−s` when the graph holds it, for a sum `s`: a square of
+    /// `s` is the square of `−s`, which the derivation prints by the name
+    /// `−s` may have (`dt(px)²` rather than its negated expansion).
+    pub fn existing_negation(&self, s: Id) -> Option<Id> {
+        let Node::Add(terms, c0) = self.node(s) else {
+            return None;
+        };
+        let negated = Node::Add(terms.iter().map(|&(t, c)| (t, -c)).collect(), -*c0);
+        self.index.get(&negated).copied()
+    }
+
     fn intern(&mut self, node: Node) -> Id {
         if let Some(&id) = self.index.get(&node) {
             return id;

@@ -1,0 +1,337 @@
+//! The Pythagorean identity `sin²x + cos²x = 1`, applied where a person
+//! would: the Furuta pendulum written with Cartesian definitions derives
+//! `M₁₁ = J + m·((r·sin θ + l·sin α·cos θ)² + (r·cos θ − l·sin α·sin θ)²)`,
+//! which is `J + m·r² + m·l²·sin²α`; a pendulum whose `T` is written from
+//! its bob's `x` and `y` has the constant `M = m·l²`, not
+//! `m·l²·(sin²θ + cos²θ)` computed with a sine and a cosine.
+//!
+//! The expression is expanded into a polynomial whose variables are its
+//! atoms (symbols, functions, non-integer powers; a subexpression whose
+//! expansion would exceed [`MAX_TERMS`] stays an atom) with exact
+//! coefficients. For each argument `x` with `sin x` or `cos x` in it, the
+//! polynomial is reduced modulo `sin²x + cos²x − 1` in both directions
+//! (`cos²x → 1 − sin²x`, then `sin²x → 1 − cos²x`), and the shorter of the
+//! two, when shorter than before, is kept. A reduction that removed no
+//! monomial leaves the expression as it was; one that did replaces it only
+//! when the result costs no more operations. Values are unchanged up to
+//! rounding: the identity is exact, only the order of operations moves.
+
+use crate::expr::{Func, Graph, Id, Node};
+use crate::num::Num;
+use crate::squares::operations;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+/// Expansions of more monomials than this keep the subexpression whole (an
+/// atom): the forms the identity shortens are small, and the polynomial of a
+/// large expression would cost time nobody gets back.
+const MAX_TERMS: usize = 96;
+
+/// The most monomial products one simplification may compute before it
+/// gives up and leaves the expression as it was: a bound on the time the
+/// macro spends here whatever the input.
+const MAX_WORK: usize = 200_000;
+
+/// A product of atoms to integer powers, sorted by atom, no zero power.
+type Monomial = Vec<(Id, i64)>;
+
+/// A polynomial: its monomials with their exact coefficients.
+type Poly = BTreeMap<Monomial, Num>;
+
+/// `root` with `sin²x + cos²x = 1` applied where that removes monomials and
+/// costs no more operations; `root` itself otherwise (module docs).
+pub fn simplify(g: &mut Graph, root: Id) -> Id {
+    let arguments = trig_arguments(g, root);
+    if arguments.is_empty() {
+        return root;
+    }
+    let mut work = 0usize;
+    let Some(expanded) = expand(g, root, &mut work) else {
+        return root;
+    };
+    let mut best = expanded.clone();
+    for x in arguments {
+        let (sin, cos) = (g.func(Func::Sin, x), g.func(Func::Cos, x));
+        for (from, to) in [(cos, sin), (sin, cos)] {
+            let Some(reduced) = reduce(&best, from, to, &mut work) else {
+                return root;
+            };
+            if shorter(&reduced, &best) {
+                best = reduced;
+            }
+        }
+    }
+    if best.len() >= expanded.len() {
+        return root;
+    }
+    let candidate = rebuild(g, &best);
+    if operations(g, &[candidate]) <= operations(g, &[root]) {
+        candidate
+    } else {
+        root
+    }
+}
+
+/// Whether `a` has fewer monomials than `b`, or as many of lower total
+/// degree in its atoms.
+fn shorter(a: &Poly, b: &Poly) -> bool {
+    let degree = |p: &Poly| -> i64 { p.keys().flatten().map(|&(_, e)| e.abs()).sum() };
+    (a.len(), degree(a)) < (b.len(), degree(b))
+}
+
+/// The arguments `x` for which `root` reaches both `sin x` and `cos x`, or
+/// one of them under a power of two or more: the only places the identity
+/// can apply.
+fn trig_arguments(g: &Graph, root: Id) -> Vec<Id> {
+    let mut sines = BTreeSet::new();
+    let mut cosines = BTreeSet::new();
+    let mut squared = BTreeSet::new();
+    for id in g.reachable(&[root]) {
+        match g.node(id) {
+            Node::Func(Func::Sin, args) => {
+                sines.insert(args.as_slice()[0]);
+            }
+            Node::Func(Func::Cos, args) => {
+                cosines.insert(args.as_slice()[0]);
+            }
+            Node::Mul(factors) => {
+                for &(base, e) in factors.iter() {
+                    if let Node::Func(Func::Sin | Func::Cos, args) = g.node(base) {
+                        if e.as_integer().is_some_and(|k| k >= 2) {
+                            squared.insert(args.as_slice()[0]);
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    let both = sines.intersection(&cosines).copied();
+    both.chain(squared)
+        .collect::<BTreeSet<Id>>()
+        .into_iter()
+        .collect()
+}
+
+/// `root` as a polynomial in its atoms, or `None` when the work bound is
+/// reached.
+fn expand(g: &mut Graph, root: Id, work: &mut usize) -> Option<Poly> {
+    let mut memo: HashMap<Id, Poly> = HashMap::new();
+    for id in g.reachable(&[root]) {
+        let poly = match g.node(id).clone() {
+            Node::Num(c) => Poly::from([(Vec::new(), c)]),
+            Node::Add(terms, c0) => {
+                let mut sum = Poly::new();
+                if !c0.is_zero() {
+                    sum.insert(Vec::new(), c0);
+                }
+                for (t, c) in terms.iter().copied() {
+                    for (m, k) in &memo[&t] {
+                        accumulate(&mut sum, m.clone(), *k * c);
+                    }
+                }
+                sum
+            }
+            Node::Mul(factors) => product(g, &memo, &factors, work)?,
+            _ => atom(id),
+        };
+        let poly = if poly.len() > MAX_TERMS {
+            atom(id)
+        } else {
+            poly
+        };
+        memo.insert(id, poly);
+    }
+    memo.remove(&root)
+}
+
+/// The polynomial that is the atom `id` alone.
+fn atom(id: Id) -> Poly {
+    Poly::from([(vec![(id, 1)], Num::ONE)])
+}
+
+/// The polynomial of `Π bᵢ^eᵢ`: a factor to a positive integer power is
+/// multiplied out (up to the fourth), a monomial factor to any integer power
+/// raises its powers, and anything else (a sum in a denominator, a
+/// fractional power) is an atom.
+fn product(
+    g: &mut Graph,
+    memo: &HashMap<Id, Poly>,
+    factors: &[(Id, Num)],
+    work: &mut usize,
+) -> Option<Poly> {
+    let mut result = Poly::from([(Vec::new(), Num::ONE)]);
+    for &(base, e) in factors {
+        let poly = &memo[&base];
+        let factor = match e.as_integer() {
+            Some(k) if poly.len() == 1 => {
+                let (m, c) = poly.iter().next().map(|(m, c)| (m.clone(), *c))?;
+                match c.pow(e) {
+                    Some(c) => {
+                        let m: Monomial = m.into_iter().map(|(a, p)| (a, p * k)).collect();
+                        Poly::from([(m, c)])
+                    }
+                    None => atom(g.pown(base, e)),
+                }
+            }
+            Some(k @ 1..=4) => {
+                let mut power = poly.clone();
+                for _ in 1..k {
+                    power = multiply(&power, poly, work)?;
+                }
+                power
+            }
+            _ => atom(g.pown(base, e)),
+        };
+        result = multiply(&result, &factor, work)?;
+    }
+    Some(result)
+}
+
+/// Adds `c·m` to `p`, dropping the monomial when its coefficient cancels.
+fn accumulate(p: &mut Poly, m: Monomial, c: Num) {
+    let slot = p.entry(m.clone()).or_insert(Num::ZERO);
+    *slot = *slot + c;
+    if slot.is_zero() {
+        p.remove(&m);
+    }
+}
+
+/// The product of two polynomials, or `None` past the work bound.
+fn multiply(a: &Poly, b: &Poly, work: &mut usize) -> Option<Poly> {
+    *work += a.len() * b.len();
+    if *work > MAX_WORK {
+        return None;
+    }
+    let mut p = Poly::new();
+    for (ma, ca) in a {
+        for (mb, cb) in b {
+            accumulate(&mut p, times(ma, mb), *ca * *cb);
+        }
+    }
+    Some(p)
+}
+
+/// The product of two monomials.
+fn times(a: &Monomial, b: &Monomial) -> Monomial {
+    let mut powers: BTreeMap<Id, i64> = a.iter().copied().collect();
+    for &(x, e) in b {
+        *powers.entry(x).or_insert(0) += e;
+    }
+    powers.into_iter().filter(|&(_, e)| e != 0).collect()
+}
+
+/// `p` with every `from²` replaced by `1 − to²` until no monomial holds
+/// `from` to a power of two or more (each round lowers that power by two, so
+/// this ends); `None` past the work bound.
+fn reduce(p: &Poly, from: Id, to: Id, work: &mut usize) -> Option<Poly> {
+    let mut pending: Vec<(Monomial, Num)> = p.iter().map(|(m, c)| (m.clone(), *c)).collect();
+    let mut done = Poly::new();
+    while let Some((m, c)) = pending.pop() {
+        *work += 1;
+        if *work > MAX_WORK {
+            return None;
+        }
+        let power = m.iter().find(|&&(x, _)| x == from).map_or(0, |&(_, e)| e);
+        if power < 2 {
+            accumulate(&mut done, m, c);
+            continue;
+        }
+        let lowered = times(&m, &vec![(from, -2)]);
+        let mut shifted = vec![(to, 2)];
+        shifted.sort();
+        pending.push((times(&lowered, &shifted), -c));
+        pending.push((lowered, c));
+    }
+    Some(done)
+}
+
+/// The expression of a polynomial.
+fn rebuild(g: &mut Graph, p: &Poly) -> Id {
+    let items: Vec<(Id, Num)> = p
+        .iter()
+        .map(|(m, c)| {
+            let factors = m.iter().map(|&(x, e)| (x, Num::int(e)));
+            (g.product(factors), *c)
+        })
+        .collect();
+    g.linear_combination(items)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::expr::{sample as value, Sym};
+
+    /// `m·((l·cos θ)² + (l·sin θ)²)` is `m·l²`: no trigonometry left.
+    #[test]
+    fn a_pendulum_written_in_cartesian_terms_has_a_constant_mass() {
+        let mut g = Graph::new();
+        let (th, m, l) = (
+            g.sym(Sym::Coord(0)),
+            g.sym(Sym::Param(0)),
+            g.sym(Sym::Param(1)),
+        );
+        let (s, c) = (g.func(Func::Sin, th), g.func(Func::Cos, th));
+        let (x, y) = (g.mul2(l, c), g.mul2(l, s));
+        let (x2, y2) = (g.pown(x, Num::int(2)), g.pown(y, Num::int(2)));
+        let sum = g.add2(x2, y2);
+        let entry = g.mul2(m, sum);
+        let simplified = simplify(&mut g, entry);
+        let l2 = g.pown(l, Num::int(2));
+        assert_eq!(simplified, g.mul2(m, l2));
+        assert!((value(&g, simplified) - value(&g, entry)).abs() < 1e-14);
+    }
+
+    /// The Furuta pendulum's `M₁₁` from its Cartesian bob:
+    /// `(r·sin θ + l·sin α·cos θ)² + (r·cos θ − l·sin α·sin θ)² = r² + l²·sin²α`.
+    #[test]
+    fn the_furuta_arm_inertia_loses_its_theta() {
+        let mut g = Graph::new();
+        let (th, al) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let (r, l) = (g.sym(Sym::Param(0)), g.sym(Sym::Param(1)));
+        let (st, ct) = (g.func(Func::Sin, th), g.func(Func::Cos, th));
+        let sa = g.func(Func::Sin, al);
+        let rs = g.mul2(r, st);
+        let lsc = g.mul(&[l, sa, ct]);
+        let first = g.add2(rs, lsc);
+        let rc = g.mul2(r, ct);
+        let lss = g.mul(&[l, sa, st]);
+        let second = g.sub(rc, lss);
+        let (a2, b2) = (g.pown(first, Num::int(2)), g.pown(second, Num::int(2)));
+        let entry = g.add2(a2, b2);
+        let simplified = simplify(&mut g, entry);
+        assert!(!g.mentions(simplified, |s| s == Sym::Coord(0)));
+        let r2 = g.pown(r, Num::int(2));
+        let l2 = g.pown(l, Num::int(2));
+        let sa2 = g.pown(sa, Num::int(2));
+        let tail = g.mul2(l2, sa2);
+        assert_eq!(simplified, g.add2(r2, tail));
+        assert!((value(&g, simplified) - value(&g, entry)).abs() < 1e-13);
+    }
+
+    /// `1 − sin²α` is `cos²α`: the other direction of the identity.
+    #[test]
+    fn one_minus_a_squared_sine_is_a_squared_cosine() {
+        let mut g = Graph::new();
+        let al = g.sym(Sym::Coord(0));
+        let s = g.func(Func::Sin, al);
+        let s2 = g.pown(s, Num::int(2));
+        let one = g.int(1);
+        let e = g.sub(one, s2);
+        let c = g.func(Func::Cos, al);
+        assert_eq!(simplify(&mut g, e), g.pown(c, Num::int(2)));
+    }
+
+    /// Nothing to apply: `sin x·cos y` and `sin²x + y` are left alone.
+    #[test]
+    fn expressions_the_identity_does_not_shorten_are_unchanged() {
+        let mut g = Graph::new();
+        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let (sx, cy) = (g.func(Func::Sin, x), g.func(Func::Cos, y));
+        let e = g.mul2(sx, cy);
+        assert_eq!(simplify(&mut g, e), e);
+        let s2 = g.pown(sx, Num::int(2));
+        let e = g.add2(s2, y);
+        assert_eq!(simplify(&mut g, e), e);
+    }
+}
