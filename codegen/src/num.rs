@@ -1,29 +1,93 @@
-//! Numbers of the symbolic core: exact rationals, with `f64` as the fallback.
+//! Numbers of the symbolic core: exact rationals, with `f64` only for what
+//! was written as a float.
 //!
 //! DSL literals such as `9.81` or `0.5` are decimal and so exact rationals
 //! (`981/100`, `1/2`). Keeping them exact keeps simplification exact
 //! (`x/2 + x/2` is `x`, not `0.9999…x`), keeps the derivation text readable and
-//! lets sympy compare the macro's expressions with its own exactly. Only when a
-//! rational would overflow `i128` (or a literal is not a short decimal) does a
-//! number become a float, and a float absorbs whatever it is combined with.
+//! lets sympy compare the macro's expressions with its own exactly. A
+//! rational that overflows `i128` — a URDF's 17-digit decimals multiplied
+//! down a chain — becomes a big rational ([`Num::Big`]: an index into a
+//! per-thread table of interned `BigRational`s, so that `Num` stays `Copy`
+//! and equality stays an integer comparison), rounded to the nearest `f64`
+//! only when the code is written. A float (a literal too long to be a
+//! decimal rational, `π` of a URDF's `rpy`) absorbs whatever it is combined
+//! with.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{Signed, ToPrimitive, Zero};
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 use std::cmp::Ordering;
 use std::fmt;
 use std::hash::{Hash, Hasher};
 
-/// A constant: an exact rational `num/den` (reduced, `den > 0`) or a float.
+/// A constant: an exact rational `num/den` (reduced, `den > 0`), an exact
+/// rational too large for `i128`, or a float.
 #[derive(Clone, Copy, Debug)]
 pub enum Num {
     /// Exact rational `numerator / denominator`, reduced, denominator positive.
     Rational(i128, i128),
-    /// Inexact fallback.
+    /// Exact rational whose numerator or denominator does not fit `i128`:
+    /// the index of its entry in this thread's table ([`BIG`]), where equal
+    /// values share one index. Never a value that fits `Rational`.
+    Big(u32),
+    /// Inexact: a literal too long to be a decimal rational, or `π`.
     Float(f64),
+}
+
+/// Exact values beyond `i128` never exceed this many bits in numerator or
+/// denominator: a power that would (`(5/2)^1296`) stays symbolic, as a
+/// float overflow does, so that no constant costs unbounded time or text.
+const MAX_BITS: u64 = 2048;
+
+/// The interned big rationals of this thread (the macro expands on one
+/// thread): their values by index, and the index of each value.
+struct BigTable {
+    values: Vec<BigRational>,
+    index: HashMap<BigRational, u32>,
+}
+
+thread_local! {
+    static BIG: RefCell<BigTable> = RefCell::new(BigTable {
+        values: Vec::new(),
+        index: HashMap::new(),
+    });
+}
+
+/// The value of `Num::Big(i)`.
+fn big_value(i: u32) -> BigRational {
+    BIG.with(|t| t.borrow().values[i as usize].clone())
+}
+
+/// `r` as a `Num`: `Rational` when it fits `i128`, an interned `Big`
+/// otherwise; `None` past [`MAX_BITS`] (or, impossibly, past `u32::MAX`
+/// entries).
+fn from_big(r: BigRational) -> Option<Num> {
+    if let (Some(n), Some(d)) = (r.numer().to_i128(), r.denom().to_i128()) {
+        return Some(Num::Rational(n, d));
+    }
+    if r.numer().bits().max(r.denom().bits()) > MAX_BITS {
+        return None;
+    }
+    BIG.with(|t| {
+        let mut t = t.borrow_mut();
+        if let Some(&i) = t.index.get(&r) {
+            return Some(Num::Big(i));
+        }
+        let i = u32::try_from(t.values.len()).ok()?;
+        t.values.push(r.clone());
+        t.index.insert(r, i);
+        Some(Num::Big(i))
+    })
 }
 
 impl PartialEq for Num {
     fn eq(&self, other: &Self) -> bool {
         match (self, other) {
             (Num::Rational(a, b), Num::Rational(c, d)) => a == c && b == d,
+            (Num::Big(a), Num::Big(b)) => a == b,
             (Num::Float(a), Num::Float(b)) => a.to_bits() == b.to_bits(),
             _ => false,
         }
@@ -36,6 +100,7 @@ impl Hash for Num {
         match self {
             Num::Rational(a, b) => (0u8, a, b).hash(state),
             Num::Float(f) => (1u8, f.to_bits()).hash(state),
+            Num::Big(i) => (2u8, i).hash(state),
         }
     }
 }
@@ -125,12 +190,33 @@ impl Num {
         Some(exact.unwrap_or(Num::Float(value)))
     }
 
-    /// The value as `f64`.
+    /// The value as `f64` (the nearest one for a big rational).
     pub fn to_f64(self) -> f64 {
         match self {
-            Num::Rational(n, d) => n as f64 / d as f64,
+            // Exact operands, one rounding: the division itself.
+            Num::Rational(n, d) if n.unsigned_abs() <= 1 << 53 && d <= 1 << 53 => {
+                n as f64 / d as f64
+            }
+            // Larger ones are rounded once, to the nearest f64, not twice.
+            Num::Rational(..) | Num::Big(_) => {
+                self.exact().and_then(|x| x.to_f64()).unwrap_or(f64::NAN)
+            }
             Num::Float(f) => f,
         }
+    }
+
+    /// The exact value, for a rational of either size.
+    fn exact(self) -> Option<BigRational> {
+        match self {
+            Num::Rational(n, d) => Some(BigRational::new(BigInt::from(n), BigInt::from(d))),
+            Num::Big(i) => Some(big_value(i)),
+            Num::Float(_) => None,
+        }
+    }
+
+    /// Whether this is an exact rational (of either size), not a float.
+    pub fn is_exact(self) -> bool {
+        !matches!(self, Num::Float(_))
     }
 
     /// Whether this is exactly zero.
@@ -145,7 +231,10 @@ impl Num {
 
     /// Whether this is negative.
     pub fn is_negative(self) -> bool {
-        self.to_f64() < 0.0
+        match self {
+            Num::Big(i) => big_value(i).is_negative(),
+            _ => self.to_f64() < 0.0,
+        }
     }
 
     /// The value as an integer, when it is an exact integer.
@@ -160,11 +249,18 @@ impl Num {
         self,
         other: Num,
         exact: impl Fn(i128, i128, i128, i128) -> Option<(i128, i128)>,
+        big: impl Fn(BigRational, BigRational) -> BigRational,
         float: impl Fn(f64, f64) -> f64,
     ) -> Num {
         if let (Num::Rational(a, b), Num::Rational(c, d)) = (self, other) {
             if let Some((n, m)) = exact(a, b, c, d) {
                 return Num::ratio(n, m);
+            }
+        }
+        // Past i128 the value stays exact, as a big rational.
+        if let (Some(x), Some(y)) = (self.exact(), other.exact()) {
+            if let Some(value) = from_big(big(x, y)) {
+                return value;
             }
         }
         Num::Float(float(self.to_f64(), other.to_f64()))
@@ -180,6 +276,7 @@ impl Num {
                 ))
             },
             |x, y| x + y,
+            |x, y| x + y,
         )
     }
 
@@ -192,6 +289,7 @@ impl Num {
                 Some(((a / g1).checked_mul(c / g2)?, (b / g2).checked_mul(d / g1)?))
             },
             |x, y| x * y,
+            |x, y| x * y,
         )
     }
 
@@ -199,6 +297,10 @@ impl Num {
     pub fn recip(self) -> Num {
         match self {
             Num::Rational(n, d) => Num::ratio(d, n),
+            // Nonzero: zero fits i128.
+            Num::Big(i) => {
+                from_big(big_value(i).recip()).unwrap_or(Num::Float(1.0 / self.to_f64()))
+            }
             Num::Float(f) => Num::Float(1.0 / f),
         }
     }
@@ -233,18 +335,26 @@ impl Num {
     fn powi(self, e: i64) -> Option<Num> {
         // `powf` with the exact integer (to 2⁵³): `powi(e as i32)` wrapped
         // 4294967295 to −1 and folded 2^4294967295 to 0.5.
-        let Num::Rational(n, d) = self else {
+        let Some(x) = self.exact() else {
             return Some(Num::Float(self.to_f64().powf(e as f64)));
         };
-        if n == 0 && e < 0 {
-            return Some(Num::Float(f64::INFINITY));
+        if x.is_zero() {
+            return Some(if e < 0 {
+                Num::Float(f64::INFINITY)
+            } else if e == 0 {
+                Num::ONE
+            } else {
+                Num::ZERO
+            });
         }
-        let k = u32::try_from(e.unsigned_abs()).ok()?;
-        let exact = n.checked_pow(k).zip(d.checked_pow(k));
-        let value = match exact {
-            Some((nn, dd)) => Num::ratio(nn, dd),
-            None => Num::Float((n as f64 / d as f64).powf(f64::from(k))),
-        };
+        // Exact when the result stays within MAX_BITS; symbolic otherwise.
+        let k = e.unsigned_abs();
+        let bits = x.numer().bits().max(x.denom().bits());
+        if bits.saturating_mul(k) > MAX_BITS + 64 {
+            return None;
+        }
+        let k = u32::try_from(k).ok()?;
+        let value = from_big(num_traits::pow::Pow::pow(&x, k))?;
         Some(if e < 0 { value.recip() } else { value })
     }
 }
@@ -297,6 +407,7 @@ impl fmt::Display for Num {
         match self {
             Num::Rational(n, 1) => write!(f, "{n}"),
             Num::Rational(n, d) => write!(f, "{n}/{d}"),
+            Num::Big(i) => write!(f, "{}", big_value(*i)),
             Num::Float(x) => write!(f, "{x:?}"),
         }
     }
@@ -336,13 +447,42 @@ mod tests {
     }
 
     #[test]
-    fn overflow_falls_back_to_float() {
+    fn overflow_stays_exact() {
         let big = Num::Rational(i128::MAX / 2, 1);
-        assert!(matches!(big + big + big, Num::Float(_)));
-        assert!(matches!(
+        let three = big + big + big;
+        assert!(matches!(three, Num::Big(_)));
+        // Exact: subtracting brings it back into i128.
+        assert_eq!(three + -(big + big), big);
+        assert!(matches!(Num::int(10).pow(Num::int(60)), Some(Num::Big(_))));
+        assert_eq!(
+            Num::int(10)
+                .pow(Num::int(60))
+                .map(|x| x * Num::int(10).pow(Num::int(-58)).unwrap()),
+            Some(Num::int(100))
+        );
+        // Interned: equal values are one index, so equality is exact.
+        assert_eq!(
             Num::int(10).pow(Num::int(60)),
-            Some(Num::Float(_))
-        ));
+            Num::int(10).pow(Num::int(60))
+        );
+        assert_eq!(three.to_f64(), 3.0 * (i128::MAX / 2) as f64);
+    }
+
+    /// 17-digit decimals multiplied as down a robot's chain: the product is
+    /// exact and rounds to the nearest f64 only at the end.
+    #[test]
+    fn products_of_long_decimals_are_exact() {
+        let a = Num::parse_decimal("0.12345678901234567").expect("a decimal");
+        let b = Num::parse_decimal("0.98765432109876543").expect("a decimal");
+        let mut p = Num::ONE;
+        for _ in 0..3 {
+            p = p * a * b;
+        }
+        assert!(matches!(p, Num::Big(_)));
+        for _ in 0..3 {
+            p = p / (a * b);
+        }
+        assert_eq!(p, Num::ONE);
     }
 
     #[test]

@@ -118,6 +118,9 @@ impl<'a> Printer<'a> {
                     if p < 0 { Prec::Sum } else { Prec::Product },
                 )
             }
+            // A rational past i128, written out in full (`p/q` or `p`).
+            Num::Big(_) if n.is_negative() => (format!("{}{}", self.minus(), -n), Prec::Sum),
+            Num::Big(_) => (n.to_string(), Prec::Product),
         }
     }
 
@@ -243,6 +246,7 @@ impl<'a> Printer<'a> {
             Num::Rational(p, 1) => format!("{p}{}{term}", self.times()),
             Num::Rational(p, q) => format!("{p}{}{term}/{q}", self.times()),
             Num::Float(x) => format!("{x:?}{}{term}", self.times()),
+            Num::Big(_) => format!("{c}{}{term}", self.times()),
         }
     }
 
