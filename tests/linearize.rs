@@ -43,7 +43,7 @@ impl<const R: usize, const NU: usize> Answer<(SMatrix<f64, R, R>, SMatrix<f64, R
 
 /// A pseudo-random state projected onto the constraints (position and
 /// velocity level).
-fn consistent<S, const N: usize, const K: usize>(system: &S, seed: u64) -> State<f64, N>
+pub(crate) fn consistent<S, const N: usize, const K: usize>(system: &S, seed: u64) -> State<f64, N>
 where
     S: ConstrainedSystem<f64, N, K>,
 {

@@ -25,6 +25,7 @@ mod linearize;
 mod nonsmooth;
 mod projection;
 mod rank_decisions;
+mod reduced_tangent;
 mod rigid_body;
 mod robustness;
 mod user_names;
