@@ -156,6 +156,14 @@ pub enum IntegrationError<T> {
     /// out of order), a zero step budget, a non-finite end time, or a
     /// starting state whose `t`, `q` or `q̇` is not finite.
     InvalidParameter,
+    /// An event function's value was NaN or infinite (it could not change
+    /// sign, so a crossing would have been missed).
+    EventNotFinite {
+        /// Time of the evaluation.
+        t: T,
+        /// The function's index.
+        event: usize,
+    },
 }
 
 impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
@@ -191,6 +199,9 @@ impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
                  positive and finite, sample times ordered, the starting state and end time \
                  finite",
             ),
+            IntegrationError::EventNotFinite { t, event } => {
+                write!(f, "event function {event} is not finite at t = {t}")
+            }
         }
     }
 }
