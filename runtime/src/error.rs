@@ -164,6 +164,18 @@ pub enum IntegrationError<T> {
         /// The function's index.
         event: usize,
     },
+    /// Event function `event` crossed again, in the same direction, within
+    /// the time tolerance of the state set at its crossing at `t`: the
+    /// state change did not take the trajectory off the surface (an impact
+    /// with restitution 0 under a force into it, or the end of a Zeno
+    /// sequence of impacts). The contact persists: switch the model to it
+    /// (a constraint, a support force) and restart.
+    EventRepeats {
+        /// Time of the crossing whose state change did not separate.
+        t: T,
+        /// The function's index.
+        event: usize,
+    },
 }
 
 impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
@@ -202,6 +214,12 @@ impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
             IntegrationError::EventNotFinite { t, event } => {
                 write!(f, "event function {event} is not finite at t = {t}")
             }
+            IntegrationError::EventRepeats { t, event } => write!(
+                f,
+                "event function {event} crosses again right after the state set at its \
+                 crossing at t = {t}: the contact persists (restitution 0, or a Zeno \
+                 sequence); switch to the persistent contact"
+            ),
         }
     }
 }

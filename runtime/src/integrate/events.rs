@@ -16,14 +16,20 @@
 //! iteration, never an evaluation of the system.
 //!
 //! **Exactly once.** A crossing is reported at the left end of its final
-//! bracket, where the function still has its old sign (within the
-//! tolerance), and the search for that function resumes from the bracket's
-//! right end, where the sign has already changed: the same crossing cannot
-//! be found again. A sign change needs a nonzero old value, so a function
-//! that starts at zero (or was reported exactly at zero) is not reported
-//! until it has left zero and comes back. After a state change at an event
-//! (a bounce `v → −e v`) every function is re-evaluated at the new state,
-//! still on its old side: the next crossing is one of the new trajectory.
+//! bracket, where the function still has its old sign (strictly: a zero
+//! counts as the new side), and the search for that function resumes from
+//! the bracket's right end, where the sign has changed: the same crossing
+//! cannot be found again. A sign change needs a nonzero old value, so a
+//! function that starts a run at zero is not reported until it has left
+//! zero and comes back. After a state change at a crossing (a bounce
+//! `v → −e v`) every function is evaluated anew at the new state, where
+//! the one that crossed is still on its old side: its next crossing is one
+//! of the new trajectory, and if that comes within the time tolerance in
+//! the same direction, the change did not separate the trajectory from the
+//! surface (restitution 0 under a force into it, or the end of a Zeno
+//! sequence of bounces): that is the error
+//! [`EventRepeats`](crate::IntegrationError::EventRepeats), never a loop of
+//! events at one time nor a silent pass through the surface.
 
 use super::c;
 use super::dense::Interpolant;
@@ -128,6 +134,17 @@ impl<T: RealField + Copy, F, const E: usize> Events<T, F, E> {
         &self.kinds
     }
 
+    /// The time tolerance in a step: the one given, else `4 ε (|t| + h)`.
+    pub(super) fn time_tolerance<const N: usize, const S: usize>(
+        &self,
+        span: &Span<'_, T, N, S>,
+    ) -> T {
+        let (t0, h) = (span.interpolant.start.t, span.interpolant.h);
+        self.tolerance.unwrap_or_else(|| {
+            c::<T>(4.0) * T::default_epsilon() * (span.end.t.abs().max(t0.abs()) + h)
+        })
+    }
+
     pub(super) fn validate(&self) -> Result<(), IntegrationError<T>> {
         match self.tolerance {
             Some(tol) if !(tol >= T::zero() && tol.is_finite()) => {
@@ -154,7 +171,7 @@ pub struct Crossing<T, const N: usize> {
     /// Which function crossed (its index in the closure's array).
     pub index: usize,
     /// The crossing's time: within the tolerance before the exact one, the
-    /// function still on its old side (or exactly zero).
+    /// function still strictly on its old side.
     pub t: T,
     /// The state there, from the step's continuous extension.
     pub state: State<T, N>,
@@ -253,9 +270,7 @@ where
     }
     let (t0, h) = (span.interpolant.start.t, span.interpolant.h);
     let intervals = events.samples.saturating_add(1);
-    let tolerance = events.tolerance.unwrap_or_else(|| {
-        c::<T>(4.0) * T::default_epsilon() * (span.end.t.abs().max(t0.abs()) + h)
-    });
+    let tolerance = events.time_tolerance(span);
     for k in 1..=intervals {
         let s = if k == intervals {
             span.end.t
@@ -303,7 +318,8 @@ const MAX_REFINEMENTS: usize = 200;
 /// The bracket `[a, b]` of a sign change of function `i` refined by the
 /// Illinois method (regula falsi that halves the retained end's value when
 /// the same end is kept twice), bisecting when the bracket has not halved
-/// in three iterations, until it is within `tolerance` or `gᵢ` is zero.
+/// in three iterations, until it is within `tolerance`. A zero counts as
+/// the new side, so `a` stays strictly on the old one.
 fn refine<T, F, const N: usize, const S: usize, const E: usize>(
     events: &Events<T, F, E>,
     span: &Span<'_, T, N, S>,
@@ -323,7 +339,7 @@ where
     let mut kept = 0i8; // -1: a kept last time, +1: b kept
     let mut width = b - a;
     for iteration in 0..MAX_REFINEMENTS {
-        if gb == zero || b - a <= tolerance {
+        if b - a <= tolerance {
             break;
         }
         let midpoint = a + (b - a) * half;
@@ -356,10 +372,9 @@ where
             kept = -1;
         }
     }
-    let left = if gb == zero { b } else { a };
     Ok(Found {
         index: i,
-        left,
+        left: a,
         right: b,
         g_right: gb,
         rising: ga < zero,

@@ -132,6 +132,12 @@ pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
     /// Fixed steps: the time steps are counted from, and their count (time
     /// is `anchor + n h`, not a running sum).
     anchor: (T, usize),
+    /// The last crossing reported in the current step: (function, rising,
+    /// time).
+    reported: Option<(usize, bool, T)>,
+    /// The crossing whose state `set_state` changed, while the step from
+    /// it has not ended.
+    restarted: Option<(usize, bool, T)>,
 }
 
 impl<T, I, const N: usize, const S: usize, const E: usize> Stepper<T, I, N, S, E>
@@ -163,6 +169,8 @@ where
             pending: false,
             refs: None,
             anchor: (state.t, 0),
+            reported: None,
+            restarted: None,
         })
     }
 
@@ -205,8 +213,16 @@ where
     /// made that too long, the error control rejects and shrinks it).
     /// `Err(InvalidParameter)` for a non-finite state, `EndBeforeStart`
     /// for a time after the end.
+    ///
+    /// If the function that crossed there crosses again in the same
+    /// direction within the time tolerance, the change did not take the
+    /// trajectory off its surface: the next [`step`](Self::step) is
+    /// `Err(EventRepeats)` (the stepper stays usable: switch the model to
+    /// the persistent contact and set the state again).
     pub fn set_state(&mut self, state: State<T, N>) -> Result<(), IntegrationError<T>> {
         super::span(&state, self.t_end)?;
+        self.restarted = self.reported.filter(|&(_, _, t)| t == state.t);
+        self.reported = None;
         self.state = state;
         self.k1 = None;
         self.step = None;
@@ -265,12 +281,20 @@ where
             self.state = step.end;
             self.refs = Some(refs);
             self.pending = false;
+            self.reported = None;
+            self.restarted = None;
             return Ok(if step.end.t >= self.t_end {
                 StepOutcome::Finished
             } else {
                 StepOutcome::Step
             });
         };
+        if let Some((event, rising, t)) = self.restarted {
+            let tolerance = events.time_tolerance(&span);
+            if found.index == event && found.rising == rising && found.left - t <= tolerance {
+                return Err(IntegrationError::EventRepeats { t, event });
+            }
+        }
         let state = span.at(found.left);
         let g = events::values(events, &state)?;
         refs = core::array::from_fn(|i| (found.left, g[i]));
@@ -280,6 +304,7 @@ where
         self.refs = Some(refs);
         self.state = state;
         self.event_stats.crossings += 1;
+        self.reported = Some((found.index, found.rising, found.left));
         let action = events
             .kinds
             .get(found.index)
