@@ -7,14 +7,13 @@ use constrained::control::{discretize, lqr_gain, ControlError};
 use constrained::models::{Appell, CartPole, DoublePendulum};
 // nalgebra's functions (libm) rather than f32's inherent ones: available
 // without std, and the same code on the host and the target.
+use constrained::integrate::{Direction, Event, Events};
+use constrained::nalgebra::Vector1;
 use constrained::nalgebra::{
     convert, ComplexField, Matrix1, Matrix4, RealField, SMatrix, Vector2, Vector3, Vector4,
 };
-use constrained::integrate::{Direction, Event, Events};
-use constrained::nalgebra::Vector1;
 use constrained::{
-    constrained_system, DormandPrince45, DynamicsError, IntegrationError, Rk4, Stabilization,
-    State,
+    constrained_system, DormandPrince45, DynamicsError, IntegrationError, Rk4, Stabilization, State,
 };
 
 /// Simulated time, s.
