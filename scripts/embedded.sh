@@ -47,7 +47,7 @@ for line in sys.stdin:
     if m.get("reason") == "compiler-artifact" and m.get("executable"):
         print(m["executable"])' | tail -n 1)
 [ -n "$elf" ] || { echo "the firmware did not build" >&2; exit 1; }
-echo "== Cortex-M4F (QEMU mps2-an386), f32: Appell's particle and a double pendulum (RK4, 5 s); the cart-pole's LQR designed on the device from the generated linearization, then its closed loop (6 s)"
+echo "== Cortex-M4F (QEMU mps2-an386), f32: Appell's particle and a double pendulum (RK4, 5 s); the cart-pole's LQR designed on the device from the generated linearization, then its closed loop (6 s); a ball's 10 impacts located by events (DP45)"
 target_out=$(timeout 600 cargo run --quiet --release --target thumbv7em-none-eabihf)
 echo "$target_out"
 echo "== host (x86_64), the same code (and, on standard error, the cart-pole's loop in f64 against it)"
@@ -75,11 +75,24 @@ late = t["cart_pole_late_offset"][0]
 balanced = abs(stiffness - closed_form) <= 1e-5 * closed_form and late < 1e-2
 print(f"== on the device: ∂θ̈/∂θ at upright {stiffness:.7g} (closed form {closed_form:.7g}), "
       f"|θ − π| over the last second ≤ {late:.2e}: {'balanced' if balanced else 'FAILED'}")
-sys.exit(0 if worst <= tolerance and balanced else 1)
+# The ball's impacts, located by events in f32, against the closed form
+# t₁ = √(2h/g), tₖ₊₁ = tₖ + 2 eᵏ t₁ (h = 1 m, g = 9.81, e = 0.8), to
+# 5e-5 s: the f32 time tolerance is 4 ε (|t| + h) ≈ 2e-6 s at t ≈ 3.6 s and
+# each bounce starts from the last one's located state (measured: 1.6e-5).
+t1, e = (2.0 / 9.81) ** 0.5, 0.8
+closed = [t1]
+for k in range(1, 10):
+    closed.append(closed[-1] + 2.0 * e**k * t1)
+found = t["ball_bounces"]
+bounce_error = max(abs(a - b) for a, b in zip(found, closed, strict=True))
+bounced = t["ball_bounce_count"][0] == 10 and bounce_error <= 5e-5
+print(f"== on the device: {int(t['ball_bounce_count'][0])} impacts of the ball (f32 events), "
+      f"largest error against the closed form {bounce_error:.2e} s: {'ok' if bounced else 'FAILED'}")
+sys.exit(0 if worst <= tolerance and balanced and bounced else 1)
 PY
 
 # Lines read "[Nr] Name Type Addr Off Size …"; drop the index, whose
 # brackets may hold a space, then the size is the fifth field.
 text_hex=$(readelf -SW "$elf" | sed 's/^ *\[ *[0-9]*\] *//' | awk '$1 == ".text" { print $5 }')
 text=$((16#$text_hex))
-echo "== firmware .text: ${text} bytes (opt-level s, LTO; cortex-m-rt, semihosting, three systems, RK4, Baumgarte, Jacobians, LQR)"
+echo "== firmware .text: ${text} bytes (opt-level s, LTO; cortex-m-rt, semihosting, four systems, RK4, DP45 with events, Baumgarte, Jacobians, LQR)"

@@ -7,10 +7,14 @@ use constrained::control::{discretize, lqr_gain, ControlError};
 use constrained::models::{Appell, CartPole, DoublePendulum};
 // nalgebra's functions (libm) rather than f32's inherent ones: available
 // without std, and the same code on the host and the target.
+use constrained::integrate::{Direction, Event, Events};
+use constrained::nalgebra::Vector1;
 use constrained::nalgebra::{
     convert, ComplexField, Matrix1, Matrix4, RealField, SMatrix, Vector2, Vector3, Vector4,
 };
-use constrained::{DynamicsError, IntegrationError, Rk4, Stabilization, State};
+use constrained::{
+    constrained_system, DormandPrince45, DynamicsError, IntegrationError, Rk4, Stabilization, State,
+};
 
 /// Simulated time, s.
 pub const DURATION: f32 = 5.0;
@@ -25,6 +29,21 @@ pub const PERIOD: f32 = 0.01;
 pub const OFFSET: f32 = 0.3;
 /// Simulated time of the closed loop, s.
 pub const LOOP_DURATION: f32 = 6.0;
+
+/// Bounces of the ball located on the device.
+pub const BOUNCES: usize = 10;
+/// The ball's restitution.
+pub const RESTITUTION: f32 = 0.8;
+
+constrained_system! {
+    /// A ball of unit mass under gravity `g`, over the ground `y = 0`.
+    pub struct Ball {
+        coordinates: [y],
+        parameters: [g],
+        mass: diag[1.0],
+        forces: [-g],
+    }
+}
 
 /// Why the firmware's run stopped.
 #[derive(Debug)]
@@ -76,6 +95,10 @@ pub struct Report {
     pub cart_pole: State<f32, 2>,
     /// Largest |θ − π| over the last second of the loop.
     pub cart_pole_late_offset: f32,
+    /// The times of the ball's first `BOUNCES` impacts (event location).
+    pub bounces: [f32; BOUNCES],
+    /// How many impacts were located before the run's end (`BOUNCES`).
+    pub bounce_count: usize,
 }
 
 /// Appell's particle (g = 9.81, α = 0.5, h = z) from a state on its
@@ -111,6 +134,7 @@ pub fn simulate() -> Result<Report, Failure> {
             pendulum_residual = pendulum_residual.max(phi);
         })?;
     let balanced = balance::<f32>()?;
+    let (bounces, bounce_count) = bounce()?;
     Ok(Report {
         appell,
         appell_residual,
@@ -120,7 +144,39 @@ pub fn simulate() -> Result<Report, Failure> {
         upright_stiffness: balanced.upright_stiffness,
         cart_pole: balanced.state,
         cart_pole_late_offset: balanced.late_offset,
+        bounces,
+        bounce_count,
     })
+}
+
+/// A ball dropped from 1 m bouncing with restitution `RESTITUTION`, the
+/// bounce being the event's state change `v → −e v`, located by
+/// Dormand–Prince 4(5) in `f32` to the time `8 t₁` (between the 10th
+/// impact, at ≈ 7.93 t₁, and the 11th, at ≈ 8.14 t₁; `t₁ = √(2/g)`).
+pub fn bounce() -> Result<([f32; BOUNCES], usize), Failure> {
+    let system = Ball::<f32>::new(9.81);
+    let ground = Events::new(
+        |s: &State<f32, 1>| [s.q.x],
+        [Event::record(Direction::Falling)],
+    );
+    let t1 = ComplexField::sqrt(2.0f32 / 9.81);
+    let mut ball = State::new(0.0, Vector1::new(1.0), Vector1::new(0.0));
+    let mut times = [0.0f32; BOUNCES];
+    let mut count = 0;
+    DormandPrince45::new(1e-5, 1e-6).advance_events(
+        &system,
+        &mut ball,
+        8.0 * t1,
+        &ground,
+        |crossing, state| {
+            if let Some(slot) = times.get_mut(count) {
+                *slot = crossing.t;
+            }
+            count += 1;
+            state.qd = -RESTITUTION * state.qd;
+        },
+    )?;
+    Ok((times, count))
 }
 
 /// The cart-pole balanced by an LQR, all on the device: the generated
@@ -207,5 +263,7 @@ pub fn write_report(out: &mut impl core::fmt::Write, report: &Report) -> core::f
     line("cart_pole_t", &[report.cart_pole.t])?;
     line("cart_pole_q", report.cart_pole.q.as_slice())?;
     line("cart_pole_qd", report.cart_pole.qd.as_slice())?;
-    line("cart_pole_late_offset", &[report.cart_pole_late_offset])
+    line("cart_pole_late_offset", &[report.cart_pole_late_offset])?;
+    line("ball_bounces", &report.bounces)?;
+    line("ball_bounce_count", &[report.bounce_count as f32])
 }
