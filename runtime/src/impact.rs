@@ -71,7 +71,7 @@ pub struct Impact<T, const N: usize, const R: usize> {
 /// use nalgebra::{Matrix1x2, Matrix2, Vector1, Vector2};
 /// // Two unit masses on a line, the first at 1 m/s, the second at rest;
 /// // the gap x₂ − x₁ ≥ 0 closes with restitution 1/2.
-/// let (m, a) = (Matrix2::identity(), Matrix1x2::new(-1.0, 1.0));
+/// let (m, a) = (Matrix2::<f64>::identity(), Matrix1x2::new(-1.0, 1.0));
 /// let qd = Vector2::new(1.0, 0.0);
 /// let e = 0.5;
 /// let target = Vector1::new(-e * (a * qd)[0]);
