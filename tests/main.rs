@@ -19,6 +19,7 @@ mod finite_differences;
 mod gauss;
 mod gibbs_appell;
 mod hostile_runtime;
+mod impacts;
 mod integrators;
 mod jacobian_edges;
 mod linearize;
