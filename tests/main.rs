@@ -14,6 +14,7 @@ mod bodies;
 mod directional;
 mod docs;
 mod energies;
+mod events;
 mod fault_matrix;
 mod finite_differences;
 mod gauss;

@@ -156,6 +156,26 @@ pub enum IntegrationError<T> {
     /// out of order), a zero step budget, a non-finite end time, or a
     /// starting state whose `t`, `q` or `q̇` is not finite.
     InvalidParameter,
+    /// An event function's value was NaN or infinite (it could not change
+    /// sign, so a crossing would have been missed).
+    EventNotFinite {
+        /// Time of the evaluation.
+        t: T,
+        /// The function's index.
+        event: usize,
+    },
+    /// Event function `event` crossed again, in the same direction, within
+    /// the time tolerance of the state set at its crossing at `t`: the
+    /// state change did not take the trajectory off the surface (an impact
+    /// with restitution 0 under a force into it, or the end of a Zeno
+    /// sequence of impacts). The contact persists: switch the model to it
+    /// (a constraint, a support force) and restart.
+    EventRepeats {
+        /// Time of the crossing whose state change did not separate.
+        t: T,
+        /// The function's index.
+        event: usize,
+    },
 }
 
 impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
@@ -190,6 +210,15 @@ impl<T: fmt::Display> fmt::Display for IntegrationError<T> {
                 "invalid setting: step sizes, tolerances and stabilization parameters must be \
                  positive and finite, sample times ordered, the starting state and end time \
                  finite",
+            ),
+            IntegrationError::EventNotFinite { t, event } => {
+                write!(f, "event function {event} is not finite at t = {t}")
+            }
+            IntegrationError::EventRepeats { t, event } => write!(
+                f,
+                "event function {event} crosses again right after the state set at its \
+                 crossing at t = {t}: the contact persists (restitution 0, or a Zeno \
+                 sequence); switch to the persistent contact"
             ),
         }
     }

@@ -3,6 +3,7 @@
 use super::controller::PiController;
 use super::dense::Interpolant;
 use super::explicit::{fixed_tableau_steps, step, Step};
+use super::stepper::{Attempt, StepMethod};
 use super::tableau::{Embedded, Tableau};
 use super::{accept, c, derivative, span, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
@@ -276,4 +277,80 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     }
 }
 
-shared_settings!(EmbeddedRungeKutta<T, M, S>, M: Embedded<S>, const S: usize);
+impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
+    for EmbeddedRungeKutta<T, M, S>
+{
+    const DENSE: [f64; S] = M::DENSE;
+
+    fn duplicate(&self) -> Self {
+        EmbeddedRungeKutta {
+            method: PhantomData,
+            ..*self
+        }
+    }
+
+    // The trait is sealed (a private module): `Settings` stays private.
+    #[allow(private_interfaces)]
+    fn settings(&self) -> &Settings<T> {
+        &self.settings
+    }
+
+    fn validate(&self) -> Result<(), IntegrationError<T>> {
+        EmbeddedRungeKutta::validate(self)
+    }
+
+    fn fixed_step(&self) -> Option<T> {
+        None
+    }
+
+    fn max_step(&self) -> Option<T> {
+        self.max_step
+    }
+
+    fn error_order(&self) -> u32 {
+        M::TABLEAU.error_order
+    }
+
+    fn initial_step<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &State<T, N>,
+        k1: &Derivative<T, N>,
+        total: T,
+        stats: &mut Stats,
+    ) -> Result<T, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        EmbeddedRungeKutta::initial_step(self, system, state, k1, total, stats)
+    }
+
+    #[inline]
+    fn attempt<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &State<T, N>,
+        k1: &Derivative<T, N>,
+        h: T,
+        stats: &mut Stats,
+    ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let next = step(&M::TABLEAU, system, state, k1, h, &self.settings, stats)?;
+        let error = self.norm(
+            &next.error,
+            &(state.q, state.qd),
+            &(next.state.q, next.state.qd),
+        );
+        Ok(Attempt {
+            state: next.state,
+            fsal: next.last,
+            stages: next.stages,
+            // A NaN error fails `error <= 1`: rejected and shrunk, as in `run`.
+            error,
+        })
+    }
+}
+
+shared_settings!(EmbeddedRungeKutta<T, M, S>, S, M: Embedded<S>, const S: usize);

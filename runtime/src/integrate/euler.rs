@@ -1,3 +1,5 @@
+use super::explicit::fixed_step_valid;
+use super::stepper::{Attempt, StepMethod};
 use super::{fixed_steps, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
@@ -52,4 +54,74 @@ impl<T: RealField + Copy> SemiImplicitEuler<T> {
     }
 }
 
-shared_settings!(SemiImplicitEuler<T>);
+impl<T: RealField + Copy> StepMethod<T, 1> for SemiImplicitEuler<T> {
+    /// Cubic Hermite.
+    const DENSE: [f64; 1] = [0.0];
+
+    fn duplicate(&self) -> Self {
+        *self
+    }
+
+    // The trait is sealed (a private module): `Settings` stays private.
+    #[allow(private_interfaces)]
+    fn settings(&self) -> &Settings<T> {
+        &self.settings
+    }
+
+    fn validate(&self) -> Result<(), IntegrationError<T>> {
+        fixed_step_valid(self.step)?;
+        self.settings.validate()
+    }
+
+    fn fixed_step(&self) -> Option<T> {
+        Some(self.step)
+    }
+
+    fn max_step(&self) -> Option<T> {
+        None
+    }
+
+    fn error_order(&self) -> u32 {
+        0
+    }
+
+    fn initial_step<Sys, const N: usize, const K: usize>(
+        &self,
+        _: &Sys,
+        _: &State<T, N>,
+        _: &Derivative<T, N>,
+        _: T,
+        _: &mut Stats,
+    ) -> Result<T, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        Ok(self.step)
+    }
+
+    #[inline]
+    fn attempt<Sys, const N: usize, const K: usize>(
+        &self,
+        _: &Sys,
+        state: &State<T, N>,
+        k1: &Derivative<T, N>,
+        h: T,
+        _: &mut Stats,
+    ) -> Result<Attempt<T, N, 1>, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let mut next = *state;
+        next.qd += k1.1 * h;
+        next.q += next.qd * h;
+        next.t = state.t + h;
+        Ok(Attempt {
+            state: next,
+            fsal: None,
+            stages: [*k1],
+            error: T::zero(),
+        })
+    }
+}
+
+shared_settings!(SemiImplicitEuler<T>, 1);

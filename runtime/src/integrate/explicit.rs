@@ -2,6 +2,7 @@
 //! step of any [`Tableau`], and [`ExplicitRungeKutta`] drives it with a
 //! fixed step size.
 
+use super::stepper::{Attempt, StepMethod};
 use super::tableau::{Method, Tableau};
 use super::{c, derivative, fixed_steps, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
@@ -162,4 +163,85 @@ where
     fixed_steps(system, state, t_end, h, settings, one_step, observer)
 }
 
-shared_settings!(ExplicitRungeKutta<T, M, S>, M: Method<S>, const S: usize);
+impl<T: RealField + Copy, M: Method<S>, const S: usize> StepMethod<T, S>
+    for ExplicitRungeKutta<T, M, S>
+{
+    /// Cubic Hermite.
+    const DENSE: [f64; S] = [0.0; S];
+
+    fn duplicate(&self) -> Self {
+        ExplicitRungeKutta {
+            method: PhantomData,
+            ..*self
+        }
+    }
+
+    // The trait is sealed (a private module): `Settings` stays private.
+    #[allow(private_interfaces)]
+    fn settings(&self) -> &Settings<T> {
+        &self.settings
+    }
+
+    fn validate(&self) -> Result<(), IntegrationError<T>> {
+        fixed_step_valid(self.step)?;
+        self.settings.validate()
+    }
+
+    fn fixed_step(&self) -> Option<T> {
+        Some(self.step)
+    }
+
+    fn max_step(&self) -> Option<T> {
+        None
+    }
+
+    fn error_order(&self) -> u32 {
+        M::TABLEAU.error_order
+    }
+
+    fn initial_step<Sys, const N: usize, const K: usize>(
+        &self,
+        _: &Sys,
+        _: &State<T, N>,
+        _: &Derivative<T, N>,
+        _: T,
+        _: &mut Stats,
+    ) -> Result<T, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        Ok(self.step)
+    }
+
+    #[inline]
+    fn attempt<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &State<T, N>,
+        k1: &Derivative<T, N>,
+        h: T,
+        stats: &mut Stats,
+    ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let next = step(&M::TABLEAU, system, state, k1, h, &self.settings, stats)?;
+        Ok(Attempt {
+            state: next.state,
+            fsal: next.last,
+            stages: next.stages,
+            error: T::zero(),
+        })
+    }
+}
+
+/// `Err(InvalidParameter)` unless the fixed step is positive and finite.
+pub(super) fn fixed_step_valid<T: RealField + Copy>(step: T) -> Result<(), IntegrationError<T>> {
+    if step > T::zero() && step.is_finite() {
+        Ok(())
+    } else {
+        Err(IntegrationError::InvalidParameter)
+    }
+}
+
+shared_settings!(ExplicitRungeKutta<T, M, S>, S, M: Method<S>, const S: usize);

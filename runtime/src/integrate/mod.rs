@@ -19,9 +19,11 @@
 
 /// The settings every integrator shares (`with_stabilization`,
 /// `with_max_steps`) and `advance`, which is `advance_with` without an
-/// observer. Arguments: the type, then its generic parameters besides `T`.
+/// observer, and the single-step API (`stepper`, `advance_events`).
+/// Arguments: the type with its generic parameters, its number of stages,
+/// then the bounds of its parameters besides `T`.
 macro_rules! shared_settings {
-    ($integrator:ident < T $(, $param:ident)* > $(, $($bounds:tt)*)?) => {
+    ($integrator:ident < T $(, $param:ident)* >, $stages:tt $(, $($bounds:tt)*)?) => {
         impl<T: RealField + Copy $(, $($bounds)*)?> $integrator<T $(, $param)*> {
             /// The same with a stabilization against constraint drift.
             pub fn with_stabilization(
@@ -51,6 +53,44 @@ macro_rules! shared_settings {
             {
                 self.advance_with(system, state, t_end, |_| {})
             }
+
+            /// A [`Stepper`](crate::integrate::Stepper): this integration one accepted step at a time,
+            /// from `state` to `t_end`, with `E` event functions (`Err` as
+            /// for `advance`, before any step).
+            pub fn stepper<const N: usize, const E: usize>(
+                &self,
+                state: State<T, N>,
+                t_end: T,
+            ) -> Result<$crate::integrate::Stepper<T, Self, N, $stages, E>, IntegrationError<T>> {
+                $crate::integrate::Stepper::new(
+                    $crate::integrate::stepper::StepMethod::duplicate(self),
+                    state,
+                    t_end,
+                )
+            }
+
+            /// Advances `state` to `t_end` locating the crossings of
+            /// `events` ([`events`](crate::integrate::events)):
+            /// `handler(&crossing, &mut state)` runs at each, in time
+            /// order, with the state there; a state it changes is the one
+            /// the integration restarts from. Returns at `t_end` or at the
+            /// first crossing whose action is [`Action::Stop`](crate::integrate::Action::Stop) (in
+            /// [`EventRun::stopped`](crate::integrate::EventRun::stopped)), with `state` where it stopped.
+            pub fn advance_events<Sys, F, const N: usize, const K: usize, const E: usize>(
+                &self,
+                system: &Sys,
+                state: &mut State<T, N>,
+                t_end: T,
+                events: &$crate::integrate::Events<T, F, E>,
+                handler: impl FnMut(&$crate::integrate::Crossing<T, N>, &mut State<T, N>),
+            ) -> Result<$crate::integrate::EventRun<T, N>, IntegrationError<T>>
+            where
+                Sys: ConstrainedSystem<T, N, K>,
+                F: Fn(&State<T, N>) -> [T; E],
+            {
+                let stepper = self.stepper(*state, t_end)?;
+                $crate::integrate::stepper::drive(stepper, system, state, events, handler)
+            }
         }
     };
 }
@@ -59,13 +99,17 @@ mod controller;
 mod dense;
 mod embedded;
 mod euler;
+pub mod events;
 mod explicit;
+mod stepper;
 pub mod tableau;
 
 pub use controller::PiController;
 pub use embedded::EmbeddedRungeKutta;
 pub use euler::SemiImplicitEuler;
+pub use events::{Action, Crossing, Direction, Event, EventStats, Events};
 pub use explicit::ExplicitRungeKutta;
+pub use stepper::{EventRun, StepOutcome, Stepper};
 pub use tableau::Tableau;
 
 use crate::stabilize::{baumgarte_correction, project, Stabilization};

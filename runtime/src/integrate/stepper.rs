@@ -1,0 +1,527 @@
+//! The single-step API: a [`Stepper`] takes one accepted step per call,
+//! reports the event crossings inside it in time order, and restarts from
+//! a state changed at an event. The drivers with events are built on it.
+
+use super::controller::PiController;
+use super::dense::Interpolant;
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Span};
+use super::{accept, c, derivative, Derivative, Stats};
+use crate::{ConstrainedSystem, IntegrationError, State};
+use nalgebra::RealField;
+
+pub(super) use method::{Attempt, StepMethod};
+
+/// What the integrators implement for the [`Stepper`]; sealed (its module
+/// is private), so only this crate's integrators step.
+pub(super) mod method {
+    use super::super::{Derivative, Settings, Stats};
+    use crate::{ConstrainedSystem, IntegrationError, State};
+    use nalgebra::RealField;
+
+    /// One attempted step: the new state, the derivative there when the
+    /// method is first-same-as-last, the stages and the scaled error
+    /// (zero for a fixed-step method).
+    pub struct Attempt<T, const N: usize, const S: usize> {
+        pub state: State<T, N>,
+        pub fsal: Option<Derivative<T, N>>,
+        pub stages: [Derivative<T, N>; S],
+        pub error: T,
+    }
+
+    /// A method the [`Stepper`](super::Stepper) can drive.
+    pub trait StepMethod<T: RealField + Copy, const S: usize> {
+        /// The continuous extension's weights (zero: cubic Hermite).
+        const DENSE: [f64; S];
+        /// A copy (the method markers are not `Copy`, so neither is the
+        /// derived impl).
+        fn duplicate(&self) -> Self;
+        /// Stabilization and budget.
+        #[allow(private_interfaces)]
+        fn settings(&self) -> &Settings<T>;
+        /// `Err(InvalidParameter)` for settings that cannot work.
+        fn validate(&self) -> Result<(), IntegrationError<T>>;
+        /// `Some(h)` for a fixed-step method.
+        fn fixed_step(&self) -> Option<T>;
+        /// The adaptive methods' longest step.
+        fn max_step(&self) -> Option<T>;
+        /// The order of the error estimate (for the controller; 0 without).
+        fn error_order(&self) -> u32;
+        /// The first step of an adaptive run over `total`.
+        fn initial_step<Sys, const N: usize, const K: usize>(
+            &self,
+            system: &Sys,
+            state: &State<T, N>,
+            k1: &Derivative<T, N>,
+            total: T,
+            stats: &mut Stats,
+        ) -> Result<T, IntegrationError<T>>
+        where
+            Sys: ConstrainedSystem<T, N, K>;
+        /// One step of size `h` from `state`, whose derivative is `k1`.
+        fn attempt<Sys, const N: usize, const K: usize>(
+            &self,
+            system: &Sys,
+            state: &State<T, N>,
+            k1: &Derivative<T, N>,
+            h: T,
+            stats: &mut Stats,
+        ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+        where
+            Sys: ConstrainedSystem<T, N, K>;
+    }
+}
+
+/// What one call of [`Stepper::step`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepOutcome<T, const N: usize> {
+    /// An accepted step ended (its crossings, if any, were reported before):
+    /// the stepper's state is the step's end.
+    Step,
+    /// A crossing: the stepper's state is the state at the crossing. The
+    /// next call reports the step's next crossing or its end, unless
+    /// [`Stepper::set_state`] changed the state (then it steps from there).
+    Event(Crossing<T, N>),
+    /// The end time is reached and every crossing before it reported.
+    Finished,
+}
+
+/// One accepted step, kept for the continuous extension.
+#[derive(Clone, Copy, Debug)]
+struct Accepted<T, const N: usize, const S: usize> {
+    start: State<T, N>,
+    /// The Runge–Kutta solution at its end (before any projection).
+    solution: State<T, N>,
+    /// The accepted state at its end (after projection).
+    end: State<T, N>,
+    h: T,
+    stages: [Derivative<T, N>; S],
+    end_slope: Derivative<T, N>,
+}
+
+/// An integration in progress, one accepted step per [`step`](Self::step)
+/// (as diffsol's `step()`): made by an integrator's `stepper(state,
+/// t_end)`, driven by the caller, who may inspect the state, change it at
+/// an event ([`set_state`](Self::set_state)) or change the system's inputs
+/// and parameters between calls (the system is passed to each call; after
+/// changing it, call `set_state(*stepper.state())` so that no derivative
+/// of the old system is carried over). `E` is the number of event
+/// functions; no allocation, errors as values.
+///
+/// The guide `constrained::guide::runtime` (section "Events and the
+/// single step") has a bouncing ball driven by hand with this API and by
+/// `advance_events`, doc-tested against the closed-form bounce times.
+#[derive(Clone, Copy, Debug)]
+pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
+    integrator: I,
+    t_end: T,
+    state: State<T, N>,
+    /// The derivative at `state` when it is a step's end (carried into the
+    /// next step); `None` after a state change.
+    k1: Option<Derivative<T, N>>,
+    /// The next step size (`None` before the first).
+    h: Option<T>,
+    controller: PiController<T>,
+    stats: Stats,
+    event_stats: EventStats,
+    step: Option<Accepted<T, N, S>>,
+    /// Whether `step` still has crossings to search after `state.t`.
+    pending: bool,
+    /// Per event function, the time and value its next crossing is sought
+    /// from (`None`: evaluate at `state`).
+    refs: Option<[(T, T); E]>,
+    /// Fixed steps: the time steps are counted from, and their count (time
+    /// is `anchor + n h`, not a running sum).
+    anchor: (T, usize),
+    /// The last crossing reported in the current step: (function, rising,
+    /// time).
+    reported: Option<(usize, bool, T)>,
+    /// The crossing whose state `set_state` changed, while the step from
+    /// it has not ended.
+    restarted: Option<(usize, bool, T)>,
+}
+
+impl<T, I, const N: usize, const S: usize, const E: usize> Stepper<T, I, N, S, E>
+where
+    T: RealField + Copy,
+    I: StepMethod<T, S>,
+{
+    /// A stepper from `state` to `t_end`; `Err(InvalidParameter)` for
+    /// settings that cannot work or a non-finite state or end time,
+    /// `EndBeforeStart` for an end before the state's time.
+    pub(super) fn new(
+        integrator: I,
+        state: State<T, N>,
+        t_end: T,
+    ) -> Result<Self, IntegrationError<T>> {
+        integrator.validate()?;
+        super::span(&state, t_end)?;
+        let controller = PiController::new(integrator.error_order());
+        Ok(Stepper {
+            integrator,
+            t_end,
+            state,
+            k1: None,
+            h: None,
+            controller,
+            stats: Stats::default(),
+            event_stats: EventStats::default(),
+            step: None,
+            pending: false,
+            refs: None,
+            anchor: (state.t, 0),
+            reported: None,
+            restarted: None,
+        })
+    }
+
+    /// The current state: a step's end, or a crossing's state.
+    pub fn state(&self) -> &State<T, N> {
+        &self.state
+    }
+
+    /// The end time.
+    pub fn t_end(&self) -> T {
+        self.t_end
+    }
+
+    /// Steps and evaluations so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// What event location has cost so far.
+    pub fn event_stats(&self) -> EventStats {
+        self.event_stats
+    }
+
+    /// The next step size the stepper will try (`None` before the first).
+    pub fn step_size(&self) -> Option<T> {
+        self.h
+    }
+
+    /// The last accepted step's continuous extension at `t`, or `None`
+    /// outside it (or before the first step, or after a state change).
+    pub fn at(&self, t: T) -> Option<State<T, N>> {
+        let step = self.step.as_ref()?;
+        (t >= step.start.t && t <= step.end.t).then(|| self.span(step).at(t))
+    }
+
+    /// Replaces the state (at an event: the impact law, a reset) and
+    /// restarts from it: the rest of the current step is dropped, the
+    /// derivative is evaluated anew, and the step-size controller keeps its
+    /// history (the next step tries the size it had proposed; if the jump
+    /// made that too long, the error control rejects and shrinks it).
+    /// `Err(InvalidParameter)` for a non-finite state, `EndBeforeStart`
+    /// for a time after the end.
+    ///
+    /// If the function that crossed there crosses again in the same
+    /// direction within the time tolerance, the change did not take the
+    /// trajectory off its surface: the next [`step`](Self::step) is
+    /// `Err(EventRepeats)` (the stepper stays usable: switch the model to
+    /// the persistent contact and set the state again).
+    pub fn set_state(&mut self, state: State<T, N>) -> Result<(), IntegrationError<T>> {
+        super::span(&state, self.t_end)?;
+        self.restarted = self.reported.filter(|&(_, _, t)| t == state.t);
+        self.reported = None;
+        self.state = state;
+        self.k1 = None;
+        self.step = None;
+        self.pending = false;
+        self.refs = None;
+        self.anchor = (state.t, 0);
+        Ok(())
+    }
+
+    /// Moves the end time (e.g. to go on after [`StepOutcome::Finished`]);
+    /// `Err` as for a new stepper.
+    pub fn set_t_end(&mut self, t_end: T) -> Result<(), IntegrationError<T>> {
+        super::span(&self.state, t_end)?;
+        self.t_end = t_end;
+        Ok(())
+    }
+
+    /// Advances by one accepted step, or to the next crossing inside the
+    /// current one (see [`StepOutcome`]).
+    pub fn step<Sys, F, const K: usize>(
+        &mut self,
+        system: &Sys,
+        events: &Events<T, F, E>,
+    ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+        F: Fn(&State<T, N>) -> [T; E],
+    {
+        events.validate()?;
+        let mut refs = match self.refs {
+            Some(refs) => refs,
+            None => {
+                let g = events::values(events, &self.state)?;
+                core::array::from_fn(|i| (self.state.t, g[i]))
+            }
+        };
+        if !self.pending {
+            if self.state.t >= self.t_end {
+                self.refs = Some(refs);
+                return Ok(StepOutcome::Finished);
+            }
+            self.take_step(system)?;
+        }
+        let Some(step) = self.step else {
+            return Err(IntegrationError::InvalidParameter); // unreachable: a step was just taken
+        };
+        let span = self.span(&step);
+        let found = events::search(
+            events,
+            &span,
+            &mut refs,
+            self.state.t,
+            &mut self.event_stats,
+        )?;
+        let Some(found) = found else {
+            self.state = step.end;
+            self.refs = Some(refs);
+            self.pending = false;
+            self.reported = None;
+            self.restarted = None;
+            return Ok(if step.end.t >= self.t_end {
+                StepOutcome::Finished
+            } else {
+                StepOutcome::Step
+            });
+        };
+        if let Some((event, rising, t)) = self.restarted {
+            let tolerance = events.time_tolerance(&span);
+            if found.index == event && found.rising == rising && found.left - t <= tolerance {
+                return Err(IntegrationError::EventRepeats { t, event });
+            }
+        }
+        let state = span.at(found.left);
+        let g = events::values(events, &state)?;
+        refs = core::array::from_fn(|i| (found.left, g[i]));
+        if let Some(r) = refs.get_mut(found.index) {
+            *r = (found.right, found.g_right);
+        }
+        self.refs = Some(refs);
+        self.state = state;
+        self.event_stats.crossings += 1;
+        self.reported = Some((found.index, found.rising, found.left));
+        let action = events
+            .kinds
+            .get(found.index)
+            .map_or(Action::Stop, |kind| kind.action);
+        Ok(StepOutcome::Event(Crossing {
+            index: found.index,
+            t: found.left,
+            state,
+            direction: if found.rising {
+                Direction::Rising
+            } else {
+                Direction::Falling
+            },
+            action,
+        }))
+    }
+
+    fn span<'a>(&self, step: &'a Accepted<T, N, S>) -> Span<'a, T, N, S> {
+        Span {
+            interpolant: Interpolant {
+                start: &step.start,
+                end: &step.solution,
+                h: step.h,
+                stages: &step.stages,
+                end_slope: &step.end_slope,
+                dense: &I::DENSE,
+            },
+            end: &step.end,
+        }
+    }
+
+    /// Takes one accepted step from `state` (retrying rejected ones), and
+    /// keeps it in `step` with `pending` set.
+    fn take_step<Sys, const K: usize>(&mut self, system: &Sys) -> Result<(), IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let settings = *self.integrator.settings();
+        loop {
+            if self.stats.steps + self.stats.rejected >= settings.max_steps {
+                return Err(IntegrationError::TooManySteps {
+                    t: self.state.t,
+                    steps: settings.max_steps,
+                });
+            }
+            let k1 = match self.k1 {
+                Some(k1) => k1,
+                None => derivative(system, &self.state, &settings, &mut self.stats)?,
+            };
+            self.k1 = Some(k1);
+            let (h, next_t, last) = self.next_step(system, &k1)?;
+            let attempt = self
+                .integrator
+                .attempt(system, &self.state, &k1, h, &mut self.stats)?;
+            if attempt.error <= T::one() {
+                return self.accepted(system, attempt, h, next_t, last);
+            }
+            // Rejected (the error is NaN-safe: `<=` failed, so retried smaller).
+            self.stats.rejected += 1;
+            self.h = Some(self.controller.rejected(h, attempt.error));
+        }
+    }
+
+    /// The size of the next step, the time it ends at, and whether it is
+    /// the last (shortened to land on `t_end`).
+    fn next_step<Sys, const K: usize>(
+        &mut self,
+        system: &Sys,
+        k1: &Derivative<T, N>,
+    ) -> Result<(T, T, bool), IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let t = self.state.t;
+        let remaining = self.t_end - t;
+        if let Some(step) = self.integrator.fixed_step() {
+            let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
+            let last = remaining <= step * slack;
+            let next = if last {
+                self.t_end
+            } else {
+                self.anchor.0 + step * c::<T>((self.anchor.1 + 1) as f64)
+            };
+            if next <= t {
+                return Err(IntegrationError::TimeStalled { t, step });
+            }
+            return Ok((next - t, next, last));
+        }
+        let h = match self.h {
+            Some(h) => h,
+            None => {
+                let h = self.integrator.initial_step(
+                    system,
+                    &self.state,
+                    k1,
+                    remaining,
+                    &mut self.stats,
+                )?;
+                self.integrator.max_step().map_or(h, |max| h.min(max))
+            }
+        };
+        let resolution = c::<T>(16.0) * T::default_epsilon() * t.abs().max(self.t_end.abs());
+        if h <= resolution {
+            return Err(IntegrationError::StepSizeUnderflow { t, step: h });
+        }
+        if h >= remaining {
+            Ok((remaining, self.t_end, true))
+        } else {
+            Ok((h, t + h, false))
+        }
+    }
+
+    /// Keeps an accepted attempt: finite check and projection, the
+    /// derivative carried to the next step, the controller's next size.
+    fn accepted<Sys, const K: usize>(
+        &mut self,
+        system: &Sys,
+        attempt: Attempt<T, N, S>,
+        h: T,
+        next_t: T,
+        last: bool,
+    ) -> Result<(), IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let settings = *self.integrator.settings();
+        let start = self.state;
+        let mut end = attempt.state;
+        end.t = if last { self.t_end } else { next_t };
+        let solution = State {
+            t: end.t,
+            ..attempt.state
+        };
+        self.stats.steps += 1;
+        self.anchor.1 += 1;
+        let projected = accept(system, &mut end, &settings)?;
+        let k_end = match attempt.fsal {
+            Some(k) if !projected => k,
+            // Projection moved the state, or the method is not FSAL: the
+            // next step's derivative, and the Hermite end slope.
+            _ => derivative(system, &end, &settings, &mut self.stats)?,
+        };
+        self.k1 = Some(k_end);
+        if self.integrator.fixed_step().is_none() {
+            let proposed = self.controller.accepted(h, attempt.error);
+            self.h = Some(
+                self.integrator
+                    .max_step()
+                    .map_or(proposed, |m| proposed.min(m)),
+            );
+        } else {
+            self.h = Some(h);
+        }
+        self.step = Some(Accepted {
+            start,
+            solution,
+            end,
+            h,
+            stages: attempt.stages,
+            end_slope: attempt.fsal.unwrap_or(k_end),
+        });
+        self.pending = true;
+        Ok(())
+    }
+}
+
+/// What [`advance_events`](crate::DormandPrince45::advance_events) did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventRun<T, const N: usize> {
+    /// Steps and evaluations.
+    pub stats: Stats,
+    /// What event location cost.
+    pub event_stats: EventStats,
+    /// The crossing with [`Action::Stop`] the run stopped at, if any (the
+    /// state is then the one the handler left there).
+    pub stopped: Option<Crossing<T, N>>,
+}
+
+/// The driver with events, on a stepper: `handler(&crossing, &mut state)`
+/// runs at every crossing with the state there, and a changed state
+/// restarts the stepper from it.
+pub(super) fn drive<T, I, Sys, F, const N: usize, const K: usize, const S: usize, const E: usize>(
+    mut stepper: Stepper<T, I, N, S, E>,
+    system: &Sys,
+    state: &mut State<T, N>,
+    events: &Events<T, F, E>,
+    mut handler: impl FnMut(&Crossing<T, N>, &mut State<T, N>),
+) -> Result<EventRun<T, N>, IntegrationError<T>>
+where
+    T: RealField + Copy,
+    I: StepMethod<T, S>,
+    Sys: ConstrainedSystem<T, N, K>,
+    F: Fn(&State<T, N>) -> [T; E],
+{
+    let result = loop {
+        match stepper.step(system, events) {
+            Ok(StepOutcome::Step) => {}
+            Ok(StepOutcome::Finished) => break Ok(None),
+            Ok(StepOutcome::Event(crossing)) => {
+                let mut changed = crossing.state;
+                handler(&crossing, &mut changed);
+                if changed != crossing.state {
+                    if let Err(error) = stepper.set_state(changed) {
+                        break Err(error);
+                    }
+                }
+                if crossing.action == Action::Stop {
+                    break Ok(Some(crossing));
+                }
+            }
+            Err(error) => break Err(error),
+        }
+    };
+    *state = stepper.state;
+    result.map(|stopped| EventRun {
+        stats: stepper.stats,
+        event_stats: stepper.event_stats,
+        stopped,
+    })
+}
