@@ -253,3 +253,104 @@ fn each_heel_strike_conserves_angular_momentum_about_the_new_contact() {
         );
     }
 }
+
+/// McGeer's steady rate just after each heel strike: with
+/// `η = (I + m l² cos a2)/(I + m l²)` and the energy a step gains on the
+/// slope, `k = 4 m g l sin(a2/2) sin γ / (I + m l²)` (in `ω²`), the rate
+/// after strike `n + 1` is `ω²ₙ₊₁ = η² (ω²ₙ + k)`, whose fixed point is
+/// `ω² = η² k / (1 − η²)`.
+fn mcgeer_steady_rate(w: &RimlessWheel<f64>) -> f64 {
+    let j = w.inertia + w.m * w.l * w.l;
+    let eta = (w.inertia + w.m * w.l * w.l * w.a2.cos()) / j;
+    let k = 4.0 * w.m * w.g * w.l * (w.a2 / 2.0).sin() * w.gamma.sin() / j;
+    -(eta * eta * k / (1.0 - eta * eta)).sqrt()
+}
+
+/// Rolls the wheel from just after a heel strike at rate `omega` through
+/// `strikes` heel strikes (located as events on the next foot's gap,
+/// Dormand–Prince with projection), returning the rate after each.
+pub fn roll(w: RimlessWheel<f64>, omega: f64, strikes: usize) -> Vec<f64> {
+    use constrained::integrate::{Direction, Event, Events, StepOutcome};
+    use constrained::{DormandPrince45, Stabilization, State};
+    // Start just after a strike: both feet on the slope, rotating at
+    // `omega` about the new one.
+    let before = RimlessWheel {
+        phase: w.phase - w.a2,
+        ..w
+    };
+    let (q, _) = heel_strike(&before, omega);
+    let foot = |w: &RimlessWheel<f64>, q: &Vector3<f64>, phase: f64| {
+        Vector2::new(
+            q[0] + w.l * (q[2] + phase).sin(),
+            q[1] - w.l * (q[2] + phase).cos(),
+        )
+    };
+    let f = foot(&w, &q, w.phase);
+    let qd = Vector3::new(-omega * (q[1] - f[1]), omega * (q[0] - f[0]), omega);
+    let mut wheel = RimlessWheel {
+        px: f[0],
+        py: f[1],
+        ..w
+    };
+    let mut rates = Vec::new();
+    let integrator =
+        DormandPrince45::new(1e-12, 1e-13).with_stabilization(Stabilization::projection(1e-13));
+    let mut stepper = integrator.stepper(State::new(0.0, q, qd), 1e3).unwrap();
+    for _ in 0..100_000 {
+        let current = wheel;
+        let events = Events::new(
+            move |s: &State<f64, 3>| [current.gaps(&s.q, s.t)[0]],
+            [Event::stop(Direction::Falling)],
+        );
+        match stepper.step(&wheel, &events).unwrap() {
+            StepOutcome::Event(c) => {
+                let next = wheel.phase + wheel.a2;
+                let f = foot(&wheel, &c.state.q, next);
+                wheel = RimlessWheel {
+                    phase: next,
+                    px: f[0],
+                    py: f[1],
+                    ..wheel
+                };
+                let s = c.state;
+                let hit = wheel.impact(&s.q, &s.qd, s.t, [false], [0.0]).unwrap();
+                rates.push(hit.qd[2]);
+                stepper.set_state(State::new(s.t, s.q, hit.qd)).unwrap();
+                if rates.len() == strikes {
+                    break;
+                }
+            }
+            StepOutcome::Step => {}
+            StepOutcome::Finished => break,
+        }
+    }
+    rates
+}
+
+#[test]
+fn the_rimless_wheel_converges_to_mcgeers_steady_rate() {
+    let w = wheel(0.0);
+    let steady = mcgeer_steady_rate(&w);
+    // From faster and from slower than steady (both pass over the top).
+    for omega in [2.0 * steady, 0.8 * steady] {
+        let rates = roll(w, omega, 40);
+        assert_eq!(rates.len(), 40, "it kept rolling");
+        // Geometric convergence at η² ≈ 0.52 a step: the last is steady.
+        let last = rates[rates.len() - 1];
+        assert!(
+            (last - steady).abs() <= 1e-8 * steady.abs(),
+            "{last} vs {steady}"
+        );
+        // Each strike follows McGeer's map of the previous one.
+        let j = w.inertia + w.m * w.l * w.l;
+        let eta = (w.inertia + w.m * w.l * w.l * w.a2.cos()) / j;
+        let k = 4.0 * w.m * w.g * w.l * (w.a2 / 2.0).sin() * w.gamma.sin() / j;
+        for pair in rates.windows(2) {
+            let predicted = -(eta * eta * (pair[0] * pair[0] + k)).sqrt();
+            assert!(
+                (pair[1] - predicted).abs() <= 1e-9 * steady.abs(),
+                "{pair:?}"
+            );
+        }
+    }
+}
