@@ -29,4 +29,5 @@ mod projection;
 mod rank_decisions;
 mod rigid_body;
 mod robustness;
+mod stick_slip;
 mod user_names;
