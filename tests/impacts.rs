@@ -354,3 +354,31 @@ fn the_rimless_wheel_converges_to_mcgeers_steady_rate() {
         }
     }
 }
+
+/// The same heel strike in `f32` (the firmware's scalar): McGeer's ratio to
+/// `f32` precision.
+#[test]
+fn a_heel_strike_in_f32() {
+    let w = wheel(0.0);
+    let (q, qd) = heel_strike(&w, -1.2);
+    let next = w.phase + w.a2;
+    let foot = (q[0] + w.l * (q[2] + next).sin(), q[1] - w.l * (q[2] + next).cos());
+    let after = RimlessWheel::<f32>::new(
+        w.m as f32,
+        w.inertia as f32,
+        w.l as f32,
+        w.g as f32,
+        w.a2 as f32,
+        w.gamma as f32,
+        next as f32,
+        foot.0 as f32,
+        foot.1 as f32,
+    );
+    let hit = after
+        .impact(&q.cast::<f32>(), &qd.cast::<f32>(), 0.0, [false], [0.0])
+        .unwrap();
+    let ml2 = w.m * w.l * w.l;
+    let eta = (w.inertia + ml2 * w.a2.cos()) / (w.inertia + ml2);
+    let ratio = f64::from(hit.qd[2]) / -1.2;
+    assert!((ratio - eta).abs() < 1e-5, "{ratio} vs {eta}");
+}
