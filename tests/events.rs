@@ -205,6 +205,60 @@ fn a_function_crossing_twice_within_one_step_is_found_twice() {
 }
 
 #[test]
+fn restarting_at_a_crossing_reports_it_once_or_says_it_did_not_separate() {
+    let (start, level, exact) = twice();
+    let events = Events::new(
+        move |s: &State<f64, 1>| [s.q.x - level],
+        [Event::record(Direction::Either)],
+    );
+    // A controller's switch: the system changes at the crossing, the state
+    // does not (set_state with the crossing's own state refreshes the
+    // derivative). The crossing is not reported again; the next one is.
+    let mut system = Ball::new(G, 0.0);
+    let mut stepper = DormandPrince45::new(1e-10, 1e-12)
+        .stepper(start, 0.2)
+        .unwrap();
+    let mut found = Vec::new();
+    loop {
+        match stepper.step(&system, &events).unwrap() {
+            StepOutcome::Event(c) => {
+                found.push((c.t, c.direction));
+                system.n = 0.0;
+                stepper.set_state(c.state).unwrap();
+            }
+            StepOutcome::Step => {}
+            StepOutcome::Finished => break,
+        }
+    }
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!((found[0].0 - exact[0]).abs() < 1e-12 && (found[1].0 - exact[1]).abs() < 1e-12);
+    // An impact law that does not turn the ball back (its fall halved, not
+    // reversed, at the downward crossing): EventRepeats.
+    let mut stepper = DormandPrince45::new(1e-10, 1e-12)
+        .stepper(start, 0.2)
+        .unwrap();
+    let mut result = Ok(StepOutcome::Step);
+    for _ in 0..100 {
+        result = stepper.step(&system, &events);
+        match result {
+            Ok(StepOutcome::Event(c)) if c.direction == Direction::Falling => {
+                let mut kicked = c.state;
+                kicked.qd *= 0.5;
+                stepper.set_state(kicked).unwrap();
+            }
+            Ok(StepOutcome::Finished) | Err(_) => break,
+            Ok(_) => {}
+        }
+    }
+    match result {
+        Err(IntegrationError::EventRepeats { t, event: 0 }) => {
+            assert!((t - exact[1]).abs() < 1e-12, "{t}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
 fn with_zero_restitution_the_ball_comes_to_rest() {
     // At the impact the velocity becomes 0 and the force into the ground
     // (−g) would take it through: the contact persists, so the model

@@ -11,6 +11,7 @@ mod common;
 mod appell_eq30;
 mod appell_eq32;
 mod bodies;
+mod dense_output;
 mod directional;
 mod docs;
 mod energies;

@@ -5,6 +5,7 @@
 //! meanwhile; prints a summary line the test runners understand.
 
 use constrained::control::{discretize, lqr_gain};
+use constrained::integrate::{Direction, Event, Events, StepOutcome};
 use constrained::models::{CartPole, DoublePendulum};
 use constrained::nalgebra::{Matrix1, Matrix4, Vector2, Vector4};
 use constrained::{DormandPrince45, Rk4, SemiImplicitEuler, Stabilization, State};
@@ -84,6 +85,45 @@ fn main() {
         let (allocs, steps) = count(|| dopri.advance(&system, &mut s, 100.1).expect("dopri").steps);
         results.push((format!("DormandPrince45, {name}"), allocs, steps));
     }
+    // Event location: the bobs' horizontal positions crossing zero (both
+    // directions, recorded), by the driver and by the single step with a
+    // state change at every crossing (the velocities reversed).
+    let events = Events::new(
+        |s: &State<f64, 4>| [s.q[0], s.q[2]],
+        [
+            Event::record(Direction::Either),
+            Event::record(Direction::Either),
+        ],
+    );
+    let dopri = DormandPrince45::new(1e-8, 1e-10).with_max_step(1e-3);
+    let mut s = initial;
+    let (allocs, steps) = count(|| {
+        let run = dopri
+            .advance_events(&system, &mut s, 100.1, &events, |_, _| {})
+            .expect("events");
+        assert!(run.event_stats.crossings > 100, "{run:?}");
+        run.stats.steps
+    });
+    results.push(("DormandPrince45, advance_events".to_string(), allocs, steps));
+    let (allocs, steps) = count(|| {
+        let mut stepper = Rk4::new(1e-3).stepper(initial, 100.0).expect("stepper");
+        let mut crossings = 0;
+        loop {
+            match stepper.step(&system, &events).expect("step") {
+                StepOutcome::Event(c) => {
+                    crossings += 1;
+                    let mut reversed = c.state;
+                    reversed.qd = -reversed.qd;
+                    stepper.set_state(reversed).expect("set");
+                }
+                StepOutcome::Step => {}
+                StepOutcome::Finished => break,
+            }
+        }
+        assert!(crossings > 100, "{crossings}");
+        stepper.stats().steps
+    });
+    results.push(("Rk4, Stepper with state changes".to_string(), allocs, steps));
     // Linearization and control: 10⁵ Jacobians through the generated
     // structured solve (constant M) and through the runtime's dense one
     // (the cart-pole's M(q)), reduced linearizations, and the LQR design.

@@ -54,3 +54,70 @@ impl<T: RealField + Copy, const N: usize, const S: usize> Interpolant<'_, T, N, 
         }
     }
 }
+
+/// An [`Interpolant`]'s polynomial with its coefficients computed once:
+/// `y(θ) = y₀ + θ (Δ + (1 − θ)(a + θ (b + (1 − θ) d)))`, so that each
+/// evaluation is four vector operations per part, which is what event
+/// location pays per grid point and per root-finder iteration.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Polynomial<T, const N: usize> {
+    t0: T,
+    h: T,
+    y0: (SVector<T, N>, SVector<T, N>),
+    /// `(Δ, a, b, d)` for `q` and for `q̇`.
+    coefficients: [(SVector<T, N>, SVector<T, N>); 4],
+}
+
+impl<T: RealField + Copy, const N: usize, const S: usize> Interpolant<'_, T, N, S> {
+    /// The polynomial of [`at`](Self::at), its coefficients computed
+    /// (both parts in one pass, no closures: this runs once per step with
+    /// events).
+    #[inline]
+    pub fn polynomial(&self) -> Polynomial<T, N> {
+        let h = self.h;
+        let zero = SVector::<T, N>::zeros();
+        let k1 = self.stages.first().copied().unwrap_or((zero, zero));
+        let delta = (self.end.q - self.start.q, self.end.qd - self.start.qd);
+        let spline = (k1.0 * h - delta.0, k1.1 * h - delta.1);
+        let fourth = (
+            delta.0 - self.end_slope.0 * h - spline.0,
+            delta.1 - self.end_slope.1 * h - spline.1,
+        );
+        let mut fifth = (zero, zero);
+        for (d, k) in self.dense.iter().zip(self.stages) {
+            if *d != 0.0 {
+                let w = c::<T>(*d) * h;
+                fifth.0 += k.0 * w;
+                fifth.1 += k.1 * w;
+            }
+        }
+        Polynomial {
+            t0: self.start.t,
+            h,
+            y0: (self.start.q, self.start.qd),
+            coefficients: [delta, spline, fourth, fifth],
+        }
+    }
+}
+
+impl<T: RealField + Copy, const N: usize> Polynomial<T, N> {
+    /// The state at time `t` (equal to [`Interpolant::at`] but for rounding).
+    pub fn at(&self, t: T) -> State<T, N> {
+        let theta = (t - self.t0) / self.h;
+        let one_minus = T::one() - theta;
+        let [(dq, dqd), (aq, aqd), (bq, bqd), (eq, eqd)] = &self.coefficients;
+        let eval = |y0: &SVector<T, N>,
+                    delta: &SVector<T, N>,
+                    a: &SVector<T, N>,
+                    b: &SVector<T, N>,
+                    d: &SVector<T, N>| {
+            let inner = (b + d * one_minus) * theta + a;
+            y0 + (inner * one_minus + delta) * theta
+        };
+        State {
+            t,
+            q: eval(&self.y0.0, dq, aq, bq, eq),
+            qd: eval(&self.y0.1, dqd, aqd, bqd, eqd),
+        }
+    }
+}

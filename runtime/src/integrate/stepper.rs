@@ -85,6 +85,16 @@ pub enum StepOutcome<T, const N: usize> {
     Finished,
 }
 
+/// A reported crossing, for `set_state` to tell a restart at it.
+#[derive(Clone, Copy, Debug)]
+struct Reported<T, const N: usize> {
+    index: usize,
+    rising: bool,
+    state: State<T, N>,
+    /// The function's value at the right end of the crossing's bracket.
+    g_right: T,
+}
+
 /// One accepted step, kept for the continuous extension.
 #[derive(Clone, Copy, Debug)]
 struct Accepted<T, const N: usize, const S: usize> {
@@ -132,9 +142,12 @@ pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
     /// Fixed steps: the time steps are counted from, and their count (time
     /// is `anchor + n h`, not a running sum).
     anchor: (T, usize),
-    /// The last crossing reported in the current step: (function, rising,
-    /// time).
-    reported: Option<(usize, bool, T)>,
+    /// The last crossing reported in the current step.
+    reported: Option<Reported<T, N>>,
+    /// After `set_state` with the crossing's own state (the system changed,
+    /// not the state): the function that crossed and its value past the
+    /// crossing, its reference for the restarted search.
+    continuing: Option<(usize, T)>,
     /// The crossing whose state `set_state` changed, while the step from
     /// it has not ended.
     restarted: Option<(usize, bool, T)>,
@@ -170,6 +183,7 @@ where
             refs: None,
             anchor: (state.t, 0),
             reported: None,
+            continuing: None,
             restarted: None,
         })
     }
@@ -203,7 +217,7 @@ where
     /// outside it (or before the first step, or after a state change).
     pub fn at(&self, t: T) -> Option<State<T, N>> {
         let step = self.step.as_ref()?;
-        (t >= step.start.t && t <= step.end.t).then(|| self.span(step).at(t))
+        (t >= step.start.t && t <= step.end.t).then(|| Self::span(step).at(t))
     }
 
     /// Replaces the state (at an event: the impact law, a reset) and
@@ -214,15 +228,23 @@ where
     /// `Err(InvalidParameter)` for a non-finite state, `EndBeforeStart`
     /// for a time after the end.
     ///
-    /// If the function that crossed there crosses again in the same
-    /// direction within the time tolerance, the change did not take the
-    /// trajectory off its surface: the next [`step`](Self::step) is
-    /// `Err(EventRepeats)` (the stepper stays usable: switch the model to
-    /// the persistent contact and set the state again).
+    /// At a crossing, with the crossing's own state (to restart after
+    /// changing the system, e.g. a controller's mode), the crossing counts
+    /// as done: the function is sought from its new side. With a changed
+    /// state (an impact), if the function that crossed crosses again in
+    /// the same direction within the time tolerance, the change did not
+    /// take the trajectory off its surface: the next [`step`](Self::step)
+    /// is `Err(EventRepeats)` (the stepper stays usable: switch the model
+    /// to the persistent contact and set the state again).
     pub fn set_state(&mut self, state: State<T, N>) -> Result<(), IntegrationError<T>> {
         super::span(&state, self.t_end)?;
-        self.restarted = self.reported.filter(|&(_, _, t)| t == state.t);
-        self.reported = None;
+        self.restarted = None;
+        self.continuing = None;
+        match self.reported.take() {
+            Some(r) if r.state == state => self.continuing = Some((r.index, r.g_right)),
+            Some(r) if r.state.t == state.t => self.restarted = Some((r.index, r.rising, r.state.t)),
+            _ => {}
+        }
         self.state = state;
         self.k1 = None;
         self.step = None;
@@ -256,7 +278,13 @@ where
             Some(refs) => refs,
             None => {
                 let g = events::values(events, &self.state)?;
-                core::array::from_fn(|i| (self.state.t, g[i]))
+                let mut refs = core::array::from_fn(|i| (self.state.t, g[i]));
+                if let Some((i, g_right)) = self.continuing.take() {
+                    if let Some(r) = refs.get_mut(i) {
+                        r.1 = g_right;
+                    }
+                }
+                refs
             }
         };
         if !self.pending {
@@ -266,18 +294,18 @@ where
             }
             self.take_step(system)?;
         }
-        let Some(step) = self.step else {
+        let Some(step) = self.step.as_ref() else {
             return Err(IntegrationError::InvalidParameter); // unreachable: a step was just taken
         };
-        let span = self.span(&step);
-        let found = events::search(
-            events,
-            &span,
-            &mut refs,
-            self.state.t,
-            &mut self.event_stats,
-        )?;
-        let Some(found) = found else {
+        // Without event functions, no continuous extension is formed.
+        let span = (E > 0).then(|| Self::span(step));
+        let found = match &span {
+            Some(span) => {
+                events::search(events, span, &mut refs, self.state.t, &mut self.event_stats)?
+            }
+            None => None,
+        };
+        let (Some(found), Some(span)) = (found, span) else {
             self.state = step.end;
             self.refs = Some(refs);
             self.pending = false;
@@ -304,7 +332,12 @@ where
         self.refs = Some(refs);
         self.state = state;
         self.event_stats.crossings += 1;
-        self.reported = Some((found.index, found.rising, found.left));
+        self.reported = Some(Reported {
+            index: found.index,
+            rising: found.rising,
+            state,
+            g_right: found.g_right,
+        });
         let action = events
             .kinds
             .get(found.index)
@@ -322,18 +355,16 @@ where
         }))
     }
 
-    fn span<'a>(&self, step: &'a Accepted<T, N, S>) -> Span<'a, T, N, S> {
-        Span {
-            interpolant: Interpolant {
-                start: &step.start,
-                end: &step.solution,
-                h: step.h,
-                stages: &step.stages,
-                end_slope: &step.end_slope,
-                dense: &I::DENSE,
-            },
-            end: &step.end,
-        }
+    fn span(step: &Accepted<T, N, S>) -> Span<'_, T, N, S> {
+        let interpolant = Interpolant {
+            start: &step.start,
+            end: &step.solution,
+            h: step.h,
+            stages: &step.stages,
+            end_slope: &step.end_slope,
+            dense: &I::DENSE,
+        };
+        Span::new(interpolant, &step.end)
     }
 
     /// Takes one accepted step from `state` (retrying rejected ones), and

@@ -1,0 +1,88 @@
+//! Dense output against stepping (issue 30): the solution interpolated at
+//! a time inside a step — `advance_sampled`'s samples, `Stepper::at` — is
+//! the solution reached by integrating to that time, to the method's
+//! accuracy, from random states of the double pendulum.
+
+use constrained::integrate::{Events, StepOutcome};
+use constrained::models::{double_pendulum_state, DoublePendulum};
+use constrained::{BogackiShampine32, DormandPrince45, Rk4, State};
+use proptest::prelude::*;
+
+const SPAN: f64 = 2.0;
+
+fn system() -> DoublePendulum<f64> {
+    DoublePendulum::new(1.0, 1.5, 1.2, 0.8, 9.81)
+}
+
+fn distance(a: &State<f64, 4>, b: &State<f64, 4>) -> f64 {
+    assert_eq!(a.t, b.t);
+    (a.q - b.q).amax().max((a.qd - b.qd).amax())
+}
+
+/// Sorted sample times in `(0, SPAN)`.
+fn times(fractions: &[f64]) -> Vec<f64> {
+    let mut times: Vec<f64> = fractions.iter().map(|f| f * SPAN).collect();
+    times.sort_by(f64::total_cmp);
+    times
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn dense_output_agrees_with_advance(
+        angles in prop::array::uniform2(-2.5..2.5f64),
+        rates in prop::array::uniform2(-2.0..2.0f64),
+        fractions in prop::collection::vec(0.001..0.999f64, 1..6),
+    ) {
+        let system = system();
+        let start = double_pendulum_state(1.2, 0.8, 0.0, angles, rates);
+        let times = times(&fractions);
+        // The adaptive pairs, through advance_sampled: (method, bound).
+        let dp = DormandPrince45::new(1e-10, 1e-12);
+        let bs = BogackiShampine32::new(1e-9, 1e-11);
+        let mut worst = [0.0f64; 2];
+        let mut sampled = Vec::new();
+        let mut s = start;
+        dp.advance_sampled(&system, &mut s, SPAN, &times, |x| sampled.push(*x)).unwrap();
+        for (x, &t) in sampled.iter().zip(&times) {
+            let mut reference = start;
+            dp.advance(&system, &mut reference, t).unwrap();
+            worst[0] = worst[0].max(distance(x, &reference));
+        }
+        sampled.clear();
+        let mut s = start;
+        bs.advance_sampled(&system, &mut s, SPAN, &times, |x| sampled.push(*x)).unwrap();
+        for (x, &t) in sampled.iter().zip(&times) {
+            let mut reference = start;
+            bs.advance(&system, &mut reference, t).unwrap();
+            worst[1] = worst[1].max(distance(x, &reference));
+        }
+        prop_assert_eq!(sampled.len(), times.len());
+        // Both are within the global error of the two runs.
+        prop_assert!(worst[0] < 1e-6, "Dormand–Prince: {:e}", worst[0]);
+        prop_assert!(worst[1] < 1e-5, "Bogacki–Shampine: {:e}", worst[1]);
+
+        // The stepper's extension of RK4 (cubic Hermite) inside its steps.
+        let rk4 = Rk4::new(0.005);
+        let mut stepper = rk4.stepper(start, SPAN).unwrap();
+        let mut next = 0;
+        let mut worst_rk4 = 0.0f64;
+        while let Ok(StepOutcome::Step | StepOutcome::Finished) = stepper.step(&system, &Events::none()) {
+            while let Some(&t) = times.get(next) {
+                let Some(x) = stepper.at(t) else { break };
+                let mut reference = start;
+                rk4.advance(&system, &mut reference, t).unwrap();
+                worst_rk4 = worst_rk4.max(distance(&x, &reference));
+                next += 1;
+            }
+            if stepper.state().t == SPAN {
+                break;
+            }
+        }
+        prop_assert_eq!(next, times.len());
+        // Hermite is third order, O(h⁴ |y⁽⁴⁾|/384): up to 2.6e-5 at h = 0.01
+        // on these energetic states, 16× less at h = 0.005.
+        prop_assert!(worst_rk4 < 1e-5, "RK4 + Hermite: {:e}", worst_rk4);
+    }
+}
