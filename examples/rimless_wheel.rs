@@ -48,6 +48,9 @@ fn foot(w: &RimlessWheel<f64>, q: &Vector3<f64>, phase: f64) -> Vector2<f64> {
     )
 }
 
+/// A run's phase portrait and its rates after each strike.
+type Run = (Vec<(f64, f64)>, Vec<f64>);
+
 /// One run from just after a strike at rate `omega`: the phase portrait
 /// (stance spoke's angle from the slope's normal, rate) and the rate after
 /// each strike.
@@ -55,7 +58,7 @@ fn roll(
     w: RimlessWheel<f64>,
     omega: f64,
     strikes: usize,
-) -> Result<(Vec<(f64, f64)>, Vec<f64>), Box<dyn std::error::Error>> {
+) -> Result<Run, Box<dyn std::error::Error>> {
     // Both feet on the slope (the spokes' bisector along its normal), the
     // stance foot at the origin, rotating about it.
     let stance = -w.gamma + w.a2 / 2.0;

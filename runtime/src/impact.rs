@@ -92,9 +92,11 @@ where
     let a = SMatrix::<T, R, N>::from_fn(|i, j| if rows[i] { a[(i, j)] } else { T::zero() });
     let c = SVector::<T, R>::from_fn(|i, _| if rows[i] { target[i] } else { T::zero() });
     let finite = |x: &T| x.is_finite();
-    if !(m.iter().all(finite) && a.iter().all(finite) && c.iter().all(finite))
-        || !qd.iter().all(finite)
-    {
+    let all_finite = m.iter().all(finite)
+        && a.iter().all(finite)
+        && c.iter().all(finite)
+        && qd.iter().all(finite);
+    if !all_finite {
         return Err(DynamicsError::NonFinite);
     }
     let (chol, s) = metric(m, &a)?;
