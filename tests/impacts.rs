@@ -362,7 +362,10 @@ fn a_heel_strike_in_f32() {
     let w = wheel(0.0);
     let (q, qd) = heel_strike(&w, -1.2);
     let next = w.phase + w.a2;
-    let foot = (q[0] + w.l * (q[2] + next).sin(), q[1] - w.l * (q[2] + next).cos());
+    let foot = (
+        q[0] + w.l * (q[2] + next).sin(),
+        q[1] - w.l * (q[2] + next).cos(),
+    );
     let after = RimlessWheel::<f32>::new(
         w.m as f32,
         w.inertia as f32,
