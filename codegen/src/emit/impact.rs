@@ -1,6 +1,6 @@
 //! The methods of a system with gaps (`unilateral: [..]`): `GAPS`,
 //! `gaps`, `gap_jacobian` and `impact`, the impulsive form of Gauss's
-//! principle through the runtime's `impact::impact_with_gaps` (MATH.md,
+//! principle through the runtime's `impact::impact_with_gaps` (`docs/math.md`,
 //! "Impacts"). Nothing is generated for a system without gaps.
 
 use super::body::Body;

@@ -1,6 +1,6 @@
 //! The `unilateral: [..]` section: gaps `g(q) ≥ 0` and their gradients
 //! `∇g = ∂g/∂q`, for the generated `gaps`, `gap_jacobian` and `impact`
-//! (MATH.md, "Impacts").
+//! (the mathematics guide, `docs/math.md`, "Impacts").
 //!
 //! A gap is written `lhs >= rhs` (`g = lhs − rhs`) or `lhs <= rhs`
 //! (`g = rhs − lhs`), so that the side that must stay apart reads as in a
