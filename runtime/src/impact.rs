@@ -11,7 +11,8 @@
 //! where each row of `A q̇⁺ = c` is an impacting contact with Newton's law
 //! (`∇gᵢ · q̇⁺ = −e ∇gᵢ · q̇⁻`) or a persistent constraint at velocity level
 //! (its residual `φ̇` brought to zero). It is eq. 24 of the equation of
-//! motion with velocities for accelerations (the mathematics guide, `docs/math.md`, "Impacts"):
+//! motion with velocities for accelerations (the mathematics guide,
+//! `docs/math.md`, "Impacts"):
 //!
 //! ```text
 //! q̇⁺ = q̇⁻ + M⁻¹ Aᵀ λ,   (A M⁻¹ Aᵀ) λ = c − A q̇⁻,   impulse P = M (q̇⁺ − q̇⁻) = Aᵀ λ.
