@@ -26,6 +26,7 @@ pub mod kw {
     syn::custom_keyword!(urdf);
     syn::custom_keyword!(locked);
     syn::custom_keyword!(inertia);
+    syn::custom_keyword!(unilateral);
 }
 
 /// ```text
@@ -65,6 +66,7 @@ pub struct List<T> {
 ///          | `gravity`     `:` `[` expr `,` expr `,` expr `]`
 ///          | `urdf`        `:` LitStr
 ///          | `locked`      `:` `[` Ident,* `]`
+///          | `unilateral`  `:` `[` (expr `>=` expr | expr `<=` expr),* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -95,6 +97,8 @@ pub enum Section {
     Urdf(Ident, syn::LitStr),
     /// URDF joints held fixed (their names as coordinates would be).
     Locked(Ident, List<Ident>),
+    /// Gaps `g(q) ≥ 0` (unilateral constraints), checked by `crate::model`.
+    Unilateral(Ident, List<Expr>),
 }
 
 impl Section {
@@ -114,7 +118,8 @@ impl Section {
             | Section::Bodies(k, _)
             | Section::Gravity(k, _)
             | Section::Urdf(k, _)
-            | Section::Locked(k, _) => k,
+            | Section::Locked(k, _)
+            | Section::Unilateral(k, _) => k,
         }
     }
 }
@@ -220,6 +225,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::locked) {
             let k = keyword!(locked);
             Ok(Section::Locked(k, list(input, Ident::parse)?))
+        } else if lookahead.peek(kw::unilateral) {
+            let k = keyword!(unilateral);
+            Ok(Section::Unilateral(k, list(input, Expr::parse)?))
         } else {
             Err(lookahead.error())
         }

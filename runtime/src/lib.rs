@@ -15,6 +15,7 @@ mod error;
 mod finish;
 mod generated;
 pub mod gibbs_appell;
+pub mod impact;
 pub mod integrate;
 pub mod inverse;
 mod level;
@@ -29,6 +30,7 @@ mod system;
 
 pub use control::ControlError;
 pub use error::{DynamicsError, GibbsAppellError, IntegrationError};
+pub use impact::Impact;
 pub use integrate::{
     BogackiShampine32, DormandPrince45, EmbeddedRungeKutta, ExplicitRungeKutta, Rk4,
     SemiImplicitEuler, Stats, ThreeEighthsRule,

@@ -82,6 +82,27 @@ impl<T: RealField + Copy, const R: usize, const C: usize> JacobiSvd<T, R, C> {
         let y = y.map(|e| ldexp(e, -self.scale));
         y.iter().all(|e| e.is_finite()).then_some(y)
     }
+
+    /// `(X Xᵀ)⁺ r`, with singular values at or below `cut` counted as zero:
+    /// the multipliers `μ` whose `Xᵀ μ` is [`solve`](Self::solve)'s `y`
+    /// (`X⁺ = Xᵀ (X Xᵀ)⁺`), the per-row impulses of an impact
+    /// ([`crate::impact`]). `None` when `r` or the result is not finite.
+    #[must_use]
+    pub fn solve_gram(&self, r: &SVector<T, R>, cut: T) -> Option<SVector<T, R>> {
+        if !r.iter().all(|e| e.is_finite()) {
+            return None;
+        }
+        // X Xᵀ = 4^scale X_s X_sᵀ, and X_s X_sᵀ = V Σ² Vᵀ.
+        let mut mu = SVector::<T, R>::zeros();
+        for i in 0..R {
+            let sigma2 = self.w.column(i).norm_squared();
+            if ldexp(sigma2.sqrt(), self.scale) > cut && sigma2 > T::zero() {
+                mu += self.v.column(i) * (self.v.column(i).dot(r) / sigma2);
+            }
+        }
+        let mu = mu.map(|e| ldexp(e, -2 * self.scale));
+        mu.iter().all(|e| e.is_finite()).then_some(mu)
+    }
 }
 
 /// One-sided Jacobi: rotates the columns of `b` until they are mutually

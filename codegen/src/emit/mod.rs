@@ -11,6 +11,7 @@ mod context;
 mod dynamics;
 mod factored;
 mod gibbs_appell;
+mod impact;
 mod jacobian;
 mod ldlt;
 mod motion;
@@ -71,6 +72,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
     let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
     let evaluation = dynamics::methods(&ctx);
+    let gaps = impact::methods(&ctx);
     // A model read from a file is rebuilt when the file changes.
     let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
         quote! {
@@ -115,6 +117,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #gibbs_appell
             #linearization
             #evaluation
+            #gaps
         }
 
         #(#files)*

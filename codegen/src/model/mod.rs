@@ -9,6 +9,7 @@ pub mod check;
 pub mod ctxt;
 pub mod lower;
 mod source;
+pub mod unilateral;
 pub mod urdf;
 
 use crate::expr::{Graph, Id, Sym};
@@ -80,6 +81,8 @@ pub struct System {
     pub bodies: Option<BodyTerms>,
     /// `T`, `V` and `T + V`, for systems given by energies or bodies.
     pub energy: Option<EnergyTerms>,
+    /// The gaps `g(q) ≥ 0` of `unilateral: [..]`, with their gradients.
+    pub unilateral: Vec<unilateral::Gap>,
 }
 
 /// The expressions of a system with bodies beyond `M` and `F`.
@@ -150,6 +153,7 @@ struct Sections<'a> {
     gravity: Option<&'a List<Expr>>,
     urdf: Option<(&'a Ident, &'a syn::LitStr)>,
     locked: Option<&'a List<Ident>>,
+    unilateral: Option<&'a List<Expr>>,
 }
 
 impl<'a> Sections<'a> {
@@ -171,6 +175,7 @@ impl<'a> Sections<'a> {
                 Section::Gravity(_, l) => s.gravity.replace(l).is_some(),
                 Section::Urdf(k, l) => s.urdf.replace((k, l)).is_some(),
                 Section::Locked(_, l) => s.locked.replace(l).is_some(),
+                Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();
@@ -246,6 +251,9 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         .iter()
         .flat_map(|c| lower.constraints(c))
         .collect();
+    let unilateral = sections
+        .unilateral
+        .map_or_else(Vec::new, |l| lower.gaps(l, first_input));
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
@@ -280,6 +288,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         energies: dynamics.energies,
         bodies: dynamics.bodies,
         energy: dynamics.energy,
+        unilateral,
     })
 }
 

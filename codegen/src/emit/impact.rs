@@ -1,0 +1,87 @@
+//! The methods of a system with gaps (`unilateral: [..]`): `GAPS`,
+//! `gaps`, `gap_jacobian` and `impact`, the impulsive form of Gauss's
+//! principle through the runtime's `impact::impact_with_gaps` (`docs/math.md`,
+//! "Impacts"). Nothing is generated for a system without gaps.
+
+use super::body::Body;
+use super::context::{Context, Inputs};
+use crate::expr::Id;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// The gap methods, or nothing for a system without `unilateral`.
+pub(super) fn methods(ctx: &Context) -> TokenStream {
+    let gaps = &ctx.eq.system.unilateral;
+    if gaps.is_empty() {
+        return TokenStream::new();
+    }
+    let (n, k, u) = (ctx.n, ctx.k, gaps.len());
+    let u_lit = Context::dim(u);
+    let params = ctx.params(Inputs::Positions);
+    let values: Vec<Id> = gaps.iter().map(|g| g.gap).collect();
+    let body = Body::new(ctx.eq, &values);
+    let (preamble, value) = (
+        body.preamble(),
+        ctx.vector_value(values.iter().map(|&e| body.expr(e))),
+    );
+    let rows: Vec<&Vec<Id>> = gaps.iter().map(|g| &g.gradient).collect();
+    let roots: Vec<Id> = rows.iter().flat_map(|r| r.iter().copied()).collect();
+    let jbody = Body::new(ctx.eq, &roots);
+    let columns = (0..n)
+        .map(|j| rows.iter().map(|r| jbody.expr(r[j])).collect())
+        .collect();
+    let (jpreamble, jvalue) = (jbody.preamble(), ctx.matrix_value(u, columns));
+    let (gap_type, jac_type) = (ctx.vector(u), ctx.matrix(u, n));
+    let written: Vec<String> = gaps.iter().map(|g| g.tokens.to_string()).collect();
+    let list = written.join("`, `");
+    let gaps_doc = format!(" The gaps `g(q)`, in the order written: `{list}`.");
+    let state = ctx.params(Inputs::States);
+    let n_lit = Context::dim(n);
+    let r_lit = Context::dim(k + u);
+    let impact_type = ctx.path(quote!(Impact<T, #n_lit, #r_lit>));
+    let result = ctx.result(impact_type, quote!(DynamicsError));
+    let map = ctx.path(quote!(impact::impact_with_gaps));
+    quote! {
+        /// Number of gaps (`unilateral: [..]` entries).
+        pub const GAPS: usize = #u_lit;
+
+        #[doc = #gaps_doc]
+        /// Non-negative where the contacts are open.
+        #[inline]
+        pub fn gaps(&self, #params) -> #gap_type {
+            #preamble
+            #value
+        }
+
+        /// The gaps' gradients `∇g = ∂g/∂q`, one row per gap.
+        #[inline]
+        pub fn gap_jacobian(&self, #params) -> #jac_type {
+            #jpreamble
+            #jvalue
+        }
+
+        /// The impact map (the impulsive form of Gauss's principle): `q̇⁺`
+        /// closest to `q̇⁻ = qd` in the metric of `M` such that each gap
+        /// marked `active` rebounds by Newton's law,
+        /// `∇gᵢ · q̇⁺ = −restitution[i] ∇gᵢ · q̇⁻`, while every constraint
+        /// keeps its velocity-level residual at zero. The impulse's rows
+        /// are the constraints first, then the gaps.
+        #[inline]
+        pub fn impact(
+            &self,
+            #state,
+            active: [bool; #u_lit],
+            restitution: [T; #u_lit],
+        ) -> #result {
+            #map(
+                &self.mass_matrix(q, t),
+                &self.constraint_matrices(q, qd, t).0,
+                &self.constraint_velocity_residual(q, qd, t),
+                &self.gap_jacobian(q, t),
+                &active,
+                &restitution,
+                qd,
+            )
+        }
+    }
+}
