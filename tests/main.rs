@@ -16,6 +16,7 @@ mod docs;
 mod energies;
 mod fault_matrix;
 mod finite_differences;
+mod floating;
 mod gauss;
 mod gibbs_appell;
 mod hostile_runtime;

@@ -7,6 +7,7 @@
 pub mod bodies;
 pub mod check;
 pub mod ctxt;
+pub mod free;
 pub mod lower;
 mod source;
 pub mod urdf;
@@ -240,12 +241,15 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         lower.name_node(name.to_string(), id);
     }
     let dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    let constraints: Vec<Constraint> = sections
+    let mut constraints: Vec<Constraint> = sections
         .constraints
         .map_or(&[][..], |l| &l.items)
         .iter()
         .flat_map(|c| lower.constraints(c))
         .collect();
+    if let Source::Bodies(_, list) = source {
+        constraints.extend(lower.free_norms(list, &coordinates));
+    }
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
