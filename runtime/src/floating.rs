@@ -43,6 +43,9 @@ impl core::fmt::Display for FreeJointError {
     }
 }
 
+#[cfg(feature = "std")]
+impl std::error::Error for FreeJointError {}
+
 /// The pose and twist of a body on a free joint, in its parent's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FreeMotion<T: RealField + Copy> {
