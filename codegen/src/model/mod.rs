@@ -241,15 +241,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         lower.name_node(name.to_string(), id);
     }
     let dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    let mut constraints: Vec<Constraint> = sections
-        .constraints
-        .map_or(&[][..], |l| &l.items)
-        .iter()
-        .flat_map(|c| lower.constraints(c))
-        .collect();
-    if let Source::Bodies(_, list) = source {
-        constraints.extend(lower.free_norms(list, &coordinates));
-    }
+    let constraints = lower.all_constraints(sections.constraints, source, &coordinates);
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
@@ -407,6 +399,25 @@ impl Lowerer<'_> {
             check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
         }
         (m, Some(t))
+    }
+
+    /// The constraints written, then the norm of each free joint's
+    /// quaternion (`free`).
+    fn all_constraints(
+        &mut self,
+        written: Option<&List<ConstraintInput>>,
+        source: Source,
+        coordinates: &[Ident],
+    ) -> Vec<Constraint> {
+        let mut constraints: Vec<Constraint> = written
+            .map_or(&[][..], |l| &l.items)
+            .iter()
+            .flat_map(|c| self.constraints(c))
+            .collect();
+        if let Source::Bodies(_, list) = source {
+            constraints.extend(self.free_norms(list, coordinates));
+        }
+        constraints
     }
 
     /// One constraint, or three where both sides are points
