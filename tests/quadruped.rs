@@ -209,7 +209,7 @@ fn quadruped_satisfies_a_qdd_b_and_a_dependent_row_changes_nothing() {
     let twin = QuadrupedFive::new(
         a, b, c, d, e, f, g, h, 0.3, -0.2, 0.1, 0.3, -0.2, 0.1, 0.3, -0.2, 0.1, 0.3, -0.2, 0.1,
     );
-    let mut with_torques = sys.clone();
+    let mut with_torques = sys;
     [
         with_torques.t_fl_haa,
         with_torques.t_fl_hfe,
