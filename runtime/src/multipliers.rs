@@ -20,12 +20,18 @@
 //! `(N + K) · 64 ε` of the largest counted as zero (exact dependencies sit
 //! at rounding level; genuine directions far above).
 //!
+//! Every generated system has `constraint_multipliers(&state)` and
+//! `acceleration_and_multipliers(&state)` ([`Multipliers`]); the solve of
+//! `Aᵀ λ = Q_c` is [`multipliers`]. Two copies of the same row share the
+//! force equally:
+//!
 //! ```
-//! use constrained_runtime::multipliers::Multipliers;
-//! # use constrained_runtime::{ConstrainedSystem, State};
-//! # fn check<S: ConstrainedSystem<f64, 2, 1>>(system: &S, state: &State<f64, 2>) {
-//! let lambda = system.constraint_multipliers(state).unwrap();
-//! # }
+//! use constrained_runtime::multipliers::multipliers;
+//! use nalgebra::{Matrix2, Vector2};
+//!
+//! let a = Matrix2::new(1.0, 0.0, 1.0, 0.0); // the row x = 0, twice
+//! let lambda = multipliers(&a, &Vector2::new(2.0, 0.0)).unwrap();
+//! assert!((lambda - Vector2::new(1.0, 1.0)).norm() < 1e-15);
 //! ```
 
 use crate::generated::Generated;
