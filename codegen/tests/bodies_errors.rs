@@ -54,6 +54,19 @@ fn bodies_errors_say_why() {
             format!("a {{ {ok}, xyz: [t, 0.0, 0.0] }}"),
             "not coordinates, velocities or `t`",
         ),
+        (
+            "a { joint: free(x, y, z), mass: 1.0 }".to_string(),
+            "expected `free(x, y, z, qw, qx, qy, qz)`",
+        ),
+        (
+            "a { joint: free(x, y, z, w, i, j, 1.0), mass: 1.0 }".to_string(),
+            "expected `free(x, y, z, qw, qx, qy, qz)`",
+        ),
+        (
+            "a { joint: free(x, y, z, w, i, j, k), mass: 1.0 },              b { parent: a, joint: free(x2, y2, z2, w2, i2, j2, k2), mass: x }"
+                .to_string(),
+            "not coordinates, velocities or `t`",
+        ),
     ];
     for (bodies, expected) in cases {
         let message = errors_of(&bodies);

@@ -12,6 +12,7 @@
 //! for the bias forces and O(n²) for `M`, against the n^3.5 of
 //! differentiating the kinetic energy twice.
 
+pub mod free;
 pub mod recursion;
 pub mod spatial;
 
@@ -25,6 +26,21 @@ pub enum JointKind {
     Revolute,
     /// Translation by the coordinate along the axis.
     Prismatic,
+    /// Rotation by the unit quaternion of four coordinates from
+    /// `coordinate` on, `(w, x, y, z)` (the spherical part of a free
+    /// joint, [`free`]); the axis is unused.
+    Quaternion,
+}
+
+impl Joint {
+    /// The coordinates the joint moves: one, or a quaternion's four.
+    pub fn coordinates(&self) -> std::ops::Range<usize> {
+        let count = match self.kind {
+            JointKind::Quaternion => 4,
+            _ => 1,
+        };
+        self.coordinate..self.coordinate + count
+    }
 }
 
 /// A one-degree-of-freedom joint.
@@ -157,7 +173,7 @@ impl Tree {
     pub fn body_of(&self, coordinate: usize) -> Option<usize> {
         self.bodies
             .iter()
-            .position(|b| b.joint.coordinate == coordinate)
+            .position(|b| b.joint.coordinates().contains(&coordinate))
     }
 }
 
@@ -202,6 +218,13 @@ pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
                         rotation: spatial::identity(g),
                         translation: spatial::scale(g, q, j.axis),
                     },
+                    JointKind::Quaternion => {
+                        let q = free::coordinates(g, j.coordinate);
+                        Placement {
+                            rotation: free::rotation(g, q),
+                            translation: spatial::zero(g),
+                        }
+                    }
                 }
             }
             None => Placement::identity(g),

@@ -10,9 +10,10 @@
 //!
 //! A transform `Xᵢ` is applied in two steps, the constant placement and
 //! then the joint's own motion (a rotation about, or a translation along,
-//! its axis), so that only the second involves `qᵢ`.
+//! its axis, or a quaternion's rotation), so that only the second involves
+//! `qᵢ`. A quaternion joint has four columns in `Sᵢ` ([`super::free`]).
 
-use super::spatial::{self, Inertia, Spatial, V3};
+use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Body, Dynamics, JointKind, Tree};
 use crate::expr::{Graph, Id, Sym};
 
@@ -23,15 +24,25 @@ struct JointState {
     q: Id,
     /// `sin qᵢ`, `cos qᵢ` for a revolute joint.
     sin_cos: (Id, Id),
+    /// A quaternion joint's coordinates and `R(q)`.
+    quaternion: Option<([Id; 4], M3)>,
 }
 
 fn joint_state(g: &mut Graph, body: &Body) -> JointState {
     let q = g.sym(Sym::Coord(body.joint.coordinate));
     let sin_cos = match body.joint.kind {
         JointKind::Revolute => spatial::sin_cos(g, q),
-        JointKind::Prismatic => (g.int(0), g.int(1)),
+        JointKind::Prismatic | JointKind::Quaternion => (g.int(0), g.int(1)),
     };
-    JointState { q, sin_cos }
+    let quaternion = (body.joint.kind == JointKind::Quaternion).then(|| {
+        let q = super::free::coordinates(g, body.joint.coordinate);
+        (q, super::free::rotation(g, q))
+    });
+    JointState {
+        q,
+        sin_cos,
+        quaternion,
+    }
 }
 
 /// `Xᵢ m`: a motion vector of the parent's frame in the body's frame.
@@ -61,6 +72,21 @@ fn motion_to_child(g: &mut Graph, body: &Body, js: JointState, m: Spatial) -> Sp
                 linear: spatial::add(g, v, shifted),
             }
         }
+        JointKind::Quaternion => {
+            let r = quaternion_rotation(g, js);
+            Spatial {
+                angular: spatial::mat_t_vec(g, &r, w),
+                linear: spatial::mat_t_vec(g, &r, v),
+            }
+        }
+    }
+}
+
+/// A quaternion joint's `R(q)` (the identity for any other joint).
+fn quaternion_rotation(g: &mut Graph, js: JointState) -> M3 {
+    match js.quaternion {
+        Some((_, r)) => r,
+        None => spatial::identity(g),
     }
 }
 
@@ -77,6 +103,13 @@ fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Sp
             let moment = spatial::cross(g, offset, f.linear);
             (spatial::add(g, f.angular, moment), f.linear)
         }
+        JointKind::Quaternion => {
+            let r = quaternion_rotation(g, js);
+            (
+                spatial::mat_vec(g, &r, f.angular),
+                spatial::mat_vec(g, &r, f.linear),
+            )
+        }
     };
     let p = &body.placement;
     let force = spatial::mat_vec(g, &p.rotation, force);
@@ -88,19 +121,43 @@ fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Sp
     }
 }
 
-/// `Sᵢ`: the joint's motion subspace, a motion vector.
-fn subspace(g: &mut Graph, body: &Body) -> Spatial {
+/// `Sᵢ`: the joint's motion subspace, one motion vector per coordinate.
+fn subspace(g: &mut Graph, body: &Body, js: JointState) -> Vec<(usize, Spatial)> {
     let z = spatial::zero(g);
-    match body.joint.kind {
-        JointKind::Revolute => Spatial {
-            angular: body.joint.axis,
-            linear: z,
-        },
-        JointKind::Prismatic => Spatial {
-            angular: z,
-            linear: body.joint.axis,
-        },
+    let c = body.joint.coordinate;
+    match (body.joint.kind, js.quaternion) {
+        (JointKind::Revolute, _) => vec![(
+            c,
+            Spatial {
+                angular: body.joint.axis,
+                linear: z,
+            },
+        )],
+        (JointKind::Prismatic, _) => vec![(
+            c,
+            Spatial {
+                angular: z,
+                linear: body.joint.axis,
+            },
+        )],
+        (JointKind::Quaternion, Some((q, _))) => super::free::subspace(g, q)
+            .into_iter()
+            .enumerate()
+            .map(|(k, s)| (c + k, s))
+            .collect(),
+        (JointKind::Quaternion, None) => Vec::new(),
     }
+}
+
+/// `Σₖ Sₖ xₖ` for the joint's coordinates' velocities or accelerations.
+fn joint_motion(g: &mut Graph, columns: &[(usize, Spatial)], sym: fn(usize) -> Sym) -> Spatial {
+    let mut sum = Spatial::zero(g);
+    for &(c, s) in columns {
+        let x = g.sym(sym(c));
+        let sx = s.scale(g, x);
+        sum = sum.add(g, sx);
+    }
+    sum
 }
 
 /// What the outward pass includes.
@@ -133,12 +190,10 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
             Some(p) => (v[p], a[p]),
             None => (base_velocity, base_acceleration),
         };
-        let s = subspace(g, body);
-        let c = body.joint.coordinate;
+        let s = subspace(g, body, states[i]);
         let vi = motion_to_child(g, body, states[i], vp);
         let vi = if terms.velocities {
-            let qd = g.sym(Sym::Vel(c));
-            let sq = s.scale(g, qd);
+            let sq = joint_motion(g, &s, Sym::Vel);
             let vi = vi.add(g, sq).held(g);
             v.push(vi);
             let coriolis = vi.cross_motion(g, sq);
@@ -152,8 +207,7 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
         };
         a[i] = a[i].held(g);
         if terms.accelerations {
-            let qdd = g.sym(Sym::Accel(c));
-            let sq = s.scale(g, qdd);
+            let sq = joint_motion(g, &s, Sym::Accel);
             a[i] = a[i].add(g, sq).held(g);
         }
         let momentum = body.inertia.apply(g, vi);
@@ -164,8 +218,9 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
     let zero = g.int(0);
     let mut tau = vec![zero; n];
     for (i, body) in tree.bodies.iter().enumerate().rev() {
-        let s = subspace(g, body);
-        tau[body.joint.coordinate] = s.dot(g, f[i]);
+        for (c, s) in subspace(g, body, states[i]) {
+            tau[c] = s.dot(g, f[i]);
+        }
         if let Some(p) = body.parent {
             let up = force_to_parent(g, body, states[i], f[i]);
             f[p] = f[p].add(g, up).held(g);
@@ -197,6 +252,11 @@ fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inert
             let offset = spatial::scale(g, js.q, a);
             inertia.to_parent(g, &identity, offset)
         }
+        JointKind::Quaternion => {
+            let r = quaternion_rotation(g, js);
+            let zero = spatial::zero(g);
+            inertia.to_parent(g, &r, zero)
+        }
     };
     let p = &body.placement;
     in_joint.to_parent(g, &p.rotation, p.translation)
@@ -214,20 +274,28 @@ fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> Vec<Vec<Id>> {
     }
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
-    for (i, body) in tree.bodies.iter().enumerate() {
-        let s = subspace(g, body);
-        let mut force = composite[i].apply(g, s).held(g);
-        let ci = body.joint.coordinate;
-        m[ci][ci] = s.dot(g, force);
-        let mut j = i;
-        while let Some(p) = tree.bodies[j].parent {
-            force = force_to_parent(g, &tree.bodies[j], states[j], force).held(g);
-            j = p;
-            let sj = subspace(g, &tree.bodies[j]);
-            let cj = tree.bodies[j].joint.coordinate;
-            let mij = sj.dot(g, force);
-            m[ci][cj] = mij;
-            m[cj][ci] = mij;
+    let columns: Vec<Vec<(usize, Spatial)>> = tree
+        .bodies
+        .iter()
+        .zip(&states)
+        .map(|(b, &js)| subspace(g, b, js))
+        .collect();
+    for (i, own) in columns.iter().enumerate() {
+        for &(ci, s) in own {
+            let mut force = composite[i].apply(g, s).held(g);
+            for &(ck, sk) in own {
+                m[ci][ck] = sk.dot(g, force);
+            }
+            let mut j = i;
+            while let Some(p) = tree.bodies[j].parent {
+                force = force_to_parent(g, &tree.bodies[j], states[j], force).held(g);
+                j = p;
+                for &(cj, sj) in &columns[j] {
+                    let mij = sj.dot(g, force);
+                    m[ci][cj] = mij;
+                    m[cj][ci] = mij;
+                }
+            }
         }
     }
     m
@@ -255,15 +323,13 @@ fn energies(g: &mut Graph, tree: &Tree) -> (Id, Id) {
                 (Spatial::zero(g), world, z)
             }
         };
-        let c = body.joint.coordinate;
-        let qd = g.sym(Sym::Vel(c));
-        let s = subspace(g, body);
-        let sq = s.scale(g, qd);
+        let s = subspace(g, body, states[i]);
+        let sq = joint_motion(g, &s, Sym::Vel);
         let vi = motion_to_child(g, body, states[i], vp);
         let vi = vi.add(g, sq).held(g);
         // gᵀ pᵢ = gᵀ p_λ + g_λᵀ rᵢ, rᵢ the origin in the parent's frame.
         let origin = match body.joint.kind {
-            JointKind::Revolute => body.placement.translation,
+            JointKind::Revolute | JointKind::Quaternion => body.placement.translation,
             JointKind::Prismatic => {
                 let slide = spatial::scale(g, states[i].q, body.joint.axis);
                 let slide = spatial::mat_vec(g, &body.placement.rotation, slide);

@@ -8,6 +8,7 @@
 //!     upper {                              // the body's name
 //!         parent: world,                   // optional: `world` or an earlier body
 //!         joint: revolute(q1, [0, 0, 1]),  // revolute | prismatic (coordinate, axis) | fixed
+//!                                          // | free(x, y, z, qw, qx, qy, qz) (`super::free`)
 //!         xyz: [0, 0, 0.333],              // optional: the joint frame's origin in the parent's
 //!         rpy: [0, 0, 0],                  // optional: its orientation, R = Rz(yaw) Ry(pitch) Rx(roll)
 //!         mass: m1,                        // optional: 0
@@ -33,10 +34,16 @@ pub fn joint_coordinates(bodies: &List<BodyInput>) -> Vec<Ident> {
     bodies
         .items
         .iter()
-        .filter_map(|b| field(b, "joint"))
-        .filter_map(|joint| match joint {
-            Expr::Call(call) => call.args.first().and_then(single_ident).cloned(),
-            _ => None,
+        .flat_map(|b| match (super::free::free_call(b), field(b, "joint")) {
+            (Some(call), _) => super::free::names(call),
+            (None, Some(Expr::Call(call))) => call
+                .args
+                .first()
+                .and_then(single_ident)
+                .cloned()
+                .into_iter()
+                .collect(),
+            _ => Vec::new(),
         })
         .collect()
 }
@@ -74,6 +81,15 @@ impl Lowerer<'_> {
             }
             check_fields(self.errors, body);
             let parent = self.parent(body, &names);
+            if let Some(call) = super::free::free_call(body) {
+                let placement = self.placement(body);
+                let inertia = self.inertia(body);
+                let at = (parent, placement, described.len());
+                let parts = self.free_bodies(call, coordinates, &name, at, inertia);
+                names.extend(parts.iter().map(|d| d.name.clone()));
+                described.extend(parts);
+                continue;
+            }
             let joint = self.joint(body, coordinates);
             let placement = self.placement(body);
             let inertia = self.inertia(body);
@@ -134,11 +150,11 @@ impl Lowerer<'_> {
 
     fn joint(&mut self, body: &BodyInput, coordinates: &[Ident]) -> Option<Joint> {
         let Some(e) = field(body, "joint") else {
-            self.errors.at(body.span, format!("body `{}` has no `joint` (`revolute(q, axis)`, `prismatic(q, axis)` or `fixed`)", body.name));
+            self.errors.at(body.span, format!("body `{}` has no `joint` (`revolute(q, axis)`, `prismatic(q, axis)`, `fixed` or `free(x, y, z, qw, qx, qy, qz)`)", body.name));
             return None;
         };
-        let usage = "expected `revolute(q, axis)`, `prismatic(q, axis)` or `fixed`, \
-                     with `axis` `[x, y, z]`";
+        let usage = "expected `revolute(q, axis)`, `prismatic(q, axis)`, `fixed` or \
+                     `free(x, y, z, qw, qx, qy, qz)`, with `axis` `[x, y, z]`";
         if single_ident(e).is_some_and(|k| k == "fixed") {
             return None;
         }

@@ -7,6 +7,7 @@
 pub mod bodies;
 pub mod check;
 pub mod ctxt;
+pub mod free;
 pub mod lower;
 mod source;
 pub mod unilateral;
@@ -245,12 +246,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         lower.name_node(name.to_string(), id);
     }
     let dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    let constraints: Vec<Constraint> = sections
-        .constraints
-        .map_or(&[][..], |l| &l.items)
-        .iter()
-        .flat_map(|c| lower.constraints(c))
-        .collect();
+    let constraints = lower.all_constraints(sections.constraints, source, &coordinates);
     let unilateral = sections
         .unilateral
         .map_or_else(Vec::new, |l| lower.gaps(l, first_input));
@@ -412,6 +408,25 @@ impl Lowerer<'_> {
             check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
         }
         (m, Some(t))
+    }
+
+    /// The constraints written, then the norm of each free joint's
+    /// quaternion (`free`).
+    fn all_constraints(
+        &mut self,
+        written: Option<&List<ConstraintInput>>,
+        source: Source,
+        coordinates: &[Ident],
+    ) -> Vec<Constraint> {
+        let mut constraints: Vec<Constraint> = written
+            .map_or(&[][..], |l| &l.items)
+            .iter()
+            .flat_map(|c| self.constraints(c))
+            .collect();
+        if let Source::Bodies(_, list) = source {
+            constraints.extend(self.free_norms(list, coordinates));
+        }
+        constraints
     }
 
     /// One constraint, or three where both sides are points

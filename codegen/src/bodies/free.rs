@@ -1,0 +1,74 @@
+//! The rotation of a free (floating) joint in a unit quaternion
+//! `(w, x, y, z)`, four coordinates with the norm `w² + x² + y² + z² = 1`
+//! as a constraint (the `bodies` lowering adds it). A free joint is three
+//! prismatic joints along the parent's axes followed by this spherical one,
+//! so that its seven coordinates are the position of the body's origin and
+//! its attitude, and their rates are `q̇` like any joint's.
+//!
+//! The body angular velocity is `ω = 2 G(q) q̇` with
+//! `G = [−v, w I − ṽ]`: the vector part of `2 q̄ ⊗ q̇`. Its columns are the
+//! joint's motion subspace, `Sₖ = [2 Gₖ; 0]`, which varies with `q`; but
+//! `Σ Ṡₖ q̇ₖ = [2 (q̄̇ ⊗ q̇)_vec; 0] = 0`, since `q̄̇ ⊗ q̇ = |q̇|²` is a scalar,
+//! so the recursions' `aᵢ = Xᵢ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ` stays exact.
+//! `G q = 0`: the direction `q` itself moves nothing, `M` is singular there
+//! and the norm's constraint row completes it (the auxiliary-mass solve).
+
+use super::spatial::{Spatial, M3, V3};
+use crate::expr::{Graph, Id, Sym};
+
+/// The quaternion's four coordinates as expressions, `w` at `first`.
+pub fn coordinates(g: &mut Graph, first: usize) -> [Id; 4] {
+    [0, 1, 2, 3].map(|k| g.sym(Sym::Coord(first + k)))
+}
+
+/// `R(q)`, the body's axes in its parent's: `I + 2w ṽ + 2ṽ²`, a rotation
+/// on the unit sphere (where the norm's constraint holds).
+pub fn rotation(g: &mut Graph, q: [Id; 4]) -> M3 {
+    let [w, x, y, z] = q;
+    let two = g.int(2);
+    let mut prod = |a: Id, b: Id| {
+        let ab = g.mul(&[two, a, b]);
+        super::spatial::hold(g, ab)
+    };
+    let (xx, yy, zz) = (prod(x, x), prod(y, y), prod(z, z));
+    let (xy, xz, yz) = (prod(x, y), prod(x, z), prod(y, z));
+    let (wx, wy, wz) = (prod(w, x), prod(w, y), prod(w, z));
+    let one = g.int(1);
+    let diag = |g: &mut Graph, a: Id, b: Id| {
+        let s = g.add2(a, b);
+        g.sub(one, s)
+    };
+    [
+        [diag(g, yy, zz), g.sub(xy, wz), g.add2(xz, wy)],
+        [g.add2(xy, wz), diag(g, xx, zz), g.sub(yz, wx)],
+        [g.sub(xz, wy), g.add2(yz, wx), diag(g, xx, yy)],
+    ]
+    .map(|row| super::spatial::hold3(g, row))
+}
+
+/// The four columns `Sₖ = [2 Gₖ; 0]` of the joint's motion subspace, in
+/// the body's frame.
+pub fn subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 4] {
+    let [w, x, y, z] = q;
+    let columns: [V3; 4] = [
+        [g.neg(x), g.neg(y), g.neg(z)],
+        [w, g.neg(z), y],
+        [z, w, g.neg(x)],
+        [g.neg(y), x, w],
+    ];
+    let zero = super::spatial::zero(g);
+    let two = g.int(2);
+    columns.map(|c| Spatial {
+        angular: super::spatial::scale(g, two, c),
+        linear: zero,
+    })
+}
+
+/// `|q|² − 1`, the norm's constraint.
+pub fn norm(g: &mut Graph, q: [Id; 4]) -> Id {
+    let two = g.int(2);
+    let squares: Vec<Id> = q.iter().map(|&c| g.pow(c, two)).collect();
+    let sum = g.add(&squares);
+    let one = g.int(1);
+    g.sub(sum, one)
+}

@@ -1,0 +1,304 @@
+//! The quadruped of `examples/support/quadruped.rs` (Solo-12's structure, a
+//! floating base, four feet fixed on the ground: 13 rows on 19
+//! coordinates): `A q̈ = b` to 1e-12, a fifth dependent row changes no
+//! `q̈`, a 10 s standing run under a joint-space PD controller with
+//! projection keeps the feet within 1e-9 m, and the feet's forces `λ` carry
+//! the robot's weight once it has settled.
+
+#[path = "../examples/support/quadruped.rs"]
+#[allow(dead_code)]
+mod model;
+
+use constrained::constrained_system;
+use constrained::floating::FreeMotion;
+use constrained::multipliers::Multipliers;
+use constrained::nalgebra::{SVector, UnitQuaternion, Vector3};
+use constrained::{ConstrainedSystem, DormandPrince45, Stabilization, State};
+use model::{Quadruped, FOOT_OFFSET, HIPS, MASS, N, SEGMENT};
+
+constrained_system! {
+    /// The same with a fifth, dependent row: the sum of the front feet's
+    /// heights, implied by their own rows (the rank rule drops it).
+    pub struct QuadrupedFive {
+        parameters: [fl_x, fl_y, fr_x, fr_y, hl_x, hl_y, hr_x, hr_y],
+        inputs: [t_fl_haa, t_fl_hfe, t_fl_kfe, t_fr_haa, t_fr_hfe, t_fr_kfe, t_hl_haa, t_hl_hfe, t_hl_kfe, t_hr_haa, t_hr_hfe, t_hr_kfe],
+        bodies: [
+            base {
+                joint: free(x, y, z, qw, qx, qy, qz),
+                mass: 1.16,
+                inertia: diag[0.0058, 0.0194, 0.0246],
+            },
+            fl_hip {
+                parent: base,
+                joint: revolute(fl_haa, [1.0, 0.0, 0.0]),
+                xyz: [0.1946, 0.0875, 0.0],
+                mass: 0.149,
+                com: [0.0, 0.014, 0.0],
+                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
+            },
+            fl_upper {
+                parent: fl_hip,
+                joint: revolute(fl_hfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, 0.014, 0.0],
+                mass: 0.149,
+                com: [0.0, 0.016, -0.078],
+                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
+            },
+            fl_lower {
+                parent: fl_upper,
+                joint: revolute(fl_kfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, 0.037, -0.16],
+                mass: 0.031,
+                com: [0.0, 0.007, -0.079],
+                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
+            },
+            fr_hip {
+                parent: base,
+                joint: revolute(fr_haa, [1.0, 0.0, 0.0]),
+                xyz: [0.1946, -0.0875, 0.0],
+                mass: 0.149,
+                com: [0.0, -0.014, 0.0],
+                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
+            },
+            fr_upper {
+                parent: fr_hip,
+                joint: revolute(fr_hfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, -0.014, 0.0],
+                mass: 0.149,
+                com: [0.0, -0.016, -0.078],
+                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
+            },
+            fr_lower {
+                parent: fr_upper,
+                joint: revolute(fr_kfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, -0.037, -0.16],
+                mass: 0.031,
+                com: [0.0, -0.007, -0.079],
+                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
+            },
+            hl_hip {
+                parent: base,
+                joint: revolute(hl_haa, [1.0, 0.0, 0.0]),
+                xyz: [-0.1946, 0.0875, 0.0],
+                mass: 0.149,
+                com: [0.0, 0.014, 0.0],
+                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
+            },
+            hl_upper {
+                parent: hl_hip,
+                joint: revolute(hl_hfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, 0.014, 0.0],
+                mass: 0.149,
+                com: [0.0, 0.016, -0.078],
+                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
+            },
+            hl_lower {
+                parent: hl_upper,
+                joint: revolute(hl_kfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, 0.037, -0.16],
+                mass: 0.031,
+                com: [0.0, 0.007, -0.079],
+                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
+            },
+            hr_hip {
+                parent: base,
+                joint: revolute(hr_haa, [1.0, 0.0, 0.0]),
+                xyz: [-0.1946, -0.0875, 0.0],
+                mass: 0.149,
+                com: [0.0, -0.014, 0.0],
+                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
+            },
+            hr_upper {
+                parent: hr_hip,
+                joint: revolute(hr_hfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, -0.014, 0.0],
+                mass: 0.149,
+                com: [0.0, -0.016, -0.078],
+                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
+            },
+            hr_lower {
+                parent: hr_upper,
+                joint: revolute(hr_kfe, [0.0, 1.0, 0.0]),
+                xyz: [0.0, -0.037, -0.16],
+                mass: 0.031,
+                com: [0.0, -0.007, -0.079],
+                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
+            },
+        ],
+        forces: [
+            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+            t_fl_haa, t_fl_hfe, t_fl_kfe, t_fr_haa, t_fr_hfe, t_fr_kfe,
+            t_hl_haa, t_hl_hfe, t_hl_kfe, t_hr_haa, t_hr_hfe, t_hr_kfe,
+        ],
+        constraints: [
+            position(fl_lower, [0.0, 0.008, -0.16]) == [fl_x, fl_y, 0.0],
+            position(fr_lower, [0.0, -0.008, -0.16]) == [fr_x, fr_y, 0.0],
+            position(hl_lower, [0.0, 0.008, -0.16]) == [hl_x, hl_y, 0.0],
+            position(hr_lower, [0.0, -0.008, -0.16]) == [hr_x, hr_y, 0.0],
+            position(fl_lower, [0.0, 0.008, -0.16]).z + position(fr_lower, [0.0, -0.008, -0.16]).z == 0.0,
+        ],
+    }
+}
+
+/// The feet's places when standing with hip flexion `θ` and knee `−2θ`
+/// (each foot under its hip), and the state there at rest.
+fn standing(theta: f64) -> ([f64; 8], State<f64, N>) {
+    let mut feet = [0.0; 8];
+    for (k, h) in HIPS.iter().enumerate() {
+        feet[2 * k] = h[0];
+        feet[2 * k + 1] = h[1] + h[1].signum() * FOOT_OFFSET;
+    }
+    let height = 2.0 * SEGMENT * theta.cos();
+    let base = FreeMotion::at_rest(Vector3::new(0.0, 0.0, height), UnitQuaternion::identity());
+    let (mut q, mut qd) = (SVector::zeros(), SVector::zeros());
+    base.write(0, &mut q, &mut qd).unwrap();
+    for leg in 0..4 {
+        q[7 + 3 * leg + 1] = theta;
+        q[7 + 3 * leg + 2] = -2.0 * theta;
+    }
+    (feet, State::new(0.0, q, qd))
+}
+
+fn robot(feet: [f64; 8]) -> Quadruped<f64> {
+    let [a, b, c, d, e, f, g, h] = feet;
+    Quadruped::new(
+        a, b, c, d, e, f, g, h, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+    )
+}
+
+/// A tumbling state near standing: joints and base moved, with velocities.
+fn perturbed(s: &State<f64, N>, k: usize) -> State<f64, N> {
+    let x = k as f64;
+    let base = FreeMotion {
+        position: Vector3::new(0.01 * x.sin(), -0.02, s.q[2] + 0.01 * x.cos()),
+        orientation: UnitQuaternion::from_euler_angles(0.1 * x.sin(), -0.05, 0.2 * x.cos()),
+        linear: Vector3::new(0.2 * x.cos(), 0.1, -0.3),
+        angular: Vector3::new(0.5, -x.sin(), 0.3),
+    };
+    let (mut q, mut qd) = (s.q, s.qd);
+    base.write(0, &mut q, &mut qd).unwrap();
+    for j in 7..N {
+        let y = (j as f64) * 1.7 + x;
+        q[j] += 0.2 * y.sin();
+        qd[j] = 1.5 * (1.3 * y).cos();
+    }
+    State::new(0.0, q, qd)
+}
+
+/// `maxᵢ |Aᵢ q̈ − bᵢ| / (‖Aᵢ‖₁ ‖q̈‖∞ + |bᵢ|)`.
+fn residual<const K: usize>(
+    a: &constrained::nalgebra::SMatrix<f64, K, N>,
+    b: &SVector<f64, K>,
+    qdd: &SVector<f64, N>,
+) -> f64 {
+    let r = a * qdd - b;
+    (0..K)
+        .map(|i| r[i].abs() / (a.row(i).abs().sum() * qdd.amax() + b[i].abs()))
+        .fold(0.0, f64::max)
+}
+
+/// At 50 states near standing (base tumbling, joints moving), `q̈`
+/// satisfies all 13 rows of `A q̈ = b` to 1e-12, and the twin with a fifth,
+/// dependent row (redundancy 1 by the macro's measure) gives the same `q̈`
+/// to 1e-12 and satisfies its 14 rows.
+#[test]
+fn quadruped_satisfies_a_qdd_b_and_a_dependent_row_changes_nothing() {
+    let (feet, rest) = standing(0.8);
+    let sys = robot(feet);
+    let [a, b, c, d, e, f, g, h] = feet;
+    let twin = QuadrupedFive::new(
+        a, b, c, d, e, f, g, h, 0.3, -0.2, 0.1, 0.3, -0.2, 0.1, 0.3, -0.2, 0.1, 0.3, -0.2, 0.1,
+    );
+    let mut with_torques = sys;
+    [
+        with_torques.t_fl_haa,
+        with_torques.t_fl_hfe,
+        with_torques.t_fl_kfe,
+    ] = [0.3, -0.2, 0.1];
+    [
+        with_torques.t_fr_haa,
+        with_torques.t_fr_hfe,
+        with_torques.t_fr_kfe,
+    ] = [0.3, -0.2, 0.1];
+    [
+        with_torques.t_hl_haa,
+        with_torques.t_hl_hfe,
+        with_torques.t_hl_kfe,
+    ] = [0.3, -0.2, 0.1];
+    [
+        with_torques.t_hr_haa,
+        with_torques.t_hr_hfe,
+        with_torques.t_hr_kfe,
+    ] = [0.3, -0.2, 0.1];
+    let (mut worst, mut twin_gap, mut twin_rows): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for k in 0..50 {
+        let s = perturbed(&rest, k);
+        let qdd = ConstrainedSystem::acceleration(&with_torques, &s).unwrap();
+        let (am, bm) = ConstrainedSystem::constraint_matrices(&with_torques, &s);
+        worst = worst.max(residual(&am, &bm, &qdd));
+        let qdd5 = ConstrainedSystem::acceleration(&twin, &s).unwrap();
+        twin_gap = twin_gap.max((qdd5 - qdd).amax() / qdd.amax());
+        let (a5, b5) = ConstrainedSystem::constraint_matrices(&twin, &s);
+        twin_rows = twin_rows.max(residual(&a5, &b5, &qdd5));
+    }
+    println!(
+        "quadruped: A q̈ = b {worst:.1e}; five-row twin: q̈ {twin_gap:.1e}, rows {twin_rows:.1e}"
+    );
+    assert!(
+        worst < 1e-12 && twin_gap < 1e-12 && twin_rows < 1e-12,
+        "{worst:e} {twin_gap:e} {twin_rows:e}"
+    );
+    assert_eq!(
+        <Quadruped<f64> as ConstrainedSystem<f64, N, 13>>::REDUNDANCY,
+        0
+    );
+    assert_eq!(
+        <QuadrupedFive<f64> as ConstrainedSystem<f64, N, 14>>::REDUNDANCY,
+        1
+    );
+}
+
+/// Joint-space PD about the standing pose, `τ = K_p (q_ref − q) − K_d q̇`,
+/// held over each millisecond: over 10 s with projection (tolerance 1e-12)
+/// the feet stay within 1e-9 m of their places, the base quaternion keeps
+/// its norm, and once settled the feet's vertical forces carry `m g`.
+#[test]
+fn quadruped_stands_for_10_s_with_its_feet_in_place() {
+    let theta = 0.8;
+    let (feet, mut s) = standing(theta);
+    let mut sys = robot(feet);
+    let reference = s.q;
+    // Released at rest in the pose: it sags until the PD holds it.
+    let integrator =
+        DormandPrince45::new(1e-10, 1e-12).with_stabilization(Stabilization::projection(1e-12));
+    let (kp, kd) = (6.0, 0.15);
+    let mut worst_foot: f64 = 0.0;
+    for step in 1..=10_000 {
+        let tau: Vec<f64> = (7..N)
+            .map(|j| kp * (reference[j] - s.q[j]) - kd * s.qd[j])
+            .collect();
+        set_torques(&mut sys, &tau);
+        integrator
+            .advance(&sys, &mut s, f64::from(step) * 1e-3)
+            .expect("integrates");
+        worst_foot = worst_foot.max(ConstrainedSystem::constraint_residual(&sys, &s).amax());
+    }
+    let (_, lambda) = sys.acceleration_and_multipliers(&s).unwrap();
+    let normal: f64 = (0..4).map(|k| lambda[3 * k + 2]).sum();
+    let weight = MASS * 9.81;
+    let norm = (s.q.fixed_rows::<4>(3).norm() - 1.0).abs();
+    println!(
+        "quadruped standing 10 s: feet within {worst_foot:.1e} m, |q|-1 {norm:.1e}, normal forces {normal:.6} N (m g = {weight:.6}), speed {:.1e}",
+        s.qd.amax()
+    );
+    assert!(worst_foot < 1e-9 && norm < 1e-12, "{worst_foot:e} {norm:e}");
+    assert!(s.qd.amax() < 1e-6, "not settled: {}", s.qd.amax());
+    assert!((normal - weight).abs() < 1e-6 * weight, "{normal} {weight}");
+}
+
+fn set_torques(sys: &mut Quadruped<f64>, tau: &[f64]) {
+    [sys.t_fl_haa, sys.t_fl_hfe, sys.t_fl_kfe] = [tau[0], tau[1], tau[2]];
+    [sys.t_fr_haa, sys.t_fr_hfe, sys.t_fr_kfe] = [tau[3], tau[4], tau[5]];
+    [sys.t_hl_haa, sys.t_hl_hfe, sys.t_hl_kfe] = [tau[6], tau[7], tau[8]];
+    [sys.t_hr_haa, sys.t_hr_hfe, sys.t_hr_kfe] = [tau[9], tau[10], tau[11]];
+}
