@@ -242,7 +242,9 @@ where
         self.continuing = None;
         match self.reported.take() {
             Some(r) if r.state == state => self.continuing = Some((r.index, r.g_right)),
-            Some(r) if r.state.t == state.t => self.restarted = Some((r.index, r.rising, r.state.t)),
+            Some(r) if r.state.t == state.t => {
+                self.restarted = Some((r.index, r.rising, r.state.t))
+            }
             _ => {}
         }
         self.state = state;
