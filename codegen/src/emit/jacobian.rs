@@ -17,8 +17,9 @@
 //! densely once and solves for every column.
 
 use super::context::{Context, Inputs};
+use super::mass_inverse::{factored, symbolic::jacobian as structured};
 use super::motion::fallible;
-use super::{factored, structured, tangent};
+use super::tangent;
 use crate::motion::MassInverse;
 use crate::partition::Partition;
 use proc_macro2::TokenStream;

@@ -9,13 +9,11 @@
 mod body;
 mod context;
 mod dynamics;
-mod factored;
 mod gibbs_appell;
 mod jacobian;
 mod ldlt;
+mod mass_inverse;
 mod motion;
-mod step;
-mod structured;
 mod subproducts;
 mod tangent;
 

@@ -38,7 +38,7 @@ pub(super) fn fallible(ctx: &Context) -> bool {
 pub(super) fn methods(ctx: &Context) -> TokenStream {
     let solver = match &ctx.eq.gauss {
         MassInverse::Symbolic(d) => symbolic_solver(ctx, d),
-        MassInverse::Factored(f) => super::factored::solver(ctx, f),
+        MassInverse::Factored(f) => super::mass_inverse::factored::solver(ctx, f),
         MassInverse::Auxiliary => dense_solver(ctx),
     };
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
@@ -144,7 +144,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let level = ctx.path(quote!(ConstraintLevel));
     let ga_system = ctx.result(quote!((#m, #vector)), quote!(GibbsAppellError));
     let ga_acceleration = ctx.result(vector.clone(), quote!(GibbsAppellError));
-    let step = super::step::method(ctx);
+    let step = super::mass_inverse::step::method(ctx);
     let semidefinite = matches!(ctx.eq.gauss, MassInverse::Auxiliary).then(|| {
         quote!(
             const SEMIDEFINITE_MASS: bool = true;

@@ -6,10 +6,10 @@
 //! `None` where the solve does not answer, as `acceleration` would consult
 //! the runtime: `M` not positive there, or a suspect rank decision.
 
-use super::body::{literal, Body};
-use super::context::{Context, Inputs};
 use super::factored::FactoredGauss;
-use super::ldlt::StructuredLdlt;
+use crate::emit::body::{literal, Body};
+use crate::emit::context::{Context, Inputs};
+use crate::emit::ldlt::StructuredLdlt;
 use crate::expr::Id;
 use crate::motion::{Factored, MassInverse, Symbolic};
 use crate::num::Num;
@@ -19,7 +19,7 @@ use syn::Ident;
 
 /// The trait method for this system, or nothing (the trait's default,
 /// `None`: the runtime's dense step) for a singular `M` or no constraints.
-pub(super) fn method(ctx: &Context) -> TokenStream {
+pub(in crate::emit) fn method(ctx: &Context) -> TokenStream {
     if ctx.k == 0 {
         return TokenStream::new();
     }

@@ -15,10 +15,10 @@
 //! fills the right-hand sides, one column each, and one loop solves every
 //! column through `L D Lᵀ` of `M` and of `S`.
 
-use super::body::Body;
-use super::context::Context;
-use super::ldlt::{Solves, StructuredLdlt};
-use super::motion::{checked_motion, corrected, fallible};
+use crate::emit::body::Body;
+use crate::emit::context::Context;
+use crate::emit::ldlt::{Solves, StructuredLdlt};
+use crate::emit::motion::{checked_motion, corrected, fallible};
 use crate::expr::Id;
 use crate::motion::Factored;
 use proc_macro2::TokenStream;
@@ -287,7 +287,7 @@ impl<'a> FactoredGauss<'a> {
 }
 
 /// `gauss` for a configuration-dependent `M`.
-pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
+pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let gauss = FactoredGauss::new(ctx, f, true);
     let to_multipliers = &gauss.to_multipliers;
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
@@ -309,7 +309,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
 
 /// The body of `acceleration_jacobian` for a configuration-dependent `M`;
 /// `dense` (the runtime's solve) answers where the rank decision is suspect.
-pub(super) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> TokenStream {
+pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
     let a = &ctx.eq.a;

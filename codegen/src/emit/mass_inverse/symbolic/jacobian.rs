@@ -20,10 +20,10 @@
 //! directional form of the derivatives (`crate::tangent`), which has no
 //! column structure.
 
-use super::body::literal;
-use super::context::Context;
-use super::motion::{fallible, overflowing_rows, SymbolicGauss};
-use super::tangent::{index, TangentTerms};
+use crate::emit::body::literal;
+use crate::emit::context::Context;
+use crate::emit::motion::{fallible, overflowing_rows, SymbolicGauss};
+use crate::emit::tangent::{index, TangentTerms};
 use crate::expr::Id;
 use crate::motion::Symbolic;
 use crate::tangent::Form;
@@ -32,7 +32,7 @@ use quote::quote;
 
 /// The body of `acceleration_jacobian`; `dense` is the runtime's solve, as
 /// an expression of the method's return type.
-pub(super) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> TokenStream {
+pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> TokenStream {
     // Right-hand sides along a direction have no column structure to
     // exploit: the runtime's dense solve, looping over the columns.
     if matches!(ctx.eq.tangent.form, Form::Directional(_)) {
