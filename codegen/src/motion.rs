@@ -35,6 +35,15 @@ impl MassInverse {
     pub fn is_diagonal(&self) -> bool {
         matches!(self, MassInverse::Symbolic(s) if s.diagonal)
     }
+
+    /// Whether the solve can fail (`acceleration` returns a `Result`):
+    /// only when `M` is not known positive definite at compile time.
+    pub fn fallible(&self) -> bool {
+        match self {
+            MassInverse::Symbolic(d) => !d.known_positive,
+            MassInverse::Factored(_) | MassInverse::Auxiliary => true,
+        }
+    }
 }
 
 /// The compile-time structure of Gauss's principle for a configuration-

@@ -6,7 +6,6 @@
 
 use super::body::Body;
 use super::context::Context;
-use super::motion::fallible;
 use crate::expr::Id;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -52,7 +51,7 @@ fn method(
         )
     };
     let params = params(ctx, args);
-    if fallible(ctx) {
+    if ctx.eq.gauss.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         let finite = if scalar {

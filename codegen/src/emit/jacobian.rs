@@ -17,10 +17,8 @@
 //! densely once and solves for every column.
 
 use super::context::{Context, Inputs};
-use super::mass_inverse::{factored, symbolic::jacobian as structured};
-use super::motion::fallible;
+use super::mass_inverse;
 use super::tangent;
-use crate::motion::MassInverse;
 use crate::partition::Partition;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -49,7 +47,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     let value =
         quote!(#jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion));
     let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
-    let (jac_ret, lin_ret, jac_body, lin_body) = if fallible(ctx) {
+    let (jac_ret, lin_ret, jac_body, lin_body) = if ctx.eq.gauss.fallible() {
         (
             ctx.result(jacobians.clone(), quote!(DynamicsError)),
             ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError)),
@@ -80,7 +78,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             },
         )
     };
-    let fallibility = if fallible(ctx) {
+    let fallibility = if ctx.eq.gauss.fallible() {
         "`Err` exactly where [`acceleration`](Self::acceleration) fails, \
          and `Err(NonFinite)` where a derivative overflows or cannot be \
          trusted (at a branch point, where `A` has lost rank to rounding; \
@@ -105,11 +103,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
          constraint directions (see `constrained::linearize::reduced` for the \
          linearization on the constraint manifold). {fallibility}"
     );
-    let jac_body = match &ctx.eq.gauss {
-        MassInverse::Symbolic(d) => structured::jacobian(ctx, d, &jac_body),
-        MassInverse::Factored(f) => factored::jacobian(ctx, f, &jac_body),
-        MassInverse::Auxiliary => jac_body,
-    };
+    let jac_body = mass_inverse::jacobian(ctx, &jac_body);
     let reduced = reduced(ctx, partition);
     quote! {
         #reduced
@@ -147,7 +141,7 @@ fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
     let reduced_type = ctx.path(quote!(linearize::Reduced<T, #nx_l, #nu_l, #nq_l, #nv_l>));
     let ret = ctx.result(reduced_type, quote!(DynamicsError));
     let function = ctx.path(quote!(linearize::reduced));
-    let jacobian = if fallible(ctx) {
+    let jacobian = if ctx.eq.gauss.fallible() {
         quote!(self.acceleration_jacobian(#args)?)
     } else {
         quote!(self.acceleration_jacobian(#args))

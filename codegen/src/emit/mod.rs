@@ -5,6 +5,19 @@
 //! topological order, and build a fixed-size nalgebra result from an array.
 //! Nothing allocates, indexes or panics; literals go through
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.
+//!
+//! Two axes, one per level:
+//!
+//! - the files here are the generated methods (`motion`: `acceleration`,
+//!   `constraint_force`, the trait impl; `jacobian`: the linearization;
+//!   `dynamics`, `gibbs_appell`, `tangent`), and the shared value of the
+//!   solve (`solve`: `checked_motion`, `corrected`);
+//! - `mass_inverse/` holds one module per way of applying `M⁻¹`
+//!   (`symbolic`, `factored`, `auxiliary`), each with its solver, Jacobian
+//!   and step; its `mod.rs` is the only `match` on the strategy.
+//!
+//! Below both: `body` (expressions to tokens), `context` (types, names,
+//! signatures), `ldlt` (the structured factorization), `subproducts`.
 
 mod body;
 mod context;
@@ -14,6 +27,7 @@ mod jacobian;
 mod ldlt;
 mod mass_inverse;
 mod motion;
+mod solve;
 mod subproducts;
 mod tangent;
 

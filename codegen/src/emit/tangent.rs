@@ -4,7 +4,7 @@
 //! (see [`crate::tangent`]), contracted with the locals `__qdd{i}` and
 //! `__lam{r}`, structural zeros left out. [`TangentTerms`] is read twice:
 //! by the hidden `tangent_rhs` (the runtime's dense solve) and by the
-//! generated structured solve ([`super::structured`]), which needs no
+//! generated structured solve (`super::mass_inverse::symbolic::jacobian`), which needs no
 //! matrix of them.
 
 use super::body::{literal, Body};

@@ -6,28 +6,16 @@
 //! `None` where the solve does not answer, as `acceleration` would consult
 //! the runtime: `M` not positive there, or a suspect rank decision.
 
-use super::factored::FactoredGauss;
-use crate::emit::body::{literal, Body};
+use crate::emit::body::literal;
 use crate::emit::context::{Context, Inputs};
 use crate::emit::ldlt::StructuredLdlt;
-use crate::expr::Id;
-use crate::motion::{Factored, MassInverse, Symbolic};
 use crate::num::Num;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
-/// The trait method for this system, or nothing (the trait's default,
-/// `None`: the runtime's dense step) for a singular `M` or no constraints.
-pub(in crate::emit) fn method(ctx: &Context) -> TokenStream {
-    if ctx.k == 0 {
-        return TokenStream::new();
-    }
-    let body = match &ctx.eq.gauss {
-        MassInverse::Symbolic(d) => symbolic(ctx, d),
-        MassInverse::Factored(f) => factored(ctx, f),
-        MassInverse::Auxiliary => return TokenStream::new(),
-    };
+/// The trait method around the strategy's `body`.
+pub(super) fn method(ctx: &Context, body: &TokenStream) -> TokenStream {
     let (params, n, k) = (ctx.params(Inputs::States), ctx.n, ctx.k);
     let (vector, k_vector, k_l) = (ctx.vector(n), ctx.vector(k), Context::dim(k));
     quote! {
@@ -46,7 +34,7 @@ pub(in crate::emit) fn method(ctx: &Context) -> TokenStream {
 /// The solve of `S μ = r`, `W μ`, and the kept rows, once `S`'s factor
 /// and `W`'s entries (`w(i, j)`, `None` where structurally zero; each
 /// fit to be the left operand of `*`) are bound.
-fn finish(
+pub(super) fn finish(
     ctx: &Context,
     ldlt: &StructuredLdlt,
     scale: &[Num],
@@ -90,77 +78,5 @@ fn finish(
         #(#scaled)*
         #solve
         ::core::option::Option::Some((#step, [#(#kept),*]))
-    }
-}
-
-/// Constant or diagonal `M`: `S` and `W` as the symbolic expressions.
-fn symbolic(ctx: &Context, d: &Symbolic) -> TokenStream {
-    let g = &ctx.eq.system.graph;
-    let ldlt = StructuredLdlt::gram(&d.structure);
-    let k = ctx.k;
-    let mut named: Vec<(Ident, Id)> = Vec::new();
-    for i in 0..k {
-        for j in 0..=i {
-            if d.structure.nonzero[i][j] {
-                named.push((ldlt.entry(i, j), d.gram[i][j]));
-            }
-        }
-    }
-    let mut roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
-    roots.extend(d.weighted.iter().flatten().filter(|&&e| !g.is_zero(e)));
-    // Each distinct mass that is not a positive constant, checked once.
-    let mut masses: Vec<Id> = Vec::new();
-    for &m in &d.masses {
-        if !g.as_num(m).is_some_and(|v| v.to_f64() > 0.0) && !masses.contains(&m) {
-            masses.push(m);
-        }
-    }
-    roots.extend(&masses);
-    let body = Body::new(ctx.eq, &roots);
-    let preamble = body.preamble();
-    let bindings = named.iter().map(|(name, e)| {
-        let value = body.expr(*e);
-        quote! { let #name = #value; }
-    });
-    let check = (!masses.is_empty()).then(|| {
-        let positive = masses.iter().map(|&m| {
-            let m = body.expr(m);
-            quote!(#m > T::zero())
-        });
-        quote! {
-            if !(#(#positive)&&*) {
-                return ::core::option::Option::None;
-            }
-        }
-    });
-    let factor = ldlt.factor();
-    let finish = finish(ctx, &ldlt, &d.scale, |i, j| {
-        // An entry of W may be a sum (x₁ − x₂ over a mass): `factor`
-        // parenthesises it.
-        let e = d.weighted[i][j];
-        (!g.is_zero(e)).then(|| body.factor(e))
-    });
-    quote! {
-        #preamble
-        #(#bindings)*
-        #check
-        #factor
-        #finish
-    }
-}
-
-/// `M(q)`: its generated factorization, then `W` and `S` on their patterns.
-fn factored(ctx: &Context, f: &Factored) -> TokenStream {
-    let gauss = FactoredGauss::constraint_space(ctx, f);
-    let to_gram = &gauss.to_multipliers; // stops at S's factor in this scope
-    let finish = finish(ctx, &gauss.gram, &[], |i, j| {
-        f.weighted[i][j].then(|| {
-            let w = Context::local2("w", i, j);
-            quote!(#w)
-        })
-    });
-    quote! {
-        #to_gram
-        #finish
     }
 }

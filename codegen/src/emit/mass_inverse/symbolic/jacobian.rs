@@ -20,9 +20,9 @@
 //! directional form of the derivatives (`crate::tangent`), which has no
 //! column structure.
 
+use super::{overflowing_rows, SymbolicGauss};
 use crate::emit::body::literal;
 use crate::emit::context::Context;
-use crate::emit::motion::{fallible, overflowing_rows, SymbolicGauss};
 use crate::emit::tangent::{index, TangentTerms};
 use crate::expr::Id;
 use crate::motion::Symbolic;
@@ -147,7 +147,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
 
     let k_l = Context::dim(k);
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
-    let value = if fallible(ctx) {
+    let value = if ctx.eq.gauss.fallible() {
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         quote! {
             if __jac.is_finite() {
@@ -229,7 +229,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
-    let adopt = if fallible(ctx) {
+    let adopt = if ctx.eq.gauss.fallible() {
         quote! {
             match { #dense } {
                 ::core::result::Result::Ok(__dense) => __jac = __dense,
