@@ -174,40 +174,12 @@ pub fn gauss(
     }
     let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
-    let constant: Option<Vec<Vec<Num>>> = mass
-        .iter()
-        .map(|row| row.iter().map(|&e| g.as_num(e)).collect())
-        .collect();
-    let (inverse, masses, known_positive): (Vec<Vec<Id>>, Vec<Id>, bool) = if diagonal {
-        let masses: Vec<Id> = (0..n).map(|i| mass[i][i]).collect();
-        let known_positive = masses
-            .iter()
-            .all(|&m| g.as_num(m).is_some_and(|v| v.to_f64() > 0.0));
-        let mut inverse = vec![vec![zero; n]; n];
-        for (i, &m) in masses.iter().enumerate() {
-            inverse[i][i] = g.pown(m, Num::MINUS_ONE);
-        }
-        (inverse, masses, known_positive)
-    } else if let Some(inverse) = constant.and_then(|m| exact_inverse(&m)) {
-        let inverse = inverse
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| g.num(x)).collect())
-            .collect();
-        (inverse, Vec::new(), true)
-    } else {
+    let Some((inverse, masses, known_positive)) = symbolic_inverse(g, mass, diagonal, zero) else {
         return MassInverse::Factored(Box::new(Factored::new(g, mass, a)));
     };
     // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a
     // common mass μ).
     let scale: Vec<Num> = a.iter().map(|row| row_scale(g, row)).collect();
-    let scaled = |g: &mut Graph, e: Id, d: Num| -> Id {
-        if d.is_one() {
-            e
-        } else {
-            let d = g.num(d);
-            g.mul2(d, e)
-        }
-    };
     let rows: Vec<Vec<Id>> = a
         .iter()
         .zip(&scale)
@@ -228,11 +200,6 @@ pub fn gauss(
             .collect(),
         None => inverse.clone(),
     };
-    // M⁻¹ v as expressions; structural zeros of M⁻¹ and v vanish.
-    let apply = |g: &mut Graph, inverse: &[Vec<Id>], v: &dyn Fn(usize) -> Id, i: usize| -> Id {
-        let terms: Vec<Id> = (0..n).map(|l| g.mul2(inverse[i][l], v(l))).collect();
-        g.add(&terms)
-    };
     let unconstrained: Vec<Id> = (0..n)
         .map(|i| apply(g, &inverse, &|l| forces[l], i))
         .collect();
@@ -244,52 +211,13 @@ pub fn gauss(
                 .collect()
         })
         .collect();
-    let mut gram = vec![vec![zero; k]; k];
-    for i in 0..k {
-        for j in i..k {
-            let shared: Vec<usize> = (0..n)
-                .filter(|&l| !g.is_zero(rows[i][l]) && !g.is_zero(weighted[l][j]))
-                .collect();
-            let terms: Vec<Id> = shared
-                .iter()
-                .map(|&l| g.mul2(rows[i][l], weighted[l][j]))
-                .collect();
-            let s = g.add(&terms);
-            gram[i][j] = s;
-            gram[j][i] = s;
-        }
-    }
-    let residual: Vec<Id> = (0..k)
-        .map(|i| {
-            let aa: Vec<Id> = (0..n)
-                .map(|l| g.mul2(rows[i][l], unconstrained[l]))
-                .collect();
-            let aa = g.add(&aa);
-            g.sub(b_hat[i], aa)
-        })
-        .collect();
+    let (gram, residual) = gram_and_residual(g, &rows, &weighted, &unconstrained, &b_hat);
     let structure = Structure::new(
         (0..k)
             .map(|i| (0..k).map(|j| !g.is_zero(gram[i][j])).collect())
             .collect(),
     );
-    let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
-    let mut acceleration = Vec::with_capacity(n);
-    let mut force = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut acc = vec![unconstrained[i]];
-        let mut f = Vec::with_capacity(k);
-        for j in 0..k {
-            acc.push(g.mul2(weighted[i][j], lambda[j]));
-            f.push(g.mul2(rows[j][i], lambda[j]));
-        }
-        acceleration.push(g.add(&acc));
-        let f = g.add(&f);
-        force.push(match common_mass {
-            Some(m) => g.mul2(m, f),
-            None => f,
-        });
-    }
+    let (acceleration, force) = motion(g, &rows, &weighted, &unconstrained, common_mass);
     // The pieces as the derivation prints them and the code computes
     // them: with common factors pulled out (`crate::factor`).
     let unconstrained = factorer.factor_all(g, &unconstrained);
@@ -314,6 +242,125 @@ pub fn gauss(
         force,
         structure,
     }))
+}
+
+/// `M⁻¹` as expressions, the diagonal masses and whether `M` is known
+/// positive definite, where `M` is diagonal or a numeric constant with an
+/// exact inverse; `None` otherwise (`M` is factored in generated code).
+fn symbolic_inverse(
+    g: &mut Graph,
+    mass: &[Vec<Id>],
+    diagonal: bool,
+    zero: Id,
+) -> Option<(Vec<Vec<Id>>, Vec<Id>, bool)> {
+    let n = mass.len();
+    if diagonal {
+        let masses: Vec<Id> = (0..n).map(|i| mass[i][i]).collect();
+        let known_positive = masses
+            .iter()
+            .all(|&m| g.as_num(m).is_some_and(|v| v.to_f64() > 0.0));
+        let mut inverse = vec![vec![zero; n]; n];
+        for (i, &m) in masses.iter().enumerate() {
+            inverse[i][i] = g.pown(m, Num::MINUS_ONE);
+        }
+        return Some((inverse, masses, known_positive));
+    }
+    let constant: Option<Vec<Vec<Num>>> = mass
+        .iter()
+        .map(|row| row.iter().map(|&e| g.as_num(e)).collect())
+        .collect();
+    let inverse = exact_inverse(&constant?)?;
+    let inverse = inverse
+        .into_iter()
+        .map(|row| row.into_iter().map(|x| g.num(x)).collect())
+        .collect();
+    Some((inverse, Vec::new(), true))
+}
+
+/// `d · e`, or `e` itself for `d = 1`.
+fn scaled(g: &mut Graph, e: Id, d: Num) -> Id {
+    if d.is_one() {
+        e
+    } else {
+        let d = g.num(d);
+        g.mul2(d, e)
+    }
+}
+
+/// Row `i` of `M⁻¹ v` as an expression; structural zeros of `M⁻¹` and `v`
+/// vanish.
+fn apply(g: &mut Graph, inverse: &[Vec<Id>], v: &dyn Fn(usize) -> Id, i: usize) -> Id {
+    let terms: Vec<Id> = (0..inverse.len())
+        .map(|l| g.mul2(inverse[i][l], v(l)))
+        .collect();
+    g.add(&terms)
+}
+
+/// `S = Â W` (symmetric, each entry built once) and `r = b̂ − Â a`.
+fn gram_and_residual(
+    g: &mut Graph,
+    rows: &[Vec<Id>],
+    weighted: &[Vec<Id>],
+    unconstrained: &[Id],
+    b_hat: &[Id],
+) -> (Vec<Vec<Id>>, Vec<Id>) {
+    let (n, k) = (unconstrained.len(), rows.len());
+    let zero = g.int(0);
+    let mut gram = vec![vec![zero; k]; k];
+    for i in 0..k {
+        for j in i..k {
+            let shared: Vec<usize> = (0..n)
+                .filter(|&l| !g.is_zero(rows[i][l]) && !g.is_zero(weighted[l][j]))
+                .collect();
+            let terms: Vec<Id> = shared
+                .iter()
+                .map(|&l| g.mul2(rows[i][l], weighted[l][j]))
+                .collect();
+            let s = g.add(&terms);
+            gram[i][j] = s;
+            gram[j][i] = s;
+        }
+    }
+    let residual: Vec<Id> = (0..k)
+        .map(|i| {
+            let aa: Vec<Id> = (0..n)
+                .map(|l| g.mul2(rows[i][l], unconstrained[l]))
+                .collect();
+            let aa = g.add(&aa);
+            g.sub(b_hat[i], aa)
+        })
+        .collect();
+    (gram, residual)
+}
+
+/// `q̈ = a + W λ` and `Fᶜ = Âᵀ λ` (times the common mass) over the
+/// multipliers' symbols.
+fn motion(
+    g: &mut Graph,
+    rows: &[Vec<Id>],
+    weighted: &[Vec<Id>],
+    unconstrained: &[Id],
+    common_mass: Option<Id>,
+) -> (Vec<Id>, Vec<Id>) {
+    let (n, k) = (unconstrained.len(), rows.len());
+    let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
+    let mut acceleration = Vec::with_capacity(n);
+    let mut force = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut acc = vec![unconstrained[i]];
+        let mut f = Vec::with_capacity(k);
+        for j in 0..k {
+            acc.push(g.mul2(weighted[i][j], lambda[j]));
+            f.push(g.mul2(rows[j][i], lambda[j]));
+        }
+        acceleration.push(g.add(&acc));
+        let f = g.add(&f);
+        force.push(match common_mass {
+            Some(m) => g.mul2(m, f),
+            None => f,
+        });
+    }
+    (acceleration, force)
 }
 
 /// `1/c` for the numeric content `c` of a row of `A` (the rational

@@ -110,6 +110,19 @@ impl<'a> Context<'a> {
         )
     }
 
+    /// `Ok(value)` where every entry of the local `value` (a
+    /// `Jacobians`) is finite, else `Err(NonFinite)`.
+    pub(super) fn finite_or_error(&self, value: TokenStream) -> TokenStream {
+        let non_finite = self.path(quote!(DynamicsError::NonFinite));
+        quote! {
+            if #value.is_finite() {
+                ::core::result::Result::Ok(#value)
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        }
+    }
+
     /// `Result<ok, ::constrained::error>`.
     pub(super) fn result(&self, ok: TokenStream, error: TokenStream) -> TokenStream {
         let error = self.path(error);

@@ -46,7 +46,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     let k_lit = Context::dim(ctx.k);
     let value =
         quote!(#jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion));
-    let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+    let finite = ctx.finite_or_error(quote!(__j));
     let (jac_ret, lin_ret, jac_body, lin_body) = if ctx.eq.gauss.fallible() {
         (
             ctx.result(jacobians.clone(), quote!(DynamicsError)),
@@ -54,11 +54,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             quote! {
                 let __motion = #fallible_solve?;
                 let __j = #value;
-                if __j.is_finite() {
-                    ::core::result::Result::Ok(__j)
-                } else {
-                    ::core::result::Result::Err(#non_finite)
-                }
+                #finite
             },
             quote! {
                 self.acceleration_jacobian(#args)

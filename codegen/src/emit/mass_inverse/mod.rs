@@ -22,6 +22,7 @@ mod symbolic;
 use super::context::Context;
 use crate::motion::MassInverse;
 use proc_macro2::TokenStream;
+use quote::quote;
 
 /// The private solver `gauss` behind `acceleration`, `constraint_force`,
 /// `acceleration_corrected` and the trait's `gauss`.
@@ -56,4 +57,15 @@ pub(super) fn step(ctx: &Context) -> TokenStream {
         MassInverse::Auxiliary => return TokenStream::new(),
     };
     step::method(ctx, &body)
+}
+
+/// `__jac` replaced by the runtime's dense solve `dense` (a `Result`), its
+/// error returned: where a strategy's rank decision is suspect.
+fn adopt_dense(dense: &TokenStream) -> TokenStream {
+    quote! {
+        match { #dense } {
+            ::core::result::Result::Ok(__dense) => __jac = __dense,
+            ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
+        }
+    }
 }

@@ -3,6 +3,7 @@
 
 use super::FactoredGauss;
 use crate::emit::context::Context;
+use crate::emit::mass_inverse::adopt_dense;
 use crate::motion::Factored;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -52,7 +53,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     let (n_l, k_l) = (Context::dim(n), Context::dim(k));
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
-    let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+    let finite = ctx.finite_or_error(quote!(__jac));
     debug_assert!(
         ctx.eq.gauss.fallible(),
         "a configuration-dependent M is not known positive definite"
@@ -61,12 +62,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
     let (suspect, adopt) = if k > 0 {
         let suspect = gauss.gram.suspect(ctx.generic_rank);
-        let adopt = quote! {
-            match { #dense } {
-                ::core::result::Result::Ok(__dense) => __jac = __dense,
-                ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
-            }
-        };
+        let adopt = adopt_dense(dense);
         (suspect, adopt)
     } else {
         (quote!(false), TokenStream::new())
@@ -103,10 +99,6 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
         #to_multipliers
         let mut __jac = #jacobians_zero;
         #solve
-        if __jac.is_finite() {
-            ::core::result::Result::Ok(__jac)
-        } else {
-            ::core::result::Result::Err(#non_finite)
-        }
+        #finite
     }
 }

@@ -78,13 +78,11 @@ impl<'a> FactoredGauss<'a> {
     }
 
     fn build(ctx: &'a Context, f: &'a Factored, scope: Scope) -> Self {
-        let (n, k) = (ctx.n, ctx.k);
+        let k = ctx.k;
         let dynamics = matches!(scope, Scope::Dynamics { .. });
         let correction = matches!(scope, Scope::Dynamics { gauss: true });
         let sys = &ctx.eq.system;
-        let g = &sys.graph;
-        let a = &ctx.eq.a;
-        let nonzero = |e: Id| !g.is_zero(e);
+        let nonzero = |e: Id| !sys.graph.is_zero(e);
         let bail = |error: TokenStream| match scope {
             Scope::Dynamics { gauss: true } => ctx.gauss_error(error),
             Scope::Dynamics { gauss: false } => {
@@ -106,35 +104,7 @@ impl<'a> FactoredGauss<'a> {
             solves,
         );
         let gram = StructuredLdlt::gram(&f.gram);
-        let mut named: Vec<(Ident, Id)> = Vec::new();
-        for i in 0..n {
-            for j in 0..=i {
-                if f.mass.nonzero[i][j] {
-                    named.push((mass.entry(i, j), sys.mass[i][j]));
-                }
-            }
-        }
-        let force_names: Vec<Ident> = (0..n).map(|i| Context::local("f", i)).collect();
-        if dynamics {
-            for (name, &e) in force_names.iter().zip(&sys.forces) {
-                named.push((name.clone(), e));
-            }
-        }
-        // M and F come first in `named`: the finiteness check reads them.
-        let mass_and_forces = named.len();
-        for (r, row) in a.iter().enumerate() {
-            for (i, &e) in row.iter().enumerate() {
-                if nonzero(e) {
-                    named.push((Context::local2("a", r, i), e));
-                }
-            }
-        }
-        let b_names: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
-        if dynamics {
-            for (name, &e) in b_names.iter().zip(&ctx.eq.b) {
-                named.push((name.clone(), e));
-            }
-        }
+        let (named, mass_and_forces) = named_inputs(ctx, f, &mass, dynamics);
         let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
         let body = Body::new(ctx.eq, &roots);
         let preamble = body.preamble();
@@ -154,106 +124,26 @@ impl<'a> FactoredGauss<'a> {
         };
         let factor_mass = mass.factor();
         // a = M⁻¹ F.
-        let unconstrained: Vec<Ident> = (0..n).map(|i| Context::local("ua", i)).collect();
-        let f_rhs: Vec<Option<TokenStream>> = force_names
-            .iter()
+        let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
+        let f_rhs: Vec<Option<TokenStream>> = (0..ctx.n)
             .zip(&sys.forces)
-            .map(|(name, &e)| nonzero(e).then(|| quote!(#name)))
+            .map(|(i, &e)| {
+                nonzero(e).then(|| {
+                    let name = Context::local("f", i);
+                    quote!(#name)
+                })
+            })
             .collect();
         let (solve_a, a_bound) = mass.solve_sparse(&f_rhs, "ay", &unconstrained);
-        // The columns of W = M⁻¹ Aᵀ.
-        let mut solve_w = TokenStream::new();
-        for (j, row) in a.iter().enumerate() {
-            let rhs: Vec<Option<TokenStream>> = row
-                .iter()
-                .enumerate()
-                .map(|(i, &e)| {
-                    nonzero(e).then(|| {
-                        let name = Context::local2("a", j, i);
-                        quote!(#name)
-                    })
-                })
-                .collect();
-            let out: Vec<Ident> = (0..n).map(|i| Context::local2("w", i, j)).collect();
-            let (code, bound) = mass.solve_sparse(&rhs, &format!("wy{j}x"), &out);
-            debug_assert!((0..n).all(|i| bound[i] == f.weighted[i][j]));
-            solve_w.extend(code);
-        }
-        let a_entry = |r: usize, i: usize| {
-            let name = Context::local2("a", r, i);
-            quote!(#name)
-        };
-        // S = A W and r = b − A a over their patterns.
-        let mut gram_entries = TokenStream::new();
-        for (i, row) in a.iter().enumerate() {
-            for j in 0..=i {
-                if f.gram.nonzero[i][j] {
-                    let pairs = (0..n)
-                        .filter(|&l| nonzero(row[l]) && f.weighted[l][j])
-                        .map(|l| {
-                            let w = Context::local2("w", l, j);
-                            (a_entry(i, l), quote!(#w))
-                        })
-                        .collect();
-                    let (name, value) = (gram.entry(i, j), dot(pairs));
-                    gram_entries.extend(quote! { let #name = #value; });
-                }
-            }
-        }
+        let solve_w = weighted_columns(ctx, f, &mass);
+        let gram_entries = gram_entries(ctx, f, &gram);
         let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
-        let mut residual_code = TokenStream::new();
-        for (r, name) in residuals.iter().enumerate() {
-            let pairs: Vec<_> = (0..n)
-                .filter(|&l| nonzero(a[r][l]) && a_bound[l])
-                .map(|l| {
-                    let u = &unconstrained[l];
-                    (a_entry(r, l), quote!(#u))
-                })
-                .collect();
-            let b = &b_names[r];
-            let value = if pairs.is_empty() {
-                quote!(#b)
-            } else {
-                let aa = dot(pairs);
-                quote!(#b - (#aa))
-            };
-            residual_code.extend(quote! { let #name = #value; });
-        }
+        let residual_code = residual_code(ctx, &residuals, &a_bound, &unconstrained);
         let corrected = (correction && k > 0).then(|| corrected(&residuals, &[]));
         let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
         let factor_gram = gram.factor();
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
-        let acceleration = (0..n)
-            .map(|i| {
-                let pairs: Vec<(TokenStream, TokenStream)> = (0..k)
-                    .filter(|&j| f.weighted[i][j])
-                    .map(|j| {
-                        let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
-                        (quote!(#w), quote!(#lam))
-                    })
-                    .collect();
-                let u = &unconstrained[i];
-                match (a_bound[i], pairs.is_empty()) {
-                    (true, true) => quote!(#u),
-                    (true, false) => {
-                        let wl = dot(pairs);
-                        quote!(#u + (#wl))
-                    }
-                    (false, _) => dot(pairs),
-                }
-            })
-            .collect();
-        let force = (0..n)
-            .map(|i| {
-                dot((0..k)
-                    .filter(|&r| nonzero(a[r][i]))
-                    .map(|r| {
-                        let lam = &multipliers[r];
-                        (a_entry(r, i), quote!(#lam))
-                    })
-                    .collect())
-            })
-            .collect();
+        let (acceleration, force) = motion(ctx, f, &a_bound, &unconstrained, &multipliers);
         let to_multipliers = if dynamics {
             quote! {
                 #preamble
@@ -287,6 +177,167 @@ impl<'a> FactoredGauss<'a> {
             force,
         }
     }
+}
+
+/// The local `__a{r}_{i}` holding entry `(r, i)` of `A`.
+fn a_entry(r: usize, i: usize) -> TokenStream {
+    let name = Context::local2("a", r, i);
+    quote!(#name)
+}
+
+/// The locals bound from the model's expressions: `M`'s lower pattern,
+/// `F` (with `dynamics`), `A`'s nonzeros, `b` (with `dynamics`); and how
+/// many of them are `M` and `F`, which come first (the finiteness check
+/// reads them).
+fn named_inputs(
+    ctx: &Context,
+    f: &Factored,
+    mass: &StructuredLdlt,
+    dynamics: bool,
+) -> (Vec<(Ident, Id)>, usize) {
+    let sys = &ctx.eq.system;
+    let mut named: Vec<(Ident, Id)> = Vec::new();
+    for i in 0..ctx.n {
+        for j in 0..=i {
+            if f.mass.nonzero[i][j] {
+                named.push((mass.entry(i, j), sys.mass[i][j]));
+            }
+        }
+    }
+    if dynamics {
+        for (i, &e) in sys.forces.iter().enumerate() {
+            named.push((Context::local("f", i), e));
+        }
+    }
+    let mass_and_forces = named.len();
+    for (r, row) in ctx.eq.a.iter().enumerate() {
+        for (i, &e) in row.iter().enumerate() {
+            if !sys.graph.is_zero(e) {
+                named.push((Context::local2("a", r, i), e));
+            }
+        }
+    }
+    if dynamics {
+        for (r, &e) in ctx.eq.b.iter().enumerate() {
+            named.push((Context::local("b", r), e));
+        }
+    }
+    (named, mass_and_forces)
+}
+
+/// The columns of `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`), by sparse solves
+/// with `M`'s factor.
+fn weighted_columns(ctx: &Context, f: &Factored, mass: &StructuredLdlt) -> TokenStream {
+    let g = &ctx.eq.system.graph;
+    let mut solve_w = TokenStream::new();
+    for (j, row) in ctx.eq.a.iter().enumerate() {
+        let rhs: Vec<Option<TokenStream>> = row
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| (!g.is_zero(e)).then(|| a_entry(j, i)))
+            .collect();
+        let out: Vec<Ident> = (0..ctx.n).map(|i| Context::local2("w", i, j)).collect();
+        let (code, bound) = mass.solve_sparse(&rhs, &format!("wy{j}x"), &out);
+        debug_assert!((0..ctx.n).all(|i| bound[i] == f.weighted[i][j]));
+        solve_w.extend(code);
+    }
+    solve_w
+}
+
+/// `S = A W` over its pattern.
+fn gram_entries(ctx: &Context, f: &Factored, gram: &StructuredLdlt) -> TokenStream {
+    let g = &ctx.eq.system.graph;
+    let mut gram_entries = TokenStream::new();
+    for (i, row) in ctx.eq.a.iter().enumerate() {
+        for j in 0..=i {
+            if f.gram.nonzero[i][j] {
+                let pairs = (0..ctx.n)
+                    .filter(|&l| !g.is_zero(row[l]) && f.weighted[l][j])
+                    .map(|l| {
+                        let w = Context::local2("w", l, j);
+                        (a_entry(i, l), quote!(#w))
+                    })
+                    .collect();
+                let (name, value) = (gram.entry(i, j), dot(pairs));
+                gram_entries.extend(quote! { let #name = #value; });
+            }
+        }
+    }
+    gram_entries
+}
+
+/// `r = b − A a` into the locals `residuals`, over `a`'s nonzeros
+/// (`a_bound`).
+fn residual_code(
+    ctx: &Context,
+    residuals: &[Ident],
+    a_bound: &[bool],
+    unconstrained: &[Ident],
+) -> TokenStream {
+    let (g, a) = (&ctx.eq.system.graph, &ctx.eq.a);
+    let mut residual_code = TokenStream::new();
+    for (r, name) in residuals.iter().enumerate() {
+        let pairs: Vec<_> = (0..ctx.n)
+            .filter(|&l| !g.is_zero(a[r][l]) && a_bound[l])
+            .map(|l| {
+                let u = &unconstrained[l];
+                (a_entry(r, l), quote!(#u))
+            })
+            .collect();
+        let b = Context::local("b", r);
+        let value = if pairs.is_empty() {
+            quote!(#b)
+        } else {
+            let aa = dot(pairs);
+            quote!(#b - (#aa))
+        };
+        residual_code.extend(quote! { let #name = #value; });
+    }
+    residual_code
+}
+
+/// `q̈ᵢ = aᵢ + Σⱼ Wᵢⱼ λⱼ` and `Fᶜᵢ = Σⱼ Aⱼᵢ λⱼ`, one expression per
+/// coordinate each.
+fn motion(
+    ctx: &Context,
+    f: &Factored,
+    a_bound: &[bool],
+    unconstrained: &[Ident],
+    multipliers: &[Ident],
+) -> (Vec<TokenStream>, Vec<TokenStream>) {
+    let (g, a, k) = (&ctx.eq.system.graph, &ctx.eq.a, ctx.k);
+    let acceleration = (0..ctx.n)
+        .map(|i| {
+            let pairs: Vec<(TokenStream, TokenStream)> = (0..k)
+                .filter(|&j| f.weighted[i][j])
+                .map(|j| {
+                    let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
+                    (quote!(#w), quote!(#lam))
+                })
+                .collect();
+            let u = &unconstrained[i];
+            match (a_bound[i], pairs.is_empty()) {
+                (true, true) => quote!(#u),
+                (true, false) => {
+                    let wl = dot(pairs);
+                    quote!(#u + (#wl))
+                }
+                (false, _) => dot(pairs),
+            }
+        })
+        .collect();
+    let force = (0..ctx.n)
+        .map(|i| {
+            dot((0..k)
+                .filter(|&r| !g.is_zero(a[r][i]))
+                .map(|r| {
+                    let lam = &multipliers[r];
+                    (a_entry(r, i), quote!(#lam))
+                })
+                .collect())
+        })
+        .collect();
+    (acceleration, force)
 }
 
 /// `gauss` for a configuration-dependent `M`.

@@ -23,6 +23,7 @@
 use super::{overflowing_rows, SymbolicGauss};
 use crate::emit::body::literal;
 use crate::emit::context::Context;
+use crate::emit::mass_inverse::adopt_dense;
 use crate::emit::tangent::{index, TangentTerms};
 use crate::expr::Id;
 use crate::motion::Symbolic;
@@ -79,111 +80,18 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     let tangent_preamble = terms.body.preamble();
     let mut columns = TokenStream::new();
     for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
-        let (part, cc) = match c {
-            c if c < n => (quote!(dq), c),
-            c if c < 2 * n => (quote!(dqd), c - n),
-            c => (quote!(du), c - 2 * n),
-        };
-        let (cl, ccl) = (index(c), index(cc));
-        let mut code = TokenStream::new();
-        let mut f_nonzero = Vec::new();
-        for (i, value) in f.iter().enumerate() {
-            if let Some(value) = value {
-                let name = Context::local("jf", i);
-                code.extend(quote! { let #name = #value; });
-                f_nonzero.push(i);
-            }
-        }
-        // aᵥ = M⁻¹ F̃ᵥ, written into the Jacobian's column.
-        let mut a_nonzero = Vec::new();
-        for (i, row) in d.inverse.iter().enumerate() {
-            let products: Vec<TokenStream> = f_nonzero
-                .iter()
-                .filter(|&&l| nonzero(row[l]))
-                .map(|&l| {
-                    let (m, f) = (Context::local2("jm", i, l), Context::local("jf", l));
-                    quote!(#m * #f)
-                })
-                .collect();
-            if !products.is_empty() {
-                let (u, il) = (Context::local("ju", i), index(i));
-                code.extend(quote! {
-                    let #u = #(#products)+*;
-                    __jac.#part.data.0[#ccl][#il] = #u;
-                });
-                a_nonzero.push(i);
-            }
-        }
-        // b̃ᵥ − A aᵥ, the right-hand side of S μᵥ.
-        for (j, row) in a.iter().enumerate() {
-            let products: Vec<TokenStream> = a_nonzero
-                .iter()
-                .filter(|&&i| nonzero(row[i]))
-                .map(|&i| {
-                    let (a, u) = (Context::local2("ja", j, i), Context::local("ju", i));
-                    quote!(#a * #u)
-                })
-                .collect();
-            let b = b[j].as_ref().map(|b| {
-                if d.scale[j].is_one() {
-                    b.clone()
-                } else {
-                    let (s, _) = literal(d.scale[j]);
-                    quote!(#s * (#b))
-                }
-            });
-            let value = match (&b, products.is_empty()) {
-                (Some(b), true) => quote!(#b),
-                (Some(b), false) => quote!(#b - (#(#products)+*)),
-                (None, false) => quote!(-(#(#products)+*)),
-                (None, true) => continue,
-            };
-            let jl = index(j);
-            code.extend(quote! { __rs[#cl][#jl] = #value; });
-        }
-        // A scope per column: its locals end with it.
-        columns.extend(quote! {{ #code }});
+        columns.extend(column(ctx, d, c, f, b));
     }
 
     let k_l = Context::dim(k);
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
     let value = if ctx.eq.gauss.fallible() {
-        let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
-        quote! {
-            if __jac.is_finite() {
-                ::core::result::Result::Ok(__jac)
-            } else {
-                ::core::result::Result::Err(#non_finite)
-            }
-        }
+        ctx.finite_or_error(quote!(__jac))
     } else {
         quote!(__jac)
     };
     let to_multipliers = &gauss.to_multipliers;
-    // The tangent terms hold the model's own multipliers λ = μ D λ̃, where
-    // `acceleration` solved the scaled system for λ̃ (`crate::motion::Symbolic`).
-    let mass = d.common_mass.map(|m| gauss.body.factor(m));
-    let unscaled: Vec<TokenStream> = d
-        .scale
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| !s.is_one() || mass.is_some())
-        .map(|(j, s)| {
-            let lam = Context::local("lam", j);
-            let value = match (s.is_one(), &mass) {
-                (true, Some(m)) => quote!(#m * #lam),
-                (false, Some(m)) => {
-                    let (s, _) = literal(*s);
-                    quote!(#s * #m * #lam)
-                }
-                (_, None) => {
-                    let (s, _) = literal(*s);
-                    quote!(#s * #lam)
-                }
-            };
-            quote! { let #lam = #value; }
-        })
-        .collect();
+    let unscaled = unscaled_multipliers(d, &gauss);
     if k == 0 {
         return quote! {
             #to_multipliers
@@ -202,24 +110,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     let r: Vec<_> = (0..k).map(|j| Context::local("jr", j)).collect();
     let mu: Vec<_> = (0..k).map(|j| Context::local("jmu", j)).collect();
     let solve = gauss.ldlt.solve(&r, "jy", &mu);
-    let mut outputs = Vec::with_capacity(n);
-    let mut updates = TokenStream::new();
-    for (i, row) in d.weighted.iter().enumerate() {
-        let products: Vec<TokenStream> = (0..k)
-            .filter(|&j| nonzero(row[j]))
-            .map(|j| {
-                let (w, m) = (Context::local2("jw", i, j), &mu[j]);
-                quote!(#w * #m)
-            })
-            .collect();
-        if products.is_empty() {
-            outputs.push(quote!(_));
-        } else {
-            let o = Context::local("jo", i);
-            updates.extend(quote! { *#o += #(#products)+*; });
-            outputs.push(quote!(#o));
-        }
-    }
+    let (outputs, updates) = weighted_update(d, &mu, nonzero, n);
     // One local holds the answer on every path, so that it is built where
     // the caller wants it (a returned local assigned on two paths, or a
     // second local, costs a copy of the whole Jacobian: 32 KiB at 32 links).
@@ -230,12 +121,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         None => suspect,
     };
     let adopt = if ctx.eq.gauss.fallible() {
-        quote! {
-            match { #dense } {
-                ::core::result::Result::Ok(__dense) => __jac = __dense,
-                ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
-            }
-        }
+        adopt_dense(dense)
     } else {
         quote!(__jac = { #dense };)
     };
@@ -265,4 +151,140 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         }
         #value
     }
+}
+
+/// The straight-line part of column `c`, in a scope of its own (its
+/// locals end with it): `aᵥ = M⁻¹ F̃ᵥ` written into the Jacobian's column,
+/// and `b̃ᵥ − A aᵥ` into `__rs[c]`, over the structural nonzeros of `F̃ᵥ`
+/// (`f`), `b̃ᵥ` (`b`), `M⁻¹` and `Â`.
+fn column(
+    ctx: &Context,
+    d: &Symbolic,
+    c: usize,
+    f: &[Option<TokenStream>],
+    b: &[Option<TokenStream>],
+) -> TokenStream {
+    let n = ctx.n;
+    let g = &ctx.eq.system.graph;
+    let nonzero = |e: Id| !g.is_zero(e);
+    let (part, cc) = match c {
+        c if c < n => (quote!(dq), c),
+        c if c < 2 * n => (quote!(dqd), c - n),
+        c => (quote!(du), c - 2 * n),
+    };
+    let (cl, ccl) = (index(c), index(cc));
+    let mut code = TokenStream::new();
+    let mut f_nonzero = Vec::new();
+    for (i, value) in f.iter().enumerate() {
+        if let Some(value) = value {
+            let name = Context::local("jf", i);
+            code.extend(quote! { let #name = #value; });
+            f_nonzero.push(i);
+        }
+    }
+    // aᵥ = M⁻¹ F̃ᵥ, written into the Jacobian's column.
+    let mut a_nonzero = Vec::new();
+    for (i, row) in d.inverse.iter().enumerate() {
+        let products: Vec<TokenStream> = f_nonzero
+            .iter()
+            .filter(|&&l| nonzero(row[l]))
+            .map(|&l| {
+                let (m, f) = (Context::local2("jm", i, l), Context::local("jf", l));
+                quote!(#m * #f)
+            })
+            .collect();
+        if !products.is_empty() {
+            let (u, il) = (Context::local("ju", i), index(i));
+            code.extend(quote! {
+                let #u = #(#products)+*;
+                __jac.#part.data.0[#ccl][#il] = #u;
+            });
+            a_nonzero.push(i);
+        }
+    }
+    // b̃ᵥ − A aᵥ, the right-hand side of S μᵥ.
+    for (j, row) in d.rows.iter().enumerate() {
+        let products: Vec<TokenStream> = a_nonzero
+            .iter()
+            .filter(|&&i| nonzero(row[i]))
+            .map(|&i| {
+                let (a, u) = (Context::local2("ja", j, i), Context::local("ju", i));
+                quote!(#a * #u)
+            })
+            .collect();
+        let b = b[j].as_ref().map(|b| {
+            if d.scale[j].is_one() {
+                b.clone()
+            } else {
+                let (s, _) = literal(d.scale[j]);
+                quote!(#s * (#b))
+            }
+        });
+        let value = match (&b, products.is_empty()) {
+            (Some(b), true) => quote!(#b),
+            (Some(b), false) => quote!(#b - (#(#products)+*)),
+            (None, false) => quote!(-(#(#products)+*)),
+            (None, true) => continue,
+        };
+        let jl = index(j);
+        code.extend(quote! { __rs[#cl][#jl] = #value; });
+    }
+    quote! {{ #code }}
+}
+
+/// The model's own multipliers `λ = μ D λ̃` that the tangent terms hold,
+/// where `acceleration` solved the scaled system for `λ̃`
+/// (`crate::motion::Symbolic`).
+fn unscaled_multipliers(d: &Symbolic, gauss: &SymbolicGauss) -> Vec<TokenStream> {
+    let mass = d.common_mass.map(|m| gauss.body.factor(m));
+    d.scale
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.is_one() || mass.is_some())
+        .map(|(j, s)| {
+            let lam = Context::local("lam", j);
+            let value = match (s.is_one(), &mass) {
+                (true, Some(m)) => quote!(#m * #lam),
+                (false, Some(m)) => {
+                    let (s, _) = literal(*s);
+                    quote!(#s * #m * #lam)
+                }
+                (_, None) => {
+                    let (s, _) = literal(*s);
+                    quote!(#s * #lam)
+                }
+            };
+            quote! { let #lam = #value; }
+        })
+        .collect()
+}
+
+/// `W μᵥ` added into the column's outputs over the nonzeros of `W`: the
+/// pattern binding the outputs (`_` for a row of `W` without nonzeros) and
+/// the updates.
+fn weighted_update(
+    d: &Symbolic,
+    mu: &[syn::Ident],
+    nonzero: impl Fn(Id) -> bool,
+    n: usize,
+) -> (Vec<TokenStream>, TokenStream) {
+    let mut outputs = Vec::with_capacity(n);
+    let mut updates = TokenStream::new();
+    for (i, row) in d.weighted.iter().enumerate() {
+        let products: Vec<TokenStream> = (0..mu.len())
+            .filter(|&j| nonzero(row[j]))
+            .map(|j| {
+                let (w, m) = (Context::local2("jw", i, j), &mu[j]);
+                quote!(#w * #m)
+            })
+            .collect();
+        if products.is_empty() {
+            outputs.push(quote!(_));
+        } else {
+            let o = Context::local("jo", i);
+            updates.extend(quote! { *#o += #(#products)+*; });
+            outputs.push(quote!(#o));
+        }
+    }
+    (outputs, updates)
 }
