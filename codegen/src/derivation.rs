@@ -34,65 +34,13 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let p = Printer::new(g, &coordinates, &parameters, Style::Unicode).with_names(&names);
     let mut out = String::new();
     let w = &mut out;
-    let n = sys.dof();
 
-    let _ = writeln!(
-        w,
-        "{}: equations of motion derived by constrained_system!",
-        sys.name
-    );
-    let _ = writeln!(w);
-    let _ = writeln!(w, "Coordinates  q = ({})", coordinates.join(", "));
-    let (parameters_only, inputs) = parameters.split_at(parameters.len() - sys.inputs);
-    if !parameters_only.is_empty() {
-        let _ = writeln!(w, "Parameters   {}", parameters_only.join(", "));
-    }
-    if !inputs.is_empty() {
-        let _ = writeln!(w, "Inputs       u = ({})", inputs.join(", "));
-    }
-    let _ = writeln!(w);
-
-    if !sys.named.is_empty() {
-        let _ = writeln!(w, "Definitions (named wherever they occur below):");
-        for (name, id) in &sys.named {
-            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
-        }
-        let _ = writeln!(w);
-    }
-    if !shared.is_empty() {
-        let _ = writeln!(
-            w,
-            "Shared subexpressions (each written out once, named where it recurs):"
-        );
-        for (id, name) in &shared {
-            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
-        }
-        let _ = writeln!(w);
-    }
+    header(w, eq, &coordinates, &parameters, &shared, &p);
     if let Some(energies) = &sys.energies {
         energies_text(w, energies, &p);
     }
 
-    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(sys.mass[i][j])));
-    if diagonal {
-        let entries: Vec<String> = (0..n).map(|i| p.print(sys.mass[i][i])).collect();
-        let _ = writeln!(w, "Mass matrix  M = diag({})", entries.join(", "));
-    } else {
-        let _ = writeln!(
-            w,
-            "Mass matrix  M (symmetric; upper triangle, nonzero entries):"
-        );
-        for i in 0..n {
-            for j in i..n {
-                if !g.is_zero(sys.mass[i][j]) {
-                    let (a, b) = (&coordinates[i], &coordinates[j]);
-                    let _ = writeln!(w, "  M[{a}, {b}] = {}", p.print(sys.mass[i][j]));
-                }
-            }
-        }
-    }
-    let _ = writeln!(w);
-
+    mass_text(w, eq, g, &coordinates, &p);
     let _ = writeln!(w, "Impressed forces  F(q, q̇, t):");
     for (c, &f) in coordinates.iter().zip(&sys.forces) {
         let _ = writeln!(w, "  F[{c}] = {}", p.print(f));
@@ -127,6 +75,77 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let _ = writeln!(w);
     gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
     out
+}
+
+/// The name, coordinates, parameters and inputs; the named definitions and
+/// the shared subexpressions.
+fn header(
+    w: &mut String,
+    eq: &Equations,
+    coordinates: &[String],
+    parameters: &[String],
+    shared: &[(Id, String)],
+    p: &Printer,
+) {
+    let sys = &eq.system;
+    let _ = writeln!(
+        w,
+        "{}: equations of motion derived by constrained_system!",
+        sys.name
+    );
+    let _ = writeln!(w);
+    let _ = writeln!(w, "Coordinates  q = ({})", coordinates.join(", "));
+    let (parameters_only, inputs) = parameters.split_at(parameters.len() - sys.inputs);
+    if !parameters_only.is_empty() {
+        let _ = writeln!(w, "Parameters   {}", parameters_only.join(", "));
+    }
+    if !inputs.is_empty() {
+        let _ = writeln!(w, "Inputs       u = ({})", inputs.join(", "));
+    }
+    let _ = writeln!(w);
+
+    if !sys.named.is_empty() {
+        let _ = writeln!(w, "Definitions (named wherever they occur below):");
+        for (name, id) in &sys.named {
+            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
+        }
+        let _ = writeln!(w);
+    }
+    if !shared.is_empty() {
+        let _ = writeln!(
+            w,
+            "Shared subexpressions (each written out once, named where it recurs):"
+        );
+        for (id, name) in shared {
+            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
+        }
+        let _ = writeln!(w);
+    }
+}
+
+/// `M`: its diagonal, or the nonzero entries of its upper triangle.
+fn mass_text(w: &mut String, eq: &Equations, g: &Graph, coordinates: &[String], p: &Printer) {
+    let sys = &eq.system;
+    let n = sys.dof();
+    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(sys.mass[i][j])));
+    if diagonal {
+        let entries: Vec<String> = (0..n).map(|i| p.print(sys.mass[i][i])).collect();
+        let _ = writeln!(w, "Mass matrix  M = diag({})", entries.join(", "));
+    } else {
+        let _ = writeln!(
+            w,
+            "Mass matrix  M (symmetric; upper triangle, nonzero entries):"
+        );
+        for i in 0..n {
+            for j in i..n {
+                if !g.is_zero(sys.mass[i][j]) {
+                    let (a, b) = (&coordinates[i], &coordinates[j]);
+                    let _ = writeln!(w, "  M[{a}, {b}] = {}", p.print(sys.mass[i][j]));
+                }
+            }
+        }
+    }
+    let _ = writeln!(w);
 }
 
 /// A row of a k × n matrix: every entry when the row is short or mostly

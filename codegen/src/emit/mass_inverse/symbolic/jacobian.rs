@@ -41,40 +41,16 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     }
     let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
-    // The scaled rows `Â = D A` of the system `acceleration` solves; the
-    // right-hand sides below are scaled by `D` to match.
-    let a = &d.rows;
     let nonzero = |e: Id| !g.is_zero(e);
     // The constant pieces of every column's solve: A, W = M⁻¹Aᵀ and M⁻¹,
     // structural nonzeros only, named once.
     let mut extra: Vec<Id> = Vec::new();
-    for entries in [a, &d.weighted, &d.inverse] {
+    for entries in [&d.rows, &d.weighted, &d.inverse] {
         extra.extend(entries.iter().flatten().copied().filter(|&e| nonzero(e)));
     }
     extra.extend(d.common_mass);
     let gauss = SymbolicGauss::new(ctx, d, &extra, false);
-    let body = &gauss.body;
-    let bind = |role: &str, entries: &[Vec<Id>]| -> TokenStream {
-        let mut out = TokenStream::new();
-        for (i, row) in entries.iter().enumerate() {
-            for (j, &e) in row.iter().enumerate() {
-                if nonzero(e) {
-                    let (name, value) = (Context::local2(role, i, j), body.expr(e));
-                    out.extend(quote! { let #name = #value; });
-                }
-            }
-        }
-        out
-    };
-    let constants = [
-        bind("ja", a),
-        bind("jw", &d.weighted),
-        bind("jm", &d.inverse),
-    ];
-    let qdd = d.acceleration.iter().enumerate().map(|(i, &e)| {
-        let (name, value) = (Context::local("qdd", i), body.expr(e));
-        quote! { let #name = #value; }
-    });
+    let (constants, qdd) = constants(ctx, d, &gauss);
 
     let terms = TangentTerms::new(ctx);
     let tangent_preamble = terms.body.preamble();
@@ -151,6 +127,46 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         }
         #value
     }
+}
+
+/// The locals every column reads: `Â` (`__ja…`; the scaled rows of the
+/// system `acceleration` solves, the right-hand sides being scaled by `D`
+/// to match), `W` (`__jw…`), `M⁻¹` (`__jm…`) over their nonzeros, and
+/// `q̈` (`__qdd…`).
+fn constants(
+    ctx: &Context,
+    d: &Symbolic,
+    gauss: &SymbolicGauss,
+) -> ([TokenStream; 3], Vec<TokenStream>) {
+    let g = &ctx.eq.system.graph;
+    let body = &gauss.body;
+    let bind = |role: &str, entries: &[Vec<Id>]| -> TokenStream {
+        let mut out = TokenStream::new();
+        for (i, row) in entries.iter().enumerate() {
+            for (j, &e) in row.iter().enumerate() {
+                if !g.is_zero(e) {
+                    let (name, value) = (Context::local2(role, i, j), body.expr(e));
+                    out.extend(quote! { let #name = #value; });
+                }
+            }
+        }
+        out
+    };
+    let constants = [
+        bind("ja", &d.rows),
+        bind("jw", &d.weighted),
+        bind("jm", &d.inverse),
+    ];
+    let qdd = d
+        .acceleration
+        .iter()
+        .enumerate()
+        .map(|(i, &e)| {
+            let (name, value) = (Context::local("qdd", i), body.expr(e));
+            quote! { let #name = #value; }
+        })
+        .collect();
+    (constants, qdd)
 }
 
 /// The straight-line part of column `c`, in a scope of its own (its
