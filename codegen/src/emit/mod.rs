@@ -42,6 +42,11 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use std::collections::HashMap;
 
+/// The methods generated code calls for a power `b^e` (`body`): `sqrt`
+/// for `e = 1/2`, `powi` for an integer, `powf` otherwise. With the
+/// operator table's names, every function a generated body calls.
+pub const POWER_METHODS: &[&str] = &["sqrt", "powi", "powf"];
+
 /// Emits the struct, its constants and its functions.
 pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let ctx = Context::new(eq, partition.rank);
