@@ -22,6 +22,7 @@ mod hostile_runtime;
 mod integrators;
 mod jacobian_edges;
 mod linearize;
+mod momentum;
 mod nonsmooth;
 mod projection;
 mod rank_decisions;

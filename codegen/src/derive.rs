@@ -28,6 +28,8 @@ pub struct Equations {
     /// Whether the Jacobian and linearization are generated
     /// ([`crate::Options`]).
     pub jacobians: bool,
+    /// The generalized momentum `p = M(q, t) q̇`, n entries.
+    pub momentum: Vec<Id>,
 }
 
 /// Differentiates every constraint: velocity-level φ once, position-level φ
@@ -76,7 +78,9 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     } else {
         Tangent::none()
     };
+    let momentum = momentum(&mut system.graph, &system.mass);
     Equations {
+        momentum,
         jacobians,
         system,
         a,
@@ -85,6 +89,23 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         gauss,
         tangent,
     }
+}
+
+/// `M q̇`, row by row; structural zeros of `M` vanish.
+fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
+    mass.iter()
+        .map(|row| {
+            let terms: Vec<Id> = row
+                .iter()
+                .enumerate()
+                .map(|(j, &m)| {
+                    let v = g.sym(Sym::Vel(j));
+                    g.mul2(m, v)
+                })
+                .collect();
+            g.add(&terms)
+        })
+        .collect()
 }
 
 /// Every row of `b` factored, as a sum of squares where that costs at least
