@@ -1,5 +1,6 @@
 //! Stage 3: [`System`] → [`Equations`]: the constraints differentiated into
-//! `A q̈ = b` by the total-derivative rule (MATH.md, "From constraints to A q̈ = b").
+//! `A q̈ = b` by the total-derivative rule; then Gauss's principle
+//! ([`motion`]) and the tangent pieces ([`crate::tangent`]).
 
 use crate::diff::Differentiator;
 use crate::expr::Id;
@@ -36,7 +37,7 @@ pub struct Equations {
 /// twice (`ψ = D φ` or `ψ = D(D φ)`), and splits `ψ` into `A q̈ − b`.
 ///
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
-/// written, so that a user's scaling of φ shows up unchanged (API.md).
+/// written, so that a user's scaling of φ shows up unchanged.
 /// `M`, `F`, `A` and `b` have their common factors pulled out
 /// ([`crate::factor`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.

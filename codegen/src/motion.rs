@@ -1,5 +1,6 @@
-//! Stage 3b: the symbolic pieces of Gauss's principle (MATH.md,
-//! "Generalized-inverse forms"): `M q̈ = F + Aᵀ λ` with `S λ = r`,
+//! Stage 3, called by `derive::constraint_equations` once `A` and `b`
+//! are built: the symbolic pieces of Gauss's principle (Udwadia & Kalaba,
+//! the generalized-inverse forms, eq. 24–26): `M q̈ = F + Aᵀ λ` with `S λ = r`,
 //! `S = A M⁻¹ Aᵀ`, `r = b − A a`, `a = M⁻¹ F`.
 //!
 //! When `M⁻¹` is known symbolically — `M` diagonal (`diag(1/mᵢ)`), or `M` a

@@ -1,4 +1,5 @@
-//! Stage 1: tokens → [`SystemInput`], the syntax of the DSL (API.md).
+//! Stage 1: tokens → [`SystemInput`], the syntax of the DSL (the
+//! guide `docs/dsl.md`).
 //!
 //! Only the shape is checked here; names, lengths and meaning are checked by
 //! [`crate::model`], which sees the whole input and reports every error at once.

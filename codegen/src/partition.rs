@@ -1,8 +1,9 @@
-//! Stage 3c: the Gibbs–Appell partition (MATH.md, "Explicit Gibbs–Appell
-//! equation"): the generic rank `r` of `A` and the `r` coordinates whose
+//! Stage 3, its last step (after `derive::constraint_equations`, in
+//! `analyse_with`): the Gibbs–Appell partition (Udwadia & Kalaba, the
+//! explicit Gibbs–Appell equation): the generic rank `r` of `A` and the `r` coordinates whose
 //! accelerations are eliminated.
 //!
-//! Redundancy holds only on the constraint surface (MATH.md), so the rank is
+//! Redundancy holds only on the constraint surface, so the rank is
 //! measured at *consistent* states: deterministic pseudo-random states
 //! projected onto `φ = 0` by Newton's method with minimum-norm steps —
 //! positions onto the position-level constraints (Jacobian `∂φ/∂q`, the
