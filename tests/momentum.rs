@@ -67,9 +67,19 @@ fn cart_pole_momentum_is_the_textbook_one() {
         let mqd = system.mass_matrix(&q, 0.0) * qd;
         let dt = kinetic_gradient(|v| system.kinetic_energy(&q, v, 0.0).unwrap(), &qd);
         for i in 0..2 {
-            assert!(close(p[i], hand[i], hand[i].abs(), 1e-12), "p{i}: {} vs {}", p[i], hand[i]);
+            assert!(
+                close(p[i], hand[i], hand[i].abs(), 1e-12),
+                "p{i}: {} vs {}",
+                p[i],
+                hand[i]
+            );
             assert!(close(p[i], mqd[i], mqd[i].abs(), 1e-12), "p{i} vs M q̇");
-            assert!(close(p[i], dt[i], dt[i].abs(), 1e-7), "p{i}: {} vs ∂T/∂q̇ {}", p[i], dt[i]);
+            assert!(
+                close(p[i], dt[i], dt[i].abs(), 1e-7),
+                "p{i}: {} vs ∂T/∂q̇ {}",
+                p[i],
+                dt[i]
+            );
         }
     }
 }
@@ -97,9 +107,19 @@ fn double_pendulum_momentum_is_the_textbook_one() {
         let dt = kinetic_gradient(|v| system.kinetic_energy(&q, v, 0.0).unwrap(), &qd);
         for i in 0..2 {
             let scale = hand[0].abs() + hand[1].abs();
-            assert!(close(p[i], hand[i], scale, 1e-12), "p{i}: {} vs {}", p[i], hand[i]);
+            assert!(
+                close(p[i], hand[i], scale, 1e-12),
+                "p{i}: {} vs {}",
+                p[i],
+                hand[i]
+            );
             assert!(close(p[i], mqd[i], scale, 1e-12), "p{i} vs M q̇");
-            assert!(close(p[i], dt[i], scale, 1e-7), "p{i}: {} vs ∂T/∂q̇ {}", p[i], dt[i]);
+            assert!(
+                close(p[i], dt[i], scale, 1e-7),
+                "p{i}: {} vs ∂T/∂q̇ {}",
+                p[i],
+                dt[i]
+            );
         }
     }
 }

@@ -3,7 +3,7 @@
 //! and values, and how generated locals are named (serde_derive's
 //! `Parameters`). Every emitter asks it rather than spelling these out.
 
-use crate::derive::Equations;
+use crate::equations::Equations;
 use crate::names::GENERATED_PREFIX;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{quote, ToTokens};

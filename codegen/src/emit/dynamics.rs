@@ -7,7 +7,7 @@
 
 use super::body::Body;
 use super::context::Context;
-use crate::derive::Equations;
+use crate::equations::Equations;
 use crate::expr::Id;
 use proc_macro2::TokenStream;
 use quote::quote;

@@ -7,7 +7,7 @@
 //! run time where the preferred columns are poorly conditioned.
 
 use super::context::{Context, Inputs};
-use crate::partition::Partition;
+use crate::equations::partition::Partition;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 

@@ -4,7 +4,7 @@
 //!
 //! `tangent_rhs` evaluates, for every column variable `v` (coordinates,
 //! velocities, inputs), the right-hand sides `F̃ᵥ` and `b̃ᵥ` of the tangent
-//! system (see [`crate::tangent`]) as straight-line code over the exact
+//! system (see [`crate::equations::tangent`]) as straight-line code over the exact
 //! derivatives, contracted with `q̈` and `λ`.
 //!
 //! Where `M⁻¹` is symbolic (constant or diagonal `M`), the tangent systems
@@ -19,7 +19,7 @@
 use super::context::{Context, Inputs};
 use super::mass_inverse;
 use super::tangent;
-use crate::partition::Partition;
+use crate::equations::partition::Partition;
 use proc_macro2::TokenStream;
 use quote::quote;
 

@@ -1,7 +1,7 @@
 //! Stage 4: [`Equations`] → Rust tokens.
 //!
 //! Every generated function is straight-line code: bind the variables it
-//! uses, compute the shared subexpressions chosen by [`crate::cse::Schedule`] in
+//! uses, compute the shared subexpressions chosen by [`crate::expr::cse::Schedule`] in
 //! topological order, and build a fixed-size nalgebra result from an array.
 //! Nothing allocates, indexes or panics; literals go through
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.
@@ -21,6 +21,7 @@
 
 mod body;
 mod context;
+pub mod derivation;
 mod dynamics;
 mod gibbs_appell;
 mod jacobian;
@@ -31,11 +32,10 @@ mod solve;
 mod subproducts;
 mod tangent;
 
-use crate::derivation;
-use crate::derive::Equations;
+use crate::equations::partition::Partition;
+use crate::equations::Equations;
+use crate::expr::print::{shared_subexpressions, Printer, Style};
 use crate::expr::Id;
-use crate::partition::Partition;
-use crate::print::{shared_subexpressions, Printer, Style};
 use body::Body;
 use context::{Context, Inputs};
 use proc_macro2::TokenStream;

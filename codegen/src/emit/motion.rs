@@ -17,8 +17,8 @@
 
 use super::context::{Context, Inputs};
 use super::mass_inverse;
+use crate::equations::mass_inverse::MassInverse;
 use crate::model::Level;
-use crate::motion::MassInverse;
 use proc_macro2::TokenStream;
 use quote::quote;
 

@@ -6,7 +6,7 @@
 use super::body::literal;
 use super::context::Context;
 use super::ldlt::StructuredLdlt;
-use crate::num::Num;
+use crate::expr::num::Num;
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -83,7 +83,7 @@ pub(in crate::emit) fn checked_motion(
 
 /// `r + D db` where `gauss` was given a correction `db` (Baumgarte), over
 /// the locals holding `r`; `scale` is the row scaling `D` of the system
-/// solved (`crate::motion::Symbolic`), empty for none.
+/// solved (`crate::equations::mass_inverse::Symbolic`), empty for none.
 pub(in crate::emit) fn corrected(residuals: &[syn::Ident], scale: &[Num]) -> TokenStream {
     let d: Vec<_> = (0..residuals.len())
         .map(|i| Context::local("db", i))

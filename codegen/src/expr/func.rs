@@ -10,7 +10,7 @@
 //! `define_language!`).
 
 use super::{Graph, Id};
-use crate::num::Num;
+use crate::expr::num::Num;
 
 /// The arguments of a function node: up to two, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

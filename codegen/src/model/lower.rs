@@ -4,10 +4,10 @@
 
 use super::check;
 use super::ctxt::Errors;
-use crate::diff::Differentiator;
+use crate::expr::diff::Differentiator;
+use crate::expr::num::Num;
 use crate::expr::{Args, Func, Graph, Id, Sym};
 use crate::names::{acceleration_name, velocity_name, CONSTANTS, GENERATED_PREFIX, RESERVED};
-use crate::num::Num;
 use quote::ToTokens;
 use std::collections::HashMap;
 use syn::{Expr, Ident};

@@ -1,4 +1,4 @@
-//! The strategies of applying `M⁻¹` (`crate::motion::MassInverse`), one
+//! The strategies of applying `M⁻¹` (`crate::equations::mass_inverse::MassInverse`), one
 //! module each, every one providing the solver `gauss` (`acceleration` and
 //! the trait's `gauss`), the body of `acceleration_jacobian` and the
 //! projections' `constraint_step`:
@@ -20,7 +20,7 @@ mod step;
 mod symbolic;
 
 use super::context::Context;
-use crate::motion::MassInverse;
+use crate::equations::mass_inverse::MassInverse;
 use proc_macro2::TokenStream;
 use quote::quote;
 

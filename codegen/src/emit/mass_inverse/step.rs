@@ -9,7 +9,7 @@
 use crate::emit::body::literal;
 use crate::emit::context::{Context, Inputs};
 use crate::emit::ldlt::StructuredLdlt;
-use crate::num::Num;
+use crate::expr::num::Num;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
@@ -61,7 +61,7 @@ pub(super) fn finish(
         }
     }));
     let kept = (0..k).map(|j| ldlt.kept(j));
-    // `W S⁻¹ r = W̃ S̃⁻¹ D r` for the scaled system (`crate::motion::Symbolic`).
+    // `W S⁻¹ r = W̃ S̃⁻¹ D r` for the scaled system (`crate::equations::mass_inverse::Symbolic`).
     let scaled = rhs
         .iter()
         .zip(scale)

@@ -1,5 +1,5 @@
 //! Gauss's principle for a configuration-dependent `M(q)`, solved in
-//! generated code on compile-time patterns (`crate::motion::Factored`):
+//! generated code on compile-time patterns (`crate::equations::mass_inverse::Factored`):
 //!
 //! 1. `M`, `F`, `A` and `b` as one straight-line body, so that CSE shares
 //!    their subexpressions;
@@ -22,8 +22,8 @@ use crate::emit::body::Body;
 use crate::emit::context::Context;
 use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
+use crate::equations::mass_inverse::Factored;
 use crate::expr::Id;
-use crate::motion::Factored;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;

@@ -4,7 +4,7 @@
 use super::FactoredGauss;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::step::finish;
-use crate::motion::Factored;
+use crate::equations::mass_inverse::Factored;
 use proc_macro2::TokenStream;
 use quote::quote;
 

@@ -17,7 +17,7 @@
 //!
 //! Where the rank decision is suspect, the runtime's dense solve answers,
 //! exactly where `acceleration` consults the runtime; so it does for the
-//! directional form of the derivatives (`crate::tangent`), which has no
+//! directional form of the derivatives (`crate::equations::tangent`), which has no
 //! column structure.
 
 use super::{overflowing_rows, SymbolicGauss};
@@ -25,9 +25,9 @@ use crate::emit::body::literal;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
 use crate::emit::tangent::{index, TangentTerms};
+use crate::equations::mass_inverse::Symbolic;
+use crate::equations::tangent::Form;
 use crate::expr::Id;
-use crate::motion::Symbolic;
-use crate::tangent::Form;
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -250,7 +250,7 @@ fn column(
 
 /// The model's own multipliers `λ = μ D λ̃` that the tangent terms hold,
 /// where `acceleration` solved the scaled system for `λ̃`
-/// (`crate::motion::Symbolic`).
+/// (`crate::equations::mass_inverse::Symbolic`).
 fn unscaled_multipliers(d: &Symbolic, gauss: &SymbolicGauss) -> Vec<TokenStream> {
     let mass = d.common_mass.map(|m| gauss.body.factor(m));
     d.scale

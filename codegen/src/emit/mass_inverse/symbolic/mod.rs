@@ -9,8 +9,8 @@ use crate::emit::body::Body;
 use crate::emit::context::Context;
 use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::solve::{checked_motion, corrected};
+use crate::equations::mass_inverse::Symbolic;
 use crate::expr::Id;
-use crate::motion::Symbolic;
 use proc_macro2::TokenStream;
 use quote::quote;
 

@@ -2,14 +2,14 @@
 //! the way the paper writes it, so that a change in the generated equations
 //! reads as a change in mathematics in code review.
 
-use crate::derive::Equations;
+use crate::equations::gibbs_appell::{rank_one, RankOne};
+use crate::equations::mass_inverse::{Factored, MassInverse};
+use crate::equations::partition::Partition;
+use crate::equations::Equations;
+use crate::expr::print::{shared_subexpressions, subscript, Printer, Style};
 use crate::expr::{Graph, Id};
-use crate::gibbs_appell::{rank_one, RankOne};
 use crate::model::{Energies, Level};
-use crate::motion::{Factored, MassInverse};
-use crate::partition::Partition;
-use crate::print::{shared_subexpressions, subscript, Printer, Style};
-use crate::sparsity::Structure;
+use crate::numeric::sparsity::Structure;
 use std::collections::HashMap;
 use std::fmt::Write;
 
@@ -320,10 +320,10 @@ fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
     }
 }
 
-/// How the solved system was scaled (`crate::motion::Symbolic`): the
+/// How the solved system was scaled (`crate::equations::mass_inverse::Symbolic`): the
 /// rows of `A q̈ = b` divided by their numeric content, `M` by a common
 /// mass. S, r and λ below are those of the scaled system; q̈ is the same.
-fn scaling_text(w: &mut String, d: &crate::motion::Symbolic, p: &Printer) {
+fn scaling_text(w: &mut String, d: &crate::equations::mass_inverse::Symbolic, p: &Printer) {
     let scaled = d.scale.iter().any(|s| !s.is_one());
     if !scaled && d.common_mass.is_none() {
         return;

@@ -4,6 +4,8 @@
 //! Only the shape is checked here; names, lengths and meaning are checked by
 //! [`crate::model`], which sees the whole input and reports every error at once.
 
+pub mod nesting;
+
 use proc_macro2::Span;
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;

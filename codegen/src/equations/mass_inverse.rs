@@ -11,10 +11,10 @@
 //! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
 //! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
+use crate::expr::factor::Factorer;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
-use crate::factor::Factorer;
-use crate::num::Num;
-use crate::sparsity::Structure;
+use crate::numeric::sparsity::Structure;
 
 /// How `M⁻¹` is applied.
 pub enum MassInverse {
@@ -148,15 +148,17 @@ pub struct Symbolic {
 fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
     let n = mass.len();
     let entries: Vec<Id> = mass.iter().flatten().copied().collect();
-    let mut rng = crate::rng::SplitMix64::new(0x5e11_d3f1);
+    let mut rng = crate::numeric::rng::SplitMix64::new(0x5e11_d3f1);
     (0..4).all(|_| {
         let seed = rng.next_u64();
-        let values = g.eval(&entries, &|s| crate::rng::SplitMix64::value_for(seed, s));
+        let values = g.eval(&entries, &|s| {
+            crate::numeric::rng::SplitMix64::value_for(seed, s)
+        });
         if values.iter().any(|v| !v.is_finite()) {
             return false;
         }
         let m: Vec<Vec<f64>> = values.chunks(n).map(<[f64]>::to_vec).collect();
-        crate::linalg::independent_columns(&m, 1e-12).len() < n
+        crate::numeric::linalg::independent_columns(&m, 1e-12).len() < n
     })
 }
 
@@ -220,7 +222,7 @@ pub fn gauss(
     );
     let (acceleration, force) = motion(g, &rows, &weighted, &unconstrained, common_mass);
     // The pieces as the derivation prints them and the code computes
-    // them: with common factors pulled out (`crate::factor`).
+    // them: with common factors pulled out (`crate::expr::factor`).
     let unconstrained = factorer.factor_all(g, &unconstrained);
     let weighted = factorer.factor_rows(g, &weighted);
     let gram = factorer.factor_rows(g, &gram);
@@ -371,7 +373,9 @@ fn row_scale(g: &Graph, row: &[Id]) -> Num {
     let entry_content = |e: Id| -> Option<Num> {
         match g.node(e) {
             Node::Num(n) => Some(*n),
-            Node::Add(terms, c0) => crate::num::content(terms.iter().map(|t| t.1).chain(Some(*c0))),
+            Node::Add(terms, c0) => {
+                crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
+            }
             _ => Some(Num::ONE),
         }
     };
@@ -381,7 +385,7 @@ fn row_scale(g: &Graph, row: &[Id]) -> Num {
         .map(|&e| entry_content(e))
         .collect();
     contents
-        .and_then(crate::num::content)
+        .and_then(crate::expr::num::content)
         .map(Num::recip)
         .filter(|d| matches!(d, Num::Rational(..)))
         .unwrap_or(Num::ONE)

@@ -4,10 +4,10 @@
 //! that runs is `constrained::gibbs_appell`, which re-pivots at run time;
 //! tests check that both agree.
 
-use crate::derive::Equations;
+use crate::equations::partition::Partition;
+use crate::equations::Equations;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id};
-use crate::num::Num;
-use crate::partition::Partition;
 
 /// The rows below the first of the Gibbs–Appell system, for `r = 1`.
 pub struct RankOne {

@@ -9,7 +9,7 @@
 //! `d/dt(∂T/∂q̇ᵢ) = Σⱼ Mᵢⱼ q̈ⱼ + Σⱼ ∂²T/∂q̇ᵢ∂qⱼ q̇ⱼ + ∂²T/∂q̇ᵢ∂t`.
 //! Used by the model stage, which checks the results like written input.
 
-use crate::diff::Differentiator;
+use crate::expr::diff::Differentiator;
 use crate::expr::{Graph, Id, Node, Sym};
 use std::fmt;
 
@@ -200,7 +200,7 @@ pub fn forces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::num::Num;
+    use crate::expr::num::Num;
 
     /// A pendulum of length 1 in its angle: `T = θ̇²/2`, `V = −cos θ`:
     /// `M = 1`, `F = −sin θ`.

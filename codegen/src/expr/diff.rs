@@ -1,7 +1,7 @@
 //! Exact symbolic differentiation on the DAG, and the total time derivative.
 
+use crate::expr::num::Num;
 use crate::expr::{Func, Graph, Id, Node, Sym};
-use crate::num::Num;
 use std::collections::HashMap;
 
 /// Memoised partial derivatives `∂e/∂v`; one per graph, reused across calls so

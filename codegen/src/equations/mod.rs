@@ -1,14 +1,19 @@
 //! Stage 3: [`System`] → [`Equations`]: the constraints differentiated into
 //! `A q̈ = b` by the total-derivative rule; then Gauss's principle
-//! ([`motion`]) and the tangent pieces ([`crate::tangent`]).
+//! ([`mass_inverse`]) and the tangent pieces ([`tangent`]).
 
-use crate::diff::Differentiator;
+pub mod gibbs_appell;
+pub mod mass_inverse;
+pub mod partition;
+pub mod tangent;
+
+use crate::expr::diff::Differentiator;
+use crate::expr::factor::Factorer;
 use crate::expr::Id;
 use crate::expr::Sym;
-use crate::factor::Factorer;
 use crate::model::{Level, System};
-use crate::motion::{self, MassInverse};
-use crate::tangent::{self, Pieces, Tangent};
+use mass_inverse::MassInverse;
+use tangent::{Pieces, Tangent};
 
 /// A system together with its derived constraint equations.
 pub struct Equations {
@@ -21,10 +26,10 @@ pub struct Equations {
     /// The constraints at velocity level: `φ̇` for position-level `φ`, `φ`
     /// itself otherwise. Zero on consistent states; its Jacobian in `q̇` is `A`.
     pub velocity_constraints: Vec<Id>,
-    /// How Gauss's principle is solved (see [`motion`]).
+    /// How Gauss's principle is solved (see [`mass_inverse`]).
     pub gauss: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
-    /// (see [`crate::tangent`]); none when not `jacobians`.
+    /// (see [`crate::equations::tangent`]); none when not `jacobians`.
     pub tangent: Tangent,
     /// Whether the Jacobian and linearization are generated
     /// ([`crate::Options`]).
@@ -39,7 +44,7 @@ pub struct Equations {
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
 /// written, so that a user's scaling of φ shows up unchanged.
 /// `M`, `F`, `A` and `b` have their common factors pulled out
-/// ([`crate::factor`]) before anything is built from them, so that the
+/// ([`crate::expr::factor`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
 pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();
@@ -63,9 +68,9 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     }
     // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
     // squares where that shortens the code, counted with everything else
-    // that is computed beside it (crate::squares).
+    // that is computed beside it (crate::expr::squares).
     let b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
-    let gauss = motion::gauss(g, &mut factorer, &system.mass, &system.forces, &a, &b);
+    let gauss = mass_inverse::gauss(g, &mut factorer, &system.mass, &system.forces, &a, &b);
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     let pieces = Pieces {
         mass: &system.mass,
@@ -134,7 +139,7 @@ fn complete_squares(
             .chain(rows.iter().skip(i + 1))
             .copied()
             .collect();
-        rows[i] = crate::squares::complete(g, factorer, b[i], &context);
+        rows[i] = crate::expr::squares::complete(g, factorer, b[i], &context);
     }
     rows
 }

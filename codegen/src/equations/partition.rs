@@ -12,12 +12,12 @@
 //! state can be projected the rank off the surface is used instead, and the
 //! derivation says so.
 
-use crate::derive::Equations;
+use crate::equations::mass_inverse::MassInverse;
+use crate::equations::Equations;
 use crate::expr::{Id, Sym};
-use crate::linalg::{independent_columns, minimum_norm_solve};
 use crate::model::Level;
-use crate::motion::MassInverse;
-use crate::rng::SplitMix64;
+use crate::numeric::linalg::{independent_columns, minimum_norm_solve};
+use crate::numeric::rng::SplitMix64;
 
 /// The partition used by the Gibbs–Appell form.
 #[derive(Clone, Debug)]
