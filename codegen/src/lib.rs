@@ -86,7 +86,7 @@ fn overflow_free(eq: &equations::Equations) -> syn::Result<()> {
             ),
         ));
     }
-    let scale = match &eq.gauss {
+    let scale = match &eq.mass_inverse {
         equations::mass_inverse::MassInverse::Symbolic(d) => {
             d.scale.iter().map(|s| s.to_f64()).find(|v| !v.is_finite())
         }

@@ -39,10 +39,10 @@ fn constant_mass_needs_no_runtime_factorization() {
                   forces: [0.0, -9.81], constraints: [u.powi(2) + v.powi(2) == 1.0] }";
     let (eq, _) = analyse(source.parse().expect("tokens")).expect("analyses");
     assert!(matches!(
-        eq.gauss,
+        eq.mass_inverse,
         constrained_codegen::equations::mass_inverse::MassInverse::Symbolic(_)
     ));
-    assert!(!eq.gauss.is_diagonal());
+    assert!(!eq.mass_inverse.is_diagonal());
     let code = constrained_codegen::expand(source.parse().expect("tokens"))
         .expect("expands")
         .to_string();

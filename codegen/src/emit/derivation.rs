@@ -182,7 +182,7 @@ fn printed_roots(eq: &Equations, rank_one: Option<&RankOne>) -> Vec<Id> {
     roots.extend(sys.constraints.iter().map(|c| c.phi));
     roots.extend(eq.a.iter().flatten());
     roots.extend(&eq.b);
-    if let MassInverse::Symbolic(d) = &eq.gauss {
+    if let MassInverse::Symbolic(d) = &eq.mass_inverse {
         roots.extend(&d.unconstrained);
         roots.extend(d.gram.iter().flatten());
         roots.extend(&d.residual);
@@ -234,7 +234,7 @@ fn gibbs_appell(
     coordinates: &[String],
 ) {
     let r = partition.rank;
-    let coupled = !eq.gauss.is_diagonal();
+    let coupled = !eq.mass_inverse.is_diagonal();
     let eliminated: Vec<String> = partition
         .eliminated
         .iter()
@@ -408,7 +408,7 @@ fn generalized_inverse(
         w,
         "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  S λ = r,  S = A M⁻¹ Aᵀ,  r = b − A a,  a = M⁻¹ F:"
     );
-    if matches!(eq.gauss, MassInverse::Auxiliary) {
+    if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
         let _ = writeln!(
             w,
             "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
@@ -419,7 +419,7 @@ fn generalized_inverse(
         );
         return;
     }
-    let d = match &eq.gauss {
+    let d = match &eq.mass_inverse {
         MassInverse::Symbolic(d) => d,
         MassInverse::Factored(f) => {
             factored(w, f, coordinates, rank);

@@ -53,7 +53,7 @@ fn method(
         )
     };
     let params = params(ctx, args);
-    if ctx.eq.gauss.fallible() {
+    if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         let finite = if scalar {

@@ -24,7 +24,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
         .iter()
         .map(|&e| Literal::usize_unsuffixed(e))
         .collect();
-    let coupled = !eq.gauss.is_diagonal();
+    let coupled = !eq.mass_inverse.is_diagonal();
     let names: Vec<String> = partition
         .eliminated
         .iter()

@@ -47,7 +47,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     let value =
         quote!(#jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion));
     let finite = ctx.finite_or_error(quote!(__j));
-    let (jac_ret, lin_ret, jac_body, lin_body) = if ctx.eq.gauss.fallible() {
+    let (jac_ret, lin_ret, jac_body, lin_body) = if ctx.eq.mass_inverse.fallible() {
         (
             ctx.result(jacobians.clone(), quote!(DynamicsError)),
             ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError)),
@@ -74,7 +74,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             },
         )
     };
-    let fallibility = if ctx.eq.gauss.fallible() {
+    let fallibility = if ctx.eq.mass_inverse.fallible() {
         "`Err` exactly where [`acceleration`](Self::acceleration) fails, \
          and `Err(NonFinite)` where a derivative overflows or cannot be \
          trusted (at a branch point, where `A` has lost rank to rounding; \
@@ -137,7 +137,7 @@ fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
     let reduced_type = ctx.path(quote!(linearize::Reduced<T, #nx_l, #nu_l, #nq_l, #nv_l>));
     let ret = ctx.result(reduced_type, quote!(DynamicsError));
     let function = ctx.path(quote!(linearize::reduced));
-    let jacobian = if ctx.eq.gauss.fallible() {
+    let jacobian = if ctx.eq.mass_inverse.fallible() {
         quote!(self.acceleration_jacobian(#args)?)
     } else {
         quote!(self.acceleration_jacobian(#args))

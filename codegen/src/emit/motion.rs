@@ -32,7 +32,8 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     // where it fails: `TotalAcceleration`, `TotalForce`).
     // The fallible ones take their half of `Fallible`'s pair: the half not
     // taken is computed by nothing (straight-line arithmetic, removed).
-    let gauss = |correction: TokenStream, force: bool| match (ctx.eq.gauss.fallible(), force) {
+    let gauss = |correction: TokenStream, force: bool| match (ctx.eq.mass_inverse.fallible(), force)
+    {
         (true, force) => {
             let call = ctx.call_gauss("Fallible", correction);
             let part = if force { quote!(1) } else { quote!(0) };
@@ -45,12 +46,12 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     let acc = gauss(none.clone(), false);
     let force = gauss(none, true);
     let corrected = gauss(quote!(::core::option::Option::Some(db)), false);
-    let ret = if ctx.eq.gauss.fallible() {
+    let ret = if ctx.eq.mass_inverse.fallible() {
         ctx.result(vector.clone(), quote!(DynamicsError))
     } else {
         vector.clone()
     };
-    let fallibility = if ctx.eq.gauss.fallible() {
+    let fallibility = if ctx.eq.mass_inverse.fallible() {
         "`Err` when `M` is not positive definite at this state (it is not \
          known to be at compile time), or when no acceleration satisfies \
          `A q̈ = b` to working precision (`Unsatisfiable`; see `constrained::rank`). \
@@ -129,7 +130,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let ga_system = ctx.result(quote!((#m, #vector)), quote!(GibbsAppellError));
     let ga_acceleration = ctx.result(vector.clone(), quote!(GibbsAppellError));
     let step = mass_inverse::step(ctx);
-    let semidefinite = matches!(ctx.eq.gauss, MassInverse::Auxiliary).then(|| {
+    let semidefinite = matches!(ctx.eq.mass_inverse, MassInverse::Auxiliary).then(|| {
         quote!(
             const SEMIDEFINITE_MASS: bool = true;
         )

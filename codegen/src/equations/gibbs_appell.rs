@@ -25,7 +25,7 @@ pub fn rank_one(eq: &Equations, partition: &Partition) -> Option<RankOne> {
     if partition.rank != 1 || n < 2 {
         return None;
     }
-    let coupled = !eq.gauss.is_diagonal();
+    let coupled = !eq.mass_inverse.is_diagonal();
     let mut g = eq.system.graph.clone();
     let e = partition.eliminated[0];
     let independent: Vec<usize> = (0..n).filter(|&j| j != e).collect();

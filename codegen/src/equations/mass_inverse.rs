@@ -163,7 +163,7 @@ fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
 }
 
 /// Builds the Gauss pieces for `mass`, `forces`, `a`, `b`.
-pub fn gauss(
+pub fn build(
     g: &mut Graph,
     factorer: &mut Factorer,
     mass: &[Vec<Id>],

@@ -27,7 +27,7 @@ pub struct Equations {
     /// itself otherwise. Zero on consistent states; its Jacobian in `q̇` is `A`.
     pub velocity_constraints: Vec<Id>,
     /// How Gauss's principle is solved (see [`mass_inverse`]).
-    pub gauss: MassInverse,
+    pub mass_inverse: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
     /// (see [`crate::equations::tangent`]); none when not `jacobians`.
     pub tangent: Tangent,
@@ -70,7 +70,7 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     // squares where that shortens the code, counted with everything else
     // that is computed beside it (crate::expr::squares).
     let b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
-    let gauss = mass_inverse::gauss(g, &mut factorer, &system.mass, &system.forces, &a, &b);
+    let mass_inverse = mass_inverse::build(g, &mut factorer, &system.mass, &system.forces, &a, &b);
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     let pieces = Pieces {
         mass: &system.mass,
@@ -92,7 +92,7 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         a,
         b,
         velocity_constraints,
-        gauss,
+        mass_inverse,
         tangent,
     }
 }

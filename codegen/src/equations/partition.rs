@@ -63,7 +63,7 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
             .map(|_| eval_a(eq, &random_state(eq, &mut rng)))
             .collect()
     };
-    if matches!(eq.gauss, MassInverse::Auxiliary) {
+    if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
         completes_the_mass(eq, &states)?;
     }
     let rank = matrices

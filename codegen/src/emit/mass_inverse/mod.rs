@@ -27,7 +27,7 @@ use quote::quote;
 /// The private solver `gauss` behind `acceleration`, `constraint_force`,
 /// `acceleration_corrected` and the trait's `gauss`.
 pub(super) fn solver(ctx: &Context) -> TokenStream {
-    match &ctx.eq.gauss {
+    match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::solver(ctx, d),
         MassInverse::Factored(f) => factored::solver(ctx, f),
         MassInverse::Auxiliary => auxiliary::solver(ctx),
@@ -38,7 +38,7 @@ pub(super) fn solver(ctx: &Context) -> TokenStream {
 /// an expression of the method's return type (the whole body where the
 /// strategy has no Jacobian of its own).
 pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> TokenStream {
-    match &ctx.eq.gauss {
+    match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::jacobian::jacobian(ctx, d, dense),
         MassInverse::Factored(f) => factored::jacobian::jacobian(ctx, f, dense),
         MassInverse::Auxiliary => dense.clone(),
@@ -51,7 +51,7 @@ pub(super) fn step(ctx: &Context) -> TokenStream {
     if ctx.k == 0 {
         return TokenStream::new();
     }
-    let body = match &ctx.eq.gauss {
+    let body = match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::step::step(ctx, d),
         MassInverse::Factored(f) => factored::step::step(ctx, f),
         MassInverse::Auxiliary => return TokenStream::new(),

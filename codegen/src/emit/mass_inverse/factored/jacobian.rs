@@ -1,7 +1,7 @@
 //! `acceleration_jacobian` for a configuration-dependent `M`: the tangent
 //! systems solved column by column through `gauss`'s factorizations.
 
-use super::FactoredGauss;
+use super::FactoredSolve;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
 use crate::equations::mass_inverse::Factored;
@@ -15,7 +15,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
     let a = &ctx.eq.a;
-    let gauss = FactoredGauss::new(ctx, f, false);
+    let gauss = FactoredSolve::new(ctx, f, false);
     let qdd = ctx.vector_value(gauss.acceleration.iter().cloned());
     let lam = ctx.vector_value((0..k).map(|j| {
         let l = Context::local("lam", j);
@@ -55,7 +55,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let finite = ctx.finite_or_error(quote!(__jac));
     debug_assert!(
-        ctx.eq.gauss.fallible(),
+        ctx.eq.mass_inverse.fallible(),
         "a configuration-dependent M is not known positive definite"
     );
     let to_multipliers = &gauss.to_multipliers;

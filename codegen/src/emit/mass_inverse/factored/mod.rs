@@ -29,7 +29,7 @@ use quote::quote;
 use syn::Ident;
 
 /// The generated solve up to `λ`, shared by `gauss` and the Jacobian.
-pub(super) struct FactoredGauss<'a> {
+pub(super) struct FactoredSolve<'a> {
     /// `M`'s factorization (locals `__m{i}_{j}`, `__ml…`, `__mi…`).
     pub mass: StructuredLdlt<'a>,
     /// `S`'s factorization (locals `__s{i}_{j}`, `__l…`, `__inv…`).
@@ -64,7 +64,7 @@ enum Scope {
     ConstraintSpace,
 }
 
-impl<'a> FactoredGauss<'a> {
+impl<'a> FactoredSolve<'a> {
     /// The solve to `λ`, for the solver `gauss` or (`gauss` false) the
     /// Jacobian.
     pub(super) fn new(ctx: &'a Context, f: &'a Factored, gauss: bool) -> Self {
@@ -169,7 +169,7 @@ impl<'a> FactoredGauss<'a> {
                 #factor_gram
             }
         };
-        FactoredGauss {
+        FactoredSolve {
             mass,
             gram,
             to_multipliers,
@@ -342,7 +342,7 @@ fn motion(
 
 /// `gauss` for a configuration-dependent `M`.
 pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
-    let gauss = FactoredGauss::new(ctx, f, true);
+    let gauss = FactoredSolve::new(ctx, f, true);
     let to_multipliers = &gauss.to_multipliers;
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());

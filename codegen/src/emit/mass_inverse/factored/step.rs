@@ -1,7 +1,7 @@
 //! `constraint_step` for a configuration-dependent `M` (see
 //! `super::super::step`).
 
-use super::FactoredGauss;
+use super::FactoredSolve;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::step::finish;
 use crate::equations::mass_inverse::Factored;
@@ -10,7 +10,7 @@ use quote::quote;
 
 /// `M(q)`: its generated factorization, then `W` and `S` on their patterns.
 pub(in crate::emit) fn step(ctx: &Context, f: &Factored) -> TokenStream {
-    let gauss = FactoredGauss::constraint_space(ctx, f);
+    let gauss = FactoredSolve::constraint_space(ctx, f);
     let to_gram = &gauss.to_multipliers; // stops at S's factor in this scope
     let finish = finish(ctx, &gauss.gram, &[], |i, j| {
         f.weighted[i][j].then(|| {

@@ -20,7 +20,7 @@
 //! directional form of the derivatives (`crate::equations::tangent`), which has no
 //! column structure.
 
-use super::{overflowing_rows, SymbolicGauss};
+use super::{overflowing_rows, SymbolicSolve};
 use crate::emit::body::literal;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
@@ -49,7 +49,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         extra.extend(entries.iter().flatten().copied().filter(|&e| nonzero(e)));
     }
     extra.extend(d.common_mass);
-    let gauss = SymbolicGauss::new(ctx, d, &extra, false);
+    let gauss = SymbolicSolve::new(ctx, d, &extra, false);
     let (constants, qdd) = constants(ctx, d, &gauss);
 
     let terms = TangentTerms::new(ctx);
@@ -61,7 +61,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
 
     let k_l = Context::dim(k);
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
-    let value = if ctx.eq.gauss.fallible() {
+    let value = if ctx.eq.mass_inverse.fallible() {
         ctx.finite_or_error(quote!(__jac))
     } else {
         quote!(__jac)
@@ -96,7 +96,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
-    let adopt = if ctx.eq.gauss.fallible() {
+    let adopt = if ctx.eq.mass_inverse.fallible() {
         adopt_dense(dense)
     } else {
         quote!(__jac = { #dense };)
@@ -136,7 +136,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
 fn constants(
     ctx: &Context,
     d: &Symbolic,
-    gauss: &SymbolicGauss,
+    gauss: &SymbolicSolve,
 ) -> ([TokenStream; 3], Vec<TokenStream>) {
     let g = &ctx.eq.system.graph;
     let body = &gauss.body;
@@ -251,7 +251,7 @@ fn column(
 /// The model's own multipliers `λ = μ D λ̃` that the tangent terms hold,
 /// where `acceleration` solved the scaled system for `λ̃`
 /// (`crate::equations::mass_inverse::Symbolic`).
-fn unscaled_multipliers(d: &Symbolic, gauss: &SymbolicGauss) -> Vec<TokenStream> {
+fn unscaled_multipliers(d: &Symbolic, gauss: &SymbolicSolve) -> Vec<TokenStream> {
     let mass = d.common_mass.map(|m| gauss.body.factor(m));
     d.scale
         .iter()

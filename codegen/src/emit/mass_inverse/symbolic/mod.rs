@@ -17,7 +17,7 @@ use quote::quote;
 /// The straight-line solve of Gauss's principle for a symbolic `M⁻¹`, up to
 /// the multipliers: shared by `gauss` and the Jacobian
 /// (`jacobian`), which both continue from `λ` in their own way.
-pub(in crate::emit) struct SymbolicGauss<'a> {
+pub(in crate::emit) struct SymbolicSolve<'a> {
     /// The bodies' expressions: the Gauss pieces and the caller's roots.
     pub body: Body<'a>,
     /// The factorization of `S`, whose locals the code below defines.
@@ -32,7 +32,7 @@ pub(in crate::emit) struct SymbolicGauss<'a> {
     pub scalar: Option<ScalarSolve>,
 }
 
-/// The scalar (`k = 1`) solve of [`SymbolicGauss`] in parts.
+/// The scalar (`k = 1`) solve of [`SymbolicSolve`] in parts.
 pub(in crate::emit) struct ScalarSolve {
     /// From the arguments to `S` and `r` (`__s0_0`, `__r0`).
     to_gram: TokenStream,
@@ -44,7 +44,7 @@ pub(in crate::emit) struct ScalarSolve {
     after: TokenStream,
 }
 
-impl<'a> SymbolicGauss<'a> {
+impl<'a> SymbolicSolve<'a> {
     /// `extra` are further expressions the caller will ask `body` for;
     /// `gauss`: the code is the solver `gauss`'s (with the `b + db` of
     /// `acceleration_corrected`, errors through its `Finish`), else the
@@ -131,7 +131,7 @@ impl<'a> SymbolicGauss<'a> {
             }),
             _ => None,
         };
-        SymbolicGauss {
+        SymbolicSolve {
             body,
             ldlt,
             to_multipliers,
@@ -144,12 +144,12 @@ impl<'a> SymbolicGauss<'a> {
 /// `r`, `W` and `A` are straight-line expressions; `S λ = r` is solved by
 /// `LDLᵀ` on the structural pattern of `S`.
 pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
-    let SymbolicGauss {
+    let SymbolicSolve {
         body,
         ldlt,
         to_multipliers,
         scalar,
-    } = SymbolicGauss::new(ctx, d, &[], true);
+    } = SymbolicSolve::new(ctx, d, &[], true);
     let acc = ctx.vector_value(d.acceleration.iter().map(|&e| body.expr(e)));
     let force = ctx.vector_value(d.force.iter().map(|&e| body.expr(e)));
     let also = overflowing_rows(ctx, d);
