@@ -9,7 +9,7 @@
 //!    each touching only what its right-hand side reaches;
 //! 4. `S = A W`, `r = b − A a` over their patterns, then `S`'s
 //!    rank-revealing `LDLᵀ` exactly as for a constant `M`
-//!    ([`super::ldlt`]), with the same after-the-fact rank check.
+//!    ([`crate::emit::ldlt`]), with the same after-the-fact rank check.
 //!
 //! The Jacobian ([`jacobian`]) reuses both factorizations: `tangent_rhs`
 //! fills the right-hand sides, one column each, and one loop solves every
