@@ -1,6 +1,6 @@
 //! Writes one `constrained_system!` invocation per chain length: the macro
 //! cannot loop over N, and the DSL text comes from one generator
-//! (`constrained_codegen::fixtures::planar_chain`, and `joint_angle_pendulum`
+//! (`constrained_codegen::tools::fixtures::planar_chain`, and `joint_angle_pendulum`
 //! for the same pendulums in joint angles) shared with the benches.
 
 use std::fmt::Write;
@@ -8,18 +8,19 @@ use std::fmt::Write;
 fn main() {
     let mut out = String::new();
     for links in constrained_chains_lengths() {
-        let source = constrained_codegen::fixtures::planar_chain(&format!("Chain{links}"), links);
+        let source =
+            constrained_codegen::tools::fixtures::planar_chain(&format!("Chain{links}"), links);
         let _ = writeln!(out, "constrained::constrained_system! {{\n{source}\n}}\n");
     }
     for links in constrained_pendulum_lengths() {
-        let source = constrained_codegen::fixtures::joint_angle_pendulum(
+        let source = constrained_codegen::tools::fixtures::joint_angle_pendulum(
             &format!("PendulumAngles{links}"),
             links,
         );
         let _ = writeln!(out, "constrained::constrained_system! {{\n{source}\n}}\n");
     }
     // The Franka Panda from published parameters, as bodies.
-    let panda = constrained_codegen::fixtures::panda("Panda", 7);
+    let panda = constrained_codegen::tools::fixtures::panda("Panda", 7);
     let _ = writeln!(out, "constrained::constrained_system! {{\n{panda}\n}}\n");
     let path = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
         .join("chains.rs");

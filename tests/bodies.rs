@@ -152,7 +152,7 @@ fn inverse_dynamics_is_m_qdd_plus_bias_and_gravity_forces_hold_still() {
 /// `g(q) = −Σ mᵢ Jᵥᵀ g` — no recursion, nothing shared with the macro.
 mod reference {
     use constrained::nalgebra::{Matrix3, SMatrix, SVector, Vector3};
-    use constrained_codegen::fixtures::PANDA;
+    use constrained_codegen::tools::fixtures::PANDA;
 
     fn num(s: &str) -> f64 {
         s.parse().expect("the table holds decimals")

@@ -27,6 +27,7 @@ mod impacts;
 mod integrators;
 mod jacobian_edges;
 mod linearize;
+mod momentum;
 mod nonsmooth;
 mod projection;
 mod quadruped;

@@ -2,8 +2,8 @@
 //! that is not positive definite is reported, never NaN; f32 works; and the
 //! redundant double pendulum integrates like the plain one, although
 //! Runge–Kutta stages sit off the constraint surface where the redundant
-//! row is weakly independent (MATH.md, "Rank decisions need a real
-//! tolerance").
+//! row is weakly independent (rank decisions need a real tolerance:
+//! `constrained::rank`).
 
 use constrained::models::*;
 use constrained::nalgebra::{SVector, Vector2, Vector3, Vector4};

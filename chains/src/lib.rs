@@ -6,13 +6,13 @@
 //!
 //! The same pendulums in joint angles from their energies
 //! (`PendulumAngles2`, `PendulumAngles4`, `PendulumAngles8`: dense `M(q)`,
-//! `F` quadratic in the velocities; `constrained_codegen::fixtures::
+//! `F` quadratic in the velocities; `constrained_codegen::tools::fixtures::
 //! joint_angle_pendulum`): the configuration-dependent mass matrices of the
 //! benchmarks, and the 8-link one is big enough that the macro
 //! differentiates it along a direction (`tests/directional.rs`).
 //!
 //! `Panda`: the Franka Emika Panda's seven links as bodies, from published
-//! parameters (`constrained_codegen::fixtures::PANDA`), with a torque input
+//! parameters (`constrained_codegen::tools::fixtures::PANDA`), with a torque input
 //! per joint: the robot of the examples and of the comparison with
 //! Pinocchio.
 #![no_std]

@@ -2,7 +2,7 @@
 //! system: the planar N-link chain (2N coordinates, N constraints).
 
 use constrained_codegen::expand;
-use constrained_codegen::fixtures::{joint_angle_pendulum, planar_chain};
+use constrained_codegen::tools::fixtures::{joint_angle_pendulum, planar_chain};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use proc_macro2::TokenStream;
 use std::hint::black_box;

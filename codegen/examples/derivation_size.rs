@@ -6,8 +6,8 @@
 //!
 //! `cargo run --release -p constrained-codegen --example derivation_size`
 
-use constrained_codegen::fixtures::{definition_heavy, planar_chain};
-use constrained_codegen::{analyse, derivation, emit};
+use constrained_codegen::tools::fixtures::{definition_heavy, planar_chain};
+use constrained_codegen::{analyse, emit, emit::derivation};
 
 fn main() {
     // Compositions nested as text parse recursively: a large stack, as

@@ -7,7 +7,7 @@
 //!
 //! `cargo run -p constrained-codegen --example expansion_size -- target/benchmarks/expansion.json`
 
-use constrained_codegen::{expand, fixtures::planar_chain};
+use constrained_codegen::{expand, tools::fixtures::planar_chain};
 
 fn main() {
     let path = std::env::args().nth(1).unwrap_or_else(|| {

@@ -8,7 +8,7 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use constrained_codegen::{expand, op_count};
+use constrained_codegen::{expand, tools::op_count};
 use std::fmt::Write;
 
 fn main() {

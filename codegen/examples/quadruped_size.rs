@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p constrained-codegen --example quadruped_size`
 
-use constrained_codegen::{expand_with, op_count, Options};
+use constrained_codegen::tools::op_count;
+use constrained_codegen::{expand_with, Options};
 use std::time::Instant;
 
 fn main() {

@@ -5,8 +5,8 @@
 //!
 //! `cargo run --release -p constrained-codegen --example robot_scaling`
 
-use constrained_codegen::fixtures::panda;
-use constrained_codegen::{expand, expand_with, op_count, Options};
+use constrained_codegen::tools::fixtures::panda;
+use constrained_codegen::{expand, expand_with, tools::op_count, Options};
 use std::time::Instant;
 
 fn main() {

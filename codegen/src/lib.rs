@@ -5,45 +5,34 @@
 //! `constrained-macros` only converts token types and calls it.
 //!
 //! Stages, each a pure function of the previous one's output:
-//! 1. [`parse`]: tokens → DSL syntax (`SystemInput`), after [`nesting`]
-//!    has bounded how deeply the tokens nest;
+//! 1. [`parse`]: tokens → DSL syntax (`SystemInput`), after
+//!    [`parse::nesting`] has bounded how deeply the tokens nest;
 //! 2. [`model`]: names resolved, expressions lowered into the DAG of
 //!    [`expr`], every rule checked, errors reported together;
-//! 3. [`derive`](mod@derive): constraints differentiated ([`diff`]) into `A q̈ = b`,
-//!    Gauss's principle set up ([`motion`]), the Gibbs–Appell partition
-//!    found at consistent states ([`partition`]), and the derivatives
-//!    behind the Jacobian of `q̈` taken ([`tangent`]);
-//! 4. [`emit`]: straight-line Rust with shared subexpressions ([`cse`]) and
-//!    the derivation text ([`derivation`], [`print`](mod@print)).
+//! 3. [`equations`]: constraints differentiated ([`expr::diff`]) into
+//!    `A q̈ = b`, Gauss's principle set up ([`equations::mass_inverse`]),
+//!    the derivatives behind the Jacobian of `q̈` taken
+//!    ([`equations::tangent`]), and the Gibbs–Appell partition found at
+//!    consistent states ([`equations::partition`]);
+//! 4. [`emit`]: straight-line Rust with shared subexpressions
+//!    ([`expr::cse`]) and the derivation text ([`emit::derivation`],
+//!    [`expr::print`]).
+//!
+//! Below the stages: [`expr`] (the expression DAG, its exact rationals, its
+//! operator table and its passes, Lagrange's equations among them),
+//! [`numeric`] (dense linear algebra, sparsity patterns, the pseudo-random
+//! points), [`names`]. [`tools`]
+//! serves tests and benchmarks.
 
 pub mod bodies;
-pub mod cse;
-pub mod derivation;
-pub mod derive;
-pub mod diff;
 pub mod emit;
+pub mod equations;
 pub mod expr;
-pub mod factor;
-pub mod finite;
-#[doc(hidden)] // DSL text for the chains crate and the benches, not API
-pub mod fixtures;
-pub mod gibbs_appell;
-pub mod lagrange;
-pub mod linalg;
 pub mod model;
-pub mod motion;
 pub mod names;
-pub mod nesting;
-pub mod num;
-pub mod op_count;
+pub mod numeric;
 pub mod parse;
-pub mod partition;
-pub mod print;
-pub mod rng;
-pub mod sparsity;
-pub mod squares;
-pub mod tangent;
-pub mod trig;
+pub mod tools;
 
 use proc_macro2::TokenStream;
 
@@ -79,14 +68,14 @@ pub fn expand_with(input: TokenStream, options: Options) -> syn::Result<TokenStr
 /// constraint makes `A M⁻¹ Aᵀ` hold `1e310`) would compute `∞` at run time
 /// too and silently drop the constraint: a compile error instead. So is a
 /// constant that is finite as written but not where generated code
-/// evaluates it (`E.powi(710)`, `exp(1000)`, `ln(0)`; [`finite`]): spanned
+/// evaluates it (`E.powi(710)`, `exp(1000)`, `ln(0)`; [`expr::finite`]): spanned
 /// on the constraint or the mass matrix it occurs in, where it does.
-fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
+fn overflow_free(eq: &equations::Equations) -> syn::Result<()> {
     let sys = &eq.system;
     let overflow = sys
         .graph
         .constants()
-        .map(num::Num::to_f64)
+        .map(expr::num::Num::to_f64)
         .find(|v| !v.is_finite());
     if let Some(value) = overflow {
         return Err(syn::Error::new(
@@ -97,8 +86,8 @@ fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
             ),
         ));
     }
-    let scale = match &eq.gauss {
-        motion::MassInverse::Symbolic(d) => {
+    let scale = match &eq.mass_inverse {
+        equations::mass_inverse::MassInverse::Symbolic(d) => {
             d.scale.iter().map(|s| s.to_f64()).find(|v| !v.is_finite())
         }
         _ => None,
@@ -109,14 +98,19 @@ fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
             format!("deriving the equations produced a row scale that overflows f64 ({value})"),
         ));
     }
-    let found = finite::non_finite(&sys.graph);
+    let found = expr::finite::non_finite(&sys.graph);
     let Some(&first) = found.first() else {
         return Ok(());
     };
     let names = |v: &[syn::Ident]| v.iter().map(ToString::to_string).collect::<Vec<_>>();
     let (coordinates, parameters) = (names(&sys.coordinates), names(&sys.parameters));
-    let printer = print::Printer::new(&sys.graph, &coordinates, &parameters, print::Style::Unicode);
-    let message = |bad: finite::NonFinite| {
+    let printer = expr::print::Printer::new(
+        &sys.graph,
+        &coordinates,
+        &parameters,
+        expr::print::Style::Unicode,
+    );
+    let message = |bad: expr::finite::NonFinite| {
         let what = if bad.value.is_nan() {
             "is not a number (NaN)"
         } else {
@@ -155,7 +149,9 @@ fn overflow_free(eq: &derive::Equations) -> syn::Result<()> {
 
 /// Stages 1–3: the checked system, its derived equations and the
 /// Gibbs–Appell partition, before emission.
-pub fn analyse(input: TokenStream) -> syn::Result<(derive::Equations, partition::Partition)> {
+pub fn analyse(
+    input: TokenStream,
+) -> syn::Result<(equations::Equations, equations::partition::Partition)> {
     analyse_with(input, Options::default())
 }
 
@@ -163,11 +159,11 @@ pub fn analyse(input: TokenStream) -> syn::Result<(derive::Equations, partition:
 pub fn analyse_with(
     input: TokenStream,
     options: Options,
-) -> syn::Result<(derive::Equations, partition::Partition)> {
-    nesting::check(&input)?;
+) -> syn::Result<(equations::Equations, equations::partition::Partition)> {
+    parse::nesting::check(&input)?;
     let input: parse::SystemInput = syn::parse2(input)?;
     let system = model::check(&input)?;
-    let equations = derive::constraint_equations(system, options.jacobians);
-    let partition = partition::partition(&equations)?;
+    let equations = equations::constraint_equations(system, options.jacobians);
+    let partition = equations::partition::partition(&equations)?;
     Ok((equations, partition))
 }

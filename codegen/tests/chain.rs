@@ -2,7 +2,7 @@
 //! structure: N position-level constraints, each row of A touching only the
 //! coordinates of its two joints.
 
-use constrained_codegen::{analyse, fixtures::planar_chain};
+use constrained_codegen::{analyse, tools::fixtures::planar_chain};
 
 #[test]
 fn sixteen_link_chain_structure() {
@@ -39,10 +39,10 @@ fn constant_mass_needs_no_runtime_factorization() {
                   forces: [0.0, -9.81], constraints: [u.powi(2) + v.powi(2) == 1.0] }";
     let (eq, _) = analyse(source.parse().expect("tokens")).expect("analyses");
     assert!(matches!(
-        eq.gauss,
-        constrained_codegen::motion::MassInverse::Symbolic(_)
+        eq.mass_inverse,
+        constrained_codegen::equations::mass_inverse::MassInverse::Symbolic(_)
     ));
-    assert!(!eq.gauss.is_diagonal());
+    assert!(!eq.mass_inverse.is_diagonal());
     let code = constrained_codegen::expand(source.parse().expect("tokens"))
         .expect("expands")
         .to_string();
@@ -56,9 +56,9 @@ fn constant_mass_needs_no_runtime_factorization() {
         "the solver factorizes M at run time"
     );
     // M⁻¹ = [[4/7, −2/7], [−2/7, 8/7]]: a = M⁻¹F has a[u] = (2/7)·9.81.
-    let derivation = constrained_codegen::derivation::text(
+    let derivation = constrained_codegen::emit::derivation::text(
         &eq,
-        &constrained_codegen::partition::partition(&eq).expect("partition"),
+        &constrained_codegen::equations::partition::partition(&eq).expect("partition"),
     );
     assert!(derivation.contains("a[u] = 981/350"), "{derivation}");
 }

@@ -5,8 +5,8 @@
 //! the text (2.3× allows for the fixed part); printing the tree instead
 //! gives 4× per doubling on nested compositions.
 
-use constrained_codegen::fixtures::definition_heavy;
-use constrained_codegen::{analyse, derivation, emit};
+use constrained_codegen::tools::fixtures::definition_heavy;
+use constrained_codegen::{analyse, emit, emit::derivation};
 
 /// (DAG nodes, bytes of DERIVATION + SYMBOLIC) of one model.
 fn sizes(input: &str) -> (usize, usize) {

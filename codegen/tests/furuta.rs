@@ -5,8 +5,9 @@
 //! (the system is symmetric about the vertical axis), both in the code's
 //! expressions and in `DERIVATION`.
 
+use constrained_codegen::analyse;
+use constrained_codegen::emit::derivation;
 use constrained_codegen::expr::{Graph, Id, Sym};
-use constrained_codegen::{analyse, derivation};
 
 fn furuta() -> proc_macro2::TokenStream {
     quote::quote! {

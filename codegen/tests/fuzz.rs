@@ -8,7 +8,7 @@
 //! of inputs that reach the macro (10,000); `scripts/explore.sh` runs it
 //! with fresh seeds.
 
-use constrained_codegen::rng::SplitMix64;
+use constrained_codegen::numeric::rng::SplitMix64;
 use constrained_codegen::{analyse, expand};
 use proc_macro2::TokenStream;
 use std::fmt::Write as _;

@@ -4,9 +4,9 @@
 //! `gibbs_appell::system` fed with the same A, b, M, F, wherever the runtime
 //! keeps the compile-time partition.
 
+use constrained_codegen::equations::gibbs_appell::rank_one;
+use constrained_codegen::equations::partition::{consistent_states, StateValues};
 use constrained_codegen::expr::{Id, Sym};
-use constrained_codegen::gibbs_appell::rank_one;
-use constrained_codegen::partition::{consistent_states, StateValues};
 use constrained_runtime::gibbs_appell::WELL_CONDITIONED;
 use nalgebra::{SMatrix, SVector};
 
@@ -53,7 +53,7 @@ fn symbolic_rows_equal_the_runtime() {
             continue;
         }
         let n = eq.system.dof();
-        let coupled = !eq.gauss.is_diagonal();
+        let coupled = !eq.mass_inverse.is_diagonal();
         for state in consistent_states(&eq) {
             let g = &eq.system.graph;
             let a = g.eval(&eq.a[0], &env(&state));

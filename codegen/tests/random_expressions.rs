@@ -3,9 +3,9 @@
 //! derivative agrees with a finite difference. The reference is a plain tree
 //! evaluator written here, independent of the DAG.
 
-use constrained_codegen::diff::Differentiator;
+use constrained_codegen::expr::diff::Differentiator;
+use constrained_codegen::expr::num::Num;
 use constrained_codegen::expr::{Args, Func, Graph, Id, Sym};
-use constrained_codegen::num::Num;
 use proptest::prelude::*;
 
 #[derive(Clone, Debug)]

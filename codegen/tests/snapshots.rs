@@ -28,7 +28,7 @@ fn expansions_and_derivations() {
             ),
             (
                 format!("{}_derivation", model.name),
-                constrained_codegen::derivation::text(&equations, &partition),
+                constrained_codegen::emit::derivation::text(&equations, &partition),
             ),
         ];
         for (name, text) in snapshots {

@@ -3,8 +3,8 @@
 //! trees, which for Lagrange's equations of an N-link pendulum grow
 //! exponentially (written out in full, N = 16 gave 63 MB).
 
-use constrained_codegen::fixtures::joint_angle_pendulum;
-use constrained_codegen::{analyse, derivation, emit};
+use constrained_codegen::tools::fixtures::joint_angle_pendulum;
+use constrained_codegen::{analyse, emit, emit::derivation};
 
 #[test]
 fn text_grows_linearly_with_the_dag() {

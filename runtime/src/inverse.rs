@@ -1,7 +1,7 @@
 //! Generalized inverses for fixed sizes, without allocation.
 //!
 //! Gauss's principle gives `q̈ = a + M⁻¹ Aᵀ λ` with `S λ = r`, where
-//! `S = A M⁻¹ Aᵀ` and `r = b − A a` (MATH.md, eq. 26). When the constraints
+//! `S = A M⁻¹ Aᵀ` and `r = b − A a` (Udwadia & Kalaba, eq. 26). When the constraints
 //! are redundant `S` is singular and any {1}-inverse of `S` gives the same
 //! `q̈` on a consistent state; [`PivotedLdlt`] builds one.
 //!
@@ -16,7 +16,7 @@
 //! integrator sit slightly off it, where a redundant row is weakly
 //! independent. A cutoff near machine precision then enforces a spurious
 //! constraint and the integration stalls or blows up (observed with cutoffs
-//! up to 1e-9); 1e-6 is where it was observed to work (MATH.md). `64 ε`
+//! up to 1e-9); 1e-6 is where it was observed to work. `64 ε`
 //! keeps the test meaningful in `f32`.
 
 use nalgebra::{RealField, SMatrix, SVector};

@@ -440,6 +440,38 @@ fn extend_independent<T: RealField + Copy, const K: usize, const N: usize, const
     Some(chosen)
 }
 
+/// The basis `T` (`N × M`) of `A[:, dependent] δ[dependent] =
+/// −A[:, free] δ[free]` in the `free` components: the identity in the rows
+/// `free`, `−A_D⁻¹ A_I` in the rows `dependent`; `None` where `A_D` is
+/// singular.
+fn tangent_basis<
+    T: RealField + Copy,
+    const K: usize,
+    const N: usize,
+    const R: usize,
+    const M: usize,
+>(
+    a: &SMatrix<T, K, N>,
+    dependent: &[usize; R],
+    free: &[usize; M],
+) -> Option<SMatrix<T, N, M>> {
+    let mut a_i = SMatrix::<T, K, M>::zeros();
+    for (j, &c) in free.iter().enumerate() {
+        a_i.set_column(j, &a.column(c));
+    }
+    let x = solve_columns(a, dependent, &a_i)?;
+    let mut basis = SMatrix::<T, N, M>::zeros();
+    for (j, &c) in free.iter().enumerate() {
+        basis[(c, j)] = T::one();
+    }
+    for (i, &d) in dependent.iter().enumerate() {
+        for j in 0..M {
+            basis[(d, j)] = -x[(i, j)];
+        }
+    }
+    Some(basis)
+}
+
 /// The reduced linearization at `(q, q̇, t)` from the Jacobians there.
 /// The dependent coordinates are chosen at this state, where they are best
 /// conditioned: first `RH = N − NQ` columns of the position-level rows of
@@ -500,41 +532,17 @@ where
     let eliminated: [usize; R] = extend_independent(&a, &fixed).ok_or(singular)?;
     // Speeds: A_D q̇[D] = −A_I q̇[I] − ψ_q δq, so δq̇ = T_v δq̇[I] + W δq.
     let speeds: [usize; NV] = complement::<N, NV>(&eliminated);
-    let mut a_i = SMatrix::<T, K, NV>::zeros();
-    for (j, &c) in speeds.iter().enumerate() {
-        a_i.set_column(j, &a.column(c));
-    }
-    let x = solve_columns(&a, &eliminated, &a_i).ok_or(singular)?;
+    let t_v = tangent_basis(&a, &eliminated, &speeds).ok_or(singular)?;
     let y = solve_columns(&a, &eliminated, &psi_q).ok_or(singular)?;
-    let mut t_v = SMatrix::<T, N, NV>::zeros();
     let mut w = SMatrix::<T, N, N>::zeros();
-    for (j, &c) in speeds.iter().enumerate() {
-        t_v[(c, j)] = T::one();
-    }
     for (i, &d) in eliminated.iter().enumerate() {
-        for j in 0..NV {
-            t_v[(d, j)] = -x[(i, j)];
-        }
         for j in 0..N {
             w[(d, j)] = -y[(i, j)];
         }
     }
     // Coordinates: A_H[:, fixed] δq[fixed] = −A_H[:, I_h] δq[I_h].
     let coordinates: [usize; NQ] = complement::<N, NQ>(&fixed);
-    let mut a_hi = SMatrix::<T, K, NQ>::zeros();
-    for (j, &c) in coordinates.iter().enumerate() {
-        a_hi.set_column(j, &a_h.column(c));
-    }
-    let xh = solve_columns(&a_h, &fixed, &a_hi).ok_or(singular)?;
-    let mut t_q = SMatrix::<T, N, NQ>::zeros();
-    for (j, &c) in coordinates.iter().enumerate() {
-        t_q[(c, j)] = T::one();
-    }
-    for (i, &d) in fixed.iter().enumerate() {
-        for j in 0..NQ {
-            t_q[(d, j)] = -xh[(i, j)];
-        }
-    }
+    let t_q = tangent_basis(&a_h, &fixed, &coordinates).ok_or(singular)?;
     let wt = w * t_q;
     let lower_q = (jac.dq + jac.dqd * w) * t_q;
     let lower_v = jac.dqd * t_v;

@@ -32,7 +32,7 @@ constrained_system! {
 
 constrained_system! {
     /// The double pendulum with a redundant third constraint
-    /// `φ₃ = (1 + x₂²) φ₁ + φ₂` (MATH.md): its row of `A` depends on the other
+    /// `φ₃ = (1 + x₂²) φ₁ + φ₂`: its row of `A` depends on the other
     /// two only on the constraint surface, so rank decisions need a tolerance.
     pub struct RedundantDoublePendulum {
         coordinates: [x1, y1, x2, y2],

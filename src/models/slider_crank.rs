@@ -7,7 +7,7 @@ constrained_system! {
     /// x axis against a spring of stiffness `k`; gravity along −y. The slider
     /// is held to its guide twice, by `y2 = 0` and by `y2·(1 + x2²) = 0`: on
     /// the guide the two rows of `A` are parallel, off it they are not — the
-    /// redundancy that needs a rank tolerance (MATH.md).
+    /// redundancy that needs a rank tolerance.
     pub struct SliderCrank {
         coordinates: [x1, y1, x2, y2],
         parameters: [m1, m2, r, l, k, g],

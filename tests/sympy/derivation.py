@@ -42,7 +42,7 @@ def parse(text, s):
 
 
 def total_derivative(e, s):
-    """D e = Σ ∂e/∂qᵢ q̇ᵢ + Σ ∂e/∂q̇ᵢ q̈ᵢ + ∂e/∂t (MATH.md)."""
+    """D e = Σ ∂e/∂qᵢ q̇ᵢ + Σ ∂e/∂q̇ᵢ q̈ᵢ + ∂e/∂t."""
     return (
         sum(sp.diff(e, q) * qd for q, qd in zip(s.coordinates, s.velocities))
         + sum(sp.diff(e, qd) * qdd for qd, qdd in zip(s.velocities, s.accelerations))

@@ -1,5 +1,5 @@
 //! Issue 15 asked to measure an e-graph (the `egg` crate) against the
-//! rule-based factoring of `constrained_codegen::factor` before choosing.
+//! rule-based factoring of `constrained_codegen::expr::factor` before choosing.
 //! This is that measurement, on every reference model: the raw `M`, `F`,
 //! `A` and `b` (the DSL lowered, the constraints differentiated, nothing
 //! factored) are
@@ -15,11 +15,11 @@
 //!
 //! `bash scripts/egg_compare.sh` (or `cargo run --release` here).
 
-use constrained_codegen::diff::Differentiator;
+use constrained_codegen::expr::diff::Differentiator;
 use constrained_codegen::expr::{Graph, Id, Node, Sym};
-use constrained_codegen::factor::Factorer;
+use constrained_codegen::expr::factor::Factorer;
 use constrained_codegen::model::{self, Level};
-use constrained_codegen::num::Num;
+use constrained_codegen::expr::num::Num;
 use constrained_codegen::parse::SystemInput;
 use egg::{rewrite as rw, CostFunction, Extractor, Language, RecExpr, Rewrite, Runner, SymbolLang};
 use std::collections::HashMap;

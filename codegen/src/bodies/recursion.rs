@@ -350,7 +350,7 @@ fn energies(g: &mut Graph, tree: &Tree) -> (Id, Id) {
         height.push(hi);
     }
     let t = g.add(&kinetic);
-    let half = g.num(crate::num::Num::Rational(1, 2));
+    let half = g.num(crate::expr::num::Num::Rational(1, 2));
     let t = g.mul2(half, t);
     let v_sum = g.add(&potential);
     (t, g.neg(v_sum))

@@ -5,8 +5,8 @@
 //! operation goes through the graph's constructors, so the zeros and ones
 //! of axis-aligned frames fold away exactly and nothing is built for them.
 
+use crate::expr::num::Num;
 use crate::expr::{Func, Graph, Id, Node};
-use crate::num::Num;
 
 /// A 3-vector of expressions.
 pub type V3 = [Id; 3];

@@ -3,11 +3,11 @@
 
 use super::context::Context;
 use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
-use crate::cse::{Schedule, MAX_UNROLLED_POWER};
-use crate::derive::Equations;
+use crate::equations::Equations;
+use crate::expr::cse::{Schedule, MAX_UNROLLED_POWER};
+use crate::expr::num::Num;
 use crate::expr::{signed_parts, Emission, Func, Graph, Id, Node, Sym};
 use crate::names::{acceleration_name, velocity_name};
-use crate::num::Num;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::quote;
 use std::collections::HashMap;

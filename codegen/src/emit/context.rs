@@ -3,7 +3,7 @@
 //! and values, and how generated locals are named (serde_derive's
 //! `Parameters`). Every emitter asks it rather than spelling these out.
 
-use crate::derive::Equations;
+use crate::equations::Equations;
 use crate::names::GENERATED_PREFIX;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{quote, ToTokens};
@@ -108,6 +108,19 @@ impl<'a> Context<'a> {
             self.path(quote!(Jacobians::<T, #n_l, #nu_l>::zeros())),
             Self::dim(2 * self.n + nu),
         )
+    }
+
+    /// `Ok(value)` where every entry of the local `value` (a
+    /// `Jacobians`) is finite, else `Err(NonFinite)`.
+    pub(super) fn finite_or_error(&self, value: TokenStream) -> TokenStream {
+        let non_finite = self.path(quote!(DynamicsError::NonFinite));
+        quote! {
+            if #value.is_finite() {
+                ::core::result::Result::Ok(#value)
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        }
     }
 
     /// `Result<ok, ::constrained::error>`.

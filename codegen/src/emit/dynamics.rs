@@ -2,18 +2,19 @@
 //! dynamics and the generalized gravity of a system with bodies, and the
 //! energies of a system given by energies or bodies. Each is plain, or a
 //! `Result` that is `Err(NonFinite)` where a value overflows, by the same
-//! rule as `acceleration` (`super::motion::fallible`).
+//! rule as `acceleration` (`MassInverse::fallible`). Every one is a row of
+//! [`EVALUATIONS`].
 
 use super::body::Body;
 use super::context::Context;
-use super::motion::fallible;
+use crate::equations::Equations;
 use crate::expr::Id;
 use proc_macro2::TokenStream;
 use quote::quote;
 
 /// The arguments a method takes.
-#[derive(Clone, Copy)]
-enum Args {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Args {
     /// `(q, t)`.
     Positions,
     /// `(q, qd, t)`.
@@ -52,7 +53,7 @@ fn method(
         )
     };
     let params = params(ctx, args);
-    if fallible(ctx) {
+    if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         let finite = if scalar {
@@ -86,62 +87,119 @@ fn method(
     }
 }
 
-/// The methods of this module that the system has.
+/// One generated method that evaluates the model: a row of
+/// [`EVALUATIONS`].
+pub struct Evaluation {
+    /// The method's name.
+    pub name: &'static str,
+    /// Its arguments after `&self`.
+    pub args: Args,
+    /// Its documentation (the inherent method's; `docs/generated.md` has a
+    /// row for it, checked by a test).
+    doc: &'static str,
+    /// Its value, where the system has the method: the entries of a
+    /// vector, or the one entry of a scalar.
+    value: fn(&Equations) -> Option<Value>,
+}
+
+/// What an [`Evaluation`] returns.
+enum Value {
+    /// `SVector<T, len>`.
+    Vector(Vec<Id>),
+    /// `T`.
+    Scalar(Id),
+}
+
+/// The generated methods that evaluate the model rather than solve it,
+/// in the order they are emitted: a new one is a row here (and a row of
+/// the table in `docs/generated.md`).
+pub const EVALUATIONS: &[Evaluation] = &[
+    Evaluation {
+        name: "inverse_dynamics",
+        args: Args::Accelerations,
+        doc: " Inverse dynamics by recursive Newton–Euler: the joint forces \
+              `τ = M(q) q̈ + c(q, q̇)` that give the bodies the accelerations \
+              `qdd`, `c` holding the Coriolis, centrifugal and gravity forces \
+              (Pinocchio's `rnea`). The `forces` section is not included: with \
+              `forces: [u1, ..]` as the joints' torques, `u = τ` gives `q̈ = qdd` \
+              where no constraint acts.",
+        value: |eq| Some(Value::Vector(eq.system.bodies.as_ref()?.inverse.clone())),
+    },
+    Evaluation {
+        name: "gravity_forces",
+        args: Args::Positions,
+        doc: " The generalized gravity `g(q)`: the joint forces that hold the \
+              bodies still against gravity (Pinocchio's \
+              `computeGeneralizedGravity`; `inverse_dynamics` at `q̇ = q̈ = 0`).",
+        value: |eq| Some(Value::Vector(eq.system.bodies.as_ref()?.gravity.clone())),
+    },
+    Evaluation {
+        name: "kinetic_energy",
+        args: Args::States,
+        doc: " The kinetic energy `T(q, q̇, t)`.",
+        value: |eq| Some(Value::Scalar(eq.system.energy?.kinetic)),
+    },
+    Evaluation {
+        name: "potential_energy",
+        args: Args::Positions,
+        doc: " The potential energy `V(q, t)` (gravity's for bodies, and `potential_energy` as written; 0 where neither is given).",
+        value: |eq| Some(Value::Scalar(eq.system.energy?.potential)),
+    },
+    Evaluation {
+        name: "energy",
+        args: Args::States,
+        doc: " The total energy `T + V`, conserved where no other force acts.",
+        value: |eq| Some(Value::Scalar(eq.system.energy?.total)),
+    },
+    Evaluation {
+        name: "generalized_momentum",
+        args: Args::States,
+        doc: " The generalized momentum `p = M(q, t) q̇` (`∂T/∂q̇` for a \
+              kinetic energy quadratic in `q̇`), without forming `M`.",
+        value: |eq| Some(Value::Vector(eq.momentum.clone())),
+    },
+];
+
+/// The methods of [`EVALUATIONS`] that the system has.
 pub(super) fn methods(ctx: &Context) -> TokenStream {
-    let sys = &ctx.eq.system;
     let mut out = TokenStream::new();
-    if let Some(b) = &sys.bodies {
-        out.extend(method(
-            ctx,
-            quote!(inverse_dynamics),
-            " Inverse dynamics by recursive Newton–Euler: the joint forces \
-             `τ = M(q) q̈ + c(q, q̇)` that give the bodies the accelerations \
-             `qdd`, `c` holding the Coriolis, centrifugal and gravity forces \
-             (Pinocchio's `rnea`). The `forces` section is not included: with \
-             `forces: [u1, ..]` as the joints' torques, `u = τ` gives `q̈ = qdd` \
-             where no constraint acts.",
-            Args::Accelerations,
-            &b.inverse,
-            false,
-        ));
-        out.extend(method(
-            ctx,
-            quote!(gravity_forces),
-            " The generalized gravity `g(q)`: the joint forces that hold the \
-             bodies still against gravity (Pinocchio's \
-             `computeGeneralizedGravity`; `inverse_dynamics` at `q̇ = q̈ = 0`).",
-            Args::Positions,
-            &b.gravity,
-            false,
-        ));
+    for e in EVALUATIONS {
+        let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());
+        match (e.value)(ctx.eq) {
+            Some(Value::Vector(entries)) => {
+                out.extend(method(ctx, quote!(#name), e.doc, e.args, &entries, false));
+            }
+            Some(Value::Scalar(entry)) => {
+                out.extend(method(ctx, quote!(#name), e.doc, e.args, &[entry], true));
+            }
+            None => {}
+        }
     }
-    let Some(e) = sys.energy else {
-        return out;
-    };
-    let (kinetic, potential) = (e.kinetic, e.potential);
-    out.extend(method(
-        ctx,
-        quote!(kinetic_energy),
-        " The kinetic energy `T(q, q̇, t)`.",
-        Args::States,
-        &[kinetic],
-        true,
-    ));
-    out.extend(method(
-        ctx,
-        quote!(potential_energy),
-        " The potential energy `V(q, t)` (gravity's for bodies, and `potential_energy` as written; 0 where neither is given).",
-        Args::Positions,
-        &[potential],
-        true,
-    ));
-    out.extend(method(
-        ctx,
-        quote!(energy),
-        " The total energy `T + V`, conserved where no other force acts.",
-        Args::States,
-        &[e.total],
-        true,
-    ));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Args, EVALUATIONS};
+
+    /// Every evaluation method has a row of the table of generated items
+    /// in `docs/generated.md`, with its arguments as generated.
+    #[test]
+    fn docs_table_lists_every_evaluation() {
+        let docs = include_str!("../../../docs/generated.md");
+        let rows: Vec<&str> = docs.lines().filter(|l| l.starts_with("| `")).collect();
+        assert!(rows.len() > 20, "table not found");
+        for e in EVALUATIONS {
+            let args = match e.args {
+                Args::Positions => "q, t",
+                Args::States => "q, qd, t",
+                Args::Accelerations => "q, qd, qdd, t",
+            };
+            let item = format!("`{}({args})`", e.name);
+            assert!(
+                rows.iter().any(|r| r.contains(&item)),
+                "docs/generated.md has no row for {item}"
+            );
+        }
+    }
 }

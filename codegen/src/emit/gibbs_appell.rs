@@ -7,7 +7,7 @@
 //! run time where the preferred columns are poorly conditioned.
 
 use super::context::{Context, Inputs};
-use crate::partition::Partition;
+use crate::equations::partition::Partition;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
@@ -24,7 +24,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
         .iter()
         .map(|&e| Literal::usize_unsuffixed(e))
         .collect();
-    let coupled = !eq.gauss.is_diagonal();
+    let coupled = !eq.mass_inverse.is_diagonal();
     let names: Vec<String> = partition
         .eliminated
         .iter()

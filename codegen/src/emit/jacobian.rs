@@ -4,7 +4,7 @@
 //!
 //! `tangent_rhs` evaluates, for every column variable `v` (coordinates,
 //! velocities, inputs), the right-hand sides `F̃ᵥ` and `b̃ᵥ` of the tangent
-//! system (see [`crate::tangent`]) as straight-line code over the exact
+//! system (see [`crate::equations::tangent`]) as straight-line code over the exact
 //! derivatives, contracted with `q̈` and `λ`.
 //!
 //! Where `M⁻¹` is symbolic (constant or diagonal `M`), the tangent systems
@@ -17,10 +17,9 @@
 //! densely once and solves for every column.
 
 use super::context::{Context, Inputs};
-use super::motion::fallible;
-use super::{factored, structured, tangent};
-use crate::motion::MassInverse;
-use crate::partition::Partition;
+use super::mass_inverse;
+use super::tangent;
+use crate::equations::partition::Partition;
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -47,19 +46,15 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     let k_lit = Context::dim(ctx.k);
     let value =
         quote!(#jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion));
-    let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
-    let (jac_ret, lin_ret, jac_body, lin_body) = if fallible(ctx) {
+    let finite = ctx.finite_or_error(quote!(__j));
+    let (jac_ret, lin_ret, jac_body, lin_body) = if ctx.eq.mass_inverse.fallible() {
         (
             ctx.result(jacobians.clone(), quote!(DynamicsError)),
             ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError)),
             quote! {
                 let __motion = #fallible_solve?;
                 let __j = #value;
-                if __j.is_finite() {
-                    ::core::result::Result::Ok(__j)
-                } else {
-                    ::core::result::Result::Err(#non_finite)
-                }
+                #finite
             },
             quote! {
                 self.acceleration_jacobian(#args)
@@ -79,7 +74,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             },
         )
     };
-    let fallibility = if fallible(ctx) {
+    let fallibility = if ctx.eq.mass_inverse.fallible() {
         "`Err` exactly where [`acceleration`](Self::acceleration) fails, \
          and `Err(NonFinite)` where a derivative overflows or cannot be \
          trusted (at a branch point, where `A` has lost rank to rounding; \
@@ -104,11 +99,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
          constraint directions (see `constrained::linearize::reduced` for the \
          linearization on the constraint manifold). {fallibility}"
     );
-    let jac_body = match &ctx.eq.gauss {
-        MassInverse::Symbolic(d) => structured::jacobian(ctx, d, &jac_body),
-        MassInverse::Factored(f) => factored::jacobian(ctx, f, &jac_body),
-        MassInverse::Auxiliary => jac_body,
-    };
+    let jac_body = mass_inverse::jacobian(ctx, &jac_body);
     let reduced = reduced(ctx, partition);
     quote! {
         #reduced
@@ -146,7 +137,7 @@ fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
     let reduced_type = ctx.path(quote!(linearize::Reduced<T, #nx_l, #nu_l, #nq_l, #nv_l>));
     let ret = ctx.result(reduced_type, quote!(DynamicsError));
     let function = ctx.path(quote!(linearize::reduced));
-    let jacobian = if fallible(ctx) {
+    let jacobian = if ctx.eq.mass_inverse.fallible() {
         quote!(self.acceleration_jacobian(#args)?)
     } else {
         quote!(self.acceleration_jacobian(#args))

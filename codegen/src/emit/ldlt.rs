@@ -16,7 +16,7 @@
 //! and the function returns that error.
 
 use super::context::Context;
-use crate::sparsity::Structure;
+use crate::numeric::sparsity::Structure;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;

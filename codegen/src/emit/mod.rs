@@ -1,35 +1,52 @@
 //! Stage 4: [`Equations`] → Rust tokens.
 //!
 //! Every generated function is straight-line code: bind the variables it
-//! uses, compute the shared subexpressions chosen by [`crate::cse::Schedule`] in
+//! uses, compute the shared subexpressions chosen by [`crate::expr::cse::Schedule`] in
 //! topological order, and build a fixed-size nalgebra result from an array.
 //! Nothing allocates, indexes or panics; literals go through
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.
+//!
+//! Two axes, one per level:
+//!
+//! - the files here are the generated methods (`motion`: `acceleration`,
+//!   `constraint_force`, the trait impl; `jacobian`: the linearization;
+//!   `dynamics`, `gibbs_appell`, `tangent`), and the shared value of the
+//!   solve (`solve`: `checked_motion`, `corrected`);
+//! - `mass_inverse/` holds one module per way of applying `M⁻¹`
+//!   (`symbolic`, `factored`, `auxiliary`), each with its solver, Jacobian
+//!   and step; its `mod.rs` is the only `match` on the strategy.
+//!
+//! Below both: `body` (expressions to tokens), `context` (types, names,
+//! signatures), `ldlt` (the structured factorization), `subproducts`.
 
 mod body;
 mod context;
+pub mod derivation;
 mod dynamics;
-mod factored;
 mod gibbs_appell;
 mod impact;
 mod jacobian;
 mod ldlt;
+mod mass_inverse;
 mod motion;
-mod step;
-mod structured;
+mod solve;
 mod subproducts;
 mod tangent;
 
-use crate::derivation;
-use crate::derive::Equations;
+use crate::equations::partition::Partition;
+use crate::equations::Equations;
+use crate::expr::print::{shared_subexpressions, Printer, Style};
 use crate::expr::Id;
-use crate::partition::Partition;
-use crate::print::{shared_subexpressions, Printer, Style};
 use body::Body;
 use context::{Context, Inputs};
 use proc_macro2::TokenStream;
 use quote::quote;
 use std::collections::HashMap;
+
+/// The methods generated code calls for a power `b^e` (`body`): `sqrt`
+/// for `e = 1/2`, `powi` for an integer, `powf` otherwise. With the
+/// operator table's names, every function a generated body calls.
+pub const POWER_METHODS: &[&str] = &["sqrt", "powi", "powf"];
 
 /// Emits the struct, its constants and its functions.
 pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {

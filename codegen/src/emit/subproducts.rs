@@ -13,9 +13,9 @@
 //! multipliers λ (`sin θ` bound once): a sub-product is bound right after
 //! the last of its factors, which every product holding it comes after.
 
-use crate::cse::MAX_UNROLLED_POWER;
+use crate::expr::cse::MAX_UNROLLED_POWER;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
-use crate::num::Num;
 use std::collections::{BTreeMap, HashMap};
 
 /// How many pairs are extracted at most per body (each round removes at
@@ -209,7 +209,7 @@ fn replace(set: &mut Multiset, (a, b): (Factor, Factor), shared: Factor) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::num::Num;
+    use crate::expr::num::Num;
 
     #[test]
     fn a_pair_in_four_products_is_shared_and_grows() {

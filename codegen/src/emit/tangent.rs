@@ -1,16 +1,16 @@
 //! The right-hand sides of the tangent systems as code: for every column
 //! variable `v` (coordinates, velocities, inputs),
 //! `F̃ᵥ = ∂F/∂v − (∂M/∂v) q̈ + (∂A/∂v)ᵀ λ` and `b̃ᵥ = ∂b/∂v − (∂A/∂v) q̈`
-//! (see [`crate::tangent`]), contracted with the locals `__qdd{i}` and
+//! (see [`crate::equations::tangent`]), contracted with the locals `__qdd{i}` and
 //! `__lam{r}`, structural zeros left out. [`TangentTerms`] is read twice:
 //! by the hidden `tangent_rhs` (the runtime's dense solve) and by the
-//! generated structured solve ([`super::structured`]), which needs no
+//! generated structured solve (`super::mass_inverse::symbolic::jacobian`), which needs no
 //! matrix of them.
 
 use super::body::{literal, Body};
 use super::context::{Context, Inputs};
+use crate::equations::tangent::{Derivatives, Form};
 use crate::expr::{Id, Sym};
-use crate::tangent::{Derivatives, Form};
 use proc_macro2::TokenStream;
 use quote::{quote, ToTokens};
 

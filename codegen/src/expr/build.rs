@@ -2,7 +2,7 @@
 //! in the parent module's docs).
 
 use super::{Args, Func, Graph, Id, Node, Parity};
-use crate::num::Num;
+use crate::expr::num::Num;
 
 /// The longest product that a product it multiplies absorbs factor by
 /// factor. Longer products stay one factor: flattening them made the
@@ -184,8 +184,9 @@ impl Graph {
                 // 4·a + b stays as it is. Exact rational content under an
                 // integer power only.
                 Node::Add(terms, c0) if integer_power => {
-                    let content = crate::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
-                        .map(|c| if terms[0].1.is_negative() { -c } else { c });
+                    let content =
+                        crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
+                            .map(|c| if terms[0].1.is_negative() { -c } else { c });
                     let content = content.unwrap_or(Num::ONE);
                     if content.is_one() || !matches!(content, Num::Rational(..)) {
                         factors.push((id, e));

@@ -10,7 +10,7 @@
 //! `define_language!`).
 
 use super::{Graph, Id};
-use crate::num::Num;
+use crate::expr::num::Num;
 
 /// The arguments of a function node: up to two, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -386,4 +386,46 @@ fn inverse_root_of_one_minus_square(g: &mut Graph, a: Id) -> Id {
     let (one, a2) = (g.int(1), g.pown(a, Num::int(2)));
     let d = g.sub(one, a2);
     g.pown(d, Num::ratio(-1, 2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Func;
+    use crate::model::lower::ALGEBRAIC;
+    use std::collections::BTreeSet;
+
+    /// The names in the first column of the function table of
+    /// `docs/dsl.md` (`sin cos …`, `atan2(y, x)`, `sqrt(x)`, `powi(x, k)`).
+    fn documented() -> BTreeSet<String> {
+        let dsl = include_str!("../../../docs/dsl.md");
+        let table = dsl
+            .split("| function | meaning |")
+            .nth(1)
+            .and_then(|rest| rest.split("\n\n").next())
+            .unwrap_or_default();
+        let mut names = BTreeSet::new();
+        for row in table.lines().skip(2) {
+            let first = row.split('|').nth(1).unwrap_or_default();
+            for code in first.split('`').skip(1).step_by(2) {
+                let head = code.split('(').next().unwrap_or_default();
+                names.extend(head.split_whitespace().map(str::to_string));
+            }
+        }
+        names
+    }
+
+    /// The docs' table lists exactly the DSL's functions: the operator
+    /// table's user-facing entries and the algebraic ones of the lowering.
+    #[test]
+    fn docs_table_lists_every_function() {
+        let table: BTreeSet<String> = Func::ALL
+            .iter()
+            .filter(|f| f.in_dsl())
+            .map(|f| f.name().to_string())
+            .chain(ALGEBRAIC.iter().map(|f| f.name.to_string()))
+            .collect();
+        let documented = documented();
+        assert!(documented.len() > 20, "table not found: {documented:?}");
+        assert_eq!(documented, table);
+    }
 }

@@ -27,13 +27,22 @@
 //! enough to overflow the stack.
 
 mod build;
+pub mod cse;
+pub mod diff;
+pub mod factor;
+pub mod finite;
 pub mod func;
+pub mod lagrange;
+pub mod num;
+pub mod print;
+pub mod squares;
 #[cfg(test)]
 mod tests;
+pub mod trig;
 
 pub use func::{Args, Emission, Func, Parity, Visibility};
 
-use crate::num::Num;
+use crate::expr::num::Num;
 use std::collections::HashMap;
 
 /// Index of a node in a [`Graph`].
@@ -62,7 +71,7 @@ pub enum Sym {
     /// by a factorization, then a variable of the expressions for `q̈`.
     Multiplier(usize),
     /// Component `sᵢ` of the direction of a directional derivative
-    /// (`crate::tangent`): a column of the Jacobian at run time.
+    /// (`crate::equations::tangent`): a column of the Jacobian at run time.
     Seed(usize),
     /// Acceleration `q̈ᵢ`: an argument of inverse dynamics only.
     Accel(usize),

@@ -117,7 +117,7 @@ impl Lowerer<'_> {
             }
             None => {
                 let z = self.graph.int(0);
-                let g = self.graph.num(crate::num::Num::Rational(-981, 100));
+                let g = self.graph.num(crate::expr::num::Num::Rational(-981, 100));
                 [z, z, g]
             }
         }
@@ -386,7 +386,7 @@ impl Lowerer<'_> {
         if kind.as_deref() == Some("position") {
             return Ok(position);
         }
-        let mut d = crate::diff::Differentiator::new();
+        let mut d = crate::expr::diff::Differentiator::new();
         Ok(position.map(|p| d.time_derivative(self.graph, p, self.n).1))
     }
 

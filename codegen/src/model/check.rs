@@ -4,9 +4,9 @@
 //! derived from other input alike.
 
 use super::ctxt::Errors;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Sym};
-use crate::num::Num;
-use crate::rng::SplitMix64;
+use crate::numeric::rng::SplitMix64;
 use proc_macro2::TokenStream;
 use quote::ToTokens;
 
@@ -239,7 +239,7 @@ pub fn constant_mass_positive_semidefinite(
         .map(|row| row.iter().map(|&e| g.as_num(e).map(Num::to_f64)).collect())
         .collect();
     if let Some(values) = values {
-        if !crate::linalg::is_positive_semidefinite(&values) {
+        if !crate::numeric::linalg::is_positive_semidefinite(&values) {
             errors.spanned(
                 at,
                 "constant `mass` matrix is not positive semi-definite (it has a negative eigenvalue)",

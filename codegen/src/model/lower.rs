@@ -4,23 +4,65 @@
 
 use super::check;
 use super::ctxt::Errors;
-use crate::diff::Differentiator;
+use crate::expr::diff::Differentiator;
+use crate::expr::num::Num;
 use crate::expr::{Args, Func, Graph, Id, Sym};
 use crate::names::{acceleration_name, velocity_name, CONSTANTS, GENERATED_PREFIX, RESERVED};
-use crate::num::Num;
 use quote::ToTokens;
 use std::collections::HashMap;
 use syn::{Expr, Ident};
 
-/// The DSL's algebraic functions, lowered to sums, products and powers
-/// rather than to function nodes, with their argument counts (a method's
-/// receiver counts). The elementary functions come from the operator table.
-const ALGEBRAIC: &[(&str, usize)] = &[
-    ("sqrt", 1),
-    ("powi", 2),
-    ("powf", 2),
-    ("hypot", 2),
-    ("clamp", 3),
+/// A DSL function lowered to sums, products and powers rather than to a
+/// function node: a row of [`ALGEBRAIC`].
+pub struct Algebraic {
+    /// The DSL name.
+    pub name: &'static str,
+    /// The argument count (a method's receiver counts).
+    pub arity: usize,
+    /// The expression, from the lowered arguments (`arity` of them).
+    lower: fn(&mut Graph, &[Id]) -> Id,
+}
+
+/// The DSL's algebraic functions, the complement of the operator table
+/// (`crate::expr::Func`): every other function name of the DSL comes from
+/// the table. `powi` is checked (an integer exponent that fits `i32`)
+/// before it is lowered.
+pub const ALGEBRAIC: &[Algebraic] = &[
+    Algebraic {
+        name: "sqrt",
+        arity: 1,
+        lower: |g, x| g.sqrt(x[0]),
+    },
+    Algebraic {
+        name: "powi",
+        arity: 2,
+        lower: |g, x| g.pow(x[0], x[1]),
+    },
+    Algebraic {
+        name: "powf",
+        arity: 2,
+        lower: |g, x| g.pow(x[0], x[1]),
+    },
+    // √(x² + y²): exact symbolically, and sympy has no `hypot`.
+    Algebraic {
+        name: "hypot",
+        arity: 2,
+        lower: |g, x| {
+            let (x2, y2) = (g.pown(x[0], Num::int(2)), g.pown(x[1], Num::int(2)));
+            let r2 = g.add2(x2, y2);
+            g.sqrt(r2)
+        },
+    },
+    // min(max(x, lo), hi): never panics when lo > hi (Rust's `clamp`
+    // does), and its derivatives follow from max and min.
+    Algebraic {
+        name: "clamp",
+        arity: 3,
+        lower: |g, x| {
+            let low = g.apply(Func::Max, Args::two(x[0], x[1]));
+            g.apply(Func::Min, Args::two(low, x[2]))
+        },
+    },
 ];
 
 /// Every function name the DSL accepts besides `dot`, for messages.
@@ -29,7 +71,7 @@ pub fn function_names() -> Vec<&'static str> {
         .iter()
         .filter(|f| f.in_dsl())
         .map(|f| f.name())
-        .chain(ALGEBRAIC.iter().map(|(f, _)| *f))
+        .chain(ALGEBRAIC.iter().map(|f| f.name))
         .chain(["dt"])
         .collect()
 }
@@ -318,9 +360,10 @@ impl Lowerer<'_> {
             return self.total_derivative(args, call);
         }
         let func = Func::from_name(&text);
-        let arity = match (func, ALGEBRAIC.iter().find(|(f, _)| *f == text)) {
+        let algebraic = ALGEBRAIC.iter().find(|f| f.name == text);
+        let arity = match (func, algebraic) {
             (Some(f), _) => f.arity(),
-            (None, Some(&(_, arity))) => arity,
+            (None, Some(f)) => f.arity,
             (None, None) => {
                 return Err(syn::Error::new_spanned(
                     name,
@@ -361,29 +404,13 @@ impl Lowerer<'_> {
         }
         let lowered: Vec<Id> = args.iter().map(|a| self.lower(a)).collect();
         let g = &mut self.graph;
-        Ok(match (func, text.as_str()) {
+        Ok(match (func, algebraic) {
             (Some(f), _) => match Args::from_slice(&lowered) {
                 Some(args) => g.apply(f, args),
                 None => g.int(0), // arity checked above
             },
-            (None, "sqrt") => g.sqrt(lowered[0]),
-            // √(x² + y²): exact symbolically, and sympy has no `hypot`.
-            (None, "hypot") => {
-                let (x2, y2) = (
-                    g.pown(lowered[0], Num::int(2)),
-                    g.pown(lowered[1], Num::int(2)),
-                );
-                let r2 = g.add2(x2, y2);
-                g.sqrt(r2)
-            }
-            // min(max(x, lo), hi): never panics when lo > hi (Rust's
-            // `clamp` does), and its derivatives follow from max and min.
-            (None, "clamp") => {
-                let low = Args::two(lowered[0], lowered[1]);
-                let low = g.apply(Func::Max, low);
-                g.apply(Func::Min, Args::two(low, lowered[2]))
-            }
-            (None, _) => g.pow(lowered[0], lowered[1]),
+            (None, Some(f)) => (f.lower)(g, &lowered),
+            (None, None) => g.int(0), // an unknown name returned above
         })
     }
 }

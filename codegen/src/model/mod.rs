@@ -389,8 +389,8 @@ impl Lowerer<'_> {
     fn kinetic(&mut self, keyword: &Ident, e: &Expr, n: usize) -> (Vec<Vec<Id>>, Option<Id>) {
         let before = self.errors.count();
         let t = self.lower(e);
-        let mut d = crate::diff::Differentiator::new();
-        let m = match crate::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) {
+        let mut d = crate::expr::diff::Differentiator::new();
+        let m = match crate::expr::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) {
             Ok(m) => m,
             Err(why) => {
                 self.errors.spanned(

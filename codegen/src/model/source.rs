@@ -180,11 +180,11 @@ impl Lowerer<'_> {
             Some(list) => self.vector(list, "`forces`", n),
             None => vec![self.graph.int(0); n],
         };
-        let mut d = crate::diff::Differentiator::new();
+        let mut d = crate::expr::diff::Differentiator::new();
         if let Some((tree, dynamics)) = tree {
             // M q̈ = Q − ∂V/∂q − c(q, q̇).
             let applied_less_v =
-                crate::lagrange::forces(self.graph, &mut d, None, potential, &applied);
+                crate::expr::lagrange::forces(self.graph, &mut d, None, potential, &applied);
             let forces = applied_less_v
                 .iter()
                 .zip(&dynamics.bias)
@@ -217,7 +217,8 @@ impl Lowerer<'_> {
             };
         }
         if kinetic.is_some() || potential.is_some() {
-            let forces = crate::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
+            let forces =
+                crate::expr::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
             let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
             let v = potential.unwrap_or_else(|| self.graph.int(0));
             let energy = self.energy_terms(t, v);
@@ -267,7 +268,7 @@ impl Lowerer<'_> {
             }
         }
         let sum = g.add(&terms);
-        let half = g.num(crate::num::Num::Rational(1, 2));
+        let half = g.num(crate::expr::num::Num::Rational(1, 2));
         g.mul2(half, sum)
     }
 }

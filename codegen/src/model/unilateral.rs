@@ -14,7 +14,7 @@
 //! - control inputs: they are held over a step in `forces` only.
 
 use super::lower::Lowerer;
-use crate::diff::Differentiator;
+use crate::expr::diff::Differentiator;
 use crate::expr::{Id, Sym};
 use crate::parse::List;
 use proc_macro2::TokenStream;

@@ -28,8 +28,8 @@
 
 use crate::bodies::spatial::{self, Inertia, V3};
 use crate::bodies::{Described, Joint, JointKind, Placement};
+use crate::expr::num::Num;
 use crate::expr::Graph;
-use crate::num::Num;
 use crate::parse::List;
 use proc_macro2::Span;
 use syn::{Ident, LitStr};

@@ -151,30 +151,8 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     let (ad, w, w_exponent) = if largest == T::zero() {
         (identity, identity, 0)
     } else {
-        // A = 2^ea A' with |A'| < 2 entrywise, exactly; ‖A h‖₁ =
-        // 2^ea h ‖A'‖₁ is found by its logarithm, which cannot overflow.
-        let ea = exponent(largest);
-        let a_scaled = a.map(|x| ldexp(x, -ea));
-        let theta = c::<T>(0.5);
-        let log_norm = norm1(&a_scaled).log2() + c::<T>(f64::from(ea)) + h.log2();
-        let mut s = nalgebra::try_convert::<T, f64>((log_norm - theta.log2()).ceil())
-            .unwrap_or(0.0)
-            .clamp(0.0, 4000.0) as i32;
-        // X = A τ = A' · h 2^(ea − s); one more halving if the logarithm
-        // rounded the wrong way.
-        let mut x = a_scaled * ldexp(h, ea - s);
-        while norm1(&x) > theta {
-            s += 1;
-            x = a_scaled * ldexp(h, ea - s);
-        }
-        let mut term = x;
-        let mut f = x;
-        let mut w = identity + x * c::<T>(0.5);
-        for k in 2..=TAYLOR_TERMS {
-            term = term * x * c::<T>(1.0 / f64::from(k));
-            f += term;
-            w += term * c::<T>(1.0 / f64::from(k + 1));
-        }
+        let (x, s) = scaled_step(a, largest, h);
+        let (mut f, mut w) = taylor(&x);
         // Doubling: e^{2Aτ} − I = 2F + F², φ₁(2Aτ) = (I + F/2) φ₁(Aτ). W is
         // kept as 2^e W with |W| near 1, so that it does not underflow
         // where h W does not.
@@ -231,6 +209,48 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     } else {
         Err(ControlError::NonFinite)
     }
+}
+
+/// `(X, s)` with `X = A h 2⁻ˢ`, `‖X‖₁ ≤ ½`, for `A ≠ 0` (`largest` its
+/// largest entry in magnitude).
+fn scaled_step<T: RealField + Copy, const NX: usize>(
+    a: &SMatrix<T, NX, NX>,
+    largest: T,
+    h: T,
+) -> (SMatrix<T, NX, NX>, i32) {
+    // A = 2^ea A' with |A'| < 2 entrywise, exactly; ‖A h‖₁ =
+    // 2^ea h ‖A'‖₁ is found by its logarithm, which cannot overflow.
+    let ea = exponent(largest);
+    let a_scaled = a.map(|x| ldexp(x, -ea));
+    let theta = c::<T>(0.5);
+    let log_norm = norm1(&a_scaled).log2() + c::<T>(f64::from(ea)) + h.log2();
+    let mut s = nalgebra::try_convert::<T, f64>((log_norm - theta.log2()).ceil())
+        .unwrap_or(0.0)
+        .clamp(0.0, 4000.0) as i32;
+    // X = A τ = A' · h 2^(ea − s); one more halving if the logarithm
+    // rounded the wrong way.
+    let mut x = a_scaled * ldexp(h, ea - s);
+    while norm1(&x) > theta {
+        s += 1;
+        x = a_scaled * ldexp(h, ea - s);
+    }
+    (x, s)
+}
+
+/// `(F, W)` = `(e^X − I, φ₁(X))` by their Taylor series, for `‖X‖₁ ≤ ½`.
+fn taylor<T: RealField + Copy, const NX: usize>(
+    x: &SMatrix<T, NX, NX>,
+) -> (SMatrix<T, NX, NX>, SMatrix<T, NX, NX>) {
+    let x = *x;
+    let mut term = x;
+    let mut f = x;
+    let mut w = SMatrix::<T, NX, NX>::identity() + x * c::<T>(0.5);
+    for k in 2..=TAYLOR_TERMS {
+        term = term * x * c::<T>(1.0 / f64::from(k));
+        f += term;
+        w += term * c::<T>(1.0 / f64::from(k + 1));
+    }
+    (f, w)
 }
 
 /// Whether `m` is certified Schur stable (spectral radius below 1): some

@@ -1,5 +1,6 @@
-//! Stage 3b: the symbolic pieces of Gauss's principle (MATH.md,
-//! "Generalized-inverse forms"): `M q̈ = F + Aᵀ λ` with `S λ = r`,
+//! Stage 3, called by `derive::constraint_equations` once `A` and `b`
+//! are built: the symbolic pieces of Gauss's principle (Udwadia & Kalaba,
+//! the generalized-inverse forms, eq. 24–26): `M q̈ = F + Aᵀ λ` with `S λ = r`,
 //! `S = A M⁻¹ Aᵀ`, `r = b − A a`, `a = M⁻¹ F`.
 //!
 //! When `M⁻¹` is known symbolically — `M` diagonal (`diag(1/mᵢ)`), or `M` a
@@ -10,10 +11,10 @@
 //! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
 //! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
+use crate::expr::factor::Factorer;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
-use crate::factor::Factorer;
-use crate::num::Num;
-use crate::sparsity::Structure;
+use crate::numeric::sparsity::Structure;
 
 /// How `M⁻¹` is applied.
 pub enum MassInverse {
@@ -34,6 +35,15 @@ impl MassInverse {
     /// independent coordinates (Gibbs–Appell eq. 18 rather than eq. 37).
     pub fn is_diagonal(&self) -> bool {
         matches!(self, MassInverse::Symbolic(s) if s.diagonal)
+    }
+
+    /// Whether the solve can fail (`acceleration` returns a `Result`):
+    /// only when `M` is not known positive definite at compile time.
+    pub fn fallible(&self) -> bool {
+        match self {
+            MassInverse::Symbolic(d) => !d.known_positive,
+            MassInverse::Factored(_) | MassInverse::Auxiliary => true,
+        }
     }
 }
 
@@ -138,20 +148,22 @@ pub struct Symbolic {
 fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
     let n = mass.len();
     let entries: Vec<Id> = mass.iter().flatten().copied().collect();
-    let mut rng = crate::rng::SplitMix64::new(0x5e11_d3f1);
+    let mut rng = crate::numeric::rng::SplitMix64::new(0x5e11_d3f1);
     (0..4).all(|_| {
         let seed = rng.next_u64();
-        let values = g.eval(&entries, &|s| crate::rng::SplitMix64::value_for(seed, s));
+        let values = g.eval(&entries, &|s| {
+            crate::numeric::rng::SplitMix64::value_for(seed, s)
+        });
         if values.iter().any(|v| !v.is_finite()) {
             return false;
         }
         let m: Vec<Vec<f64>> = values.chunks(n).map(<[f64]>::to_vec).collect();
-        crate::linalg::independent_columns(&m, 1e-12).len() < n
+        crate::numeric::linalg::independent_columns(&m, 1e-12).len() < n
     })
 }
 
 /// Builds the Gauss pieces for `mass`, `forces`, `a`, `b`.
-pub fn gauss(
+pub fn build(
     g: &mut Graph,
     factorer: &mut Factorer,
     mass: &[Vec<Id>],
@@ -165,40 +177,12 @@ pub fn gauss(
     }
     let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
-    let constant: Option<Vec<Vec<Num>>> = mass
-        .iter()
-        .map(|row| row.iter().map(|&e| g.as_num(e)).collect())
-        .collect();
-    let (inverse, masses, known_positive): (Vec<Vec<Id>>, Vec<Id>, bool) = if diagonal {
-        let masses: Vec<Id> = (0..n).map(|i| mass[i][i]).collect();
-        let known_positive = masses
-            .iter()
-            .all(|&m| g.as_num(m).is_some_and(|v| v.to_f64() > 0.0));
-        let mut inverse = vec![vec![zero; n]; n];
-        for (i, &m) in masses.iter().enumerate() {
-            inverse[i][i] = g.pown(m, Num::MINUS_ONE);
-        }
-        (inverse, masses, known_positive)
-    } else if let Some(inverse) = constant.and_then(|m| exact_inverse(&m)) {
-        let inverse = inverse
-            .into_iter()
-            .map(|row| row.into_iter().map(|x| g.num(x)).collect())
-            .collect();
-        (inverse, Vec::new(), true)
-    } else {
+    let Some((inverse, masses, known_positive)) = symbolic_inverse(g, mass, diagonal, zero) else {
         return MassInverse::Factored(Box::new(Factored::new(g, mass, a)));
     };
     // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a
     // common mass μ).
     let scale: Vec<Num> = a.iter().map(|row| row_scale(g, row)).collect();
-    let scaled = |g: &mut Graph, e: Id, d: Num| -> Id {
-        if d.is_one() {
-            e
-        } else {
-            let d = g.num(d);
-            g.mul2(d, e)
-        }
-    };
     let rows: Vec<Vec<Id>> = a
         .iter()
         .zip(&scale)
@@ -219,11 +203,6 @@ pub fn gauss(
             .collect(),
         None => inverse.clone(),
     };
-    // M⁻¹ v as expressions; structural zeros of M⁻¹ and v vanish.
-    let apply = |g: &mut Graph, inverse: &[Vec<Id>], v: &dyn Fn(usize) -> Id, i: usize| -> Id {
-        let terms: Vec<Id> = (0..n).map(|l| g.mul2(inverse[i][l], v(l))).collect();
-        g.add(&terms)
-    };
     let unconstrained: Vec<Id> = (0..n)
         .map(|i| apply(g, &inverse, &|l| forces[l], i))
         .collect();
@@ -235,54 +214,15 @@ pub fn gauss(
                 .collect()
         })
         .collect();
-    let mut gram = vec![vec![zero; k]; k];
-    for i in 0..k {
-        for j in i..k {
-            let shared: Vec<usize> = (0..n)
-                .filter(|&l| !g.is_zero(rows[i][l]) && !g.is_zero(weighted[l][j]))
-                .collect();
-            let terms: Vec<Id> = shared
-                .iter()
-                .map(|&l| g.mul2(rows[i][l], weighted[l][j]))
-                .collect();
-            let s = g.add(&terms);
-            gram[i][j] = s;
-            gram[j][i] = s;
-        }
-    }
-    let residual: Vec<Id> = (0..k)
-        .map(|i| {
-            let aa: Vec<Id> = (0..n)
-                .map(|l| g.mul2(rows[i][l], unconstrained[l]))
-                .collect();
-            let aa = g.add(&aa);
-            g.sub(b_hat[i], aa)
-        })
-        .collect();
+    let (gram, residual) = gram_and_residual(g, &rows, &weighted, &unconstrained, &b_hat);
     let structure = Structure::new(
         (0..k)
             .map(|i| (0..k).map(|j| !g.is_zero(gram[i][j])).collect())
             .collect(),
     );
-    let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
-    let mut acceleration = Vec::with_capacity(n);
-    let mut force = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut acc = vec![unconstrained[i]];
-        let mut f = Vec::with_capacity(k);
-        for j in 0..k {
-            acc.push(g.mul2(weighted[i][j], lambda[j]));
-            f.push(g.mul2(rows[j][i], lambda[j]));
-        }
-        acceleration.push(g.add(&acc));
-        let f = g.add(&f);
-        force.push(match common_mass {
-            Some(m) => g.mul2(m, f),
-            None => f,
-        });
-    }
+    let (acceleration, force) = motion(g, &rows, &weighted, &unconstrained, common_mass);
     // The pieces as the derivation prints them and the code computes
-    // them: with common factors pulled out (`crate::factor`).
+    // them: with common factors pulled out (`crate::expr::factor`).
     let unconstrained = factorer.factor_all(g, &unconstrained);
     let weighted = factorer.factor_rows(g, &weighted);
     let gram = factorer.factor_rows(g, &gram);
@@ -307,6 +247,125 @@ pub fn gauss(
     }))
 }
 
+/// `M⁻¹` as expressions, the diagonal masses and whether `M` is known
+/// positive definite, where `M` is diagonal or a numeric constant with an
+/// exact inverse; `None` otherwise (`M` is factored in generated code).
+fn symbolic_inverse(
+    g: &mut Graph,
+    mass: &[Vec<Id>],
+    diagonal: bool,
+    zero: Id,
+) -> Option<(Vec<Vec<Id>>, Vec<Id>, bool)> {
+    let n = mass.len();
+    if diagonal {
+        let masses: Vec<Id> = (0..n).map(|i| mass[i][i]).collect();
+        let known_positive = masses
+            .iter()
+            .all(|&m| g.as_num(m).is_some_and(|v| v.to_f64() > 0.0));
+        let mut inverse = vec![vec![zero; n]; n];
+        for (i, &m) in masses.iter().enumerate() {
+            inverse[i][i] = g.pown(m, Num::MINUS_ONE);
+        }
+        return Some((inverse, masses, known_positive));
+    }
+    let constant: Option<Vec<Vec<Num>>> = mass
+        .iter()
+        .map(|row| row.iter().map(|&e| g.as_num(e)).collect())
+        .collect();
+    let inverse = exact_inverse(&constant?)?;
+    let inverse = inverse
+        .into_iter()
+        .map(|row| row.into_iter().map(|x| g.num(x)).collect())
+        .collect();
+    Some((inverse, Vec::new(), true))
+}
+
+/// `d · e`, or `e` itself for `d = 1`.
+fn scaled(g: &mut Graph, e: Id, d: Num) -> Id {
+    if d.is_one() {
+        e
+    } else {
+        let d = g.num(d);
+        g.mul2(d, e)
+    }
+}
+
+/// Row `i` of `M⁻¹ v` as an expression; structural zeros of `M⁻¹` and `v`
+/// vanish.
+fn apply(g: &mut Graph, inverse: &[Vec<Id>], v: &dyn Fn(usize) -> Id, i: usize) -> Id {
+    let terms: Vec<Id> = (0..inverse.len())
+        .map(|l| g.mul2(inverse[i][l], v(l)))
+        .collect();
+    g.add(&terms)
+}
+
+/// `S = Â W` (symmetric, each entry built once) and `r = b̂ − Â a`.
+fn gram_and_residual(
+    g: &mut Graph,
+    rows: &[Vec<Id>],
+    weighted: &[Vec<Id>],
+    unconstrained: &[Id],
+    b_hat: &[Id],
+) -> (Vec<Vec<Id>>, Vec<Id>) {
+    let (n, k) = (unconstrained.len(), rows.len());
+    let zero = g.int(0);
+    let mut gram = vec![vec![zero; k]; k];
+    for i in 0..k {
+        for j in i..k {
+            let shared: Vec<usize> = (0..n)
+                .filter(|&l| !g.is_zero(rows[i][l]) && !g.is_zero(weighted[l][j]))
+                .collect();
+            let terms: Vec<Id> = shared
+                .iter()
+                .map(|&l| g.mul2(rows[i][l], weighted[l][j]))
+                .collect();
+            let s = g.add(&terms);
+            gram[i][j] = s;
+            gram[j][i] = s;
+        }
+    }
+    let residual: Vec<Id> = (0..k)
+        .map(|i| {
+            let aa: Vec<Id> = (0..n)
+                .map(|l| g.mul2(rows[i][l], unconstrained[l]))
+                .collect();
+            let aa = g.add(&aa);
+            g.sub(b_hat[i], aa)
+        })
+        .collect();
+    (gram, residual)
+}
+
+/// `q̈ = a + W λ` and `Fᶜ = Âᵀ λ` (times the common mass) over the
+/// multipliers' symbols.
+fn motion(
+    g: &mut Graph,
+    rows: &[Vec<Id>],
+    weighted: &[Vec<Id>],
+    unconstrained: &[Id],
+    common_mass: Option<Id>,
+) -> (Vec<Id>, Vec<Id>) {
+    let (n, k) = (unconstrained.len(), rows.len());
+    let lambda: Vec<Id> = (0..k).map(|j| g.sym(Sym::Multiplier(j))).collect();
+    let mut acceleration = Vec::with_capacity(n);
+    let mut force = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut acc = vec![unconstrained[i]];
+        let mut f = Vec::with_capacity(k);
+        for j in 0..k {
+            acc.push(g.mul2(weighted[i][j], lambda[j]));
+            f.push(g.mul2(rows[j][i], lambda[j]));
+        }
+        acceleration.push(g.add(&acc));
+        let f = g.add(&f);
+        force.push(match common_mass {
+            Some(m) => g.mul2(m, f),
+            None => f,
+        });
+    }
+    (acceleration, force)
+}
+
 /// `1/c` for the numeric content `c` of a row of `A` (the rational
 /// content of the entries' own contents: `2·x1 − 2·x2` has 2, `l·sin p/2`
 /// has 1/2), or 1 where there is none to divide out.
@@ -314,7 +373,9 @@ fn row_scale(g: &Graph, row: &[Id]) -> Num {
     let entry_content = |e: Id| -> Option<Num> {
         match g.node(e) {
             Node::Num(n) => Some(*n),
-            Node::Add(terms, c0) => crate::num::content(terms.iter().map(|t| t.1).chain(Some(*c0))),
+            Node::Add(terms, c0) => {
+                crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
+            }
             _ => Some(Num::ONE),
         }
     };
@@ -324,7 +385,7 @@ fn row_scale(g: &Graph, row: &[Id]) -> Num {
         .map(|&e| entry_content(e))
         .collect();
     contents
-        .and_then(crate::num::content)
+        .and_then(crate::expr::num::content)
         .map(Num::recip)
         .filter(|d| matches!(d, Num::Rational(..)))
         .unwrap_or(Num::ONE)

@@ -21,8 +21,8 @@
 //! definitions, and rebuilding them would duplicate them (see
 //! [`Factorer`]); the bounded depth also bounds the recursion.
 
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node};
-use crate::num::Num;
 use std::collections::{HashMap, HashSet};
 
 /// Sums with more terms than this are left as they are: the search is

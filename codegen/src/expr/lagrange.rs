@@ -9,7 +9,7 @@
 //! `d/dt(∂T/∂q̇ᵢ) = Σⱼ Mᵢⱼ q̈ⱼ + Σⱼ ∂²T/∂q̇ᵢ∂qⱼ q̇ⱼ + ∂²T/∂q̇ᵢ∂t`.
 //! Used by the model stage, which checks the results like written input.
 
-use crate::diff::Differentiator;
+use crate::expr::diff::Differentiator;
 use crate::expr::{Graph, Id, Node, Sym};
 use std::fmt;
 
@@ -75,7 +75,7 @@ pub fn mass_from_kinetic_energy(
             };
             // sin² + cos² = 1 where it shortens (the Furuta pendulum's
             // θ-free arm inertia, a Cartesian pendulum's constant m·l²).
-            let entry = crate::trig::simplify(g, entry);
+            let entry = crate::expr::trig::simplify(g, entry);
             m[i][j] = entry;
             m[j][i] = entry;
         }
@@ -196,7 +196,7 @@ pub fn forces(
             // (∂²T/∂q̇∂qᵀ) q̇ that cancel do (the cart-pole's θ equation).
             let terms: Vec<Id> = terms.into_iter().map(|t| g.distribute(t)).collect();
             let sum = g.add(&terms);
-            crate::trig::simplify(g, sum)
+            crate::expr::trig::simplify(g, sum)
         })
         .collect()
 }
@@ -204,7 +204,7 @@ pub fn forces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::num::Num;
+    use crate::expr::num::Num;
 
     /// A pendulum of length 1 in its angle: `T = θ̇²/2`, `V = −cos θ`:
     /// `M = 1`, `F = −sin θ`.

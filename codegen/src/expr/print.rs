@@ -1,8 +1,8 @@
 //! Expressions as text: Unicode mathematics for `DERIVATION`, sympy syntax
 //! for `SYMBOLIC`. One precedence-aware printer serves both styles.
 
+use crate::expr::num::Num;
 use crate::expr::{signed_parts, Func, Graph, Id, Node, Sym};
-use crate::num::Num;
 use std::collections::HashMap;
 
 /// How to write an expression.

@@ -1,8 +1,9 @@
-//! Stage 3c: the Gibbs–Appell partition (MATH.md, "Explicit Gibbs–Appell
-//! equation"): the generic rank `r` of `A` and the `r` coordinates whose
+//! Stage 3, its last step (after `derive::constraint_equations`, in
+//! `analyse_with`): the Gibbs–Appell partition (Udwadia & Kalaba, the
+//! explicit Gibbs–Appell equation): the generic rank `r` of `A` and the `r` coordinates whose
 //! accelerations are eliminated.
 //!
-//! Redundancy holds only on the constraint surface (MATH.md), so the rank is
+//! Redundancy holds only on the constraint surface, so the rank is
 //! measured at *consistent* states: deterministic pseudo-random states
 //! projected onto `φ = 0` by Newton's method with minimum-norm steps —
 //! positions onto the position-level constraints (Jacobian `∂φ/∂q`, the
@@ -11,12 +12,12 @@
 //! state can be projected the rank off the surface is used instead, and the
 //! derivation says so.
 
-use crate::derive::Equations;
+use crate::equations::mass_inverse::MassInverse;
+use crate::equations::Equations;
 use crate::expr::{Id, Sym};
-use crate::linalg::{independent_columns, minimum_norm_solve};
 use crate::model::Level;
-use crate::motion::MassInverse;
-use crate::rng::SplitMix64;
+use crate::numeric::linalg::{independent_columns, minimum_norm_solve};
+use crate::numeric::rng::SplitMix64;
 
 /// The partition used by the Gibbs–Appell form.
 #[derive(Clone, Debug)]
@@ -62,7 +63,7 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
             .map(|_| eval_a(eq, &random_state(eq, &mut rng)))
             .collect()
     };
-    if matches!(eq.gauss, MassInverse::Auxiliary) {
+    if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
         completes_the_mass(eq, &states)?;
     }
     let rank = matrices

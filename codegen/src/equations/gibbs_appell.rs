@@ -4,10 +4,10 @@
 //! that runs is `constrained::gibbs_appell`, which re-pivots at run time;
 //! tests check that both agree.
 
-use crate::derive::Equations;
+use crate::equations::partition::Partition;
+use crate::equations::Equations;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id};
-use crate::num::Num;
-use crate::partition::Partition;
 
 /// The rows below the first of the Gibbs–Appell system, for `r = 1`.
 pub struct RankOne {
@@ -25,7 +25,7 @@ pub fn rank_one(eq: &Equations, partition: &Partition) -> Option<RankOne> {
     if partition.rank != 1 || n < 2 {
         return None;
     }
-    let coupled = !eq.gauss.is_diagonal();
+    let coupled = !eq.mass_inverse.is_diagonal();
     let mut g = eq.system.graph.clone();
     let e = partition.eliminated[0];
     let independent: Vec<usize> = (0..n).filter(|&j| j != e).collect();

@@ -129,7 +129,7 @@ mod tests {
     #[test]
     fn the_fixtures_are_far_below_the_bound() {
         for links in [1, 8, 32] {
-            let text = crate::fixtures::planar_chain("Chain", links);
+            let text = crate::tools::fixtures::planar_chain("Chain", links);
             let tokens: TokenStream = text.parse().expect("tokens");
             let body = tokens.into_iter().last().expect("the macro's braces");
             let TokenTree::Group(g) = body else {

@@ -24,7 +24,7 @@
 //!   from energies, whose every entry depends on every coordinate: the
 //!   16-link pendulum's columns took 280,000 nodes and 35 MB of code).
 
-use crate::diff::{Differentiator, Directional};
+use crate::expr::diff::{Differentiator, Directional};
 use crate::expr::{Graph, Id, Sym};
 
 /// The per-column form is kept while its derivatives take at most this many
@@ -192,7 +192,7 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixtures::{joint_angle_pendulum, planar_chain};
+    use crate::tools::fixtures::{joint_angle_pendulum, planar_chain};
 
     fn form(source: &str) -> (bool, usize) {
         let (eq, _) = crate::analyse(source.parse().expect("tokens")).expect("expands");
@@ -231,7 +231,7 @@ mod tests {
                 for seed in 0..4u64 {
                     let value = |s: Sym| match s {
                         Sym::Seed(k) => f64::from(u8::from(k == c)),
-                        s => crate::rng::SplitMix64::value_for(seed, s),
+                        s => crate::numeric::rng::SplitMix64::value_for(seed, s),
                     };
                     let both = g.eval(&[along, partial], &value);
                     assert!(

@@ -16,9 +16,9 @@
 //! when the result costs no more operations. Values are unchanged up to
 //! rounding: the identity is exact, only the order of operations moves.
 
+use crate::expr::num::Num;
+use crate::expr::squares::operations;
 use crate::expr::{Func, Graph, Id, Node};
-use crate::num::Num;
-use crate::squares::operations;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// Expansions of more monomials than this keep the subexpression whole (an

@@ -1,7 +1,7 @@
 //! Exact symbolic differentiation on the DAG, and the total time derivative.
 
+use crate::expr::num::Num;
 use crate::expr::{Func, Graph, Id, Node, Sym};
-use crate::num::Num;
 use std::collections::HashMap;
 
 /// Memoised partial derivatives `∂e/∂v`; one per graph, reused across calls so
@@ -32,8 +32,8 @@ impl Differentiator {
     }
 
     /// The total time derivative of `e(q, q̇, t)` split as `D e = Σⱼ rowⱼ·q̈ⱼ + rest`:
-    /// `rowⱼ = ∂e/∂q̇ⱼ` and `rest = Σⱼ ∂e/∂qⱼ·q̇ⱼ + ∂e/∂t` (MATH.md, "From
-    /// constraints to A q̈ = b"). `D e` is affine in `q̈` because `e` has no `q̈`.
+    /// `rowⱼ = ∂e/∂q̇ⱼ` and `rest = Σⱼ ∂e/∂qⱼ·q̇ⱼ + ∂e/∂t`.
+    /// `D e` is affine in `q̈` because `e` has no `q̈`.
     pub fn time_derivative(&mut self, g: &mut Graph, e: Id, n: usize) -> (Vec<Id>, Id) {
         let row: Vec<Id> = (0..n).map(|j| self.partial(g, e, Sym::Vel(j))).collect();
         let mut rest: Vec<Id> = Vec::with_capacity(n + 1);

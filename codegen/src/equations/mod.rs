@@ -1,13 +1,19 @@
 //! Stage 3: [`System`] → [`Equations`]: the constraints differentiated into
-//! `A q̈ = b` by the total-derivative rule (MATH.md, "From constraints to A q̈ = b").
+//! `A q̈ = b` by the total-derivative rule; then Gauss's principle
+//! ([`mass_inverse`]) and the tangent pieces ([`tangent`]).
 
-use crate::diff::Differentiator;
+pub mod gibbs_appell;
+pub mod mass_inverse;
+pub mod partition;
+pub mod tangent;
+
+use crate::expr::diff::Differentiator;
+use crate::expr::factor::Factorer;
 use crate::expr::Id;
 use crate::expr::Sym;
-use crate::factor::Factorer;
 use crate::model::{Level, System};
-use crate::motion::{self, MassInverse};
-use crate::tangent::{self, Pieces, Tangent};
+use mass_inverse::MassInverse;
+use tangent::{Pieces, Tangent};
 
 /// A system together with its derived constraint equations.
 pub struct Equations {
@@ -20,23 +26,25 @@ pub struct Equations {
     /// The constraints at velocity level: `φ̇` for position-level `φ`, `φ`
     /// itself otherwise. Zero on consistent states; its Jacobian in `q̇` is `A`.
     pub velocity_constraints: Vec<Id>,
-    /// How Gauss's principle is solved (see [`motion`]).
-    pub gauss: MassInverse,
+    /// How Gauss's principle is solved (see [`mass_inverse`]).
+    pub mass_inverse: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
-    /// (see [`crate::tangent`]); none when not `jacobians`.
+    /// (see [`crate::equations::tangent`]); none when not `jacobians`.
     pub tangent: Tangent,
     /// Whether the Jacobian and linearization are generated
     /// ([`crate::Options`]).
     pub jacobians: bool,
+    /// The generalized momentum `p = M(q, t) q̇`, n entries.
+    pub momentum: Vec<Id>,
 }
 
 /// Differentiates every constraint: velocity-level φ once, position-level φ
 /// twice (`ψ = D φ` or `ψ = D(D φ)`), and splits `ψ` into `A q̈ − b`.
 ///
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
-/// written, so that a user's scaling of φ shows up unchanged (API.md).
+/// written, so that a user's scaling of φ shows up unchanged.
 /// `M`, `F`, `A` and `b` have their common factors pulled out
-/// ([`crate::factor`]) before anything is built from them, so that the
+/// ([`crate::expr::factor`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
 pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();
@@ -60,9 +68,9 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     }
     // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
     // squares where that shortens the code, counted with everything else
-    // that is computed beside it (crate::squares).
+    // that is computed beside it (crate::expr::squares).
     let b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
-    let gauss = motion::gauss(g, &mut factorer, &system.mass, &system.forces, &a, &b);
+    let mass_inverse = mass_inverse::build(g, &mut factorer, &system.mass, &system.forces, &a, &b);
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     let pieces = Pieces {
         mass: &system.mass,
@@ -76,15 +84,34 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     } else {
         Tangent::none()
     };
+    let momentum = momentum(&mut system.graph, &system.mass);
     Equations {
+        momentum,
         jacobians,
         system,
         a,
         b,
         velocity_constraints,
-        gauss,
+        mass_inverse,
         tangent,
     }
+}
+
+/// `M q̇`, row by row; structural zeros of `M` vanish.
+fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
+    mass.iter()
+        .map(|row| {
+            let terms: Vec<Id> = row
+                .iter()
+                .enumerate()
+                .map(|(j, &m)| {
+                    let v = g.sym(Sym::Vel(j));
+                    g.mul2(m, v)
+                })
+                .collect();
+            g.add(&terms)
+        })
+        .collect()
 }
 
 /// Every row of `b` factored, as a sum of squares where that costs at least
@@ -112,7 +139,7 @@ fn complete_squares(
             .chain(rows.iter().skip(i + 1))
             .copied()
             .collect();
-        rows[i] = crate::squares::complete(g, factorer, b[i], &context);
+        rows[i] = crate::expr::squares::complete(g, factorer, b[i], &context);
     }
     rows
 }

@@ -13,6 +13,7 @@
 //! solver that calls into the runtime for its answer (a dense `M(q)`) is
 //! not straight-line and has no count.
 
+use crate::expr::Func;
 use syn::{Expr, Pat, Stmt};
 
 /// Operations by kind.
@@ -48,12 +49,12 @@ impl OpCount {
     }
 }
 
-/// Method calls that are one elementary function each.
-const FUNCTIONS: &[&str] = &[
-    "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "exp", "ln",
-    "log", "sqrt", "cbrt", "powi", "powf", "abs", "recip", "hypot", "floor", "ceil", "signum",
-    "max", "min", "step",
-];
+/// Whether a method or function call of generated code is one elementary
+/// function: an entry of the operator table (`crate::expr::Func`, by the
+/// name generated code calls), or a power as `crate::emit` writes it.
+fn is_function(name: &str) -> bool {
+    Func::ALL.iter().any(|f| f.name() == name) || crate::emit::POWER_METHODS.contains(&name)
+}
 
 /// Method and function calls that compute nothing (conversions, checks,
 /// constructors of the returned vectors).
@@ -251,7 +252,7 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
                 ops.add += 1;
             } else if name == "sin_cos" {
                 ops.functions += 2;
-            } else if FUNCTIONS.contains(&name.as_str()) {
+            } else if is_function(&name) {
                 ops.functions += 1;
             } else if !FREE.contains(&name.as_str()) {
                 return None;
@@ -266,7 +267,7 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
                 return None;
             };
             let name = path.path.segments.last()?.ident.to_string();
-            if FUNCTIONS.contains(&name.as_str()) {
+            if is_function(&name) {
                 // The runtime's scalar helpers (`signum`, `step`).
                 ops.functions += 1;
             } else if !FREE.contains(&name.as_str()) {

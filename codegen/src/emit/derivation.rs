@@ -2,14 +2,14 @@
 //! the way the paper writes it, so that a change in the generated equations
 //! reads as a change in mathematics in code review.
 
-use crate::derive::Equations;
+use crate::equations::gibbs_appell::{rank_one, RankOne};
+use crate::equations::mass_inverse::{Factored, MassInverse};
+use crate::equations::partition::Partition;
+use crate::equations::Equations;
+use crate::expr::print::{shared_subexpressions, subscript, Printer, Style};
 use crate::expr::{Graph, Id};
-use crate::gibbs_appell::{rank_one, RankOne};
 use crate::model::{Energies, Level};
-use crate::motion::{Factored, MassInverse};
-use crate::partition::Partition;
-use crate::print::{shared_subexpressions, subscript, Printer, Style};
-use crate::sparsity::Structure;
+use crate::numeric::sparsity::Structure;
 use std::collections::HashMap;
 use std::fmt::Write;
 
@@ -34,65 +34,13 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     let p = Printer::new(g, &coordinates, &parameters, Style::Unicode).with_names(&names);
     let mut out = String::new();
     let w = &mut out;
-    let n = sys.dof();
 
-    let _ = writeln!(
-        w,
-        "{}: equations of motion derived by constrained_system!",
-        sys.name
-    );
-    let _ = writeln!(w);
-    let _ = writeln!(w, "Coordinates  q = ({})", coordinates.join(", "));
-    let (parameters_only, inputs) = parameters.split_at(parameters.len() - sys.inputs);
-    if !parameters_only.is_empty() {
-        let _ = writeln!(w, "Parameters   {}", parameters_only.join(", "));
-    }
-    if !inputs.is_empty() {
-        let _ = writeln!(w, "Inputs       u = ({})", inputs.join(", "));
-    }
-    let _ = writeln!(w);
-
-    if !sys.named.is_empty() {
-        let _ = writeln!(w, "Definitions (named wherever they occur below):");
-        for (name, id) in &sys.named {
-            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
-        }
-        let _ = writeln!(w);
-    }
-    if !shared.is_empty() {
-        let _ = writeln!(
-            w,
-            "Shared subexpressions (each written out once, named where it recurs):"
-        );
-        for (id, name) in &shared {
-            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
-        }
-        let _ = writeln!(w);
-    }
+    header(w, eq, &coordinates, &parameters, &shared, &p);
     if let Some(energies) = &sys.energies {
         energies_text(w, energies, &p);
     }
 
-    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(sys.mass[i][j])));
-    if diagonal {
-        let entries: Vec<String> = (0..n).map(|i| p.print(sys.mass[i][i])).collect();
-        let _ = writeln!(w, "Mass matrix  M = diag({})", entries.join(", "));
-    } else {
-        let _ = writeln!(
-            w,
-            "Mass matrix  M (symmetric; upper triangle, nonzero entries):"
-        );
-        for i in 0..n {
-            for j in i..n {
-                if !g.is_zero(sys.mass[i][j]) {
-                    let (a, b) = (&coordinates[i], &coordinates[j]);
-                    let _ = writeln!(w, "  M[{a}, {b}] = {}", p.print(sys.mass[i][j]));
-                }
-            }
-        }
-    }
-    let _ = writeln!(w);
-
+    mass_text(w, eq, g, &coordinates, &p);
     let _ = writeln!(w, "Impressed forces  F(q, q̇, t):");
     for (c, &f) in coordinates.iter().zip(&sys.forces) {
         let _ = writeln!(w, "  F[{c}] = {}", p.print(f));
@@ -129,6 +77,77 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     out
 }
 
+/// The name, coordinates, parameters and inputs; the named definitions and
+/// the shared subexpressions.
+fn header(
+    w: &mut String,
+    eq: &Equations,
+    coordinates: &[String],
+    parameters: &[String],
+    shared: &[(Id, String)],
+    p: &Printer,
+) {
+    let sys = &eq.system;
+    let _ = writeln!(
+        w,
+        "{}: equations of motion derived by constrained_system!",
+        sys.name
+    );
+    let _ = writeln!(w);
+    let _ = writeln!(w, "Coordinates  q = ({})", coordinates.join(", "));
+    let (parameters_only, inputs) = parameters.split_at(parameters.len() - sys.inputs);
+    if !parameters_only.is_empty() {
+        let _ = writeln!(w, "Parameters   {}", parameters_only.join(", "));
+    }
+    if !inputs.is_empty() {
+        let _ = writeln!(w, "Inputs       u = ({})", inputs.join(", "));
+    }
+    let _ = writeln!(w);
+
+    if !sys.named.is_empty() {
+        let _ = writeln!(w, "Definitions (named wherever they occur below):");
+        for (name, id) in &sys.named {
+            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
+        }
+        let _ = writeln!(w);
+    }
+    if !shared.is_empty() {
+        let _ = writeln!(
+            w,
+            "Shared subexpressions (each written out once, named where it recurs):"
+        );
+        for (id, name) in shared {
+            let _ = writeln!(w, "  {name} = {}", p.print_expanded(*id));
+        }
+        let _ = writeln!(w);
+    }
+}
+
+/// `M`: its diagonal, or the nonzero entries of its upper triangle.
+fn mass_text(w: &mut String, eq: &Equations, g: &Graph, coordinates: &[String], p: &Printer) {
+    let sys = &eq.system;
+    let n = sys.dof();
+    let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(sys.mass[i][j])));
+    if diagonal {
+        let entries: Vec<String> = (0..n).map(|i| p.print(sys.mass[i][i])).collect();
+        let _ = writeln!(w, "Mass matrix  M = diag({})", entries.join(", "));
+    } else {
+        let _ = writeln!(
+            w,
+            "Mass matrix  M (symmetric; upper triangle, nonzero entries):"
+        );
+        for i in 0..n {
+            for j in i..n {
+                if !g.is_zero(sys.mass[i][j]) {
+                    let (a, b) = (&coordinates[i], &coordinates[j]);
+                    let _ = writeln!(w, "  M[{a}, {b}] = {}", p.print(sys.mass[i][j]));
+                }
+            }
+        }
+    }
+    let _ = writeln!(w);
+}
+
 /// A row of a k × n matrix: every entry when the row is short or mostly
 /// nonzero; otherwise the nonzero entries by coordinate (`x1: 2·x1, …; 0
 /// elsewhere`), so that a long chain's rows are as long as their
@@ -163,7 +182,7 @@ fn printed_roots(eq: &Equations, rank_one: Option<&RankOne>) -> Vec<Id> {
     roots.extend(sys.constraints.iter().map(|c| c.phi));
     roots.extend(eq.a.iter().flatten());
     roots.extend(&eq.b);
-    if let MassInverse::Symbolic(d) = &eq.gauss {
+    if let MassInverse::Symbolic(d) = &eq.mass_inverse {
         roots.extend(&d.unconstrained);
         roots.extend(d.gram.iter().flatten());
         roots.extend(&d.residual);
@@ -215,7 +234,7 @@ fn gibbs_appell(
     coordinates: &[String],
 ) {
     let r = partition.rank;
-    let coupled = !eq.gauss.is_diagonal();
+    let coupled = !eq.mass_inverse.is_diagonal();
     let eliminated: Vec<String> = partition
         .eliminated
         .iter()
@@ -301,10 +320,10 @@ fn multiplier_rule(w: &mut String, structure: &Structure, rank: usize) {
     }
 }
 
-/// How the solved system was scaled (`crate::motion::Symbolic`): the
+/// How the solved system was scaled (`crate::equations::mass_inverse::Symbolic`): the
 /// rows of `A q̈ = b` divided by their numeric content, `M` by a common
 /// mass. S, r and λ below are those of the scaled system; q̈ is the same.
-fn scaling_text(w: &mut String, d: &crate::motion::Symbolic, p: &Printer) {
+fn scaling_text(w: &mut String, d: &crate::equations::mass_inverse::Symbolic, p: &Printer) {
     let scaled = d.scale.iter().any(|s| !s.is_one());
     if !scaled && d.common_mass.is_none() {
         return;
@@ -389,7 +408,7 @@ fn generalized_inverse(
         w,
         "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  S λ = r,  S = A M⁻¹ Aᵀ,  r = b − A a,  a = M⁻¹ F:"
     );
-    if matches!(eq.gauss, MassInverse::Auxiliary) {
+    if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
         let _ = writeln!(
             w,
             "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
@@ -400,7 +419,7 @@ fn generalized_inverse(
         );
         return;
     }
-    let d = match &eq.gauss {
+    let d = match &eq.mass_inverse {
         MassInverse::Symbolic(d) => d,
         MassInverse::Factored(f) => {
             factored(w, f, coordinates, rank);

@@ -1,7 +1,10 @@
-//! Stage 1: tokens → [`SystemInput`], the syntax of the DSL (API.md).
+//! Stage 1: tokens → [`SystemInput`], the syntax of the DSL (the
+//! guide `docs/dsl.md`).
 //!
 //! Only the shape is checked here; names, lengths and meaning are checked by
 //! [`crate::model`], which sees the whole input and reports every error at once.
+
+pub mod nesting;
 
 use proc_macro2::Span;
 use syn::parse::{Parse, ParseStream};

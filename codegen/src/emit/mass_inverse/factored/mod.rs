@@ -1,0 +1,362 @@
+//! Gauss's principle for a configuration-dependent `M(q)`, solved in
+//! generated code on compile-time patterns (`crate::equations::mass_inverse::Factored`):
+//!
+//! 1. `M`, `F`, `A` and `b` as one straight-line body, so that CSE shares
+//!    their subexpressions;
+//! 2. `P M Pᵀ = L D Lᵀ` over `M`'s pattern (a pivot that is not positive
+//!    returns `MassNotPositiveDefinite`, as a Cholesky factorization fails);
+//! 3. `a = M⁻¹ F` and the columns of `W = M⁻¹ Aᵀ` by sparse substitution,
+//!    each touching only what its right-hand side reaches;
+//! 4. `S = A W`, `r = b − A a` over their patterns, then `S`'s
+//!    rank-revealing `LDLᵀ` exactly as for a constant `M`
+//!    ([`crate::emit::ldlt`]), with the same after-the-fact rank check.
+//!
+//! The Jacobian ([`jacobian`]) reuses both factorizations: `tangent_rhs`
+//! fills the right-hand sides, one column each, and one loop solves every
+//! column through `L D Lᵀ` of `M` and of `S`.
+
+pub(in crate::emit) mod jacobian;
+pub(in crate::emit) mod step;
+
+use crate::emit::body::Body;
+use crate::emit::context::Context;
+use crate::emit::ldlt::{Solves, StructuredLdlt};
+use crate::emit::solve::{checked_motion, corrected};
+use crate::equations::mass_inverse::Factored;
+use crate::expr::Id;
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::Ident;
+
+/// The generated solve up to `λ`, shared by `gauss` and the Jacobian.
+pub(super) struct FactoredSolve<'a> {
+    /// `M`'s factorization (locals `__m{i}_{j}`, `__ml…`, `__mi…`).
+    pub mass: StructuredLdlt<'a>,
+    /// `S`'s factorization (locals `__s{i}_{j}`, `__l…`, `__inv…`).
+    pub gram: StructuredLdlt<'a>,
+    /// The code from the arguments to `λ` (`__lam{j}`): `M`, `F`, `A`, `b`,
+    /// the finiteness check, both factorizations and solves.
+    pub to_multipliers: TokenStream,
+    /// `q̈ᵢ = aᵢ + Σⱼ Wᵢⱼ λⱼ`, one expression per coordinate.
+    pub acceleration: Vec<TokenStream>,
+    /// `Fᶜᵢ = Σⱼ Aⱼᵢ λⱼ`.
+    pub force: Vec<TokenStream>,
+}
+
+/// `Σ x·y` over the given pairs, `T::zero()` for none.
+fn dot(pairs: Vec<(TokenStream, TokenStream)>) -> TokenStream {
+    if pairs.is_empty() {
+        return quote!(T::zero());
+    }
+    let terms = pairs.into_iter().map(|(x, y)| quote!(#x * #y));
+    quote!(#(#terms)+*)
+}
+
+/// How much of the solve is built.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Scope {
+    /// All of it, to `λ`. `gauss`: the solver `gauss`'s code, with the
+    /// `b + db` of `acceleration_corrected`, errors through its `Finish`;
+    /// else the Jacobian's, errors as `Err(DynamicsError)`.
+    Dynamics { gauss: bool },
+    /// `M`'s factor, `W` and `S`'s factor only (the projections' step);
+    /// an error is `None`.
+    ConstraintSpace,
+}
+
+impl<'a> FactoredSolve<'a> {
+    /// The solve to `λ`, for the solver `gauss` or (`gauss` false) the
+    /// Jacobian.
+    pub(super) fn new(ctx: &'a Context, f: &'a Factored, gauss: bool) -> Self {
+        Self::build(ctx, f, Scope::Dynamics { gauss })
+    }
+
+    /// `M`'s factor, `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`) and `S`'s factor,
+    /// in a function returning `Option` (no forces, no `b`).
+    pub(super) fn constraint_space(ctx: &'a Context, f: &'a Factored) -> Self {
+        Self::build(ctx, f, Scope::ConstraintSpace)
+    }
+
+    fn build(ctx: &'a Context, f: &'a Factored, scope: Scope) -> Self {
+        let k = ctx.k;
+        let dynamics = matches!(scope, Scope::Dynamics { .. });
+        let correction = matches!(scope, Scope::Dynamics { gauss: true });
+        let sys = &ctx.eq.system;
+        let nonzero = |e: Id| !sys.graph.is_zero(e);
+        let bail = |error: TokenStream| match scope {
+            Scope::Dynamics { gauss: true } => ctx.gauss_error(error),
+            Scope::Dynamics { gauss: false } => {
+                let error = ctx.path(error);
+                quote!(return ::core::result::Result::Err(#error);)
+            }
+            Scope::ConstraintSpace => quote!(return ::core::option::Option::None;),
+        };
+        // `gauss` without constraints solves with M once (for `a`); with
+        // them, once more per column of W, and the Jacobian once per column.
+        let solves = if correction && k == 0 {
+            Solves::Once
+        } else {
+            Solves::Many
+        };
+        let mass = StructuredLdlt::mass(
+            &f.mass,
+            bail(quote!(DynamicsError::MassNotPositiveDefinite)),
+            solves,
+        );
+        let gram = StructuredLdlt::gram(&f.gram);
+        let (named, mass_and_forces) = named_inputs(ctx, f, &mass, dynamics);
+        let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
+        let body = Body::new(ctx.eq, &roots);
+        let preamble = body.preamble();
+        let bindings = named.iter().map(|(name, id)| {
+            let value = body.expr(*id);
+            quote! { let #name = #value; }
+        });
+        // An overflowed M or F would be solved as a limit (1/∞ = 0): say so.
+        let finite = named[..mass_and_forces]
+            .iter()
+            .map(|(name, _)| quote!(#name.is_finite()));
+        let non_finite = bail(quote!(DynamicsError::NonFinite));
+        let check = quote! {
+            if !(#(#finite)&*) {
+                #non_finite
+            }
+        };
+        let factor_mass = mass.factor();
+        // a = M⁻¹ F.
+        let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
+        let f_rhs: Vec<Option<TokenStream>> = (0..ctx.n)
+            .zip(&sys.forces)
+            .map(|(i, &e)| {
+                nonzero(e).then(|| {
+                    let name = Context::local("f", i);
+                    quote!(#name)
+                })
+            })
+            .collect();
+        let (solve_a, a_bound) = mass.solve_sparse(&f_rhs, "ay", &unconstrained);
+        let solve_w = weighted_columns(ctx, f, &mass);
+        let gram_entries = gram_entries(ctx, f, &gram);
+        let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
+        let residual_code = residual_code(ctx, &residuals, &a_bound, &unconstrained);
+        let corrected = (correction && k > 0).then(|| corrected(&residuals, &[]));
+        let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
+        let factor_gram = gram.factor();
+        let solve_gram = gram.solve(&residuals, "y", &multipliers);
+        let (acceleration, force) = motion(ctx, f, &a_bound, &unconstrained, &multipliers);
+        let to_multipliers = if dynamics {
+            quote! {
+                #preamble
+                #(#bindings)*
+                #check
+                #factor_mass
+                #solve_a
+                #solve_w
+                #gram_entries
+                #residual_code
+                #corrected
+                #factor_gram
+                #solve_gram
+            }
+        } else {
+            quote! {
+                #preamble
+                #(#bindings)*
+                #check
+                #factor_mass
+                #solve_w
+                #gram_entries
+                #factor_gram
+            }
+        };
+        FactoredSolve {
+            mass,
+            gram,
+            to_multipliers,
+            acceleration,
+            force,
+        }
+    }
+}
+
+/// The local `__a{r}_{i}` holding entry `(r, i)` of `A`.
+fn a_entry(r: usize, i: usize) -> TokenStream {
+    let name = Context::local2("a", r, i);
+    quote!(#name)
+}
+
+/// The locals bound from the model's expressions: `M`'s lower pattern,
+/// `F` (with `dynamics`), `A`'s nonzeros, `b` (with `dynamics`); and how
+/// many of them are `M` and `F`, which come first (the finiteness check
+/// reads them).
+fn named_inputs(
+    ctx: &Context,
+    f: &Factored,
+    mass: &StructuredLdlt,
+    dynamics: bool,
+) -> (Vec<(Ident, Id)>, usize) {
+    let sys = &ctx.eq.system;
+    let mut named: Vec<(Ident, Id)> = Vec::new();
+    for i in 0..ctx.n {
+        for j in 0..=i {
+            if f.mass.nonzero[i][j] {
+                named.push((mass.entry(i, j), sys.mass[i][j]));
+            }
+        }
+    }
+    if dynamics {
+        for (i, &e) in sys.forces.iter().enumerate() {
+            named.push((Context::local("f", i), e));
+        }
+    }
+    let mass_and_forces = named.len();
+    for (r, row) in ctx.eq.a.iter().enumerate() {
+        for (i, &e) in row.iter().enumerate() {
+            if !sys.graph.is_zero(e) {
+                named.push((Context::local2("a", r, i), e));
+            }
+        }
+    }
+    if dynamics {
+        for (r, &e) in ctx.eq.b.iter().enumerate() {
+            named.push((Context::local("b", r), e));
+        }
+    }
+    (named, mass_and_forces)
+}
+
+/// The columns of `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`), by sparse solves
+/// with `M`'s factor.
+fn weighted_columns(ctx: &Context, f: &Factored, mass: &StructuredLdlt) -> TokenStream {
+    let g = &ctx.eq.system.graph;
+    let mut solve_w = TokenStream::new();
+    for (j, row) in ctx.eq.a.iter().enumerate() {
+        let rhs: Vec<Option<TokenStream>> = row
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| (!g.is_zero(e)).then(|| a_entry(j, i)))
+            .collect();
+        let out: Vec<Ident> = (0..ctx.n).map(|i| Context::local2("w", i, j)).collect();
+        let (code, bound) = mass.solve_sparse(&rhs, &format!("wy{j}x"), &out);
+        debug_assert!((0..ctx.n).all(|i| bound[i] == f.weighted[i][j]));
+        solve_w.extend(code);
+    }
+    solve_w
+}
+
+/// `S = A W` over its pattern.
+fn gram_entries(ctx: &Context, f: &Factored, gram: &StructuredLdlt) -> TokenStream {
+    let g = &ctx.eq.system.graph;
+    let mut gram_entries = TokenStream::new();
+    for (i, row) in ctx.eq.a.iter().enumerate() {
+        for j in 0..=i {
+            if f.gram.nonzero[i][j] {
+                let pairs = (0..ctx.n)
+                    .filter(|&l| !g.is_zero(row[l]) && f.weighted[l][j])
+                    .map(|l| {
+                        let w = Context::local2("w", l, j);
+                        (a_entry(i, l), quote!(#w))
+                    })
+                    .collect();
+                let (name, value) = (gram.entry(i, j), dot(pairs));
+                gram_entries.extend(quote! { let #name = #value; });
+            }
+        }
+    }
+    gram_entries
+}
+
+/// `r = b − A a` into the locals `residuals`, over `a`'s nonzeros
+/// (`a_bound`).
+fn residual_code(
+    ctx: &Context,
+    residuals: &[Ident],
+    a_bound: &[bool],
+    unconstrained: &[Ident],
+) -> TokenStream {
+    let (g, a) = (&ctx.eq.system.graph, &ctx.eq.a);
+    let mut residual_code = TokenStream::new();
+    for (r, name) in residuals.iter().enumerate() {
+        let pairs: Vec<_> = (0..ctx.n)
+            .filter(|&l| !g.is_zero(a[r][l]) && a_bound[l])
+            .map(|l| {
+                let u = &unconstrained[l];
+                (a_entry(r, l), quote!(#u))
+            })
+            .collect();
+        let b = Context::local("b", r);
+        let value = if pairs.is_empty() {
+            quote!(#b)
+        } else {
+            let aa = dot(pairs);
+            quote!(#b - (#aa))
+        };
+        residual_code.extend(quote! { let #name = #value; });
+    }
+    residual_code
+}
+
+/// `q̈ᵢ = aᵢ + Σⱼ Wᵢⱼ λⱼ` and `Fᶜᵢ = Σⱼ Aⱼᵢ λⱼ`, one expression per
+/// coordinate each.
+fn motion(
+    ctx: &Context,
+    f: &Factored,
+    a_bound: &[bool],
+    unconstrained: &[Ident],
+    multipliers: &[Ident],
+) -> (Vec<TokenStream>, Vec<TokenStream>) {
+    let (g, a, k) = (&ctx.eq.system.graph, &ctx.eq.a, ctx.k);
+    let acceleration = (0..ctx.n)
+        .map(|i| {
+            let pairs: Vec<(TokenStream, TokenStream)> = (0..k)
+                .filter(|&j| f.weighted[i][j])
+                .map(|j| {
+                    let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
+                    (quote!(#w), quote!(#lam))
+                })
+                .collect();
+            let u = &unconstrained[i];
+            match (a_bound[i], pairs.is_empty()) {
+                (true, true) => quote!(#u),
+                (true, false) => {
+                    let wl = dot(pairs);
+                    quote!(#u + (#wl))
+                }
+                (false, _) => dot(pairs),
+            }
+        })
+        .collect();
+    let force = (0..ctx.n)
+        .map(|i| {
+            dot((0..k)
+                .filter(|&r| !g.is_zero(a[r][i]))
+                .map(|r| {
+                    let lam = &multipliers[r];
+                    (a_entry(r, i), quote!(#lam))
+                })
+                .collect())
+        })
+        .collect();
+    (acceleration, force)
+}
+
+/// `gauss` for a configuration-dependent `M`.
+pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
+    let gauss = FactoredSolve::new(ctx, f, true);
+    let to_multipliers = &gauss.to_multipliers;
+    let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
+    let force = ctx.vector_value(gauss.force.iter().cloned());
+    // The rank decision, checked after the fact, as for a constant M.
+    let value = checked_motion(ctx, &gauss.gram, &acc, &force, None, None);
+    let signature = ctx.gauss_signature();
+    quote! {
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
+        /// as `__F` makes it.
+        #[inline(always)]
+        #signature {
+            #to_multipliers
+            #value
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! The strategies of applying `M⁻¹` (`crate::equations::mass_inverse::MassInverse`), one
+//! module each, every one providing the solver `gauss` (`acceleration` and
+//! the trait's `gauss`), the body of `acceleration_jacobian` and the
+//! projections' `constraint_step`:
+//!
+//! - `symbolic`: `M⁻¹` as expressions (`M` diagonal or a numeric
+//!   constant);
+//! - `factored`: a configuration-dependent `M`, factored in generated code
+//!   on its compile-time pattern;
+//! - `auxiliary`: a positive semi-definite `M`, solved by the runtime
+//!   (no Jacobian or step of its own: the runtime's dense ones).
+//!
+//! This module is the only `match` on the strategy in `emit`; `step` holds
+//! what the strategies' steps share. Below: `super::solve` (the checked
+//! value of `gauss`), the emission helpers.
+
+mod auxiliary;
+mod factored;
+mod step;
+mod symbolic;
+
+use super::context::Context;
+use crate::equations::mass_inverse::MassInverse;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// The private solver `gauss` behind `acceleration`, `constraint_force`,
+/// `acceleration_corrected` and the trait's `gauss`.
+pub(super) fn solver(ctx: &Context) -> TokenStream {
+    match &ctx.eq.mass_inverse {
+        MassInverse::Symbolic(d) => symbolic::solver(ctx, d),
+        MassInverse::Factored(f) => factored::solver(ctx, f),
+        MassInverse::Auxiliary => auxiliary::solver(ctx),
+    }
+}
+
+/// The body of `acceleration_jacobian`; `dense` is the runtime's solve, as
+/// an expression of the method's return type (the whole body where the
+/// strategy has no Jacobian of its own).
+pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> TokenStream {
+    match &ctx.eq.mass_inverse {
+        MassInverse::Symbolic(d) => symbolic::jacobian::jacobian(ctx, d, dense),
+        MassInverse::Factored(f) => factored::jacobian::jacobian(ctx, f, dense),
+        MassInverse::Auxiliary => dense.clone(),
+    }
+}
+
+/// The trait method `constraint_step`, or nothing (the trait's default,
+/// `None`: the runtime's dense step) for a singular `M` or no constraints.
+pub(super) fn step(ctx: &Context) -> TokenStream {
+    if ctx.k == 0 {
+        return TokenStream::new();
+    }
+    let body = match &ctx.eq.mass_inverse {
+        MassInverse::Symbolic(d) => symbolic::step::step(ctx, d),
+        MassInverse::Factored(f) => factored::step::step(ctx, f),
+        MassInverse::Auxiliary => return TokenStream::new(),
+    };
+    step::method(ctx, &body)
+}
+
+/// `__jac` replaced by the runtime's dense solve `dense` (a `Result`), its
+/// error returned: where a strategy's rank decision is suspect.
+fn adopt_dense(dense: &TokenStream) -> TokenStream {
+    quote! {
+        match { #dense } {
+            ::core::result::Result::Ok(__dense) => __jac = __dense,
+            ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
+        }
+    }
+}

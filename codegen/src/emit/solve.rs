@@ -1,0 +1,107 @@
+//! What every strategy's solve `gauss` shares: the value it returns with
+//! the rank decision checked after the fact (`checked_motion`) and the
+//! Baumgarte correction of `b` (`corrected`). Below the strategies
+//! (`super::mass_inverse`), above only the emission helpers.
+
+use super::body::literal;
+use super::context::Context;
+use super::ldlt::StructuredLdlt;
+use crate::expr::num::Num;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// The two paths' own code before `gauss`'s value, where the rank check
+/// comes before `λ` (a scalar `S`): `(suspect, fast)`.
+pub(in crate::emit) type PathCode = (TokenStream, TokenStream);
+
+/// `gauss`'s value `(q̈, Aᵀλ)` as its `Finish` makes it, with the rank
+/// decision of `ldlt` (the factorization of `S`) checked after the fact
+/// (`constrained::rank`): where fewer rows than the generic rank were kept,
+/// the runtime verifies the dropped ones and recomputes if they are
+/// violated. `also` is a further condition for that check; `paths`, code
+/// each path runs first.
+pub(in crate::emit) fn checked_motion(
+    ctx: &Context,
+    ldlt: &StructuredLdlt,
+    acc: &TokenStream,
+    force: &TokenStream,
+    also: Option<TokenStream>,
+    paths: Option<PathCode>,
+) -> TokenStream {
+    // The force as a closure that only the callers wanting it call, so
+    // that `acceleration` never computes it.
+    if ctx.k == 0 {
+        return quote!(__F::stands(#acc, move || #force));
+    }
+    let suspect = ldlt.suspect(ctx.generic_rank);
+    let suspect = match also {
+        Some(also) => quote!((#suspect) | #also),
+        None => suspect,
+    };
+    let (suspect_code, fast_code) = paths.unwrap_or_default();
+    let checked = ctx.private(quote!(checked));
+    // Two shapes, each the faster where it is used (measured against the
+    // solve before `Finish`, alternating binaries of one run,
+    // scripts/compare_acceleration.sh). k ≥ 2: q̈ bound once and the check
+    // merging back into the fast path (the double pendulum, the chains,
+    // the four-bars: within 1 %, the 32-link chain 0.91×). k = 1: the
+    // suspect path complete in its own branch, with its own q̈ and return,
+    // so that nothing of the fast path lives across the runtime call and
+    // the fast path keeps no stack frame (the 1-link chain 0.89×, Appell's
+    // particle 0.93×, the sleigh 0.94×, the two-link arm 0.96×; where that
+    // path instead returned the runtime's answer through one generic call
+    // taking the force as a closure, the k ≥ 2 models were up to 1.48×
+    // slower, the closure's captures kept alive to the check).
+    // The runtime's check of `__acc`, returning its recomputation.
+    let recheck = quote! {
+        if let ::core::option::Option::Some(__recomputed) =
+            #checked(self, q, qd, t, correction, __acc)
+        {
+            return __F::settle(self, q, qd, t, correction, __recomputed);
+        }
+    };
+    if ctx.k > 1 {
+        return quote! {
+            let __acc = #acc;
+            if #suspect {
+                #recheck
+            }
+            __F::stands(__acc, move || #force)
+        };
+    }
+    quote! {
+        if #suspect {
+            #suspect_code
+            let __acc = #acc;
+            #recheck
+            return __F::stands(__acc, move || #force);
+        }
+        #fast_code
+        __F::stands(#acc, move || #force)
+    }
+}
+
+/// `r + D db` where `gauss` was given a correction `db` (Baumgarte), over
+/// the locals holding `r`; `scale` is the row scaling `D` of the system
+/// solved (`crate::equations::mass_inverse::Symbolic`), empty for none.
+pub(in crate::emit) fn corrected(residuals: &[syn::Ident], scale: &[Num]) -> TokenStream {
+    let d: Vec<_> = (0..residuals.len())
+        .map(|i| Context::local("db", i))
+        .collect();
+    let scaled = d.iter().enumerate().map(|(i, db)| match scale.get(i) {
+        Some(&s) if !s.is_one() => {
+            let (s, _) = literal(s);
+            quote!(#s * #db)
+        }
+        _ => quote!(#db),
+    });
+    quote! {
+        let (#(#residuals,)*) = match correction {
+            ::core::option::Option::Some(__db) => {
+                let [[#(#d),*]] = __db.data.0;
+                (#(#residuals + #scaled,)*)
+            }
+            ::core::option::Option::None => (#(#residuals,)*),
+        };
+    }
+}
