@@ -89,9 +89,9 @@ fn at_rest_the_result_is_unconstrained() {
     assert_eq!(qdd, Vector3::new(0.0, 0.0, -9.81));
 }
 
-/// Independent truth: the reference vectors computed with sympy/numpy
-/// (`../shared/data/reference_vectors.json`, h = x·y·z + sin t, φ written
-/// undivided: ẋ² + ẏ² − ż² − 2αh).
+/// Independent truth: reference vectors computed outside this repository
+/// with sympy/numpy, their values written below (h = x·y·z + sin t, φ
+/// written undivided: ẋ² + ẏ² − ż² − 2αh).
 #[test]
 fn reference_vectors() {
     constrained::constrained_system! {

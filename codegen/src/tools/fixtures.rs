@@ -7,7 +7,7 @@ use std::fmt::Write;
 /// input: point masses `mᵢ = 1 + 0.1 i` at the joints of rods
 /// `Lᵢ = 1 + 0.05 i`, the first rod pivoting at the origin, gravity `g` along
 /// −y. 2N coordinates, N position-level constraints. The masses and lengths
-/// are those of `shared/data/reference_vectors.json` (`chain`).
+/// are those of the independent reference vectors the chain's tests use.
 pub fn planar_chain(name: &str, links: usize) -> String {
     let mut coordinates = Vec::new();
     let mut masses = Vec::new();
