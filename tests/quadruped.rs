@@ -7,138 +7,21 @@
 
 #[path = "../examples/support/quadruped.rs"]
 #[allow(dead_code)]
+#[macro_use]
 mod model;
 
-use constrained::constrained_system;
 use constrained::floating::FreeMotion;
 use constrained::multipliers::Multipliers;
 use constrained::nalgebra::{SVector, UnitQuaternion, Vector3};
 use constrained::{ConstrainedSystem, DormandPrince45, Stabilization, State};
 use model::{Quadruped, FOOT_OFFSET, HIPS, MASS, N, SEGMENT};
 
-constrained_system! {
+quadruped_system!(
     /// The same with a fifth, dependent row: the sum of the front feet's
     /// heights, implied by their own rows (the rank rule drops it).
-    pub struct QuadrupedFive {
-        parameters: [fl_x, fl_y, fr_x, fr_y, hl_x, hl_y, hr_x, hr_y],
-        inputs: [t_fl_haa, t_fl_hfe, t_fl_kfe, t_fr_haa, t_fr_hfe, t_fr_kfe, t_hl_haa, t_hl_hfe, t_hl_kfe, t_hr_haa, t_hr_hfe, t_hr_kfe],
-        bodies: [
-            base {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 1.16,
-                inertia: diag[0.0058, 0.0194, 0.0246],
-            },
-            fl_hip {
-                parent: base,
-                joint: revolute(fl_haa, [1.0, 0.0, 0.0]),
-                xyz: [0.1946, 0.0875, 0.0],
-                mass: 0.149,
-                com: [0.0, 0.014, 0.0],
-                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
-            },
-            fl_upper {
-                parent: fl_hip,
-                joint: revolute(fl_hfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.014, 0.0],
-                mass: 0.149,
-                com: [0.0, 0.016, -0.078],
-                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
-            },
-            fl_lower {
-                parent: fl_upper,
-                joint: revolute(fl_kfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.037, -0.16],
-                mass: 0.031,
-                com: [0.0, 0.007, -0.079],
-                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
-            },
-            fr_hip {
-                parent: base,
-                joint: revolute(fr_haa, [1.0, 0.0, 0.0]),
-                xyz: [0.1946, -0.0875, 0.0],
-                mass: 0.149,
-                com: [0.0, -0.014, 0.0],
-                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
-            },
-            fr_upper {
-                parent: fr_hip,
-                joint: revolute(fr_hfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, -0.014, 0.0],
-                mass: 0.149,
-                com: [0.0, -0.016, -0.078],
-                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
-            },
-            fr_lower {
-                parent: fr_upper,
-                joint: revolute(fr_kfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, -0.037, -0.16],
-                mass: 0.031,
-                com: [0.0, -0.007, -0.079],
-                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
-            },
-            hl_hip {
-                parent: base,
-                joint: revolute(hl_haa, [1.0, 0.0, 0.0]),
-                xyz: [-0.1946, 0.0875, 0.0],
-                mass: 0.149,
-                com: [0.0, 0.014, 0.0],
-                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
-            },
-            hl_upper {
-                parent: hl_hip,
-                joint: revolute(hl_hfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.014, 0.0],
-                mass: 0.149,
-                com: [0.0, 0.016, -0.078],
-                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
-            },
-            hl_lower {
-                parent: hl_upper,
-                joint: revolute(hl_kfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.037, -0.16],
-                mass: 0.031,
-                com: [0.0, 0.007, -0.079],
-                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
-            },
-            hr_hip {
-                parent: base,
-                joint: revolute(hr_haa, [1.0, 0.0, 0.0]),
-                xyz: [-0.1946, -0.0875, 0.0],
-                mass: 0.149,
-                com: [0.0, -0.014, 0.0],
-                inertia: diag[4.0e-5, 7.0e-5, 4.0e-5],
-            },
-            hr_upper {
-                parent: hr_hip,
-                joint: revolute(hr_hfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, -0.014, 0.0],
-                mass: 0.149,
-                com: [0.0, -0.016, -0.078],
-                inertia: diag[4.2e-4, 4.1e-4, 2.4e-5],
-            },
-            hr_lower {
-                parent: hr_upper,
-                joint: revolute(hr_kfe, [0.0, 1.0, 0.0]),
-                xyz: [0.0, -0.037, -0.16],
-                mass: 0.031,
-                com: [0.0, -0.007, -0.079],
-                inertia: diag[1.2e-4, 1.2e-4, 2.1e-6],
-            },
-        ],
-        forces: [
-            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-            t_fl_haa, t_fl_hfe, t_fl_kfe, t_fr_haa, t_fr_hfe, t_fr_kfe,
-            t_hl_haa, t_hl_hfe, t_hl_kfe, t_hr_haa, t_hr_hfe, t_hr_kfe,
-        ],
-        constraints: [
-            position(fl_lower, [0.0, 0.008, -0.16]) == [fl_x, fl_y, 0.0],
-            position(fr_lower, [0.0, -0.008, -0.16]) == [fr_x, fr_y, 0.0],
-            position(hl_lower, [0.0, 0.008, -0.16]) == [hl_x, hl_y, 0.0],
-            position(hr_lower, [0.0, -0.008, -0.16]) == [hr_x, hr_y, 0.0],
-            position(fl_lower, [0.0, 0.008, -0.16]).z + position(fr_lower, [0.0, -0.008, -0.16]).z == 0.0,
-        ],
-    }
-}
+    QuadrupedFive,
+    [position(fl_lower, [0.0, 0.008, -0.16]).z + position(fr_lower, [0.0, -0.008, -0.16]).z == 0.0,]
+);
 
 /// The feet's places when standing with hip flexion `θ` and knee `−2θ`
 /// (each foot under its hip), and the state there at rest.

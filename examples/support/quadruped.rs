@@ -11,7 +11,6 @@
 //! `quadruped` and the tests of `tests/quadruped.rs` (which add the twin
 //! with a fifth, dependent row).
 
-use constrained::constrained_system;
 
 /// The coordinates: the base's position and quaternion, then each leg's
 /// `haa, hfe, kfe` in the order front-left, front-right, hind-left,
@@ -32,9 +31,14 @@ pub const SEGMENT: f64 = 0.16;
 /// The total mass.
 pub const MASS: f64 = 1.16 + 4.0 * (0.149 + 0.149 + 0.031);
 
-constrained_system! {
-    /// The quadruped standing on its four feet.
-    pub struct Quadruped {
+/// The quadruped's `constrained_system!` as `$name`, with `$extra` rows
+/// after the four feet's: the model is written once for the example and for
+/// the tests' twin with a dependent fifth row.
+macro_rules! quadruped_system {
+    ($(#[$attr:meta])* $name:ident, [$($extra:tt)*]) => {
+constrained::constrained_system! {
+    $(#[$attr])*
+    pub struct $name {
         parameters: [fl_x, fl_y, fr_x, fr_y, hl_x, hl_y, hr_x, hr_y],
         inputs: [t_fl_haa, t_fl_hfe, t_fl_kfe, t_fr_haa, t_fr_hfe, t_fr_kfe, t_hl_haa, t_hl_hfe, t_hl_kfe, t_hr_haa, t_hr_hfe, t_hr_kfe],
         bodies: [
@@ -150,6 +154,15 @@ constrained_system! {
             position(fr_lower, [0.0, -0.008, -0.16]) == [fr_x, fr_y, 0.0],
             position(hl_lower, [0.0, 0.008, -0.16]) == [hl_x, hl_y, 0.0],
             position(hr_lower, [0.0, -0.008, -0.16]) == [hr_x, hr_y, 0.0],
+            $($extra)*
         ],
     }
 }
+    };
+}
+
+quadruped_system!(
+    /// The quadruped standing on its four feet.
+    Quadruped,
+    []
+);
