@@ -11,7 +11,6 @@
 //! `quadruped` and the tests of `tests/quadruped.rs` (which add the twin
 //! with a fifth, dependent row).
 
-
 /// The coordinates: the base's position and quaternion, then each leg's
 /// `haa, hfe, kfe` in the order front-left, front-right, hind-left,
 /// hind-right.
