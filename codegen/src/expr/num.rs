@@ -30,7 +30,7 @@ pub enum Num {
     /// Exact rational `numerator / denominator`, reduced, denominator positive.
     Rational(i128, i128),
     /// Exact rational whose numerator or denominator does not fit `i128`:
-    /// the index of its entry in this thread's table ([`BIG`]), where equal
+    /// the index of its entry in this thread's table (`BIG`), where equal
     /// values share one index. Never a value that fits `Rational`.
     Big(u32),
     /// Inexact: a literal too long to be a decimal rational, or `π`.

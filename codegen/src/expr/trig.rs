@@ -7,7 +7,7 @@
 //!
 //! The expression is expanded into a polynomial whose variables are its
 //! atoms (symbols, functions, non-integer powers; a subexpression whose
-//! expansion would exceed [`MAX_TERMS`] stays an atom) with exact
+//! expansion would exceed `MAX_TERMS` stays an atom) with exact
 //! coefficients. For each argument `x` with `sin x` or `cos x` in it, the
 //! polynomial is reduced modulo `sin²x + cos²x − 1` in both directions
 //! (`cos²x → 1 − sin²x`, then `sin²x → 1 − cos²x`), and the shorter of the
