@@ -166,13 +166,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // samples and dies out as (1 + 10 t) e^(−10 t); what remains is the
     // torque held over each millisecond while the trajectory moves on.
     println!(
-        "Panda, {:.0} s at 1 kHz: gravity compensation drifts {held:.1e} rad; \
+        "Panda, {} s at 1 kHz: gravity compensation drifts {held:.1e} rad; \
          computed torque: error {:.2} rad -> {last:.1e} rad, peak torque {peak:.0} N·m, \
          work done {energy_in:.1} J",
         options.duration,
         0.2 * 7f64.sqrt(),
     );
-    if held > 1e-6 || last > 1e-2 {
+    // The bound: the transient's envelope at the end, plus the 1e-2 rad the
+    // held torque leaves (a short run, as the test command's, is judged by
+    // the envelope; the default 4 s by the floor).
+    let envelope = 0.2 * 7f64.sqrt() * (1.0 + 10.0 * state.t) * (-10.0 * state.t).exp();
+    if held > 1e-6 || last > 1e-2 + envelope {
         return Err(
             format!("the controllers did not hold (drift {held:.1e}, error {last:.1e})").into(),
         );

@@ -93,14 +93,16 @@ stage "std feature: a user's crate outside the workspace" "$logs/std-feature.log
 # agree. Run from the build above.
 examples="$target/debug/examples"
 run_examples() {
-    for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda quadruped five_bar; do
+    for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda quadruped five_bar rimless_wheel pendulum_wall compass_gait; do
         echo "-- $example"
-        "$examples/$example" --duration 0.5 --out "$target/plots"
+        # `|| return`: set -e does not stop a function run as an `if`'s
+        # condition (stage's), and a failing example went unnoticed.
+        "$examples/$example" --duration 0.5 --out "$target/plots" || return 1
     done
     echo "-- cart_pole_lqr"
-    "$examples/cart_pole_lqr" --out "$target/plots"
+    "$examples/cart_pole_lqr" --out "$target/plots" || return 1
 }
-stage "examples: 13, plots in $target/plots" "$logs/examples.log" run_examples
+stage "examples: 16, plots in $target/plots" "$logs/examples.log" run_examples
 # The sympy export and the operation counts from the same build.
 export CONSTRAINED_EXAMPLES_DIR="$examples"
 stage "sympy: the independent suite" "$logs/sympy.log" \
