@@ -191,26 +191,8 @@ impl<T: RealField + Copy, M: Method<S>, const S: usize> StepMethod<T, S>
         Some(self.step)
     }
 
-    fn max_step(&self) -> Option<T> {
-        None
-    }
-
     fn error_order(&self) -> u32 {
         M::TABLEAU.error_order
-    }
-
-    fn initial_step<Sys, const N: usize, const K: usize>(
-        &self,
-        _: &Sys,
-        _: &State<T, N>,
-        _: &Derivative<T, N>,
-        _: T,
-        _: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        Ok(self.step)
     }
 
     #[inline]

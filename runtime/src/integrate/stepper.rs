@@ -42,21 +42,27 @@ pub(super) mod method {
         fn validate(&self) -> Result<(), IntegrationError<T>>;
         /// `Some(h)` for a fixed-step method.
         fn fixed_step(&self) -> Option<T>;
-        /// The adaptive methods' longest step.
-        fn max_step(&self) -> Option<T>;
+        /// The adaptive methods' longest step (none by default).
+        fn max_step(&self) -> Option<T> {
+            None
+        }
         /// The order of the error estimate (for the controller; 0 without).
         fn error_order(&self) -> u32;
-        /// The first step of an adaptive run over `total`.
+        /// The first step of an adaptive run over `total`; by default the
+        /// fixed step (the stepper asks only adaptive methods).
         fn initial_step<Sys, const N: usize, const K: usize>(
             &self,
-            system: &Sys,
-            state: &State<T, N>,
-            k1: &Derivative<T, N>,
+            _system: &Sys,
+            _state: &State<T, N>,
+            _k1: &Derivative<T, N>,
             total: T,
-            stats: &mut Stats,
+            _stats: &mut Stats,
         ) -> Result<T, IntegrationError<T>>
         where
-            Sys: ConstrainedSystem<T, N, K>;
+            Sys: ConstrainedSystem<T, N, K>,
+        {
+            Ok(self.fixed_step().unwrap_or(total))
+        }
         /// One step of size `h` from `state`, whose derivative is `k1`.
         fn attempt<Sys, const N: usize, const K: usize>(
             &self,
