@@ -10,35 +10,16 @@
 //!
 //! `cargo run --release --example rimless_wheel`
 
+#[path = "support/rimless_wheel.rs"]
+mod rimless_wheel;
 #[path = "support/mod.rs"]
 mod support;
 
 use constrained::integrate::{Direction, Event, Events, StepOutcome};
 use constrained::nalgebra::{Vector2, Vector3};
-use constrained::{constrained_system, DormandPrince45, Stabilization, State};
+use constrained::{DormandPrince45, Stabilization, State};
+use rimless_wheel::RimlessWheel;
 use support::{plot, Options, Panel, Series};
-
-constrained_system! {
-    /// A rimless wheel in the plane: hub `(x, y)`, rotation `th`, spokes of
-    /// length `l` every `a2` radians, the stance spoke (at `th + phase`
-    /// from straight down) pinned at `(px, py)`, the slope through the
-    /// origin at angle `gamma` downhill towards `+x`. The gap is the next
-    /// spoke's height over the slope.
-    pub struct RimlessWheel {
-        coordinates: [x, y, th],
-        parameters: [m, inertia, l, g, a2, gamma, phase, px, py],
-        mass: diag[m, m, inertia],
-        forces: [0.0, -m * g, 0.0],
-        constraints: [
-            x + l * (th + phase).sin() == px,
-            y - l * (th + phase).cos() == py,
-        ],
-        unilateral: [
-            gamma.sin() * (x + l * (th + phase + a2).sin())
-                + gamma.cos() * (y - l * (th + phase + a2).cos()) >= 0.0,
-        ],
-    }
-}
 
 /// The foot of the spoke at `th + phase`.
 fn foot(w: &RimlessWheel<f64>, q: &Vector3<f64>, phase: f64) -> Vector2<f64> {

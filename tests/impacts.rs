@@ -8,6 +8,10 @@
 use constrained::nalgebra::{Vector1, Vector2, Vector3};
 use constrained::{constrained_system, DynamicsError};
 
+#[path = "../examples/support/rimless_wheel.rs"]
+mod rimless_wheel;
+pub use rimless_wheel::RimlessWheel;
+
 constrained_system! {
     /// A pendulum in its angle, a wall at horizontal distance `wall`.
     pub struct AnglePendulum {
@@ -38,28 +42,6 @@ constrained_system! {
         parameters: [m1, m2, d],
         mass: diag[m1, m2],
         unilateral: [x2 - x1 >= d],
-    }
-}
-
-constrained_system! {
-    /// A rimless wheel in the plane: hub `(x, y)`, rotation `th`, spokes of
-    /// length `l` every `a2` radians, the stance spoke (at `th + phase`
-    /// from straight down) pinned at `(px, py)`, the slope through the
-    /// origin at angle `gamma` downhill towards `+x`. The gap is the next
-    /// spoke's (at `th + phase + a2`) height over the slope.
-    pub struct RimlessWheel {
-        coordinates: [x, y, th],
-        parameters: [m, inertia, l, g, a2, gamma, phase, px, py],
-        mass: diag[m, m, inertia],
-        forces: [0.0, -m * g, 0.0],
-        constraints: [
-            x + l * (th + phase).sin() == px,
-            y - l * (th + phase).cos() == py,
-        ],
-        unilateral: [
-            gamma.sin() * (x + l * (th + phase + a2).sin())
-                + gamma.cos() * (y - l * (th + phase + a2).cos()) >= 0.0,
-        ],
     }
 }
 
