@@ -35,15 +35,19 @@ logs="$target/test-logs"
 mkdir -p "$logs"
 summary="$logs/summary.txt"
 : > "$summary"
+run_start=$(date +%s.%N)
 
 # Sets cpu_seconds to the CPU time (user + sys) of every finished child so
 # far: `times` runs in this shell, since a command substitution's subshell
 # would report children of its own.
 cpu_now() {
-    times > "$logs/.times"
+    # One file per shell: two stages run side by side in subshells.
+    local file="$logs/.times.$BASHPID"
+    times > "$file"
     cpu_seconds=$(python3 -c 'import re, sys
 text = open(sys.argv[1]).read().splitlines()[-1]
-print(sum(float(m) * 60 + float(s) for m, s in re.findall(r"(\d+)m([\d.]+)s", text)))' "$logs/.times")
+print(sum(float(m) * 60 + float(s) for m, s in re.findall(r"(\d+)m([\d.]+)s", text)))' "$file")
+    rm -f "$file"
 }
 
 # stage NAME LOG COMMAND...: runs COMMAND with its output in LOG, times it,
@@ -70,28 +74,52 @@ PY
 }
 
 echo "property tests: PROPTEST_RNG_SEED=$PROPTEST_RNG_SEED; logs in $logs"
-# `cargo test --no-run` leaves the examples under hashed names; the
-# `cargo build` of the same profile puts them at debug/examples/NAME, where
-# the stages below run them.
+# `cargo test` without target flags builds the examples once, as the
+# programs they are (`--all-targets` or `--examples` would build each of
+# them a second time, as a test harness with no tests in it: two
+# expansions and two compilations of every example's model), at
+# debug/examples/NAME, where the stages below run them; `--benches` adds
+# the benches in test mode, to be run once each.
 build_all() {
-    cargo test --locked --workspace --all-targets --no-run &&
-        cargo build --locked --profile test --workspace --examples
+    cargo test --locked --workspace --no-run &&
+        cargo test --locked --workspace --benches --no-run
 }
 stage "build: tests, benches and examples (test profile)" "$logs/build.log" build_all
-stage "tests: unit, integration, property, snapshot, compile-fail; benches once" "$logs/tests.log" \
-    cargo test --locked --workspace --all-targets
-stage "doc tests: the crates, the guides and the README" "$logs/doctests.log" \
-    cargo test --locked --workspace --doc
-# A user's crate with `features = ["std"]`, outside the workspace (whose
-# dev-dependencies would enable std for it).
-stage "std feature: a user's crate outside the workspace" "$logs/std-feature.log" \
-    cargo test --locked --manifest-path tests/std-feature/Cargo.toml
+# After the build, the stages run two at a time, in pairs that share the
+# two cores well: the tests (mostly one test binary, trybuild's and the
+# fuzz harness's builds at a time) beside the sympy suite (one Python
+# process); the doc tests, the std-feature crate and the examples beside
+# the embedded run (its own build, in a target directory of its own so
+# that the two cargo runs never wait on one lock, then QEMU). A pair
+# fails when either stage does; each stage's output stays in its own log.
+both() {
+    local first second failed=0
+    "$1" & first=$!
+    "$2" & second=$!
+    wait "$first" || failed=1
+    wait "$second" || failed=1
+    return "$failed"
+}
+
+examples="$target/debug/examples"
+# The doc tests are the second pair's: here every target with tests
+# (`--tests`: the libraries' unit tests, the integration tests, not the
+# harnesses that `test = false` leaves out) and the benches.
+tests_stage() {
+    stage "tests: unit, integration, property, snapshot, compile-fail; benches once" "$logs/tests.log" \
+        cargo test --locked --workspace --tests --benches
+}
+# The sympy export and the operation counts from the same build.
+sympy_stage() {
+    CONSTRAINED_EXAMPLES_DIR="$examples" stage "sympy: the independent suite" "$logs/sympy.log" \
+        bash scripts/sympy.sh
+}
+both tests_stage sympy_stage || exit 1
 
 # Every example, briefly, so that none can rot (the main one checks itself
 # and exits non-zero on disagreement); the LQR example at full length: it
 # exits non-zero unless both forms of the cart-pole balance and their gains
 # agree. Run from the build above.
-examples="$target/debug/examples"
 run_examples() {
     for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda quadruped five_bar rimless_wheel pendulum_wall compass_gait; do
         echo "-- $example"
@@ -102,12 +130,19 @@ run_examples() {
     echo "-- cart_pole_lqr"
     "$examples/cart_pole_lqr" --out "$target/plots" || return 1
 }
-stage "examples: 16, plots in $target/plots" "$logs/examples.log" run_examples
-# The sympy export and the operation counts from the same build.
-export CONSTRAINED_EXAMPLES_DIR="$examples"
-stage "sympy: the independent suite" "$logs/sympy.log" \
-    bash scripts/sympy.sh
-stage "embedded: firmware under QEMU against the host" "$logs/embedded.log" \
-    bash scripts/embedded.sh
+host_stages() {
+    stage "doc tests: the crates, the guides and the README" "$logs/doctests.log" \
+        cargo test --locked --workspace --doc
+    # A user's crate with `features = ["std"]`, outside the workspace (whose
+    # dev-dependencies would enable std for it).
+    stage "std feature: a user's crate outside the workspace" "$logs/std-feature.log" \
+        cargo test --locked --manifest-path tests/std-feature/Cargo.toml
+    stage "examples: 16, plots in $target/plots" "$logs/examples.log" run_examples
+}
+embedded_stage() {
+    CARGO_TARGET_DIR="$target/firmware" stage "embedded: firmware under QEMU against the host" "$logs/embedded.log" \
+        bash scripts/embedded.sh
+}
+both host_stages embedded_stage || exit 1
 
-python3 scripts/test_summary.py "$logs" "$summary"
+python3 scripts/test_summary.py "$logs" "$summary" "$run_start"
