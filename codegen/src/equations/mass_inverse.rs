@@ -11,7 +11,7 @@
 //! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
 //! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
-use crate::expr::factor::Factorer;
+use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
 use crate::numeric::sparsity::Structure;
@@ -222,7 +222,7 @@ pub fn build(
     );
     let (acceleration, force) = motion(g, &rows, &weighted, &unconstrained, common_mass);
     // The pieces as the derivation prints them and the code computes
-    // them: with common factors pulled out (`crate::expr::factor`).
+    // them: with common factors pulled out (`crate::expr::common_factors`).
     let unconstrained = factorer.factor_all(g, &unconstrained);
     let weighted = factorer.factor_rows(g, &weighted);
     let gram = factorer.factor_rows(g, &gram);

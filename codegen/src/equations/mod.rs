@@ -7,8 +7,8 @@ pub mod mass_inverse;
 pub mod partition;
 pub mod tangent;
 
+use crate::expr::common_factors::Factorer;
 use crate::expr::diff::Differentiator;
-use crate::expr::factor::Factorer;
 use crate::expr::Id;
 use crate::expr::Sym;
 use crate::model::{Level, System};
@@ -44,7 +44,7 @@ pub struct Equations {
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
 /// written, so that a user's scaling of φ shows up unchanged.
 /// `M`, `F`, `A` and `b` have their common factors pulled out
-/// ([`crate::expr::factor`]) before anything is built from them, so that the
+/// ([`crate::expr::common_factors`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
 pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();

@@ -27,9 +27,9 @@
 //! enough to overflow the stack.
 
 mod build;
+pub mod common_factors;
 pub mod cse;
 pub mod diff;
-pub mod factor;
 pub mod finite;
 pub mod func;
 pub mod lagrange;
