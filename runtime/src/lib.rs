@@ -9,6 +9,8 @@
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![deny(missing_docs)]
 
+#[macro_use]
+mod methods;
 pub mod control;
 mod error;
 mod finish;

@@ -160,6 +160,16 @@ pub const EVALUATIONS: &[Evaluation] = &[
     },
 ];
 
+/// The type the method of [`EVALUATIONS`] named `name` returns (its
+/// `Ok` type where it returns a `Result`), where the system has it.
+pub(super) fn value_type(ctx: &Context, name: &str) -> Option<TokenStream> {
+    let row = EVALUATIONS.iter().find(|e| e.name == name)?;
+    match (row.value)(ctx.eq)? {
+        Value::Vector(entries) => Some(ctx.vector(entries.len())),
+        Value::Scalar(_) => Some(quote!(T)),
+    }
+}
+
 /// The methods of [`EVALUATIONS`] that the system has.
 pub(super) fn methods(ctx: &Context) -> TokenStream {
     let mut out = TokenStream::new();
