@@ -56,58 +56,18 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     }
 }
 
-/// The [`ConstrainedSystem`] methods, called on the state:
+/// The accelerations of [`ConstrainedSystem`], called on the state:
 /// `state.acceleration(&system)`.
 ///
 /// A generated system has inherent methods of the same names that take
 /// `(q, q̇, t)`, and Rust picks the inherent one for `system.acceleration(..)`
 /// (so `system.acceleration(&state)` is error E0061, "takes 3 arguments").
 /// These methods are the one spelling that needs neither the trait in scope
-/// nor a qualified path. `K` is inferred from the system.
+/// nor a qualified path, for the three forms of `q̈` users compare. `K` is
+/// inferred from the system. The trait's other methods are called fully
+/// qualified, `ConstrainedSystem::forces(&system, &state)`, or inherent,
+/// `system.forces(&state.q, &state.qd, state.t)`.
 impl<T: RealField + Copy, const N: usize> State<T, N> {
-    /// `M(q, t)` of `system` at this state.
-    pub fn mass_matrix<const K: usize, S>(&self, system: &S) -> SMatrix<T, N, N>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.mass_matrix(self)
-    }
-
-    /// `F(q, q̇, t)` of `system` at this state.
-    pub fn forces<const K: usize, S>(&self, system: &S) -> SVector<T, N>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.forces(self)
-    }
-
-    /// `φ(q, q̇, t)` of `system` at this state.
-    pub fn constraint_residual<const K: usize, S>(&self, system: &S) -> SVector<T, K>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_residual(self)
-    }
-
-    /// `φ̇` (position level) or `φ` (velocity level) of `system`.
-    pub fn constraint_velocity_residual<const K: usize, S>(&self, system: &S) -> SVector<T, K>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_velocity_residual(self)
-    }
-
-    /// `(A, b)` of `system` at this state.
-    pub fn constraint_matrices<const K: usize, S>(
-        &self,
-        system: &S,
-    ) -> (SMatrix<T, K, N>, SVector<T, K>)
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_matrices(self)
-    }
-
     /// `q̈` by the generalized-inverse equation (eq. 24–26).
     pub fn acceleration<const K: usize, S>(
         &self,
@@ -128,17 +88,6 @@ impl<T: RealField + Copy, const N: usize> State<T, N> {
         S: ConstrainedSystem<T, N, K>,
     {
         system.acceleration_moore_penrose(self)
-    }
-
-    /// The constraint force `M q̈ − F`.
-    pub fn constraint_force<const K: usize, S>(
-        &self,
-        system: &S,
-    ) -> Result<SVector<T, N>, DynamicsError>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_force(self)
     }
 
     /// `q̈` from the explicit Gibbs–Appell system.
