@@ -148,12 +148,8 @@ pub struct Symbolic {
 fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
     let n = mass.len();
     let entries: Vec<Id> = mass.iter().flatten().copied().collect();
-    let mut rng = crate::numeric::rng::SplitMix64::new(0x5e11_d3f1);
-    (0..4).all(|_| {
-        let seed = rng.next_u64();
-        let values = g.eval(&entries, &|s| {
-            crate::numeric::rng::SplitMix64::value_for(seed, s)
-        });
+    crate::numeric::rng::sample_points(0x5e11_d3f1).all(|point| {
+        let values = g.eval(&entries, &point);
         if values.iter().any(|v| !v.is_finite()) {
             return false;
         }
