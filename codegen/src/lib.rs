@@ -24,12 +24,12 @@
 //! points), [`names`]. [`tools`]
 //! serves tests and benchmarks.
 
-pub mod bodies;
+pub(crate) mod bodies;
 pub mod emit;
 pub mod equations;
 pub mod expr;
 pub mod model;
-pub mod names;
+pub(crate) mod names;
 pub mod numeric;
 pub mod parse;
 pub mod tools;

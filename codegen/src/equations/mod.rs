@@ -5,7 +5,7 @@
 pub mod gibbs_appell;
 pub mod mass_inverse;
 pub mod partition;
-pub mod tangent;
+pub(crate) mod tangent;
 
 use crate::expr::common_factors::Factorer;
 use crate::expr::diff::Differentiator;

@@ -28,17 +28,17 @@
 
 mod build;
 pub mod common_factors;
-pub mod cse;
+pub(crate) mod cse;
 pub mod diff;
-pub mod finite;
-pub mod func;
-pub mod lagrange;
+pub(crate) mod finite;
+pub(crate) mod func;
+pub(crate) mod lagrange;
 pub mod num;
-pub mod print;
-pub mod squares;
+pub(crate) mod print;
+pub(crate) mod squares;
 #[cfg(test)]
 mod tests;
-pub mod trig;
+pub(crate) mod trig;
 
 pub use func::{Args, Emission, Func, Parity, Visibility};
 

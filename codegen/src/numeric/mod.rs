@@ -4,6 +4,6 @@
 //! deterministic pseudo-random points at which properties are sampled
 //! ([`rng`]).
 
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod rng;
-pub mod sparsity;
+pub(crate) mod sparsity;
