@@ -73,7 +73,7 @@ fn close(value: Option<Result<f64, DynamicsError>>, expected: f64) {
 fn cart_pole_energies_are_the_closed_forms() {
     let (mc, mp, l, g) = (1.3, 0.4, 0.8, 9.81);
     let system = CartPole::new(mc, mp, l, g, 0.0);
-    for (s, th, sd, thd) in [(0.2, 0.7, -1.1, 2.3), (-1.0, 3.0, 0.5, -0.4)] {
+    for (s, th, sd, thd) in [(0.2f64, 0.7f64, -1.1, 2.3), (-1.0, 3.0, 0.5, -0.4)] {
         let state = State::new(0.0, SVector::from([s, th]), SVector::from([sd, thd]));
         // The tip at (s + l sin θ, −l cos θ).
         let (vx, vy) = (sd + l * th.cos() * thd, l * th.sin() * thd);
@@ -108,7 +108,7 @@ fn a_system_given_by_its_mass_has_no_energy() {
 fn gravity_of_a_body_is_the_gradient_of_its_potential() {
     let (m, c, g) = (2.0, 0.7, 9.81);
     let system = PendulumBody::new();
-    for th in [0.0, 0.4, -2.1, 3.0] {
+    for th in [0.0f64, 0.4, -2.1, 3.0] {
         let at = |th: f64| State::new(0.0, SVector::from([th]), SVector::from([0.9]));
         let gravity = match ConstrainedSystem::gravity_forces(&system, &at(th)) {
             Some(Ok(v)) => v[0],
@@ -124,7 +124,10 @@ fn gravity_of_a_body_is_the_gradient_of_its_potential() {
         close(Some(Ok(potential(th))), -m * g * c * th.cos());
         let h = 1e-6;
         let difference = (potential(th + h) - potential(th - h)) / (2.0 * h);
-        assert!((gravity - difference).abs() < 1e-7, "{gravity} vs {difference}");
+        assert!(
+            (gravity - difference).abs() < 1e-7,
+            "{gravity} vs {difference}"
+        );
     }
 }
 
