@@ -7,9 +7,9 @@ use nalgebra::{RealField, SMatrix, SVector};
 /// implemented by every struct that `constrained_system!` generates. The
 /// methods are the generated ones, taking a [`State`].
 ///
-/// Call them on the state, `state.acceleration(&system)` (see the methods
-/// of [`State`]), or fully qualified,
-/// `ConstrainedSystem::acceleration(&system, &state)`: a generated system's
+/// Call them fully qualified, `ConstrainedSystem::forces(&system, &state)`,
+/// or (the accelerations) on the state, `state.acceleration(&system)` (see
+/// the methods of [`State`]): a generated system's
 /// inherent `acceleration(q, qd, t)` has the same name and wins method
 /// resolution, so `system.acceleration(&state)` does not compile (E0061).
 pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize> {

@@ -1,7 +1,7 @@
 //! Stage 4: [`Equations`] → Rust tokens.
 //!
 //! Every generated function is straight-line code: bind the variables it
-//! uses, compute the shared subexpressions chosen by [`crate::expr::cse::Schedule`] in
+//! uses, compute the shared subexpressions chosen by `expr::cse::Schedule` in
 //! topological order, and build a fixed-size nalgebra result from an array.
 //! Nothing allocates, indexes or panics; literals go through
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.

@@ -29,7 +29,7 @@ pub struct Equations {
     /// How Gauss's principle is solved (see [`mass_inverse`]).
     pub mass_inverse: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
-    /// (see [`crate::equations::tangent`]); none when not `jacobians`.
+    /// (see `equations::tangent`); none when not `jacobians`.
     pub tangent: Tangent,
     /// Whether the Jacobian and linearization are generated
     /// ([`crate::Options`]).
