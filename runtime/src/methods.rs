@@ -10,7 +10,8 @@
 //!
 //! ```text
 //! /// docs
-//! required fn name(q, qd, t) -> TraitType, generated GeneratedType, finish function;
+//! required #[other attributes] fn name(q, qd, t) -> TraitType,
+//!     generated GeneratedType, finish function;
 //! ```
 //!
 //! `required` methods every system has; `optional` ones only some (an
@@ -42,8 +43,7 @@ macro_rules! forwarded_methods {
             required fn constraint_matrices(q, qd, t) -> (SMatrix<T, K, N>, SVector<T, K>),
                 generated (SMatrix<T, K, N>, SVector<T, K>), finish same;
             /// The explicit Gibbs–Appell system `(S, s)`, `S q̈ = s` (eq. 18 / 37).
-            #[allow(clippy::type_complexity)]
-            required fn gibbs_appell_matrices(q, qd, t)
+            required #[allow(clippy::type_complexity)] fn gibbs_appell_matrices(q, qd, t)
                 -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>,
                 generated Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>,
                 finish same;
@@ -104,11 +104,11 @@ macro_rules! state_argument {
 /// The rows' methods of the hidden `Generated` trait (in its body).
 macro_rules! generated_declarations {
     ($(
-        $(#[$attr:meta])*
-        $kind:ident fn $name:ident($($arg:ident),*) -> $ret:ty,
+        $(#[doc = $doc:expr])*
+        $kind:ident $(#[$attr:meta])* fn $name:ident($($arg:ident),*) -> $ret:ty,
             generated $gen:ty, finish $finish:ident;
     )*) => {$(
-        generated_declaration!($kind $(#[$attr])* fn $name($($arg),*) -> $gen);
+        generated_declaration!($kind $(#[doc = $doc])* $(#[$attr])* fn $name($($arg),*) -> $gen);
     )*};
 }
 
@@ -130,21 +130,23 @@ macro_rules! generated_declaration {
 /// The rows' methods of `ConstrainedSystem` (in its body).
 macro_rules! system_declarations {
     ($(
-        $(#[$attr:meta])*
-        $kind:ident fn $name:ident($($arg:ident),*) -> $ret:ty,
+        $(#[doc = $doc:expr])*
+        $kind:ident $(#[$attr:meta])* fn $name:ident($($arg:ident),*) -> $ret:ty,
             generated $gen:ty, finish $finish:ident;
     )*) => {$(
+        $(#[doc = $doc])*
         $(#[$attr])*
         fn $name(&self, state: &State<T, N>) -> $ret;
     )*};
 }
 
 /// The rows' methods of the blanket impl of `ConstrainedSystem` for every
-/// `Generated` type (in its body).
+/// `Generated` type (in its body), without the docs (the trait's, whose
+/// links to `Self::..` would not resolve in the blanket impl).
 macro_rules! system_definitions {
     ($(
-        $(#[$attr:meta])*
-        $kind:ident fn $name:ident($($arg:ident),*) -> $ret:ty,
+        $(#[doc = $doc:expr])*
+        $kind:ident $(#[$attr:meta])* fn $name:ident($($arg:ident),*) -> $ret:ty,
             generated $gen:ty, finish $finish:ident;
     )*) => {$(
         $(#[$attr])*

@@ -1,6 +1,6 @@
 //! Stage 3: [`System`] → [`Equations`]: the constraints differentiated into
 //! `A q̈ = b` by the total-derivative rule; then Gauss's principle
-//! ([`mass_inverse`]) and the tangent pieces ([`tangent`]).
+//! ([`mass_inverse`]) and the tangent pieces (`tangent`).
 
 pub mod gibbs_appell;
 pub mod mass_inverse;

@@ -18,7 +18,7 @@
 //!   under a non-integer exponent (`√2`); `x^1` is `x`;
 //! - `Pow` only for a non-constant exponent (`x.powf(y)`);
 //! - elementary functions are [`Func`] nodes of the operator table
-//!   ([`func`]);
+//!   (`func.rs`);
 //! - constant arithmetic is folded exactly (see [`Num`]).
 //!
 //! Walkers see a node's operands through [`Node::children`] and rebuild one

@@ -1,8 +1,8 @@
 //! Stage 2: [`SystemInput`] → [`System`]: names resolved, expressions lowered
 //! into the DAG, every rule of the DSL checked (serde_derive's `internals/`):
-//! - [`ctxt`]: the error collector, so that every mistake is reported at once;
+//! - `ctxt`: the error collector, so that every mistake is reported at once;
 //! - [`lower`]: name resolution and lowering;
-//! - [`check`](mod@check): the rules on lowered expressions, one function each.
+//! - `check`: the rules on lowered expressions, one function each.
 
 pub(crate) mod bodies;
 pub(crate) mod check;
