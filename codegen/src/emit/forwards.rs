@@ -2,11 +2,12 @@
 //! methods, forwarded, so that the runtime's blanket impl provides
 //! `ConstrainedSystem` (the `State`-taking methods) once for every system.
 //!
-//! [`FORWARDS`] is the one list of what is forwarded; each of its rows
-//! but `gauss` is a row of the runtime's table (`forwarded_methods!` in
-//! `runtime/src/methods.rs`), which declares the trait methods. A method
-//! of `EVALUATIONS` (`emit/dynamics.rs`) reaches `ConstrainedSystem` by a
-//! row here and one there.
+//! [`FORWARDS`] lists what every system forwards, and a row of
+//! `EVALUATIONS` (`emit/dynamics.rs`) marked `forwarded` adds itself;
+//! each of them but `gauss` is a row of the runtime's table
+//! (`forwarded_methods!` in `runtime/src/methods.rs`), which declares the
+//! trait methods. So a new evaluation reaches `ConstrainedSystem` by its
+//! row of `EVALUATIONS` here and one row there.
 
 use super::context::{Context, Inputs};
 use super::dynamics;
@@ -16,6 +17,7 @@ use proc_macro2::{Span, TokenStream};
 use quote::quote;
 
 /// One method of `Generated` and how it is forwarded.
+#[derive(Clone, Copy)]
 struct Forward {
     /// The method's name, the inherent method's and the trait's.
     name: &'static str,
@@ -26,19 +28,21 @@ struct Forward {
 }
 
 /// What a forwarded method returns.
+#[derive(Clone, Copy)]
 enum Returns {
     /// The inherent method's value, whose type this gives.
     Same(fn(&Context) -> TokenStream),
-    /// The method of `EVALUATIONS` of this name, where the system has it:
-    /// `Some` of its value as a `Result` (`Ok` of a total method's); the
-    /// runtime's default `None` where the system does not.
+    /// A row of `EVALUATIONS` marked `forwarded`, where the system has
+    /// it: `Some` of its value as a `Result` (`Ok` of a total method's);
+    /// the runtime's default `None` where the system does not.
     Evaluation,
     /// The solver `gauss`, asked for `(q̈, Aᵀλ)` as a `Result`.
     Gauss,
 }
 
-/// Every method of `Generated` that a system provides (besides the
-/// projection step, `mass_inverse::step`), in the order they are emitted.
+/// The methods of `Generated` that every system provides (besides the
+/// projection step, `mass_inverse::step`), in the order they are emitted;
+/// the `forwarded` rows of `EVALUATIONS` follow them ([`forwards`]).
 const FORWARDS: &[Forward] = &[
     Forward {
         name: "mass_matrix",
@@ -86,27 +90,29 @@ const FORWARDS: &[Forward] = &[
         args: Inputs::States,
         returns: Returns::Same(|c| c.result(c.vector(c.n), quote!(GibbsAppellError))),
     },
-    Forward {
-        name: "kinetic_energy",
-        args: Inputs::States,
-        returns: Returns::Evaluation,
-    },
-    Forward {
-        name: "potential_energy",
-        args: Inputs::Positions,
-        returns: Returns::Evaluation,
-    },
-    Forward {
-        name: "energy",
-        args: Inputs::States,
-        returns: Returns::Evaluation,
-    },
-    Forward {
-        name: "gravity_forces",
-        args: Inputs::Positions,
-        returns: Returns::Evaluation,
-    },
 ];
+
+/// Every forwarded method: the rows of [`FORWARDS`], then the rows of
+/// `EVALUATIONS` marked `forwarded` (those taking `(q, t)` or
+/// `(q, qd, t)`; the runtime's table has no other arguments).
+fn forwards() -> impl Iterator<Item = Forward> {
+    let evaluations = dynamics::EVALUATIONS
+        .iter()
+        .filter(|e| e.forwarded)
+        .filter_map(|e| {
+            let args = match e.args {
+                dynamics::Args::Positions => Inputs::Positions,
+                dynamics::Args::States => Inputs::States,
+                dynamics::Args::Accelerations => return None,
+            };
+            Some(Forward {
+                name: e.name,
+                args,
+                returns: Returns::Evaluation,
+            })
+        });
+    FORWARDS.iter().copied().chain(evaluations)
+}
 
 /// One row's method, or nothing for an evaluation the system lacks.
 fn forward(ctx: &Context, row: &Forward) -> Option<TokenStream> {
@@ -152,7 +158,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let (n, k) = (Context::dim(ctx.n), Context::dim(ctx.k));
     let generated = ctx.private(quote!(Generated<T, #n, #k>));
     let level = ctx.path(quote!(ConstraintLevel));
-    let methods = FORWARDS.iter().filter_map(|row| forward(ctx, row));
+    let methods = forwards().filter_map(|row| forward(ctx, &row));
     let step = mass_inverse::step(ctx);
     let semidefinite = matches!(ctx.eq.mass_inverse, MassInverse::Auxiliary).then(|| {
         quote!(
@@ -178,7 +184,8 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
 
 #[cfg(test)]
 mod tests {
-    use super::{Returns, FORWARDS};
+    use super::{forwards, Returns};
+    use crate::emit::dynamics::{Args, EVALUATIONS};
 
     /// Every forwarded method but `gauss` is a row of the runtime's table,
     /// with the same arguments, and every row there is one here.
@@ -192,10 +199,21 @@ mod tests {
             .filter(|l| l.starts_with("required ") || l.starts_with("optional "))
             .filter_map(|l| Some(format!("{} {}", &l[..8], &l[l.find("fn ")?..])))
             .collect();
-        let forwarded: Vec<&super::Forward> = FORWARDS
-            .iter()
+        let forwarded: Vec<super::Forward> = forwards()
             .filter(|f| !matches!(f.returns, Returns::Gauss))
             .collect();
+        let marked = EVALUATIONS.iter().filter(|e| e.forwarded);
+        assert!(
+            marked.clone().all(|e| e.args != Args::Accelerations),
+            "the runtime's table takes no accelerations"
+        );
+        assert_eq!(
+            forwarded
+                .iter()
+                .filter(|f| matches!(f.returns, Returns::Evaluation))
+                .count(),
+            marked.count()
+        );
         assert_eq!(rows.len(), forwarded.len(), "{rows:?}");
         for f in forwarded {
             let args = match f.args {
