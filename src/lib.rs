@@ -145,8 +145,8 @@ pub use nalgebra;
 /// `acceleration_moore_penrose(q, qd, t)`, `gibbs_appell_matrices(q, qd, t)`
 /// and `acceleration_gibbs_appell(q, qd, t)` (the explicit Gibbs–Appell
 /// system, eq. 18 / 37, with the partition found at compile time or given
-/// by `eliminate`), and implements [`ConstrainedSystem`] (call its methods
-/// on the state: `state.acceleration(&system)`).
+/// by `eliminate`), and implements [`ConstrainedSystem`] (call its
+/// accelerations on the state: `state.acceleration(&system)`).
 ///
 /// `acceleration`, `acceleration_corrected` and `constraint_force` return a
 /// plain vector when the mass matrix is a positive-definite constant, and

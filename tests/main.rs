@@ -16,6 +16,7 @@ mod dense_output;
 mod directional;
 mod docs;
 mod energies;
+mod evaluations;
 mod events;
 mod fault_matrix;
 mod finite_differences;

@@ -6,30 +6,30 @@
 //!
 //! Stages, each a pure function of the previous one's output:
 //! 1. [`parse`]: tokens → DSL syntax (`SystemInput`), after
-//!    [`parse::nesting`] has bounded how deeply the tokens nest;
+//!    `parse::nesting` has bounded how deeply the tokens nest;
 //! 2. [`model`]: names resolved, expressions lowered into the DAG of
 //!    [`expr`], every rule checked, errors reported together;
 //! 3. [`equations`]: constraints differentiated ([`expr::diff`]) into
 //!    `A q̈ = b`, Gauss's principle set up ([`equations::mass_inverse`]),
 //!    the derivatives behind the Jacobian of `q̈` taken
-//!    ([`equations::tangent`]), and the Gibbs–Appell partition found at
+//!    (`equations::tangent`), and the Gibbs–Appell partition found at
 //!    consistent states ([`equations::partition`]);
 //! 4. [`emit`]: straight-line Rust with shared subexpressions
-//!    ([`expr::cse`]) and the derivation text ([`emit::derivation`],
-//!    [`expr::print`]).
+//!    (`expr::cse`) and the derivation text ([`emit::derivation`],
+//!    `expr::print`).
 //!
 //! Below the stages: [`expr`] (the expression DAG, its exact rationals, its
 //! operator table and its passes, Lagrange's equations among them),
 //! [`numeric`] (dense linear algebra, sparsity patterns, the pseudo-random
-//! points), [`names`]. [`tools`]
+//! points), `names`. [`tools`]
 //! serves tests and benchmarks.
 
-pub mod bodies;
+pub(crate) mod bodies;
 pub mod emit;
 pub mod equations;
 pub mod expr;
 pub mod model;
-pub mod names;
+pub(crate) mod names;
 pub mod numeric;
 pub mod parse;
 pub mod tools;
@@ -68,7 +68,7 @@ pub fn expand_with(input: TokenStream, options: Options) -> syn::Result<TokenStr
 /// constraint makes `A M⁻¹ Aᵀ` hold `1e310`) would compute `∞` at run time
 /// too and silently drop the constraint: a compile error instead. So is a
 /// constant that is finite as written but not where generated code
-/// evaluates it (`E.powi(710)`, `exp(1000)`, `ln(0)`; [`expr::finite`]): spanned
+/// evaluates it (`E.powi(710)`, `exp(1000)`, `ln(0)`; `expr::finite`): spanned
 /// on the constraint or the mass matrix it occurs in, where it does.
 fn overflow_free(eq: &equations::Equations) -> syn::Result<()> {
     let sys = &eq.system;

@@ -3,7 +3,7 @@
 //! conversion, the [`Generated`] trait from which every
 //! [`ConstrainedSystem`](crate::ConstrainedSystem) method follows, and the
 //! effective mass of a semi-definite `M`. The solvers that cannot be
-//! specialised at compile time live in `dense` (a configuration-dependent
+//! specialised at compile time live in `gauss_dense` (a configuration-dependent
 //! `M(q)`) and `rank` (the checked rank decision, the Moore–Penrose form).
 //! Reached through the hidden path `constrained::__private`; not part of
 //! the public API.
@@ -72,9 +72,9 @@ pub fn step<T: RealField + Copy>(x: T) -> T {
 pub type Motion<T, const N: usize> = (SVector<T, N>, SVector<T, N>);
 
 /// The equations a generated system provides at `(q, q̇, t)`: its inherent
-/// methods, forwarded. [`ConstrainedSystem`](crate::ConstrainedSystem) is
-/// implemented for every `Generated` type by the blanket impl in
-/// `system.rs`.
+/// methods, forwarded (the rows of `methods.rs`, and the solver `gauss`).
+/// [`ConstrainedSystem`](crate::ConstrainedSystem) is implemented for every
+/// `Generated` type by the blanket impl in `system.rs`.
 pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
     /// Position or velocity level of each constraint.
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
@@ -86,26 +86,7 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
     /// less the model's redundancy. A rank decision that keeps this many
     /// rows is accepted unchecked ([`crate::rank`]).
     const GENERIC_RANK: usize = K;
-    /// `M(q, t)`.
-    fn mass_matrix(&self, q: &SVector<T, N>, t: T) -> SMatrix<T, N, N>;
-    /// `F(q, q̇, t)`.
-    fn forces(&self, q: &SVector<T, N>, qd: &SVector<T, N>, t: T) -> SVector<T, N>;
-    /// `φ`.
-    fn constraint_residual(&self, q: &SVector<T, N>, qd: &SVector<T, N>, t: T) -> SVector<T, K>;
-    /// `φ̇` or `φ`.
-    fn constraint_velocity_residual(
-        &self,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-    ) -> SVector<T, K>;
-    /// `(A, b)`.
-    fn constraint_matrices(
-        &self,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-    ) -> (SMatrix<T, K, N>, SVector<T, K>);
+    forwarded_methods!(generated_declarations);
     /// `(q̈, Aᵀλ)` of Gauss's principle with `b + correction`.
     fn gauss(
         &self,
@@ -114,21 +95,6 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
         t: T,
         correction: Option<&SVector<T, K>>,
     ) -> Result<Motion<T, N>, DynamicsError>;
-    /// The Gibbs–Appell system `(S, s)`.
-    #[allow(clippy::type_complexity)]
-    fn gibbs_appell_matrices(
-        &self,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-    ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>;
-    /// `q̈` from the Gibbs–Appell system.
-    fn acceleration_gibbs_appell(
-        &self,
-        q: &SVector<T, N>,
-        qd: &SVector<T, N>,
-        t: T,
-    ) -> Result<SVector<T, N>, GibbsAppellError>;
     /// The constraint-space step of the projections, `W S⁺ r` with
     /// `W = M⁻¹ Aᵀ`, `S = A W`, by the generated factorizations at this
     /// state, and which rows the rank rule kept. `None` where the generated

@@ -9,11 +9,13 @@
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![deny(missing_docs)]
 
+#[macro_use]
+mod methods;
 pub mod control;
-mod dense;
 mod error;
 mod finish;
 pub mod floating;
+mod gauss_dense;
 mod generated;
 pub mod gibbs_appell;
 pub mod impact;
@@ -47,8 +49,8 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
-    pub use crate::dense::gauss_dense;
     pub use crate::finish::{Fallible, Finish, Total, TotalAcceleration, TotalForce};
+    pub use crate::gauss_dense::gauss_dense;
     pub use crate::generated::{largest, lit, signum, step, unscaled_bound, Generated, Motion};
     pub use crate::linearize::Tangent;
     pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};

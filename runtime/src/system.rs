@@ -7,9 +7,9 @@ use nalgebra::{RealField, SMatrix, SVector};
 /// implemented by every struct that `constrained_system!` generates. The
 /// methods are the generated ones, taking a [`State`].
 ///
-/// Call them on the state, `state.acceleration(&system)` (see the methods
-/// of [`State`]), or fully qualified,
-/// `ConstrainedSystem::acceleration(&system, &state)`: a generated system's
+/// Call them fully qualified, `ConstrainedSystem::forces(&system, &state)`,
+/// or (the accelerations) on the state, `state.acceleration(&system)` (see
+/// the methods of [`State`]): a generated system's
 /// inherent `acceleration(q, qd, t)` has the same name and wins method
 /// resolution, so `system.acceleration(&state)` does not compile (E0061).
 pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize> {
@@ -21,17 +21,7 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// others on the constraint surface.
     const REDUNDANCY: usize = 0;
 
-    /// `M(q, t)`.
-    fn mass_matrix(&self, state: &State<T, N>) -> SMatrix<T, N, N>;
-    /// `F(q, q̇, t)`.
-    fn forces(&self, state: &State<T, N>) -> SVector<T, N>;
-    /// `φ(q, q̇, t)`.
-    fn constraint_residual(&self, state: &State<T, N>) -> SVector<T, K>;
-    /// The constraints at velocity level: `φ̇` for position-level rows, `φ`
-    /// for velocity-level ones. Its Jacobian in `q̇` is `A`.
-    fn constraint_velocity_residual(&self, state: &State<T, N>) -> SVector<T, K>;
-    /// `(A, b)` of `A q̈ = b`.
-    fn constraint_matrices(&self, state: &State<T, N>) -> (SMatrix<T, K, N>, SVector<T, K>);
+    forwarded_methods!(system_declarations);
     /// `q̈` by the generalized-inverse equation (eq. 24–26). `Err` only when
     /// `M` is not positive definite at this state.
     fn acceleration(&self, state: &State<T, N>) -> Result<SVector<T, N>, DynamicsError>;
@@ -51,22 +41,6 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// The constraint force `M q̈ − F`, with the same error as
     /// [`acceleration`](Self::acceleration).
     fn constraint_force(&self, state: &State<T, N>) -> Result<SVector<T, N>, DynamicsError>;
-    /// The explicit Gibbs–Appell system `(S, s)`, `S q̈ = s` (eq. 18 / 37).
-    #[allow(clippy::type_complexity)]
-    fn gibbs_appell_matrices(
-        &self,
-        state: &State<T, N>,
-    ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError>;
-    /// `q̈` from the Gibbs–Appell system; equal to
-    /// [`acceleration`](Self::acceleration) wherever both are defined. An
-    /// `Ok` satisfies every row of `A q̈ = b` to `√ε` (relative), not only
-    /// the `r` rows of its partition: off the surface of a redundant model,
-    /// where a redundant row is independent, it is
-    /// `Err(GibbsAppellError::Inconsistent)`.
-    fn acceleration_gibbs_appell(
-        &self,
-        state: &State<T, N>,
-    ) -> Result<SVector<T, N>, GibbsAppellError>;
     /// The projections' step `M⁻¹Aᵀ (A M⁻¹ Aᵀ)⁺ r` through the generated
     /// factorizations, and the rows kept; `None` makes
     /// [`stabilize::project`](crate::stabilize::project) solve densely (the
@@ -82,58 +56,18 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     }
 }
 
-/// The [`ConstrainedSystem`] methods, called on the state:
+/// The accelerations of [`ConstrainedSystem`], called on the state:
 /// `state.acceleration(&system)`.
 ///
 /// A generated system has inherent methods of the same names that take
 /// `(q, q̇, t)`, and Rust picks the inherent one for `system.acceleration(..)`
 /// (so `system.acceleration(&state)` is error E0061, "takes 3 arguments").
 /// These methods are the one spelling that needs neither the trait in scope
-/// nor a qualified path. `K` is inferred from the system.
+/// nor a qualified path, for the three forms of `q̈` users compare. `K` is
+/// inferred from the system. The trait's other methods are called fully
+/// qualified, `ConstrainedSystem::forces(&system, &state)`, or inherent,
+/// `system.forces(&state.q, &state.qd, state.t)`.
 impl<T: RealField + Copy, const N: usize> State<T, N> {
-    /// `M(q, t)` of `system` at this state.
-    pub fn mass_matrix<const K: usize, S>(&self, system: &S) -> SMatrix<T, N, N>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.mass_matrix(self)
-    }
-
-    /// `F(q, q̇, t)` of `system` at this state.
-    pub fn forces<const K: usize, S>(&self, system: &S) -> SVector<T, N>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.forces(self)
-    }
-
-    /// `φ(q, q̇, t)` of `system` at this state.
-    pub fn constraint_residual<const K: usize, S>(&self, system: &S) -> SVector<T, K>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_residual(self)
-    }
-
-    /// `φ̇` (position level) or `φ` (velocity level) of `system`.
-    pub fn constraint_velocity_residual<const K: usize, S>(&self, system: &S) -> SVector<T, K>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_velocity_residual(self)
-    }
-
-    /// `(A, b)` of `system` at this state.
-    pub fn constraint_matrices<const K: usize, S>(
-        &self,
-        system: &S,
-    ) -> (SMatrix<T, K, N>, SVector<T, K>)
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_matrices(self)
-    }
-
     /// `q̈` by the generalized-inverse equation (eq. 24–26).
     pub fn acceleration<const K: usize, S>(
         &self,
@@ -154,17 +88,6 @@ impl<T: RealField + Copy, const N: usize> State<T, N> {
         S: ConstrainedSystem<T, N, K>,
     {
         system.acceleration_moore_penrose(self)
-    }
-
-    /// The constraint force `M q̈ − F`.
-    pub fn constraint_force<const K: usize, S>(
-        &self,
-        system: &S,
-    ) -> Result<SVector<T, N>, DynamicsError>
-    where
-        S: ConstrainedSystem<T, N, K>,
-    {
-        system.constraint_force(self)
     }
 
     /// `q̈` from the explicit Gibbs–Appell system.
@@ -189,26 +112,7 @@ where
     const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
     const REDUNDANCY: usize = K - <S as Generated<T, N, K>>::GENERIC_RANK;
 
-    #[inline]
-    fn mass_matrix(&self, s: &State<T, N>) -> SMatrix<T, N, N> {
-        Generated::mass_matrix(self, &s.q, s.t)
-    }
-    #[inline]
-    fn forces(&self, s: &State<T, N>) -> SVector<T, N> {
-        Generated::forces(self, &s.q, &s.qd, s.t)
-    }
-    #[inline]
-    fn constraint_residual(&self, s: &State<T, N>) -> SVector<T, K> {
-        Generated::constraint_residual(self, &s.q, &s.qd, s.t)
-    }
-    #[inline]
-    fn constraint_velocity_residual(&self, s: &State<T, N>) -> SVector<T, K> {
-        Generated::constraint_velocity_residual(self, &s.q, &s.qd, s.t)
-    }
-    #[inline]
-    fn constraint_matrices(&self, s: &State<T, N>) -> (SMatrix<T, K, N>, SVector<T, K>) {
-        Generated::constraint_matrices(self, &s.q, &s.qd, s.t)
-    }
+    forwarded_methods!(system_definitions);
     #[inline]
     fn acceleration(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
         finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.0))
@@ -230,13 +134,6 @@ where
         finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.1))
     }
     #[inline]
-    fn gibbs_appell_matrices(
-        &self,
-        s: &State<T, N>,
-    ) -> Result<(SMatrix<T, N, N>, SVector<T, N>), GibbsAppellError> {
-        Generated::gibbs_appell_matrices(self, &s.q, &s.qd, s.t)
-    }
-    #[inline]
     fn constraint_step(
         &self,
         s: &State<T, N>,
@@ -244,18 +141,6 @@ where
     ) -> Option<(SVector<T, N>, [bool; K])> {
         Generated::constraint_step(self, &s.q, &s.qd, s.t, r)
             .filter(|(step, _)| step.iter().all(|x| x.is_finite()))
-    }
-    #[inline]
-    fn acceleration_gibbs_appell(
-        &self,
-        s: &State<T, N>,
-    ) -> Result<SVector<T, N>, GibbsAppellError> {
-        let qdd = Generated::acceleration_gibbs_appell(self, &s.q, &s.qd, s.t)?;
-        if qdd.iter().all(|x| x.is_finite()) {
-            Ok(qdd)
-        } else {
-            Err(GibbsAppellError::NonFinite)
-        }
     }
 }
 
@@ -269,4 +154,43 @@ fn finite<T: RealField + Copy, const N: usize>(
         Ok(v) if !v.iter().all(|x| x.is_finite()) => Err(DynamicsError::NonFinite),
         other => other,
     }
+}
+
+/// The finish of a row of `methods.rs` whose generated value is the trait's.
+#[inline]
+fn same<V>(value: V) -> V {
+    value
+}
+
+/// `acceleration_gibbs_appell`'s finish: a non-finite `q̈` is
+/// `Err(NonFinite)`.
+#[inline]
+fn finite_gibbs_appell<T: RealField + Copy, const N: usize>(
+    value: Result<SVector<T, N>, GibbsAppellError>,
+) -> Result<SVector<T, N>, GibbsAppellError> {
+    match value {
+        Ok(v) if !v.iter().all(|x| x.is_finite()) => Err(GibbsAppellError::NonFinite),
+        other => other,
+    }
+}
+
+/// The finish of an optional vector (`gravity_forces`): a non-finite
+/// entry is `Err(NonFinite)`.
+#[inline]
+fn finite_vector<T: RealField + Copy, const N: usize>(
+    value: Option<Result<SVector<T, N>, DynamicsError>>,
+) -> Option<Result<SVector<T, N>, DynamicsError>> {
+    value.map(finite)
+}
+
+/// The finish of an optional scalar (the energies): a non-finite value is
+/// `Err(NonFinite)`.
+#[inline]
+fn finite_scalar<T: RealField + Copy>(
+    value: Option<Result<T, DynamicsError>>,
+) -> Option<Result<T, DynamicsError>> {
+    value.map(|v| match v {
+        Ok(x) if !x.is_finite() => Err(DynamicsError::NonFinite),
+        other => other,
+    })
 }

@@ -1,5 +1,5 @@
 //! Issue 15 asked to measure an e-graph (the `egg` crate) against the
-//! rule-based factoring of `constrained_codegen::expr::factor` before choosing.
+//! rule-based factoring of `constrained_codegen::expr::common_factors` before choosing.
 //! This is that measurement, on every reference model: the raw `M`, `F`,
 //! `A` and `b` (the DSL lowered, the constraints differentiated, nothing
 //! factored) are
@@ -17,7 +17,7 @@
 
 use constrained_codegen::expr::diff::Differentiator;
 use constrained_codegen::expr::{Graph, Id, Node, Sym};
-use constrained_codegen::expr::factor::Factorer;
+use constrained_codegen::expr::common_factors::Factorer;
 use constrained_codegen::model::{self, Level};
 use constrained_codegen::expr::num::Num;
 use constrained_codegen::parse::SystemInput;

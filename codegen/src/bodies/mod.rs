@@ -12,9 +12,9 @@
 //! for the bias forces and O(n²) for `M`, against the n^3.5 of
 //! differentiating the kinetic energy twice.
 
-pub mod free;
-pub mod recursion;
-pub mod spatial;
+pub(crate) mod free;
+pub(crate) mod recursion;
+pub(crate) mod spatial;
 
 use crate::expr::{Graph, Id};
 use spatial::{Inertia, M3, V3};
@@ -121,9 +121,6 @@ pub struct Tree {
     pub bodies: Vec<Body>,
     /// The acceleration of gravity in world coordinates.
     pub gravity: V3,
-    /// For each described body: the movable body it is rigidly attached
-    /// to (`None`: the world) and its frame's placement in that body's.
-    pub frames: Vec<(Option<usize>, Placement)>,
 }
 
 impl Tree {
@@ -133,6 +130,8 @@ impl Tree {
     /// fixed joints. `described` lists parents before children.
     pub fn new(g: &mut Graph, described: &[Described], gravity: V3) -> Tree {
         let mut bodies: Vec<Body> = Vec::new();
+        // For each described body: the movable body it is rigidly attached
+        // to (`None`: the world) and its frame's placement in that body's.
         let mut frames: Vec<(Option<usize>, Placement)> = Vec::with_capacity(described.len());
         for d in described {
             let (anchor, offset) = match d.parent {
@@ -162,18 +161,7 @@ impl Tree {
                 }
             }
         }
-        Tree {
-            bodies,
-            gravity,
-            frames,
-        }
-    }
-
-    /// The body whose joint moves coordinate `i`.
-    pub fn body_of(&self, coordinate: usize) -> Option<usize> {
-        self.bodies
-            .iter()
-            .position(|b| b.joint.coordinates().contains(&coordinate))
+        Tree { bodies, gravity }
     }
 }
 

@@ -324,7 +324,7 @@ impl Inertia {
     /// The same inertia about the origin of a frame in which this frame has
     /// rotation `r` (columns: this frame's axes) and origin `p`:
     /// `h' = R h + m p`, `Ī' = R Ī Rᵀ − (h̃ p̃ + p̃ h̃) − m p̃ p̃` with `h = R h`.
-    pub fn to_parent(&self, g: &mut Graph, r: &M3, p: V3) -> Inertia {
+    pub fn to_parent(self, g: &mut Graph, r: &M3, p: V3) -> Inertia {
         let h = mat_vec(g, r, self.first_moment);
         let ri = mat_mul(g, r, &self.rotational);
         let rirt = mat_mul(g, &ri, &transpose(r));

@@ -94,6 +94,11 @@ pub struct Evaluation {
     pub name: &'static str,
     /// Its arguments after `&self`.
     pub args: Args,
+    /// Whether `ConstrainedSystem` has it too (taking a `State`; its row
+    /// of `forwarded_methods!` in `runtime/src/methods.rs`), as
+    /// `Option<Result<..>>`: the generated impl forwards it
+    /// (`emit/forwards.rs`).
+    pub forwarded: bool,
     /// Its documentation (the inherent method's; `docs/generated.md` has a
     /// row for it, checked by a test).
     doc: &'static str,
@@ -112,11 +117,13 @@ enum Value {
 
 /// The generated methods that evaluate the model rather than solve it,
 /// in the order they are emitted: a new one is a row here (and a row of
-/// the table in `docs/generated.md`).
+/// the table in `docs/generated.md`; with `forwarded`, a row of the
+/// runtime's `forwarded_methods!`).
 pub const EVALUATIONS: &[Evaluation] = &[
     Evaluation {
         name: "inverse_dynamics",
         args: Args::Accelerations,
+        forwarded: false,
         doc: " Inverse dynamics by recursive Newton–Euler: the joint forces \
               `τ = M(q) q̈ + c(q, q̇)` that give the bodies the accelerations \
               `qdd`, `c` holding the Coriolis, centrifugal and gravity forces \
@@ -128,6 +135,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
     Evaluation {
         name: "gravity_forces",
         args: Args::Positions,
+        forwarded: true,
         doc: " The generalized gravity `g(q)`: the joint forces that hold the \
               bodies still against gravity (Pinocchio's \
               `computeGeneralizedGravity`; `inverse_dynamics` at `q̇ = q̈ = 0`).",
@@ -136,29 +144,43 @@ pub const EVALUATIONS: &[Evaluation] = &[
     Evaluation {
         name: "kinetic_energy",
         args: Args::States,
+        forwarded: true,
         doc: " The kinetic energy `T(q, q̇, t)`.",
         value: |eq| Some(Value::Scalar(eq.system.energy?.kinetic)),
     },
     Evaluation {
         name: "potential_energy",
         args: Args::Positions,
+        forwarded: true,
         doc: " The potential energy `V(q, t)` (gravity's for bodies, and `potential_energy` as written; 0 where neither is given).",
         value: |eq| Some(Value::Scalar(eq.system.energy?.potential)),
     },
     Evaluation {
         name: "energy",
         args: Args::States,
+        forwarded: true,
         doc: " The total energy `T + V`, conserved where no other force acts.",
         value: |eq| Some(Value::Scalar(eq.system.energy?.total)),
     },
     Evaluation {
         name: "generalized_momentum",
         args: Args::States,
+        forwarded: false,
         doc: " The generalized momentum `p = M(q, t) q̇` (`∂T/∂q̇` for a \
               kinetic energy quadratic in `q̇`), without forming `M`.",
         value: |eq| Some(Value::Vector(eq.momentum.clone())),
     },
 ];
+
+/// The type the method of [`EVALUATIONS`] named `name` returns (its
+/// `Ok` type where it returns a `Result`), where the system has it.
+pub(super) fn value_type(ctx: &Context, name: &str) -> Option<TokenStream> {
+    let row = EVALUATIONS.iter().find(|e| e.name == name)?;
+    match (row.value)(ctx.eq)? {
+        Value::Vector(entries) => Some(ctx.vector(entries.len())),
+        Value::Scalar(_) => Some(quote!(T)),
+    }
+}
 
 /// The methods of [`EVALUATIONS`] that the system has.
 pub(super) fn methods(ctx: &Context) -> TokenStream {

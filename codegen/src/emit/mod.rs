@@ -1,7 +1,7 @@
 //! Stage 4: [`Equations`] → Rust tokens.
 //!
 //! Every generated function is straight-line code: bind the variables it
-//! uses, compute the shared subexpressions chosen by [`crate::expr::cse::Schedule`] in
+//! uses, compute the shared subexpressions chosen by `expr::cse::Schedule` in
 //! topological order, and build a fixed-size nalgebra result from an array.
 //! Nothing allocates, indexes or panics; literals go through
 //! `::constrained::__private::lit` so one body serves `f32` and `f64`.
@@ -9,8 +9,9 @@
 //! Two axes, one per level:
 //!
 //! - the files here are the generated methods (`motion`: `acceleration`,
-//!   `constraint_force`, the trait impl; `jacobian`: the linearization;
-//!   `dynamics`, `gibbs_appell`, `tangent`), and the shared value of the
+//!   `constraint_force`; `jacobian`: the linearization; `dynamics`: the
+//!   evaluations; `gibbs_appell`, `tangent`; `forwards`: the impl of the
+//!   runtime's trait, from one table), and the shared value of the
 //!   solve (`solve`: `checked_motion`, `corrected`);
 //! - `mass_inverse/` holds one module per way of applying `M⁻¹`
 //!   (`symbolic`, `factored`, `auxiliary`), each with its solver, Jacobian
@@ -23,6 +24,7 @@ mod body;
 mod context;
 pub mod derivation;
 mod dynamics;
+mod forwards;
 mod gibbs_appell;
 mod impact;
 mod jacobian;
@@ -97,7 +99,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         }
     });
     let tangent_impl = eq.jacobians.then(|| jacobian::tangent_impl(&ctx));
-    let generated_impl = motion::generated_impl(&ctx);
+    let generated_impl = forwards::generated_impl(&ctx);
     let levels = motion::levels(&ctx);
     let level = ctx.path(quote!(ConstraintLevel));
     let symbolic_type = ctx.path(quote!(SymbolicSystem));

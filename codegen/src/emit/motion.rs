@@ -1,7 +1,6 @@
 //! Code for the generalized-inverse equation of motion (eq. 24–26):
 //! `acceleration`, `constraint_force`, `acceleration_corrected`,
-//! `acceleration_moore_penrose`, and the impl of the runtime's hidden
-//! `Generated` trait from which `ConstrainedSystem` follows.
+//! `acceleration_moore_penrose`.
 //!
 //! The public methods share one private solver, `gauss`, generic over
 //! what its caller wants back (`constrained::__private::Finish`: `q̈`
@@ -17,7 +16,6 @@
 
 use super::context::{Context, Inputs};
 use super::mass_inverse;
-use crate::equations::mass_inverse::MassInverse;
 use crate::model::Level;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -107,72 +105,6 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
         /// constraints is wanted.
         pub fn acceleration_moore_penrose(&self, #params) -> #mp_ret {
             #moore_penrose(self, #args)
-        }
-    }
-}
-
-/// The impl of `constrained::__private::Generated`: the inherent methods,
-/// forwarded, so that the runtime's blanket impl provides
-/// `ConstrainedSystem` (the `State`-taking methods) once for every system.
-pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
-    let name = &ctx.eq.system.name;
-    let (n, k) = (Context::dim(ctx.n), Context::dim(ctx.k));
-    let (states, positions) = (ctx.params(Inputs::States), ctx.params(Inputs::Positions));
-    let args = ctx.args(Inputs::States);
-    let (vector, k_vector) = (ctx.vector(ctx.n), ctx.vector(ctx.k));
-    let (m, a) = (ctx.matrix(ctx.n, ctx.n), ctx.matrix(ctx.k, ctx.n));
-    let motion = ctx.private(quote!(Motion<T, #n>));
-    let gauss_ret = ctx.result(motion, quote!(DynamicsError));
-    let gauss = ctx.call_gauss("Fallible", quote!(correction));
-    let correction = ctx.correction_type();
-    let generated = ctx.private(quote!(Generated<T, #n, #k>));
-    let level = ctx.path(quote!(ConstraintLevel));
-    let ga_system = ctx.result(quote!((#m, #vector)), quote!(GibbsAppellError));
-    let ga_acceleration = ctx.result(vector.clone(), quote!(GibbsAppellError));
-    let step = mass_inverse::step(ctx);
-    let semidefinite = matches!(ctx.eq.mass_inverse, MassInverse::Auxiliary).then(|| {
-        quote!(
-            const SEMIDEFINITE_MASS: bool = true;
-        )
-    });
-    let generic_rank = (ctx.generic_rank < ctx.k).then(|| {
-        let r = Context::dim(ctx.generic_rank);
-        quote!(
-            const GENERIC_RANK: usize = #r;
-        )
-    });
-    quote! {
-        impl<T: ::constrained::nalgebra::RealField + Copy> #generated for #name<T> {
-            const CONSTRAINT_LEVELS: [#level; #k] = Self::CONSTRAINT_LEVELS;
-            #semidefinite
-            #generic_rank
-            #[inline]
-            fn mass_matrix(&self, #positions) -> #m { Self::mass_matrix(self, q, t) }
-            #[inline]
-            fn forces(&self, #states) -> #vector { Self::forces(self, #args) }
-            #[inline]
-            fn constraint_residual(&self, #states) -> #k_vector {
-                Self::constraint_residual(self, #args)
-            }
-            #[inline]
-            fn constraint_velocity_residual(&self, #states) -> #k_vector {
-                Self::constraint_velocity_residual(self, #args)
-            }
-            #[inline]
-            fn constraint_matrices(&self, #states) -> (#a, #k_vector) {
-                Self::constraint_matrices(self, #args)
-            }
-            #[inline]
-            fn gauss(&self, #states, correction: #correction) -> #gauss_ret { #gauss }
-            #[inline]
-            fn gibbs_appell_matrices(&self, #states) -> #ga_system {
-                Self::gibbs_appell_matrices(self, #args)
-            }
-            #[inline]
-            fn acceleration_gibbs_appell(&self, #states) -> #ga_acceleration {
-                Self::acceleration_gibbs_appell(self, #args)
-            }
-            #step
         }
     }
 }

@@ -11,7 +11,7 @@
 //! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
 //! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
 
-use crate::expr::factor::Factorer;
+use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
 use crate::numeric::sparsity::Structure;
@@ -148,12 +148,8 @@ pub struct Symbolic {
 fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
     let n = mass.len();
     let entries: Vec<Id> = mass.iter().flatten().copied().collect();
-    let mut rng = crate::numeric::rng::SplitMix64::new(0x5e11_d3f1);
-    (0..4).all(|_| {
-        let seed = rng.next_u64();
-        let values = g.eval(&entries, &|s| {
-            crate::numeric::rng::SplitMix64::value_for(seed, s)
-        });
+    crate::numeric::rng::sample_points(0x5e11_d3f1).all(|point| {
+        let values = g.eval(&entries, &point);
         if values.iter().any(|v| !v.is_finite()) {
             return false;
         }
@@ -222,7 +218,7 @@ pub fn build(
     );
     let (acceleration, force) = motion(g, &rows, &weighted, &unconstrained, common_mass);
     // The pieces as the derivation prints them and the code computes
-    // them: with common factors pulled out (`crate::expr::factor`).
+    // them: with common factors pulled out (`crate::expr::common_factors`).
     let unconstrained = factorer.factor_all(g, &unconstrained);
     let weighted = factorer.factor_rows(g, &weighted);
     let gram = factorer.factor_rows(g, &gram);

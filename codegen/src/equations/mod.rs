@@ -1,14 +1,14 @@
 //! Stage 3: [`System`] → [`Equations`]: the constraints differentiated into
 //! `A q̈ = b` by the total-derivative rule; then Gauss's principle
-//! ([`mass_inverse`]) and the tangent pieces ([`tangent`]).
+//! ([`mass_inverse`]) and the tangent pieces (`tangent`).
 
 pub mod gibbs_appell;
 pub mod mass_inverse;
 pub mod partition;
-pub mod tangent;
+pub(crate) mod tangent;
 
+use crate::expr::common_factors::Factorer;
 use crate::expr::diff::Differentiator;
-use crate::expr::factor::Factorer;
 use crate::expr::Id;
 use crate::expr::Sym;
 use crate::model::{Level, System};
@@ -29,7 +29,7 @@ pub struct Equations {
     /// How Gauss's principle is solved (see [`mass_inverse`]).
     pub mass_inverse: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
-    /// (see [`crate::equations::tangent`]); none when not `jacobians`.
+    /// (see `equations::tangent`); none when not `jacobians`.
     pub tangent: Tangent,
     /// Whether the Jacobian and linearization are generated
     /// ([`crate::Options`]).
@@ -44,7 +44,7 @@ pub struct Equations {
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
 /// written, so that a user's scaling of φ shows up unchanged.
 /// `M`, `F`, `A` and `b` have their common factors pulled out
-/// ([`crate::expr::factor`]) before anything is built from them, so that the
+/// ([`crate::expr::common_factors`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
 pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();

@@ -58,9 +58,9 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
         states.iter().map(|s| eval_a(eq, s)).collect()
     } else {
         // No consistent state found: measure off the surface (generic rank).
-        let mut rng = SplitMix64::new(0x6a1b_b5e1);
-        (0..STATES)
-            .map(|_| eval_a(eq, &random_state(eq, &mut rng)))
+        random_states(eq, 0x6a1b_b5e1)
+            .iter()
+            .map(|s| eval_a(eq, s))
             .collect()
     };
     if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
@@ -222,6 +222,14 @@ impl StateValues {
     }
 }
 
+/// `STATES` random states (off the constraints), from the generator
+/// seeded with `stream`: where rank is measured when no consistent state
+/// is found.
+fn random_states(eq: &Equations, stream: u64) -> Vec<StateValues> {
+    let mut rng = SplitMix64::new(stream);
+    (0..STATES).map(|_| random_state(eq, &mut rng)).collect()
+}
+
 fn random_state(eq: &Equations, rng: &mut SplitMix64) -> StateValues {
     let n = eq.system.dof();
     let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
@@ -247,9 +255,8 @@ fn eval_a(eq: &Equations, s: &StateValues) -> Vec<Vec<f64>> {
 /// (Udwadia & Schutte 2010). Otherwise no acceleration is determined.
 fn completes_the_mass(eq: &Equations, states: &[StateValues]) -> syn::Result<()> {
     let n = eq.system.dof();
-    let mut rng = SplitMix64::new(0x0a55_1571);
     let points: Vec<StateValues> = if states.is_empty() {
-        (0..STATES).map(|_| random_state(eq, &mut rng)).collect()
+        random_states(eq, 0x0a55_1571)
     } else {
         states.to_vec()
     };

@@ -228,10 +228,10 @@ mod tests {
             for &fi in &f {
                 let along = directional.derivative(g, fi);
                 let partial = d.partial(g, fi, v);
-                for seed in 0..4u64 {
+                for point in crate::numeric::rng::sample_points(0) {
                     let value = |s: Sym| match s {
                         Sym::Seed(k) => f64::from(u8::from(k == c)),
-                        s => crate::numeric::rng::SplitMix64::value_for(seed, s),
+                        s => point(s),
                     };
                     let both = g.eval(&[along, partial], &value);
                     assert!(

@@ -18,7 +18,6 @@ pub const MAX_UNROLLED_POWER: i64 = 4;
 pub struct Schedule {
     /// Nodes that get a `let`, in topological order.
     pub temporaries: Vec<Id>,
-    is_temporary: Vec<bool>,
 }
 
 impl Schedule {
@@ -45,7 +44,6 @@ impl Schedule {
                 }
             }
         }
-        let mut is_temporary = vec![false; g.len()];
         let temporaries: Vec<Id> = reachable
             .into_iter()
             .filter(|&id| {
@@ -53,17 +51,6 @@ impl Schedule {
                 !leaf && uses[id.index()] > 1
             })
             .collect();
-        for t in &temporaries {
-            is_temporary[t.index()] = true;
-        }
-        Schedule {
-            temporaries,
-            is_temporary,
-        }
-    }
-
-    /// Whether `id` is bound to a temporary.
-    pub fn is_temporary(&self, id: Id) -> bool {
-        self.is_temporary.get(id.index()).copied().unwrap_or(false)
+        Schedule { temporaries }
     }
 }

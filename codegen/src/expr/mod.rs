@@ -18,7 +18,7 @@
 //!   under a non-integer exponent (`√2`); `x^1` is `x`;
 //! - `Pow` only for a non-constant exponent (`x.powf(y)`);
 //! - elementary functions are [`Func`] nodes of the operator table
-//!   ([`func`]);
+//!   (`func.rs`);
 //! - constant arithmetic is folded exactly (see [`Num`]).
 //!
 //! Walkers see a node's operands through [`Node::children`] and rebuild one
@@ -27,18 +27,18 @@
 //! enough to overflow the stack.
 
 mod build;
-pub mod cse;
+pub mod common_factors;
+pub(crate) mod cse;
 pub mod diff;
-pub mod factor;
-pub mod finite;
-pub mod func;
-pub mod lagrange;
+pub(crate) mod finite;
+pub(crate) mod func;
+pub(crate) mod lagrange;
 pub mod num;
-pub mod print;
-pub mod squares;
+pub(crate) mod print;
+pub(crate) mod squares;
 #[cfg(test)]
 mod tests;
-pub mod trig;
+pub(crate) mod trig;
 
 pub use func::{Args, Emission, Func, Parity, Visibility};
 

@@ -13,12 +13,12 @@
 //! Lagrange's method (`Q = Σ dₖ·lₖ·lₖᵀ`, exact rationals) into
 //! `Σ dₖ·(lₖ·q̇)²`, and a group is rewritten when that takes fewer squares
 //! than it had monomials. The rewritten sum, factored like every other
-//! (`crate::expr::factor`), replaces the original only when it costs at least
+//! (`crate::expr::common_factors`), replaces the original only when it costs at least
 //! three operations fewer ([`operations`], `MIN_SAVING`): values are
 //! unchanged, only the order of operations (and with it the rounding)
 //! moves.
 
-use crate::expr::factor::Factorer;
+use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
 use std::collections::{BTreeMap, HashMap};

@@ -1,29 +1,23 @@
 //! The rules of the input that need the lowered expressions, one function
 //! each (serde_derive's `check.rs`). The mass rules take the matrix and
-//! where to point, so that they serve a matrix written in `mass:` and one
-//! derived from other input alike.
+//! its written entries, to point at.
 
 use super::ctxt::Errors;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Sym};
-use crate::numeric::rng::SplitMix64;
+use crate::numeric::rng::sample_points;
 use proc_macro2::TokenStream;
 use quote::ToTokens;
 
-/// Where the entries of a mass matrix came from, to point errors at.
-pub enum MassSource<'a> {
-    /// Written entry by entry (`None` where an entry is missing).
-    Entries(Vec<Vec<Option<&'a syn::Expr>>>),
-    /// Derived from one piece of input (every error points at it).
-    Derived(TokenStream),
-}
+/// The entries of a mass matrix as written in `mass:` (`None` where an
+/// entry is missing), to point errors at. (A derived `M` needs no such
+/// check: Lagrange's equations and the bodies' recursion make it
+/// symmetric and free of velocities.)
+pub struct MassSource<'a>(pub Vec<Vec<Option<&'a syn::Expr>>>);
 
 impl MassSource<'_> {
     fn at(&self, i: usize, j: usize) -> Option<TokenStream> {
-        match self {
-            MassSource::Entries(e) => e.get(i)?.get(j)?.map(ToTokens::to_token_stream),
-            MassSource::Derived(tokens) => Some(tokens.clone()),
-        }
+        self.0.get(i)?.get(j)?.map(ToTokens::to_token_stream)
     }
 }
 
@@ -307,10 +301,8 @@ pub fn constraint_differentiable(
 
 /// Whether two expressions agree at a few deterministic pseudo-random points.
 fn numerically_equal(g: &Graph, a: Id, b: Id) -> bool {
-    let mut rng = SplitMix64::new(0x5eed_0fad);
-    (0..4).all(|_| {
-        let seed = rng.next_u64();
-        let v = g.eval(&[a, b], &|s| SplitMix64::value_for(seed, s));
+    sample_points(0x5eed_0fad).all(|point| {
+        let v = g.eval(&[a, b], &point);
         let scale = v[0].abs().max(v[1].abs()).max(1.0);
         (v[0] - v[1]).abs() <= 1e-12 * scale
     })

@@ -1,17 +1,17 @@
 //! Stage 2: [`SystemInput`] → [`System`]: names resolved, expressions lowered
 //! into the DAG, every rule of the DSL checked (serde_derive's `internals/`):
-//! - [`ctxt`]: the error collector, so that every mistake is reported at once;
+//! - `ctxt`: the error collector, so that every mistake is reported at once;
 //! - [`lower`]: name resolution and lowering;
-//! - [`check`](mod@check): the rules on lowered expressions, one function each.
+//! - `check`: the rules on lowered expressions, one function each.
 
-pub mod bodies;
-pub mod check;
-pub mod ctxt;
-pub mod free;
+pub(crate) mod bodies;
+pub(crate) mod check;
+pub(crate) mod ctxt;
+pub(crate) mod free;
 pub mod lower;
 mod source;
-pub mod unilateral;
-pub mod urdf;
+pub(crate) mod unilateral;
+pub(crate) mod urdf;
 
 use crate::expr::{Graph, Id, Sym};
 use crate::parse::{BodyInput, ConstraintInput, List, MassInput, Section, SystemInput};
@@ -361,7 +361,7 @@ impl Lowerer<'_> {
                 }
             }
         }
-        let source = MassSource::Entries(sources);
+        let source = MassSource(sources);
         check::mass_without_velocities(self.errors, self.graph, &m, &source);
         check::mass_symmetric(self.errors, self.graph, &mut m, &source);
         // Missing or unreadable entries were filled with zeros.

@@ -1,9 +1,9 @@
 //! Numerics beside the expressions: dense linear algebra at compile time
-//! ([`linalg`]), the structural patterns of
-//! matrices and their elimination orders ([`sparsity`]), and the
+//! (`linalg`), the structural patterns of
+//! matrices and their elimination orders (`sparsity`), and the
 //! deterministic pseudo-random points at which properties are sampled
 //! ([`rng`]).
 
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod rng;
-pub mod sparsity;
+pub(crate) mod sparsity;

@@ -5,6 +5,22 @@
 
 use crate::expr::Sym;
 
+/// How many points a compile-time check samples a property at.
+pub const SAMPLE_POINTS: usize = 4;
+
+/// The [`SAMPLE_POINTS`] deterministic points at which a compile-time
+/// check samples a property (two expressions agree, `M` is singular), each
+/// a value for every symbol ([`SplitMix64::value_for`]). `stream` makes
+/// each check's points its own, so that one check's decisions do not move
+/// when another's points change.
+pub fn sample_points(stream: u64) -> impl Iterator<Item = impl Fn(Sym) -> f64> {
+    let mut rng = SplitMix64::new(stream);
+    (0..SAMPLE_POINTS).map(move |_| {
+        let seed = rng.next_u64();
+        move |s| SplitMix64::value_for(seed, s)
+    })
+}
+
 /// SplitMix64 (Steele, Lea & Flood 2014): tiny, fast, good enough for choosing
 /// test points.
 #[derive(Clone, Debug)]

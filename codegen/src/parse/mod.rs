@@ -4,7 +4,7 @@
 //! Only the shape is checked here; names, lengths and meaning are checked by
 //! [`crate::model`], which sees the whole input and reports every error at once.
 
-pub mod nesting;
+pub(crate) mod nesting;
 
 use proc_macro2::Span;
 use syn::parse::{Parse, ParseStream};

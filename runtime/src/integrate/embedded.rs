@@ -1,7 +1,7 @@
 //! Adaptive steps for embedded Runge–Kutta pairs.
 
 use super::controller::PiController;
-use super::dense::Interpolant;
+use super::dense_output::Interpolant;
 use super::explicit::{fixed_tableau_steps, step, Step};
 use super::stepper::{Attempt, StepMethod};
 use super::tableau::{Embedded, Tableau};

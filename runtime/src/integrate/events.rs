@@ -32,7 +32,7 @@
 //! events at one time nor a silent pass through the surface.
 
 use super::c;
-use super::dense::{Interpolant, Polynomial};
+use super::dense_output::{Interpolant, Polynomial};
 use crate::{IntegrationError, State};
 use core::cell::OnceCell;
 use nalgebra::RealField;

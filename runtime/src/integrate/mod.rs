@@ -96,7 +96,7 @@ macro_rules! shared_settings {
 }
 
 mod controller;
-mod dense;
+mod dense_output;
 mod embedded;
 mod euler;
 pub mod events;

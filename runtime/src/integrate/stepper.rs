@@ -3,7 +3,7 @@
 //! a state changed at an event. The drivers with events are built on it.
 
 use super::controller::PiController;
-use super::dense::Interpolant;
+use super::dense_output::Interpolant;
 use super::events::{self, Action, Crossing, Direction, EventStats, Events, Span};
 use super::{accept, c, derivative, Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
