@@ -35,54 +35,18 @@ fn never() -> Events<f64, impl Fn(&State<f64, 4>) -> [f64; 2], 2> {
     )
 }
 
+/// Rounds of each comparison, the plain run and the runs with events
+/// alternating within a round (the report takes the median of the rounds'
+/// ratios: on a loaded machine the load drifts between benchmarks).
+const ROUNDS: usize = 3;
+
 fn untriggered(c: &mut Criterion) {
     let system = DoublePendulum::<f64>::new(1.0, 1.5, 1.2, 0.8, 9.81);
     let start = double_pendulum_state(1.2, 0.8, 0.0, [2.0, -1.0], [0.5, 1.5]);
     let events = never();
-    let mut group = c.benchmark_group("events");
-    let dp = DormandPrince45::new(1e-8, 1e-10);
-    group.bench_function("dp45_double_pendulum_5s/plain", |b| {
-        b.iter(|| {
-            let mut s = black_box(start);
-            dp.advance(&system, &mut s, 5.0).map(|_| s)
-        })
-    });
-    group.bench_function("dp45_double_pendulum_5s/untriggered", |b| {
-        b.iter(|| {
-            let mut s = black_box(start);
-            dp.advance_events(&system, &mut s, 5.0, &events, |_, _| {})
-                .map(|run| (s, run.stopped.is_none()))
-        })
-    });
     let ends = never().with_samples(0);
-    group.bench_function("dp45_double_pendulum_5s/untriggered_ends_only", |b| {
-        b.iter(|| {
-            let mut s = black_box(start);
-            dp.advance_events(&system, &mut s, 5.0, &ends, |_, _| {})
-                .map(|run| (s, run.stopped.is_none()))
-        })
-    });
+    let dp = DormandPrince45::new(1e-8, 1e-10);
     let rk4 = Rk4::new(1e-3);
-    group.bench_function("rk4_double_pendulum_1s/plain", |b| {
-        b.iter(|| {
-            let mut s = black_box(start);
-            rk4.advance(&system, &mut s, 1.0).map(|_| s)
-        })
-    });
-    group.bench_function("rk4_double_pendulum_1s/untriggered", |b| {
-        b.iter(|| {
-            let mut s = black_box(start);
-            rk4.advance_events(&system, &mut s, 1.0, &events, |_, _| {})
-                .map(|run| (s, run.stopped.is_none()))
-        })
-    });
-    group.bench_function("rk4_double_pendulum_1s/untriggered_ends_only", |b| {
-        b.iter(|| {
-            let mut s = black_box(start);
-            rk4.advance_events(&system, &mut s, 1.0, &ends, |_, _| {})
-                .map(|run| (s, run.stopped.is_none()))
-        })
-    });
     // A system whose steps cost more (RK4 step ≈ 2.7 µs): the same fixed
     // cost per step is a smaller part of it.
     let chain = constrained_chains::Chain32::new(9.81);
@@ -95,19 +59,71 @@ fn untriggered(c: &mut Criterion) {
             Event::stop(Direction::Rising),
         ],
     );
-    group.bench_function("rk4_chain32_0.1s/plain", |b| {
-        b.iter(|| {
-            let mut s = black_box(chain_start);
-            rk4.advance(&chain, &mut s, 0.1).map(|_| s)
-        })
-    });
-    group.bench_function("rk4_chain32_0.1s/untriggered", |b| {
-        b.iter(|| {
-            let mut s = black_box(chain_start);
-            rk4.advance_events(&chain, &mut s, 0.1, &far, |_, _| {})
-                .map(|run| (s, run.stopped.is_none()))
-        })
-    });
+    let mut group = c.benchmark_group("events");
+    for round in 1..=ROUNDS {
+        group.bench_function(format!("dp45_double_pendulum_5s/plain/{round}"), |b| {
+            b.iter(|| {
+                let mut s = black_box(start);
+                dp.advance(&system, &mut s, 5.0).map(|_| s)
+            })
+        });
+        group.bench_function(
+            format!("dp45_double_pendulum_5s/untriggered/{round}"),
+            |b| {
+                b.iter(|| {
+                    let mut s = black_box(start);
+                    dp.advance_events(&system, &mut s, 5.0, &events, |_, _| {})
+                        .map(|run| (s, run.stopped.is_none()))
+                })
+            },
+        );
+        group.bench_function(
+            format!("dp45_double_pendulum_5s/untriggered_ends_only/{round}"),
+            |b| {
+                b.iter(|| {
+                    let mut s = black_box(start);
+                    dp.advance_events(&system, &mut s, 5.0, &ends, |_, _| {})
+                        .map(|run| (s, run.stopped.is_none()))
+                })
+            },
+        );
+        group.bench_function(format!("rk4_double_pendulum_1s/plain/{round}"), |b| {
+            b.iter(|| {
+                let mut s = black_box(start);
+                rk4.advance(&system, &mut s, 1.0).map(|_| s)
+            })
+        });
+        group.bench_function(format!("rk4_double_pendulum_1s/untriggered/{round}"), |b| {
+            b.iter(|| {
+                let mut s = black_box(start);
+                rk4.advance_events(&system, &mut s, 1.0, &events, |_, _| {})
+                    .map(|run| (s, run.stopped.is_none()))
+            })
+        });
+        group.bench_function(
+            format!("rk4_double_pendulum_1s/untriggered_ends_only/{round}"),
+            |b| {
+                b.iter(|| {
+                    let mut s = black_box(start);
+                    rk4.advance_events(&system, &mut s, 1.0, &ends, |_, _| {})
+                        .map(|run| (s, run.stopped.is_none()))
+                })
+            },
+        );
+        group.bench_function(format!("rk4_chain32_0.1s/plain/{round}"), |b| {
+            b.iter(|| {
+                let mut s = black_box(chain_start);
+                rk4.advance(&chain, &mut s, 0.1).map(|_| s)
+            })
+        });
+        group.bench_function(format!("rk4_chain32_0.1s/untriggered/{round}"), |b| {
+            b.iter(|| {
+                let mut s = black_box(chain_start);
+                rk4.advance_events(&chain, &mut s, 0.1, &far, |_, _| {})
+                    .map(|run| (s, run.stopped.is_none()))
+            })
+        });
+    }
     group.finish();
     write_counts(&system, &start);
 }

@@ -9,7 +9,8 @@
 # MuJoCo on the chain and the four-bar, and the Panda and the UR5 from
 # URDF against Pinocchio's aba, crba and rnea (benches/peers/run.sh;
 # event location: runs with events that never trigger against runs without,
-# and the evaluations per located crossing (benches/events.rs);
+# and the evaluations per located crossing (benches/events.rs); the impact
+# maps per impact (benches/impact.rs);
 # PEERS=0 skips them, and a failure there leaves their rows out without
 # stopping the rest). Benchmarks run pinned to one core where taskset exists.
 # Takes about fifteen minutes on two cores (two of them compiling
@@ -36,7 +37,7 @@ aligned=(env "RUSTFLAGS=$ALIGNED_RUSTFLAGS" "CARGO_TARGET_DIR=$ALIGNED_TARGET_DI
 # Only this run's results reach the report.
 rm -rf "$target/criterion"
 echo "== build the benchmarks"
-"${aligned[@]}" cargo bench --quiet --no-run -p constrained-tests --bench acceleration --bench jacobian --bench projection --bench baumgarte --bench events
+"${aligned[@]}" cargo bench --quiet --no-run -p constrained-tests --bench acceleration --bench jacobian --bench projection --bench baumgarte --bench events --bench impact
 "${aligned[@]}" cargo bench --quiet --no-run -p constrained-codegen --bench expand
 echo "== criterion: generated code (benches/acceleration.rs)"
 "${aligned[@]}" "${pin[@]}" cargo bench --quiet -p constrained-tests --bench acceleration -- "${quick[@]}" > "$target/benchmarks-acceleration.log"
@@ -48,6 +49,8 @@ echo "== criterion: Baumgarte-stabilized steps (benches/baumgarte.rs)"
 "${aligned[@]}" "${pin[@]}" cargo bench --quiet -p constrained-tests --bench baumgarte -- "${quick[@]}" > "$target/benchmarks-baumgarte.log"
 echo "== criterion: event location (benches/events.rs)"
 "${aligned[@]}" "${pin[@]}" cargo bench --quiet -p constrained-tests --bench events -- "${quick[@]}" > "$target/benchmarks-events.log"
+echo "== criterion: impact maps (benches/impact.rs)"
+"${aligned[@]}" "${pin[@]}" cargo bench --quiet -p constrained-tests --bench impact -- "${quick[@]}" > "$target/benchmarks-impact.log"
 echo "== criterion: macro expansion (codegen/benches/expand.rs)"
 "${aligned[@]}" "${pin[@]}" cargo bench --quiet -p constrained-codegen --bench expand -- "${quick[@]}" > "$target/benchmarks-expand.log"
 echo "== generated code size"

@@ -1,4 +1,5 @@
-//! Snapshots of every reference model: the formatted expansion (what the
+//! Snapshots of every reference model (and of the examples' models with
+//! gaps, `examples/support/`): the formatted expansion (what the
 //! compiler sees) and the derivation (what a reviewer reads). A change in the
 //! symbolic core shows up here as a diff of generated code and mathematics.
 //! Review changes with `cargo insta review` (or read the `.snap.new` files).
@@ -7,12 +8,14 @@ mod common;
 
 #[test]
 fn expansions_and_derivations() {
-    let models = common::model_invocations();
+    let mut models = common::model_invocations();
     assert!(
         models.len() >= 8,
         "expected every reference model, found {}",
         models.len()
     );
+    // And the models with gaps, for their `SYMBOLIC_GAPS` and derivation.
+    models.extend(common::gap_model_invocations());
     // Every snapshot is checked even after a mismatch, so that one run writes
     // every `.snap.new` to review.
     let mut failed = Vec::new();

@@ -1,5 +1,5 @@
-//! The rimless wheel of the example `rimless_wheel` and of
-//! `tests/impacts.rs`, written once.
+//! The rimless wheel of the example `rimless_wheel`, of `tests/impacts.rs`,
+//! of `benches/impact.rs` and of the firmware (in `f32`), written once.
 
 use constrained::constrained_system;
 

@@ -7,7 +7,7 @@ use constrained::control::{discretize, lqr_gain, ControlError};
 use constrained::models::{Appell, CartPole, DoublePendulum};
 // nalgebra's functions (libm) rather than f32's inherent ones: available
 // without std, and the same code on the host and the target.
-use constrained::integrate::{Direction, Event, Events};
+use constrained::integrate::{Direction, Event, Events, StepOutcome};
 use constrained::nalgebra::Vector1;
 use constrained::nalgebra::{
     convert, ComplexField, Matrix1, Matrix4, RealField, SMatrix, Vector2, Vector3, Vector4,
@@ -29,6 +29,13 @@ pub const PERIOD: f32 = 0.01;
 pub const OFFSET: f32 = 0.3;
 /// Simulated time of the closed loop, s.
 pub const LOOP_DURATION: f32 = 6.0;
+
+#[path = "../../examples/support/rimless_wheel.rs"]
+mod rimless_wheel;
+pub use rimless_wheel::RimlessWheel;
+
+/// Heel strikes of the rimless wheel located on the device.
+pub const STRIKES: usize = 4;
 
 /// Bounces of the ball located on the device.
 pub const BOUNCES: usize = 10;
@@ -99,6 +106,19 @@ pub struct Report {
     pub bounces: [f32; BOUNCES],
     /// How many impacts were located before the run's end (`BOUNCES`).
     pub bounce_count: usize,
+    /// The rimless wheel's heel strikes (see [`roll_wheel`]).
+    pub wheel: Strikes,
+}
+
+/// The rimless wheel's rate `θ̇` just before and just after each of its
+/// first `STRIKES` heel strikes, and how many were located.
+pub struct Strikes {
+    /// `θ̇⁻` at each strike.
+    pub before: [f32; STRIKES],
+    /// `θ̇⁺` from the generated impact map.
+    pub after: [f32; STRIKES],
+    /// Strikes located (`STRIKES`).
+    pub count: usize,
 }
 
 /// Appell's particle (g = 9.81, α = 0.5, h = z) from a state on its
@@ -135,6 +155,7 @@ pub fn simulate() -> Result<Report, Failure> {
         })?;
     let balanced = balance::<f32>()?;
     let (bounces, bounce_count) = bounce()?;
+    let wheel = roll_wheel()?;
     Ok(Report {
         appell,
         appell_residual,
@@ -146,6 +167,7 @@ pub fn simulate() -> Result<Report, Failure> {
         cart_pole_late_offset: balanced.late_offset,
         bounces,
         bounce_count,
+        wheel,
     })
 }
 
@@ -240,6 +262,86 @@ pub struct Balanced<T: RealField + Copy> {
     pub late_offset: T,
 }
 
+/// The rimless wheel of the example `rimless_wheel` (8 spokes, slope 0.1,
+/// `I = 0.05`, `m = l = 1`) in `f32`, rolled from just after a heel strike
+/// at −1.2 rad/s: each strike located as the falling zero of the next
+/// foot's gap (Dormand–Prince 4(5) with projection, a [`Stepper`] driven
+/// by hand), the next spoke pinned where it touched, and the post-strike
+/// velocity from the generated impact map. McGeer's closed form says each
+/// strike scales the rate by `(I + m l² cos a2)/(I + m l²)`; the bound
+/// on the loop is on steps, not on time.
+///
+/// [`Stepper`]: constrained::integrate::Stepper
+pub fn roll_wheel() -> Result<Strikes, Failure> {
+    let w = RimlessWheel::<f32>::new(
+        1.0,
+        0.05,
+        1.0,
+        9.81,
+        core::f32::consts::FRAC_PI_4,
+        0.1,
+        0.0,
+        0.0,
+        0.0,
+    );
+    let omega = -1.2f32;
+    // Both feet on the slope, the stance foot at the origin, rotating
+    // about it.
+    let stance = w.a2 / 2.0 - w.gamma;
+    let q = Vector3::new(
+        -w.l * ComplexField::sin(stance),
+        w.l * ComplexField::cos(stance),
+        stance - w.phase,
+    );
+    let qd = Vector3::new(-omega * q[1], omega * q[0], omega);
+    let mut stepper = DormandPrince45::new(1e-5, 1e-6)
+        .with_stabilization(Stabilization::projection(1e-5))
+        .stepper(State::new(0.0, q, qd), 100.0)?;
+    let mut strikes = Strikes {
+        before: [0.0; STRIKES],
+        after: [0.0; STRIKES],
+        count: 0,
+    };
+    let mut wheel = w;
+    // Each stride is a few tens of steps: 10⁴ calls are far more than
+    // `STRIKES` need, and the loop cannot run on unbounded.
+    for _ in 0..10_000 {
+        if strikes.count == STRIKES {
+            break;
+        }
+        let current = wheel;
+        let events = Events::new(
+            move |s: &State<f32, 3>| [current.gaps(&s.q, s.t)[0]],
+            [Event::stop(Direction::Falling)],
+        );
+        match stepper.step(&wheel, &events)? {
+            StepOutcome::Event(crossing) => {
+                let s = crossing.state;
+                let next = wheel.phase + wheel.a2;
+                let spoke = s.q[2] + next;
+                wheel = RimlessWheel {
+                    phase: next,
+                    px: s.q[0] + wheel.l * ComplexField::sin(spoke),
+                    py: s.q[1] - wheel.l * ComplexField::cos(spoke),
+                    ..wheel
+                };
+                let hit = wheel.impact(&s.q, &s.qd, s.t, [false], [0.0])?;
+                if let (Some(b), Some(a)) = (
+                    strikes.before.get_mut(strikes.count),
+                    strikes.after.get_mut(strikes.count),
+                ) {
+                    (*b, *a) = (s.qd[2], hit.qd[2]);
+                }
+                strikes.count += 1;
+                stepper.set_state(State::new(s.t, s.q, hit.qd))?;
+            }
+            StepOutcome::Step => {}
+            StepOutcome::Finished => break,
+        }
+    }
+    Ok(strikes)
+}
+
 /// Writes the report as `name value value …` lines, values in `{:e}` (the
 /// shortest form that reads back to the same f32).
 pub fn write_report(out: &mut impl core::fmt::Write, report: &Report) -> core::fmt::Result {
@@ -265,5 +367,8 @@ pub fn write_report(out: &mut impl core::fmt::Write, report: &Report) -> core::f
     line("cart_pole_qd", report.cart_pole.qd.as_slice())?;
     line("cart_pole_late_offset", &[report.cart_pole_late_offset])?;
     line("ball_bounces", &report.bounces)?;
-    line("ball_bounce_count", &[report.bounce_count as f32])
+    line("ball_bounce_count", &[report.bounce_count as f32])?;
+    line("wheel_rate_before", &report.wheel.before)?;
+    line("wheel_rate_after", &report.wheel.after)?;
+    line("wheel_strike_count", &[report.wheel.count as f32])
 }

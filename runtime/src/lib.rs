@@ -43,7 +43,7 @@ pub use level::ConstraintLevel;
 pub use linearize::Jacobians;
 pub use stabilize::Stabilization;
 pub use state::State;
-pub use symbolic::{SymbolicEnergies, SymbolicSystem};
+pub use symbolic::{SymbolicEnergies, SymbolicGaps, SymbolicSystem};
 pub use system::ConstrainedSystem;
 
 #[doc(hidden)]

@@ -49,3 +49,17 @@ pub struct SymbolicEnergies {
     /// `Q` (n), as written in `forces`.
     pub generalized_forces: &'static [&'static str],
 }
+
+/// The gaps of a system with `unilateral: [..]`, in sympy syntax (as
+/// [`SymbolicSystem`]'s expressions, with the DSL's definitions substituted
+/// and no shared names): emitted by `constrained_system!` as the associated
+/// constant `SYMBOLIC_GAPS`, only for a system with gaps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SymbolicGaps {
+    /// The gaps `g(q) ≥ 0` (u), in the order written (`rhs - lhs` for
+    /// `lhs <= rhs`, `lhs - rhs` for `lhs >= rhs`).
+    pub gaps: &'static [&'static str],
+    /// Their gradients `∂g/∂q`, row by row (u × n): the rows the impact map
+    /// adds to the constraints'.
+    pub gap_jacobian: &'static [&'static [&'static str]],
+}

@@ -49,6 +49,7 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
 
     if sys.constraints.is_empty() {
         let _ = writeln!(w, "No constraints: q̈ = M⁻¹ F.");
+        gaps_text(w, eq, g, &p, &coordinates);
         return out;
     }
     let _ = writeln!(w, "Constraints  φ(q, q̇, t) = 0:");
@@ -74,7 +75,36 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     generalized_inverse(w, eq, &p, &coordinates, partition.rank);
     let _ = writeln!(w);
     gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
+    gaps_text(w, eq, g, &p, &coordinates);
     out
+}
+
+/// The gaps of `unilateral: [..]` and their gradients, the rows the impact
+/// map adds to the constraints' (nothing for a system without gaps).
+fn gaps_text(w: &mut String, eq: &Equations, g: &Graph, p: &Printer, coordinates: &[String]) {
+    let gaps = &eq.system.unilateral;
+    if gaps.is_empty() {
+        return;
+    }
+    let _ = writeln!(w);
+    let _ = writeln!(
+        w,
+        "Unilateral gaps  g(q) ≥ 0 (contacts open where positive):"
+    );
+    for (i, gap) in gaps.iter().enumerate() {
+        let _ = writeln!(w, "  g{} = {}", subscript(i + 1), p.print(gap.gap));
+    }
+    let _ = writeln!(w);
+    let _ = writeln!(
+        w,
+        "Gap gradients  ∇g = ∂g/∂q (at an impact, the rows of the impulsive Gauss \
+         principle: ∇gᵢ · q̇⁺ = −eᵢ ∇gᵢ · q̇⁻ for the impacting gaps, A q̇⁺ on the \
+         constraints' velocity level):"
+    );
+    for (i, gap) in gaps.iter().enumerate() {
+        let row = row_text(g, p, &gap.gradient, coordinates);
+        let _ = writeln!(w, "  ∇g{} = [{row}]", subscript(i + 1));
+    }
 }
 
 /// The name, coordinates, parameters and inputs; the named definitions and
@@ -182,6 +212,10 @@ fn printed_roots(eq: &Equations, rank_one: Option<&RankOne>) -> Vec<Id> {
     roots.extend(sys.constraints.iter().map(|c| c.phi));
     roots.extend(eq.a.iter().flatten());
     roots.extend(&eq.b);
+    for gap in &sys.unilateral {
+        roots.push(gap.gap);
+        roots.extend(&gap.gradient);
+    }
     if let MassInverse::Symbolic(d) = &eq.mass_inverse {
         roots.extend(&d.unconstrained);
         roots.extend(d.gram.iter().flatten());

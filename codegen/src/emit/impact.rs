@@ -5,6 +5,7 @@
 
 use super::body::Body;
 use super::context::{Context, Inputs};
+use crate::expr::print::{Printer, Style};
 use crate::expr::Id;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -41,9 +42,13 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     let impact_type = ctx.path(quote!(Impact<T, #n_lit, #r_lit>));
     let result = ctx.result(impact_type, quote!(DynamicsError));
     let map = ctx.path(quote!(impact::impact_with_gaps));
+    let symbolic = symbolic(ctx);
     quote! {
         /// Number of gaps (`unilateral: [..]` entries).
         pub const GAPS: usize = #u_lit;
+
+        /// The gaps and their gradients as text in sympy syntax.
+        pub const SYMBOLIC_GAPS: ::constrained::SymbolicGaps = #symbolic;
 
         #[doc = #gaps_doc]
         /// Non-negative where the contacts are open.
@@ -82,6 +87,27 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
                 &restitution,
                 qd,
             )
+        }
+    }
+}
+
+/// The `SymbolicGaps` constant: each gap and its gradient's row, printed
+/// as `SYMBOLIC` prints the constraints (sympy syntax, definitions
+/// substituted), each expression whole.
+fn symbolic(ctx: &Context) -> TokenStream {
+    let sys = &ctx.eq.system;
+    let coordinates: Vec<String> = sys.coordinates.iter().map(ToString::to_string).collect();
+    let parameters: Vec<String> = sys.parameters.iter().map(ToString::to_string).collect();
+    let p = Printer::new(&sys.graph, &coordinates, &parameters, Style::Sympy);
+    let gaps = sys.unilateral.iter().map(|g| p.print(g.gap));
+    let rows = sys.unilateral.iter().map(|g| {
+        let entries = g.gradient.iter().map(|&e| p.print(e));
+        quote! { &[#(#entries),*] }
+    });
+    quote! {
+        ::constrained::SymbolicGaps {
+            gaps: &[#(#gaps),*],
+            gap_jacobian: &[#(#rows),*],
         }
     }
 }

@@ -15,9 +15,24 @@ pub struct Invocation {
 /// Every invocation in `src/models/*.rs`, sorted by struct name.
 pub fn model_invocations() -> Vec<Invocation> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../src/models");
+    let paths = std::fs::read_dir(&dir)
+        .expect("src/models exists")
+        .map(|entry| entry.expect("readable entry").path());
+    invocations_in(paths)
+}
+
+/// The models with gaps (`unilateral: [..]`), written once for the
+/// examples in `examples/support/`, sorted by struct name.
+#[allow(dead_code)] // used by the snapshots only
+pub fn gap_model_invocations() -> Vec<Invocation> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/support");
+    invocations_in(["rimless_wheel.rs", "compass_gait.rs"].map(|f| dir.join(f)))
+}
+
+/// The `constrained_system!` invocations at the top level of `paths`.
+fn invocations_in(paths: impl IntoIterator<Item = std::path::PathBuf>) -> Vec<Invocation> {
     let mut out = Vec::new();
-    for entry in std::fs::read_dir(&dir).expect("src/models exists") {
-        let path = entry.expect("readable entry").path();
+    for path in paths {
         let source = std::fs::read_to_string(&path).expect("readable model source");
         let file = syn::parse_file(&source).expect("model source parses");
         for item in file.items {

@@ -70,54 +70,83 @@ pub(super) struct Polynomial<T, const N: usize> {
 
 impl<T: RealField + Copy, const N: usize, const S: usize> Interpolant<'_, T, N, S> {
     /// The polynomial of [`at`](Self::at), its coefficients computed
-    /// (both parts in one pass, no closures: this runs once per step with
-    /// events).
+    /// (both parts, one pass over the components per coefficient and no
+    /// temporary vectors: this runs once per step with events, and for the
+    /// 32-link chain each temporary was a 512-byte copy).
     #[inline]
     pub fn polynomial(&self) -> Polynomial<T, N> {
         let h = self.h;
         let zero = SVector::<T, N>::zeros();
         let k1 = self.stages.first().copied().unwrap_or((zero, zero));
-        let delta = (self.end.q - self.start.q, self.end.qd - self.start.qd);
-        let spline = (k1.0 * h - delta.0, k1.1 * h - delta.1);
-        let fourth = (
-            delta.0 - self.end_slope.0 * h - spline.0,
-            delta.1 - self.end_slope.1 * h - spline.1,
-        );
-        let mut fifth = (zero, zero);
-        for (d, k) in self.dense.iter().zip(self.stages) {
-            if *d != 0.0 {
-                let w = c::<T>(*d) * h;
-                fifth.0 += k.0 * w;
-                fifth.1 += k.1 * w;
+        let part = |y0: &SVector<T, N>,
+                    y1: &SVector<T, N>,
+                    k1: &SVector<T, N>,
+                    k_end: &SVector<T, N>,
+                    stage: fn(&Derivative<T, N>) -> &SVector<T, N>| {
+            let mut coefficients = [zero; 4];
+            let [delta, spline, fourth, fifth] = &mut coefficients;
+            for (d, k) in self.dense.iter().zip(self.stages) {
+                if *d != 0.0 {
+                    fifth.axpy(c::<T>(*d) * h, stage(k), T::one());
+                }
             }
-        }
+            let columns = y0.iter().zip(y1.iter()).zip(k1.iter().zip(k_end.iter()));
+            let targets = delta
+                .iter_mut()
+                .zip(spline.iter_mut())
+                .zip(fourth.iter_mut());
+            for (((dl, sp), fo), ((a, b), (ka, kb))) in targets.zip(columns) {
+                *dl = *b - *a;
+                *sp = *ka * h - *dl;
+                *fo = *dl - *kb * h - *sp;
+            }
+            coefficients
+        };
+        let q = part(&self.start.q, &self.end.q, &k1.0, &self.end_slope.0, |k| {
+            &k.0
+        });
+        let qd = part(
+            &self.start.qd,
+            &self.end.qd,
+            &k1.1,
+            &self.end_slope.1,
+            |k| &k.1,
+        );
         Polynomial {
             t0: self.start.t,
             h,
             y0: (self.start.q, self.start.qd),
-            coefficients: [delta, spline, fourth, fifth],
+            coefficients: [(q[0], qd[0]), (q[1], qd[1]), (q[2], qd[2]), (q[3], qd[3])],
         }
     }
 }
 
 impl<T: RealField + Copy, const N: usize> Polynomial<T, N> {
-    /// The state at time `t` (equal to [`Interpolant::at`] but for rounding).
+    /// The state at time `t` (equal to [`Interpolant::at`] but for rounding):
+    /// one pass over the components, no temporary vectors.
+    #[inline]
     pub fn at(&self, t: T) -> State<T, N> {
         let theta = (t - self.t0) / self.h;
         let one_minus = T::one() - theta;
         let [(dq, dqd), (aq, aqd), (bq, bqd), (eq, eqd)] = &self.coefficients;
-        let eval = |y0: &SVector<T, N>,
+        let mut state = State {
+            t,
+            q: self.y0.0,
+            qd: self.y0.1,
+        };
+        let eval = |y: &mut SVector<T, N>,
                     delta: &SVector<T, N>,
                     a: &SVector<T, N>,
                     b: &SVector<T, N>,
                     d: &SVector<T, N>| {
-            let inner = (b + d * one_minus) * theta + a;
-            y0 + (inner * one_minus + delta) * theta
+            let coefficients = delta.iter().zip(a.iter()).zip(b.iter().zip(d.iter()));
+            for (y, ((delta, a), (b, d))) in y.iter_mut().zip(coefficients) {
+                let inner = (*b + *d * one_minus) * theta + *a;
+                *y += (inner * one_minus + *delta) * theta;
+            }
         };
-        State {
-            t,
-            q: eval(&self.y0.0, dq, aq, bq, eq),
-            qd: eval(&self.y0.1, dqd, aqd, bqd, eqd),
-        }
+        eval(&mut state.q, dq, aq, bq, eq);
+        eval(&mut state.qd, dqd, aqd, bqd, eqd);
+        state
     }
 }

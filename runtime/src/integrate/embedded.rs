@@ -325,7 +325,9 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
         EmbeddedRungeKutta::initial_step(self, system, state, k1, total, stats)
     }
 
-    #[inline]
+    // Always inlined: the stages are then built where the stepper keeps
+    // them, not returned through memory (4 KB for the 32-link chain).
+    #[inline(always)]
     fn attempt<Sys, const N: usize, const K: usize>(
         &self,
         system: &Sys,

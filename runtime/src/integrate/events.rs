@@ -295,7 +295,6 @@ where
     }
     let (t0, h) = span.step();
     let intervals = events.samples.saturating_add(1);
-    let tolerance = events.time_tolerance(span);
     for k in 1..=intervals {
         let s = if k == intervals {
             span.end().t
@@ -318,6 +317,7 @@ where
             }
             if let Some(rising) = sign_change(gl, g[i], kind.direction) {
                 let bracket = ((tl, gl), (s, g[i]));
+                let tolerance = events.time_tolerance(span);
                 let found = refine(events, span, i, bracket, tolerance, stats)?;
                 if best.as_ref().is_none_or(|b| found.left < b.left) {
                     best = Some(Found { rising, ..found });

@@ -195,7 +195,9 @@ impl<T: RealField + Copy, M: Method<S>, const S: usize> StepMethod<T, S>
         M::TABLEAU.error_order
     }
 
-    #[inline]
+    // Always inlined: the stages are then built where the stepper keeps
+    // them, not returned through memory (4 KB for the 32-link chain).
+    #[inline(always)]
     fn attempt<Sys, const N: usize, const K: usize>(
         &self,
         system: &Sys,

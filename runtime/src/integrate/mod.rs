@@ -101,6 +101,7 @@ mod embedded;
 mod euler;
 pub mod events;
 mod explicit;
+mod method;
 mod stepper;
 pub mod tableau;
 

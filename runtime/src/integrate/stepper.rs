@@ -4,78 +4,12 @@
 
 use super::controller::PiController;
 use super::dense_output::Interpolant;
-use super::events::{self, Action, Crossing, Direction, EventStats, Events, Span};
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found, Span};
 use super::{accept, c, derivative, Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
 
-pub(super) use method::{Attempt, StepMethod};
-
-/// What the integrators implement for the [`Stepper`]; sealed (its module
-/// is private), so only this crate's integrators step.
-pub(super) mod method {
-    use super::super::{Derivative, Settings, Stats};
-    use crate::{ConstrainedSystem, IntegrationError, State};
-    use nalgebra::RealField;
-
-    /// One attempted step: the new state, the derivative there when the
-    /// method is first-same-as-last, the stages and the scaled error
-    /// (zero for a fixed-step method).
-    pub struct Attempt<T, const N: usize, const S: usize> {
-        pub state: State<T, N>,
-        pub fsal: Option<Derivative<T, N>>,
-        pub stages: [Derivative<T, N>; S],
-        pub error: T,
-    }
-
-    /// A method the [`Stepper`](super::Stepper) can drive.
-    pub trait StepMethod<T: RealField + Copy, const S: usize> {
-        /// The continuous extension's weights (zero: cubic Hermite).
-        const DENSE: [f64; S];
-        /// A copy (the method markers are not `Copy`, so neither is the
-        /// derived impl).
-        fn duplicate(&self) -> Self;
-        /// Stabilization and budget.
-        #[allow(private_interfaces)]
-        fn settings(&self) -> &Settings<T>;
-        /// `Err(InvalidParameter)` for settings that cannot work.
-        fn validate(&self) -> Result<(), IntegrationError<T>>;
-        /// `Some(h)` for a fixed-step method.
-        fn fixed_step(&self) -> Option<T>;
-        /// The adaptive methods' longest step (none by default).
-        fn max_step(&self) -> Option<T> {
-            None
-        }
-        /// The order of the error estimate (for the controller; 0 without).
-        fn error_order(&self) -> u32;
-        /// The first step of an adaptive run over `total`; by default the
-        /// fixed step (the stepper asks only adaptive methods).
-        fn initial_step<Sys, const N: usize, const K: usize>(
-            &self,
-            _system: &Sys,
-            _state: &State<T, N>,
-            _k1: &Derivative<T, N>,
-            total: T,
-            _stats: &mut Stats,
-        ) -> Result<T, IntegrationError<T>>
-        where
-            Sys: ConstrainedSystem<T, N, K>,
-        {
-            Ok(self.fixed_step().unwrap_or(total))
-        }
-        /// One step of size `h` from `state`, whose derivative is `k1`.
-        fn attempt<Sys, const N: usize, const K: usize>(
-            &self,
-            system: &Sys,
-            state: &State<T, N>,
-            k1: &Derivative<T, N>,
-            h: T,
-            stats: &mut Stats,
-        ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
-        where
-            Sys: ConstrainedSystem<T, N, K>;
-    }
-}
+pub(super) use super::method::{Attempt, StepMethod};
 
 /// What one call of [`Stepper::step`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -282,38 +216,113 @@ where
         F: Fn(&State<T, N>) -> [T; E],
     {
         events.validate()?;
-        let mut refs = match self.refs {
-            Some(refs) => refs,
-            None => {
-                let g = events::values(events, &self.state)?;
-                let mut refs = core::array::from_fn(|i| (self.state.t, g[i]));
-                if let Some((i, g_right)) = self.continuing.take() {
-                    if let Some(r) = refs.get_mut(i) {
-                        r.1 = g_right;
-                    }
-                }
-                refs
-            }
-        };
+        let mut refs = self.references(events)?;
         if !self.pending {
             if self.state.t >= self.t_end {
                 self.refs = Some(refs);
                 return Ok(StepOutcome::Finished);
             }
-            self.take_step(system)?;
+            // Kept whole, for `at` and the step's later crossings.
+            self.step = Some(self.take_step(system)?);
+            self.pending = true;
         }
+        // Without event functions, no continuous extension is formed.
+        let found = match self.step.as_ref() {
+            Some(step) if E > 0 => events::search(
+                events,
+                &Self::span(step),
+                &mut refs,
+                self.state.t,
+                &mut self.event_stats,
+            )?,
+            _ => None,
+        };
+        self.report(found, refs, events)
+    }
+
+    /// The driver's step: accepted steps until one shows a crossing
+    /// (reported as [`step`](Self::step) reports it) or the end. A step
+    /// without a crossing is searched where its data lie and dropped, not
+    /// kept: the run with events that never trigger copies nothing more
+    /// than the run without events (`at` has no step after it).
+    #[inline(always)]
+    fn next_event<Sys, F, const K: usize>(
+        &mut self,
+        system: &Sys,
+        events: &Events<T, F, E>,
+    ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+        F: Fn(&State<T, N>) -> [T; E],
+    {
+        if self.pending {
+            return self.step(system, events);
+        }
+        events.validate()?;
+        let mut refs = self.references(events)?;
+        self.step = None;
+        loop {
+            if self.state.t >= self.t_end {
+                self.refs = Some(refs);
+                return Ok(StepOutcome::Finished);
+            }
+            let step = self.take_step(system)?;
+            let found = events::search(
+                events,
+                &Self::span(&step),
+                &mut refs,
+                step.start.t,
+                &mut self.event_stats,
+            )?;
+            if found.is_some() {
+                self.step = Some(step);
+                self.pending = true;
+                return self.report(found, refs, events);
+            }
+            self.state = step.end;
+            self.reported = None;
+            self.restarted = None;
+        }
+    }
+
+    /// Per event function, the time and value its next crossing is sought
+    /// from: kept from the last search, else evaluated at the state.
+    fn references<F>(
+        &mut self,
+        events: &Events<T, F, E>,
+    ) -> Result<[(T, T); E], IntegrationError<T>>
+    where
+        F: Fn(&State<T, N>) -> [T; E],
+    {
+        if let Some(refs) = self.refs {
+            return Ok(refs);
+        }
+        let g = events::values(events, &self.state)?;
+        let mut refs = core::array::from_fn(|i| (self.state.t, g[i]));
+        if let Some((i, g_right)) = self.continuing.take() {
+            if let Some(r) = refs.get_mut(i) {
+                r.1 = g_right;
+            }
+        }
+        Ok(refs)
+    }
+
+    /// What the search of the kept step found, reported: its end when
+    /// nothing (the step is done), else the crossing, whose state becomes
+    /// the stepper's.
+    fn report<F>(
+        &mut self,
+        found: Option<Found<T>>,
+        mut refs: [(T, T); E],
+        events: &Events<T, F, E>,
+    ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
+    where
+        F: Fn(&State<T, N>) -> [T; E],
+    {
         let Some(step) = self.step.as_ref() else {
             return Err(IntegrationError::InvalidParameter); // unreachable: a step was just taken
         };
-        // Without event functions, no continuous extension is formed.
-        let span = (E > 0).then(|| Self::span(step));
-        let found = match &span {
-            Some(span) => {
-                events::search(events, span, &mut refs, self.state.t, &mut self.event_stats)?
-            }
-            None => None,
-        };
-        let (Some(found), Some(span)) = (found, span) else {
+        let Some(found) = found else {
             self.state = step.end;
             self.refs = Some(refs);
             self.pending = false;
@@ -325,6 +334,7 @@ where
                 StepOutcome::Step
             });
         };
+        let span = Self::span(step);
         if let Some((event, rising, t)) = self.restarted {
             let tolerance = events.time_tolerance(&span);
             if found.index == event && found.rising == rising && found.left - t <= tolerance {
@@ -375,12 +385,15 @@ where
         Span::new(interpolant, &step.end)
     }
 
-    /// Takes one accepted step from `state` (retrying rejected ones), and
-    /// keeps it in `step` with `pending` set. Always inlined, as `accepted`:
-    /// the step's stages are then moved into `step` once, not copied
-    /// through each call (for the 32-link chain they are 4 KB).
+    /// Takes one accepted step from `state` (retrying rejected ones) and
+    /// returns it. Always inlined, as `accepted`: the step is then built
+    /// where its caller keeps it, not copied through each call (for the
+    /// 32-link chain its stages are 4 KB).
     #[inline(always)]
-    fn take_step<Sys, const K: usize>(&mut self, system: &Sys) -> Result<(), IntegrationError<T>>
+    fn take_step<Sys, const K: usize>(
+        &mut self,
+        system: &Sys,
+    ) -> Result<Accepted<T, N, S>, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
@@ -459,7 +472,7 @@ where
         }
     }
 
-    /// Keeps an accepted attempt: finite check and projection, the
+    /// An accepted attempt as a step: finite check and projection, the
     /// derivative carried to the next step, the controller's next size.
     #[inline(always)]
     fn accepted<Sys, const K: usize>(
@@ -469,7 +482,7 @@ where
         h: T,
         next_t: T,
         last: bool,
-    ) -> Result<(), IntegrationError<T>>
+    ) -> Result<Accepted<T, N, S>, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
@@ -501,16 +514,14 @@ where
         } else {
             self.h = Some(h);
         }
-        self.step = Some(Accepted {
+        Ok(Accepted {
             start,
             solution,
             end,
             h,
             stages: attempt.stages,
             end_slope: attempt.fsal.unwrap_or(k_end),
-        });
-        self.pending = true;
-        Ok(())
+        })
     }
 }
 
@@ -543,7 +554,7 @@ where
     F: Fn(&State<T, N>) -> [T; E],
 {
     let result = loop {
-        match stepper.step(system, events) {
+        match stepper.next_event(system, events) {
             Ok(StepOutcome::Step) => {}
             Ok(StepOutcome::Finished) => break Ok(None),
             Ok(StepOutcome::Event(crossing)) => {

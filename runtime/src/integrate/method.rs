@@ -1,0 +1,65 @@
+//! What the integrators implement for the [`Stepper`](super::Stepper): a
+//! sealed trait (this module is private), so only this crate's
+//! integrators step.
+
+use super::{Derivative, Settings, Stats};
+use crate::{ConstrainedSystem, IntegrationError, State};
+use nalgebra::RealField;
+
+/// One attempted step: the new state, the derivative there when the
+/// method is first-same-as-last, the stages and the scaled error
+/// (zero for a fixed-step method).
+pub struct Attempt<T, const N: usize, const S: usize> {
+    pub state: State<T, N>,
+    pub fsal: Option<Derivative<T, N>>,
+    pub stages: [Derivative<T, N>; S],
+    pub error: T,
+}
+
+/// A method the [`Stepper`](super::Stepper) can drive.
+pub trait StepMethod<T: RealField + Copy, const S: usize> {
+    /// The continuous extension's weights (zero: cubic Hermite).
+    const DENSE: [f64; S];
+    /// A copy (the method markers are not `Copy`, so neither is the
+    /// derived impl).
+    fn duplicate(&self) -> Self;
+    /// Stabilization and budget.
+    #[allow(private_interfaces)]
+    fn settings(&self) -> &Settings<T>;
+    /// `Err(InvalidParameter)` for settings that cannot work.
+    fn validate(&self) -> Result<(), IntegrationError<T>>;
+    /// `Some(h)` for a fixed-step method.
+    fn fixed_step(&self) -> Option<T>;
+    /// The adaptive methods' longest step (none by default).
+    fn max_step(&self) -> Option<T> {
+        None
+    }
+    /// The order of the error estimate (for the controller; 0 without).
+    fn error_order(&self) -> u32;
+    /// The first step of an adaptive run over `total`; by default the
+    /// fixed step (the stepper asks only adaptive methods).
+    fn initial_step<Sys, const N: usize, const K: usize>(
+        &self,
+        _system: &Sys,
+        _state: &State<T, N>,
+        _k1: &Derivative<T, N>,
+        total: T,
+        _stats: &mut Stats,
+    ) -> Result<T, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        Ok(self.fixed_step().unwrap_or(total))
+    }
+    /// One step of size `h` from `state`, whose derivative is `k1`.
+    fn attempt<Sys, const N: usize, const K: usize>(
+        &self,
+        system: &Sys,
+        state: &State<T, N>,
+        k1: &Derivative<T, N>,
+        h: T,
+        stats: &mut Stats,
+    ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>;
+}
