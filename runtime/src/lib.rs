@@ -14,6 +14,7 @@ mod dense;
 mod error;
 mod finish;
 pub mod floating;
+pub mod friction;
 mod generated;
 pub mod gibbs_appell;
 pub mod impact;

@@ -23,6 +23,7 @@ mod body;
 mod context;
 pub mod derivation;
 mod dynamics;
+mod friction;
 mod gibbs_appell;
 mod impact;
 mod jacobian;
@@ -41,6 +42,7 @@ use body::Body;
 use context::{Context, Inputs};
 use proc_macro2::TokenStream;
 use quote::quote;
+use syn::Ident;
 use std::collections::HashMap;
 
 /// The methods generated code calls for a power `b^e` (`body`): `sqrt`
@@ -90,6 +92,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
     let evaluation = dynamics::methods(&ctx);
     let gaps = impact::methods(&ctx);
+    let friction = friction::methods(&ctx);
+    let friction_impl = friction::trait_impl(&ctx);
     // A model read from a file is rebuilt when the file changes.
     let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
         quote! {
@@ -135,12 +139,14 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #linearization
             #evaluation
             #gaps
+            #friction
         }
 
         #(#files)*
 
         #generated_impl
         #tangent_impl
+        #friction_impl
     }
 }
 
@@ -155,7 +161,14 @@ fn struct_definition(
     let name = &sys.name;
     let vis = &sys.vis;
     let attrs = &sys.attrs;
-    let params = &sys.parameters;
+    let modes = sys.first_mode..sys.first_mode + sys.friction.len();
+    let (written, hidden): (Vec<(usize, &Ident)>, Vec<(usize, &Ident)>) = sys
+        .parameters
+        .iter()
+        .enumerate()
+        .partition(|(i, _)| !modes.contains(i));
+    let params: Vec<&Ident> = written.iter().map(|(_, p)| *p).collect();
+    let hidden: Vec<&Ident> = hidden.iter().map(|(_, p)| *p).collect();
     let plural =
         |count: usize, what: &str| format!("{count} {what}{}", if count == 1 { "" } else { "s" });
     let struct_doc = format!(
@@ -174,19 +187,27 @@ fn struct_definition(
             )
         }
     });
-    let fields = if params.is_empty() {
+    let mode = quote!(::constrained::friction::Mode);
+    // Without a parameter, nothing holds `T`: a marker field does.
+    let marker = params.is_empty().then(|| {
         quote! {
             #[doc(hidden)]
             pub __scalar: ::core::marker::PhantomData<T>,
         }
-    } else {
-        quote! { #( #[doc = #param_docs] pub #params: T, )* }
+    });
+    let fields = quote! {
+        #( #[doc = #param_docs] pub #params: T, )*
+        #(
+            /// A friction entry's mode (set by the stick–slip driver).
+            #[doc(hidden)]
+            pub #hidden: #mode,
+        )*
+        #marker
     };
-    let constructor_body = if params.is_empty() {
-        quote! { Self { __scalar: ::core::marker::PhantomData } }
-    } else {
-        quote! { Self { #(#params),* } }
-    };
+    let marker_value = params
+        .is_empty()
+        .then(|| quote! { __scalar: ::core::marker::PhantomData, });
+    let constructor_body = quote! { Self { #(#params,)* #(#hidden: #mode::Stick,)* #marker_value } };
     let default_impl = params.is_empty().then(|| {
         quote! {
             impl<T> ::core::default::Default for #name<T> {

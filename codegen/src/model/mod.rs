@@ -8,6 +8,7 @@ pub mod bodies;
 pub mod check;
 pub mod ctxt;
 pub mod free;
+pub mod friction;
 pub mod lower;
 mod source;
 pub mod unilateral;
@@ -84,6 +85,11 @@ pub struct System {
     pub energy: Option<EnergyTerms>,
     /// The gaps `g(q) ≥ 0` of `unilateral: [..]`, with their gradients.
     pub unilateral: Vec<unilateral::Gap>,
+    /// The entries of `friction: [..]`; their modes are the parameters
+    /// `first_mode..first_mode + friction.len()` (hidden fields).
+    pub friction: Vec<friction::Entry>,
+    /// The index of the first friction mode among `parameters`.
+    pub first_mode: usize,
 }
 
 /// The expressions of a system with bodies beyond `M` and `F`.
@@ -155,6 +161,7 @@ struct Sections<'a> {
     urdf: Option<(&'a Ident, &'a syn::LitStr)>,
     locked: Option<&'a List<Ident>>,
     unilateral: Option<&'a List<Expr>>,
+    friction: Option<&'a List<Expr>>,
 }
 
 impl<'a> Sections<'a> {
@@ -177,6 +184,7 @@ impl<'a> Sections<'a> {
                 Section::Urdf(k, l) => s.urdf.replace((k, l)).is_some(),
                 Section::Locked(_, l) => s.locked.replace(l).is_some(),
                 Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
+                Section::Friction(_, l) => s.friction.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();
@@ -211,14 +219,17 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     }
     // Inputs are parameters to every stage but the checks below and the
     // Jacobian: fields after the parameters, `Sym::Param` after theirs.
+    // The friction entries' modes (hidden fields) come between the two.
     let empty = Vec::new();
     let inputs = sections.inputs.map_or(&empty, |l| &l.items);
-    let parameters: Vec<Ident> = sections
-        .parameters
-        .map_or(&empty, |l| &l.items)
+    let written = sections.parameters.map_or(&empty, |l| &l.items);
+    let first_mode = written.len();
+    let modes = sections.friction.map_or(0, |l| l.items.len());
+    let parameters: Vec<Ident> = written
         .iter()
-        .chain(inputs)
         .cloned()
+        .chain((0..modes).map(friction_mode))
+        .chain(inputs.iter().cloned())
         .collect();
     let first_input = parameters.len() - inputs.len();
     let n = coordinates.len();
@@ -235,7 +246,9 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         lower.declare(c, Binding::Coordinate(i), &coordinates);
     }
     for (i, p) in parameters.iter().enumerate() {
-        lower.declare(p, Binding::Parameter(i), &coordinates);
+        if !(first_mode..first_mode + modes).contains(&i) {
+            lower.declare(p, Binding::Parameter(i), &coordinates);
+        }
     }
     // The bodies come before the definitions, so that every expression
     // may name their points (`position(body, [x, y, z]).z`).
@@ -245,11 +258,23 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         lower.declare(name, Binding::Definition(id), &coordinates);
         lower.name_node(name.to_string(), id);
     }
-    let dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    let constraints = lower.all_constraints(sections.constraints, source, &coordinates);
+    let mut dynamics = lower.dynamics(source, &sections, &coordinates, described);
+    let mut constraints = lower.all_constraints(sections.constraints, source, &coordinates);
     let unilateral = sections
         .unilateral
         .map_or_else(Vec::new, |l| lower.gaps(l, first_input));
+    let friction = sections
+        .friction
+        .map_or_else(Vec::new, |l| lower.friction(l, first_input));
+    if friction.len() == modes {
+        friction::apply(
+            lower.graph,
+            &friction,
+            first_mode,
+            &mut dynamics.forces,
+            &mut constraints,
+        );
+    }
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
@@ -285,7 +310,17 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         bodies: dynamics.bodies,
         energy: dynamics.energy,
         unilateral,
+        friction,
+        first_mode,
     })
+}
+
+/// The hidden field holding friction entry `i`'s mode.
+pub fn friction_mode(i: usize) -> Ident {
+    Ident::new(
+        &format!("{}friction{i}", crate::names::GENERATED_PREFIX),
+        Span::call_site(),
+    )
 }
 
 /// A graph with the variables interned first, in a fixed order, so that

@@ -102,6 +102,7 @@ mod euler;
 pub mod events;
 mod explicit;
 mod stepper;
+mod stick_slip;
 pub mod tableau;
 
 pub use controller::PiController;
@@ -110,6 +111,7 @@ pub use euler::SemiImplicitEuler;
 pub use events::{Action, Crossing, Direction, Event, EventStats, Events};
 pub use explicit::ExplicitRungeKutta;
 pub use stepper::{EventRun, StepOutcome, Stepper};
+pub use stick_slip::{StickSlip, StickSlipOutcome};
 pub use tableau::Tableau;
 
 use crate::stabilize::{baumgarte_correction, project, Stabilization};
