@@ -48,7 +48,7 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     );
     let mode = ctx.path(quote!(friction::Mode));
     let fields: Vec<_> = (0..f)
-        .map(|i| friction_mode(ctx.eq.system.first_mode + i))
+        .map(friction_mode)
         .collect();
     quote! {
         /// Number of friction entries (`friction: [..]`).
