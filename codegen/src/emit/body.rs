@@ -38,9 +38,6 @@ pub(super) struct Body<'a> {
     velocities: Vec<Ident>,
     accelerations: Vec<Ident>,
     parameters: &'a [Ident],
-    /// The parameters that are friction modes (hidden `Mode` fields, read
-    /// as their sense `s ∈ {−1, 0, 1}`).
-    modes: std::ops::Range<usize>,
     used: Vec<Sym>,
     temp_names: HashMap<Id, Ident>,
     /// Nodes whose value needs the multipliers λ (computed mid-function) or
@@ -138,7 +135,6 @@ impl<'a> Body<'a> {
             velocities: local_names(eq, velocity_name),
             accelerations: local_names(eq, acceleration_name),
             parameters: &eq.system.parameters,
-            modes: eq.system.first_mode..eq.system.first_mode + eq.system.friction.len(),
             used,
             temp_names,
         }
@@ -169,13 +165,7 @@ impl<'a> Body<'a> {
             .iter()
             .enumerate()
             .filter(|(i, _)| self.used.contains(&Sym::Param(*i)))
-            .map(|(i, p)| {
-                if self.modes.contains(&i) {
-                    quote! { let #p: T = self.#p.sign::<T>(); }
-                } else {
-                    quote! { let #p = self.#p; }
-                }
-            });
+            .map(|(_, p)| quote! { let #p = self.#p; });
         let mut reciprocals: Vec<(&Ident, Id)> = self
             .reciprocals
             .iter()

@@ -47,9 +47,7 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
         written.join("`, `")
     );
     let mode = ctx.path(quote!(friction::Mode));
-    let fields: Vec<_> = (0..f)
-        .map(friction_mode)
-        .collect();
+    let fields: Vec<_> = (0..f).map(friction_mode).collect();
     quote! {
         /// Number of friction entries (`friction: [..]`).
         pub const FRICTION: usize = #f_lit;
@@ -76,7 +74,7 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
         /// The friction entries' modes (`Stick` after `new`).
         #[inline]
         pub fn friction_modes(&self) -> [#mode; #f_lit] {
-            [#(self.#fields),*]
+            [#(#mode::slip(self.#fields)),*]
         }
 
         /// The same system with the friction entries in `modes`.
@@ -84,7 +82,7 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
         #[must_use]
         pub fn with_friction_modes(mut self, modes: [#mode; #f_lit]) -> Self {
             let [#(#fields),*] = modes;
-            #(self.#fields = #fields;)*
+            #(self.#fields = #fields.sign::<T>();)*
             self
         }
     }

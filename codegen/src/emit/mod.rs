@@ -42,8 +42,8 @@ use body::Body;
 use context::{Context, Inputs};
 use proc_macro2::TokenStream;
 use quote::quote;
-use syn::Ident;
 use std::collections::HashMap;
+use syn::Ident;
 
 /// The methods generated code calls for a power `b^e` (`body`): `sqrt`
 /// for `e = 1/2`, `powi` for an integer, `powf` otherwise. With the
@@ -161,7 +161,7 @@ fn struct_definition(
     let name = &sys.name;
     let vis = &sys.vis;
     let attrs = &sys.attrs;
-    let modes = sys.first_mode..sys.first_mode + sys.friction.len();
+    let modes = sys.modes();
     let (written, hidden): (Vec<(usize, &Ident)>, Vec<(usize, &Ident)>) = sys
         .parameters
         .iter()
@@ -187,7 +187,6 @@ fn struct_definition(
             )
         }
     });
-    let mode = quote!(::constrained::friction::Mode);
     // Without a parameter, nothing holds `T`: a marker field does.
     let marker = params.is_empty().then(|| {
         quote! {
@@ -198,19 +197,29 @@ fn struct_definition(
     let fields = quote! {
         #( #[doc = #param_docs] pub #params: T, )*
         #(
-            /// A friction entry's mode (set by the stick–slip driver).
+            /// A friction entry's mode as its sense `s`: `0` sticking, `±1`
+            /// slipping (set through `with_friction_modes`).
             #[doc(hidden)]
-            pub #hidden: #mode,
+            pub #hidden: T,
         )*
         #marker
     };
     let marker_value = params
         .is_empty()
         .then(|| quote! { __scalar: ::core::marker::PhantomData, });
-    let constructor_body = quote! { Self { #(#params,)* #(#hidden: #mode::Stick,)* #marker_value } };
+    let constructor_body = quote! { Self { #(#params,)* #(#hidden: T::zero(),)* #marker_value } };
+    // The modes start at `Stick`, `T::zero()`: not a `const fn` then.
+    let (bound, constness) = if hidden.is_empty() {
+        (quote!(), quote!(const))
+    } else {
+        (
+            quote!(: ::constrained::nalgebra::RealField + Copy),
+            quote!(),
+        )
+    };
     let default_impl = params.is_empty().then(|| {
         quote! {
-            impl<T> ::core::default::Default for #name<T> {
+            impl<T #bound> ::core::default::Default for #name<T> {
                 fn default() -> Self { Self::new() }
             }
         }
@@ -226,12 +235,12 @@ fn struct_definition(
         #[allow(non_snake_case)]
         #vis struct #name<T = f64> { #fields }
 
-        impl<T> #name<T> {
+        impl<T #bound> #name<T> {
             /// Creates the system from its parameters, then its control
             /// inputs, in the order declared.
             // One argument per parameter, however many the model has.
             #[allow(non_snake_case, clippy::new_without_default, clippy::too_many_arguments)]
-            pub const fn new(#(#params: T),*) -> Self { #constructor_body }
+            pub #constness fn new(#(#params: T),*) -> Self { #constructor_body }
         }
 
         #default_impl

@@ -43,14 +43,26 @@ const FORM: &str = "a friction entry is written `coulomb(velocity, normal, mu_st
                     mu_kinetic)` or `coulomb(velocity, normal, mu)` (e.g. `coulomb(dot(x), m * g, 0.6, 0.4)`)";
 
 impl Lowerer<'_> {
-    /// The entries of `friction: [..]`, checked; a malformed one is
-    /// reported and left out.
-    pub fn friction(&mut self, list: &List<Expr>, first_input: usize) -> Vec<Entry> {
+    /// The entries of `friction: [..]`, checked (a malformed one is
+    /// reported and left out), their slip forces added to `forces` and
+    /// their stick rows to `constraints` ([`apply`]).
+    pub fn friction(
+        &mut self,
+        list: &List<Expr>,
+        modes: &std::ops::Range<usize>,
+        forces: &mut [Id],
+        constraints: &mut Vec<Constraint>,
+    ) -> Vec<Entry> {
         let mut d = Differentiator::new();
-        list.items
+        let entries: Vec<Entry> = list
+            .items
             .iter()
-            .filter_map(|e| self.friction_entry(e, first_input, &mut d))
-            .collect()
+            .filter_map(|e| self.friction_entry(e, modes.end, &mut d))
+            .collect();
+        if entries.len() == list.items.len() {
+            apply(self.graph, &entries, modes.start, forces, constraints);
+        }
+        entries
     }
 
     fn friction_entry(
@@ -60,9 +72,7 @@ impl Lowerer<'_> {
         d: &mut Differentiator,
     ) -> Option<Entry> {
         let args: Vec<&Expr> = match e {
-            Expr::Call(call)
-                if matches!(&*call.func, Expr::Path(p) if p.path.is_ident("coulomb")) =>
-            {
+            Expr::Call(call) if matches!(&*call.func, Expr::Path(p) if p.path.is_ident("coulomb")) => {
                 call.args.iter().collect()
             }
             _ => {

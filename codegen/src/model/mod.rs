@@ -22,6 +22,7 @@ use lower::{Binding, Lowerer};
 use proc_macro2::Span;
 use source::{source, Lowered, Source};
 use std::collections::HashMap;
+use std::ops::Range;
 use syn::{Attribute, Expr, Ident, Visibility};
 
 /// Whether a constraint is differentiated twice or once.
@@ -86,10 +87,8 @@ pub struct System {
     /// The gaps `g(q) ≥ 0` of `unilateral: [..]`, with their gradients.
     pub unilateral: Vec<unilateral::Gap>,
     /// The entries of `friction: [..]`; their modes are the parameters
-    /// `first_mode..first_mode + friction.len()` (hidden fields).
+    /// [`System::modes`] (hidden fields).
     pub friction: Vec<friction::Entry>,
-    /// The index of the first friction mode among `parameters`.
-    pub first_mode: usize,
 }
 
 /// The expressions of a system with bodies beyond `M` and `F`.
@@ -135,6 +134,13 @@ impl System {
     /// Number of coordinates.
     pub fn dof(&self) -> usize {
         self.coordinates.len()
+    }
+
+    /// The indices of the friction modes among `parameters`: between the
+    /// parameters written and the inputs.
+    pub fn modes(&self) -> Range<usize> {
+        let end = self.parameters.len() - self.inputs;
+        end - self.friction.len()..end
     }
 
     /// The symbol of input `j`.
@@ -217,21 +223,10 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
         errors.at(list.span, "`coordinates` must name at least one coordinate");
     }
-    // Inputs are parameters to every stage but the checks below and the
-    // Jacobian: fields after the parameters, `Sym::Param` after theirs.
-    // The friction entries' modes (hidden fields) come between the two.
     let empty = Vec::new();
     let inputs = sections.inputs.map_or(&empty, |l| &l.items);
-    let written = sections.parameters.map_or(&empty, |l| &l.items);
-    let first_mode = written.len();
-    let modes = sections.friction.map_or(0, |l| l.items.len());
-    let parameters: Vec<Ident> = written
-        .iter()
-        .cloned()
-        .chain((0..modes).map(friction_mode))
-        .chain(inputs.iter().cloned())
-        .collect();
-    let first_input = parameters.len() - inputs.len();
+    let (parameters, modes) = all_parameters(&sections, inputs);
+    let first_input = modes.end;
     let n = coordinates.len();
     let mut graph = new_graph(parameters.len(), n);
     let mut lower = Lowerer {
@@ -245,10 +240,12 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     for (i, c) in coordinates.iter().enumerate() {
         lower.declare(c, Binding::Coordinate(i), &coordinates);
     }
-    for (i, p) in parameters.iter().enumerate() {
-        if !(first_mode..first_mode + modes).contains(&i) {
-            lower.declare(p, Binding::Parameter(i), &coordinates);
-        }
+    for (i, p) in parameters
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !modes.contains(i))
+    {
+        lower.declare(p, Binding::Parameter(i), &coordinates);
     }
     // The bodies come before the definitions, so that every expression
     // may name their points (`position(body, [x, y, z]).z`).
@@ -263,18 +260,10 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     let unilateral = sections
         .unilateral
         .map_or_else(Vec::new, |l| lower.gaps(l, first_input));
+    let (forces, rows) = (&mut dynamics.forces, &mut constraints);
     let friction = sections
         .friction
-        .map_or_else(Vec::new, |l| lower.friction(l, first_input));
-    if friction.len() == modes {
-        friction::apply(
-            lower.graph,
-            &friction,
-            first_mode,
-            &mut dynamics.forces,
-            &mut constraints,
-        );
-    }
+        .map_or_else(Vec::new, |l| lower.friction(l, &modes, forces, rows));
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
@@ -311,8 +300,23 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         energy: dynamics.energy,
         unilateral,
         friction,
-        first_mode,
     })
+}
+
+/// The parameters, then the friction entries' modes (hidden fields), then
+/// the inputs: inputs are parameters to every stage but the checks and the
+/// Jacobian (fields after the parameters, `Sym::Param` after theirs). With
+/// the indices of the modes.
+fn all_parameters(sections: &Sections, inputs: &[Ident]) -> (Vec<Ident>, Range<usize>) {
+    let written = sections.parameters.map_or(&[][..], |l| &l.items);
+    let modes = sections.friction.map_or(0, |l| l.items.len());
+    let hidden = (0..modes).map(friction_mode);
+    let parameters = written
+        .iter()
+        .cloned()
+        .chain(hidden)
+        .chain(inputs.iter().cloned());
+    (parameters.collect(), written.len()..written.len() + modes)
 }
 
 /// The hidden field holding friction entry `i`'s mode.
