@@ -218,7 +218,7 @@ where
     S: Friction<T, N, K, F>,
 {
     let v = system.friction_velocities(&s.q, &s.qd, s.t);
-    let sticking = modes.iter().any(|m| *m == Mode::Stick);
+    let sticking = modes.contains(&Mode::Stick);
     let margin = if sticking {
         let normal = system.friction_normals(&s.q, &s.qd, s.t);
         system.stick_forces(s).map_or_else(
