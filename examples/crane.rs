@@ -1,74 +1,100 @@
 //! An overhead crane moves its load 2 m along the rail: a saturated PD
-//! actuator (`clamp`) drives the trolley against Coulomb friction
-//! (`signum` of its speed), and the load swings on its rod (a position-level
-//! constraint). The non-smooth functions sit in `forces`, which the macro
-//! never differentiates; at a kink or jump an integrator with a fixed step
-//! is the honest choice (an adaptive one would shrink its step to resolve
-//! the jump, with nothing to gain).
+//! actuator (`clamp`) drives the trolley against Coulomb friction, and the
+//! load swings on its rod (a position-level constraint) from a damped pivot
+//! (5 % of critical damping). The friction is a `friction:` entry, switched
+//! between stick (the trolley's speed held at zero by a constraint row) and
+//! slip (the kinetic force against the motion) at events by
+//! `integrate::StickSlip`: the trolley stops, slips while the swinging load
+//! pulls harder than static friction holds, and sticks for good once the
+//! swing has decayed. (`constrained::models::Crane` writes the same friction
+//! with `signum`, which an adaptive integrator cannot step past once the
+//! trolley stops.)
 //!
-//! `cargo run --release --example crane [-- --duration 20 --progress]`
+//! `cargo run --release --example crane [-- --duration 60 --progress]`
 
 #[path = "support/mod.rs"]
 mod support;
 
-use constrained::models::Crane;
+use constrained::friction::Mode;
+use constrained::integrate::{StickSlip, StickSlipOutcome};
 use constrained::nalgebra::Vector3;
-use constrained::{Rk4, Stabilization, State};
+use constrained::{constrained_system, DormandPrince45, Stabilization, State};
 use support::{plot, Options, Panel, Series};
 
+constrained_system! {
+    /// A trolley (`xc`) on a rail with Coulomb friction, a load (`x`, `y`)
+    /// on a rod of length `l` from a pivot damped by `c` (the load's
+    /// velocity relative to the trolley, across the rod), a saturated PD
+    /// drive to `target`. The rail's normal force is the crane's weight.
+    pub struct DampedCrane {
+        coordinates: [xc, x, y],
+        parameters: [mc, ml, l, g, mu_s, mu_k, kp, kd, umax, target, c],
+        mass: diag[mc, ml, ml],
+        definitions: [
+            drive = clamp(kp * (target - xc) - kd * dot(xc), -umax, umax),
+            swing = c * (dot(x) - dot(xc)),
+        ],
+        forces: [drive + swing, -swing, -ml * g - c * dot(y)],
+        constraints: [(x - xc).powi(2) + y.powi(2) == l.powi(2)],
+        friction: [coulomb(dot(xc), (mc + ml) * g, mu_s, mu_k)],
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let options = Options::parse(12.0);
-    // mc, ml, l, g, mu, kp, kd, umax, target
-    let crane = Crane::<f64>::new(4.0, 1.0, 1.5, 9.81, 0.05, 30.0, 12.0, 8.0, 2.0);
-    let mut state = State::new(0.0, Vector3::new(0.0, 0.0, -crane.l), Vector3::zeros());
-    let (mut trolley, mut drive, mut sway, mut residual) =
+    let options = Options::parse(60.0);
+    let (ml, l, g): (f64, f64, f64) = (1.0, 1.5, 9.81);
+    let damping = 2.0 * 0.05 * ml * (g / l).sqrt();
+    // mc, ml, l, g, mu_s, mu_k, kp, kd, umax, target, c
+    let crane = DampedCrane::new(4.0, ml, l, g, 0.06, 0.05, 30.0, 12.0, 8.0, 2.0, damping);
+    let start = State::new(0.0, Vector3::new(0.0, 0.0, -l), Vector3::zeros());
+    let stepper = DormandPrince45::new(1e-10, 1e-12)
+        .with_stabilization(Stabilization::projection(1e-12))
+        .stepper(start, options.duration)?;
+    let mut run = StickSlip::new(crane, stepper)?;
+    let (mut trolley, mut drive, mut sway, mut stuck) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut progress = options.progress();
-    let mut saturated_steps = 0usize;
-    let mut steps = 0usize;
-    Rk4::new(1e-3)
-        .with_stabilization(Stabilization::projection(1e-12))
-        .advance_with(&crane, &mut state, options.duration, |s| {
-            progress.tick(s.t);
-            let (xc, vc) = (s.q[0], s.qd[0]);
-            let u = (crane.kp * (crane.target - xc) - crane.kd * vc).clamp(-crane.umax, crane.umax);
-            steps += 1;
-            if u.abs() == crane.umax {
-                saturated_steps += 1;
-            }
-            trolley.push((s.t, xc));
-            drive.push((s.t, u));
-            sway.push((s.t, (s.q[1] - xc).atan2(-s.q[2]).to_degrees()));
-            residual.push((s.t, crane.constraint_residual(&s.q, &s.qd, s.t).amax()));
-        })?;
-    let max_sway = sway.iter().map(|s| s.1.abs()).fold(0.0, f64::max);
-    let arrival = trolley
-        .iter()
-        .find(|p| (p.0 > 0.0) && (p.1 - crane.target).abs() < 0.01)
-        .map(|p| p.0);
-    let max_residual = residual.iter().map(|r| r.1).fold(0.0, f64::max);
+    let mut switches: Vec<(f64, f64, Mode)> = Vec::new();
+    let finished = run.finish(10_000_000, |run, outcome| {
+        let s = run.state();
+        progress.tick(s.t);
+        let (xc, vc) = (s.q[0], s.qd[0]);
+        let u = (crane.kp * (crane.target - xc) - crane.kd * vc).clamp(-crane.umax, crane.umax);
+        trolley.push((s.t, xc));
+        drive.push((s.t, u));
+        sway.push((s.t, (s.q[1] - xc).atan2(-s.q[2]).to_degrees()));
+        let mode = run.system().friction_modes()[0];
+        stuck.push((s.t, if mode == Mode::Stick { 1.0 } else { 0.0 }));
+        if let StickSlipOutcome::Switch { mode, state, .. } = outcome {
+            switches.push((state.t, state.q[0], *mode));
+        }
+    })?;
+    if !finished {
+        return Err("the call budget ran out".into());
+    }
+    let end = *run.state();
+    let steps = run.stepper().stats().steps;
     println!(
-        "Overhead crane, {:.0} s (RK4, h = 1 ms, projection):",
+        "Overhead crane, {:.0} s (Dormand–Prince 1e-10, stick–slip switched at events):",
         options.duration
     );
     println!(
-        "  drive saturated at ±{} N for {:.0} % of the steps; trolley within 1 cm of the target after {}",
-        crane.umax,
-        100.0 * saturated_steps as f64 / steps.max(1) as f64,
-        arrival.map_or("never".to_string(), |t| format!("{t:.2} s"))
-    );
-    println!(
-        "  final position {:.4} m (target {} m; friction leaves a dead band of μ(mc+ml)g/kp = {:.4} m)",
-        state.q[0],
+        "  {} switches in {steps} steps; final position {:.6} m (target {} m, dead band ±{:.4} m)",
+        switches.len(),
+        end.q[0],
         crane.target,
-        crane.mu * (crane.mc + crane.ml) * crane.g / crane.kp
+        crane.mu_s * (crane.mc + crane.ml) * crane.g / crane.kp
     );
-    println!("  largest sway {max_sway:.2}°, largest |φ| {max_residual:.1e}");
+    match switches.last() {
+        Some(&(t, x, Mode::Stick)) => println!("  sticks for good at t = {t:.6} s, xc = {x:.9} m"),
+        Some(&(t, _, mode)) => println!("  last switch at t = {t:.6} s: {mode:?}"),
+        None => println!("  no switch"),
+    }
     let out = options.plot_path("crane");
     let t_end = options.duration;
     plot(
         &out,
-        "Overhead crane: saturated drive, Coulomb friction",
+        "Overhead crane: saturated drive, Coulomb stick–slip, damped swing",
         &[
             Panel::new(
                 "trolley position",
@@ -90,6 +116,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "t [s]",
                 "angle [°]",
                 vec![Series::new("sway(t)", sway)],
+            ),
+            Panel::new(
+                "friction mode",
+                "t [s]",
+                "stuck",
+                vec![Series::new("1 = stick, 0 = slip", stuck)],
             ),
         ],
     )?;

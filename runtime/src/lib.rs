@@ -16,6 +16,7 @@ mod error;
 mod finish;
 pub mod floating;
 mod gauss_dense;
+pub mod friction;
 mod generated;
 pub mod gibbs_appell;
 pub mod impact;

@@ -25,6 +25,7 @@ mod context;
 pub mod derivation;
 mod dynamics;
 mod forwards;
+mod friction;
 mod gibbs_appell;
 mod impact;
 mod jacobian;
@@ -44,6 +45,7 @@ use context::{Context, Inputs};
 use proc_macro2::TokenStream;
 use quote::quote;
 use std::collections::HashMap;
+use syn::Ident;
 
 /// The methods generated code calls for a power `b^e` (`body`): `sqrt`
 /// for `e = 1/2`, `powi` for an integer, `powf` otherwise. With the
@@ -92,6 +94,8 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
     let evaluation = dynamics::methods(&ctx);
     let gaps = impact::methods(&ctx);
+    let friction = friction::methods(&ctx);
+    let friction_impl = friction::trait_impl(&ctx);
     // A model read from a file is rebuilt when the file changes.
     let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
         quote! {
@@ -137,12 +141,14 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #linearization
             #evaluation
             #gaps
+            #friction
         }
 
         #(#files)*
 
         #generated_impl
         #tangent_impl
+        #friction_impl
     }
 }
 
@@ -157,7 +163,14 @@ fn struct_definition(
     let name = &sys.name;
     let vis = &sys.vis;
     let attrs = &sys.attrs;
-    let params = &sys.parameters;
+    let modes = sys.modes();
+    let (written, hidden): (Vec<(usize, &Ident)>, Vec<(usize, &Ident)>) = sys
+        .parameters
+        .iter()
+        .enumerate()
+        .partition(|(i, _)| !modes.contains(i));
+    let params: Vec<&Ident> = written.iter().map(|(_, p)| *p).collect();
+    let hidden: Vec<&Ident> = hidden.iter().map(|(_, p)| *p).collect();
     let plural =
         |count: usize, what: &str| format!("{count} {what}{}", if count == 1 { "" } else { "s" });
     let struct_doc = format!(
@@ -176,22 +189,39 @@ fn struct_definition(
             )
         }
     });
-    let fields = if params.is_empty() {
+    // Without a parameter, nothing holds `T`: a marker field does.
+    let marker = params.is_empty().then(|| {
         quote! {
             #[doc(hidden)]
             pub __scalar: ::core::marker::PhantomData<T>,
         }
-    } else {
-        quote! { #( #[doc = #param_docs] pub #params: T, )* }
+    });
+    let fields = quote! {
+        #( #[doc = #param_docs] pub #params: T, )*
+        #(
+            /// A friction entry's mode as its sense `s`: `0` sticking, `±1`
+            /// slipping (set through `with_friction_modes`).
+            #[doc(hidden)]
+            pub #hidden: T,
+        )*
+        #marker
     };
-    let constructor_body = if params.is_empty() {
-        quote! { Self { __scalar: ::core::marker::PhantomData } }
+    let marker_value = params
+        .is_empty()
+        .then(|| quote! { __scalar: ::core::marker::PhantomData, });
+    let constructor_body = quote! { Self { #(#params,)* #(#hidden: T::zero(),)* #marker_value } };
+    // The modes start at `Stick`, `T::zero()`: not a `const fn` then.
+    let (bound, constness) = if hidden.is_empty() {
+        (quote!(), quote!(const))
     } else {
-        quote! { Self { #(#params),* } }
+        (
+            quote!(: ::constrained::nalgebra::RealField + Copy),
+            quote!(),
+        )
     };
     let default_impl = params.is_empty().then(|| {
         quote! {
-            impl<T> ::core::default::Default for #name<T> {
+            impl<T #bound> ::core::default::Default for #name<T> {
                 fn default() -> Self { Self::new() }
             }
         }
@@ -207,12 +237,12 @@ fn struct_definition(
         #[allow(non_snake_case)]
         #vis struct #name<T = f64> { #fields }
 
-        impl<T> #name<T> {
+        impl<T #bound> #name<T> {
             /// Creates the system from its parameters, then its control
             /// inputs, in the order declared.
             // One argument per parameter, however many the model has.
             #[allow(non_snake_case, clippy::new_without_default, clippy::too_many_arguments)]
-            pub const fn new(#(#params: T),*) -> Self { #constructor_body }
+            pub #constness fn new(#(#params: T),*) -> Self { #constructor_body }
         }
 
         #default_impl

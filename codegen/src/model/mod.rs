@@ -8,6 +8,7 @@ pub(crate) mod bodies;
 pub(crate) mod check;
 pub(crate) mod ctxt;
 pub(crate) mod free;
+pub(crate) mod friction;
 pub mod lower;
 mod source;
 pub(crate) mod unilateral;
@@ -21,6 +22,7 @@ use lower::{Binding, Lowerer};
 use proc_macro2::Span;
 use source::{source, Lowered, Source};
 use std::collections::HashMap;
+use std::ops::Range;
 use syn::{Attribute, Expr, Ident, Visibility};
 
 /// Whether a constraint is differentiated twice or once.
@@ -84,6 +86,9 @@ pub struct System {
     pub energy: Option<EnergyTerms>,
     /// The gaps `g(q) ≥ 0` of `unilateral: [..]`, with their gradients.
     pub unilateral: Vec<unilateral::Gap>,
+    /// The entries of `friction: [..]`; their modes are the parameters
+    /// [`System::modes`] (hidden fields).
+    pub friction: Vec<friction::Entry>,
 }
 
 /// The expressions of a system with bodies beyond `M` and `F`.
@@ -131,6 +136,13 @@ impl System {
         self.coordinates.len()
     }
 
+    /// The indices of the friction modes among `parameters`: between the
+    /// parameters written and the inputs.
+    pub fn modes(&self) -> Range<usize> {
+        let end = self.parameters.len() - self.inputs;
+        end - self.friction.len()..end
+    }
+
     /// The symbol of input `j`.
     pub fn input(&self, j: usize) -> Sym {
         Sym::Param(self.parameters.len() - self.inputs + j)
@@ -155,6 +167,7 @@ struct Sections<'a> {
     urdf: Option<(&'a Ident, &'a syn::LitStr)>,
     locked: Option<&'a List<Ident>>,
     unilateral: Option<&'a List<Expr>>,
+    friction: Option<&'a List<Expr>>,
 }
 
 impl<'a> Sections<'a> {
@@ -177,6 +190,7 @@ impl<'a> Sections<'a> {
                 Section::Urdf(k, l) => s.urdf.replace((k, l)).is_some(),
                 Section::Locked(_, l) => s.locked.replace(l).is_some(),
                 Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
+                Section::Friction(_, l) => s.friction.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();
@@ -209,18 +223,10 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
         errors.at(list.span, "`coordinates` must name at least one coordinate");
     }
-    // Inputs are parameters to every stage but the checks below and the
-    // Jacobian: fields after the parameters, `Sym::Param` after theirs.
     let empty = Vec::new();
     let inputs = sections.inputs.map_or(&empty, |l| &l.items);
-    let parameters: Vec<Ident> = sections
-        .parameters
-        .map_or(&empty, |l| &l.items)
-        .iter()
-        .chain(inputs)
-        .cloned()
-        .collect();
-    let first_input = parameters.len() - inputs.len();
+    let (parameters, modes) = all_parameters(&sections, inputs);
+    let first_input = modes.end;
     let n = coordinates.len();
     let mut graph = new_graph(parameters.len(), n);
     let mut lower = Lowerer {
@@ -234,7 +240,11 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     for (i, c) in coordinates.iter().enumerate() {
         lower.declare(c, Binding::Coordinate(i), &coordinates);
     }
-    for (i, p) in parameters.iter().enumerate() {
+    for (i, p) in parameters
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !modes.contains(i))
+    {
         lower.declare(p, Binding::Parameter(i), &coordinates);
     }
     // The bodies come before the definitions, so that every expression
@@ -245,11 +255,15 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         lower.declare(name, Binding::Definition(id), &coordinates);
         lower.name_node(name.to_string(), id);
     }
-    let dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    let constraints = lower.all_constraints(sections.constraints, source, &coordinates);
+    let mut dynamics = lower.dynamics(source, &sections, &coordinates, described);
+    let mut constraints = lower.all_constraints(sections.constraints, source, &coordinates);
     let unilateral = sections
         .unilateral
         .map_or_else(Vec::new, |l| lower.gaps(l, first_input));
+    let (forces, rows) = (&mut dynamics.forces, &mut constraints);
+    let friction = sections
+        .friction
+        .map_or_else(Vec::new, |l| lower.friction(l, &modes, forces, rows));
     let eliminate = sections
         .eliminate
         .map(|list| (lower.eliminate(list), list.span));
@@ -285,7 +299,32 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         bodies: dynamics.bodies,
         energy: dynamics.energy,
         unilateral,
+        friction,
     })
+}
+
+/// The parameters, then the friction entries' modes (hidden fields), then
+/// the inputs: inputs are parameters to every stage but the checks and the
+/// Jacobian (fields after the parameters, `Sym::Param` after theirs). With
+/// the indices of the modes.
+fn all_parameters(sections: &Sections, inputs: &[Ident]) -> (Vec<Ident>, Range<usize>) {
+    let written = sections.parameters.map_or(&[][..], |l| &l.items);
+    let modes = sections.friction.map_or(0, |l| l.items.len());
+    let hidden = (0..modes).map(friction_mode);
+    let parameters = written
+        .iter()
+        .cloned()
+        .chain(hidden)
+        .chain(inputs.iter().cloned());
+    (parameters.collect(), written.len()..written.len() + modes)
+}
+
+/// The hidden field holding friction entry `i`'s mode.
+pub fn friction_mode(i: usize) -> Ident {
+    Ident::new(
+        &format!("{}friction{i}", crate::names::GENERATED_PREFIX),
+        Span::call_site(),
+    )
 }
 
 /// A graph with the variables interned first, in a fixed order, so that

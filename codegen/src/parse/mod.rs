@@ -30,6 +30,7 @@ pub mod kw {
     syn::custom_keyword!(locked);
     syn::custom_keyword!(inertia);
     syn::custom_keyword!(unilateral);
+    syn::custom_keyword!(friction);
 }
 
 /// ```text
@@ -70,6 +71,7 @@ pub struct List<T> {
 ///          | `urdf`        `:` LitStr
 ///          | `locked`      `:` `[` Ident,* `]`
 ///          | `unilateral`  `:` `[` (expr `>=` expr | expr `<=` expr),* `]`
+///          | `friction`    `:` `[` (`coulomb` `(` expr `,` expr `,` expr (`,` expr)? `)`),* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -102,6 +104,9 @@ pub enum Section {
     Locked(Ident, List<Ident>),
     /// Gaps `g(q) ≥ 0` (unilateral constraints), checked by `crate::model`.
     Unilateral(Ident, List<Expr>),
+    /// Coulomb friction entries `coulomb(v, N, μs, μk)`, checked by
+    /// `crate::model`.
+    Friction(Ident, List<Expr>),
 }
 
 impl Section {
@@ -122,7 +127,8 @@ impl Section {
             | Section::Gravity(k, _)
             | Section::Urdf(k, _)
             | Section::Locked(k, _)
-            | Section::Unilateral(k, _) => k,
+            | Section::Unilateral(k, _)
+            | Section::Friction(k, _) => k,
         }
     }
 }
@@ -231,6 +237,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::unilateral) {
             let k = keyword!(unilateral);
             Ok(Section::Unilateral(k, list(input, Expr::parse)?))
+        } else if lookahead.peek(kw::friction) {
+            let k = keyword!(friction);
+            Ok(Section::Friction(k, list(input, Expr::parse)?))
         } else {
             Err(lookahead.error())
         }

@@ -103,6 +103,7 @@ pub mod events;
 mod explicit;
 mod method;
 mod stepper;
+mod stick_slip;
 pub mod tableau;
 
 pub use controller::PiController;
@@ -111,6 +112,7 @@ pub use euler::SemiImplicitEuler;
 pub use events::{Action, Crossing, Direction, Event, EventStats, Events};
 pub use explicit::ExplicitRungeKutta;
 pub use stepper::{EventRun, StepOutcome, Stepper};
+pub use stick_slip::{StickSlip, StickSlipOutcome};
 pub use tableau::Tableau;
 
 use crate::stabilize::{baumgarte_correction, project, Stabilization};
