@@ -9,6 +9,7 @@ pub mod check;
 pub mod ctxt;
 pub mod free;
 pub mod lower;
+mod rotation;
 mod source;
 pub mod unilateral;
 pub mod urdf;
