@@ -19,7 +19,7 @@
 // `max_iter` iterations to `accuracy` (the first of a descending list whose
 // answers agree with ours), stated in the JSON line with the iterations it
 // took. `lcaba` (which requires mu > 0) the same way; only its q̈ is
-// compared. Only answers within the tolerance are timed (per state, the
+// compared, to 1e-8 (its own convergence, see `run`). Only answers within the tolerance are timed (per state, the
 // median of common.h).
 //
 // Usage: contacts REFERENCE_FILE ROUND
@@ -182,7 +182,11 @@ static void run(Problem &p, bool lcaba, const char *round) {
     pin::computeJointMinimalOrdering(p.model, data, p.constraints);
   else
     pin::initConstraintDynamics(p.model, data, p.constraints, datas);
-  const double tolerance = 1e-9, accuracy = 1e-14;
+  // lcaba's q̈ does not come closer than some 4e-9 (quadruped) and 7e-9
+  // (five-bar) at any damping (mu 1e-6, its proximal loop stopping after 3
+  // iterations; smaller mu agree less): its own convergence, so it is
+  // checked to 1e-8 and reported as such.
+  const double tolerance = lcaba ? 1e-8 : 1e-9, accuracy = 1e-14;
   const int max_iter = 100;
   // Undamped first (constraintDynamics only: lcaba needs mu > 0), then
   // ever larger damping: the first that agrees is timed.
@@ -194,6 +198,8 @@ static void run(Problem &p, bool lcaba, const char *round) {
     if (lcaba && m == 0.0) continue;
     t.settings = pin::ProximalSettings(accuracy, m, m == 0.0 ? 1 : max_iter);
     check(t, lcaba, &qdd, &lambda, &iterations);
+    fprintf(stderr, "%s %s: mu %.0e: q̈ %.3e, λ %.3e, %d iterations\n", lcaba ? "lcaba" : "constraintDynamics",
+            p.system, m, qdd, lambda, iterations);
     mu = m;
     if (qdd <= tolerance && (lcaba || lambda <= tolerance)) break;
   }

@@ -323,7 +323,8 @@ fn median_ns(mut call: impl FnMut()) -> f64 {
 }
 
 /// Times `acceleration` and `acceleration_and_multipliers` over `cases`
-/// (per state); one JSON line each.
+/// (per state), and the generated parts the first is made of (`M`, `F`,
+/// `A` and `b`); one JSON line each.
 fn time<S, const M: usize, const K: usize>(name: &str, round: &str, cases: &[(S, State<f64, M>)])
 where
     S: ConstrainedSystem<f64, M, K> + Multipliers<f64, M, K>,
@@ -339,9 +340,29 @@ where
             let _ = black_box(black_box(system).acceleration_and_multipliers(black_box(s)));
         }
     });
+    // Where the time of `acceleration` goes (the runtime's dense solve of
+    // the auxiliary system takes the rest): the generated M, F and A, b.
+    let mass = median_ns(|| {
+        for (system, s) in cases {
+            black_box(ConstrainedSystem::mass_matrix(black_box(system), black_box(s)));
+        }
+    });
+    let forces = median_ns(|| {
+        for (system, s) in cases {
+            black_box(ConstrainedSystem::forces(black_box(system), black_box(s)));
+        }
+    });
+    let rows = median_ns(|| {
+        for (system, s) in cases {
+            black_box(ConstrainedSystem::constraint_matrices(black_box(system), black_box(s)));
+        }
+    });
     for (what, ns) in [
         ("acceleration", acceleration),
         ("acceleration_and_multipliers", both),
+        ("mass_matrix", mass),
+        ("forces", forces),
+        ("constraint_matrices", rows),
     ] {
         println!(
             "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{name}\", \"n\": {M}, \
