@@ -93,5 +93,6 @@ pub fn multipliers<T: RealField + Copy, const N: usize, const K: usize>(
     let largest = svd.singular_values().amax();
     let count = nalgebra::convert::<f64, T>((N + K) as f64 * 64.0);
     let cut = largest * T::default_epsilon() * count;
-    svd.solve_transpose(force, cut).ok_or(DynamicsError::NonFinite)
+    svd.solve_transpose(force, cut)
+        .ok_or(DynamicsError::NonFinite)
 }

@@ -114,8 +114,8 @@ fn quadruped(tau: &[f64; 12]) -> Quadruped<f64> {
     let [a, b, c, d, e, f, g, h] = feet();
     let t = tau;
     Quadruped::new(
-        a, b, c, d, e, f, g, h, t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], t[9],
-        t[10], t[11],
+        a, b, c, d, e, f, g, h, t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], t[9], t[10],
+        t[11],
     )
 }
 
@@ -134,7 +134,12 @@ fn residual<const K: usize, const M: usize>(
 /// The joints `(haa, hfe, kfe)` of leg `k` that put its foot at `target`
 /// (world) with the base at `position`, `attitude`: the leg's closed-form
 /// inverse kinematics (knee bent backwards, as standing).
-fn leg(k: usize, position: &Vector3<f64>, attitude: &UnitQuaternion<f64>, target: &Vector3<f64>) -> [f64; 3] {
+fn leg(
+    k: usize,
+    position: &Vector3<f64>,
+    attitude: &UnitQuaternion<f64>,
+    target: &Vector3<f64>,
+) -> [f64; 3] {
     let side = HIPS[k][1].signum();
     let hip = Vector3::new(HIPS[k][0], HIPS[k][1], 0.0);
     let d = attitude.inverse() * (target - position) - hip;
@@ -154,7 +159,11 @@ fn leg(k: usize, position: &Vector3<f64>, attitude: &UnitQuaternion<f64>, target
 /// (`A q̇ = 0` solved for the 12 joint rates); random joint torques.
 fn quadruped_state(rng: &mut Rng) -> (Quadruped<f64>, State<f64, N>) {
     let base = FreeMotion {
-        position: Vector3::new(rng.uniform(0.02), rng.uniform(0.02), 0.32 * 0.8f64.cos() + rng.uniform(0.02)),
+        position: Vector3::new(
+            rng.uniform(0.02),
+            rng.uniform(0.02),
+            0.32 * 0.8f64.cos() + rng.uniform(0.02),
+        ),
         orientation: UnitQuaternion::from_euler_angles(
             rng.uniform(0.15),
             rng.uniform(0.15),
@@ -164,7 +173,8 @@ fn quadruped_state(rng: &mut Rng) -> (Quadruped<f64>, State<f64, N>) {
         angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
     };
     let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
-    base.write(0, &mut q, &mut qd).expect("seven coordinates fit");
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
     let places = feet();
     for k in 0..4 {
         let target = Vector3::new(places[2 * k], places[2 * k + 1], 0.0);
@@ -184,7 +194,10 @@ fn quadruped_state(rng: &mut Rng) -> (Quadruped<f64>, State<f64, N>) {
     let state = State::new(0.0, q, qd);
     let position = ConstrainedSystem::constraint_residual(&system, &state).amax();
     let velocity = ConstrainedSystem::constraint_velocity_residual(&system, &state).amax();
-    assert!(position < 1e-14 && velocity < 1e-13, "{position:e} {velocity:e}");
+    assert!(
+        position < 1e-14 && velocity < 1e-13,
+        "{position:e} {velocity:e}"
+    );
     (system, state)
 }
 
@@ -264,9 +277,18 @@ fn write(path: &str) {
         let tau: Vec<f64> = [0.0; 6]
             .into_iter()
             .chain([
-                system.t_fl_haa, system.t_fl_hfe, system.t_fl_kfe, system.t_fr_haa,
-                system.t_fr_hfe, system.t_fr_kfe, system.t_hl_haa, system.t_hl_hfe,
-                system.t_hl_kfe, system.t_hr_haa, system.t_hr_hfe, system.t_hr_kfe,
+                system.t_fl_haa,
+                system.t_fl_hfe,
+                system.t_fl_kfe,
+                system.t_fr_haa,
+                system.t_fr_hfe,
+                system.t_fr_kfe,
+                system.t_hl_haa,
+                system.t_hl_hfe,
+                system.t_hl_kfe,
+                system.t_hr_haa,
+                system.t_hr_hfe,
+                system.t_hr_kfe,
             ])
             .collect();
         let _ = writeln!(out, "quadruped 18");
@@ -332,7 +354,10 @@ where
     let per_state = |ns: f64| ns / cases.len() as f64;
     let acceleration = median_ns(|| {
         for (system, s) in cases {
-            let _ = black_box(ConstrainedSystem::acceleration(black_box(system), black_box(s)));
+            let _ = black_box(ConstrainedSystem::acceleration(
+                black_box(system),
+                black_box(s),
+            ));
         }
     });
     let both = median_ns(|| {
@@ -344,7 +369,10 @@ where
     // the auxiliary system takes the rest): the generated M, F and A, b.
     let mass = median_ns(|| {
         for (system, s) in cases {
-            black_box(ConstrainedSystem::mass_matrix(black_box(system), black_box(s)));
+            black_box(ConstrainedSystem::mass_matrix(
+                black_box(system),
+                black_box(s),
+            ));
         }
     });
     let forces = median_ns(|| {
@@ -354,7 +382,10 @@ where
     });
     let rows = median_ns(|| {
         for (system, s) in cases {
-            black_box(ConstrainedSystem::constraint_matrices(black_box(system), black_box(s)));
+            black_box(ConstrainedSystem::constraint_matrices(
+                black_box(system),
+                black_box(s),
+            ));
         }
     });
     for (what, ns) in [
