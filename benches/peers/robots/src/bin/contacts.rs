@@ -33,7 +33,6 @@ use constrained::{ConstrainedSystem, State};
 use model::{Quadruped, FOOT_OFFSET, HIPS, N};
 use std::fmt::Write as _;
 use std::hint::black_box;
-use std::time::Instant;
 
 constrained::constrained_system! {
     /// The planar five-bar of `examples/five_bar.rs` (the same bodies),
@@ -317,27 +316,55 @@ fn write(path: &str) {
     std::fs::write(path, out).expect("writes the reference file");
 }
 
-/// `common.h`'s `peer_time`: the median time in ns of `call`, over 31
-/// batches of about 5 ms after doubling the batch up to that length.
+/// `struct timespec` of Linux's `clock_gettime`.
+#[repr(C)]
+struct Timespec {
+    seconds: i64,
+    nanoseconds: i64,
+}
+
+extern "C" {
+    fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
+}
+
+/// The thread's CPU time in ns (`CLOCK_THREAD_CPUTIME_ID`, Linux): the
+/// contacts rows are timed in CPU time on both sides (`contacts.cpp`'s
+/// `cpu_time`), since on a shared machine a pinned loop's wall time also
+/// counts the time other processes held its core.
+fn cpu_now() -> f64 {
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut t = Timespec {
+        seconds: 0,
+        nanoseconds: 0,
+    };
+    // SAFETY: `t` is a valid, writable `struct timespec` for the call.
+    let status = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    assert_eq!(status, 0, "the thread's CPU clock is readable");
+    t.seconds as f64 * 1e9 + t.nanoseconds as f64
+}
+
+/// `common.h`'s `peer_time` on the thread's CPU clock: the median time in
+/// ns of `call`, over 31 batches of about 5 ms after doubling the batch up
+/// to that length.
 fn median_ns(mut call: impl FnMut()) -> f64 {
     let mut iterations: u64 = 1;
     loop {
-        let start = Instant::now();
+        let start = cpu_now();
         for _ in 0..iterations {
             call();
         }
-        if start.elapsed().as_secs_f64() > 5e-3 || iterations >= 1 << 40 {
+        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
             break;
         }
         iterations *= 2;
     }
     let mut samples: Vec<f64> = (0..31)
         .map(|_| {
-            let start = Instant::now();
+            let start = cpu_now();
             for _ in 0..iterations {
                 call();
             }
-            start.elapsed().as_secs_f64() * 1e9 / iterations as f64
+            (cpu_now() - start) / iterations as f64
         })
         .collect();
     samples.sort_by(f64::total_cmp);
