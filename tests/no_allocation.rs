@@ -217,7 +217,8 @@ fn quadruped_standing() -> (usize, usize, f64) {
         UnitQuaternion::identity(),
     );
     let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
-    base.write(0, &mut q, &mut qd).expect("seven coordinates fit");
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
     for leg in 0..4 {
         q[7 + 3 * leg + 1] = theta;
         q[7 + 3 * leg + 2] = -2.0 * theta;
@@ -236,7 +237,8 @@ fn quadruped_standing() -> (usize, usize, f64) {
     let (allocs, steps) = count(|| {
         let mut steps = 0;
         for step in 1..=10_000 {
-            let tau: [f64; 12] = core::array::from_fn(|j| kp * (q[7 + j] - s.q[7 + j]) - kd * s.qd[7 + j]);
+            let tau: [f64; 12] =
+                core::array::from_fn(|j| kp * (q[7 + j] - s.q[7 + j]) - kd * s.qd[7 + j]);
             [sys.t_fl_haa, sys.t_fl_hfe, sys.t_fl_kfe] = [tau[0], tau[1], tau[2]];
             [sys.t_fr_haa, sys.t_fr_hfe, sys.t_fr_kfe] = [tau[3], tau[4], tau[5]];
             [sys.t_hl_haa, sys.t_hl_hfe, sys.t_hl_kfe] = [tau[6], tau[7], tau[8]];

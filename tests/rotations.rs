@@ -62,7 +62,9 @@ fn an_orientation_lock_gives_the_torque_that_balances_gravity() {
             .max(qdd.amax())
             .max((force + weight).amax() / (m * g))
             .max((torque - expected_torque).amax() / scale);
-        println!("weld at ({roll}, {pitch}, {yaw}): torque {torque:?}, expected {expected_torque:?}");
+        println!(
+            "weld at ({roll}, {pitch}, {yaw}): torque {torque:?}, expected {expected_torque:?}"
+        );
     }
     assert!(worst < 1e-12, "{worst:e}");
     assert_eq!(<Welded<f64> as ConstrainedSystem<f64, 7, 7>>::REDUNDANCY, 0);
@@ -138,7 +140,11 @@ fn a_disc_written_with_bodies_rolls_as_the_disk_written_with_coordinates() {
         let (dth, dphi, dpsi) = (0.8 * x.cos(), 1.5 - 0.1 * x, 4.0 * (0.5 * x).sin() + 2.0);
         let (st, ct, sp, cp) = (th.sin(), th.cos(), phi.sin(), phi.cos());
         // The coordinate disk's rolling rows give the centre's velocity.
-        let w = Vector3::new(dth * cp + dpsi * st * sp, dth * sp - dpsi * st * cp, dphi + dpsi * ct);
+        let w = Vector3::new(
+            dth * cp + dpsi * st * sp,
+            dth * sp - dpsi * st * cp,
+            dphi + dpsi * ct,
+        );
         let u = Vector3::new(-ct * sp, ct * cp, st);
         let v = (w * r).cross(&u);
         let (xc, yc) = (0.2 * x, -0.1 * x);
@@ -161,7 +167,8 @@ fn a_disc_written_with_bodies_rolls_as_the_disk_written_with_coordinates() {
         let qb = ConstrainedSystem::acceleration(&bodies, &sb).unwrap();
         let (ddth, ddphi) = (qc[2], qc[3]);
         // f = r cos θ sin φ, h = −r cos θ cos φ: f̈ = f_θ θ̈ + f_φ φ̈ + f_θθ θ̇² + 2 f_θφ θ̇ φ̇ + f_φφ φ̇².
-        let fdd = -r * st * sp * ddth + r * ct * cp * ddphi - r * ct * sp * dth * dth
+        let fdd = -r * st * sp * ddth + r * ct * cp * ddphi
+            - r * ct * sp * dth * dth
             - 2.0 * r * st * cp * dth * dphi
             - r * ct * sp * dphi * dphi;
         let hdd = r * st * cp * ddth + r * ct * sp * ddphi + r * ct * cp * dth * dth
@@ -170,7 +177,8 @@ fn a_disc_written_with_bodies_rolls_as_the_disk_written_with_coordinates() {
         let mapped = SVector::<f64, 5>::from([qc[0] + fdd, qc[1] + hdd, ddphi, ddth, qc[4]]);
         worst = worst.max((qb - mapped).amax() / mapped.amax());
         let w_bodies = ConstrainedSystem::constraint_velocity_residual(&spin, &sb);
-        omega = omega.max((Vector3::new(w_bodies[0], w_bodies[1], w_bodies[2]) - w).amax() / w.amax());
+        omega =
+            omega.max((Vector3::new(w_bodies[0], w_bodies[1], w_bodies[2]) - w).amax() / w.amax());
     }
     println!("rolling disc, bodies vs coordinates: q̈ {worst:.1e}, ω {omega:.1e}");
     assert!(worst < 1e-12 && omega < 1e-14, "{worst:e} {omega:e}");

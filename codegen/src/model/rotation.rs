@@ -54,7 +54,10 @@ impl Lowerer<'_> {
                 body,
                 "rotations of bodies need a `bodies` or `urdf` section",
             )),
-            None => Err(syn::Error::new_spanned(body, format!("unknown body `{name}`"))),
+            None => Err(syn::Error::new_spanned(
+                body,
+                format!("unknown body `{name}`"),
+            )),
         }
     }
 
@@ -67,7 +70,10 @@ impl Lowerer<'_> {
     /// `angular_velocity(body)`: `vee(Ṙ Rᵀ)`, world axes.
     pub fn angular_velocity(&mut self, e: &Expr, args: &[&Expr]) -> syn::Result<V3> {
         let [body] = args else {
-            return Err(syn::Error::new_spanned(e, "expected `angular_velocity(body)`"));
+            return Err(syn::Error::new_spanned(
+                e,
+                "expected `angular_velocity(body)`",
+            ));
         };
         let frame = self.frame_of(body)?;
         let rate = self.rate(&frame.rotation);
@@ -151,7 +157,10 @@ impl Lowerer<'_> {
         let ids: Vec<Id> = array.elems.iter().map(|x| self.lower(x)).collect();
         let moving = ids.iter().any(|&id| {
             self.graph.mentions(id, |s| {
-                matches!(s, crate::expr::Sym::Coord(_) | crate::expr::Sym::Vel(_) | crate::expr::Sym::Time)
+                matches!(
+                    s,
+                    crate::expr::Sym::Coord(_) | crate::expr::Sym::Vel(_) | crate::expr::Sym::Time
+                )
             })
         });
         if moving {
