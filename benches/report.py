@@ -11,6 +11,8 @@ import sys
 from datetime import datetime, timezone
 from pathlib import Path
 
+import report_contacts
+
 ROOT = Path(__file__).resolve().parents[1]
 # Cargo's target directory (scripts/benchmarks.sh passes it: CARGO_TARGET_DIR
 # when set).
@@ -498,6 +500,8 @@ def main():
         targets.append(("M(q): 8-link pendulum in joint angles within 3 × Pinocchio's `aba`",
                         mq["pendulum_angles_8/acceleration"] / pin8, "≤ 3", lambda r: r <= 3, "{:.2f}×"))
     targets += robot_targets(peer)
+    contacts = report_contacts.load(TARGET)
+    targets += report_contacts.targets(contacts)
     jac = {(model, way): get(f"jacobian/{model}/{way}") for model in ("cart_pole", "chain_8", "chain_32")
            for way in ("acceleration", "generated", "central_differences", "dual_numbers")}
     if jac[("cart_pole", "generated")]:
@@ -688,6 +692,7 @@ def main():
     if peer:
         lines += peer_sections(peer, timed, chain, rk4, get, mq)
         lines += robot_section(peer)
+    lines += report_contacts.section(contacts, ns)
     lines.append("")
     (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))
     print("\n".join(lines[7:14]))

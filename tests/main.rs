@@ -36,5 +36,6 @@ mod rank_decisions;
 mod reduced_tangent;
 mod rigid_body;
 mod robustness;
+mod rotations;
 mod stick_slip;
 mod user_names;

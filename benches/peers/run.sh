@@ -3,12 +3,15 @@
 # against the headers and libraries of their Python wheels, on the same
 # systems and states as the generated code; and the Robots rows, the Panda
 # and the UR5 from example-robot-data's URDFs (benches/peers/robots, our
-# side and its times; benches/peers/robots.cpp, Pinocchio's). Each program checks its answer
+# side and its times; benches/peers/robots.cpp, Pinocchio's); and the
+# Contacts rows, the quadruped and the five-bar against Pinocchio's
+# constraintDynamics and lcaba (benches/peers/robots/src/bin/contacts.rs,
+# benches/peers/contacts.cpp). Each program checks its answer
 # against the generated code's (chains/examples/peer_reference.rs) before it
 # times anything, and exits with 1 if one disagrees.
 #
 # Sets up its own virtual environment (benches/peers/.venv); writes
-# <target>/benchmarks/peers.json (one JSON object per line). Called by
+# <target>/benchmarks/peers.json and contacts.json (one JSON object per line). Called by
 # scripts/benchmarks.sh; not part of the test command. Pins the peers to one
 # core (taskset, where there is one), as the script pins criterion.
 set -euo pipefail
@@ -55,6 +58,19 @@ if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$her
     -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/robots.cpp" -o "$out/robots" \
     -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || robots_ok=0
 fi
+# The Contacts rows (the quadruped on four feet, the five-bar loop) against
+# Pinocchio's constrained dynamics; optional like the robots'.
+contacts_ok=1
+if [ ! -x "$out/contacts" ] || [ "$here/contacts.cpp" -nt "$out/contacts" ] || [ "$here/common.h" -nt "$out/contacts" ]; then
+  echo "   compiling Pinocchio's constrained dynamics (its templates: minutes)"
+  rm -f "$out/contacts"
+  g++ -std=c++17 -O3 -DNDEBUG -w \
+    -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION -DBOOST_MPL_LIMIT_LIST_SIZE=30 \
+    -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS \
+    -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
+    -I"$prefix/include" -I"$prefix/include/eigen3" "$here/contacts.cpp" -o "$out/contacts" \
+    -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_default || contacts_ok=0
+fi
 if [ ! -x "$out/mujoco" ] || [ "$here/mujoco.c" -nt "$out/mujoco" ] || [ "$here/common.h" -nt "$out/mujoco" ]; then
   library=$(cd "$mujoco" && ls libmujoco.so.* | head -1)
   gcc -std=c11 -O3 -DNDEBUG -D_POSIX_C_SOURCE=200809L -I"$mujoco/include" "$here/mujoco.c" \
@@ -65,7 +81,7 @@ cargo run --quiet --release -p constrained-chains --example peer_reference -- "$
 # The robots' crate (outside the workspace) reads the URDFs at compile
 # time; built here, unpinned, and run pinned below.
 export EXAMPLE_ROBOT_DATA="$robots"
-cargo build --quiet --release --manifest-path "$here/robots/Cargo.toml" || robots_ok=0
+cargo build --quiet --release --manifest-path "$here/robots/Cargo.toml" || { robots_ok=0; contacts_ok=0; }
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
 status=$((1 - robots_ok))
@@ -75,10 +91,26 @@ status=$((1 - robots_ok))
   # Ours writes the robots' states and answers, then times itself; then
   # Pinocchio checks against them and times its own.
   if [ "$robots_ok" = 1 ]; then
-    "${pin[@]}" cargo run --quiet --release --manifest-path "$here/robots/Cargo.toml" -- \
+    "${pin[@]}" cargo run --quiet --release --manifest-path "$here/robots/Cargo.toml" --bin constrained-robots -- \
       "$out/robots.txt" || status=1
     "${pin[@]}" "$out/robots" "$panda_urdf" "$ur5_urdf" "$out/robots.txt" || status=1
   fi
 } > "$target/benchmarks/peers.json"
 cat "$target/benchmarks/peers.json"
+# The contacts: ours writes the states and answers (checking A q̈ = b), then
+# three alternating rounds of our times and Pinocchio's (which checks its
+# answers against ours in every round before timing).
+if [ "$contacts_ok" = 1 ]; then
+  contacts=(cargo run --quiet --release --manifest-path "$here/robots/Cargo.toml" --bin contacts --)
+  {
+    "${contacts[@]}" write "$out/contacts.txt" || status=1
+    for round in 1 2 3; do
+      "${pin[@]}" "${contacts[@]}" time "$round" || status=1
+      "${pin[@]}" "$out/contacts" "$out/contacts.txt" "$round" || status=1
+    done
+  } > "$target/benchmarks/contacts.json"
+  cat "$target/benchmarks/contacts.json"
+else
+  status=1
+fi
 exit $status

@@ -83,6 +83,31 @@ impl<T: RealField + Copy, const R: usize, const C: usize> JacobiSvd<T, R, C> {
         y.iter().all(|e| e.is_finite()).then_some(y)
     }
 
+    /// `(Xᵀ)⁺ f`, the minimum-norm least-squares solution of `Xᵀ y = f`,
+    /// with singular values at or below `cut` counted as zero: with
+    /// `X = V Σ Uᵀ` and `wᵢ = σᵢ uᵢ`, `Σᵢ vᵢ (wᵢ · f) / σᵢ²`. Decomposing the
+    /// wide `X` (`R < C`) and solving with its transpose orthogonalizes `R`
+    /// columns of length `C` instead of `C` columns of length `R`, `C − R` of
+    /// which would have to be rotated down to zero (the multipliers' `Aᵀ λ =
+    /// Q_c`, [`crate::multipliers`]). `None` when `f` or the solution is not
+    /// finite.
+    #[must_use]
+    pub fn solve_transpose(&self, f: &SVector<T, C>, cut: T) -> Option<SVector<T, R>> {
+        if !f.iter().all(|e| e.is_finite()) {
+            return None;
+        }
+        // (Xᵀ)⁺ = 2^{-scale} (X_scaledᵀ)⁺.
+        let mut y = SVector::<T, R>::zeros();
+        for i in 0..R {
+            let sigma2 = self.w.column(i).norm_squared();
+            if ldexp(sigma2.sqrt(), self.scale) > cut && sigma2 > T::zero() {
+                y += self.v.column(i) * (self.w.column(i).dot(f) / sigma2);
+            }
+        }
+        let y = y.map(|e| ldexp(e, -self.scale));
+        y.iter().all(|e| e.is_finite()).then_some(y)
+    }
+
     /// `(X Xᵀ)⁺ r`, with singular values at or below `cut` counted as zero:
     /// the multipliers `μ` whose `Xᵀ μ` is [`solve`](Self::solve)'s `y`
     /// (`X⁺ = Xᵀ (X Xᵀ)⁺`), the per-row impulses of an impact
@@ -247,6 +272,26 @@ mod tests {
             SMatrix::<f64, 4, 3>::from_fn(|i, j| svd.solve(&Vector3::ith(j, 1.0), cut).unwrap()[i]);
         assert!((x * xp * x - x).norm() < 1e-13 * x.norm());
         assert!((xp * x * xp - xp).norm() < 1e-12 * xp.norm());
+    }
+
+    /// `(Xᵀ)⁺ f` from the decomposition of `X` is the transpose's own
+    /// `solve`, on a rank-deficient wide matrix (a doubled row).
+    #[test]
+    fn solve_transpose_is_the_transposes_pseudo_inverse() {
+        let x = SMatrix::<f64, 3, 5>::from_row_slice(&[
+            1.0, 2.0, 0.0, -1.0, 0.5, //
+            0.0, 1.0, 3.0, 2.0, -2.0, //
+            1.0, 2.0, 0.0, -1.0, 0.5,
+        ]);
+        let f = SVector::<f64, 5>::from([0.3, -1.0, 2.0, 0.7, 1.1]);
+        let wide = JacobiSvd::new(&x).unwrap();
+        let tall = JacobiSvd::new(&x.transpose()).unwrap();
+        let cut = 1e-12 * wide.singular_values().max();
+        let y = wide.solve_transpose(&f, cut).unwrap();
+        let reference = tall.solve(&f, cut).unwrap();
+        assert!((y - reference).amax() < 1e-14, "{y} {reference}");
+        // The doubled row shares its multiplier equally (minimum norm).
+        assert!((y[0] - y[2]).abs() < 1e-14, "{y}");
     }
 
     #[test]

@@ -334,7 +334,9 @@ fn check_fields(errors: &mut Errors, body: &BodyInput) {
 /// world position of the point fixed at `[x, y, z]` in the body's frame,
 /// `velocity(body, [x, y, z])` its velocity; `.x`, `.y`, `.z` pick a
 /// component, and a constraint between two points (or a point and
-/// `[x, y, z]`) is three rows.
+/// `[x, y, z]`) is three rows. Rotations (`angular_velocity`, the velocity
+/// of a body's point at another point's place, orientation locks) are in
+/// `super::rotation`.
 impl Lowerer<'_> {
     /// `position(..).x` and the like.
     pub fn point_component(&mut self, field: &syn::ExprField) -> syn::Result<Id> {
@@ -352,15 +354,19 @@ impl Lowerer<'_> {
         Ok(self.point(&field.base)?[axis])
     }
 
-    /// The world coordinates of `position(body, [..])` or
-    /// `velocity(body, [..])`.
+    /// The world coordinates of `position(body, [..])`,
+    /// `velocity(body, [..])`, `velocity(body, position(..))` or
+    /// `angular_velocity(body)` (the last two: `super::rotation`).
     pub fn point(&mut self, e: &Expr) -> syn::Result<V3> {
-        let usage = "expected `position(body, [x, y, z])` or `velocity(body, [x, y, z])`";
+        let usage = "expected `position(body, [x, y, z])`, `velocity(body, [x, y, z])` or `angular_velocity(body)`";
         let Expr::Call(call) = e else {
             return Err(syn::Error::new_spanned(e, usage));
         };
         let kind = single_ident(&call.func).map(ToString::to_string);
         let args: Vec<&Expr> = call.args.iter().collect();
+        if kind.as_deref() == Some("angular_velocity") {
+            return self.angular_velocity(e, &args);
+        }
         let (Some("position" | "velocity"), [body, at]) = (kind.as_deref(), &args[..]) else {
             return Err(syn::Error::new_spanned(e, usage));
         };
@@ -375,6 +381,9 @@ impl Lowerer<'_> {
             };
             return Err(syn::Error::new_spanned(body, why));
         };
+        if kind.as_deref() == Some("velocity") && matches!(at, Expr::Call(_)) {
+            return self.velocity_at(&frame, at);
+        }
         let Some(local) = self.triple(at, "the point") else {
             return Err(syn::Error::new_spanned(
                 at,
@@ -392,10 +401,12 @@ impl Lowerer<'_> {
 
     /// The rows of a constraint between points, or `None` when it is not one.
     pub fn point_rows(&mut self, c: &crate::parse::ConstraintInput) -> Option<Vec<Id>> {
+        if let Some(rows) = self.orientation_rows(c) {
+            return Some(rows);
+        }
         let is_point = |e: &Expr| match e {
-            Expr::Call(call) => {
-                single_ident(&call.func).is_some_and(|f| f == "position" || f == "velocity")
-            }
+            Expr::Call(call) => single_ident(&call.func)
+                .is_some_and(|f| f == "position" || f == "velocity" || f == "angular_velocity"),
             _ => false,
         };
         if !is_point(&c.lhs) {

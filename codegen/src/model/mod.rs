@@ -10,6 +10,7 @@ pub(crate) mod ctxt;
 pub(crate) mod free;
 pub(crate) mod friction;
 pub mod lower;
+mod rotation;
 mod source;
 pub(crate) mod unilateral;
 pub(crate) mod urdf;

@@ -1,0 +1,283 @@
+// Pinocchio's constrained dynamics (C++, from the `pin` wheel) on the
+// Contacts rows of BENCHMARKS.md: the quadruped of
+// examples/support/quadruped.rs on its four feet and the planar five-bar
+// closed by one loop (benches/peers/robots/src/bin/contacts.rs writes their
+// states, our q̈ and λ). The models are built here from the same figures as
+// the `constrained_system!` invocations (a free flyer and revolute joints
+// about x and y, the same placements, masses, centres of mass and inertias
+// about them); the agreement of every answer below is what shows they are
+// the same.
+//
+// The quadruped's feet are 3D point contacts of the lower legs' foot points
+// with the world (LOCAL_WORLD_ALIGNED: the force on the foot in world axes,
+// our λ); the five-bar's loop is one 3D contact between the two distal
+// tips, whose y row is identically zero (a planar loop: our model writes
+// the two rows x and z), so the peer's solve sees a rank-deficient set.
+//
+// `constraintDynamics` runs with ProximalSettings(accuracy, mu, max_iter):
+// for each system the tightest damping `mu` that converges within
+// `max_iter` iterations to `accuracy` (the first of a descending list whose
+// answers agree with ours), stated in the JSON line with the iterations it
+// took. `lcaba` (which requires mu > 0) the same way; only its q̈ is
+// compared, to 1e-8 (its own convergence, see `run`). Only answers within
+// the tolerance are timed: per state, the median of common.h's batches, on
+// the thread's CPU clock (`cpu_time`).
+//
+// Usage: contacts REFERENCE_FILE ROUND
+#include "common.h"
+
+#include <pinocchio/algorithm/constrained-dynamics.hpp>
+#include <pinocchio/algorithm/loop-constrained-aba.hpp>
+#include <pinocchio/multibody.hpp>
+
+#include <string>
+#include <vector>
+
+namespace pin = pinocchio;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+typedef pin::RigidConstraintModel Constraint;
+typedef pin::RigidConstraintData ConstraintData;
+typedef std::vector<Constraint, Eigen::aligned_allocator<Constraint>> Constraints;
+typedef std::vector<ConstraintData, Eigen::aligned_allocator<ConstraintData>> ConstraintDatas;
+
+// The thread's CPU time in ns: the contacts rows are timed in CPU time on
+// both sides (the Rust side reads the same clock), since on a shared machine
+// the wall time of a pinned loop also counts the time other processes held
+// its core (observed: the same call 10× slower from one round to the next).
+static double cpu_now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec * 1e9 + t.tv_nsec;
+}
+
+// common.h's `peer_time` on the thread's CPU clock.
+static double cpu_time(void (*call)(void *), void *ctx) {
+  long iters = 1;
+  for (;;) {
+    double t0 = cpu_now();
+    for (long i = 0; i < iters; i++) call(ctx);
+    if (cpu_now() - t0 > 5e6) break;
+    iters *= 2;
+  }
+  double samples[31];
+  for (int s = 0; s < 31; s++) {
+    double t0 = cpu_now();
+    for (long i = 0; i < iters; i++) call(ctx);
+    samples[s] = (cpu_now() - t0) / iters;
+  }
+  qsort(samples, 31, sizeof samples[0], peer_compare);
+  return samples[15];
+}
+
+struct State {
+  VectorXd q, v, tau, a, lambda;
+};
+
+static VectorXd vec(const peer_record &r, const char *name) {
+  int len = 0;
+  const double *v = peer_get(&r, name, &len);
+  return Eigen::Map<const VectorXd>(v, len);
+}
+
+static pin::Inertia inertia(double m, Vector3d com, Vector3d diagonal) {
+  return pin::Inertia(m, com, Matrix3d(diagonal.asDiagonal()));
+}
+
+static pin::SE3 at(double x, double y, double z) {
+  return pin::SE3(Matrix3d::Identity(), Vector3d(x, y, z));
+}
+
+// examples/support/quadruped.rs: the base, then per leg (front-left,
+// front-right, hind-left, hind-right) the hip (haa about x), the upper leg
+// (hfe about y) and the lower leg (kfe about y); a right leg mirrors y.
+// Returns the lower legs' joints.
+static std::vector<pin::JointIndex> quadruped(pin::Model &model) {
+  const pin::JointIndex base =
+      model.addJoint(0, pin::JointModelFreeFlyer(), pin::SE3::Identity(), "base");
+  model.appendBodyToJoint(base, inertia(1.16, Vector3d::Zero(), Vector3d(0.0058, 0.0194, 0.0246)));
+  const double hips[4][2] = {{0.1946, 0.0875}, {0.1946, -0.0875}, {-0.1946, 0.0875}, {-0.1946, -0.0875}};
+  const char *names[4] = {"fl", "fr", "hl", "hr"};
+  std::vector<pin::JointIndex> lower;
+  for (int k = 0; k < 4; k++) {
+    const double s = hips[k][1] > 0 ? 1.0 : -1.0;
+    const std::string name = names[k];
+    pin::JointIndex hip = model.addJoint(base, pin::JointModelRX(), at(hips[k][0], hips[k][1], 0), name + "_haa");
+    model.appendBodyToJoint(hip, inertia(0.149, Vector3d(0, s * 0.014, 0), Vector3d(4.0e-5, 7.0e-5, 4.0e-5)));
+    pin::JointIndex upper = model.addJoint(hip, pin::JointModelRY(), at(0, s * 0.014, 0), name + "_hfe");
+    model.appendBodyToJoint(upper, inertia(0.149, Vector3d(0, s * 0.016, -0.078), Vector3d(4.2e-4, 4.1e-4, 2.4e-5)));
+    pin::JointIndex knee = model.addJoint(upper, pin::JointModelRY(), at(0, s * 0.037, -0.16), name + "_kfe");
+    model.appendBodyToJoint(knee, inertia(0.031, Vector3d(0, s * 0.007, -0.079), Vector3d(1.2e-4, 1.2e-4, 2.1e-6)));
+    lower.push_back(knee);
+  }
+  return lower;
+}
+
+// The four feet: each lower leg's foot point (0, ±0.008, −0.16) held at
+// its place (x, y, 0).
+static Constraints feet(const pin::Model &model, const std::vector<pin::JointIndex> &lower,
+                       const VectorXd &places) {
+  Constraints out;
+  for (int k = 0; k < 4; k++) {
+    const double s = k % 2 == 0 ? 1.0 : -1.0;
+    out.push_back(Constraint(pin::CONTACT_3D, model, lower[k], at(0, s * 0.008, -0.16), 0,
+                             at(places[2 * k], places[2 * k + 1], 0), pin::LOCAL_WORLD_ALIGNED));
+  }
+  return out;
+}
+
+// examples/five_bar.rs's bodies: two proximal links on the ground at
+// x = ∓0.1, a distal link on each, all about y.
+static Constraints five_bar(pin::Model &model) {
+  pin::JointIndex tips[2];
+  const double xs[2] = {-0.1, 0.1};
+  const char *sides[2] = {"left", "right"};
+  for (int k = 0; k < 2; k++) {
+    const std::string side = sides[k];
+    pin::JointIndex proximal = model.addJoint(0, pin::JointModelRY(), at(xs[k], 0, 0), side + "_proximal");
+    model.appendBodyToJoint(proximal, inertia(0.2, Vector3d(0.075, 0, 0), Vector3d(1.0e-5, 4.0e-4, 4.0e-4)));
+    pin::JointIndex distal = model.addJoint(proximal, pin::JointModelRY(), at(0.15, 0, 0), side + "_distal");
+    model.appendBodyToJoint(distal, inertia(0.15, Vector3d(0.125, 0, 0), Vector3d(1.0e-5, 8.0e-4, 8.0e-4)));
+    tips[k] = distal;
+  }
+  Constraints out;
+  out.push_back(Constraint(pin::CONTACT_3D, model, tips[0], at(0.25, 0, 0), tips[1], at(0.25, 0, 0),
+                           pin::LOCAL_WORLD_ALIGNED));
+  return out;
+}
+
+struct Problem {
+  const char *system;
+  pin::Model model;
+  Constraints constraints;
+  std::vector<State> states;
+  // Our λ's entries in the peer's λ (−1: the peer's row has no twin and must be zero).
+  std::vector<int> rows;
+};
+
+struct Timed {
+  Problem *p;
+  pin::Data *data;
+  ConstraintDatas *datas;
+  pin::ProximalSettings settings;
+};
+
+static void call_constraint_dynamics(void *c) {
+  Timed *t = (Timed *)c;
+  for (const State &s : t->p->states) {
+    pin::constraintDynamics(t->p->model, *t->data, s.q, s.v, s.tau, t->p->constraints, *t->datas, t->settings);
+    PEER_KEEP(t->data->ddq.data());
+  }
+}
+
+static void call_lcaba(void *c) {
+  Timed *t = (Timed *)c;
+  for (const State &s : t->p->states) {
+    pin::lcaba(t->p->model, *t->data, s.q, s.v, s.tau, t->p->constraints, *t->datas, t->settings);
+    PEER_KEEP(t->data->ddq.data());
+  }
+}
+
+// The largest relative differences of q̈ (to ‖q̈‖∞) and λ (to ‖λ‖∞) over the
+// states, and the most iterations taken.
+static void check(Timed &t, bool lcaba, double *qdd, double *lambda, int *iterations) {
+  *qdd = *lambda = 0;
+  *iterations = 0;
+  for (const State &s : t.p->states) {
+    if (lcaba)
+      pin::lcaba(t.p->model, *t.data, s.q, s.v, s.tau, t.p->constraints, *t.datas, t.settings);
+    else
+      pin::constraintDynamics(t.p->model, *t.data, s.q, s.v, s.tau, t.p->constraints, *t.datas, t.settings);
+    *iterations = t.settings.iter > *iterations ? t.settings.iter : *iterations;
+    double d = (t.data->ddq - s.a).lpNorm<Eigen::Infinity>() / s.a.lpNorm<Eigen::Infinity>();
+    *qdd = std::isfinite(d) ? fmax(*qdd, d) : INFINITY;
+    if (lcaba) continue;
+    const VectorXd &peer = t.data->lambda_c;
+    double worst = 0;
+    for (int i = 0; i < (int)t.p->rows.size(); i++) {
+      const double ours = t.p->rows[i] < 0 ? 0.0 : s.lambda[t.p->rows[i]];
+      worst = fmax(worst, fabs(peer[i] - ours));
+    }
+    d = worst / s.lambda.lpNorm<Eigen::Infinity>();
+    *lambda = std::isfinite(d) ? fmax(*lambda, d) : INFINITY;
+  }
+}
+
+static void run(Problem &p, bool lcaba, const char *round) {
+  pin::Data data(p.model);
+  ConstraintDatas datas;
+  for (const Constraint &c : p.constraints) datas.push_back(ConstraintData(c));
+  if (lcaba)
+    pin::computeJointMinimalOrdering(p.model, data, p.constraints);
+  else
+    pin::initConstraintDynamics(p.model, data, p.constraints, datas);
+  // lcaba's q̈ does not come closer than some 4e-9 (quadruped) and 7e-9
+  // (five-bar) at any damping (mu 1e-6, its proximal loop stopping after 3
+  // iterations; smaller mu agree less): its own convergence, so it is
+  // checked to 1e-8 and reported as such.
+  const double tolerance = lcaba ? 1e-8 : 1e-9, accuracy = 1e-14;
+  const int max_iter = 100;
+  // Undamped first (constraintDynamics only: lcaba needs mu > 0), then
+  // ever larger damping: the first that agrees is timed.
+  const double mus[] = {0.0, 1e-14, 1e-12, 1e-10, 1e-8, 1e-6};
+  double qdd = INFINITY, lambda = INFINITY, mu = NAN;
+  int iterations = 0;
+  Timed t{&p, &data, &datas, pin::ProximalSettings(accuracy, 0.0, max_iter)};
+  for (double m : mus) {
+    if (lcaba && m == 0.0) continue;
+    t.settings = pin::ProximalSettings(accuracy, m, m == 0.0 ? 1 : max_iter);
+    check(t, lcaba, &qdd, &lambda, &iterations);
+    fprintf(stderr, "%s %s: mu %.0e: q̈ %.3e, λ %.3e, %d iterations\n", lcaba ? "lcaba" : "constraintDynamics",
+            p.system, m, qdd, lambda, iterations);
+    mu = m;
+    if (qdd <= tolerance && (lcaba || lambda <= tolerance)) break;
+  }
+  const int ok = qdd <= tolerance && (lcaba || lambda <= tolerance);
+  char time[32] = "null", lam[32] = "null";
+  if (ok) snprintf(time, sizeof time, "%.3f", cpu_time(lcaba ? call_lcaba : call_constraint_dynamics, &t) / p.states.size());
+  if (!lcaba) snprintf(lam, sizeof lam, "%.3e", lambda);
+  printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"system\": \"%s\", \"n\": %d, \"ns\": %s, "
+         "\"states\": %zu, \"round\": %s, \"difference\": %.3e, \"lambda_difference\": %s, "
+         "\"mu\": %.0e, \"accuracy\": %.0e, \"iterations\": %d, \"tolerance\": %.0e, \"ok\": %s}\n",
+         lcaba ? "lcaba" : "constraintDynamics", p.system, p.model.nv, time, p.states.size(), round,
+         qdd, lam, mu, accuracy, iterations, tolerance, ok ? "true" : "false");
+  fflush(stdout);
+  if (!ok) {
+    peer_failures++;
+    fprintf(stderr, "pinocchio %s %s: q̈ differs by %.3e, λ by %.3e (> %.0e)\n",
+            lcaba ? "lcaba" : "constraintDynamics", p.system, qdd, lambda, tolerance);
+  }
+}
+
+int main(int argc, char **argv) {
+  if (argc != 3) {
+    fprintf(stderr, "usage: %s REFERENCE_FILE ROUND\n", argv[0]);
+    return 2;
+  }
+  static peer_record records[64];
+  const int n = peer_read(argv[1], records, 64);
+  Problem legs{"quadruped"}, loop{"five_bar"};
+  const std::vector<pin::JointIndex> lower = quadruped(legs.model);
+  loop.constraints = five_bar(loop.model);
+  for (int i = 0; i < 12; i++) legs.rows.push_back(i);
+  loop.rows = {0, -1, 1};
+  for (int i = 0; i < n; i++) {
+    const peer_record &r = records[i];
+    State s{vec(r, "q"), vec(r, "v"), vec(r, "tau"), vec(r, "a"), vec(r, "lambda")};
+    Problem &p = strcmp(r.kind, "quadruped") ? loop : legs;
+    if (&p == &legs && legs.constraints.empty()) legs.constraints = feet(legs.model, lower, vec(r, "feet"));
+    if (s.q.size() != p.model.nq || s.v.size() != p.model.nv || s.a.size() != p.model.nv) {
+      fprintf(stderr, "%s: the record's sizes differ from Pinocchio's model\n", p.system);
+      return 2;
+    }
+    p.states.push_back(s);
+  }
+  if (legs.states.empty() || loop.states.empty()) {
+    fprintf(stderr, "the reference lacks quadruped or five-bar states\n");
+    return 2;
+  }
+  for (Problem *p : {&legs, &loop})
+    for (bool lcaba : {false, true}) run(*p, lcaba, argv[2]);
+  return peer_failures ? 1 : 0;
+}

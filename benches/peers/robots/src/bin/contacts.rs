@@ -1,0 +1,450 @@
+//! The Contacts rows of BENCHMARKS.md: the quadruped of
+//! `examples/support/quadruped.rs` standing on its four feet (19
+//! coordinates, 13 rows) and a planar five-bar closed by one loop (4
+//! joints, 2 rows), against Pinocchio's `constraintDynamics` (and `lcaba`)
+//! on the same models and states (`benches/peers/contacts.cpp`).
+//!
+//! ```text
+//! contacts write REFERENCE_FILE   # the states and the generated answers
+//! contacts time ROUND             # the generated code's times, JSON lines
+//! ```
+//!
+//! The states are consistent (the quadruped's legs placed by inverse
+//! kinematics, the five-bar's by `project`, both on the constraints at
+//! position and velocity level to 1e-13), so that both sides solve the
+//! same problem whatever their formulation of the contact acceleration. The
+//! record gives them in Pinocchio's coordinates: the base's configuration
+//! `(x, y, z, qx, qy, qz, qw)` and its twist in the base's own axes; our
+//! `q̈` is turned into Pinocchio's `a` (the base's spatial acceleration in
+//! its own axes: `Rᵀ p̈ − ω × v` and `2 (q̄ ⊗ q̈)_vec`), and the feet's `λ`
+//! (world axes, the force on the foot: `Q_c = Aᵀ λ`) are written as they
+//! are. Every state's `q̈` is checked against `A q̈ = b` (1e-12) first.
+
+#[path = "../../../../../examples/support/quadruped.rs"]
+#[allow(dead_code)]
+#[macro_use]
+mod model;
+
+use constrained::floating::FreeMotion;
+use constrained::multipliers::Multipliers;
+use constrained::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
+use constrained::stabilize::project;
+use constrained::{ConstrainedSystem, State};
+use model::{Quadruped, FOOT_OFFSET, HIPS, N};
+use std::fmt::Write as _;
+use std::hint::black_box;
+
+constrained::constrained_system! {
+    /// The planar five-bar of `examples/five_bar.rs` (the same bodies),
+    /// closed by its loop only and driven by a torque at each joint: the
+    /// peers' constraint solvers take loop closures, not driving rows.
+    pub struct FiveBarLoop {
+        inputs: [tau1, tau2, tau3, tau4],
+        bodies: [
+            left_proximal {
+                joint: revolute(q1, [0.0, 1.0, 0.0]),
+                xyz: [-0.1, 0.0, 0.0],
+                mass: 0.2,
+                com: [0.075, 0.0, 0.0],
+                inertia: diag[1.0e-5, 4.0e-4, 4.0e-4],
+            },
+            left_distal {
+                parent: left_proximal,
+                joint: revolute(q2, [0.0, 1.0, 0.0]),
+                xyz: [0.15, 0.0, 0.0],
+                mass: 0.15,
+                com: [0.125, 0.0, 0.0],
+                inertia: diag[1.0e-5, 8.0e-4, 8.0e-4],
+            },
+            right_proximal {
+                joint: revolute(q3, [0.0, 1.0, 0.0]),
+                xyz: [0.1, 0.0, 0.0],
+                mass: 0.2,
+                com: [0.075, 0.0, 0.0],
+                inertia: diag[1.0e-5, 4.0e-4, 4.0e-4],
+            },
+            right_distal {
+                parent: right_proximal,
+                joint: revolute(q4, [0.0, 1.0, 0.0]),
+                xyz: [0.15, 0.0, 0.0],
+                mass: 0.15,
+                com: [0.125, 0.0, 0.0],
+                inertia: diag[1.0e-5, 8.0e-4, 8.0e-4],
+            },
+        ],
+        forces: [tau1, tau2, tau3, tau4],
+        constraints: [
+            position(left_distal, [0.25, 0.0, 0.0]).x == position(right_distal, [0.25, 0.0, 0.0]).x,
+            position(left_distal, [0.25, 0.0, 0.0]).z == position(right_distal, [0.25, 0.0, 0.0]).z,
+        ],
+    }
+}
+
+/// States per system.
+const STATES: usize = 20;
+
+/// splitmix64: reproducible states without a dependency.
+struct Rng(u64);
+
+impl Rng {
+    /// Uniform in `[-scale, scale)`.
+    fn uniform(&mut self, scale: f64) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        scale * (2.0 * (z >> 11) as f64 / (1u64 << 53) as f64 - 1.0)
+    }
+}
+
+/// The feet's places: each foot under its hip (`tests/quadruped.rs`).
+fn feet() -> [f64; 8] {
+    let mut feet = [0.0; 8];
+    for (k, h) in HIPS.iter().enumerate() {
+        feet[2 * k] = h[0];
+        feet[2 * k + 1] = h[1] + h[1].signum() * FOOT_OFFSET;
+    }
+    feet
+}
+
+/// The quadruped with joint torques `tau`.
+fn quadruped(tau: &[f64; 12]) -> Quadruped<f64> {
+    let [a, b, c, d, e, f, g, h] = feet();
+    let t = tau;
+    Quadruped::new(
+        a, b, c, d, e, f, g, h, t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], t[9], t[10],
+        t[11],
+    )
+}
+
+/// `maxᵢ |Aᵢ q̈ − bᵢ| / (‖Aᵢ‖₁ ‖q̈‖∞ + |bᵢ|)`.
+fn residual<const K: usize, const M: usize>(
+    a: &SMatrix<f64, K, M>,
+    b: &SVector<f64, K>,
+    qdd: &SVector<f64, M>,
+) -> f64 {
+    let r = a * qdd - b;
+    (0..K)
+        .map(|i| r[i].abs() / (a.row(i).abs().sum() * qdd.amax() + b[i].abs()))
+        .fold(0.0, f64::max)
+}
+
+/// The joints `(haa, hfe, kfe)` of leg `k` that put its foot at `target`
+/// (world) with the base at `position`, `attitude`: the leg's closed-form
+/// inverse kinematics (knee bent backwards, as standing).
+fn leg(
+    k: usize,
+    position: &Vector3<f64>,
+    attitude: &UnitQuaternion<f64>,
+    target: &Vector3<f64>,
+) -> [f64; 3] {
+    let side = HIPS[k][1].signum();
+    let hip = Vector3::new(HIPS[k][0], HIPS[k][1], 0.0);
+    let d = attitude.inverse() * (target - position) - hip;
+    let (y, l) = (side * FOOT_OFFSET, model::SEGMENT);
+    let z = -(d.y * d.y + d.z * d.z - y * y).sqrt();
+    let haa = d.z.atan2(d.y) - z.atan2(y);
+    let cos_knee = (d.x * d.x + z * z - 2.0 * l * l) / (2.0 * l * l);
+    let kfe = -cos_knee.clamp(-1.0, 1.0).acos();
+    let (u, w) = (-d.x / l, -z / l);
+    let hfe = u.atan2(w) - kfe.sin().atan2(1.0 + kfe.cos());
+    [haa, hfe, kfe]
+}
+
+/// A quadruped state near standing (hip flexion 0.8, knee −1.6): the base
+/// moved, turned and moving, the legs placed by inverse kinematics with the
+/// feet at their places, the joints' rates from the feet's velocity rows
+/// (`A q̇ = 0` solved for the 12 joint rates); random joint torques.
+fn quadruped_state(rng: &mut Rng) -> (Quadruped<f64>, State<f64, N>) {
+    let base = FreeMotion {
+        position: Vector3::new(
+            rng.uniform(0.02),
+            rng.uniform(0.02),
+            0.32 * 0.8f64.cos() + rng.uniform(0.02),
+        ),
+        orientation: UnitQuaternion::from_euler_angles(
+            rng.uniform(0.15),
+            rng.uniform(0.15),
+            rng.uniform(0.3),
+        ),
+        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
+        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
+    };
+    let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
+    let places = feet();
+    for k in 0..4 {
+        let target = Vector3::new(places[2 * k], places[2 * k + 1], 0.0);
+        let joints = leg(k, &base.position, &base.orientation, &target);
+        for (i, angle) in joints.into_iter().enumerate() {
+            q[7 + 3 * k + i] = angle;
+        }
+    }
+    let tau: [f64; 12] = std::array::from_fn(|_| rng.uniform(2.0));
+    let system = quadruped(&tau);
+    let state = State::new(0.0, q, qd);
+    let (a, _) = ConstrainedSystem::constraint_matrices(&system, &state);
+    let legs = SMatrix::<f64, 12, 12>::from_fn(|i, j| a[(i, 7 + j)]);
+    let driven = -(a.fixed_view::<12, 7>(0, 0) * qd.fixed_rows::<7>(0));
+    let rates = legs.lu().solve(&driven).expect("the legs are not singular");
+    qd.fixed_rows_mut::<12>(7).copy_from(&rates);
+    let state = State::new(0.0, q, qd);
+    let position = ConstrainedSystem::constraint_residual(&system, &state).amax();
+    let velocity = ConstrainedSystem::constraint_velocity_residual(&system, &state).amax();
+    assert!(
+        position < 1e-14 && velocity < 1e-13,
+        "{position:e} {velocity:e}"
+    );
+    (system, state)
+}
+
+/// A five-bar state: the motors' angles about the example's pose, the
+/// passive ones by the closure, random rates projected onto it.
+fn five_bar_state(rng: &mut Rng) -> (FiveBarLoop<f64>, State<f64, 4>) {
+    let q = SVector::from([
+        1.9 + rng.uniform(0.2),
+        -1.3,
+        1.25 + 0.35 * 1.2f64.sin() + rng.uniform(0.2),
+        1.3,
+    ]);
+    let qd = SVector::from_fn(|_, _| rng.uniform(2.0));
+    let system = FiveBarLoop::new(
+        rng.uniform(0.5),
+        rng.uniform(0.5),
+        rng.uniform(0.5),
+        rng.uniform(0.5),
+    );
+    let mut state = State::new(0.0, q, qd);
+    project(&system, &mut state, 1e-13, 50).expect("the linkage assembles");
+    (system, state)
+}
+
+fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>) {
+    let _ = write!(out, "{name}");
+    for v in values {
+        let _ = write!(out, " {v:.17e}");
+    }
+    out.push('\n');
+}
+
+/// Pinocchio's configuration, velocity and acceleration of a quadruped
+/// state and its `q̈` (module docs).
+fn pinocchio_coordinates(
+    s: &State<f64, N>,
+    qdd: &SVector<f64, N>,
+) -> ([f64; 19], [f64; 18], [f64; 18]) {
+    let base = FreeMotion::read(0, &s.q, &s.qd).expect("a unit quaternion");
+    let r = base.orientation;
+    let (v, w) = (base.body_linear(), base.body_angular());
+    let unit = Quaternion::new(s.q[3], s.q[4], s.q[5], s.q[6]);
+    let unit = unit / unit.norm();
+    let quat_dd = Quaternion::new(qdd[3], qdd[4], qdd[5], qdd[6]);
+    let linear = r.inverse() * Vector3::new(qdd[0], qdd[1], qdd[2]) - w.cross(&v);
+    let angular = (unit.conjugate() * quat_dd).imag() * 2.0;
+    let quat = r.quaternion();
+    let mut config = [0.0; 19];
+    config[..3].copy_from_slice(&[s.q[0], s.q[1], s.q[2]]);
+    config[3..7].copy_from_slice(&[quat.i, quat.j, quat.k, quat.w]);
+    let (mut velocity, mut acceleration) = ([0.0; 18], [0.0; 18]);
+    for k in 0..3 {
+        velocity[k] = v[k];
+        velocity[3 + k] = w[k];
+        acceleration[k] = linear[k];
+        acceleration[3 + k] = angular[k];
+    }
+    for j in 7..N {
+        config[j] = s.q[j];
+        velocity[j - 1] = s.qd[j];
+        acceleration[j - 1] = qdd[j];
+    }
+    (config, velocity, acceleration)
+}
+
+/// The records of both systems, checking `A q̈ = b` at every state.
+fn write(path: &str) {
+    let mut out = String::new();
+    let mut rng = Rng(27);
+    let mut worst: f64 = 0.0;
+    for _ in 0..STATES {
+        let (system, s) = quadruped_state(&mut rng);
+        let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
+        let (a, b) = ConstrainedSystem::constraint_matrices(&system, &s);
+        worst = worst.max(residual(&a, &b, &qdd));
+        let (config, velocity, acceleration) = pinocchio_coordinates(&s, &qdd);
+        let tau: Vec<f64> = [0.0; 6]
+            .into_iter()
+            .chain([
+                system.t_fl_haa,
+                system.t_fl_hfe,
+                system.t_fl_kfe,
+                system.t_fr_haa,
+                system.t_fr_hfe,
+                system.t_fr_kfe,
+                system.t_hl_haa,
+                system.t_hl_hfe,
+                system.t_hl_kfe,
+                system.t_hr_haa,
+                system.t_hr_hfe,
+                system.t_hr_kfe,
+            ])
+            .collect();
+        let _ = writeln!(out, "quadruped 18");
+        line(&mut out, "q", config.iter());
+        line(&mut out, "v", velocity.iter());
+        line(&mut out, "tau", tau.iter());
+        line(&mut out, "a", acceleration.iter());
+        line(&mut out, "lambda", lambda.iter().take(12));
+        line(&mut out, "feet", feet().iter());
+    }
+    for _ in 0..STATES {
+        let (system, s) = five_bar_state(&mut rng);
+        let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
+        let (a, b) = ConstrainedSystem::constraint_matrices(&system, &s);
+        worst = worst.max(residual(&a, &b, &qdd));
+        let tau = [system.tau1, system.tau2, system.tau3, system.tau4];
+        let _ = writeln!(out, "five_bar 4");
+        line(&mut out, "q", s.q.iter());
+        line(&mut out, "v", s.qd.iter());
+        line(&mut out, "tau", tau.iter());
+        line(&mut out, "a", qdd.iter());
+        line(&mut out, "lambda", lambda.iter());
+    }
+    assert!(worst < 1e-12, "A q̈ = b only to {worst:e}");
+    eprintln!("contacts: A q̈ = b to {worst:.1e} at every state");
+    std::fs::write(path, out).expect("writes the reference file");
+}
+
+/// `struct timespec` of Linux's `clock_gettime`.
+#[repr(C)]
+struct Timespec {
+    seconds: i64,
+    nanoseconds: i64,
+}
+
+extern "C" {
+    fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
+}
+
+/// The thread's CPU time in ns (`CLOCK_THREAD_CPUTIME_ID`, Linux): the
+/// contacts rows are timed in CPU time on both sides (`contacts.cpp`'s
+/// `cpu_time`), since on a shared machine a pinned loop's wall time also
+/// counts the time other processes held its core.
+fn cpu_now() -> f64 {
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut t = Timespec {
+        seconds: 0,
+        nanoseconds: 0,
+    };
+    // SAFETY: `t` is a valid, writable `struct timespec` for the call.
+    let status = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    assert_eq!(status, 0, "the thread's CPU clock is readable");
+    t.seconds as f64 * 1e9 + t.nanoseconds as f64
+}
+
+/// `common.h`'s `peer_time` on the thread's CPU clock: the median time in
+/// ns of `call`, over 31 batches of about 5 ms after doubling the batch up
+/// to that length.
+fn median_ns(mut call: impl FnMut()) -> f64 {
+    let mut iterations: u64 = 1;
+    loop {
+        let start = cpu_now();
+        for _ in 0..iterations {
+            call();
+        }
+        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
+            break;
+        }
+        iterations *= 2;
+    }
+    let mut samples: Vec<f64> = (0..31)
+        .map(|_| {
+            let start = cpu_now();
+            for _ in 0..iterations {
+                call();
+            }
+            (cpu_now() - start) / iterations as f64
+        })
+        .collect();
+    samples.sort_by(f64::total_cmp);
+    samples[15]
+}
+
+/// Times `acceleration` and `acceleration_and_multipliers` over `cases`
+/// (per state), and the generated parts the first is made of (`M`, `F`,
+/// `A` and `b`); one JSON line each.
+fn time<S, const M: usize, const K: usize>(name: &str, round: &str, cases: &[(S, State<f64, M>)])
+where
+    S: ConstrainedSystem<f64, M, K> + Multipliers<f64, M, K>,
+{
+    let per_state = |ns: f64| ns / cases.len() as f64;
+    let acceleration = median_ns(|| {
+        for (system, s) in cases {
+            let _ = black_box(ConstrainedSystem::acceleration(
+                black_box(system),
+                black_box(s),
+            ));
+        }
+    });
+    let both = median_ns(|| {
+        for (system, s) in cases {
+            let _ = black_box(black_box(system).acceleration_and_multipliers(black_box(s)));
+        }
+    });
+    // Where the time of `acceleration` goes (the runtime's dense solve of
+    // the auxiliary system takes the rest): the generated M, F and A, b.
+    let mass = median_ns(|| {
+        for (system, s) in cases {
+            black_box(ConstrainedSystem::mass_matrix(
+                black_box(system),
+                black_box(s),
+            ));
+        }
+    });
+    let forces = median_ns(|| {
+        for (system, s) in cases {
+            black_box(ConstrainedSystem::forces(black_box(system), black_box(s)));
+        }
+    });
+    let rows = median_ns(|| {
+        for (system, s) in cases {
+            black_box(ConstrainedSystem::constraint_matrices(
+                black_box(system),
+                black_box(s),
+            ));
+        }
+    });
+    for (what, ns) in [
+        ("acceleration", acceleration),
+        ("acceleration_and_multipliers", both),
+        ("mass_matrix", mass),
+        ("forces", forces),
+        ("constraint_matrices", rows),
+    ] {
+        println!(
+            "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{name}\", \"n\": {M}, \
+             \"rows\": {K}, \"ns\": {:.3}, \"states\": {}, \"round\": {round}, \"ok\": true}}",
+            per_state(ns),
+            cases.len()
+        );
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    match (args.get(1).map(String::as_str), args.get(2)) {
+        (Some("write"), Some(path)) => write(path),
+        (Some("time"), Some(round)) => {
+            let mut rng = Rng(27);
+            let quadrupeds: Vec<_> = (0..STATES).map(|_| quadruped_state(&mut rng)).collect();
+            let five_bars: Vec<_> = (0..STATES).map(|_| five_bar_state(&mut rng)).collect();
+            time::<_, N, 13>("quadruped", round, &quadrupeds);
+            time::<_, 4, 2>("five_bar", round, &five_bars);
+        }
+        _ => {
+            eprintln!("usage: contacts write REFERENCE_FILE | contacts time ROUND");
+            std::process::exit(2);
+        }
+    }
+}
