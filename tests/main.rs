@@ -35,5 +35,6 @@ mod rank_decisions;
 mod reduced_tangent;
 mod rigid_body;
 mod robustness;
+mod spherical;
 mod stick_slip;
 mod user_names;
