@@ -22,6 +22,7 @@
 mod body;
 mod context;
 pub mod derivation;
+mod derivation_bodies;
 mod dynamics;
 mod gibbs_appell;
 mod impact;
