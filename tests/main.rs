@@ -37,5 +37,6 @@ mod reduced_tangent;
 mod rigid_body;
 mod robustness;
 mod rotations;
+mod spherical;
 mod stick_slip;
 mod user_names;

@@ -78,3 +78,60 @@ fn text_grows_linearly_with_the_number_of_definitions() {
     // them the constraints reach changes): measured against the input.
     assert_linear("definitions", "input byte", &inputs, true);
 }
+
+/// The part of a robot's derivation between `from` and `to`.
+fn part<'a>(text: &'a str, from: &str, to: &str) -> &'a str {
+    let start = text.find(from).expect("the part is there");
+    let end = text[start..].find(to).map_or(text.len(), |e| start + e);
+    &text[start..end]
+}
+
+/// A robot's derivation has a part per body — its joint, placement,
+/// inertia and the recursions' named intermediates, `v₂.ωx`, `f₂.nz`,
+/// `Iᶜ₂.m` — and that part grows linearly with the bodies: its bytes per
+/// body level off (within 1.25× from 4 to 7 joints of the Panda; the
+/// 2-joint prefix's, with less below each body, are shorter). The 2-joint
+/// prefix's derivation is pinned as a snapshot.
+#[test]
+fn a_robots_derivation_has_a_part_per_body_growing_linearly() {
+    use constrained_codegen::tools::fixtures::panda;
+    let text = |joints: usize| {
+        let source = panda(&format!("Panda{joints}"), joints);
+        let (equations, partition) =
+            analyse(source.parse().expect("tokens")).expect("the Panda expands");
+        derivation::text(&equations, &partition)
+    };
+    let mut per_body = Vec::new();
+    for joints in [2, 4, 7] {
+        let full = text(joints);
+        let bodies = part(&full, "Bodies (", "Mass matrix");
+        for k in 1..=joints {
+            assert!(
+                bodies.contains(&format!("  Body {k} `link{k}`")),
+                "{bodies}"
+            );
+        }
+        assert!(bodies.contains(&format!(
+            "f{}.n",
+            constrained_codegen::expr::print::subscript(joints)
+        )));
+        let mass = part(&full, "Mass matrix", "Impressed forces");
+        println!(
+            "Panda, {joints} joints: derivation {} bytes, bodies {} ({} per body), M {} bytes",
+            full.len(),
+            bodies.len(),
+            bodies.len() / joints,
+            mass.len()
+        );
+        per_body.push(bodies.len() as f64 / joints as f64);
+    }
+    // The first bodies' forces are the shortest (fewer bodies below
+    // them); from 4 to 7 joints the bytes per body level off.
+    let growth = per_body[2] / per_body[1];
+    assert!(
+        growth < 1.25,
+        "bytes per body grew {growth:.2}× from 4 to 7: {per_body:?}"
+    );
+    assert!(per_body[2] / per_body[0] < 2.0, "{per_body:?}");
+    insta::assert_snapshot!("panda2_derivation", text(2));
+}

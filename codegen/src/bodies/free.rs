@@ -1,6 +1,7 @@
-//! The rotation of a free (floating) joint in a unit quaternion
+//! The rotation of a spherical joint, alone or as the attitude of a free
+//! (floating) joint, in a unit quaternion
 //! `(w, x, y, z)`, four coordinates with the norm `w² + x² + y² + z² = 1`
-//! as a constraint (the `bodies` lowering adds it). A free joint is three
+//! as a constraint (the `bodies` and `urdf` lowerings add it). A free joint is three
 //! prismatic joints along the parent's axes followed by this spherical one,
 //! so that its seven coordinates are the position of the body's origin and
 //! its attitude, and their rates are `q̇` like any joint's.
@@ -13,8 +14,74 @@
 //! `G q = 0`: the direction `q` itself moves nothing, `M` is singular there
 //! and the norm's constraint row completes it (the auxiliary-mass solve).
 
-use super::spatial::{Spatial, M3, V3};
+use super::spatial::{Inertia, Spatial, M3, V3};
+use super::{Described, Joint, JointKind, Placement};
 use crate::expr::{Graph, Id, Sym};
+
+/// A free joint as four described bodies: three massless slides along the
+/// axes of the frame `placement` puts in `parent`, then the body itself on
+/// a quaternion joint. `first` is the index the first slide will have among
+/// the described bodies, `coordinate` that of `x` in `q` (the quaternion's
+/// `w` is `coordinate + 3`). The `bodies` section's `free(..)` and the
+/// URDF's `floating` joints both come here.
+pub fn described(
+    g: &mut Graph,
+    name: &str,
+    (parent, placement, first): (Option<usize>, Placement, usize),
+    coordinate: usize,
+    inertia: Inertia,
+) -> Vec<Described> {
+    let zero = g.int(0);
+    let one = g.int(1);
+    let mut out = Vec::with_capacity(4);
+    for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+        let mut unit = [zero; 3];
+        unit[k] = one;
+        let identity = Placement::identity(g);
+        out.push(Described {
+            name: format!("{name}/{axis}"),
+            parent: if k == 0 { parent } else { Some(first + k - 1) },
+            placement: if k == 0 { placement } else { identity },
+            joint: Some(Joint {
+                kind: JointKind::Prismatic,
+                coordinate: coordinate + k,
+                axis: unit,
+            }),
+            inertia: Inertia::zero(g),
+        });
+    }
+    let identity = Placement::identity(g);
+    out.push(spherical(
+        g,
+        name,
+        (Some(first + 2), identity),
+        coordinate + 3,
+        inertia,
+    ));
+    out
+}
+
+/// A body on a spherical joint: a quaternion joint whose `w` is
+/// coordinate `coordinate`, its frame placed by `placement` in `parent`'s.
+pub fn spherical(
+    g: &mut Graph,
+    name: &str,
+    (parent, placement): (Option<usize>, Placement),
+    coordinate: usize,
+    inertia: Inertia,
+) -> Described {
+    Described {
+        name: name.to_string(),
+        parent,
+        placement,
+        joint: Some(Joint {
+            kind: JointKind::Quaternion,
+            coordinate,
+            axis: super::spatial::zero(g),
+        }),
+        inertia,
+    }
+}
 
 /// The quaternion's four coordinates as expressions, `w` at `first`.
 pub fn coordinates(g: &mut Graph, first: usize) -> [Id; 4] {

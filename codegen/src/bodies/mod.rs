@@ -17,7 +17,7 @@ pub(crate) mod recursion;
 pub(crate) mod spatial;
 
 use crate::expr::{Graph, Id};
-use spatial::{Inertia, M3, V3};
+use spatial::{Inertia, Spatial, M3, V3};
 
 /// How a body moves relative to its parent.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -181,6 +181,23 @@ pub struct Dynamics {
     pub kinetic: Id,
     /// The potential energy of gravity `V = −Σ mᵢ gᵀ cᵢ`.
     pub potential: Id,
+    /// Each body's named quantities, for the derivation.
+    pub trace: Vec<Trace>,
+}
+
+/// A body's intermediates of the recursions that give `M` and the bias
+/// forces, each in the body's frame (Featherstone's notation): what the
+/// derivation names and prints per body.
+#[derive(Clone, Copy, Debug)]
+pub struct Trace {
+    /// `vᵢ = ⁱX_λ v_λ + Sᵢ q̇ᵢ`.
+    pub velocity: Spatial,
+    /// `aᵢ = ⁱX_λ a_λ + vᵢ × Sᵢ q̇ᵢ` at `q̈ = 0`, gravity as `a₀ = −g`.
+    pub acceleration: Spatial,
+    /// `fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ + Σⱼ ʲXᵢᵀ fⱼ` over the children `j`.
+    pub force: Spatial,
+    /// The composite inertia `Iᶜᵢ = Iᵢ + Σⱼ ʲXᵢᵀ Iᶜⱼ ʲXᵢ`.
+    pub composite: Inertia,
 }
 
 /// Every described body's frame in the world, as expressions of `q`: `R`

@@ -14,7 +14,7 @@
 //! `qᵢ`. A quaternion joint has four columns in `Sᵢ` ([`super::free`]).
 
 use super::spatial::{self, Inertia, Spatial, M3, V3};
-use super::{Body, Dynamics, JointKind, Tree};
+use super::{Body, Dynamics, JointKind, Trace, Tree};
 use crate::expr::{Graph, Id, Sym};
 
 /// The joint variables of one body as expressions.
@@ -168,9 +168,18 @@ struct Terms {
     gravity: bool,
 }
 
-/// Recursive Newton–Euler: the generalized force of each coordinate
-/// (`None` where no body moves it).
-fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
+/// One pass of recursive Newton–Euler: the generalized force of each
+/// coordinate (0 where no body moves it), and each body's velocity,
+/// acceleration and force (the children's included).
+struct Pass {
+    tau: Vec<Id>,
+    v: Vec<Spatial>,
+    a: Vec<Spatial>,
+    f: Vec<Spatial>,
+}
+
+/// Recursive Newton–Euler.
+fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
     let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
     let base_acceleration = if terms.gravity {
         let z = spatial::zero(g);
@@ -226,7 +235,7 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Vec<Id> {
             f[p] = f[p].add(g, up).held(g);
         }
     }
-    tau
+    Pass { tau, v, a, f }
 }
 
 /// The inertia of a body about its parent's origin, in its parent's axes.
@@ -262,8 +271,9 @@ fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inert
     in_joint.to_parent(g, &p.rotation, p.translation)
 }
 
-/// The composite-rigid-body algorithm: `M(q)`, n × n.
-fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> Vec<Vec<Id>> {
+/// The composite-rigid-body algorithm: `M(q)`, n × n, and each body's
+/// composite inertia.
+fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> (Vec<Vec<Id>>, Vec<Inertia>) {
     let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
     let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
     for (i, body) in tree.bodies.iter().enumerate().rev() {
@@ -298,7 +308,7 @@ fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> Vec<Vec<Id>> {
             }
         }
     }
-    m
+    (m, composite)
 }
 
 /// `T = Σ ½ vᵢᵀ Iᵢ vᵢ` and `V = −Σ gᵀ (mᵢ pᵢ + Rᵢ hᵢ)`, with each body's
@@ -364,7 +374,15 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
         gravity: true,
     };
     let bias = newton_euler(g, tree, n, all);
-    let mass = composite_rigid_body(g, tree, n);
+    let (mass, composite) = composite_rigid_body(g, tree, n);
+    let trace = (0..tree.bodies.len())
+        .map(|i| Trace {
+            velocity: bias.v[i],
+            acceleration: bias.a[i],
+            force: bias.f[i],
+            composite: composite[i],
+        })
+        .collect();
     let inverse = newton_euler(
         g,
         tree,
@@ -373,7 +391,8 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
             accelerations: true,
             ..all
         },
-    );
+    )
+    .tau;
     let gravity = newton_euler(
         g,
         tree,
@@ -383,14 +402,16 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
             accelerations: false,
             gravity: true,
         },
-    );
+    )
+    .tau;
     let (kinetic, potential) = energies(g, tree);
     Dynamics {
         mass,
-        bias,
+        bias: bias.tau,
         inverse,
         gravity,
         kinetic,
         potential,
+        trace,
     }
 }

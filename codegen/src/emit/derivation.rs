@@ -27,6 +27,9 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     // graph; everything is printed from that one graph.
     let rank_one = rank_one(eq, partition);
     let g = rank_one.as_ref().map_or(&sys.graph, |r| &r.graph);
+    if let Some(bodies) = &sys.bodies {
+        super::derivation_bodies::name_intermediates(g, bodies, &mut names);
+    }
     let shared = shared_subexpressions(g, &printed_roots(eq, rank_one.as_ref()), &names, |i| {
         format!("ξ{}", subscript(i))
     });
@@ -38,6 +41,9 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     header(w, eq, &coordinates, &parameters, &shared, &p);
     if let Some(energies) = &sys.energies {
         energies_text(w, energies, &p);
+    }
+    if let Some(bodies) = &sys.bodies {
+        super::derivation_bodies::text(w, g, bodies, &coordinates, &p, &names);
     }
 
     mass_text(w, eq, g, &coordinates, &p);
@@ -204,6 +210,9 @@ fn row_text(g: &Graph, p: &Printer, ids: &[Id], coordinates: &[String]) -> Strin
 fn printed_roots(eq: &Equations, rank_one: Option<&RankOne>) -> Vec<Id> {
     let sys = &eq.system;
     let mut roots: Vec<Id> = sys.named.iter().map(|(_, id)| *id).collect();
+    if let Some(bodies) = &sys.bodies {
+        roots.extend(super::derivation_bodies::roots(bodies));
+    }
     if let Some(e) = &sys.energies {
         roots.extend(e.kinetic.iter().chain(&e.potential).chain(&e.applied));
     }

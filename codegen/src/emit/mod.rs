@@ -23,6 +23,7 @@
 mod body;
 mod context;
 pub mod derivation;
+mod derivation_bodies;
 mod dynamics;
 mod forwards;
 mod friction;

@@ -8,6 +8,7 @@
 //!     upper {                              // the body's name
 //!         parent: world,                   // optional: `world` or an earlier body
 //!         joint: revolute(q1, [0, 0, 1]),  // revolute | prismatic (coordinate, axis) | fixed
+//!                                          // | spherical(qw, qx, qy, qz)
 //!                                          // | free(x, y, z, qw, qx, qy, qz) (`super::free`)
 //!         xyz: [0, 0, 0.333],              // optional: the joint frame's origin in the parent's
 //!         rpy: [0, 0, 0],                  // optional: its orientation, R = Rz(yaw) Ry(pitch) Rx(roll)
@@ -34,17 +35,19 @@ pub fn joint_coordinates(bodies: &List<BodyInput>) -> Vec<Ident> {
     bodies
         .items
         .iter()
-        .flat_map(|b| match (super::free::free_call(b), field(b, "joint")) {
-            (Some(call), _) => super::free::names(call),
-            (None, Some(Expr::Call(call))) => call
-                .args
-                .first()
-                .and_then(single_ident)
-                .cloned()
-                .into_iter()
-                .collect(),
-            _ => Vec::new(),
-        })
+        .flat_map(
+            |b| match (super::free::quaternion_call(b), field(b, "joint")) {
+                (Some((call, _)), _) => super::free::names(call),
+                (None, Some(Expr::Call(call))) => call
+                    .args
+                    .first()
+                    .and_then(single_ident)
+                    .cloned()
+                    .into_iter()
+                    .collect(),
+                _ => Vec::new(),
+            },
+        )
         .collect()
 }
 
@@ -81,11 +84,11 @@ impl Lowerer<'_> {
             }
             check_fields(self.errors, body);
             let parent = self.parent(body, &names);
-            if let Some(call) = super::free::free_call(body) {
+            if let Some(call) = super::free::quaternion_call(body) {
                 let placement = self.placement(body);
                 let inertia = self.inertia(body);
                 let at = (parent, placement, described.len());
-                let parts = self.free_bodies(call, coordinates, &name, at, inertia);
+                let parts = self.quaternion_bodies(call, coordinates, &name, at, inertia);
                 names.extend(parts.iter().map(|d| d.name.clone()));
                 described.extend(parts);
                 continue;
@@ -150,11 +153,12 @@ impl Lowerer<'_> {
 
     fn joint(&mut self, body: &BodyInput, coordinates: &[Ident]) -> Option<Joint> {
         let Some(e) = field(body, "joint") else {
-            self.errors.at(body.span, format!("body `{}` has no `joint` (`revolute(q, axis)`, `prismatic(q, axis)`, `fixed` or `free(x, y, z, qw, qx, qy, qz)`)", body.name));
+            self.errors.at(body.span, format!("body `{}` has no `joint` (`revolute(q, axis)`, `prismatic(q, axis)`, `fixed`, `spherical(qw, qx, qy, qz)` or `free(x, y, z, qw, qx, qy, qz)`)", body.name));
             return None;
         };
-        let usage = "expected `revolute(q, axis)`, `prismatic(q, axis)`, `fixed` or \
-                     `free(x, y, z, qw, qx, qy, qz)`, with `axis` `[x, y, z]`";
+        let usage = "expected `revolute(q, axis)`, `prismatic(q, axis)`, `fixed`, \
+                     `spherical(qw, qx, qy, qz)` or `free(x, y, z, qw, qx, qy, qz)`, \
+                     with `axis` `[x, y, z]`";
         if single_ident(e).is_some_and(|k| k == "fixed") {
             return None;
         }

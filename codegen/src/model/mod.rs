@@ -106,6 +106,11 @@ pub struct BodyTerms {
     /// Files the model was read from (a URDF), so that the build is redone
     /// when they change.
     pub files: Vec<String>,
+    /// The tree's movable bodies (fixed links merged in), for the
+    /// derivation's part per body.
+    pub tree: Vec<crate::bodies::Body>,
+    /// Each body's intermediates of the recursions, named in the derivation.
+    pub trace: Vec<crate::bodies::Trace>,
 }
 
 /// The energies of a system given by energies or bodies, for the
@@ -450,8 +455,8 @@ impl Lowerer<'_> {
         (m, Some(t))
     }
 
-    /// The constraints written, then the norm of each free joint's
-    /// quaternion (`free`).
+    /// The constraints written, then the norm of each quaternion joint's
+    /// quaternion (`free`, `spherical`, a URDF's `floating`).
     fn all_constraints(
         &mut self,
         written: Option<&List<ConstraintInput>>,
@@ -463,8 +468,17 @@ impl Lowerer<'_> {
             .iter()
             .flat_map(|c| self.constraints(c))
             .collect();
-        if let Source::Bodies(_, list) = source {
-            constraints.extend(self.free_norms(list, coordinates));
+        match source {
+            Source::Bodies(_, list) => {
+                constraints.extend(self.quaternion_norms(list, coordinates));
+            }
+            Source::Urdf(keyword, robot) => {
+                let tokens = quote::ToTokens::to_token_stream(keyword);
+                for w in robot.quaternions() {
+                    constraints.push(self.norm_row(w, tokens.clone()));
+                }
+            }
+            _ => {}
         }
         constraints
     }

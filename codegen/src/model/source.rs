@@ -205,6 +205,8 @@ impl Lowerer<'_> {
                 gravity: dynamics.gravity,
                 bias: dynamics.bias,
                 files,
+                trace: dynamics.trace,
+                tree: tree.bodies,
             };
             return Lowered {
                 mass,

@@ -4,13 +4,13 @@
 //! Read: `<link>` (its `<inertial>`: `<origin xyz rpy>`, `<mass value>`,
 //! `<inertia ixx ixy ixz iyy iyz izz>`, about the inertial frame's origin,
 //! which is the centre of mass), `<joint>` of type `revolute`,
-//! `continuous`, `prismatic` or `fixed` (`<origin xyz rpy>`,
+//! `continuous`, `prismatic`, `fixed` or `floating` (`<origin xyz rpy>`,
 //! `<parent link>`, `<child link>`, `<axis xyz>`, default `1 0 0`).
 //! Ignored, as by the rigid-body algorithms of Pinocchio: visual and
 //! collision geometry, `<limit>`, `<dynamics>`, `<safety_controller>`,
 //! `<calibration>`, `<transmission>`, `<gazebo>`, `<material>`, and
 //! `<mimic>` on a locked joint. Refused with the file and line: other
-//! joint types (`floating`, `planar`), `<mimic>` on a joint that moves, a
+//! joint types (`planar`), `<mimic>` on a joint that moves, a
 //! tree with no single root, a link that is two joints' child, a missing
 //! or unreadable number.
 //!
@@ -18,6 +18,12 @@
 //! other than letters, digits and `_` replaced by `_`), in depth-first
 //! order from the root with children in file order, as Pinocchio numbers
 //! them. Joints named in `locked: [..]` are held at zero (fixed).
+//!
+//! A `floating` joint is the `bodies` section's free joint
+//! (`crate::bodies::free`): seven coordinates, named after the joint with
+//! `_x`, `_y`, `_z` (the child's origin in the joint frame) and `_qw`,
+//! `_qx`, `_qy`, `_qz` (its attitude, a unit quaternion whose norm is a
+//! constraint), in that order — `w` first, unlike Pinocchio's `q`.
 //!
 //! Numbers are read exactly where they are short decimals. An angle of
 //! `rpy` that is a multiple of π/2 written to as many digits as it has
@@ -61,6 +67,8 @@ struct Inertial {
 
 struct JointSpec {
     name: String,
+    /// `None`: fixed (or locked); `Some(JointKind::Quaternion)`: a
+    /// `floating` joint, lowered as a free joint.
     kind: Option<JointKind>,
     xyz: [String; 3],
     rpy: [String; 3],
@@ -155,10 +163,11 @@ impl Reader<'_> {
             _ if is_locked => None,
             "revolute" | "continuous" => Some(JointKind::Revolute),
             "prismatic" => Some(JointKind::Prismatic),
+            "floating" => Some(JointKind::Quaternion),
             "fixed" => None,
             other => {
                 return Err(self.error(joint, format!(
-                    "joint `{name}` of type `{other}` is not supported (revolute, continuous, prismatic, fixed)"
+                    "joint `{name}` of type `{other}` is not supported (revolute, continuous, prismatic, fixed, floating)"
                 )))
             }
         };
@@ -181,6 +190,9 @@ impl Reader<'_> {
         })
     }
 }
+
+/// The suffixes of a floating joint's coordinates.
+const FLOATING: [&str; 7] = ["x", "y", "z", "qw", "qx", "qy", "qz"];
 
 fn zeros() -> [String; 3] {
     ["0".into(), "0".into(), "0".into()]
@@ -248,77 +260,122 @@ impl Robot {
         })
     }
 
-    /// The coordinates: the movable joints' names, in the tree's order.
+    /// The coordinates: the movable joints' names, in the tree's order (a
+    /// floating joint's seven suffixed, see the module docs).
     pub fn coordinates(&self) -> Vec<Ident> {
-        self.links
-            .iter()
-            .filter_map(|l| l.joint.as_ref().filter(|j| j.kind.is_some()))
-            .map(|j| Ident::new(&identifier(&j.name), self.span))
-            .collect()
-    }
-
-    /// The links as bodies, numbers lowered into `g`.
-    pub fn described(&self, g: &mut Graph) -> Vec<Described> {
-        let mut coordinate = 0;
-        let mut out = Vec::with_capacity(self.links.len());
-        for link in &self.links {
-            let zero = spatial::zero(g);
-            let (placement, joint) = match &link.joint {
-                Some(j) => {
-                    let a = angles(g, &j.rpy);
-                    let translation = numbers(g, &j.xyz);
-                    let placement = Placement {
-                        rotation: spatial::rpy(g, a),
-                        translation,
-                    };
-                    let joint = j.kind.map(|kind| {
-                        let axis = numbers(g, &j.axis);
-                        let norm2 = spatial::dot(g, axis, axis);
-                        let norm = g.sqrt(norm2);
-                        coordinate += 1;
-                        Joint {
-                            kind,
-                            coordinate: coordinate - 1,
-                            axis: axis.map(|c| g.div(c, norm)),
-                        }
-                    });
-                    (placement, joint)
-                }
-                None => (Placement::identity(g), None),
-            };
-            let inertia = match &link.inertial {
-                Some(Inertial {
-                    xyz,
-                    rpy,
-                    mass,
-                    inertia: i,
-                }) => {
-                    let a = angles(g, rpy);
-                    let r = spatial::rpy(g, a);
-                    let [xx, xy, xz, yy, yz, zz] = i.clone().map(|v| number(g, &v));
-                    let local = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
-                    let rl = spatial::mat_mul(g, &r, &local);
-                    let about_com = spatial::mat_mul(g, &rl, &spatial::transpose(&r));
-                    let mass = number(g, mass);
-                    let com = numbers(g, xyz);
-                    Inertia::from_com(g, mass, com, &about_com)
-                }
-                None => Inertia {
-                    mass: g.int(0),
-                    first_moment: zero,
-                    rotational: [zero; 3],
-                },
-            };
-            out.push(Described {
-                name: link.name.clone(),
-                parent: link.parent,
-                placement,
-                joint,
-                inertia,
-            });
+        let mut out = Vec::new();
+        for j in self.links.iter().filter_map(|l| l.joint.as_ref()) {
+            let name = identifier(&j.name);
+            match j.kind {
+                Some(JointKind::Quaternion) => out.extend(
+                    FLOATING.map(|suffix| Ident::new(&format!("{name}_{suffix}"), self.span)),
+                ),
+                Some(_) => out.push(Ident::new(&name, self.span)),
+                None => {}
+            }
         }
         out
     }
+
+    /// The index in `q` of each floating joint's `qw`.
+    pub fn quaternions(&self) -> Vec<usize> {
+        let mut coordinate = 0;
+        let mut out = Vec::new();
+        for kind in self.links.iter().filter_map(|l| l.joint.as_ref()?.kind) {
+            if kind == JointKind::Quaternion {
+                out.push(coordinate + 3);
+                coordinate += 7;
+            } else {
+                coordinate += 1;
+            }
+        }
+        out
+    }
+
+    /// The links as bodies, numbers lowered into `g`; a floating joint's
+    /// child as the four bodies of a free joint.
+    pub fn described(&self, g: &mut Graph) -> Vec<Described> {
+        let mut coordinate = 0;
+        let mut out: Vec<Described> = Vec::with_capacity(self.links.len());
+        // Each link's index in `out` (its own body, after a free joint's slides).
+        let mut index: Vec<usize> = Vec::with_capacity(self.links.len());
+        for link in &self.links {
+            let parent = link.parent.and_then(|p| index.get(p).copied());
+            let inertia = inertia(g, link.inertial.as_ref());
+            let Some(j) = &link.joint else {
+                let placement = Placement::identity(g);
+                out.push(described(link, parent, placement, None, inertia));
+                index.push(out.len() - 1);
+                continue;
+            };
+            let a = angles(g, &j.rpy);
+            let translation = numbers(g, &j.xyz);
+            let placement = Placement {
+                rotation: spatial::rpy(g, a),
+                translation,
+            };
+            if j.kind == Some(JointKind::Quaternion) {
+                let at = (parent, placement, out.len());
+                let parts = crate::bodies::free::described(g, &link.name, at, coordinate, inertia);
+                coordinate += 7;
+                out.extend(parts);
+                index.push(out.len() - 1);
+                continue;
+            }
+            let joint = j.kind.map(|kind| {
+                let axis = numbers(g, &j.axis);
+                let norm2 = spatial::dot(g, axis, axis);
+                let norm = g.sqrt(norm2);
+                coordinate += 1;
+                Joint {
+                    kind,
+                    coordinate: coordinate - 1,
+                    axis: axis.map(|c| g.div(c, norm)),
+                }
+            });
+            out.push(described(link, parent, placement, joint, inertia));
+            index.push(out.len() - 1);
+        }
+        out
+    }
+}
+
+fn described(
+    link: &Link,
+    parent: Option<usize>,
+    placement: Placement,
+    joint: Option<Joint>,
+    inertia: Inertia,
+) -> Described {
+    Described {
+        name: link.name.clone(),
+        parent,
+        placement,
+        joint,
+        inertia,
+    }
+}
+
+/// A link's inertia about its frame's origin, from its `<inertial>`.
+fn inertia(g: &mut Graph, inertial: Option<&Inertial>) -> Inertia {
+    let Some(Inertial {
+        xyz,
+        rpy,
+        mass,
+        inertia: i,
+    }) = inertial
+    else {
+        return Inertia::zero(g);
+    };
+    let a = angles(g, rpy);
+    let r = spatial::rpy(g, a);
+    let [xx, xy, xz, yy, yz, zz] = i.clone().map(|v| number(g, &v));
+    let local = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
+    let rl = spatial::mat_mul(g, &r, &local);
+    let about_com = spatial::mat_mul(g, &rl, &spatial::transpose(&r));
+    let mass = number(g, mass);
+    let com = numbers(g, xyz);
+    Inertia::from_com(g, mass, com, &about_com)
 }
 
 fn locked_span(name: &str, _locked: &[String], fallback: Span) -> Span {
