@@ -52,6 +52,14 @@ fn gaps_and_their_gradients_are_generated() {
     assert!((p.gaps(&Vector1::new(th), 0.0)[0] - (0.3 - 0.8 * th.sin())).abs() < 1e-16);
     assert!((p.gap_jacobian(&Vector1::new(th), 0.0)[(0, 0)] + 0.8 * th.cos()).abs() < 1e-16);
     assert_eq!(AnglePendulum::<f64>::GAPS, 1);
+    // The symbolic export: the gap and its gradient's row in sympy syntax
+    // (the text itself is pinned by the codegen snapshots).
+    let symbolic = AnglePendulum::<f64>::SYMBOLIC_GAPS;
+    assert_eq!((symbolic.gaps.len(), symbolic.gap_jacobian.len()), (1, 1));
+    assert!(symbolic.gaps[0].contains("sin(th)"), "{symbolic:?}");
+    assert_eq!(symbolic.gap_jacobian[0], &["-l*cos(th)"]);
+    let wheel_gaps = RimlessWheel::<f64>::SYMBOLIC_GAPS;
+    assert_eq!(wheel_gaps.gap_jacobian[0].len(), 3);
     let two = TwoBodies::<f64>::new(1.0, 2.0, 0.5);
     let q = Vector2::new(1.0, 2.0);
     assert_eq!(two.gaps(&q, 0.0), Vector1::new(0.5));

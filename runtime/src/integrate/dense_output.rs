@@ -90,11 +90,12 @@ impl<T: RealField + Copy, const N: usize, const S: usize> Interpolant<'_, T, N, 
                     fifth.axpy(c::<T>(*d) * h, stage(k), T::one());
                 }
             }
-            let columns = y0.iter().zip(y1.iter()).zip(k1.iter().zip(k_end.iter()));
-            let targets = delta
-                .iter_mut()
-                .zip(spline.iter_mut())
-                .zip(fourth.iter_mut());
+            // Slices, not nalgebra's strided iterators: these loops vectorize.
+            let columns = (y0.as_slice().iter().zip(y1.as_slice()))
+                .zip(k1.as_slice().iter().zip(k_end.as_slice()));
+            let targets = (delta.as_mut_slice().iter_mut())
+                .zip(spline.as_mut_slice().iter_mut())
+                .zip(fourth.as_mut_slice().iter_mut());
             for (((dl, sp), fo), ((a, b), (ka, kb))) in targets.zip(columns) {
                 *dl = *b - *a;
                 *sp = *ka * h - *dl;
@@ -139,8 +140,10 @@ impl<T: RealField + Copy, const N: usize> Polynomial<T, N> {
                     a: &SVector<T, N>,
                     b: &SVector<T, N>,
                     d: &SVector<T, N>| {
-            let coefficients = delta.iter().zip(a.iter()).zip(b.iter().zip(d.iter()));
-            for (y, ((delta, a), (b, d))) in y.iter_mut().zip(coefficients) {
+            // Slices, not nalgebra's strided iterators: this loop vectorizes.
+            let coefficients = (delta.as_slice().iter().zip(a.as_slice()))
+                .zip(b.as_slice().iter().zip(d.as_slice()));
+            for (y, ((delta, a), (b, d))) in y.as_mut_slice().iter_mut().zip(coefficients) {
                 let inner = (*b + *d * one_minus) * theta + *a;
                 *y += (inner * one_minus + *delta) * theta;
             }
