@@ -206,7 +206,7 @@ fn quadruped_standing() -> (usize, usize, f64) {
     use constrained::nalgebra::{SVector, UnitQuaternion, Vector3};
     use constrained::ConstrainedSystem;
     use model::{Quadruped, FOOT_OFFSET, HIPS, N, SEGMENT};
-    let theta = 0.8;
+    let theta: f64 = 0.8;
     let mut feet = [0.0; 8];
     for (k, h) in HIPS.iter().enumerate() {
         feet[2 * k] = h[0];
