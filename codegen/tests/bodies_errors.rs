@@ -35,8 +35,16 @@ fn bodies_errors_say_why() {
             "the joint's axis is zero",
         ),
         (
-            "a { joint: spherical(q1) }".to_string(),
+            "a { joint: planar(q1, [0.0, 0.0, 1.0]) }".to_string(),
             "expected `revolute(q, axis)`",
+        ),
+        (
+            "a { joint: spherical(q1) }".to_string(),
+            "expected `spherical(qw, qx, qy, qz)`",
+        ),
+        (
+            "a { joint: spherical(w, i, j, 1.0), mass: 1.0 }".to_string(),
+            "expected `spherical(qw, qx, qy, qz)`",
         ),
         (
             "a { joint: revolute(q1, [0.0, 1.0]) }".to_string(),

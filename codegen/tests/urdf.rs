@@ -21,9 +21,9 @@ fn error_of(file: &str, extra: &str) -> String {
 fn urdf_errors_name_the_file_and_line() {
     let cases = [
         (
-            "floating.urdf",
+            "planar.urdf",
             "",
-            "tests/data/floating.urdf:5: joint `free` of type `floating` is not supported",
+            "tests/data/planar.urdf:5: joint `slide` of type `planar` is not supported",
         ),
         (
             "mimic.urdf",
