@@ -162,13 +162,12 @@ fn struct_definition(
     let vis = &sys.vis;
     let attrs = &sys.attrs;
     let modes = sys.modes();
-    let (written, hidden): (Vec<(usize, &Ident)>, Vec<(usize, &Ident)>) = sys
-        .parameters
-        .iter()
-        .enumerate()
-        .partition(|(i, _)| !modes.contains(i));
-    let params: Vec<&Ident> = written.iter().map(|(_, p)| *p).collect();
-    let hidden: Vec<&Ident> = hidden.iter().map(|(_, p)| *p).collect();
+    let written = sys.parameters.iter().enumerate();
+    let params: Vec<&Ident> = written
+        .filter(|(i, _)| !modes.contains(i))
+        .map(|(_, p)| p)
+        .collect();
+    let hidden: Vec<&Ident> = sys.parameters[modes].iter().collect();
     let plural =
         |count: usize, what: &str| format!("{count} {what}{}", if count == 1 { "" } else { "s" });
     let struct_doc = format!(
