@@ -205,8 +205,11 @@ fn struct_definition(
     };
     let marker_value = params
         .is_empty()
-        .then(|| quote! { __scalar: ::core::marker::PhantomData, });
-    let constructor_body = quote! { Self { #(#params,)* #(#hidden: T::zero(),)* #marker_value } };
+        .then(|| quote! { __scalar: ::core::marker::PhantomData });
+    let inits = params.iter().map(|p| quote!(#p));
+    let inits = inits.chain(hidden.iter().map(|h| quote!(#h: T::zero())));
+    let inits: Vec<TokenStream> = inits.chain(marker_value).collect();
+    let constructor_body = quote! { Self { #(#inits),* } };
     // The modes start at `Stick`, `T::zero()`: not a `const fn` then.
     let (bound, constness) = if hidden.is_empty() {
         (quote!(), quote!(const))
