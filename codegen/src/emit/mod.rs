@@ -165,13 +165,12 @@ fn struct_definition(
     let vis = &sys.vis;
     let attrs = &sys.attrs;
     let modes = sys.modes();
-    let (written, hidden): (Vec<(usize, &Ident)>, Vec<(usize, &Ident)>) = sys
-        .parameters
-        .iter()
-        .enumerate()
-        .partition(|(i, _)| !modes.contains(i));
-    let params: Vec<&Ident> = written.iter().map(|(_, p)| *p).collect();
-    let hidden: Vec<&Ident> = hidden.iter().map(|(_, p)| *p).collect();
+    let written = sys.parameters.iter().enumerate();
+    let params: Vec<&Ident> = written
+        .filter(|(i, _)| !modes.contains(i))
+        .map(|(_, p)| p)
+        .collect();
+    let hidden: Vec<&Ident> = sys.parameters[modes].iter().collect();
     let plural =
         |count: usize, what: &str| format!("{count} {what}{}", if count == 1 { "" } else { "s" });
     let struct_doc = format!(
@@ -209,8 +208,11 @@ fn struct_definition(
     };
     let marker_value = params
         .is_empty()
-        .then(|| quote! { __scalar: ::core::marker::PhantomData, });
-    let constructor_body = quote! { Self { #(#params,)* #(#hidden: T::zero(),)* #marker_value } };
+        .then(|| quote! { __scalar: ::core::marker::PhantomData });
+    let inits = params.iter().map(|p| quote!(#p));
+    let inits = inits.chain(hidden.iter().map(|h| quote!(#h: T::zero())));
+    let inits: Vec<TokenStream> = inits.chain(marker_value).collect();
+    let constructor_body = quote! { Self { #(#inits),* } };
     // The modes start at `Stick`, `T::zero()`: not a `const fn` then.
     let (bound, constness) = if hidden.is_empty() {
         (quote!(), quote!(const))
