@@ -134,10 +134,24 @@ macro_rules! system_declarations {
         $kind:ident $(#[$attr:meta])* fn $name:ident($($arg:ident),*) -> $ret:ty,
             generated $gen:ty, finish $finish:ident;
     )*) => {$(
-        $(#[doc = $doc])*
+        system_declaration!($kind $(#[doc = $doc])* $(#[$attr])* fn $name -> $ret);
+    )*};
+}
+
+/// One method of `ConstrainedSystem`: required, or `None` by default (so
+/// that a type implementing the trait by hand need not provide it).
+macro_rules! system_declaration {
+    (required $(#[$attr:meta])* fn $name:ident -> $ret:ty) => {
         $(#[$attr])*
         fn $name(&self, state: &State<T, N>) -> $ret;
-    )*};
+    };
+    (optional $(#[$attr:meta])* fn $name:ident -> $ret:ty) => {
+        $(#[$attr])*
+        #[allow(unused_variables)]
+        fn $name(&self, state: &State<T, N>) -> $ret {
+            None
+        }
+    };
 }
 
 /// The rows' methods of the blanket impl of `ConstrainedSystem` for every
