@@ -34,7 +34,7 @@ pub(crate) mod finite;
 pub(crate) mod func;
 pub(crate) mod lagrange;
 pub mod num;
-pub(crate) mod print;
+pub mod print;
 pub(crate) mod squares;
 #[cfg(test)]
 mod tests;
