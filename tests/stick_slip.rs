@@ -35,7 +35,11 @@ const MU_K: f64 = 0.3;
 
 /// The block pushed by `push` from `start` to `t_end`: the switches
 /// `(t, x, mode)` and the system and state at the end.
-fn slide(block: Block, start: State<f64, 1>, t_end: f64) -> (Vec<(f64, f64, Mode)>, Block, State<f64, 1>) {
+fn slide(
+    block: Block,
+    start: State<f64, 1>,
+    t_end: f64,
+) -> (Vec<(f64, f64, Mode)>, Block, State<f64, 1>) {
     let stepper = DormandPrince45::new(1e-12, 1e-14)
         .stepper(start, t_end)
         .unwrap();
@@ -66,7 +70,8 @@ fn a_block_pushed_below_the_static_limit_stays() {
     assert!(switches.is_empty(), "{switches:?}");
     assert_eq!(system.friction_modes(), [Mode::Stick]);
     assert_eq!((end.t, end.q[0], end.qd[0]), (5.0, 0.0, 0.0));
-    let lambda = constrained::multipliers::Multipliers::constraint_multipliers(&system, &end).unwrap();
+    let lambda =
+        constrained::multipliers::Multipliers::constraint_multipliers(&system, &end).unwrap();
     assert!((lambda[0] + push).abs() < 1e-12 * push, "{lambda}");
 }
 
@@ -101,8 +106,14 @@ fn a_released_block_stops_at_the_closed_form_time_and_stays() {
     assert_eq!(switches.len(), 1, "{switches:?}");
     let (t, x, mode) = switches[0];
     assert_eq!(mode, Mode::Stick);
-    assert!((t - stop_t).abs() < 1e-9, "stop at {t}, closed form {stop_t}");
-    assert!((x - stop_x).abs() < 1e-9, "stop at {x}, closed form {stop_x}");
+    assert!(
+        (t - stop_t).abs() < 1e-9,
+        "stop at {t}, closed form {stop_t}"
+    );
+    assert!(
+        (x - stop_x).abs() < 1e-9,
+        "stop at {x}, closed form {stop_x}"
+    );
     assert_eq!(system.friction_modes(), [Mode::Stick]);
     assert_eq!(end.t, 10.0);
     assert!(end.qd[0] == 0.0 && (end.q[0] - x).abs() < 1e-15, "{end:?}");
@@ -159,7 +170,12 @@ fn drive(zeta: f64, rtol: f64, t_end: f64) -> (Switches, usize, DampedCrane, Sta
         })
         .unwrap();
     assert!(done);
-    (switches, run.stepper().stats().steps, *run.system(), *run.state())
+    (
+        switches,
+        run.stepper().stats().steps,
+        *run.system(),
+        *run.state(),
+    )
 }
 
 /// Undamped, the load's swing makes the friction the stuck trolley needs
@@ -186,7 +202,11 @@ fn the_damped_crane_settles_where_a_tighter_integration_does() {
     let (reference, _, _, _) = drive(0.05, 1e-12, t_end);
     assert!(steps < 20_000, "{steps} steps");
     assert_eq!(end.t, t_end);
-    assert_eq!(switches.len(), reference.len(), "{switches:?}\n{reference:?}");
+    assert_eq!(
+        switches.len(),
+        reference.len(),
+        "{switches:?}\n{reference:?}"
+    );
     for (s, r) in switches.iter().zip(&reference) {
         assert_eq!(s.2, r.2, "{s:?} vs {r:?}");
         assert!((s.0 - r.0).abs() < 1e-6, "time {s:?} vs {r:?}");
@@ -198,9 +218,15 @@ fn the_damped_crane_settles_where_a_tighter_integration_does() {
     assert_eq!(system.friction_modes(), [Mode::Stick]);
     // Held by the stick row: ẋc at rounding level (the projection's), the
     // trolley where it stuck.
-    assert!(end.qd[0].abs() < 1e-14 && (end.q[0] - x_stick).abs() < 1e-12, "{end:?}");
+    assert!(
+        end.qd[0].abs() < 1e-14 && (end.q[0] - x_stick).abs() < 1e-12,
+        "{end:?}"
+    );
     let normal = system.mu_s * (system.mc + system.ml) * system.g;
-    assert!((x_stick - system.target).abs() <= normal / system.kp, "{x_stick}");
+    assert!(
+        (x_stick - system.target).abs() <= normal / system.kp,
+        "{x_stick}"
+    );
     let lambda =
         constrained::multipliers::Multipliers::constraint_multipliers(&system, &end).unwrap();
     assert!(lambda[1].abs() < 0.9 * normal, "{lambda}");

@@ -139,7 +139,10 @@ impl<T: fmt::Display> fmt::Display for FrictionError<T> {
         match self {
             FrictionError::Integration(e) => write!(f, "{e}"),
             FrictionError::Dynamics { t, error } => {
-                write!(f, "the dynamics failed at a friction switch at t = {t}: {error}")
+                write!(
+                    f,
+                    "the dynamics failed at a friction switch at t = {t}: {error}"
+                )
             }
             FrictionError::Coefficients { entry } => write!(
                 f,

@@ -182,7 +182,11 @@ where
         let lambda = stick_forces(&self.system, &state)?;
         let normal = normals(&self.system, &state)?;
         let coefficients = self.system.friction_coefficients();
-        let (l, n, mu) = match (lambda.get(entry), normal.get(entry), coefficients.get(entry)) {
+        let (l, n, mu) = match (
+            lambda.get(entry),
+            normal.get(entry),
+            coefficients.get(entry),
+        ) {
             (Some(&l), Some(&n), Some(&(mu, _))) => (l, n, mu),
             _ => return Err(FrictionError::Zeno { t: at.t }),
         };
@@ -196,11 +200,7 @@ where
         self.system.set_friction_modes(modes);
         self.stepper.set_state(state)?;
         self.switches += 1;
-        Ok(StickSlipOutcome::Switch {
-            entry,
-            mode,
-            state,
-        })
+        Ok(StickSlipOutcome::Switch { entry, mode, state })
     }
 }
 
