@@ -45,7 +45,7 @@ const FORM: &str = "a friction entry is written `coulomb(velocity, normal, mu_st
 impl Lowerer<'_> {
     /// The entries of `friction: [..]`, checked (a malformed one is
     /// reported and left out), their slip forces added to `forces` and
-    /// their stick rows to `constraints` ([`apply`]).
+    /// their stick rows to `constraints` (`apply`).
     pub fn friction(
         &mut self,
         list: &List<Expr>,
