@@ -11,11 +11,7 @@
 //! coefficients. For each argument `x` with `sin x` or `cos x` in it, the
 //! polynomial is reduced modulo `sin²x + cos²x − 1` in both directions
 //! (`cos²x → 1 − sin²x`, then `sin²x → 1 − cos²x`), and the shorter of the
-//! two, when shorter than before, is kept. Then pairs of monomials that
-//! differ only in `cos x·cos y` against `sin x·sin y` (or `sin x·cos y`
-//! against `cos x·sin y`), with equal or opposite coefficients, become one:
-//! `cos(x ∓ y)` (`sin(x ± y)`), the angle sums a person writes (a double
-//! pendulum's `m₂·l₁·l₂·cos(θ₁ − θ₂)`). A reduction that removed no
+//! two, when shorter than before, is kept. A reduction that removed no
 //! monomial leaves the expression as it was; one that did replaces it only
 //! when the result costs no more operations. Values are unchanged up to
 //! rounding: the identity is exact, only the order of operations moves.
@@ -64,7 +60,6 @@ pub fn simplify(g: &mut Graph, root: Id) -> Id {
             }
         }
     }
-    let best = angle_sums(g, &best);
     if best.len() >= expanded.len() {
         return root;
     }
@@ -74,118 +69,6 @@ pub fn simplify(g: &mut Graph, root: Id) -> Id {
     } else {
         root
     }
-}
-
-/// The sine or cosine a monomial factor is, with its argument: `(true, x)`
-/// for `sin x`, `(false, x)` for `cos x`.
-fn trig_atom(g: &Graph, id: Id) -> Option<(bool, Id)> {
-    match g.node(id) {
-        Node::Func(Func::Sin, args) => Some((true, args.as_slice()[0])),
-        Node::Func(Func::Cos, args) => Some((false, args.as_slice()[0])),
-        _ => None,
-    }
-}
-
-/// A monomial split as `rest · f(x) · h(y)`, `x < y`, when it holds exactly
-/// two sines or cosines, of different arguments, each to the first power:
-/// `(rest, x, y, sin x?, sin y?)`.
-fn trig_pair(g: &Graph, m: &Monomial) -> Option<(Monomial, Id, Id, bool, bool)> {
-    let mut trig = Vec::new();
-    let mut rest = Monomial::new();
-    for &(atom, e) in m {
-        match trig_atom(g, atom) {
-            Some(t) if e == 1 => trig.push(t),
-            Some(_) => return None,
-            None => rest.push((atom, e)),
-        }
-    }
-    let [(sa, a), (sb, b)] = trig.as_slice() else {
-        return None;
-    };
-    match a.cmp(b) {
-        std::cmp::Ordering::Less => Some((rest, *a, *b, *sa, *sb)),
-        std::cmp::Ordering::Greater => Some((rest, *b, *a, *sb, *sa)),
-        std::cmp::Ordering::Equal => None,
-    }
-}
-
-/// `p` with each pair `c·R·cos x·cos y ± c·R·sin x·sin y` written
-/// `c·R·cos(x ∓ y)`, and each pair `c·R·sin x·cos y ± c·R·cos x·sin y`
-/// written `c·R·sin(x ± y)` (module docs). Exact: the identities hold for
-/// every `x` and `y`; only monomials of exactly matching shape pair up.
-fn angle_sums(g: &mut Graph, p: &Poly) -> Poly {
-    // (rest, x, y) → the coefficients of cos·cos, sin·sin, sin·cos, cos·sin.
-    let mut groups: BTreeMap<(Monomial, Id, Id), [Option<Num>; 4]> = BTreeMap::new();
-    for (m, c) in p {
-        if let Some((rest, x, y, sx, sy)) = trig_pair(g, m) {
-            let slot = match (sx, sy) {
-                (false, false) => 0,
-                (true, true) => 1,
-                (true, false) => 2,
-                (false, true) => 3,
-            };
-            groups.entry((rest, x, y)).or_default()[slot] = Some(*c);
-        }
-    }
-    let mut out = p.clone();
-    for ((rest, x, y), [cc, ss, sc, cs]) in groups {
-        let monomial = |g: &mut Graph, (sx, sy): (Func, Func)| {
-            let (fx, fy) = (g.func(sx, x), g.func(sy, y));
-            let mut m = rest.clone();
-            m.push((fx, 1));
-            m.push((fy, 1));
-            m.sort();
-            m
-        };
-        let mut pair = |g: &mut Graph,
-                        a: Option<Num>,
-                        b: Option<Num>,
-                        fa: (Func, Func),
-                        fb: (Func, Func),
-                        cosine: bool| {
-            let (Some(a), Some(b)) = (a, b) else {
-                return;
-            };
-            let argument = if a == b {
-                -1
-            } else if a == -b {
-                1
-            } else {
-                return;
-            };
-            // cos x·cos y + sin x·sin y = cos(x − y); − gives cos(x + y).
-            // sin x·cos y + cos x·sin y = sin(x + y); − gives sin(x − y).
-            let sign = if cosine { argument } else { -argument };
-            let angle = if sign > 0 { g.add2(x, y) } else { g.sub(x, y) };
-            let f = if cosine { Func::Cos } else { Func::Sin };
-            let atom = g.func(f, angle);
-            let first = monomial(g, fa);
-            let second = monomial(g, fb);
-            out.remove(&first);
-            out.remove(&second);
-            let mut m = rest.clone();
-            m.push((atom, 1));
-            m.sort();
-            accumulate(&mut out, m, a);
-        };
-        pair(
-            g,
-            cc,
-            ss,
-            (Func::Cos, Func::Cos),
-            (Func::Sin, Func::Sin),
-            true,
-        );
-        pair(
-            g,
-            sc,
-            cs,
-            (Func::Sin, Func::Cos),
-            (Func::Cos, Func::Sin),
-            false,
-        );
-    }
-    out
 }
 
 /// Whether `a` has fewer monomials than `b`, or as many of lower total
@@ -437,53 +320,6 @@ mod tests {
         let e = g.sub(one, s2);
         let c = g.func(Func::Cos, al);
         assert_eq!(simplify(&mut g, e), g.pown(c, Num::int(2)));
-    }
-
-    /// The double pendulum's coupling written from Cartesian bobs:
-    /// `m₂·(l₁cos θ₁·l₂cos θ₂ + l₁sin θ₁·l₂sin θ₂) = m₂·l₁·l₂·cos(θ₁ − θ₂)`,
-    /// and `l₁·l₂·(sin θ₁·cos θ₂ − cos θ₁·sin θ₂) = l₁·l₂·sin(θ₁ − θ₂)`.
-    #[test]
-    fn products_of_sines_and_cosines_become_angle_sums() {
-        let mut g = Graph::new();
-        let (t1, t2) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
-        let (m2, l1, l2) = (
-            g.sym(Sym::Param(0)),
-            g.sym(Sym::Param(1)),
-            g.sym(Sym::Param(2)),
-        );
-        let (s1, c1) = (g.func(Func::Sin, t1), g.func(Func::Cos, t1));
-        let (s2, c2) = (g.func(Func::Sin, t2), g.func(Func::Cos, t2));
-        let (x1, y1) = (g.mul2(l1, c1), g.mul2(l1, s1));
-        let (x2, y2) = (g.mul2(l2, c2), g.mul2(l2, s2));
-        let (xx, yy) = (g.mul2(x1, x2), g.mul2(y1, y2));
-        let dot = g.add2(xx, yy);
-        let entry = g.mul2(m2, dot);
-        let simplified = simplify(&mut g, entry);
-        let difference = g.sub(t1, t2);
-        let cosine = g.func(Func::Cos, difference);
-        assert_eq!(simplified, g.mul(&[m2, l1, l2, cosine]));
-        assert!((value(&g, simplified) - value(&g, entry)).abs() < 1e-14);
-
-        let (a, b) = (g.mul(&[l1, l2, s1, c2]), g.mul(&[l1, l2, c1, s2]));
-        let cross = g.sub(a, b);
-        let simplified = simplify(&mut g, cross);
-        let sine = g.func(Func::Sin, difference);
-        assert_eq!(simplified, g.mul(&[l1, l2, sine]));
-        assert!((value(&g, simplified) - value(&g, cross)).abs() < 1e-14);
-    }
-
-    /// Coefficients that are neither equal nor opposite pair up with nothing:
-    /// `2·cos x·cos y + sin x·sin y` stays as it is.
-    #[test]
-    fn unequal_coefficients_are_not_an_angle_sum() {
-        let mut g = Graph::new();
-        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
-        let (sx, cx) = (g.func(Func::Sin, x), g.func(Func::Cos, x));
-        let (sy, cy) = (g.func(Func::Sin, y), g.func(Func::Cos, y));
-        let cc = g.mul(&[cx, cy]);
-        let ss = g.mul(&[sx, sy]);
-        let e = g.linear_combination([(cc, Num::int(2)), (ss, Num::ONE)]);
-        assert_eq!(simplify(&mut g, e), e);
     }
 
     /// Nothing to apply: `sin x·cos y` and `sin²x + y` are left alone.
