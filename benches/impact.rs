@@ -14,24 +14,14 @@ mod compass_gait;
 mod rimless_wheel;
 
 use compass_gait::CompassGait;
-use constrained::constrained_system;
 use constrained::nalgebra::{Vector2, Vector3, Vector4};
 use criterion::{criterion_group, criterion_main, Criterion};
 use rimless_wheel::RimlessWheel;
 use std::hint::black_box;
 
-constrained_system! {
-    /// A bob of mass `m` on a rod of length `l`, a wall at `x = wall` (the
-    /// example `pendulum_wall`'s model).
-    pub struct WallPendulum {
-        coordinates: [x, y],
-        parameters: [m, l, g, wall],
-        mass: diag[m, m],
-        forces: [0.0, -m * g],
-        constraints: [x.powi(2) + y.powi(2) == l.powi(2)],
-        unilateral: [x <= wall],
-    }
-}
+#[path = "../examples/support/wall_pendulum.rs"]
+mod wall_pendulum;
+use wall_pendulum::WallPendulum;
 
 /// The pendulum at the wall (rod at 0.4 rad, ω = 2.5 rad/s, e = 0.7): the
 /// angular velocity after is `−e ω`.

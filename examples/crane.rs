@@ -18,27 +18,12 @@ mod support;
 use constrained::friction::Mode;
 use constrained::integrate::{StickSlip, StickSlipOutcome};
 use constrained::nalgebra::Vector3;
-use constrained::{constrained_system, DormandPrince45, Stabilization, State};
+use constrained::{DormandPrince45, Stabilization, State};
 use support::{plot, Options, Panel, Series};
 
-constrained_system! {
-    /// A trolley (`xc`) on a rail with Coulomb friction, a load (`x`, `y`)
-    /// on a rod of length `l` from a pivot damped by `c` (the load's
-    /// velocity relative to the trolley, across the rod), a saturated PD
-    /// drive to `target`. The rail's normal force is the crane's weight.
-    pub struct DampedCrane {
-        coordinates: [xc, x, y],
-        parameters: [mc, ml, l, g, mu_s, mu_k, kp, kd, umax, target, c],
-        mass: diag[mc, ml, ml],
-        definitions: [
-            drive = clamp(kp * (target - xc) - kd * dot(xc), -umax, umax),
-            swing = c * (dot(x) - dot(xc)),
-        ],
-        forces: [drive + swing, -swing, -ml * g - c * dot(y)],
-        constraints: [(x - xc).powi(2) + y.powi(2) == l.powi(2)],
-        friction: [coulomb(dot(xc), (mc + ml) * g, mu_s, mu_k)],
-    }
-}
+#[path = "support/damped_crane.rs"]
+mod damped_crane;
+use damped_crane::DampedCrane;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = Options::parse(60.0);

@@ -12,20 +12,12 @@ mod support;
 
 use constrained::integrate::{Direction, Event, Events, StepOutcome};
 use constrained::nalgebra::Vector2;
-use constrained::{constrained_system, DormandPrince45, Stabilization, State};
+use constrained::{DormandPrince45, Stabilization, State};
 use support::{plot, Options, Panel, Series};
 
-constrained_system! {
-    /// A bob of mass `m` on a rod of length `l`, a wall at `x = wall`.
-    pub struct WallPendulum {
-        coordinates: [x, y],
-        parameters: [m, l, g, wall],
-        mass: diag[m, m],
-        forces: [0.0, -m * g],
-        constraints: [x.powi(2) + y.powi(2) == l.powi(2)],
-        unilateral: [x <= wall],
-    }
-}
+#[path = "support/wall_pendulum.rs"]
+mod wall_pendulum;
+use wall_pendulum::WallPendulum;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = Options::parse(6.0);

@@ -119,26 +119,9 @@ fn a_released_block_stops_at_the_closed_form_time_and_stays() {
     assert!(end.qd[0] == 0.0 && (end.q[0] - x).abs() < 1e-15, "{end:?}");
 }
 
-constrained_system! {
-    /// The crane of `constrained::models::Crane` with its Coulomb friction
-    /// written as a friction entry, and the rod's pivot damped (a torque
-    /// `−c l² θ̇`: the load's velocity relative to the trolley, which is
-    /// across the rod, times `c`). The rail's normal force is the crane's
-    /// weight `(mc + ml) g` (the rod's vertical pull differs from `ml g`
-    /// by the swing's second order).
-    pub struct DampedCrane {
-        coordinates: [xc, x, y],
-        parameters: [mc, ml, l, g, mu_s, mu_k, kp, kd, umax, target, c],
-        mass: diag[mc, ml, ml],
-        definitions: [
-            drive = clamp(kp * (target - xc) - kd * dot(xc), -umax, umax),
-            swing = c * (dot(x) - dot(xc)),
-        ],
-        forces: [drive + swing, -swing, -ml * g - c * dot(y)],
-        constraints: [(x - xc).powi(2) + y.powi(2) == l.powi(2)],
-        friction: [coulomb(dot(xc), (mc + ml) * g, mu_s, mu_k)],
-    }
-}
+#[path = "../examples/support/damped_crane.rs"]
+mod damped_crane;
+use damped_crane::DampedCrane;
 
 /// The crane of `models::Crane` (`μs = μk = 0.05`) with a fraction `zeta`
 /// of critical damping at the pivot (`c = 2 ζ ml √(g/l)`).
