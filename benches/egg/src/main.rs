@@ -89,6 +89,7 @@ impl ToEgg<'_> {
                 Sym::Param(i) => format!("p{i}"),
                 Sym::Multiplier(i) => format!("lam{i}"),
                 Sym::Seed(i) => format!("s{i}"),
+                Sym::Accel(i) => format!("qdd{i}"),
             }),
             Node::Add(terms, c0) => {
                 let mut acc: Option<egg::Id> = None;
