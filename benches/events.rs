@@ -44,7 +44,7 @@ fn untriggered(c: &mut Criterion) {
     let system = DoublePendulum::<f64>::new(1.0, 1.5, 1.2, 0.8, 9.81);
     let start = double_pendulum_state(1.2, 0.8, 0.0, [2.0, -1.0], [0.5, 1.5]);
     let events = never();
-    let ends = never().with_samples(0);
+    let unscreened = never().with_screening(false);
     let dp = DormandPrince45::new(1e-8, 1e-10);
     let rk4 = Rk4::new(1e-3);
     // A system whose steps cost more (RK4 step ≈ 2.7 µs): the same fixed
@@ -59,6 +59,7 @@ fn untriggered(c: &mut Criterion) {
             Event::stop(Direction::Rising),
         ],
     );
+    let far_unscreened = far.with_screening(false);
     let mut group = c.benchmark_group("events");
     for round in 1..=ROUNDS {
         group.bench_function(format!("dp45_double_pendulum_5s/plain/{round}"), |b| {
@@ -78,11 +79,11 @@ fn untriggered(c: &mut Criterion) {
             },
         );
         group.bench_function(
-            format!("dp45_double_pendulum_5s/untriggered_ends_only/{round}"),
+            format!("dp45_double_pendulum_5s/untriggered_unscreened/{round}"),
             |b| {
                 b.iter(|| {
                     let mut s = black_box(start);
-                    dp.advance_events(&system, &mut s, 5.0, &ends, |_, _| {})
+                    dp.advance_events(&system, &mut s, 5.0, &unscreened, |_, _| {})
                         .map(|run| (s, run.stopped.is_none()))
                 })
             },
@@ -101,11 +102,11 @@ fn untriggered(c: &mut Criterion) {
             })
         });
         group.bench_function(
-            format!("rk4_double_pendulum_1s/untriggered_ends_only/{round}"),
+            format!("rk4_double_pendulum_1s/untriggered_unscreened/{round}"),
             |b| {
                 b.iter(|| {
                     let mut s = black_box(start);
-                    rk4.advance_events(&system, &mut s, 1.0, &ends, |_, _| {})
+                    rk4.advance_events(&system, &mut s, 1.0, &unscreened, |_, _| {})
                         .map(|run| (s, run.stopped.is_none()))
                 })
             },
@@ -123,6 +124,16 @@ fn untriggered(c: &mut Criterion) {
                     .map(|run| (s, run.stopped.is_none()))
             })
         });
+        group.bench_function(
+            format!("rk4_chain32_0.1s/untriggered_unscreened/{round}"),
+            |b| {
+                b.iter(|| {
+                    let mut s = black_box(chain_start);
+                    rk4.advance_events(&chain, &mut s, 0.1, &far_unscreened, |_, _| {})
+                        .map(|run| (s, run.stopped.is_none()))
+                })
+            },
+        );
     }
     group.finish();
     write_counts(&system, &start);
@@ -151,13 +162,14 @@ fn write_counts(system: &DoublePendulum<f64>, start: &State<f64, 4>) {
         .expect("integrates");
     let json = format!(
         "{{\"bounces\": {{\"crossings\": {}, \"refinements\": {}, \"samples\": {}, \"steps\": {}, \"evaluations\": {}}}, \
-         \"untriggered\": {{\"samples\": {}, \"steps\": {}, \"evaluations\": {}}}}}",
+         \"untriggered\": {{\"samples\": {}, \"screened\": {}, \"steps\": {}, \"evaluations\": {}}}}}",
         bounces.event_stats.crossings,
         bounces.event_stats.refinements,
         bounces.event_stats.samples,
         bounces.stats.steps,
         bounces.stats.evaluations,
         quiet.event_stats.samples,
+        quiet.event_stats.screened,
         quiet.stats.steps,
         quiet.stats.evaluations,
     );

@@ -337,9 +337,9 @@ def egg_section():
 
 EVENT_RUNS = (
     "dp45_double_pendulum_5s/plain", "dp45_double_pendulum_5s/untriggered",
-    "dp45_double_pendulum_5s/untriggered_ends_only", "rk4_double_pendulum_1s/plain",
-    "rk4_double_pendulum_1s/untriggered", "rk4_double_pendulum_1s/untriggered_ends_only",
-    "rk4_chain32_0.1s/plain", "rk4_chain32_0.1s/untriggered",
+    "dp45_double_pendulum_5s/untriggered_unscreened", "rk4_double_pendulum_1s/plain",
+    "rk4_double_pendulum_1s/untriggered", "rk4_double_pendulum_1s/untriggered_unscreened",
+    "rk4_chain32_0.1s/plain", "rk4_chain32_0.1s/untriggered", "rk4_chain32_0.1s/untriggered_unscreened",
 )
 EVENT_CASES = (("double pendulum, DP45, 5 s", "dp45_double_pendulum_5s"),
                ("double pendulum, RK4 h = 1 ms, 1 s", "rk4_double_pendulum_1s"),
@@ -374,19 +374,21 @@ def events_section(events):
         "",
         "Whole runs with two event functions that never cross zero against the same",
         "runs without events: the same steps and evaluations of the system; what is",
-        "added is the search of each step (the event closure at the step's end and at",
-        "`samples` interior points of its continuous extension, default 4; `ends only`",
-        "is `with_samples(0)`) and the stepper's bookkeeping. A step with no crossing is",
-        "searched where its data lie and not kept. Times are the medians of",
+        "added is the search of each step (the event closure at the step's end, and at",
+        "`samples` interior points of its continuous extension, default 4, unless",
+        "screening skips them: a step whose functions stay far from zero for the",
+        "curvature of their values at the ends of the last two steps; `every grid` turns",
+        "screening off, `with_screening(false)`) and the stepper's bookkeeping. A step with",
+        "no crossing is searched where its data lie and not kept. Times are the medians of",
         f"{EVENT_ROUNDS} rounds in which the runs of a case alternate, ratios the medians of",
         "the rounds' ratios (the machine's load drifts between benchmarks).",
         "",
-        "| run | without events | events, default grid | / without | events, ends only | / without |",
+        "| run | without events | events (default) | / without | events, every grid | / without |",
         "|---|---|---|---|---|---|",
     ]
     for label, key in EVENT_CASES:
         (plain, _), (grid, grid_ratio) = events[f"{key}/plain"], events[f"{key}/untriggered"]
-        ends = events.get(f"{key}/untriggered_ends_only")
+        ends = events.get(f"{key}/untriggered_unscreened")
         lines.append(f"| {label} | {ns(plain)} | {ns(grid)} | {grid_ratio:.2f}× | "
                      f"{ns(ends[0]) if ends else '–'} | {f'{ends[1]:.2f}×' if ends else '–'} |")
     path = TARGET / "benchmarks" / "events.json"
@@ -404,8 +406,9 @@ def events_section(events):
             f"| {b['crossings']} | {b['refinements']} | {b['refinements'] / b['crossings']:.1f} | "
             f"{b['samples']} | {b['steps']} | {b['evaluations']} |",
             "",
-            f"The untriggered DP45 run: {u['steps']} steps, {u['samples']} grid points "
-            f"({u['samples'] / u['steps']:.1f} per step), {u['evaluations']} evaluations of q̈, as without events.",
+            f"The untriggered DP45 run: {u['steps']} steps, {u.get('screened', 0)} of them screened, "
+            f"{u['samples']} grid points ({u['samples'] / u['steps']:.2f} per step), "
+            f"{u['evaluations']} evaluations of q̈, as without events.",
         ]
     return lines
 

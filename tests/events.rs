@@ -204,6 +204,71 @@ fn a_function_crossing_twice_within_one_step_is_found_twice() {
     }
 }
 
+/// The ball of [`twice`] thrown from 0.12 s earlier (the same parabola),
+/// by RK4 steps of 0.06 s (exact on a parabola): the crossings fall in the
+/// fourth step, `[0.06, 0.12]`, whose ends are both below the level. The
+/// steps before it are uninterrupted, so screening looks at it, sees the
+/// curvature of the three step ends it has, and searches its grid; and the
+/// untriggered steps before are screened.
+#[test]
+fn screening_searches_a_step_whose_ends_curve_towards_zero() {
+    let (start, level, exact) = twice();
+    let system = Ball::new(G, 0.0);
+    let back = 0.12;
+    let earlier = State::new(
+        -back,
+        Vector1::new(start.q.x - start.qd.x * back - G * back * back / 2.0),
+        Vector1::new(start.qd.x + G * back),
+    );
+    let events = Events::new(
+        move |s: &State<f64, 1>| [s.q.x - level],
+        [Event::record(Direction::Either)],
+    );
+    let run = |events: &Events<f64, _, 1>| {
+        let mut state = earlier;
+        let mut found = Vec::new();
+        let run = Rk4::new(0.06)
+            .advance_events(&system, &mut state, 0.12, events, |c, _| found.push(c.t))
+            .unwrap();
+        (found, run.event_stats)
+    };
+    let (found, stats) = run(&events);
+    assert_eq!(found.len(), 2, "{found:?}");
+    for (t, exact) in found.iter().zip(exact) {
+        assert!((t - exact).abs() < 1e-12, "{t} vs {exact}");
+    }
+    // Steps [−0.06, 0] and [0, 0.06] had a previous step: the first of
+    // them is far from the level for its curvature and is screened; the
+    // second ends 7.7 mm below it, curving up: searched (so is the fourth).
+    assert_eq!(stats.screened, 1, "{stats:?}");
+    // Without screening every step's grid is searched, with the same answer.
+    let (unscreened, all) = run(&events.with_screening(false));
+    assert_eq!(unscreened, found);
+    assert_eq!(all.screened, 0);
+    assert!(all.samples > stats.samples, "{all:?} vs {stats:?}");
+}
+
+/// A long untriggered run is almost entirely screened: the cost of event
+/// location there is one call of the closure per step.
+#[test]
+fn an_untriggered_run_skips_the_grid_of_almost_every_step() {
+    let system = Ball::new(G, 0.0);
+    let far = Events::new(
+        |s: &State<f64, 1>| [s.q.x + 100.0],
+        [Event::stop(Direction::Falling)],
+    );
+    let mut state = drop_state();
+    let run = DormandPrince45::new(1e-8, 1e-10)
+        .advance_events(&system, &mut state, 1.0, &far, |_, _| {})
+        .unwrap();
+    let steps = run.stats.steps;
+    assert!(run.stopped.is_none());
+    // The first step has no previous one and is searched; the rest are
+    // screened (the height's curvature is g/2, tiny against 100 m).
+    assert_eq!(run.event_stats.screened, steps - 1, "{run:?}");
+    assert_eq!(run.event_stats.samples, 4);
+}
+
 #[test]
 fn restarting_at_a_crossing_reports_it_once_or_says_it_did_not_separate() {
     let (start, level, exact) = twice();

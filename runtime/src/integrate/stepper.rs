@@ -48,6 +48,50 @@ struct Accepted<T, const N: usize, const S: usize> {
     end_slope: Derivative<T, N>,
 }
 
+/// A step just accepted, before it is kept: its start is the stepper's
+/// state, so that a step the driver searches and drops copies nothing
+/// more than a step of the run without events.
+struct Fresh<T, const N: usize, const S: usize> {
+    /// The Runge–Kutta solution (its time set to the step's end) and the
+    /// stages.
+    attempt: Attempt<T, N, S>,
+    /// The accepted state at its end (after projection).
+    end: State<T, N>,
+    h: T,
+    end_slope: Derivative<T, N>,
+}
+
+impl<T: Copy, const N: usize, const S: usize> Accepted<T, N, S> {
+    /// `fresh`, which started at `start`, kept whole.
+    fn new(start: State<T, N>, fresh: Fresh<T, N, S>) -> Self {
+        Accepted {
+            start,
+            solution: fresh.attempt.state,
+            end: fresh.end,
+            h: fresh.h,
+            stages: fresh.attempt.stages,
+            end_slope: fresh.end_slope,
+        }
+    }
+}
+
+/// The continuous extension of the step `fresh` from `start`.
+fn fresh_span<'a, T: RealField + Copy, const N: usize, const S: usize>(
+    start: &'a State<T, N>,
+    fresh: &'a Fresh<T, N, S>,
+    dense: &'a [f64; S],
+) -> Span<'a, T, N, S> {
+    let interpolant = Interpolant {
+        start,
+        end: &fresh.attempt.state,
+        h: fresh.h,
+        stages: &fresh.attempt.stages,
+        end_slope: &fresh.end_slope,
+        dense,
+    };
+    Span::new(interpolant, &fresh.end)
+}
+
 /// An integration in progress, one accepted step per [`step`](Self::step)
 /// (as diffsol's `step()`): made by an integrator's `stepper(state,
 /// t_end)`, driven by the caller, who may inspect the state, change it at
@@ -79,6 +123,10 @@ pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
     /// Per event function, the time and value its next crossing is sought
     /// from (`None`: evaluate at `state`).
     refs: Option<[(T, T); E]>,
+    /// Per event function, its time and value at the start of the last
+    /// step, when that step ended without a crossing or a state change
+    /// (the screening's third point).
+    before: Option<[(T, T); E]>,
     /// Fixed steps: the time steps are counted from, and their count (time
     /// is `anchor + n h`, not a running sum).
     anchor: (T, usize),
@@ -121,6 +169,7 @@ where
             step: None,
             pending: false,
             refs: None,
+            before: None,
             anchor: (state.t, 0),
             reported: None,
             continuing: None,
@@ -192,6 +241,7 @@ where
         self.step = None;
         self.pending = false;
         self.refs = None;
+        self.before = None;
         self.anchor = (state.t, 0);
         Ok(())
     }
@@ -217,26 +267,48 @@ where
     {
         events.validate()?;
         let mut refs = self.references(events)?;
-        if !self.pending {
+        let start = refs;
+        let fresh = !self.pending;
+        if fresh {
             if self.state.t >= self.t_end {
                 self.refs = Some(refs);
                 return Ok(StepOutcome::Finished);
             }
             // Kept whole, for `at` and the step's later crossings.
-            self.step = Some(self.take_step(system)?);
+            let fresh = self.take_step(system)?;
+            self.step = Some(Accepted::new(self.state, fresh));
             self.pending = true;
         }
+        let before = if fresh { self.before.take() } else { None };
+        self.before = None;
         // Without event functions, no continuous extension is formed.
         let found = match self.step.as_ref() {
-            Some(step) if E > 0 => events::search(
-                events,
-                &Self::span(step),
-                &mut refs,
-                self.state.t,
-                &mut self.event_stats,
-            )?,
+            Some(step) if E > 0 => {
+                let (g_end, screened) = events::screen(
+                    events,
+                    &mut refs,
+                    before.as_ref(),
+                    &step.end,
+                    &mut self.event_stats,
+                )?;
+                if screened {
+                    None
+                } else {
+                    events::search(
+                        events,
+                        &Self::span(step),
+                        &mut refs,
+                        self.state.t,
+                        g_end,
+                        &mut self.event_stats,
+                    )?
+                }
+            }
             _ => None,
         };
+        if fresh && found.is_none() {
+            self.before = Some(start);
+        }
         self.report(found, refs, events)
     }
 
@@ -266,20 +338,35 @@ where
                 self.refs = Some(refs);
                 return Ok(StepOutcome::Finished);
             }
-            let step = self.take_step(system)?;
-            let found = events::search(
+            let fresh = self.take_step(system)?;
+            let start = refs;
+            let (g_end, screened) = events::screen(
                 events,
-                &Self::span(&step),
                 &mut refs,
-                step.start.t,
+                self.before.as_ref(),
+                &fresh.end,
                 &mut self.event_stats,
             )?;
+            let found = if screened {
+                None
+            } else {
+                events::search(
+                    events,
+                    &fresh_span(&self.state, &fresh, &I::DENSE),
+                    &mut refs,
+                    self.state.t,
+                    g_end,
+                    &mut self.event_stats,
+                )?
+            };
             if found.is_some() {
-                self.step = Some(step);
+                self.before = None;
+                self.step = Some(Accepted::new(self.state, fresh));
                 self.pending = true;
                 return self.report(found, refs, events);
             }
-            self.state = step.end;
+            self.before = Some(start);
+            self.state = fresh.end;
             self.reported = None;
             self.restarted = None;
         }
@@ -386,28 +473,33 @@ where
     }
 
     /// Takes one accepted step from `state` (retrying rejected ones) and
-    /// returns it. Always inlined, as `accepted`: the step is then built
+    /// returns it, `state` still its start. Always inlined, as `accepted`: the step is then built
     /// where its caller keeps it, not copied through each call (for the
     /// 32-link chain its stages are 4 KB).
     #[inline(always)]
     fn take_step<Sys, const K: usize>(
         &mut self,
         system: &Sys,
-    ) -> Result<Accepted<T, N, S>, IntegrationError<T>>
+    ) -> Result<Fresh<T, N, S>, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let settings = *self.integrator.settings();
+        let max_steps = self.integrator.settings().max_steps;
         loop {
-            if self.stats.steps + self.stats.rejected >= settings.max_steps {
+            if self.stats.steps + self.stats.rejected >= max_steps {
                 return Err(IntegrationError::TooManySteps {
                     t: self.state.t,
-                    steps: settings.max_steps,
+                    steps: max_steps,
                 });
             }
             let k1 = match self.k1 {
                 Some(k1) => k1,
-                None => derivative(system, &self.state, &settings, &mut self.stats)?,
+                None => derivative(
+                    system,
+                    &self.state,
+                    self.integrator.settings(),
+                    &mut self.stats,
+                )?,
             };
             self.k1 = Some(k1);
             let (h, next_t, last) = self.next_step(system, &k1)?;
@@ -478,30 +570,25 @@ where
     fn accepted<Sys, const K: usize>(
         &mut self,
         system: &Sys,
-        attempt: Attempt<T, N, S>,
+        mut attempt: Attempt<T, N, S>,
         h: T,
         next_t: T,
         last: bool,
-    ) -> Result<Accepted<T, N, S>, IntegrationError<T>>
+    ) -> Result<Fresh<T, N, S>, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let settings = *self.integrator.settings();
-        let start = self.state;
+        let settings = self.integrator.settings();
+        attempt.state.t = if last { self.t_end } else { next_t };
         let mut end = attempt.state;
-        end.t = if last { self.t_end } else { next_t };
-        let solution = State {
-            t: end.t,
-            ..attempt.state
-        };
         self.stats.steps += 1;
         self.anchor.1 += 1;
-        let projected = accept(system, &mut end, &settings)?;
+        let projected = accept(system, &mut end, settings)?;
         let k_end = match attempt.fsal {
             Some(k) if !projected => k,
             // Projection moved the state, or the method is not FSAL: the
             // next step's derivative, and the Hermite end slope.
-            _ => derivative(system, &end, &settings, &mut self.stats)?,
+            _ => derivative(system, &end, settings, &mut self.stats)?,
         };
         self.k1 = Some(k_end);
         if self.integrator.fixed_step().is_none() {
@@ -514,13 +601,11 @@ where
         } else {
             self.h = Some(h);
         }
-        Ok(Accepted {
-            start,
-            solution,
+        Ok(Fresh {
             end,
             h,
-            stages: attempt.stages,
             end_slope: attempt.fsal.unwrap_or(k_end),
+            attempt,
         })
     }
 }
