@@ -95,6 +95,7 @@ macro_rules! shared_settings {
     };
 }
 
+mod accepted;
 mod controller;
 mod dense_output;
 mod embedded;
@@ -102,6 +103,7 @@ mod euler;
 pub mod events;
 mod explicit;
 mod method;
+mod screening;
 mod stepper;
 mod stick_slip;
 pub mod tableau;

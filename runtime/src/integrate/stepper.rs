@@ -2,9 +2,10 @@
 //! reports the event crossings inside it in time order, and restarts from
 //! a state changed at an event. The drivers with events are built on it.
 
+use super::accepted::{fresh_span, Accepted, Fresh};
 use super::controller::PiController;
-use super::dense_output::Interpolant;
-use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found, Span};
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found};
+use super::screening;
 use super::{accept, c, derivative, Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
@@ -33,63 +34,6 @@ struct Reported<T, const N: usize> {
     state: State<T, N>,
     /// The function's value at the right end of the crossing's bracket.
     g_right: T,
-}
-
-/// One accepted step, kept for the continuous extension.
-#[derive(Clone, Copy, Debug)]
-struct Accepted<T, const N: usize, const S: usize> {
-    start: State<T, N>,
-    /// The Runge–Kutta solution at its end (before any projection).
-    solution: State<T, N>,
-    /// The accepted state at its end (after projection).
-    end: State<T, N>,
-    h: T,
-    stages: [Derivative<T, N>; S],
-    end_slope: Derivative<T, N>,
-}
-
-/// A step just accepted, before it is kept: its start is the stepper's
-/// state, so that a step the driver searches and drops copies nothing
-/// more than a step of the run without events.
-struct Fresh<T, const N: usize, const S: usize> {
-    /// The Runge–Kutta solution (its time set to the step's end) and the
-    /// stages.
-    attempt: Attempt<T, N, S>,
-    /// The accepted state at its end (after projection).
-    end: State<T, N>,
-    h: T,
-    end_slope: Derivative<T, N>,
-}
-
-impl<T: Copy, const N: usize, const S: usize> Accepted<T, N, S> {
-    /// `fresh`, which started at `start`, kept whole.
-    fn new(start: State<T, N>, fresh: Fresh<T, N, S>) -> Self {
-        Accepted {
-            start,
-            solution: fresh.attempt.state,
-            end: fresh.end,
-            h: fresh.h,
-            stages: fresh.attempt.stages,
-            end_slope: fresh.end_slope,
-        }
-    }
-}
-
-/// The continuous extension of the step `fresh` from `start`.
-fn fresh_span<'a, T: RealField + Copy, const N: usize, const S: usize>(
-    start: &'a State<T, N>,
-    fresh: &'a Fresh<T, N, S>,
-    dense: &'a [f64; S],
-) -> Span<'a, T, N, S> {
-    let interpolant = Interpolant {
-        start,
-        end: &fresh.attempt.state,
-        h: fresh.h,
-        stages: &fresh.attempt.stages,
-        end_slope: &fresh.end_slope,
-        dense,
-    };
-    Span::new(interpolant, &fresh.end)
 }
 
 /// An integration in progress, one accepted step per [`step`](Self::step)
@@ -206,7 +150,7 @@ where
     /// outside it (or before the first step, or after a state change).
     pub fn at(&self, t: T) -> Option<State<T, N>> {
         let step = self.step.as_ref()?;
-        (t >= step.start.t && t <= step.end.t).then(|| Self::span(step).at(t))
+        (t >= step.start.t && t <= step.end.t).then(|| step.span(&I::DENSE).at(t))
     }
 
     /// Replaces the state (at an event: the impact law, a reset) and
@@ -284,7 +228,7 @@ where
         // Without event functions, no continuous extension is formed.
         let found = match self.step.as_ref() {
             Some(step) if E > 0 => {
-                let (g_end, screened) = events::screen(
+                let (g_end, screened) = screening::screen(
                     events,
                     &mut refs,
                     before.as_ref(),
@@ -296,7 +240,7 @@ where
                 } else {
                     events::search(
                         events,
-                        &Self::span(step),
+                        &step.span(&I::DENSE),
                         &mut refs,
                         self.state.t,
                         g_end,
@@ -340,7 +284,7 @@ where
             }
             let fresh = self.take_step(system)?;
             let start = refs;
-            let (g_end, screened) = events::screen(
+            let (g_end, screened) = screening::screen(
                 events,
                 &mut refs,
                 self.before.as_ref(),
@@ -421,7 +365,7 @@ where
                 StepOutcome::Step
             });
         };
-        let span = Self::span(step);
+        let span = step.span(&I::DENSE);
         if let Some((event, rising, t)) = self.restarted {
             let tolerance = events.time_tolerance(&span);
             if found.index == event && found.rising == rising && found.left - t <= tolerance {
@@ -458,18 +402,6 @@ where
             },
             action,
         }))
-    }
-
-    fn span(step: &Accepted<T, N, S>) -> Span<'_, T, N, S> {
-        let interpolant = Interpolant {
-            start: &step.start,
-            end: &step.solution,
-            h: step.h,
-            stages: &step.stages,
-            end_slope: &step.end_slope,
-            dense: &I::DENSE,
-        };
-        Span::new(interpolant, &step.end)
     }
 
     /// Takes one accepted step from `state` (retrying rejected ones) and
