@@ -208,7 +208,8 @@ impl Num {
     /// The exact value, for a rational of either size.
     fn exact(self) -> Option<BigRational> {
         match self {
-            Num::Rational(n, d) => Some(BigRational::new(BigInt::from(n), BigInt::from(d))),
+            // Already reduced, denominator positive: no gcd to compute.
+            Num::Rational(n, d) => Some(BigRational::new_raw(BigInt::from(n), BigInt::from(d))),
             Num::Big(i) => Some(big_value(i)),
             Num::Float(_) => None,
         }
@@ -229,11 +230,14 @@ impl Num {
         self == Num::ONE || matches!(self, Num::Float(f) if f == 1.0)
     }
 
-    /// Whether this is negative.
+    /// Whether this is negative (from the sign alone: emission asks this
+    /// of every term, and a rational past 2⁵³ once went through a big
+    /// rational's reduction and conversion to answer it).
     pub fn is_negative(self) -> bool {
         match self {
-            Num::Big(i) => big_value(i).is_negative(),
-            _ => self.to_f64() < 0.0,
+            Num::Rational(n, _) => n < 0, // the denominator is positive
+            Num::Big(i) => BIG.with(|t| t.borrow().values[i as usize].is_negative()),
+            Num::Float(f) => f < 0.0,
         }
     }
 

@@ -408,7 +408,7 @@ fn angles(g: &mut Graph, texts: &[String; 3]) -> V3 {
         let close = (value - k * quarter).abs() <= 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-9);
         if k != 0.0 && digits >= 5 && !text.contains(['e', 'E']) && close {
             let pi = g.num(Num::Float(std::f64::consts::PI));
-            let half = g.num(Num::Rational(k as i128, 2));
+            let half = g.num(Num::ratio(k as i128, 2)); // reduced: k may be even
             g.mul2(half, pi)
         } else {
             number(g, text)
