@@ -11,10 +11,14 @@
 //!    rank-revealing `LDLᵀ` exactly as for a constant `M`
 //!    ([`crate::emit::ldlt`]), with the same after-the-fact rank check.
 //!
+//! A semi-definite `M` is solved the same way through its auxiliary mass
+//! `M + s AᵀA` and forces `F + s Aᵀb` ([`auxiliary`]).
+//!
 //! The Jacobian ([`jacobian`]) reuses both factorizations: `tangent_rhs`
 //! fills the right-hand sides, one column each, and one loop solves every
 //! column through `L D Lᵀ` of `M` and of `S`.
 
+mod auxiliary;
 pub(in crate::emit) mod jacobian;
 pub(in crate::emit) mod step;
 
@@ -122,13 +126,24 @@ impl<'a> FactoredSolve<'a> {
                 #non_finite
             }
         };
+        // A semi-definite M: the auxiliary mass and forces, from M, F, A, b.
+        let auxiliary = f
+            .auxiliary
+            .is_some()
+            .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
         let factor_mass = mass.factor();
         // a = M⁻¹ F.
         let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
-        let f_rhs: Vec<Option<TokenStream>> = (0..ctx.n)
-            .zip(&sys.forces)
-            .map(|(i, &e)| {
-                nonzero(e).then(|| {
+        let forces_nonzero: Vec<bool> = if f.auxiliary.is_some() {
+            auxiliary::forces_nonzero(ctx)
+        } else {
+            sys.forces.iter().map(|&e| nonzero(e)).collect()
+        };
+        let f_rhs: Vec<Option<TokenStream>> = forces_nonzero
+            .iter()
+            .enumerate()
+            .map(|(i, &nz)| {
+                nz.then(|| {
                     let name = Context::local("f", i);
                     quote!(#name)
                 })
@@ -139,7 +154,9 @@ impl<'a> FactoredSolve<'a> {
         let gram_entries = gram_entries(ctx, f, &gram);
         let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
         let residual_code = residual_code(ctx, &residuals, &a_bound, &unconstrained);
-        let corrected = (correction && k > 0).then(|| corrected(&residuals, &[]));
+        // (The auxiliary prelude corrected `b` itself.)
+        let corrected =
+            (correction && k > 0 && f.auxiliary.is_none()).then(|| corrected(&residuals, &[]));
         let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
         let factor_gram = gram.factor();
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
@@ -149,6 +166,7 @@ impl<'a> FactoredSolve<'a> {
                 #preamble
                 #(#bindings)*
                 #check
+                #auxiliary
                 #factor_mass
                 #solve_a
                 #solve_w
@@ -163,6 +181,7 @@ impl<'a> FactoredSolve<'a> {
                 #preamble
                 #(#bindings)*
                 #check
+                #auxiliary
                 #factor_mass
                 #solve_w
                 #gram_entries
@@ -188,7 +207,8 @@ fn a_entry(r: usize, i: usize) -> TokenStream {
 /// The locals bound from the model's expressions: `M`'s lower pattern,
 /// `F` (with `dynamics`), `A`'s nonzeros, `b` (with `dynamics`); and how
 /// many of them are `M` and `F`, which come first (the finiteness check
-/// reads them).
+/// reads them). For a semi-definite `M`, `M` and `F` under their own
+/// names and `AᵀA` ([`auxiliary::named_mass_and_forces`]).
 fn named_inputs(
     ctx: &Context,
     f: &Factored,
@@ -196,20 +216,26 @@ fn named_inputs(
     dynamics: bool,
 ) -> (Vec<(Ident, Id)>, usize) {
     let sys = &ctx.eq.system;
-    let mut named: Vec<(Ident, Id)> = Vec::new();
-    for i in 0..ctx.n {
-        for j in 0..=i {
-            if f.mass.nonzero[i][j] {
-                named.push((mass.entry(i, j), sys.mass[i][j]));
+    let (mut named, mass_and_forces) = match &f.auxiliary {
+        Some(aux) => auxiliary::named_mass_and_forces(ctx, aux, dynamics),
+        None => {
+            let mut named: Vec<(Ident, Id)> = Vec::new();
+            for i in 0..ctx.n {
+                for j in 0..=i {
+                    if f.mass.nonzero[i][j] {
+                        named.push((mass.entry(i, j), sys.mass[i][j]));
+                    }
+                }
             }
+            if dynamics {
+                for (i, &e) in sys.forces.iter().enumerate() {
+                    named.push((Context::local("f", i), e));
+                }
+            }
+            let count = named.len();
+            (named, count)
         }
-    }
-    if dynamics {
-        for (i, &e) in sys.forces.iter().enumerate() {
-            named.push((Context::local("f", i), e));
-        }
-    }
-    let mass_and_forces = named.len();
+    };
     for (r, row) in ctx.eq.a.iter().enumerate() {
         for (i, &e) in row.iter().enumerate() {
             if !sys.graph.is_zero(e) {
