@@ -23,6 +23,7 @@ pub(in crate::emit) mod jacobian;
 pub(in crate::emit) mod step;
 
 use crate::emit::body::Body;
+use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
@@ -369,11 +370,12 @@ fn motion(
 /// `gauss` for a configuration-dependent `M`.
 pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let gauss = FactoredSolve::new(ctx, f, true);
-    let to_multipliers = &gauss.to_multipliers;
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());
     // The rank decision, checked after the fact, as for a constant M.
     let value = checked_motion(ctx, &gauss.gram, &acc, &force, None, None);
+    // A robot's solve is thousands of `let`s: nested no deeper than a block.
+    let to_multipliers = bounded(gauss.to_multipliers.clone(), &value);
     let signature = ctx.gauss_signature();
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
