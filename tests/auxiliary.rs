@@ -5,12 +5,12 @@
 //! `LDLᵀ` of `S`, and the constraint force as `M q̈ − F`) on `q̈` and on the
 //! constraint force, with and without a correction `db` of `b`, and to
 //! `A q̈ = b`: a free rigid body and the heavy top (`constrained::models`),
-//! a free body pinned at a point and a table on four feet (redundant) of
-//! `contacts`, an arm carrying a ball on a spherical joint and a floating
+//! a free body pinned at a point, a table on four feet (redundant) and two
+//! free bodies joined at a point of `contacts`, an arm carrying a ball on a spherical joint and a floating
 //! torso with an arm of `spherical`. The quadruped's cases are in
 //! `quadruped`.
 
-use crate::contacts::{PinnedTop, TableOnPlane};
+use crate::contacts::{Joined, PinnedTop, TableOnPlane};
 use crate::spherical::{ArmAndBall, FloatingBodies};
 use constrained::__private::{gauss_dense, Generated};
 use constrained::floating::FreeMotion;
@@ -31,8 +31,10 @@ pub(crate) struct Gaps {
 }
 
 /// The generated `gauss` against `gauss_dense` at every state, plain and
-/// with the correction `db = (0.3, −0.2, 0.1, …)` of `b` (the Baumgarte
-/// term of `acceleration_corrected`).
+/// with a correction `db` of `b` (the Baumgarte term of
+/// `acceleration_corrected`): `db = A δ`, `δ = (0.3, −0.2, 0.1, …)`, in the
+/// range of `A` as a Baumgarte term of consistent constraints is, so that
+/// a redundant set stays consistent.
 pub(crate) fn against_dense<S, const N: usize, const K: usize>(
     system: &S,
     states: &[State<f64, N>],
@@ -40,14 +42,15 @@ pub(crate) fn against_dense<S, const N: usize, const K: usize>(
 where
     S: Generated<f64, N, K>,
 {
-    let db = SVector::<f64, K>::from_fn(|i, _| [0.3, -0.2, 0.1][i % 3]);
+    let delta = SVector::<f64, N>::from_fn(|i, _| [0.3, -0.2, 0.1][i % 3]);
     let mut gaps = Gaps::default();
     for s in states {
+        let db = system.constraint_matrices(&s.q, &s.qd, s.t).0 * delta;
         for correction in [None, Some(&db)] {
             let (qdd, force) = Generated::gauss(system, &s.q, &s.qd, s.t, correction)
                 .expect("the generated solve answers");
-            let (dense_qdd, dense_force) = gauss_dense(system, &s.q, &s.qd, s.t, correction)
-                .expect("the dense solve answers");
+            let (dense_qdd, dense_force) =
+                gauss_dense(system, &s.q, &s.qd, s.t, correction).expect("the dense solve answers");
             let forces = system.forces(&s.q, &s.qd, s.t);
             gaps.acceleration = gaps
                 .acceleration
@@ -141,7 +144,9 @@ fn contacts_on_a_free_body_solve_as_the_dense_reference() {
             let (e, w) = attitude(&mut x);
             let motion = FreeMotion {
                 position: Vector3::zeros(),
-                orientation: UnitQuaternion::from_quaternion(Quaternion::new(e[0], e[1], e[2], e[3])),
+                orientation: UnitQuaternion::from_quaternion(Quaternion::new(
+                    e[0], e[1], e[2], e[3],
+                )),
                 linear: Vector3::zeros(),
                 angular: w,
             };
@@ -168,6 +173,42 @@ fn contacts_on_a_free_body_solve_as_the_dense_reference() {
     assert_close(
         "TableOnPlane (redundant)",
         &against_dense::<_, 7, 5>(&table, &resting),
+    );
+    // Two free bodies joined at a point: b's point on a's, b's velocity
+    // there matching a's.
+    let joined: Vec<State<f64, 14>> = (0..24)
+        .map(|_| {
+            let (ea, wa) = attitude(&mut x);
+            let (eb, wb) = attitude(&mut x);
+            let (ra, rb) = (
+                UnitQuaternion::from_quaternion(Quaternion::new(ea[0], ea[1], ea[2], ea[3])),
+                UnitQuaternion::from_quaternion(Quaternion::new(eb[0], eb[1], eb[2], eb[3])),
+            );
+            let a = FreeMotion {
+                position: Vector3::from_fn(|_, _| uniform(&mut x)),
+                orientation: ra,
+                linear: Vector3::from_fn(|_, _| uniform(&mut x)),
+                angular: wa,
+            };
+            let (pa, pb) = (
+                ra * Vector3::new(0.3, 0.0, 0.0),
+                rb * Vector3::new(0.0, 0.0, -0.2),
+            );
+            let b = FreeMotion {
+                position: a.position + pa - pb,
+                orientation: rb,
+                linear: a.linear + a.angular.cross(&pa) - wb.cross(&pb),
+                angular: wb,
+            };
+            let (mut q, mut qd) = (SVector::zeros(), SVector::zeros());
+            a.write(0, &mut q, &mut qd).expect("a at 0");
+            b.write(7, &mut q, &mut qd).expect("b at 7");
+            State::new(0.0, q, qd)
+        })
+        .collect();
+    assert_close(
+        "Joined",
+        &against_dense::<_, 14, 5>(&Joined::new(), &joined),
     );
 }
 
@@ -198,7 +239,9 @@ fn trees_through_quaternions_solve_as_the_dense_reference() {
             let (e, w) = attitude(&mut x);
             let motion = FreeMotion {
                 position: Vector3::from_fn(|_, _| uniform(&mut x)),
-                orientation: UnitQuaternion::from_quaternion(Quaternion::new(e[0], e[1], e[2], e[3])),
+                orientation: UnitQuaternion::from_quaternion(Quaternion::new(
+                    e[0], e[1], e[2], e[3],
+                )),
                 linear: Vector3::from_fn(|_, _| uniform(&mut x)),
                 angular: w,
             };
