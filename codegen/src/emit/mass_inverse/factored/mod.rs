@@ -86,8 +86,6 @@ impl<'a> FactoredSolve<'a> {
         let k = ctx.k;
         let dynamics = matches!(scope, Scope::Dynamics { .. });
         let correction = matches!(scope, Scope::Dynamics { gauss: true });
-        let sys = &ctx.eq.system;
-        let nonzero = |e: Id| !sys.graph.is_zero(e);
         let bail = |error: TokenStream| match scope {
             Scope::Dynamics { gauss: true } => ctx.gauss_error(error),
             Scope::Dynamics { gauss: false } => {
@@ -135,22 +133,7 @@ impl<'a> FactoredSolve<'a> {
         let factor_mass = mass.factor();
         // a = M⁻¹ F.
         let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
-        let forces_nonzero: Vec<bool> = if f.auxiliary.is_some() {
-            auxiliary::forces_nonzero(ctx)
-        } else {
-            sys.forces.iter().map(|&e| nonzero(e)).collect()
-        };
-        let f_rhs: Vec<Option<TokenStream>> = forces_nonzero
-            .iter()
-            .enumerate()
-            .map(|(i, &nz)| {
-                nz.then(|| {
-                    let name = Context::local("f", i);
-                    quote!(#name)
-                })
-            })
-            .collect();
-        let (solve_a, a_bound) = mass.solve_sparse(&f_rhs, "ay", &unconstrained);
+        let (solve_a, a_bound) = mass.solve_sparse(&forces_rhs(ctx, f), "ay", &unconstrained);
         let solve_w = weighted_columns(ctx, f, &mass);
         let gram_entries = gram_entries(ctx, f, &gram);
         let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
@@ -197,6 +180,32 @@ impl<'a> FactoredSolve<'a> {
             force,
         }
     }
+}
+
+/// The right-hand side of `a = M⁻¹ F`: the locals `__f{i}` that can be
+/// nonzero (of `F`, or of the auxiliary `F + s Aᵀb`).
+fn forces_rhs(ctx: &Context, f: &Factored) -> Vec<Option<TokenStream>> {
+    let g = &ctx.eq.system.graph;
+    let nonzero: Vec<bool> = if f.auxiliary.is_some() {
+        auxiliary::forces_nonzero(ctx)
+    } else {
+        ctx.eq
+            .system
+            .forces
+            .iter()
+            .map(|&e| !g.is_zero(e))
+            .collect()
+    };
+    nonzero
+        .iter()
+        .enumerate()
+        .map(|(i, &nz)| {
+            nz.then(|| {
+                let name = Context::local("f", i);
+                quote!(#name)
+            })
+        })
+        .collect()
 }
 
 /// The local `__a{r}_{i}` holding entry `(r, i)` of `A`.
