@@ -10,6 +10,7 @@ mod common;
 
 mod appell_eq30;
 mod appell_eq32;
+mod auxiliary;
 mod bodies;
 mod contacts;
 mod dense_output;

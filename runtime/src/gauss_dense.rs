@@ -1,8 +1,7 @@
-//! Gauss's principle solved densely at run time: what generated code calls
-//! for a positive semi-definite `M` (through its auxiliary mass), and the
-//! reference the tests hold the generated solve of a configuration-
-//! dependent `M` to. Its rank decision is checked like the generated
-//! solver's.
+//! Gauss's principle solved densely at run time: the reference the tests
+//! hold the generated solves of a configuration-dependent `M` and of a
+//! positive semi-definite one (through its auxiliary mass) to. Its rank
+//! decision is checked like the generated solver's.
 
 use crate::generated::{effective_mass, Generated, Motion};
 use crate::inverse::PivotedLdlt;

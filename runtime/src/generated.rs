@@ -2,9 +2,9 @@
 //! rather than pasted into every system (serde's `__private`): literal
 //! conversion, the [`Generated`] trait from which every
 //! [`ConstrainedSystem`](crate::ConstrainedSystem) method follows, and the
-//! effective mass of a semi-definite `M`. The solvers that cannot be
-//! specialised at compile time live in `gauss_dense` (a configuration-dependent
-//! `M(q)`) and `rank` (the checked rank decision, the Moore–Penrose form).
+//! effective mass of a semi-definite `M`. The dense solves live in
+//! `gauss_dense` (the reference the generated ones are tested against) and
+//! `rank` (the checked rank decision, the Moore–Penrose form).
 //! Reached through the hidden path `constrained::__private`; not part of
 //! the public API.
 

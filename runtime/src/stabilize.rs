@@ -130,14 +130,23 @@ where
     let position = |i: usize| S::CONSTRAINT_LEVELS[i] == ConstraintLevel::Position;
     let all_position = (0..K).all(position);
     // The metric of the dense steps, factored when first needed: M, or
-    // where M is only positive semi-definite (a rigid body in quaternions)
-    // the auxiliary M + s AᵀA, positive definite wherever [M; A] has full
-    // column rank.
+    // where M is only positive semi-definite (a rigid body in quaternions;
+    // or M fails to factor) the auxiliary M + s AᵀA, positive definite
+    // wherever [M; A] has full column rank. A semi-definite M is never
+    // factored itself: its Cholesky factorization can succeed by rounding,
+    // with a pivot at rounding level along the singular direction, and
+    // the steps in that metric are noise there (a Newton iteration that
+    // stalls above the tolerance).
     let mut metric: Option<nalgebra::linalg::Cholesky<T, nalgebra::Const<N>>> = None;
     let mut dense = |s: &State<T, N>, r: &SVector<T, K>, j: &SMatrix<T, K, N>| {
         if metric.is_none() {
             let m = system.mass_matrix(s);
-            metric = match nalgebra::linalg::Cholesky::new(m) {
+            let own = if S::SEMIDEFINITE_MASS {
+                None
+            } else {
+                nalgebra::linalg::Cholesky::new(m)
+            };
+            metric = match own {
                 Some(chol) => Some(chol),
                 None => {
                     let (a, _) = system.constraint_matrices(s);

@@ -20,6 +20,13 @@ pub trait ConstrainedSystem<T: RealField + Copy, const N: usize, const K: usize>
     /// states (measured by the macro); 0 unless some rows depend on the
     /// others on the constraint surface.
     const REDUNDANCY: usize = 0;
+    /// Whether `M` is only positive semi-definite (singular everywhere, a
+    /// body in unit quaternions), so that the projections' metric is the
+    /// auxiliary mass `M + s AᵀA` (as the accelerations' solve): a
+    /// Cholesky factorization of `M` itself may succeed by rounding, with a
+    /// pivot at rounding level, and its steps are then noise along the
+    /// singular direction.
+    const SEMIDEFINITE_MASS: bool = false;
 
     forwarded_methods!(system_declarations);
     /// `q̈` by the generalized-inverse equation (eq. 24–26). `Err` only when
@@ -111,6 +118,7 @@ where
 {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K] = <S as Generated<T, N, K>>::CONSTRAINT_LEVELS;
     const REDUNDANCY: usize = K - <S as Generated<T, N, K>>::GENERIC_RANK;
+    const SEMIDEFINITE_MASS: bool = <S as Generated<T, N, K>>::SEMIDEFINITE_MASS;
 
     forwarded_methods!(system_definitions);
     #[inline]

@@ -417,12 +417,17 @@ fn fill(structure: &Structure) -> usize {
 fn factored(w: &mut String, f: &Factored, coordinates: &[String], rank: usize) {
     let n = f.mass.len();
     let weighted = f.weighted.iter().flatten().filter(|&&x| x).count();
+    let (m, forces, lead) = if f.auxiliary.is_some() {
+        ("M_A", "F_A", "")
+    } else {
+        ("M", "F", "M depends on q and is not diagonal: ")
+    };
     let _ = writeln!(
         w,
-        "  M depends on q and is not diagonal: P M Pᵀ = L D Lᵀ on its compile-time pattern, \
+        "  {lead}P {m} Pᵀ = L D Lᵀ on its compile-time pattern, \
          eliminating coordinates in the order {}\n  ({} of {} subdiagonal entries of L nonzero); \
-         a pivot dⱼ ≤ 0 means M is not positive definite there (Err, as Cholesky fails);\n  \
-         a = M⁻¹ F and W = M⁻¹ Aᵀ by sparse substitution ({weighted} of {} entries of W nonzero), \
+         a pivot dⱼ ≤ 0 means {m} is not positive definite there (Err, as Cholesky fails);\n  \
+         a = {m}⁻¹ {forces} and W = {m}⁻¹ Aᵀ by sparse substitution ({weighted} of {} entries of W nonzero), \
          S = A W, r = b − A a",
         order(&f.mass, |i| coordinates[i].clone()),
         fill(&f.mass),
@@ -451,24 +456,23 @@ fn generalized_inverse(
         w,
         "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  S λ = r,  S = A M⁻¹ Aᵀ,  r = b − A a,  a = M⁻¹ F:"
     );
-    if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
-        let _ = writeln!(
-            w,
-            "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
-             Udwadia & Schutte's auxiliary system M_A = M + s AᵀA, F_A = F + s Aᵀ b (s = tr M / ‖A‖²),\n  \
-             which has the same q̈, is solved at run time: M_A = L Lᵀ (Cholesky), a = M_A⁻¹ F_A,\n  \
-             λ by pivoted LDLᵀ of A M_A⁻¹ Aᵀ (rows with sin²θ < max(1e-6, 64ε) dropped),\n  \
-             q̈ = a + M_A⁻¹ Aᵀ λ,  Fᶜ = M q̈ − F."
-        );
-        return;
-    }
     let d = match &eq.mass_inverse {
         MassInverse::Symbolic(d) => d,
         MassInverse::Factored(f) => {
             factored(w, f, coordinates, rank);
             return;
         }
-        MassInverse::Auxiliary => return,
+        MassInverse::Auxiliary(f) => {
+            let _ = writeln!(
+                w,
+                "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
+                 Udwadia & Schutte's auxiliary system M_A = M + s AᵀA, F_A = F + s Aᵀ b (s = tr M / ‖A‖², 1 where\n  \
+                 either is not positive) has the same q̈ and, as A q̈ = b, the same λ; it is solved for M_A, F_A\n  \
+                 on the pattern of M + AᵀA:"
+            );
+            factored(w, f, coordinates, rank);
+            return;
+        }
     };
     for (c, &a) in coordinates.iter().zip(&d.unconstrained) {
         let _ = writeln!(w, "  a[{c}] = {}", p.print(a));

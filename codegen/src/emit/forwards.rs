@@ -160,7 +160,7 @@ pub(super) fn generated_impl(ctx: &Context) -> TokenStream {
     let level = ctx.path(quote!(ConstraintLevel));
     let methods = forwards().filter_map(|row| forward(ctx, &row));
     let step = mass_inverse::step(ctx);
-    let semidefinite = matches!(ctx.eq.mass_inverse, MassInverse::Auxiliary).then(|| {
+    let semidefinite = matches!(ctx.eq.mass_inverse, MassInverse::Auxiliary(_)).then(|| {
         quote!(
             const SEMIDEFINITE_MASS: bool = true;
         )

@@ -14,13 +14,15 @@
 //!   runtime's trait, from one table), and the shared value of the
 //!   solve (`solve`: `checked_motion`, `corrected`);
 //! - `mass_inverse/` holds one module per way of applying `M⁻¹`
-//!   (`symbolic`, `factored`, `auxiliary`), each with its solver, Jacobian
-//!   and step; its `mod.rs` is the only `match` on the strategy.
+//!   (`symbolic`, `factored`, the latter also through a semi-definite `M`'s
+//!   auxiliary mass), each with its solver, Jacobian and step; its `mod.rs` is the only `match` on the strategy.
 //!
-//! Below both: `body` (expressions to tokens), `context` (types, names,
-//! signatures), `ldlt` (the structured factorization), `subproducts`.
+//! Below both: `body` (expressions to tokens), `chunks` (long bodies in
+//! blocks), `context` (types, names, signatures), `ldlt` (the structured
+//! factorization), `subproducts`.
 
 mod body;
+mod chunks;
 mod context;
 pub mod derivation;
 mod derivation_bodies;

@@ -8,8 +8,10 @@
 //! `S`, `r` and `W = M⁻¹ Aᵀ` are built as expressions: constant masses fold
 //! into them, no factorization of `M` runs, and the structural zeros of `A`
 //! make structural zeros of `S`, which the factorization pattern computed
-//! here skips. Otherwise (`M(q)` full) `M` is factorized at run time
-//! (Cholesky) and only `A`, `b`, `M`, `F` are emitted.
+//! here skips. Otherwise (`M(q)` full) `M` is factored in generated code
+//! on its compile-time pattern ([`Factored`]); a positive semi-definite `M`
+//! (singular everywhere) the same way through its auxiliary mass
+//! `M + s AᵀA`, whose pattern is `M`'s and `AᵀA`'s ([`Auxiliary`]).
 
 use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
@@ -24,10 +26,12 @@ pub enum MassInverse {
     /// compile-time pattern, then `W = M⁻¹ Aᵀ` and `S = A W` on theirs.
     Factored(Box<Factored>),
     /// `M` only positive semi-definite (singular at every sampled point,
-    /// e.g. a rigid body in unit quaternions): at run time Udwadia &
-    /// Schutte's auxiliary system `M + s AᵀA`, `F + s Aᵀb`, which has the
-    /// same accelerations wherever `[M; A]` has full column rank.
-    Auxiliary,
+    /// e.g. a rigid body in unit quaternions): Udwadia & Schutte's
+    /// auxiliary system `M + s AᵀA`, `F + s Aᵀb`, which has the same
+    /// accelerations wherever `[M; A]` has full column rank, factored in
+    /// generated code as [`MassInverse::Factored`] on the pattern of
+    /// `M + AᵀA` (the `Factored`'s `auxiliary` is set).
+    Auxiliary(Box<Factored>),
 }
 
 impl MassInverse {
@@ -42,7 +46,7 @@ impl MassInverse {
     pub fn fallible(&self) -> bool {
         match self {
             MassInverse::Symbolic(d) => !d.known_positive,
-            MassInverse::Factored(_) | MassInverse::Auxiliary => true,
+            MassInverse::Factored(_) | MassInverse::Auxiliary(_) => true,
         }
     }
 }
@@ -57,18 +61,60 @@ pub struct Factored {
     pub weighted: Vec<Vec<bool>>,
     /// The pattern of `S = A W`, its order and factor pattern.
     pub gram: Structure,
+    /// For a semi-definite `M`: the terms of its auxiliary mass, whose
+    /// pattern `mass` then is (`M`'s and `AᵀA`'s).
+    pub auxiliary: Option<Auxiliary>,
+}
+
+/// The terms of Udwadia & Schutte's auxiliary mass `M + s AᵀA` that are
+/// expressions; the scale `s = tr M / ‖A‖²_F` (1 where either is not
+/// positive, as the runtime's `auxiliary_mass`) and `F + s Aᵀ(b + db)`
+/// (with `acceleration_corrected`'s correction `db`, so that the
+/// auxiliary multipliers are the actual system's) are formed in the
+/// generated code from the bound entries.
+pub struct Auxiliary {
+    /// `AᵀA`, n × n, symmetric (entry (j, i) is the node of (i, j)); each
+    /// entry sums only the rows where both of `A`'s entries are
+    /// structurally nonzero (0 where none is), and `‖A‖²_F = tr AᵀA`.
+    pub normal: Vec<Vec<Id>>,
+}
+
+impl Auxiliary {
+    fn new(g: &mut Graph, a: &[Vec<Id>], n: usize) -> Self {
+        let zero = g.int(0);
+        let mut normal = vec![vec![zero; n]; n];
+        for i in 0..n {
+            for j in 0..=i {
+                let pairs: Vec<(Id, Id)> = a
+                    .iter()
+                    .filter(|row| !g.is_zero(row[i]) && !g.is_zero(row[j]))
+                    .map(|row| (row[i], row[j]))
+                    .collect();
+                let terms: Vec<Id> = pairs.into_iter().map(|(x, y)| g.mul2(x, y)).collect();
+                let e = g.add(&terms);
+                normal[i][j] = e;
+                normal[j][i] = e;
+            }
+        }
+        Auxiliary { normal }
+    }
 }
 
 impl Factored {
-    fn new(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>]) -> Self {
+    /// The structure for the matrix factored: `M`, or for `auxiliary` the
+    /// auxiliary mass (nonzero where `M` or `AᵀA` is).
+    fn new(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>], auxiliary: Option<Auxiliary>) -> Self {
         let (n, k) = (mass.len(), a.len());
+        let nonzero = |i: usize, j: usize| {
+            let (i, j) = (i.max(j), i.min(j));
+            !g.is_zero(mass[i][j])
+                || auxiliary
+                    .as_ref()
+                    .is_some_and(|x| !g.is_zero(x.normal[i][j]))
+        };
         let mass = Structure::new(
             (0..n)
-                .map(|i| {
-                    (0..n)
-                        .map(|j| !g.is_zero(mass[i.max(j)][i.min(j)]))
-                        .collect()
-                })
+                .map(|i| (0..n).map(|j| nonzero(i, j)).collect())
                 .collect(),
         );
         let mut weighted = vec![vec![false; k]; n];
@@ -91,6 +137,7 @@ impl Factored {
             mass,
             weighted,
             gram,
+            auxiliary,
         }
     }
 }
@@ -169,12 +216,13 @@ pub fn build(
 ) -> MassInverse {
     let n = mass.len();
     if singular_everywhere(g, mass) {
-        return MassInverse::Auxiliary;
+        let auxiliary = Auxiliary::new(g, a, n);
+        return MassInverse::Auxiliary(Box::new(Factored::new(g, mass, a, Some(auxiliary))));
     }
     let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
     let Some((inverse, masses, known_positive)) = symbolic_inverse(g, mass, diagonal, zero) else {
-        return MassInverse::Factored(Box::new(Factored::new(g, mass, a)));
+        return MassInverse::Factored(Box::new(Factored::new(g, mass, a, None)));
     };
     // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a
     // common mass μ).

@@ -63,7 +63,7 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
             .map(|s| eval_a(eq, s))
             .collect()
     };
-    if matches!(eq.mass_inverse, MassInverse::Auxiliary) {
+    if matches!(eq.mass_inverse, MassInverse::Auxiliary(_)) {
         completes_the_mass(eq, &states)?;
     }
     let rank = matrices

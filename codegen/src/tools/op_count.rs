@@ -169,6 +169,11 @@ fn collect<'a>(
 ) -> Option<()> {
     for stmt in stmts {
         match stmt {
+            // A block of a long body (`crate::emit::chunks`): its bindings
+            // are the ones the names it exports resolve to.
+            Stmt::Local(local) if exported_block(local).is_some() => {
+                collect(exported_block(local)?, bindings, result)?;
+            }
             Stmt::Local(local) => {
                 let mut names = Vec::new();
                 pattern_names(&local.pat, &mut names)?;
@@ -189,6 +194,42 @@ fn collect<'a>(
         }
     }
     Some(())
+}
+
+/// The statements of `let (a, b, …) = { …; (a, b, …) };`, a block of a
+/// long body exporting the names it binds (`crate::emit::chunks`).
+fn exported_block(local: &syn::Local) -> Option<&[Stmt]> {
+    let Pat::Tuple(pattern) = &local.pat else {
+        return None;
+    };
+    let Expr::Block(block) = &*local.init.as_ref()?.expr else {
+        return None;
+    };
+    let Some(Stmt::Expr(Expr::Tuple(value), None)) = block.block.stmts.last() else {
+        return None;
+    };
+    let names = |elems: Vec<Option<String>>| elems.into_iter().collect::<Option<Vec<String>>>();
+    let bound = names(
+        pattern
+            .elems
+            .iter()
+            .map(|p| match p {
+                Pat::Ident(p) => Some(p.ident.to_string()),
+                _ => None,
+            })
+            .collect(),
+    )?;
+    let read = names(
+        value
+            .elems
+            .iter()
+            .map(|e| match e {
+                Expr::Path(p) => p.path.get_ident().map(ToString::to_string),
+                _ => None,
+            })
+            .collect(),
+    )?;
+    (bound == read).then_some(&block.block.stmts[..block.block.stmts.len() - 1])
 }
 
 /// The fast path's value `__F::stands(q̈, move || Fᶜ)` → `q̈`.
@@ -394,6 +435,23 @@ mod tests {
             }
         );
         assert_eq!(ops.total(), 7);
+        // The same body with its first lines in an exporting block
+        // (`crate::emit::chunks`) counts the same.
+        let grouped = count(
+            "let (x, y, __t0,) = {
+                 let [[x, y]] = q.data.0;
+                 let __t0 = x * y + t.sin();
+                 let __unused = x / y / y;
+                 (x, y, __t0,)
+             };
+             let __f = -__t0 * x;
+             __F::stands(
+                 V::from_array_storage(ArrayStorage([[__t0, __f * __f]])),
+                 move || x * x * x,
+             )",
+        )
+        .expect("straight-line");
+        assert_eq!(grouped.total(), 6);
     }
 
     #[test]

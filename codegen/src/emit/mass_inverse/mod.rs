@@ -7,14 +7,15 @@
 //!   constant);
 //! - `factored`: a configuration-dependent `M`, factored in generated code
 //!   on its compile-time pattern;
-//! - `auxiliary`: a positive semi-definite `M`, solved by the runtime
-//!   (no Jacobian or step of its own: the runtime's dense ones).
+//! - `factored` again for a positive semi-definite `M`, through its
+//!   auxiliary mass `M + s AᵀA` (the solver only: its Jacobian and step
+//!   are the runtime's dense ones, whose tangent systems are those of the
+//!   actual `M`).
 //!
 //! This module is the only `match` on the strategy in `emit`; `step` holds
 //! what the strategies' steps share. Below: `super::solve` (the checked
 //! value of `gauss`), the emission helpers.
 
-mod auxiliary;
 mod factored;
 mod step;
 mod symbolic;
@@ -30,7 +31,7 @@ pub(super) fn solver(ctx: &Context) -> TokenStream {
     match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::solver(ctx, d),
         MassInverse::Factored(f) => factored::solver(ctx, f),
-        MassInverse::Auxiliary => auxiliary::solver(ctx),
+        MassInverse::Auxiliary(f) => factored::solver(ctx, f),
     }
 }
 
@@ -41,7 +42,7 @@ pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> TokenStream {
     match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::jacobian::jacobian(ctx, d, dense),
         MassInverse::Factored(f) => factored::jacobian::jacobian(ctx, f, dense),
-        MassInverse::Auxiliary => dense.clone(),
+        MassInverse::Auxiliary(_) => dense.clone(),
     }
 }
 
@@ -54,7 +55,7 @@ pub(super) fn step(ctx: &Context) -> TokenStream {
     let body = match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::step::step(ctx, d),
         MassInverse::Factored(f) => factored::step::step(ctx, f),
-        MassInverse::Auxiliary => return TokenStream::new(),
+        MassInverse::Auxiliary(_) => return TokenStream::new(),
     };
     step::method(ctx, &body)
 }

@@ -2,6 +2,7 @@
 //! systems solved column by column through `gauss`'s factorizations.
 
 use super::FactoredSolve;
+use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
 use crate::equations::mass_inverse::Factored;
@@ -58,7 +59,6 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
         ctx.eq.mass_inverse.fallible(),
         "a configuration-dependent M is not known positive definite"
     );
-    let to_multipliers = &gauss.to_multipliers;
     let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
     let (suspect, adopt) = if k > 0 {
         let suspect = gauss.gram.suspect(ctx.generic_rank);
@@ -95,10 +95,15 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
         let _ = (suspect, adopt);
         solve_columns
     };
-    quote! {
-        #to_multipliers
+    let tail = quote! {
         let mut __jac = #jacobians_zero;
         #solve
         #finite
+    };
+    // Nested no deeper than a block (`crate::emit::chunks`).
+    let to_multipliers = bounded(gauss.to_multipliers.clone(), &tail);
+    quote! {
+        #to_multipliers
+        #tail
     }
 }

@@ -11,14 +11,19 @@
 //!    rank-revealing `LDLᵀ` exactly as for a constant `M`
 //!    ([`crate::emit::ldlt`]), with the same after-the-fact rank check.
 //!
+//! A semi-definite `M` is solved the same way through its auxiliary mass
+//! `M + s AᵀA` and forces `F + s Aᵀb` ([`auxiliary`]).
+//!
 //! The Jacobian ([`jacobian`]) reuses both factorizations: `tangent_rhs`
 //! fills the right-hand sides, one column each, and one loop solves every
 //! column through `L D Lᵀ` of `M` and of `S`.
 
+mod auxiliary;
 pub(in crate::emit) mod jacobian;
 pub(in crate::emit) mod step;
 
 use crate::emit::body::Body;
+use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
@@ -81,8 +86,6 @@ impl<'a> FactoredSolve<'a> {
         let k = ctx.k;
         let dynamics = matches!(scope, Scope::Dynamics { .. });
         let correction = matches!(scope, Scope::Dynamics { gauss: true });
-        let sys = &ctx.eq.system;
-        let nonzero = |e: Id| !sys.graph.is_zero(e);
         let bail = |error: TokenStream| match scope {
             Scope::Dynamics { gauss: true } => ctx.gauss_error(error),
             Scope::Dynamics { gauss: false } => {
@@ -122,24 +125,22 @@ impl<'a> FactoredSolve<'a> {
                 #non_finite
             }
         };
+        // A semi-definite M: the auxiliary mass and forces, from M, F, A, b.
+        let auxiliary = f
+            .auxiliary
+            .is_some()
+            .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
         let factor_mass = mass.factor();
         // a = M⁻¹ F.
         let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
-        let f_rhs: Vec<Option<TokenStream>> = (0..ctx.n)
-            .zip(&sys.forces)
-            .map(|(i, &e)| {
-                nonzero(e).then(|| {
-                    let name = Context::local("f", i);
-                    quote!(#name)
-                })
-            })
-            .collect();
-        let (solve_a, a_bound) = mass.solve_sparse(&f_rhs, "ay", &unconstrained);
+        let (solve_a, a_bound) = mass.solve_sparse(&forces_rhs(ctx, f), "ay", &unconstrained);
         let solve_w = weighted_columns(ctx, f, &mass);
         let gram_entries = gram_entries(ctx, f, &gram);
         let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
         let residual_code = residual_code(ctx, &residuals, &a_bound, &unconstrained);
-        let corrected = (correction && k > 0).then(|| corrected(&residuals, &[]));
+        // (The auxiliary prelude corrected `b` itself.)
+        let corrected =
+            (correction && k > 0 && f.auxiliary.is_none()).then(|| corrected(&residuals, &[]));
         let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
         let factor_gram = gram.factor();
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
@@ -149,6 +150,7 @@ impl<'a> FactoredSolve<'a> {
                 #preamble
                 #(#bindings)*
                 #check
+                #auxiliary
                 #factor_mass
                 #solve_a
                 #solve_w
@@ -163,6 +165,7 @@ impl<'a> FactoredSolve<'a> {
                 #preamble
                 #(#bindings)*
                 #check
+                #auxiliary
                 #factor_mass
                 #solve_w
                 #gram_entries
@@ -179,6 +182,32 @@ impl<'a> FactoredSolve<'a> {
     }
 }
 
+/// The right-hand side of `a = M⁻¹ F`: the locals `__f{i}` that can be
+/// nonzero (of `F`, or of the auxiliary `F + s Aᵀb`).
+fn forces_rhs(ctx: &Context, f: &Factored) -> Vec<Option<TokenStream>> {
+    let g = &ctx.eq.system.graph;
+    let nonzero: Vec<bool> = if f.auxiliary.is_some() {
+        auxiliary::forces_nonzero(ctx)
+    } else {
+        ctx.eq
+            .system
+            .forces
+            .iter()
+            .map(|&e| !g.is_zero(e))
+            .collect()
+    };
+    nonzero
+        .iter()
+        .enumerate()
+        .map(|(i, &nz)| {
+            nz.then(|| {
+                let name = Context::local("f", i);
+                quote!(#name)
+            })
+        })
+        .collect()
+}
+
 /// The local `__a{r}_{i}` holding entry `(r, i)` of `A`.
 fn a_entry(r: usize, i: usize) -> TokenStream {
     let name = Context::local2("a", r, i);
@@ -188,7 +217,8 @@ fn a_entry(r: usize, i: usize) -> TokenStream {
 /// The locals bound from the model's expressions: `M`'s lower pattern,
 /// `F` (with `dynamics`), `A`'s nonzeros, `b` (with `dynamics`); and how
 /// many of them are `M` and `F`, which come first (the finiteness check
-/// reads them).
+/// reads them). For a semi-definite `M`, `M` and `F` under their own
+/// names and `AᵀA` ([`auxiliary::named_mass_and_forces`]).
 fn named_inputs(
     ctx: &Context,
     f: &Factored,
@@ -196,20 +226,26 @@ fn named_inputs(
     dynamics: bool,
 ) -> (Vec<(Ident, Id)>, usize) {
     let sys = &ctx.eq.system;
-    let mut named: Vec<(Ident, Id)> = Vec::new();
-    for i in 0..ctx.n {
-        for j in 0..=i {
-            if f.mass.nonzero[i][j] {
-                named.push((mass.entry(i, j), sys.mass[i][j]));
+    let (mut named, mass_and_forces) = match &f.auxiliary {
+        Some(aux) => auxiliary::named_mass_and_forces(ctx, aux, dynamics),
+        None => {
+            let mut named: Vec<(Ident, Id)> = Vec::new();
+            for i in 0..ctx.n {
+                for j in 0..=i {
+                    if f.mass.nonzero[i][j] {
+                        named.push((mass.entry(i, j), sys.mass[i][j]));
+                    }
+                }
             }
+            if dynamics {
+                for (i, &e) in sys.forces.iter().enumerate() {
+                    named.push((Context::local("f", i), e));
+                }
+            }
+            let count = named.len();
+            (named, count)
         }
-    }
-    if dynamics {
-        for (i, &e) in sys.forces.iter().enumerate() {
-            named.push((Context::local("f", i), e));
-        }
-    }
-    let mass_and_forces = named.len();
+    };
     for (r, row) in ctx.eq.a.iter().enumerate() {
         for (i, &e) in row.iter().enumerate() {
             if !sys.graph.is_zero(e) {
@@ -343,11 +379,12 @@ fn motion(
 /// `gauss` for a configuration-dependent `M`.
 pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let gauss = FactoredSolve::new(ctx, f, true);
-    let to_multipliers = &gauss.to_multipliers;
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());
     // The rank decision, checked after the fact, as for a constant M.
     let value = checked_motion(ctx, &gauss.gram, &acc, &force, None, None);
+    // A robot's solve is thousands of `let`s: nested no deeper than a block.
+    let to_multipliers = bounded(gauss.to_multipliers.clone(), &value);
     let signature = ctx.gauss_signature();
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,

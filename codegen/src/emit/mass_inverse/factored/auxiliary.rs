@@ -1,0 +1,194 @@
+//! A positive semi-definite `M` solved through Udwadia & Schutte's
+//! auxiliary system (`crate::equations::mass_inverse::Auxiliary`): the
+//! factored solve of [`super`] with `M + s AᵀA` for `M` and `F + s Aᵀb` for
+//! `F`. The model's `M` and `F` are bound under their own names
+//! (`__mq{i}_{j}`, `__fq{i}`) and checked finite, `AᵀA` as `__na{i}_{j}`;
+//! this module forms the scale and the auxiliary entries under the names
+//! the factorization reads (`__m{i}_{j}`, `__f{i}`).
+//!
+//! `s = tr M / ‖A‖²_F` (`‖A‖²_F = tr AᵀA`), 1 where either is not positive:
+//! the runtime's `auxiliary_mass`. With `A q̈ = b`, `M q̈ + s Aᵀ(A q̈ − b) =
+//! F + Aᵀλ` is the actual system's `M q̈ = F + Aᵀλ`: the auxiliary
+//! multipliers are the actual ones, provided `b` carries the correction of
+//! `acceleration_corrected` before it enters `F + s Aᵀb` (else `Aᵀλ` would
+//! differ from `M q̈ − F` by `s Aᵀ db`). So the correction is added to `b`
+//! here, not to the residual.
+
+use crate::emit::context::Context;
+use crate::emit::ldlt::StructuredLdlt;
+use crate::equations::mass_inverse::{Auxiliary, Factored};
+use crate::expr::Id;
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::Ident;
+
+/// The local holding entry `(i, j)` (i ≥ j) of the model's `M`.
+fn model_mass(i: usize, j: usize) -> Ident {
+    Context::local2("mq", i, j)
+}
+
+/// The local holding entry `(i, j)` (i ≥ j) of `AᵀA`.
+fn normal(i: usize, j: usize) -> Ident {
+    Context::local2("na", i, j)
+}
+
+/// The locals bound from the model's expressions: `M`'s lower nonzeros,
+/// `F` (with `dynamics`), then `AᵀA`'s lower nonzeros; and how many are
+/// `M` and `F` (the finiteness check reads them, as the runtime checks
+/// `M` and `F`).
+pub(super) fn named_mass_and_forces(
+    ctx: &Context,
+    aux: &Auxiliary,
+    dynamics: bool,
+) -> (Vec<(Ident, Id)>, usize) {
+    let sys = &ctx.eq.system;
+    let g = &sys.graph;
+    let mut named = Vec::new();
+    for i in 0..ctx.n {
+        for j in 0..=i {
+            if !g.is_zero(sys.mass[i][j]) {
+                named.push((model_mass(i, j), sys.mass[i][j]));
+            }
+        }
+    }
+    if dynamics {
+        for (i, &e) in sys.forces.iter().enumerate() {
+            named.push((Context::local("fq", i), e));
+        }
+    }
+    let mass_and_forces = named.len();
+    for i in 0..ctx.n {
+        for j in 0..=i {
+            if !g.is_zero(aux.normal[i][j]) {
+                named.push((normal(i, j), aux.normal[i][j]));
+            }
+        }
+    }
+    (named, mass_and_forces)
+}
+
+/// Which entries of `F + s Aᵀb` can be nonzero.
+pub(super) fn forces_nonzero(ctx: &Context) -> Vec<bool> {
+    let g = &ctx.eq.system.graph;
+    (0..ctx.n)
+        .map(|i| !g.is_zero(ctx.eq.system.forces[i]) || ctx.eq.a.iter().any(|r| !g.is_zero(r[i])))
+        .collect()
+}
+
+/// `Σ terms`, `T::zero()` for none.
+fn sum(terms: Vec<TokenStream>) -> TokenStream {
+    if terms.is_empty() {
+        quote!(T::zero())
+    } else {
+        quote!(#(#terms)+*)
+    }
+}
+
+/// The code between the finiteness check and `M`'s factorization: `b +
+/// db` (with `correct`, `gauss`'s correction), the scale `__saux`, the
+/// auxiliary mass's entries over the factored pattern and (with
+/// `dynamics`) the auxiliary forces.
+pub(super) fn prelude(
+    ctx: &Context,
+    f: &Factored,
+    mass: &StructuredLdlt,
+    dynamics: bool,
+    correct: bool,
+) -> TokenStream {
+    let sys = &ctx.eq.system;
+    let (g, n, k) = (&sys.graph, ctx.n, ctx.k);
+    let mass_nonzero = |i: usize, j: usize| !g.is_zero(sys.mass[i][j]);
+    let normal_nonzero = |i: usize, j: usize| {
+        f.auxiliary
+            .as_ref()
+            .is_some_and(|x| !g.is_zero(x.normal[i][j]))
+    };
+    let correction = (correct && k > 0).then(|| {
+        let b: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
+        let db: Vec<Ident> = (0..k).map(|r| Context::local("db", r)).collect();
+        quote! {
+            let (#(#b,)*) = match correction {
+                ::core::option::Option::Some(__db) => {
+                    let [[#(#db),*]] = __db.data.0;
+                    (#(#b + #db,)*)
+                }
+                ::core::option::Option::None => (#(#b,)*),
+            };
+        }
+    });
+    let trace = sum((0..n)
+        .filter(|&i| mass_nonzero(i, i))
+        .map(|i| {
+            let m = model_mass(i, i);
+            quote!(#m)
+        })
+        .collect());
+    let norm = sum((0..n)
+        .filter(|&i| normal_nonzero(i, i))
+        .map(|i| {
+            let x = normal(i, i);
+            quote!(#x)
+        })
+        .collect());
+    let mut entries = TokenStream::new();
+    for i in 0..n {
+        for j in 0..=i {
+            if !f.mass.nonzero[i][j] {
+                continue;
+            }
+            let (m, x) = (model_mass(i, j), normal(i, j));
+            let value = match (mass_nonzero(i, j), normal_nonzero(i, j)) {
+                (true, true) => quote!(#m + __saux * #x),
+                (true, false) => quote!(#m),
+                (false, _) => quote!(__saux * #x),
+            };
+            let name = mass.entry(i, j);
+            entries.extend(quote! { let #name = #value; });
+        }
+    }
+    let forces = dynamics.then(|| auxiliary_forces(ctx));
+    quote! {
+        #correction
+        let __trace = #trace;
+        let __norm = #norm;
+        let __saux = if __norm > T::zero() && __trace > T::zero() {
+            __trace / __norm
+        } else {
+            T::one()
+        };
+        #entries
+        #forces
+    }
+}
+
+/// `F + s Aᵀb` into the locals `__f{i}` (those that can be nonzero).
+fn auxiliary_forces(ctx: &Context) -> TokenStream {
+    let sys = &ctx.eq.system;
+    let g = &sys.graph;
+    let mut code = TokenStream::new();
+    for (i, nonzero) in forces_nonzero(ctx).into_iter().enumerate() {
+        if !nonzero {
+            continue;
+        }
+        let products: Vec<TokenStream> = ctx
+            .eq
+            .a
+            .iter()
+            .enumerate()
+            .filter(|(_, row)| !g.is_zero(row[i]))
+            .map(|(r, _)| {
+                let (a, b) = (Context::local2("a", r, i), Context::local("b", r));
+                quote!(#a * #b)
+            })
+            .collect();
+        let own = (!g.is_zero(sys.forces[i])).then(|| Context::local("fq", i));
+        let value = match (own, products.is_empty()) {
+            (Some(fq), true) => quote!(#fq),
+            (Some(fq), false) => quote!(#fq + __saux * (#(#products)+*)),
+            (None, _) => quote!(__saux * (#(#products)+*)),
+        };
+        let name = Context::local("f", i);
+        code.extend(quote! { let #name = #value; });
+    }
+    code
+}
