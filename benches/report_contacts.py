@@ -82,12 +82,12 @@ def section(rows, ns):
         rest = parts["acceleration"] - parts["mass_matrix"] - parts["forces"] - parts["constraint_matrices"]
         profile = [
             "",
-            f"Where our quadruped's `acceleration` ({ns(parts['acceleration'])}) goes: the generated",
-            f"`M` {ns(parts['mass_matrix'])}, `F` {ns(parts['forces'])}, `A` and `b` "
-            f"{ns(parts['constraint_matrices'])}, and {ns(max(rest, 0.0))} in the runtime's dense solve of",
-            "the auxiliary system (`M + s AᵀA`, singular `M` along the quaternion: a 19 × 19",
-            "Cholesky, `M⁻¹Aᵀ` for 13 rows, the pivoted `LDLᵀ` of the 13 × 13 Gram matrix); the",
-            "floating base's block structure is not yet generated (`op_count` 0).",
+            f"Where our quadruped's `acceleration` ({ns(parts['acceleration'])}) goes: each called alone,",
+            f"the generated `M` takes {ns(parts['mass_matrix'])}, `F` {ns(parts['forces'])}, `A` and `b` "
+            f"{ns(parts['constraint_matrices'])}; the other {ns(max(rest, 0.0))} are the generated solve of",
+            "the auxiliary system (singular `M` along the quaternion: `M + s AᵀA` factored on the",
+            "tree's compile-time pattern, `M⁻¹Aᵀ` for 13 rows, the pivoted `LDLᵀ` of the 13 × 13",
+            "Gram matrix), in one straight-line body with `M`, `F`, `A` and `b`.",
         ]
     return [
         "",

@@ -392,8 +392,8 @@ where
             let _ = black_box(black_box(system).acceleration_and_multipliers(black_box(s)));
         }
     });
-    // Where the time of `acceleration` goes (the runtime's dense solve of
-    // the auxiliary system takes the rest): the generated M, F and A, b.
+    // Where the time of `acceleration` goes (the generated solve of the
+    // auxiliary system takes the rest): the generated M, F and A, b.
     let mass = median_ns(|| {
         for (system, s) in cases {
             black_box(ConstrainedSystem::mass_matrix(
