@@ -17,7 +17,8 @@
 //! quaternion or angle coordinates gives a generalized force on those
 //! coordinates instead.
 //!
-//! `Aᵀ λ = Q_c` has a unique solution when the rows are independent. For a
+//! `Aᵀ λ = Q_c` has a unique solution when the rows are independent, found
+//! from orthogonal factors of `Aᵀ` (Gram–Schmidt, twice). For a
 //! redundant set (the rank rule of the solve: four feet on the ground, a
 //! dependent closure) only `Aᵀ λ` is physical, and the minimum-norm `λ` is
 //! returned: the pseudo-inverse, with singular values of `Aᵀ` at or below
@@ -86,6 +87,16 @@ pub fn multipliers<T: RealField + Copy, const N: usize, const K: usize>(
     a: &SMatrix<T, K, N>,
     force: &SVector<T, N>,
 ) -> Result<SVector<T, K>, DynamicsError> {
+    if !a.iter().all(|x| x.is_finite()) {
+        return Err(DynamicsError::NonFinite);
+    }
+    let count = nalgebra::convert::<f64, T>((N + K) as f64 * 64.0);
+    // Independent rows, the usual case: the one solution, by orthogonal
+    // factors of Aᵀ (no SVD: the quadruped's 13 rows took 71 µs that way
+    // with q̈, against 8 µs for q̈ alone).
+    if let Some(lambda) = independent(a, force, count) {
+        return Ok(lambda);
+    }
     // A itself is decomposed (K columns of length N to orthogonalize, not
     // N of length K, N − K of which must be rotated down to zero): the
     // quadruped's q̈ and λ (13 rows, 19 coordinates) took 934 µs before, 82
@@ -93,8 +104,75 @@ pub fn multipliers<T: RealField + Copy, const N: usize, const K: usize>(
     // machine; q̈ alone is 24 µs); the same singular values, the same cut.
     let svd = JacobiSvd::new(a).ok_or(DynamicsError::NonFinite)?;
     let largest = svd.singular_values().amax();
-    let count = nalgebra::convert::<f64, T>((N + K) as f64 * 64.0);
     let cut = largest * T::default_epsilon() * count;
     svd.solve_transpose(force, cut)
         .ok_or(DynamicsError::NonFinite)
+}
+
+/// `λ` of `Aᵀ λ = force` when the rows of `A` are independent: `Aᵀ = Q R`
+/// by Gram–Schmidt applied twice to each row (as accurate as Householder),
+/// then `R λ = Qᵀ force`. `None` when a row's part independent of the rows
+/// before it is at or below `count · ε · ‖A‖_F` (the SVD's cut, for which
+/// `‖A‖_F ≥ σ_max`): the rows are dependent, and the minimum-norm `λ` is
+/// the SVD's. A row of zeros counts as dependent.
+fn independent<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    force: &SVector<T, N>,
+    count: T,
+) -> Option<SVector<T, K>> {
+    if K > N {
+        return None; // more rows than coordinates: dependent
+    }
+    let cut = a.norm() * T::default_epsilon() * count;
+    let mut q: SMatrix<T, N, K> = a.transpose();
+    let mut r = SMatrix::<T, K, K>::zeros();
+    for j in 0..K {
+        for _ in 0..2 {
+            for i in 0..j {
+                let d = q.column(i).dot(&q.column(j));
+                r[(i, j)] += d;
+                let qi = q.column(i).into_owned();
+                q.column_mut(j).axpy(-d, &qi, T::one());
+            }
+        }
+        let norm = q.column(j).norm();
+        if !(norm > cut) {
+            return None;
+        }
+        r[(j, j)] = norm;
+        q.column_mut(j).unscale_mut(norm);
+    }
+    let rhs = q.transpose() * force;
+    let lambda = r.solve_upper_triangular(&rhs)?;
+    lambda.iter().all(|x| x.is_finite()).then_some(lambda)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix2x3, Vector2, Vector3};
+
+    /// Independent rows: the Gram–Schmidt solution is the SVD's (the only
+    /// one), to rounding; dependent rows fall to the SVD's minimum norm.
+    #[test]
+    fn independent_rows_match_the_svd_and_dependent_ones_use_it() {
+        let a = Matrix2x3::new(1.0, 2.0, -0.5, 0.3, -1.0, 4.0);
+        let lambda = Vector2::new(0.7, -2.5);
+        let force = a.transpose() * lambda;
+        let fast = independent(&a, &force, 320.0).unwrap();
+        let svd = JacobiSvd::new(&a)
+            .unwrap()
+            .solve_transpose(&force, 1e-13)
+            .unwrap();
+        assert!((fast - lambda).amax() < 1e-14, "{fast}");
+        assert!((fast - svd).amax() < 1e-14, "{fast} vs {svd}");
+        assert_eq!(multipliers(&a, &force).unwrap(), fast);
+        // The second row twice the first: dependent, shared by the SVD as
+        // the minimum norm (λ₁ + 2 λ₂ = 5 at least norm: (1, 2)).
+        let twice = Matrix2x3::new(1.0, 2.0, -0.5, 2.0, 4.0, -1.0);
+        let f = Vector3::new(5.0, 10.0, -2.5);
+        assert!(independent(&twice, &f, 320.0).is_none());
+        let shared = multipliers(&twice, &f).unwrap();
+        assert!((shared - Vector2::new(1.0, 2.0)).amax() < 1e-13, "{shared}");
+    }
 }
