@@ -136,7 +136,8 @@ fn independent<T: RealField + Copy, const N: usize, const K: usize>(
             }
         }
         let norm = q.column(j).norm();
-        if !(norm > cut) {
+        // Not `norm <= cut`: a NaN norm must not pass either.
+        if norm.partial_cmp(&cut) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
         r[(j, j)] = norm;
