@@ -6,15 +6,16 @@
 //! this module forms the scale and the auxiliary entries under the names
 //! the factorization reads (`__m{i}_{j}`, `__f{i}`).
 //!
-//! `s = tr M / ‖A‖²_F` (`‖A‖²_F = tr AᵀA`), 1 where either is not positive:
-//! the runtime's `auxiliary_mass`. With `A q̈ = b`, `M q̈ + s Aᵀ(A q̈ − b) =
+//! `s = tr M / ‖A‖²_F` (`‖A‖²_F = tr AᵀA`), as the runtime's
+//! `auxiliary_mass`; where either is below the safe minimum (underflow, or
+//! zero) the runtime's dense solve answers instead. With `A q̈ = b`, `M q̈ + s Aᵀ(A q̈ − b) =
 //! F + Aᵀλ` is the actual system's `M q̈ = F + Aᵀλ`: the auxiliary
 //! multipliers are the actual ones, provided `b` carries the correction of
 //! `acceleration_corrected` before it enters `F + s Aᵀb` (else `Aᵀλ` would
 //! differ from `M q̈ − F` by `s Aᵀ db`). So the correction is added to `b`
 //! here, not to the residual.
 
-use crate::emit::context::Context;
+use crate::emit::context::{Context, Inputs};
 use crate::emit::ldlt::StructuredLdlt;
 use crate::equations::mass_inverse::{Auxiliary, Factored};
 use crate::expr::Id;
@@ -147,15 +148,25 @@ pub(super) fn prelude(
         }
     }
     let forces = dynamics.then(|| auxiliary_forces(ctx));
+    let (safe_minimum, gauss_dense) = (
+        ctx.private(quote!(safe_minimum)),
+        ctx.private(quote!(gauss_dense)),
+    );
+    let args = ctx.args(Inputs::States);
     quote! {
         #correction
         let __trace = #trace;
         let __norm = #norm;
-        let __saux = if __norm > T::zero() && __trace > T::zero() {
-            __trace / __norm
-        } else {
-            T::one()
-        };
+        // Underflowed (a state near zero: the fault matrix's tiny one, where
+        // A and M are ~1e-310): no scale or pivot of the auxiliary system can
+        // be trusted, and the runtime's dense solve, which checks its rank
+        // decision after the fact, answers.
+        let __safe = #safe_minimum::<T>();
+        if !(__trace >= __safe && __norm >= __safe) {
+            let __motion = #gauss_dense(self, #args, correction);
+            return __F::settle(self, #args, correction, __motion);
+        }
+        let __saux = __trace / __norm;
         #entries
         #forces
     }
