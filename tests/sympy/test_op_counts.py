@@ -78,11 +78,27 @@ def redundant(system):
     return len(independent_rows(a_sym, symbols_for(system), system["states"][0])) < a_sym.rows
 
 
+def singular(m, s, state):
+    """Whether M is numerically singular at a consistent state."""
+    values = numeric(m, s, state)
+    return np.linalg.matrix_rank(values, tol=1e-9 * max(1.0, np.abs(values).max())) < m.rows
+
+
 def sympy_acceleration(system, all_rows=False):
     """q̈ by sympy, with the independent rows of A q̈ = b, or every row."""
     s = symbols_for(system)
     m = sp.Matrix([[parse(e, s) for e in row] for row in system["mass"]])
     f = sp.Matrix([parse(e, s) for e in system["forces"]])
+    if system["constraints"] and singular(m, s, system["states"][0]):
+        # A singular M (quaternion rates): sympy's LU would divide by a pivot
+        # that is identically zero but not simplified to 0, a formula that
+        # cannot be evaluated, so its count bounds nothing. The generated
+        # code solves Udwadia & Schutte's auxiliary system M + s AᵀA,
+        # F + s Aᵀb with s = tr M / tr AᵀA; sympy is given the same.
+        a_all, b_all, _ = derive_constraint_equations(system)
+        normal = a_all.T * a_all
+        scale = m.trace() / normal.trace()
+        m, f = m + scale * normal, f + scale * a_all.T * b_all
     if m.is_diagonal():
         solve = lambda x: sp.Matrix(x.rows, x.cols, lambda i, j: x[i, j] / m[i, i])  # noqa: E731
     else:
