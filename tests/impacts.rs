@@ -23,17 +23,11 @@ constrained_system! {
     }
 }
 
-constrained_system! {
-    /// The same pendulum in Cartesian coordinates, the rod a constraint.
-    pub struct CartesianPendulum {
-        coordinates: [x, y],
-        parameters: [m, l, g, wall],
-        mass: diag[m, m],
-        forces: [0.0, -m * g],
-        constraints: [x.powi(2) + y.powi(2) == l.powi(2)],
-        unilateral: [x <= wall],
-    }
-}
+// The same pendulum in Cartesian coordinates, the rod a constraint: the
+// example's model, written once.
+#[path = "../examples/support/wall_pendulum.rs"]
+mod wall_pendulum;
+use wall_pendulum::WallPendulum as CartesianPendulum;
 
 constrained_system! {
     /// Two bodies on a line, `d` apart at contact.
