@@ -10,7 +10,7 @@ use crate::expr::{signed_parts, Emission, Func, Graph, Id, Node, Sym};
 use crate::names::{acceleration_name, velocity_name};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::quote;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use syn::Ident;
 
 /// The local name of each coordinate's velocity or acceleration.
@@ -57,6 +57,11 @@ pub(super) struct Body<'a> {
     /// (`m·l`), each bound once right after its last factor
     /// (`super::subproducts`).
     subproducts: SubProducts,
+    /// Sines and cosines of one argument bound together (`Schedule::sin_cos`):
+    /// at the first of the two, the pair `(sin, cos)` and their argument;
+    /// the second is in `paired_later` and gets no `let` of its own.
+    paired_first: HashMap<Id, (Id, Id, Id)>,
+    paired_later: HashSet<Id>,
 }
 
 impl<'a> Body<'a> {
@@ -123,7 +128,10 @@ impl<'a> Body<'a> {
                 temp_names.insert(*id, name.clone());
             }
         }
+        let (paired_first, paired_later) = pair_positions(g, &schedule);
         Body {
+            paired_first,
+            paired_later,
             reciprocals,
             subproducts,
             needs_multipliers,
@@ -231,11 +239,19 @@ impl<'a> Body<'a> {
                 !reciprocal_of(self.graph, id).is_some_and(|b| self.reciprocals.contains_key(&b))
             })
             .map(|(position, &id)| {
+                let shared = self.subproducts_after(Some(position));
+                if self.paired_later.contains(&id) {
+                    return shared;
+                }
+                if let Some(&(sin, cos, argument)) = self.paired_first.get(&id) {
+                    let (s, c) = (&self.temp_names[&sin], &self.temp_names[&cos]);
+                    let argument = self.wrapped(argument, Prec::Atom);
+                    return quote! { let (#s, #c) = #argument.sin_cos(); #shared };
+                }
                 let name = &self.temp_names[&id];
                 self.defining.set(position);
                 let value = self.node(id).0;
                 self.defining.set(usize::MAX);
-                let shared = self.subproducts_after(Some(position));
                 quote! { let #name = #value; #shared }
             });
         quote! { #(#temps)* }
@@ -569,6 +585,32 @@ impl<'a> Body<'a> {
 }
 
 /// `p` when `id` is the node `1/p`.
+/// For each `(sin a, cos a)` pair of `schedule`, the one scheduled first
+/// (mapped to the pair and its argument) and the other.
+fn pair_positions(g: &Graph, schedule: &Schedule) -> (HashMap<Id, (Id, Id, Id)>, HashSet<Id>) {
+    let position: HashMap<Id, usize> = schedule
+        .temporaries
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
+    let mut first = HashMap::new();
+    let mut later = HashSet::new();
+    for &(sin, cos) in &schedule.sin_cos {
+        let Node::Func(_, args) = g.node(sin) else {
+            continue;
+        };
+        let argument = args.as_slice()[0];
+        let (Some(ps), Some(pc)) = (position.get(&sin), position.get(&cos)) else {
+            continue;
+        };
+        let (a, b) = if ps < pc { (sin, cos) } else { (cos, sin) };
+        first.insert(a, (sin, cos, argument));
+        later.insert(b);
+    }
+    (first, later)
+}
+
 fn reciprocal_of(g: &Graph, id: Id) -> Option<Id> {
     match g.node(id) {
         Node::Mul(factors) => match factors.as_ref() {

@@ -7,8 +7,14 @@
 //! else is inlined into its single user. Temporaries come in arena order,
 //! which is topological, so the output is deterministic and every temporary
 //! is defined before its first use.
+//!
+//! A sine and a cosine of the same argument are both temporaries and are
+//! written as one `sin_cos()` ([`Schedule::sin_cos`]): one argument
+//! reduction instead of two (libm's `sincos` in `no_std`; with `std`,
+//! LLVM joins the two calls into the C library's `sincos` either way).
 
-use crate::expr::{Graph, Id, Node};
+use crate::expr::{Func, Graph, Id, Node};
+use std::collections::HashMap;
 
 /// Powers up to this integer exponent are emitted as repeated multiplication
 /// (`x * x * x`), which is faster than `powi` and exact.
@@ -18,6 +24,9 @@ pub const MAX_UNROLLED_POWER: i64 = 4;
 pub struct Schedule {
     /// Nodes that get a `let`, in topological order.
     pub temporaries: Vec<Id>,
+    /// `(sin a, cos a)` pairs among the temporaries, to be bound together
+    /// by one `a.sin_cos()` where the first of the two is scheduled.
+    pub sin_cos: Vec<(Id, Id)>,
 }
 
 impl Schedule {
@@ -44,6 +53,11 @@ impl Schedule {
                 }
             }
         }
+        let sin_cos = sine_cosine_pairs(g, &reachable);
+        for &(s, c) in &sin_cos {
+            uses[s.index()] = uses[s.index()].max(2);
+            uses[c.index()] = uses[c.index()].max(2);
+        }
         let temporaries: Vec<Id> = reachable
             .into_iter()
             .filter(|&id| {
@@ -51,6 +65,26 @@ impl Schedule {
                 !leaf && uses[id.index()] > 1
             })
             .collect();
-        Schedule { temporaries }
+        Schedule {
+            temporaries,
+            sin_cos,
+        }
     }
+}
+
+/// The `(sin a, cos a)` pairs among `nodes`, in the order of their sines.
+fn sine_cosine_pairs(g: &Graph, nodes: &[Id]) -> Vec<(Id, Id)> {
+    let mut cosines: HashMap<Id, Id> = HashMap::new();
+    for &id in nodes {
+        if let Node::Func(Func::Cos, args) = g.node(id) {
+            cosines.insert(args.as_slice()[0], id);
+        }
+    }
+    nodes
+        .iter()
+        .filter_map(|&id| match g.node(id) {
+            Node::Func(Func::Sin, args) => cosines.get(&args.as_slice()[0]).map(|&c| (id, c)),
+            _ => None,
+        })
+        .collect()
 }
