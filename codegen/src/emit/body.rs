@@ -30,6 +30,9 @@ pub(super) enum Prec {
     Atom,
 }
 
+/// A sine, the cosine of the same argument, and the argument.
+type SinCos = (Id, Id, Id);
+
 /// The body of one generated function: its variables, temporaries and outputs.
 pub(super) struct Body<'a> {
     graph: &'a Graph,
@@ -60,7 +63,7 @@ pub(super) struct Body<'a> {
     /// Sines and cosines of one argument bound together (`Schedule::sin_cos`):
     /// at the first of the two, the pair `(sin, cos)` and their argument;
     /// the second is in `paired_later` and gets no `let` of its own.
-    paired_first: HashMap<Id, (Id, Id, Id)>,
+    paired_first: HashMap<Id, SinCos>,
     paired_later: HashSet<Id>,
 }
 
@@ -587,7 +590,7 @@ impl<'a> Body<'a> {
 /// `p` when `id` is the node `1/p`.
 /// For each `(sin a, cos a)` pair of `schedule`, the one scheduled first
 /// (mapped to the pair and its argument) and the other.
-fn pair_positions(g: &Graph, schedule: &Schedule) -> (HashMap<Id, (Id, Id, Id)>, HashSet<Id>) {
+fn pair_positions(g: &Graph, schedule: &Schedule) -> (HashMap<Id, SinCos>, HashSet<Id>) {
     let position: HashMap<Id, usize> = schedule
         .temporaries
         .iter()

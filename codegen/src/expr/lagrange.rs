@@ -73,9 +73,17 @@ pub fn mass_from_kinetic_energy(
             } else {
                 entry
             };
-            // sin² + cos² = 1 where it shortens (the Furuta pendulum's
-            // θ-free arm inertia, a Cartesian pendulum's constant m·l²).
-            let entry = crate::expr::trig::simplify(g, entry);
+            m[i][j] = entry;
+        }
+    }
+    // sin² + cos² = 1 where it shortens the matrix (the Furuta pendulum's
+    // θ-free arm inertia, a Cartesian pendulum's constant m·l²).
+    let upper: Vec<Id> = (0..n).flat_map(|i| m[i][i..].to_vec()).collect();
+    let mut simplified = crate::expr::trig::simplify_all(g, &upper).into_iter();
+    #[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
+    for i in 0..n {
+        for j in i..n {
+            let entry = simplified.next().unwrap_or(m[i][j]);
             m[i][j] = entry;
             m[j][i] = entry;
         }
@@ -173,7 +181,7 @@ pub fn forces(
     applied: &[Id],
 ) -> Vec<Id> {
     let n = applied.len();
-    (0..n)
+    let sums: Vec<Id> = (0..n)
         .map(|i| {
             let mut terms = vec![applied[i]];
             if let Some(v) = potential {
@@ -195,10 +203,11 @@ pub fn forces(
             // Distributed, so that the terms of ∂T/∂q and of the coupling
             // (∂²T/∂q̇∂qᵀ) q̇ that cancel do (the cart-pole's θ equation).
             let terms: Vec<Id> = terms.into_iter().map(|t| g.distribute(t)).collect();
-            let sum = g.add(&terms);
-            crate::expr::trig::simplify(g, sum)
+            g.add(&terms)
         })
-        .collect()
+        .collect();
+    // sin² + cos² = 1 where it shortens the forces as a whole.
+    crate::expr::trig::simplify_all(g, &sums)
 }
 
 #[cfg(test)]
