@@ -4,7 +4,7 @@
 
 use super::stepper::StepMethod;
 use super::tableau::{Method, Tableau};
-use super::{c, derivative, fixed_steps, Derivative, Settings, Stats};
+use super::{c, derivative, derivative_into, fixed_steps, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use core::marker::PhantomData;
 use nalgebra::{RealField, SVector};
@@ -120,7 +120,7 @@ where
     }
     for i in 1..S {
         *new = combine(&tableau.a[i], k, i, state, h, c::<T>(tableau.c[i]) * h);
-        k[i] = derivative(system, new, settings, stats)?;
+        derivative_into(system, new, settings, stats, &mut k[i])?;
     }
     if tableau.is_fsal() {
         new.t = state.t + h;

@@ -6,7 +6,7 @@ use super::accepted::Work;
 use super::controller::PiController;
 use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found};
 use super::screening;
-use super::{accept, c, derivative, Derivative, Stats};
+use super::{accept, c, derivative_into, Derivative, Stats};
 use crate::stabilize::Stabilization;
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::{RealField, SVector};
@@ -450,11 +450,12 @@ where
                 });
             }
             if !self.carried {
-                self.k1 = derivative(
+                derivative_into(
                     system,
                     &self.state,
                     self.integrator.settings(),
                     &mut self.stats,
+                    &mut self.k1,
                 )?;
                 self.carried = true;
             }
@@ -559,7 +560,7 @@ where
             Some(k) if fsal && !work.projected => self.k1 = *k,
             // Projection moved the state, or the method is not FSAL: the
             // next step's derivative, and the Hermite end slope.
-            _ => self.k1 = derivative(system, work.end(), settings, &mut self.stats)?,
+            _ => derivative_into(system, work.end(), settings, &mut self.stats, &mut self.k1)?,
         }
         self.carried = true;
         if self.integrator.fixed_step().is_none() {
