@@ -552,8 +552,10 @@ where
         work.projected = if let Stabilization::Projection { .. } = settings.stabilization {
             work.projected_end = work.solution;
             accept(system, &mut work.projected_end, settings)?
+        } else if all_finite(&work.solution) {
+            false
         } else {
-            accept(system, &mut work.solution, settings)?
+            return Err(IntegrationError::NonFiniteState { t: work.solution.t });
         };
         let fsal = self.integrator.fsal();
         match work.stages.last() {
@@ -575,6 +577,16 @@ where
         }
         Ok(())
     }
+}
+
+/// Whether every component of `state` is finite (`State::is_finite`
+/// without its early exits, which kept the check scalar and branchy: it
+/// runs once a step).
+#[inline(always)]
+fn all_finite<T: RealField + Copy, const N: usize>(state: &State<T, N>) -> bool {
+    let finite = |all: bool, x: &T| all & x.is_finite();
+    let q = state.q.as_slice().iter().fold(state.t.is_finite(), finite);
+    state.qd.as_slice().iter().fold(q, finite)
 }
 
 /// What [`advance_events`](crate::DormandPrince45::advance_events) did.
