@@ -1,83 +1,90 @@
-//! The data of an accepted step that event location needs: a fresh one
-//! (searched where it lies, its start the stepper's state) and a kept one
-//! (for [`Stepper::at`](super::Stepper::at) and the step's later crossings),
-//! and their continuous extensions.
+//! The data of an accepted step that event location needs, kept where the
+//! step is computed: the [`Stepper`](super::Stepper)'s buffers, which each
+//! step overwrites in place, and their continuous extension.
 
 use super::dense_output::Interpolant;
 use super::events::Span;
-use super::method::Attempt;
 use super::Derivative;
 use crate::State;
-use nalgebra::RealField;
+use nalgebra::{RealField, SVector};
 
-/// One accepted step, kept for the continuous extension.
+/// The last step, written in place by the method and the stepper: a step
+/// that nothing crosses in moves nothing of the size of the state but
+/// its end into the stepper's state (as a step of the run without events
+/// does), and a kept one adds its start.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Accepted<T, const N: usize, const S: usize> {
+pub(super) struct Work<T, const N: usize, const S: usize> {
+    /// The step's start, once kept (the stepper's state has moved on to a
+    /// crossing or the step's end); before, the stepper's state is it.
     pub start: State<T, N>,
-    /// The Runge–Kutta solution at its end (before any projection).
+    /// The Runge–Kutta solution at its end (before any projection), its
+    /// time the step's end.
     pub solution: State<T, N>,
-    /// The accepted state at its end (after projection).
-    pub end: State<T, N>,
+    /// The accepted state at its end when projection moved it
+    /// (`projected`); otherwise `solution` is the accepted state.
+    pub projected_end: State<T, N>,
+    pub projected: bool,
     pub h: T,
     pub stages: [Derivative<T, N>; S],
-    pub end_slope: Derivative<T, N>,
 }
 
-/// A step just accepted, before it is kept: its start is the stepper's
-/// state, so that a step the driver searches and drops copies nothing
-/// more than a step of the run without events.
-pub(super) struct Fresh<T, const N: usize, const S: usize> {
-    /// The Runge–Kutta solution (its time set to the step's end) and the
-    /// stages.
-    pub attempt: Attempt<T, N, S>,
-    /// The accepted state at its end (after projection).
-    pub end: State<T, N>,
-    pub h: T,
-    pub end_slope: Derivative<T, N>,
-}
-
-impl<T: Copy, const N: usize, const S: usize> Accepted<T, N, S> {
-    /// `fresh`, which started at `start`, kept whole.
-    pub(super) fn new(start: State<T, N>, fresh: Fresh<T, N, S>) -> Self {
-        Accepted {
-            start,
-            solution: fresh.attempt.state,
-            end: fresh.end,
-            h: fresh.h,
-            stages: fresh.attempt.stages,
-            end_slope: fresh.end_slope,
+impl<T: RealField + Copy, const N: usize, const S: usize> Work<T, N, S> {
+    /// Buffers for steps from `state` (no step in them yet).
+    pub(super) fn new(state: &State<T, N>) -> Self {
+        let zero = SVector::zeros();
+        Work {
+            start: *state,
+            solution: *state,
+            projected_end: *state,
+            projected: false,
+            h: T::zero(),
+            stages: [(zero, zero); S],
         }
     }
-}
 
-/// The continuous extension of the step `fresh` from `start`.
-pub(super) fn fresh_span<'a, T: RealField + Copy, const N: usize, const S: usize>(
-    start: &'a State<T, N>,
-    fresh: &'a Fresh<T, N, S>,
-    dense: &'a [f64; S],
-) -> Span<'a, T, N, S> {
-    let interpolant = Interpolant {
-        start,
-        end: &fresh.attempt.state,
-        h: fresh.h,
-        stages: &fresh.attempt.stages,
-        end_slope: &fresh.end_slope,
-        dense,
-    };
-    Span::new(interpolant, &fresh.end)
-}
+    /// The accepted state at the step's end.
+    #[inline(always)]
+    pub(super) fn end(&self) -> &State<T, N> {
+        if self.projected {
+            &self.projected_end
+        } else {
+            &self.solution
+        }
+    }
 
-impl<T: RealField + Copy, const N: usize, const S: usize> Accepted<T, N, S> {
-    /// Its continuous extension, with the method's weights `dense`.
-    pub(super) fn span<'a>(&'a self, dense: &'a [f64; S]) -> Span<'a, T, N, S> {
+    /// The step's continuous extension from `start` (the stepper's state
+    /// while the step is fresh, `self.start` once kept), with the slope
+    /// `end_slope` at its end and the method's weights `dense`.
+    #[inline(always)]
+    pub(super) fn span<'a>(
+        &'a self,
+        start: &'a State<T, N>,
+        end_slope: &'a Derivative<T, N>,
+        dense: &'a [f64; S],
+    ) -> Span<'a, T, N, S> {
         let interpolant = Interpolant {
-            start: &self.start,
+            start,
             end: &self.solution,
             h: self.h,
             stages: &self.stages,
-            end_slope: &self.end_slope,
+            end_slope,
             dense,
         };
-        Span::new(interpolant, &self.end)
+        Span::new(interpolant, self.end())
+    }
+
+    /// The slope at the step's end for its extension: the last stage of a
+    /// first-same-as-last method (evaluated at the solution), else `k_end`,
+    /// the derivative at the accepted end (the next step's first stage).
+    #[inline(always)]
+    pub(super) fn end_slope<'a>(
+        &'a self,
+        fsal: bool,
+        k_end: &'a Derivative<T, N>,
+    ) -> &'a Derivative<T, N> {
+        match self.stages.last() {
+            Some(last) if fsal => last,
+            _ => k_end,
+        }
     }
 }

@@ -2,8 +2,8 @@
 
 use super::controller::PiController;
 use super::dense_output::Interpolant;
-use super::explicit::{fixed_tableau_steps, step, Step};
-use super::stepper::{Attempt, StepMethod};
+use super::explicit::{error_estimate, fixed_tableau_steps, step, step_into, Step};
+use super::stepper::StepMethod;
 use super::tableau::{Embedded, Tableau};
 use super::{accept, c, derivative, span, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
@@ -325,8 +325,11 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
         EmbeddedRungeKutta::initial_step(self, system, state, k1, total, stats)
     }
 
-    // Always inlined: the stages are then built where the stepper keeps
-    // them, not returned through memory (4 KB for the 32-link chain).
+    fn fsal(&self) -> bool {
+        M::TABLEAU.is_fsal()
+    }
+
+    // Always inlined: the stages are then built in the stepper's buffers.
     #[inline(always)]
     fn attempt<Sys, const N: usize, const K: usize>(
         &self,
@@ -334,24 +337,28 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
         state: &State<T, N>,
         k1: &Derivative<T, N>,
         h: T,
+        stages: &mut [Derivative<T, N>; S],
+        solution: &mut State<T, N>,
         stats: &mut Stats,
-    ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+    ) -> Result<T, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let next = step(&M::TABLEAU, system, state, k1, h, &self.settings, stats)?;
-        let error = self.norm(
-            &next.error,
-            &(state.q, state.qd),
-            &(next.state.q, next.state.qd),
-        );
-        Ok(Attempt {
-            state: next.state,
-            fsal: next.last,
-            stages: next.stages,
-            // A NaN error fails `error <= 1`: rejected and shrunk, as in `run`.
-            error,
-        })
+        let tableau = &M::TABLEAU;
+        step_into(
+            tableau,
+            system,
+            state,
+            k1,
+            h,
+            &self.settings,
+            stats,
+            stages,
+            solution,
+        )?;
+        let error = error_estimate(tableau, stages, h);
+        // A NaN error fails `error <= 1`: rejected and shrunk, as in `run`.
+        Ok(self.norm(&error, &(state.q, state.qd), &(solution.q, solution.qd)))
     }
 }
 

@@ -1,5 +1,5 @@
 use super::explicit::fixed_step_valid;
-use super::stepper::{Attempt, StepMethod};
+use super::stepper::StepMethod;
 use super::{fixed_steps, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
@@ -88,21 +88,19 @@ impl<T: RealField + Copy> StepMethod<T, 1> for SemiImplicitEuler<T> {
         state: &State<T, N>,
         k1: &Derivative<T, N>,
         h: T,
+        stages: &mut [Derivative<T, N>; 1],
+        solution: &mut State<T, N>,
         _: &mut Stats,
-    ) -> Result<Attempt<T, N, 1>, IntegrationError<T>>
+    ) -> Result<T, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let mut next = *state;
-        next.qd += k1.1 * h;
-        next.q += next.qd * h;
-        next.t = state.t + h;
-        Ok(Attempt {
-            state: next,
-            fsal: None,
-            stages: [*k1],
-            error: T::zero(),
-        })
+        *solution = *state;
+        solution.qd += k1.1 * h;
+        solution.q += solution.qd * h;
+        solution.t = state.t + h;
+        *stages = [*k1];
+        Ok(T::zero())
     }
 }
 

@@ -2,9 +2,9 @@
 //! step of any [`Tableau`], and [`ExplicitRungeKutta`] drives it with a
 //! fixed step size.
 
-use super::stepper::{Attempt, StepMethod};
+use super::stepper::StepMethod;
 use super::tableau::{Method, Tableau};
-use super::{c, derivative, fixed_steps, Derivative, Settings, Stats};
+use super::{c, derivative, derivative_into, fixed_steps, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use core::marker::PhantomData;
 use nalgebra::{RealField, SVector};
@@ -92,6 +92,86 @@ where
         error,
         stages: k,
     })
+}
+
+/// [`step`] writing where the [`Stepper`](super::Stepper) keeps the step,
+/// so that nothing of the size of the state is moved after it: the stages
+/// to `k` (the first is `k1`), and the propagated solution, at
+/// `state.t + h`, to `new` (which holds each stage's state on the way).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn step_into<T, Sys, const N: usize, const K: usize, const S: usize>(
+    tableau: &Tableau<S>,
+    system: &Sys,
+    state: &State<T, N>,
+    k1: &Derivative<T, N>,
+    h: T,
+    settings: &Settings<T>,
+    stats: &mut Stats,
+    k: &mut [Derivative<T, N>; S],
+    new: &mut State<T, N>,
+) -> Result<(), IntegrationError<T>>
+where
+    T: RealField + Copy,
+    Sys: ConstrainedSystem<T, N, K>,
+{
+    if let Some(first) = k.first_mut() {
+        *first = *k1;
+    }
+    for i in 1..S {
+        *new = combine(&tableau.a[i], k, i, state, h, c::<T>(tableau.c[i]) * h);
+        derivative_into(system, new, settings, stats, &mut k[i])?;
+    }
+    if tableau.is_fsal() {
+        new.t = state.t + h;
+    } else {
+        *new = combine(&tableau.b, k, S, state, h, h);
+    }
+    Ok(())
+}
+
+/// `y + h Σⱼ wⱼ kⱼ` over the first `stages` stages, at time `y.t + dt`
+/// (zero weights skipped: the tableau is a constant, so this unrolls to
+/// the method's own sums).
+#[inline(always)]
+fn combine<T: RealField + Copy, const N: usize, const S: usize>(
+    weights: &[f64; S],
+    k: &[Derivative<T, N>; S],
+    stages: usize,
+    y: &State<T, N>,
+    h: T,
+    dt: T,
+) -> State<T, N> {
+    let (mut q, mut qd) = (y.q, y.qd);
+    for (w, kj) in weights.iter().zip(k).take(stages) {
+        if *w != 0.0 {
+            let f = c::<T>(*w) * h;
+            q += kj.0 * f;
+            qd += kj.1 * f;
+        }
+    }
+    State { t: y.t + dt, q, qd }
+}
+
+/// The local error estimate `h Σ eⱼ kⱼ` of the stages `k`, unscaled (zero
+/// without an embedded pair).
+#[inline(always)]
+pub(super) fn error_estimate<T: RealField + Copy, const N: usize, const S: usize>(
+    tableau: &Tableau<S>,
+    k: &[Derivative<T, N>; S],
+    h: T,
+) -> Derivative<T, N> {
+    let mut error = (SVector::zeros(), SVector::zeros());
+    if tableau.error_order > 0 {
+        for (e, kj) in tableau.e.iter().zip(k) {
+            if *e != 0.0 {
+                let f = c::<T>(*e) * h;
+                error.0 += kj.0 * f;
+                error.1 += kj.1 * f;
+            }
+        }
+    }
+    error
 }
 
 /// An explicit Runge–Kutta method `M` with `S` stages and a fixed step; the
@@ -195,8 +275,11 @@ impl<T: RealField + Copy, M: Method<S>, const S: usize> StepMethod<T, S>
         M::TABLEAU.error_order
     }
 
-    // Always inlined: the stages are then built where the stepper keeps
-    // them, not returned through memory (4 KB for the 32-link chain).
+    fn fsal(&self) -> bool {
+        M::TABLEAU.is_fsal()
+    }
+
+    // Always inlined: the stages are then built in the stepper's buffers.
     #[inline(always)]
     fn attempt<Sys, const N: usize, const K: usize>(
         &self,
@@ -204,18 +287,26 @@ impl<T: RealField + Copy, M: Method<S>, const S: usize> StepMethod<T, S>
         state: &State<T, N>,
         k1: &Derivative<T, N>,
         h: T,
+        stages: &mut [Derivative<T, N>; S],
+        solution: &mut State<T, N>,
         stats: &mut Stats,
-    ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+    ) -> Result<T, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        let next = step(&M::TABLEAU, system, state, k1, h, &self.settings, stats)?;
-        Ok(Attempt {
-            state: next.state,
-            fsal: next.last,
-            stages: next.stages,
-            error: T::zero(),
-        })
+        let tableau = &M::TABLEAU;
+        step_into(
+            tableau,
+            system,
+            state,
+            k1,
+            h,
+            &self.settings,
+            stats,
+            stages,
+            solution,
+        )?;
+        Ok(T::zero())
     }
 }
 

@@ -6,16 +6,6 @@ use super::{Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
 
-/// One attempted step: the new state, the derivative there when the
-/// method is first-same-as-last, the stages and the scaled error
-/// (zero for a fixed-step method).
-pub struct Attempt<T, const N: usize, const S: usize> {
-    pub state: State<T, N>,
-    pub fsal: Option<Derivative<T, N>>,
-    pub stages: [Derivative<T, N>; S],
-    pub error: T,
-}
-
 /// A method the [`Stepper`](super::Stepper) can drive.
 pub trait StepMethod<T: RealField + Copy, const S: usize> {
     /// The continuous extension's weights (zero: cubic Hermite).
@@ -36,6 +26,11 @@ pub trait StepMethod<T: RealField + Copy, const S: usize> {
     }
     /// The order of the error estimate (for the controller; 0 without).
     fn error_order(&self) -> u32;
+    /// Whether the last stage is evaluated at the new solution (first
+    /// same as last): then it is the derivative at the step's end.
+    fn fsal(&self) -> bool {
+        false
+    }
     /// The first step of an adaptive run over `total`; by default the
     /// fixed step (the stepper asks only adaptive methods).
     fn initial_step<Sys, const N: usize, const K: usize>(
@@ -51,15 +46,22 @@ pub trait StepMethod<T: RealField + Copy, const S: usize> {
     {
         Ok(self.fixed_step().unwrap_or(total))
     }
-    /// One step of size `h` from `state`, whose derivative is `k1`.
+    /// One step of size `h` from `state`, whose derivative is `k1`, written
+    /// where the stepper keeps it: the stages to `stages` (the first is
+    /// `k1`), the new state to `solution` (its time `state.t + h`).
+    /// Returns the scaled error (zero for a fixed-step method; a NaN fails
+    /// `error <= 1` and is rejected). On `Err` both are partly written.
+    #[allow(clippy::too_many_arguments)]
     fn attempt<Sys, const N: usize, const K: usize>(
         &self,
         system: &Sys,
         state: &State<T, N>,
         k1: &Derivative<T, N>,
         h: T,
+        stages: &mut [Derivative<T, N>; S],
+        solution: &mut State<T, N>,
         stats: &mut Stats,
-    ) -> Result<Attempt<T, N, S>, IntegrationError<T>>
+    ) -> Result<T, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>;
 }

@@ -209,7 +209,43 @@ where
     S: ConstrainedSystem<T, N, K>,
 {
     stats.evaluations += 1;
-    let qdd = match baumgarte_correction(system, state, &settings.stabilization) {
+    Ok((state.qd, stabilized_acceleration(system, state, settings)?))
+}
+
+/// [`derivative`] written to `out`: the stepper's buffers, where the
+/// value is needed, so that it is not returned through memory and moved
+/// there (per evaluation of a cheap system that move cost a fifth of the
+/// evaluation). `out` is unchanged on `Err`.
+#[inline]
+fn derivative_into<T, S, const N: usize, const K: usize>(
+    system: &S,
+    state: &State<T, N>,
+    settings: &Settings<T>,
+    stats: &mut Stats,
+    out: &mut Derivative<T, N>,
+) -> Result<(), IntegrationError<T>>
+where
+    T: RealField + Copy,
+    S: ConstrainedSystem<T, N, K>,
+{
+    stats.evaluations += 1;
+    out.1 = stabilized_acceleration(system, state, settings)?;
+    out.0 = state.qd;
+    Ok(())
+}
+
+/// `q̈` at a state, with the stabilization's correction of `b`.
+#[inline(always)]
+fn stabilized_acceleration<T, S, const N: usize, const K: usize>(
+    system: &S,
+    state: &State<T, N>,
+    settings: &Settings<T>,
+) -> Result<SVector<T, N>, IntegrationError<T>>
+where
+    T: RealField + Copy,
+    S: ConstrainedSystem<T, N, K>,
+{
+    match baumgarte_correction(system, state, &settings.stabilization) {
         Some(db) => system.acceleration_corrected(state, &db),
         None => system.acceleration(state),
     }
@@ -218,8 +254,7 @@ where
         // non-finite values, which is what the caller is told.
         DynamicsError::NonFinite => IntegrationError::NonFiniteState { t: state.t },
         error => IntegrationError::Dynamics { t: state.t, error },
-    })?;
-    Ok((state.qd, qdd))
+    })
 }
 
 /// After an accepted step: finite check, then projection if asked for.

@@ -27,21 +27,21 @@ fn screened<T: RealField + Copy, const E: usize>(
 ) -> bool {
     let zero = T::zero();
     let quarter = c::<T>(SCREEN_SAFETY / 4.0);
+    // Without early exits (`&`, not `&&`): the functions' tests then
+    // compile to straight-line arithmetic, which is what a step pays.
     before
         .iter()
         .zip(refs)
         .zip(end)
-        .all(|((&(ta, ga), &(tb, gb)), &g1)| {
+        .fold(true, |screened, ((&(ta, ga), &(tb, gb)), &g1)| {
             let (h, previous) = (t1 - tb, tb - ta);
-            if !(previous > zero && h > zero)
-                || !((gb > zero && g1 > zero) || (gb < zero && g1 < zero))
-            {
-                return false;
-            }
+            let ordered = (previous > zero) & (h > zero);
+            let same_sign = ((gb > zero) & (g1 > zero)) | ((gb < zero) & (g1 < zero));
             // c = ((g1 − gb)/h − (gb − ga)/previous) / (h + previous)
             let bend = ((g1 - gb) * previous - (gb - ga) * h).abs();
             let dip = bend * h * quarter;
-            gb.abs().min(g1.abs()) * (previous * (h + previous)) > dip
+            let far = gb.abs().min(g1.abs()) * (previous * (h + previous)) > dip;
+            screened & ordered & same_sign & far
         })
 }
 

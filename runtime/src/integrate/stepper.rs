@@ -2,15 +2,16 @@
 //! reports the event crossings inside it in time order, and restarts from
 //! a state changed at an event. The drivers with events are built on it.
 
-use super::accepted::{fresh_span, Accepted, Fresh};
+use super::accepted::Work;
 use super::controller::PiController;
 use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found};
 use super::screening;
-use super::{accept, c, derivative, Derivative, Stats};
+use super::{accept, c, derivative_into, Derivative, Stats};
+use crate::stabilize::Stabilization;
 use crate::{ConstrainedSystem, IntegrationError, State};
-use nalgebra::RealField;
+use nalgebra::{RealField, SVector};
 
-pub(super) use super::method::{Attempt, StepMethod};
+pub(super) use super::method::StepMethod;
 
 /// What one call of [`Stepper::step`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,15 +54,21 @@ pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
     integrator: I,
     t_end: T,
     state: State<T, N>,
-    /// The derivative at `state` when it is a step's end (carried into the
-    /// next step); `None` after a state change.
-    k1: Option<Derivative<T, N>>,
+    /// The derivative at the last step's end, when `carried`: the next
+    /// step's first stage (and the end slope of the step's extension).
+    /// Not carried before the first step and after a state change.
+    k1: Derivative<T, N>,
+    carried: bool,
     /// The next step size (`None` before the first).
     h: Option<T>,
     controller: PiController<T>,
     stats: Stats,
     event_stats: EventStats,
-    step: Option<Accepted<T, N, S>>,
+    /// The last step, written in place by each step.
+    work: Work<T, N, S>,
+    /// Whether `work` is a whole accepted step, its start kept (for `at`
+    /// and the step's later crossings).
+    kept: bool,
     /// Whether `step` still has crossings to search after `state.t`.
     pending: bool,
     /// Per event function, the time and value its next crossing is sought
@@ -101,16 +108,19 @@ where
         integrator.validate()?;
         super::span(&state, t_end)?;
         let controller = PiController::new(integrator.error_order());
+        let zero = SVector::zeros();
         Ok(Stepper {
             integrator,
             t_end,
             state,
-            k1: None,
+            k1: (zero, zero),
+            carried: false,
             h: None,
             controller,
             stats: Stats::default(),
             event_stats: EventStats::default(),
-            step: None,
+            work: Work::new(&state),
+            kept: false,
             pending: false,
             refs: None,
             before: None,
@@ -147,10 +157,19 @@ where
     }
 
     /// The last accepted step's continuous extension at `t`, or `None`
-    /// outside it (or before the first step, or after a state change).
+    /// outside it (or before the first step, after a state change, or
+    /// after a step that failed).
     pub fn at(&self, t: T) -> Option<State<T, N>> {
-        let step = self.step.as_ref()?;
-        (t >= step.start.t && t <= step.end.t).then(|| step.span(&I::DENSE).at(t))
+        if !self.kept {
+            return None;
+        }
+        let work = &self.work;
+        let span = work.span(
+            &work.start,
+            work.end_slope(self.integrator.fsal(), &self.k1),
+            &I::DENSE,
+        );
+        (t >= work.start.t && t <= work.end().t).then(|| span.at(t))
     }
 
     /// Replaces the state (at an event: the impact law, a reset) and
@@ -181,8 +200,8 @@ where
             _ => {}
         }
         self.state = state;
-        self.k1 = None;
-        self.step = None;
+        self.carried = false;
+        self.kept = false;
         self.pending = false;
         self.refs = None;
         self.before = None;
@@ -219,36 +238,39 @@ where
                 return Ok(StepOutcome::Finished);
             }
             // Kept whole, for `at` and the step's later crossings.
-            let fresh = self.take_step(system)?;
-            self.step = Some(Accepted::new(self.state, fresh));
+            self.kept = false;
+            self.take_step(system)?;
+            self.work.start = self.state;
+            self.kept = true;
             self.pending = true;
         }
         let before = if fresh { self.before.take() } else { None };
         self.before = None;
         // Without event functions, no continuous extension is formed.
-        let found = match self.step.as_ref() {
-            Some(step) if E > 0 => {
-                let (g_end, screened) = screening::screen(
+        let found = if self.kept && E > 0 {
+            let work = &self.work;
+            let (g_end, screened) = screening::screen(
+                events,
+                &mut refs,
+                before.as_ref(),
+                work.end(),
+                &mut self.event_stats,
+            )?;
+            if screened {
+                None
+            } else {
+                let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
+                events::search(
                     events,
+                    &work.span(&work.start, end_slope, &I::DENSE),
                     &mut refs,
-                    before.as_ref(),
-                    &step.end,
+                    self.state.t,
+                    g_end,
                     &mut self.event_stats,
-                )?;
-                if screened {
-                    None
-                } else {
-                    events::search(
-                        events,
-                        &step.span(&I::DENSE),
-                        &mut refs,
-                        self.state.t,
-                        g_end,
-                        &mut self.event_stats,
-                    )?
-                }
+                )?
             }
-            _ => None,
+        } else {
+            None
         };
         if fresh && found.is_none() {
             self.before = Some(start);
@@ -258,9 +280,10 @@ where
 
     /// The driver's step: accepted steps until one shows a crossing
     /// (reported as [`step`](Self::step) reports it) or the end. A step
-    /// without a crossing is searched where its data lie and dropped, not
-    /// kept: the run with events that never trigger copies nothing more
-    /// than the run without events (`at` has no step after it).
+    /// without a crossing is searched where the method wrote it and its
+    /// start is not kept: the run with events that never trigger copies
+    /// nothing more than the run without events (`at` has no step after
+    /// it).
     #[inline(always)]
     fn next_event<Sys, F, const K: usize>(
         &mut self,
@@ -276,27 +299,29 @@ where
         }
         events.validate()?;
         let mut refs = self.references(events)?;
-        self.step = None;
+        self.kept = false;
         loop {
             if self.state.t >= self.t_end {
                 self.refs = Some(refs);
                 return Ok(StepOutcome::Finished);
             }
-            let fresh = self.take_step(system)?;
+            self.take_step(system)?;
             let start = refs;
+            let work = &self.work;
             let (g_end, screened) = screening::screen(
                 events,
                 &mut refs,
                 self.before.as_ref(),
-                &fresh.end,
+                work.end(),
                 &mut self.event_stats,
             )?;
             let found = if screened {
                 None
             } else {
+                let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
                 events::search(
                     events,
-                    &fresh_span(&self.state, &fresh, &I::DENSE),
+                    &work.span(&self.state, end_slope, &I::DENSE),
                     &mut refs,
                     self.state.t,
                     g_end,
@@ -305,12 +330,13 @@ where
             };
             if found.is_some() {
                 self.before = None;
-                self.step = Some(Accepted::new(self.state, fresh));
+                self.work.start = self.state;
+                self.kept = true;
                 self.pending = true;
                 return self.report(found, refs, events);
             }
             self.before = Some(start);
-            self.state = fresh.end;
+            self.state = *self.work.end();
             self.reported = None;
             self.restarted = None;
         }
@@ -350,22 +376,24 @@ where
     where
         F: Fn(&State<T, N>) -> [T; E],
     {
-        let Some(step) = self.step.as_ref() else {
+        if !self.kept {
             return Err(IntegrationError::InvalidParameter); // unreachable: a step was just taken
-        };
+        }
+        let work = &self.work;
         let Some(found) = found else {
-            self.state = step.end;
+            self.state = *work.end();
             self.refs = Some(refs);
             self.pending = false;
             self.reported = None;
             self.restarted = None;
-            return Ok(if step.end.t >= self.t_end {
+            return Ok(if self.state.t >= self.t_end {
                 StepOutcome::Finished
             } else {
                 StepOutcome::Step
             });
         };
-        let span = step.span(&I::DENSE);
+        let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
+        let span = work.span(&work.start, end_slope, &I::DENSE);
         if let Some((event, rising, t)) = self.restarted {
             let tolerance = events.time_tolerance(&span);
             if found.index == event && found.rising == rising && found.left - t <= tolerance {
@@ -404,15 +432,12 @@ where
         }))
     }
 
-    /// Takes one accepted step from `state` (retrying rejected ones) and
-    /// returns it, `state` still its start. Always inlined, as `accepted`: the step is then built
-    /// where its caller keeps it, not copied through each call (for the
-    /// 32-link chain its stages are 4 KB).
+    /// Takes one accepted step from `state` (retrying rejected ones) into
+    /// `work`, `state` still its start. Always inlined, as `accepted`: the
+    /// method writes the step into the stepper's buffers where the driver
+    /// searches it (for the 32-link chain its stages are 4 KB).
     #[inline(always)]
-    fn take_step<Sys, const K: usize>(
-        &mut self,
-        system: &Sys,
-    ) -> Result<Fresh<T, N, S>, IntegrationError<T>>
+    fn take_step<Sys, const K: usize>(&mut self, system: &Sys) -> Result<(), IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
@@ -424,26 +449,32 @@ where
                     steps: max_steps,
                 });
             }
-            let k1 = match self.k1 {
-                Some(k1) => k1,
-                None => derivative(
+            if !self.carried {
+                derivative_into(
                     system,
                     &self.state,
                     self.integrator.settings(),
                     &mut self.stats,
-                )?,
-            };
-            self.k1 = Some(k1);
-            let (h, next_t, last) = self.next_step(system, &k1)?;
-            let attempt = self
-                .integrator
-                .attempt(system, &self.state, &k1, h, &mut self.stats)?;
-            if attempt.error <= T::one() {
-                return self.accepted(system, attempt, h, next_t, last);
+                    &mut self.k1,
+                )?;
+                self.carried = true;
+            }
+            let (h, next_t, last) = self.next_step(system)?;
+            let error = self.integrator.attempt(
+                system,
+                &self.state,
+                &self.k1,
+                h,
+                &mut self.work.stages,
+                &mut self.work.solution,
+                &mut self.stats,
+            )?;
+            if error <= T::one() {
+                return self.accepted(system, error, h, next_t, last);
             }
             // Rejected (the error is NaN-safe: `<=` failed, so retried smaller).
             self.stats.rejected += 1;
-            self.h = Some(self.controller.rejected(h, attempt.error));
+            self.h = Some(self.controller.rejected(h, error));
         }
     }
 
@@ -452,7 +483,6 @@ where
     fn next_step<Sys, const K: usize>(
         &mut self,
         system: &Sys,
-        k1: &Derivative<T, N>,
     ) -> Result<(T, T, bool), IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
@@ -478,7 +508,7 @@ where
                 let h = self.integrator.initial_step(
                     system,
                     &self.state,
-                    k1,
+                    &self.k1,
                     remaining,
                     &mut self.stats,
                 )?;
@@ -496,35 +526,47 @@ where
         }
     }
 
-    /// An accepted attempt as a step: finite check and projection, the
-    /// derivative carried to the next step, the controller's next size.
+    /// An accepted attempt as a step, in place: its end time, finite check
+    /// and projection, the derivative carried to the next step, the
+    /// controller's next size.
     #[inline(always)]
     fn accepted<Sys, const K: usize>(
         &mut self,
         system: &Sys,
-        mut attempt: Attempt<T, N, S>,
+        error: T,
         h: T,
         next_t: T,
         last: bool,
-    ) -> Result<Fresh<T, N, S>, IntegrationError<T>>
+    ) -> Result<(), IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
         let settings = self.integrator.settings();
-        attempt.state.t = if last { self.t_end } else { next_t };
-        let mut end = attempt.state;
+        let work = &mut self.work;
+        work.solution.t = if last { self.t_end } else { next_t };
+        work.h = h;
         self.stats.steps += 1;
         self.anchor.1 += 1;
-        let projected = accept(system, &mut end, settings)?;
-        let k_end = match attempt.fsal {
-            Some(k) if !projected => k,
+        // The solution is the accepted end unless projection moves it (its
+        // copy then keeps the solution for the extension).
+        work.projected = if let Stabilization::Projection { .. } = settings.stabilization {
+            work.projected_end = work.solution;
+            accept(system, &mut work.projected_end, settings)?
+        } else if all_finite(&work.solution) {
+            false
+        } else {
+            return Err(IntegrationError::NonFiniteState { t: work.solution.t });
+        };
+        let fsal = self.integrator.fsal();
+        match work.stages.last() {
+            Some(k) if fsal && !work.projected => self.k1 = *k,
             // Projection moved the state, or the method is not FSAL: the
             // next step's derivative, and the Hermite end slope.
-            _ => derivative(system, &end, settings, &mut self.stats)?,
-        };
-        self.k1 = Some(k_end);
+            _ => derivative_into(system, work.end(), settings, &mut self.stats, &mut self.k1)?,
+        }
+        self.carried = true;
         if self.integrator.fixed_step().is_none() {
-            let proposed = self.controller.accepted(h, attempt.error);
+            let proposed = self.controller.accepted(h, error);
             self.h = Some(
                 self.integrator
                     .max_step()
@@ -533,13 +575,18 @@ where
         } else {
             self.h = Some(h);
         }
-        Ok(Fresh {
-            end,
-            h,
-            end_slope: attempt.fsal.unwrap_or(k_end),
-            attempt,
-        })
+        Ok(())
     }
+}
+
+/// Whether every component of `state` is finite (`State::is_finite`
+/// without its early exits, which kept the check scalar and branchy: it
+/// runs once a step).
+#[inline(always)]
+fn all_finite<T: RealField + Copy, const N: usize>(state: &State<T, N>) -> bool {
+    let finite = |all: bool, x: &T| all & x.is_finite();
+    let q = state.q.as_slice().iter().fold(state.t.is_finite(), finite);
+    state.qd.as_slice().iter().fold(q, finite)
 }
 
 /// What [`advance_events`](crate::DormandPrince45::advance_events) did.
