@@ -2,15 +2,16 @@
 //! shared temporaries in topological order, and the outputs themselves.
 
 use super::context::Context;
+pub(super) use super::literal::{literal, Prec};
 use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
 use crate::equations::Equations;
-use crate::expr::cse::{Schedule, MAX_UNROLLED_POWER};
+use crate::expr::cse::{Paired, Schedule, MAX_UNROLLED_POWER};
 use crate::expr::num::Num;
 use crate::expr::{signed_parts, Emission, Func, Graph, Id, Node, Sym};
 use crate::names::{acceleration_name, velocity_name};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::quote;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use syn::Ident;
 
 /// The local name of each coordinate's velocity or acceleration.
@@ -20,18 +21,6 @@ fn local_names(eq: &Equations, name: fn(&str) -> String) -> Vec<Ident> {
         .map(|c| Ident::new(&name(&c.to_string()), c.span()))
         .collect()
 }
-
-/// Binding strength of emitted Rust expressions, for parentheses.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) enum Prec {
-    Sum,
-    Product,
-    Unary,
-    Atom,
-}
-
-/// A sine, the cosine of the same argument, and the argument.
-type SinCos = (Id, Id, Id);
 
 /// The body of one generated function: its variables, temporaries and outputs.
 pub(super) struct Body<'a> {
@@ -60,11 +49,6 @@ pub(super) struct Body<'a> {
     /// (`m·l`), each bound once right after its last factor
     /// (`super::subproducts`).
     subproducts: SubProducts,
-    /// Sines and cosines of one argument bound together (`Schedule::sin_cos`):
-    /// at the first of the two, the pair `(sin, cos)` and their argument;
-    /// the second is in `paired_later` and gets no `let` of its own.
-    paired_first: HashMap<Id, SinCos>,
-    paired_later: HashSet<Id>,
 }
 
 impl<'a> Body<'a> {
@@ -131,10 +115,7 @@ impl<'a> Body<'a> {
                 temp_names.insert(*id, name.clone());
             }
         }
-        let (paired_first, paired_later) = pair_positions(g, &schedule);
         Body {
-            paired_first,
-            paired_later,
             reciprocals,
             subproducts,
             needs_multipliers,
@@ -243,13 +224,15 @@ impl<'a> Body<'a> {
             })
             .map(|(position, &id)| {
                 let shared = self.subproducts_after(Some(position));
-                if self.paired_later.contains(&id) {
-                    return shared;
-                }
-                if let Some(&(sin, cos, argument)) = self.paired_first.get(&id) {
-                    let (s, c) = (&self.temp_names[&sin], &self.temp_names[&cos]);
-                    let argument = self.wrapped(argument, Prec::Atom);
-                    return quote! { let (#s, #c) = #argument.sin_cos(); #shared };
+                // A sine and cosine of one argument: one `sin_cos()`.
+                match self.schedule.paired.get(&id) {
+                    Some(&Paired::Later) => return shared,
+                    Some(&Paired::First { sin, cos, argument }) => {
+                        let (s, c) = (&self.temp_names[&sin], &self.temp_names[&cos]);
+                        let argument = self.wrapped(argument, Prec::Atom);
+                        return quote! { let (#s, #c) = #argument.sin_cos(); #shared };
+                    }
+                    None => {}
                 }
                 let name = &self.temp_names[&id];
                 self.defining.set(position);
@@ -588,32 +571,6 @@ impl<'a> Body<'a> {
 }
 
 /// `p` when `id` is the node `1/p`.
-/// For each `(sin a, cos a)` pair of `schedule`, the one scheduled first
-/// (mapped to the pair and its argument) and the other.
-fn pair_positions(g: &Graph, schedule: &Schedule) -> (HashMap<Id, SinCos>, HashSet<Id>) {
-    let position: HashMap<Id, usize> = schedule
-        .temporaries
-        .iter()
-        .enumerate()
-        .map(|(i, &id)| (id, i))
-        .collect();
-    let mut first = HashMap::new();
-    let mut later = HashSet::new();
-    for &(sin, cos) in &schedule.sin_cos {
-        let Node::Func(_, args) = g.node(sin) else {
-            continue;
-        };
-        let argument = args.as_slice()[0];
-        let (Some(ps), Some(pc)) = (position.get(&sin), position.get(&cos)) else {
-            continue;
-        };
-        let (a, b) = if ps < pc { (sin, cos) } else { (cos, sin) };
-        first.insert(a, (sin, cos, argument));
-        later.insert(b);
-    }
-    (first, later)
-}
-
 fn reciprocal_of(g: &Graph, id: Id) -> Option<Id> {
     match g.node(id) {
         Node::Mul(factors) => match factors.as_ref() {
@@ -627,19 +584,4 @@ fn reciprocal_of(g: &Graph, id: Id) -> Option<Id> {
 fn join_product(factors: &[TokenStream]) -> Option<TokenStream> {
     let (first, rest) = factors.split_first()?;
     Some(quote! { #first #(* #rest)* })
-}
-
-/// A constant of type `T`.
-pub(super) fn literal(n: Num) -> (TokenStream, Prec) {
-    if n.is_zero() {
-        return (quote!(T::zero()), Prec::Atom);
-    }
-    if n.is_one() {
-        return (quote!(T::one()), Prec::Atom);
-    }
-    let value = Literal::f64_suffixed(n.to_f64());
-    (
-        quote!(::constrained::__private::lit::<T>(#value)),
-        Prec::Atom,
-    )
 }

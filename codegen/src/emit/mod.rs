@@ -33,6 +33,7 @@ mod gibbs_appell;
 mod impact;
 mod jacobian;
 mod ldlt;
+mod literal;
 mod mass_inverse;
 mod motion;
 mod solve;

@@ -24,9 +24,19 @@ pub const MAX_UNROLLED_POWER: i64 = 4;
 pub struct Schedule {
     /// Nodes that get a `let`, in topological order.
     pub temporaries: Vec<Id>,
-    /// `(sin a, cos a)` pairs among the temporaries, to be bound together
-    /// by one `a.sin_cos()` where the first of the two is scheduled.
-    pub sin_cos: Vec<(Id, Id)>,
+    /// The temporaries that are a sine and a cosine of one argument, to be
+    /// bound together by one `a.sin_cos()` where the first of the two is
+    /// scheduled.
+    pub paired: HashMap<Id, Paired>,
+}
+
+/// A temporary's part in a `(sin a, cos a)` pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Paired {
+    /// Scheduled first: both are bound here.
+    First { sin: Id, cos: Id, argument: Id },
+    /// Scheduled second: already bound.
+    Later,
 }
 
 impl Schedule {
@@ -65,11 +75,34 @@ impl Schedule {
                 !leaf && uses[id.index()] > 1
             })
             .collect();
+        let paired = pair_positions(g, &temporaries, &sin_cos);
         Schedule {
             temporaries,
-            sin_cos,
+            paired,
         }
     }
+}
+
+/// Each pair's first temporary (in `temporaries`' order) and its second.
+fn pair_positions(g: &Graph, temporaries: &[Id], pairs: &[(Id, Id)]) -> HashMap<Id, Paired> {
+    let position: HashMap<Id, usize> = temporaries
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
+    let mut out = HashMap::new();
+    for &(sin, cos) in pairs {
+        let (Node::Func(_, args), Some(ps), Some(pc)) =
+            (g.node(sin), position.get(&sin), position.get(&cos))
+        else {
+            continue;
+        };
+        let argument = args.as_slice()[0];
+        let (first, later) = if ps < pc { (sin, cos) } else { (cos, sin) };
+        out.insert(first, Paired::First { sin, cos, argument });
+        out.insert(later, Paired::Later);
+    }
+    out
 }
 
 /// The `(sin a, cos a)` pairs among `nodes`, in the order of their sines.
