@@ -41,27 +41,10 @@ where
     T: RealField + Copy,
     Sys: ConstrainedSystem<T, N, K>,
 {
-    // y + h Σⱼ wⱼ kⱼ over the stages computed so far (zero weights skipped:
-    // the tableau is a constant, so this unrolls to the method's own sums).
-    let combine = |weights: &[f64; S], k: &[Derivative<T, N>; S], stages: usize, dt: T| {
-        let (mut q, mut qd) = (state.q, state.qd);
-        for (w, kj) in weights.iter().zip(k).take(stages) {
-            if *w != 0.0 {
-                let f = c::<T>(*w) * h;
-                q += kj.0 * f;
-                qd += kj.1 * f;
-            }
-        }
-        State {
-            t: state.t + dt,
-            q,
-            qd,
-        }
-    };
     let mut k: [Derivative<T, N>; S] = [*k1; S];
     let mut stage = *state;
     for i in 1..S {
-        stage = combine(&tableau.a[i], &k, i, c::<T>(tableau.c[i]) * h);
+        stage = combine(&tableau.a[i], &k, i, state, h, c::<T>(tableau.c[i]) * h);
         k[i] = derivative(system, &stage, settings, stats)?;
     }
     let (new, last) = if tableau.is_fsal() {
@@ -74,18 +57,9 @@ where
             Some(k[S - 1]),
         )
     } else {
-        (combine(&tableau.b, &k, S, h), None)
+        (combine(&tableau.b, &k, S, state, h, h), None)
     };
-    let mut error = (SVector::zeros(), SVector::zeros());
-    if tableau.error_order > 0 {
-        for (e, kj) in tableau.e.iter().zip(&k) {
-            if *e != 0.0 {
-                let f = c::<T>(*e) * h;
-                error.0 += kj.0 * f;
-                error.1 += kj.1 * f;
-            }
-        }
-    }
+    let error = error_estimate(tableau, &k, h);
     Ok(Step {
         state: new,
         last,
