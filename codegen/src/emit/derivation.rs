@@ -463,12 +463,16 @@ fn generalized_inverse(
             return;
         }
         MassInverse::Auxiliary(f) => {
+            let rows = f.auxiliary.as_ref().map_or_else(String::new, |x| {
+                let listed: Vec<String> = x.rows.iter().map(ToString::to_string).collect();
+                listed.join(", ")
+            });
             let _ = writeln!(
                 w,
                 "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
-                 Udwadia & Schutte's auxiliary system M_A = M + s AᵀA, F_A = F + s Aᵀ b (s = tr M / ‖A‖², 1 where\n  \
-                 either is not positive) has the same q̈ and, as A q̈ = b, the same λ; it is solved for M_A, F_A\n  \
-                 on the pattern of M + AᵀA:"
+                 Udwadia & Schutte's auxiliary system M_A = M + s A_RᵀA_R, F_A = F + s A_Rᵀ b_R (s = tr M / ‖A_R‖²)\n  \
+                 has the same q̈ and, as A q̈ = b, the same λ; A_R are the rows {rows} of A, the sparsest that\n  \
+                 complete M's rank. It is solved for M_A, F_A on the pattern of M + A_RᵀA_R:"
             );
             factored(w, f, coordinates, rank);
             return;

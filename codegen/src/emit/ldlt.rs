@@ -315,6 +315,26 @@ impl<'a> StructuredLdlt<'a> {
             };
             return (code, vec![true]);
         }
+        let (mut code, forward) = self.forward(rhs, y);
+        let values: Vec<Option<TokenStream>> = (0..k)
+            .map(|p| {
+                forward[p].then(|| {
+                    let yp = Context::local(y, p);
+                    quote!(#yp)
+                })
+            })
+            .collect();
+        let (back, bound) = self.backward(&values, out);
+        code.extend(back);
+        (code, bound)
+    }
+
+    /// Forward substitution `y = L⁻¹ P rhs` for a right-hand side with
+    /// structural zeros (`None`, `rhs` in natural order) into the locals
+    /// `__{y}{p}`, by position `p` in the elimination order; returns the
+    /// code and which positions it binds (the others are zero).
+    pub(super) fn forward(&self, rhs: &[Option<TokenStream>], y: &str) -> (TokenStream, Vec<bool>) {
+        let k = self.k();
         let (l, o) = (&self.structure.fill, &self.structure.order);
         let mut code = TokenStream::new();
         let mut forward = vec![false; k];
@@ -341,13 +361,24 @@ impl<'a> StructuredLdlt<'a> {
             code.extend(quote! { let #yi = #value; });
             forward[i] = true;
         }
+        (code, forward)
+    }
+
+    /// Back substitution `x = Pᵀ L⁻ᵀ D⁻¹ y` into `out` (one local per row,
+    /// natural order), from `y` given by position in the elimination order
+    /// (`None`: structurally zero); returns the code and which of `out` it
+    /// binds (the others are zero).
+    pub(super) fn backward(
+        &self,
+        y: &[Option<TokenStream>],
+        out: &[Ident],
+    ) -> (TokenStream, Vec<bool>) {
+        let k = self.k();
+        let (l, o) = (&self.structure.fill, &self.structure.order);
+        let mut code = TokenStream::new();
         let mut back = vec![false; k];
         for i in (0..k).rev() {
-            let (x, yi, inv) = (
-                &out[o[i]],
-                Context::local(y, i),
-                Context::local(self.roles.inverse, i),
-            );
+            let (x, inv) = (&out[o[i]], Context::local(self.roles.inverse, i));
             let updates: Vec<TokenStream> = (i + 1..k)
                 .filter(|&c| l[c][i] && back[c])
                 .map(|c| {
@@ -355,16 +386,18 @@ impl<'a> StructuredLdlt<'a> {
                     quote!(#lci * #xc)
                 })
                 .collect();
-            let scaled = if self.reciprocal(i) {
-                quote!(#yi * #inv)
-            } else {
-                let di = Context::local(self.roles.pivot, i);
-                quote!(#yi / #di)
-            };
-            let value = match (forward[i], updates.is_empty()) {
-                (false, true) => continue,
-                (true, _) => quote!(#scaled #(- #updates)*),
-                (false, false) => {
+            let value = match (&y[i], updates.is_empty()) {
+                (None, true) => continue,
+                (Some(yi), _) => {
+                    let scaled = if self.reciprocal(i) {
+                        quote!(#yi * #inv)
+                    } else {
+                        let di = Context::local(self.roles.pivot, i);
+                        quote!(#yi / #di)
+                    };
+                    quote!(#scaled #(- #updates)*)
+                }
+                (None, false) => {
                     let (first, rest) = updates.split_first().expect("non-empty");
                     quote!(-(#first) #(- #rest)*)
                 }
@@ -377,5 +410,16 @@ impl<'a> StructuredLdlt<'a> {
             bound[row] = back[p];
         }
         (code, bound)
+    }
+
+    /// The local holding pivot `p`'s reciprocal (position `p` in the
+    /// elimination order).
+    pub(super) fn reciprocal_at(&self, p: usize) -> Ident {
+        Context::local(self.roles.inverse, p)
+    }
+
+    /// Whether entry (i, j) of the matrix is a structural nonzero.
+    pub(super) fn is_nonzero(&self, i: usize, j: usize) -> bool {
+        self.structure.nonzero[i.max(j)][i.min(j)]
     }
 }

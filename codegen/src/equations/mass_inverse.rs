@@ -73,20 +73,77 @@ pub struct Factored {
 /// auxiliary multipliers are the actual system's) are formed in the
 /// generated code from the bound entries.
 pub struct Auxiliary {
-    /// `AᵀA`, n × n, symmetric (entry (j, i) is the node of (i, j)); each
-    /// entry sums only the rows where both of `A`'s entries are
-    /// structurally nonzero (0 where none is), and `‖A‖²_F = tr AᵀA`.
+    /// The rows of `A` the auxiliary mass adds (`A_R`, in `A`'s order):
+    /// the sparsest that complete `M`'s rank (below).
+    pub rows: Vec<usize>,
+    /// `A_RᵀA_R`, n × n, symmetric (entry (j, i) is the node of (i, j));
+    /// each entry sums only the rows where both of `A`'s entries are
+    /// structurally nonzero (0 where none is), and `‖A_R‖²_F = tr A_RᵀA_R`.
     pub normal: Vec<Vec<Id>>,
 }
 
+/// The rows of `A` whose squares complete `M`'s rank, sparsest first: a
+/// row is taken where it raises the rank of `[M; A_R]` at every sample
+/// point, until that is `n`; all rows where no subset reaches `n` there.
+/// For bodies on quaternion joints this is the norms' rows alone (`M`
+/// lacks just each quaternion's own direction, which its norm's gradient
+/// `2q` has), so `M + s A_RᵀA_R` keeps `M`'s tree pattern and the feet's
+/// rows do not enter it. Any subset gives the actual `q̈` wherever
+/// `M + s A_RᵀA_R` is positive definite (`A q̈ = b` makes the added terms
+/// vanish); the choice is one of speed only, since where the generated
+/// factorization meets a pivot that is not positive the runtime's dense
+/// solve, with all rows, answers instead.
+fn auxiliary_rows(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>]) -> Vec<usize> {
+    let n = mass.len();
+    let mut order: Vec<usize> = (0..a.len()).collect();
+    order.sort_by_key(|&r| a[r].iter().filter(|&&e| !g.is_zero(e)).count());
+    let mut entries: Vec<Id> = mass.iter().flatten().copied().collect();
+    entries.extend(a.iter().flatten().copied());
+    let points: Vec<Vec<Vec<f64>>> = crate::numeric::rng::sample_points(0x5e11_d3f1)
+        .map(|point| {
+            let values = g.eval(&entries, &point);
+            values.chunks(n.max(1)).map(<[f64]>::to_vec).collect()
+        })
+        .collect();
+    let finite = points.iter().flatten().flatten().all(|v| v.is_finite());
+    let rank = |rows: &[usize], point: &[Vec<f64>]| {
+        let mut stacked: Vec<Vec<f64>> = point[..n].to_vec();
+        stacked.extend(rows.iter().map(|&r| point[n + r].clone()));
+        crate::numeric::linalg::independent_columns(&stacked, 1e-12).len()
+    };
+    let all: Vec<usize> = (0..a.len()).collect();
+    if !finite || n == 0 {
+        return all;
+    }
+    let mut chosen: Vec<usize> = Vec::new();
+    for r in order {
+        if points.iter().all(|p| rank(&chosen, p) == n) {
+            break;
+        }
+        let mut with = chosen.clone();
+        with.push(r);
+        if points.iter().all(|p| rank(&with, p) > rank(&chosen, p)) {
+            chosen = with;
+        }
+    }
+    if points.iter().all(|p| rank(&chosen, p) == n) {
+        chosen.sort_unstable();
+        chosen
+    } else {
+        all
+    }
+}
+
 impl Auxiliary {
-    fn new(g: &mut Graph, a: &[Vec<Id>], n: usize) -> Self {
+    fn new(g: &mut Graph, mass: &[Vec<Id>], a: &[Vec<Id>], n: usize) -> Self {
+        let rows = auxiliary_rows(g, mass, a);
         let zero = g.int(0);
         let mut normal = vec![vec![zero; n]; n];
         for i in 0..n {
             for j in 0..=i {
-                let pairs: Vec<(Id, Id)> = a
+                let pairs: Vec<(Id, Id)> = rows
                     .iter()
+                    .map(|&r| &a[r])
                     .filter(|row| !g.is_zero(row[i]) && !g.is_zero(row[j]))
                     .map(|row| (row[i], row[j]))
                     .collect();
@@ -96,7 +153,7 @@ impl Auxiliary {
                 normal[j][i] = e;
             }
         }
-        Auxiliary { normal }
+        Auxiliary { rows, normal }
     }
 }
 
@@ -216,7 +273,7 @@ pub fn build(
 ) -> MassInverse {
     let n = mass.len();
     if singular_everywhere(g, mass) {
-        let auxiliary = Auxiliary::new(g, a, n);
+        let auxiliary = Auxiliary::new(g, mass, a, n);
         return MassInverse::Auxiliary(Box::new(Factored::new(g, mass, a, Some(auxiliary))));
     }
     let zero = g.int(0);

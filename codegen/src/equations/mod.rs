@@ -8,7 +8,7 @@ pub mod partition;
 pub(crate) mod tangent;
 
 use crate::expr::common_factors::Factorer;
-use crate::expr::diff::Differentiator;
+use crate::expr::diff::{AtRest, Differentiator};
 use crate::expr::Id;
 use crate::expr::Sym;
 use crate::model::{Level, System};
@@ -54,6 +54,8 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     system.mass = factorer.factor_rows(g, &system.mass);
     system.forces = factorer.factor_all(g, &system.forces);
     let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
+    let mut at_rest = AtRest::default();
+    let mut structured = Vec::new();
     for c in &system.constraints {
         let velocity_level = match c.level {
             Level::Velocity => c.phi,
@@ -65,7 +67,15 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         let rhs = g.neg(rest);
         b.push(rhs);
         velocity_constraints.push(velocity_level);
+        // The same `b` by forward mode over φ's own structure.
+        let velocity = match c.level {
+            Level::Velocity => c.phi,
+            Level::Position => at_rest.derivative(g, c.phi),
+        };
+        let rest = at_rest.derivative(g, velocity);
+        structured.push(g.neg(rest));
     }
+    let b = cheaper_bias(g, &mut factorer, (&system.mass, &system.forces, &a), &b, &structured);
     // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
     // squares where that shortens the code, counted with everything else
     // that is computed beside it (crate::expr::squares).
@@ -116,6 +126,51 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
 
 /// Every row of `b` factored, as a sum of squares where that costs at least
 /// three operations fewer, counted with `M`, `F`, `A` and the other rows.
+/// Per row, `b` from the partials (`Σᵢⱼ ∂²φ/∂qᵢ∂qⱼ·q̇ᵢq̇ⱼ`) or from
+/// forward mode (`D₀ D₀ φ`, [`AtRest`]), whichever costs fewer operations
+/// once factored, counted with `M`, `F`, `A` and the rows before (whose
+/// subexpressions it may share): equal values, so the choice is one of
+/// speed. Forward mode wins for points of bodies, where the partials
+/// multiply out every rotation of the chain; the partials win for short
+/// polynomial constraints, which they leave as the textbook writes them.
+fn cheaper_bias(
+    g: &mut crate::expr::Graph,
+    factorer: &mut Factorer,
+    (mass, forces, a): (&[Vec<Id>], &[Id], &[Vec<Id>]),
+    partials: &[Id],
+    structured: &[Id],
+) -> Vec<Id> {
+    let mut context: Vec<Id> = mass
+        .iter()
+        .chain(a)
+        .flatten()
+        .chain(forces)
+        .copied()
+        .collect();
+    let mut chosen = Vec::with_capacity(partials.len());
+    for (&old, &new) in partials.iter().zip(structured) {
+        let pick = if old == new {
+            old
+        } else {
+            let (f_old, f_new) = (factorer.factor(g, old), factorer.factor(g, new));
+            let mut cost = |g: &crate::expr::Graph, id: Id| {
+                context.push(id);
+                let ops = crate::expr::squares::operations(g, &context);
+                context.pop();
+                ops
+            };
+            if cost(g, f_new) < cost(g, f_old) {
+                new
+            } else {
+                old
+            }
+        };
+        context.push(factorer.factor(g, pick));
+        chosen.push(pick);
+    }
+    chosen
+}
+
 fn complete_squares(
     g: &mut crate::expr::Graph,
     factorer: &mut Factorer,

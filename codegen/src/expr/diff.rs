@@ -172,6 +172,43 @@ impl Rule for Directional {
     }
 }
 
+/// Forward mode along the motion with `q̈ = 0`: `D₀ e = Σⱼ ∂e/∂qⱼ·q̇ⱼ +
+/// ∂e/∂t` for `e(q, t)`, and for `e(q, q̇, t)` the same with `q̇` held
+/// (the part of `D e` without `q̈`). One derivative node per node of `e`,
+/// by the product and chain rules over `e`'s own structure: the second
+/// derivative of a point of a chain `p = R(q)·r(q)` stays
+/// `R̈₀ r + 2 Ṙ ṙ + R r̈₀` rather than the `Σᵢⱼ ∂²p/∂qᵢ∂qⱼ·q̇ᵢq̇ⱼ` of
+/// [`Differentiator::time_derivative`]'s partials.
+#[derive(Default)]
+pub struct AtRest {
+    memo: HashMap<Id, Id>,
+}
+
+impl AtRest {
+    /// `D₀ e`.
+    pub fn derivative(&mut self, g: &mut Graph, e: Id) -> Id {
+        if let Some(&d) = self.memo.get(&e) {
+            return d;
+        }
+        let d = derive(self, g, e);
+        self.memo.insert(e, d);
+        d
+    }
+}
+
+impl Rule for AtRest {
+    fn of(&mut self, g: &mut Graph, e: Id) -> Id {
+        self.derivative(g, e)
+    }
+    fn leaf(&self, g: &mut Graph, s: Sym) -> Id {
+        match s {
+            Sym::Coord(j) => g.sym(Sym::Vel(j)),
+            Sym::Time => g.int(1),
+            _ => g.int(0),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -68,11 +68,14 @@ pub(super) fn named_mass_and_forces(
     (named, mass_and_forces)
 }
 
-/// Which entries of `F + s Aᵀb` can be nonzero.
-pub(super) fn forces_nonzero(ctx: &Context) -> Vec<bool> {
+/// Which entries of `F + s A_Rᵀb_R` can be nonzero.
+pub(super) fn forces_nonzero(ctx: &Context, aux: &Auxiliary) -> Vec<bool> {
     let g = &ctx.eq.system.graph;
     (0..ctx.n)
-        .map(|i| !g.is_zero(ctx.eq.system.forces[i]) || ctx.eq.a.iter().any(|r| !g.is_zero(r[i])))
+        .map(|i| {
+            !g.is_zero(ctx.eq.system.forces[i])
+                || aux.rows.iter().any(|&r| !g.is_zero(ctx.eq.a[r][i]))
+        })
         .collect()
 }
 
@@ -147,12 +150,12 @@ pub(super) fn prelude(
             entries.extend(quote! { let #name = #value; });
         }
     }
-    let forces = dynamics.then(|| auxiliary_forces(ctx));
-    let (safe_minimum, gauss_dense) = (
-        ctx.private(quote!(safe_minimum)),
-        ctx.private(quote!(gauss_dense)),
-    );
-    let args = ctx.args(Inputs::States);
+    let forces = match (&f.auxiliary, dynamics) {
+        (Some(aux), true) => Some(auxiliary_forces(ctx, aux)),
+        _ => None,
+    };
+    let safe_minimum = ctx.private(quote!(safe_minimum));
+    let dense = dense_answer(ctx);
     quote! {
         #correction
         let __trace = #trace;
@@ -163,8 +166,7 @@ pub(super) fn prelude(
         // decision after the fact, answers.
         let __safe = #safe_minimum::<T>();
         if !(__trace >= __safe && __norm >= __safe) {
-            let __motion = #gauss_dense(self, #args, correction);
-            return __F::settle(self, #args, correction, __motion);
+            #dense
         }
         let __saux = __trace / __norm;
         #entries
@@ -172,22 +174,34 @@ pub(super) fn prelude(
     }
 }
 
+/// The runtime's dense solve (with every row of `A`) as `gauss`'s answer:
+/// where the auxiliary system underflowed, or where a pivot of its
+/// generated factorization is not positive (`M + s A_RᵀA_R` not positive
+/// definite at that state, which the runtime's rank-checked solve
+/// handles, or reports).
+pub(super) fn dense_answer(ctx: &Context) -> TokenStream {
+    let gauss_dense = ctx.private(quote!(gauss_dense));
+    let args = ctx.args(Inputs::States);
+    quote! {
+        let __motion = #gauss_dense(self, #args, correction);
+        return __F::settle(self, #args, correction, __motion);
+    }
+}
+
 /// `F + s Aᵀb` into the locals `__f{i}` (those that can be nonzero).
-fn auxiliary_forces(ctx: &Context) -> TokenStream {
+fn auxiliary_forces(ctx: &Context, aux: &Auxiliary) -> TokenStream {
     let sys = &ctx.eq.system;
     let g = &sys.graph;
     let mut code = TokenStream::new();
-    for (i, nonzero) in forces_nonzero(ctx).into_iter().enumerate() {
+    for (i, nonzero) in forces_nonzero(ctx, aux).into_iter().enumerate() {
         if !nonzero {
             continue;
         }
-        let products: Vec<TokenStream> = ctx
-            .eq
-            .a
+        let products: Vec<TokenStream> = aux
+            .rows
             .iter()
-            .enumerate()
-            .filter(|(_, row)| !g.is_zero(row[i]))
-            .map(|(r, _)| {
+            .filter(|&&r| !g.is_zero(ctx.eq.a[r][i]))
+            .map(|&r| {
                 let (a, b) = (Context::local2("a", r, i), Context::local("b", r));
                 quote!(#a * #b)
             })

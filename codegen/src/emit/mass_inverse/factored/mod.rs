@@ -101,11 +101,13 @@ impl<'a> FactoredSolve<'a> {
         } else {
             Solves::Many
         };
-        let mass = StructuredLdlt::mass(
-            &f.mass,
-            bail(quote!(DynamicsError::MassNotPositiveDefinite)),
-            solves,
-        );
+        // The auxiliary mass of `gauss`: a pivot that is not positive hands
+        // the solve to the runtime (`auxiliary::dense_answer`).
+        let mass_bail = match (&f.auxiliary, scope) {
+            (Some(_), Scope::Dynamics { gauss: true }) => auxiliary::dense_answer(ctx),
+            _ => bail(quote!(DynamicsError::MassNotPositiveDefinite)),
+        };
+        let mass = StructuredLdlt::mass(&f.mass, mass_bail, solves);
         let gram = StructuredLdlt::gram(&f.gram);
         let (named, mass_and_forces) = named_inputs(ctx, f, &mass, dynamics);
         let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
@@ -131,6 +133,34 @@ impl<'a> FactoredSolve<'a> {
             .is_some()
             .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
         let factor_mass = mass.factor();
+        if scope == (Scope::Dynamics { gauss: true }) && k > 0 {
+            let lean = gram_form(ctx, f, &mass, &gram);
+            let corrected = f.auxiliary.is_none().then(|| corrected(&lean.residuals, &[]));
+            let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
+            let factor_gram = gram.factor();
+            let solve_gram = gram.solve(&lean.residuals, "y", &multipliers);
+            let (back, acceleration) = lean.back_substitution(ctx, &mass, &multipliers);
+            let to_gram = lean.code;
+            let force = constraint_force(ctx, &multipliers);
+            return FactoredSolve {
+                to_multipliers: quote! {
+                    #preamble
+                    #(#bindings)*
+                    #check
+                    #auxiliary
+                    #factor_mass
+                    #to_gram
+                    #corrected
+                    #factor_gram
+                    #solve_gram
+                    #back
+                },
+                mass,
+                gram,
+                acceleration,
+                force,
+            };
+        }
         // a = M⁻¹ F.
         let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
         let (solve_a, a_bound) = mass.solve_sparse(&forces_rhs(ctx, f), "ay", &unconstrained);
@@ -182,12 +212,151 @@ impl<'a> FactoredSolve<'a> {
     }
 }
 
+/// The solver's form of Gauss's principle once `P M Pᵀ = L D Lᵀ` is
+/// factored: with `Y = L⁻¹ P Aᵀ` and `z = L⁻¹ P F` (forward
+/// substitutions only), `S = Yᵀ D⁻¹ Y`, `r = b − Yᵀ D⁻¹ z`, and after
+/// `S λ = r` one back substitution, `q̈ = Pᵀ L⁻ᵀ D⁻¹ (z + Y λ)`. Against
+/// forming `W = M⁻¹ Aᵀ` (a back substitution per row of `A`), `S = A W`,
+/// `a = M⁻¹ F` and `q̈ = a + W λ`, this skips every back substitution but
+/// one, and `Y` is as sparse as the tree makes it (`W` is as dense as the
+/// tree is deep). The Jacobian and the projections' step, which need `W`
+/// itself, keep that form.
+struct GramForm {
+    /// The forward substitutions, `D⁻¹ Y`, `S`'s entries and `r`.
+    code: TokenStream,
+    /// `r`'s locals.
+    residuals: Vec<Ident>,
+    /// Which positions of `z` are bound (`__ay{p}`).
+    z: Vec<bool>,
+    /// Which positions of each column of `Y` are bound (`__wy{j}x{p}`).
+    y: Vec<Vec<bool>>,
+}
+
+fn gram_form(
+    ctx: &Context,
+    f: &Factored,
+    mass: &StructuredLdlt,
+    gram: &StructuredLdlt,
+) -> GramForm {
+    let g = &ctx.eq.system.graph;
+    let n = ctx.n;
+    let (mut code, z) = mass.forward(&forces_rhs(ctx, f), "ay");
+    let mut y = Vec::with_capacity(ctx.k);
+    for (j, row) in ctx.eq.a.iter().enumerate() {
+        let rhs: Vec<Option<TokenStream>> = row
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| (!g.is_zero(e)).then(|| a_entry(j, i)))
+            .collect();
+        let (column, bound) = mass.forward(&rhs, &format!("wy{j}x"));
+        code.extend(column);
+        // D⁻¹ Y, column by column.
+        for (p, _) in bound.iter().enumerate().filter(|(_, &b)| b) {
+            let (yp, dp, inv) = (
+                Context::local(&format!("wy{j}x"), p),
+                Context::local(&format!("wd{j}x"), p),
+                mass.reciprocal_at(p),
+            );
+            code.extend(quote! { let #dp = #yp * #inv; });
+        }
+        y.push(bound);
+    }
+    for i in 0..ctx.k {
+        for j in 0..=i {
+            let pairs: Vec<_> = (0..n)
+                .filter(|&p| y[i][p] && y[j][p])
+                .map(|p| {
+                    let (yi, dj) = (
+                        Context::local(&format!("wy{i}x"), p),
+                        Context::local(&format!("wd{j}x"), p),
+                    );
+                    (quote!(#yi), quote!(#dj))
+                })
+                .collect();
+            if gram.is_nonzero(i, j) {
+                let (name, value) = (gram.entry(i, j), dot(pairs));
+                code.extend(quote! { let #name = #value; });
+            } else {
+                debug_assert!(pairs.is_empty(), "S's pattern covers Yᵀ D⁻¹ Y's");
+            }
+        }
+    }
+    let residuals: Vec<Ident> = (0..ctx.k).map(|r| Context::local("r", r)).collect();
+    for (j, name) in residuals.iter().enumerate() {
+        let pairs: Vec<_> = (0..n)
+            .filter(|&p| y[j][p] && z[p])
+            .map(|p| {
+                let (dj, zp) = (
+                    Context::local(&format!("wd{j}x"), p),
+                    Context::local("ay", p),
+                );
+                (quote!(#dj), quote!(#zp))
+            })
+            .collect();
+        let b = Context::local("b", j);
+        code.extend(if pairs.is_empty() {
+            quote! { let #name = #b; }
+        } else {
+            let yz = dot(pairs);
+            quote! { let #name = #b - (#yz); }
+        });
+    }
+    GramForm {
+        code,
+        residuals,
+        z,
+        y,
+    }
+}
+
+impl GramForm {
+    /// `q̈ = Pᵀ L⁻ᵀ D⁻¹ (z + Y λ)`: the code binding `__ac{i}` and `q̈`'s
+    /// entries (those names, or zero).
+    fn back_substitution(
+        &self,
+        ctx: &Context,
+        mass: &StructuredLdlt,
+        multipliers: &[Ident],
+    ) -> (TokenStream, Vec<TokenStream>) {
+        let mut code = TokenStream::new();
+        let sums: Vec<Option<TokenStream>> = (0..ctx.n)
+            .map(|p| {
+                let mut terms: Vec<TokenStream> = Vec::new();
+                if self.z[p] {
+                    let zp = Context::local("ay", p);
+                    terms.push(quote!(#zp));
+                }
+                for (j, lam) in multipliers.iter().enumerate() {
+                    if self.y[j][p] {
+                        let yp = Context::local(&format!("wy{j}x"), p);
+                        terms.push(quote!(#yp * #lam));
+                    }
+                }
+                (!terms.is_empty()).then(|| {
+                    let v = Context::local("av", p);
+                    code.extend(quote! { let #v = #(#terms)+*; });
+                    quote!(#v)
+                })
+            })
+            .collect();
+        let out: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ac", i)).collect();
+        let (back, bound) = mass.backward(&sums, &out);
+        code.extend(back);
+        let acceleration = out
+            .iter()
+            .zip(bound)
+            .map(|(x, b)| if b { quote!(#x) } else { quote!(T::zero()) })
+            .collect();
+        (code, acceleration)
+    }
+}
+
 /// The right-hand side of `a = M⁻¹ F`: the locals `__f{i}` that can be
 /// nonzero (of `F`, or of the auxiliary `F + s Aᵀb`).
 fn forces_rhs(ctx: &Context, f: &Factored) -> Vec<Option<TokenStream>> {
     let g = &ctx.eq.system.graph;
-    let nonzero: Vec<bool> = if f.auxiliary.is_some() {
-        auxiliary::forces_nonzero(ctx)
+    let nonzero: Vec<bool> = if let Some(aux) = &f.auxiliary {
+        auxiliary::forces_nonzero(ctx, aux)
     } else {
         ctx.eq
             .system
@@ -341,7 +510,7 @@ fn motion(
     unconstrained: &[Ident],
     multipliers: &[Ident],
 ) -> (Vec<TokenStream>, Vec<TokenStream>) {
-    let (g, a, k) = (&ctx.eq.system.graph, &ctx.eq.a, ctx.k);
+    let k = ctx.k;
     let acceleration = (0..ctx.n)
         .map(|i| {
             let pairs: Vec<(TokenStream, TokenStream)> = (0..k)
@@ -362,9 +531,15 @@ fn motion(
             }
         })
         .collect();
-    let force = (0..ctx.n)
+    (acceleration, constraint_force(ctx, multipliers))
+}
+
+/// `Fᶜᵢ = Σⱼ Aⱼᵢ λⱼ`, one expression per coordinate.
+fn constraint_force(ctx: &Context, multipliers: &[Ident]) -> Vec<TokenStream> {
+    let (g, a) = (&ctx.eq.system.graph, &ctx.eq.a);
+    (0..ctx.n)
         .map(|i| {
-            dot((0..k)
+            dot((0..ctx.k)
                 .filter(|&r| !g.is_zero(a[r][i]))
                 .map(|r| {
                     let lam = &multipliers[r];
@@ -372,8 +547,7 @@ fn motion(
                 })
                 .collect())
         })
-        .collect();
-    (acceleration, force)
+        .collect()
 }
 
 /// `gauss` for a configuration-dependent `M`.
