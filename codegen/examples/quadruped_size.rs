@@ -12,34 +12,8 @@ use constrained_codegen::{expand_with, Options};
 use std::time::Instant;
 
 fn main() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../examples/support/quadruped.rs"
-    );
-    // The file writes the system once inside a `macro_rules!` (for the
-    // tests' twin with a fifth row): this is the example's instance.
-    let text = std::fs::read_to_string(path)
-        .expect("the model is readable")
-        .replace("$(#[$attr])*", "")
-        .replace("$($extra)*", "")
-        .replace("$name", "Quadruped");
-    let start = text.find("constrained_system! {").expect("a system") + "constrained_system!".len();
-    let body = &text[start..];
-    let (mut depth, mut end) = (0usize, 0usize);
-    for (i, c) in body.char_indices() {
-        match c {
-            '{' => depth += 1,
-            '}' => {
-                depth -= 1;
-                if depth == 0 {
-                    end = i;
-                    break;
-                }
-            }
-            _ => {}
-        }
-    }
-    let inner = &body[body.find('{').expect("a brace") + 1..end];
+    let inner =
+        constrained_codegen::tools::fixtures::quadruped().expect("the workspace's quadruped");
     println!("| `jacobians` | expansion (s) | lines | operations per q̈ |");
     println!("|---|---|---|---|");
     let mut parts = [("", 0); 3];

@@ -416,30 +416,46 @@ fn fill(structure: &Structure) -> usize {
 /// Gauss's principle for a configuration-dependent `M`, as generated.
 fn factored(w: &mut String, f: &Factored, coordinates: &[String], rank: usize) {
     let n = f.mass.len();
-    let weighted = f.weighted.iter().flatten().filter(|&&x| x).count();
-    let (m, forces, lead) = if f.auxiliary.is_some() {
-        ("M_A", "F_A", "")
+    let (m, forces, lead, pivot) = if f.auxiliary.is_some() {
+        (
+            "M_A",
+            "F_A",
+            "",
+            "the runtime's dense solve (all rows of A) answers",
+        )
     } else {
-        ("M", "F", "M depends on q and is not diagonal: ")
+        (
+            "M",
+            "F",
+            "M depends on q and is not diagonal: ",
+            "M is not positive definite there (Err, as Cholesky fails)",
+        )
     };
     let _ = writeln!(
         w,
         "  {lead}P {m} Pᵀ = L D Lᵀ on its compile-time pattern, \
          eliminating coordinates in the order {}\n  ({} of {} subdiagonal entries of L nonzero); \
-         a pivot dⱼ ≤ 0 means {m} is not positive definite there (Err, as Cholesky fails);\n  \
-         a = {m}⁻¹ {forces} and W = {m}⁻¹ Aᵀ by sparse substitution ({weighted} of {} entries of W nonzero), \
-         S = A W, r = b − A a",
+         where a pivot dⱼ ≤ 0, {pivot};",
         order(&f.mass, |i| coordinates[i].clone()),
         fill(&f.mass),
         n * n.saturating_sub(1) / 2,
-        n * f.gram.len(),
+    );
+    if f.gram.is_empty() {
+        let _ = writeln!(w, "  a = {m}⁻¹ {forces} by substitution");
+        multiplier_rule(w, &f.gram, rank);
+        let _ = writeln!(w, "  q̈ = a");
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "  Y = L⁻¹ P Aᵀ and z = L⁻¹ P {forces} by forward substitution, \
+         S = Yᵀ D⁻¹ Y (= A {m}⁻¹ Aᵀ), r = b − Yᵀ D⁻¹ z (= b − A a)"
     );
     multiplier_rule(w, &f.gram, rank);
-    if f.gram.is_empty() {
-        let _ = writeln!(w, "  q̈ = a");
-    } else {
-        let _ = writeln!(w, "  q̈ = a + W λ,  Fᶜ = Aᵀ λ");
-    }
+    let _ = writeln!(
+        w,
+        "  q̈ = Pᵀ L⁻ᵀ D⁻¹ (z + Y λ) by one back substitution (= a + {m}⁻¹ Aᵀ λ),  Fᶜ = Aᵀ λ"
+    );
 }
 
 /// The generalized-inverse equation (eq. 26) as it is solved.
@@ -465,13 +481,16 @@ fn generalized_inverse(
         MassInverse::Auxiliary(f) => {
             let rows = f.auxiliary.as_ref().map_or_else(String::new, |x| {
                 let listed: Vec<String> = x.rows.iter().map(ToString::to_string).collect();
-                listed.join(", ")
+                match listed.len() {
+                    1 => format!("is row {} of A", listed[0]),
+                    _ => format!("are rows {} of A", listed.join(", ")),
+                }
             });
             let _ = writeln!(
                 w,
                 "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
                  Udwadia & Schutte's auxiliary system M_A = M + s A_RᵀA_R, F_A = F + s A_Rᵀ b_R (s = tr M / ‖A_R‖²)\n  \
-                 has the same q̈ and, as A q̈ = b, the same λ; A_R are the rows {rows} of A, the sparsest that\n  \
+                 has the same q̈ and, as A q̈ = b, the same λ; A_R {rows}, the sparsest rows that\n  \
                  complete M's rank. It is solved for M_A, F_A on the pattern of M + A_RᵀA_R:"
             );
             factored(w, f, coordinates, rank);

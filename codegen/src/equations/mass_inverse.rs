@@ -11,7 +11,8 @@
 //! here skips. Otherwise (`M(q)` full) `M` is factored in generated code
 //! on its compile-time pattern ([`Factored`]); a positive semi-definite `M`
 //! (singular everywhere) the same way through its auxiliary mass
-//! `M + s AᵀA`, whose pattern is `M`'s and `AᵀA`'s ([`Auxiliary`]).
+//! `M + s A_RᵀA_R`, whose pattern is `M`'s and `A_RᵀA_R`'s, `A_R` the
+//! sparsest rows that complete `M`'s rank ([`Auxiliary`]).
 
 use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
@@ -27,10 +28,10 @@ pub enum MassInverse {
     Factored(Box<Factored>),
     /// `M` only positive semi-definite (singular at every sampled point,
     /// e.g. a rigid body in unit quaternions): Udwadia & Schutte's
-    /// auxiliary system `M + s AᵀA`, `F + s Aᵀb`, which has the same
-    /// accelerations wherever `[M; A]` has full column rank, factored in
+    /// auxiliary system `M + s A_RᵀA_R`, `F + s A_Rᵀb_R`, which has the
+    /// same accelerations wherever it is positive definite, factored in
     /// generated code as [`MassInverse::Factored`] on the pattern of
-    /// `M + AᵀA` (the `Factored`'s `auxiliary` is set).
+    /// `M + A_RᵀA_R` (the `Factored`'s `auxiliary` is set).
     Auxiliary(Box<Factored>),
 }
 
@@ -66,9 +67,9 @@ pub struct Factored {
     pub auxiliary: Option<Auxiliary>,
 }
 
-/// The terms of Udwadia & Schutte's auxiliary mass `M + s AᵀA` that are
-/// expressions; the scale `s = tr M / ‖A‖²_F` (1 where either is not
-/// positive, as the runtime's `auxiliary_mass`) and `F + s Aᵀ(b + db)`
+/// The terms of Udwadia & Schutte's auxiliary mass `M + s A_RᵀA_R` that
+/// are expressions; the scale `s = tr M / ‖A_R‖²_F` (the runtime's dense
+/// solve answers where either underflows) and `F + s A_Rᵀ(b + db)_R`
 /// (with `acceleration_corrected`'s correction `db`, so that the
 /// auxiliary multipliers are the actual system's) are formed in the
 /// generated code from the bound entries.

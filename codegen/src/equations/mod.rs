@@ -75,7 +75,13 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         let rest = at_rest.derivative(g, velocity);
         structured.push(g.neg(rest));
     }
-    let b = cheaper_bias(g, &mut factorer, (&system.mass, &system.forces, &a), &b, &structured);
+    let b = cheaper_bias(
+        g,
+        &mut factorer,
+        (&system.mass, &system.forces, &a),
+        &b,
+        &structured,
+    );
     // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
     // squares where that shortens the code, counted with everything else
     // that is computed beside it (crate::expr::squares).

@@ -328,4 +328,46 @@ mod tests {
         assert_eq!(row, vec![v[0], v[1], minus_zd]);
         assert!(g.is_zero(rest));
     }
+
+    /// Forward mode at rest against the partials: a point of a two-link
+    /// chain that also moves in time, `p = (l₁ cos q₀ + l₂ cos(q₀ + q₁)) ·
+    /// (1 + t q₁)`: `D₀ p` equals the rest of `D p`, and `D₀ D₀ p` the rest
+    /// of `D (D p)` (`b` of a position constraint), at several states; the
+    /// forward form has fewer nodes than the partials'.
+    #[test]
+    fn at_rest_equals_the_partials_rest() {
+        let mut g = Graph::new();
+        let (q0, q1, t) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)), g.sym(Sym::Time));
+        let (l1, l2) = (g.sym(Sym::Param(0)), g.sym(Sym::Param(1)));
+        let c0 = g.func(Func::Cos, q0);
+        let sum = g.add2(q0, q1);
+        let c01 = g.func(Func::Cos, sum);
+        let (a, b) = (g.mul2(l1, c0), g.mul2(l2, c01));
+        let reach = g.add2(a, b);
+        let tq = g.mul2(t, q1);
+        let one = g.int(1);
+        let grow = g.add2(one, tq);
+        let p = g.mul2(reach, grow);
+        let mut d = Differentiator::new();
+        let (_, velocity) = d.time_derivative(&mut g, p, 2);
+        let (_, bias) = d.time_derivative(&mut g, velocity, 2);
+        let mut rest = AtRest::default();
+        let forward_velocity = rest.derivative(&mut g, p);
+        let forward_bias = rest.derivative(&mut g, forward_velocity);
+        for k in 0..5 {
+            let x = f64::from(k);
+            let env = |s: Sym| match s {
+                Sym::Coord(i) => 0.3 + 0.7 * x + f64::from(u32::try_from(i).unwrap_or(0)),
+                Sym::Vel(i) => -0.4 + 0.2 * x - 0.9 * f64::from(u32::try_from(i).unwrap_or(0)),
+                Sym::Time => 0.1 * x,
+                Sym::Param(i) => 1.0 + f64::from(u32::try_from(i).unwrap_or(0)),
+                _ => 0.0,
+            };
+            let v = g.eval(&[velocity, forward_velocity, bias, forward_bias], &env);
+            assert!((v[0] - v[1]).abs() <= 1e-13 * (1.0 + v[0].abs()), "{v:?}");
+            assert!((v[2] - v[3]).abs() <= 1e-12 * (1.0 + v[2].abs()), "{v:?}");
+        }
+        let size = |g: &Graph, e: Id| g.reachable(&[e]).len();
+        assert!(size(&g, forward_bias) < size(&g, bias));
+    }
 }

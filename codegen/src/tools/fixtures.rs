@@ -234,3 +234,38 @@ pub fn panda(name: &str, joints: usize) -> String {
         inputs = inputs.join(", "),
     )
 }
+
+/// The quadruped of the repository's `examples/support/quadruped.rs` (a
+/// floating base, twelve joints, four feet fixed: 19 coordinates, 13 rows)
+/// as `constrained_system!` input, read from that file in the workspace:
+/// the file writes the system inside a `macro_rules!` (for the tests' twin
+/// with a fifth row), and this is its plain instance, `Quadruped`. `None`
+/// outside the workspace (the file is not packaged).
+pub fn quadruped() -> Option<String> {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/support/quadruped.rs"
+    );
+    let text = std::fs::read_to_string(path)
+        .ok()?
+        .replace("$(#[$attr])*", "")
+        .replace("$($extra)*", "")
+        .replace("$name", "Quadruped");
+    let start = text.find("constrained_system! {")? + "constrained_system!".len();
+    let body = &text[start..];
+    let open = body.find('{')?;
+    let mut depth = 0usize;
+    for (i, c) in body.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth = depth.checked_sub(1)?;
+                if depth == 0 {
+                    return Some(body[open + 1..i].to_string());
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}

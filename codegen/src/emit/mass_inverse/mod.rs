@@ -8,7 +8,7 @@
 //! - `factored`: a configuration-dependent `M`, factored in generated code
 //!   on its compile-time pattern;
 //! - `factored` again for a positive semi-definite `M`, through its
-//!   auxiliary mass `M + s AᵀA` (the solver only: its Jacobian and step
+//!   auxiliary mass `M + s A_RᵀA_R` (the solver only: its Jacobian and step
 //!   are the runtime's dense ones, whose tangent systems are those of the
 //!   actual `M`).
 //!

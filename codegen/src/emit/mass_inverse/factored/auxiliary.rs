@@ -1,19 +1,23 @@
 //! A positive semi-definite `M` solved through Udwadia & Schutte's
 //! auxiliary system (`crate::equations::mass_inverse::Auxiliary`): the
-//! factored solve of [`super`] with `M + s AᵀA` for `M` and `F + s Aᵀb` for
-//! `F`. The model's `M` and `F` are bound under their own names
-//! (`__mq{i}_{j}`, `__fq{i}`) and checked finite, `AᵀA` as `__na{i}_{j}`;
-//! this module forms the scale and the auxiliary entries under the names
-//! the factorization reads (`__m{i}_{j}`, `__f{i}`).
+//! factored solve of [`super`] with `M + s A_RᵀA_R` for `M` and
+//! `F + s A_Rᵀb_R` for `F`, `A_R` the rows of `A` that complete `M`'s rank
+//! (a quaternion's norm; the feet of a legged robot stay out of it). The
+//! model's `M` and `F` are bound under their own names (`__mq{i}_{j}`,
+//! `__fq{i}`) and checked finite, `A_RᵀA_R` as `__na{i}_{j}`; this module
+//! forms the scale and the auxiliary entries under the names the
+//! factorization reads (`__m{i}_{j}`, `__f{i}`).
 //!
-//! `s = tr M / ‖A‖²_F` (`‖A‖²_F = tr AᵀA`), as the runtime's
-//! `auxiliary_mass`; where either is below the safe minimum (underflow, or
-//! zero) the runtime's dense solve answers instead. With `A q̈ = b`, `M q̈ + s Aᵀ(A q̈ − b) =
-//! F + Aᵀλ` is the actual system's `M q̈ = F + Aᵀλ`: the auxiliary
-//! multipliers are the actual ones, provided `b` carries the correction of
-//! `acceleration_corrected` before it enters `F + s Aᵀb` (else `Aᵀλ` would
-//! differ from `M q̈ − F` by `s Aᵀ db`). So the correction is added to `b`
-//! here, not to the residual.
+//! `s = tr M / ‖A_R‖²_F` (`‖A_R‖²_F = tr A_RᵀA_R`); where either is below
+//! the safe minimum (underflow, or zero), or where a pivot of the
+//! factorization is not positive, the runtime's dense solve (all rows)
+//! answers instead ([`dense_answer`]). With `A q̈ = b`,
+//! `M q̈ + s A_Rᵀ(A_R q̈ − b_R) = F + Aᵀλ` is the actual system's
+//! `M q̈ = F + Aᵀλ`: the auxiliary multipliers are the actual ones, provided
+//! `b` carries the correction of `acceleration_corrected` before it enters
+//! `F + s A_Rᵀb_R` (else `Aᵀλ` would differ from `M q̈ − F` by
+//! `s A_Rᵀ db_R`). So the correction is added to `b` here, not to the
+//! residual.
 
 use crate::emit::context::{Context, Inputs};
 use crate::emit::ldlt::StructuredLdlt;

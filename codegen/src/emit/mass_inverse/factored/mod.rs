@@ -5,14 +5,19 @@
 //!    their subexpressions;
 //! 2. `P M Pᵀ = L D Lᵀ` over `M`'s pattern (a pivot that is not positive
 //!    returns `MassNotPositiveDefinite`, as a Cholesky factorization fails);
-//! 3. `a = M⁻¹ F` and the columns of `W = M⁻¹ Aᵀ` by sparse substitution,
-//!    each touching only what its right-hand side reaches;
-//! 4. `S = A W`, `r = b − A a` over their patterns, then `S`'s
+//! 3. the solver `gauss`: `Y = L⁻¹ P Aᵀ` and `z = L⁻¹ P F` by sparse
+//!    forward substitution, `S = Yᵀ D⁻¹ Y`, `r = b − Yᵀ D⁻¹ z`, `S`'s
 //!    rank-revealing `LDLᵀ` exactly as for a constant `M`
-//!    ([`crate::emit::ldlt`]), with the same after-the-fact rank check.
+//!    ([`crate::emit::ldlt`]) with the same after-the-fact rank check, and
+//!    one back substitution `q̈ = Pᵀ L⁻ᵀ D⁻¹ (z + Y λ)` ([`GramForm`]);
+//! 4. the Jacobian and the projections' step, which need `W = M⁻¹ Aᵀ`
+//!    itself: `a = M⁻¹ F` and `W`'s columns by sparse substitution, each
+//!    touching only what its right-hand side reaches, `S = A W`,
+//!    `r = b − A a`.
 //!
 //! A semi-definite `M` is solved the same way through its auxiliary mass
-//! `M + s AᵀA` and forces `F + s Aᵀb` ([`auxiliary`]).
+//! `M + s A_RᵀA_R` and forces `F + s A_Rᵀb_R` ([`auxiliary`]), `A_R` the
+//! rows that complete `M`'s rank.
 //!
 //! The Jacobian ([`jacobian`]) reuses both factorizations: `tangent_rhs`
 //! fills the right-hand sides, one column each, and one loop solves every
@@ -135,7 +140,10 @@ impl<'a> FactoredSolve<'a> {
         let factor_mass = mass.factor();
         if scope == (Scope::Dynamics { gauss: true }) && k > 0 {
             let lean = gram_form(ctx, f, &mass, &gram);
-            let corrected = f.auxiliary.is_none().then(|| corrected(&lean.residuals, &[]));
+            let corrected = f
+                .auxiliary
+                .is_none()
+                .then(|| corrected(&lean.residuals, &[]));
             let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
             let factor_gram = gram.factor();
             let solve_gram = gram.solve(&lean.residuals, "y", &multipliers);
