@@ -299,11 +299,14 @@ def op_count_section():
     for name in sorted(counts):
         c = counts[name]
         ours, plain, basic = c["generated"]["total"], c["sympy_cse"], c["sympy_cse_basic"]
-        best = min(plain, basic)
+        # `basic` is None where it was skipped (a large q̈ outside the
+        # benchmark run: tests/sympy/test_op_counts.py, BASIC_UP_TO).
+        best = plain if basic is None else min(plain, basic)
         mark = "" if ours <= best else " ✗"
         every = c.get("sympy_cse_all_rows")
         every = f"{every} ({ours / every:.2f})" if every else "—"
-        lines.append(f"| {name} | {ours} | {plain} | {basic} | {ours / best:.2f}{mark} | {every} |")
+        shown = "—" if basic is None else basic
+        lines.append(f"| {name} | {ours} | {plain} | {shown} | {ours / best:.2f}{mark} | {every} |")
     lines += [
         "",
         "Where the generated code needs more (✗), `tests/sympy/test_op_counts.py` names",

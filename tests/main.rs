@@ -23,6 +23,7 @@ mod fault_matrix;
 mod finite_differences;
 mod floating;
 mod gauss;
+mod generated_multipliers;
 mod gibbs_appell;
 mod hostile_runtime;
 mod impacts;

@@ -166,6 +166,13 @@ fn quadruped_generated_solve_equals_the_dense_reference() {
         "QuadrupedFive (redundant)",
         &against_dense::<_, N, 14>(&twin, &states),
     );
+    // The feet's λ from the generated solve (every row kept) against
+    // Aᵀλ = Fᶜ solved by the runtime; the twin's from the runtime.
+    use crate::generated_multipliers::multipliers_gap;
+    let gap = multipliers_gap::<_, N, 13>(&sys, &states, true);
+    println!("Quadruped generated λ vs Aᵀλ = Fᶜ solved: {gap:.1e}");
+    assert!(gap < 1e-10, "{gap:e}");
+    assert!(multipliers_gap::<_, N, 14>(&twin, &states, false) == 0.0);
 }
 
 /// Joint-space PD about the standing pose, `τ = K_p (q_ref − q) − K_d q̇`,

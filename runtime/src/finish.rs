@@ -8,7 +8,8 @@
 //! force, and no caller post-processes a `Result` built for it:
 //!
 //! - the fast path, or a suspect rank decision that [`checked`] let stand
-//!   ([`Finish::stands`]);
+//!   ([`Finish::stands`]; [`Finish::stands_with`] where the fast path also
+//!   has every row's multiplier, which [`Multiplied`] keeps);
 //! - an error found before the solve (`M` not positive definite), the
 //!   dense solve's outcome, or the checked recomputation
 //!   ([`Finish::settle`]): for the total methods, the least-squares answer
@@ -37,6 +38,19 @@ pub trait Finish<T: RealField + Copy, const N: usize> {
         motion: Result<Motion<T, N>, DynamicsError>,
         least_squares: impl FnOnce() -> Motion<T, N>,
     ) -> Self::Output;
+
+    /// [`stands`](Finish::stands), where the solve also has `λ`:
+    /// `multipliers` makes every row's multiplier, `None` where the fast
+    /// path dropped a row (a suspect rank decision let stand), so that they
+    /// are not the unique `λ`. Only [`Multiplied`] reads it.
+    #[inline(always)]
+    fn stands_with<const K: usize>(
+        acceleration: SVector<T, N>,
+        force: impl FnOnce() -> SVector<T, N>,
+        _multipliers: impl FnOnce() -> Option<[T; K]>,
+    ) -> Self::Output {
+        Self::stands(acceleration, force)
+    }
 
     /// The solve's outcome where it was decided outside the fast path: an
     /// error before the solve, a checked recomputation, the dense solve.
@@ -133,5 +147,57 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for TotalForce {
         least_squares: impl FnOnce() -> Motion<T, N>,
     ) -> Self::Output {
         <Total as Finish<T, N>>::decided(motion, least_squares).1
+    }
+}
+
+/// What [`Multiplied`] gives beside `q̈`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reaction<T: RealField + Copy, const N: usize, const K: usize> {
+    /// Every row's multiplier, from the generated solve (all rows kept:
+    /// the unique `λ` of `Aᵀλ = Fᶜ`).
+    Multipliers(SVector<T, K>),
+    /// The constraint force `Fᶜ = Aᵀλ` only (a row dropped, the dense
+    /// solve, a recomputation, or a solve without `λ`): the runtime finds
+    /// `λ` from it (`constrained::multipliers`).
+    Force(SVector<T, N>),
+}
+
+/// `Result<(q̈, Reaction), DynamicsError>`: `q̈` with the generated `λ`
+/// where the fast path has all of it, else with `Aᵀλ`
+/// (`Multipliers::acceleration_and_multipliers`).
+pub struct Multiplied<const K: usize>;
+
+impl<T: RealField + Copy, const N: usize, const K: usize> Finish<T, N> for Multiplied<K> {
+    type Output = Result<(SVector<T, N>, Reaction<T, N, K>), DynamicsError>;
+
+    #[inline(always)]
+    fn stands(acceleration: SVector<T, N>, force: impl FnOnce() -> SVector<T, N>) -> Self::Output {
+        Ok((acceleration, Reaction::Force(force())))
+    }
+
+    #[inline(always)]
+    fn stands_with<const R: usize>(
+        acceleration: SVector<T, N>,
+        force: impl FnOnce() -> SVector<T, N>,
+        multipliers: impl FnOnce() -> Option<[T; R]>,
+    ) -> Self::Output {
+        // R is the system's K (the generated code passes its own rows);
+        // a mismatch, which no generated code makes, takes the force.
+        match multipliers() {
+            Some(lambda) if R == K => {
+                let mut out = SVector::<T, K>::zeros();
+                out.iter_mut().zip(lambda).for_each(|(o, l)| *o = l);
+                Ok((acceleration, Reaction::Multipliers(out)))
+            }
+            _ => Ok((acceleration, Reaction::Force(force()))),
+        }
+    }
+
+    #[inline(always)]
+    fn decided(
+        motion: Result<Motion<T, N>, DynamicsError>,
+        _: impl FnOnce() -> Motion<T, N>,
+    ) -> Self::Output {
+        motion.map(|(acceleration, force)| (acceleration, Reaction::Force(force)))
     }
 }

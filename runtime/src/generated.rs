@@ -95,6 +95,18 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
         t: T,
         correction: Option<&SVector<T, K>>,
     ) -> Result<Motion<T, N>, DynamicsError>;
+    /// `q̈` and, where the generated solve kept every row, each row's
+    /// multiplier `λ` from that solve; else the constraint force `Aᵀλ`
+    /// (this default: always), from which the runtime finds `λ`.
+    fn gauss_multipliers(
+        &self,
+        q: &SVector<T, N>,
+        qd: &SVector<T, N>,
+        t: T,
+    ) -> Result<(SVector<T, N>, crate::finish::Reaction<T, N, K>), DynamicsError> {
+        self.gauss(q, qd, t, None)
+            .map(|(qdd, force)| (qdd, crate::finish::Reaction::Force(force)))
+    }
     /// The constraint-space step of the projections, `W S⁺ r` with
     /// `W = M⁻¹ Aᵀ`, `S = A W`, by the generated factorizations at this
     /// state, and which rows the rank rule kept. `None` where the generated

@@ -26,8 +26,11 @@
 //! at rounding level; genuine directions far above).
 //!
 //! Every generated system has `constraint_multipliers(&state)` and
-//! `acceleration_and_multipliers(&state)` ([`Multipliers`]); the solve of
-//! `Aᵀ λ = Q_c` is [`multipliers`]. Two copies of the same row share the
+//! `acceleration_and_multipliers(&state)` ([`Multipliers`]). Where the
+//! generated solve kept every row (independent rows: the usual case), its
+//! own `λ` — the multipliers of `S λ = r` it solved for `q̈` — is
+//! returned as it is; otherwise (a redundant set, a suspect rank decision,
+//! the runtime's dense solve) `Aᵀ λ = Q_c` is solved by [`multipliers`]. Two copies of the same row share the
 //! force equally:
 //!
 //! ```
@@ -39,6 +42,7 @@
 //! assert!((lambda - Vector2::new(1.0, 1.0)).norm() < 1e-15);
 //! ```
 
+use crate::finish::Reaction;
 use crate::generated::Generated;
 use crate::svd::JacobiSvd;
 use crate::{DynamicsError, State};
@@ -71,9 +75,17 @@ where
         &self,
         s: &State<T, N>,
     ) -> Result<(SVector<T, N>, SVector<T, K>), DynamicsError> {
-        let (qdd, force) = Generated::gauss(self, &s.q, &s.qd, s.t, None)?;
-        let (a, _) = Generated::constraint_matrices(self, &s.q, &s.qd, s.t);
-        let lambda = multipliers(&a, &force)?;
+        let (qdd, lambda) = match Generated::gauss_multipliers(self, &s.q, &s.qd, s.t)? {
+            // Every row kept by the generated solve: its λ is the one.
+            (qdd, Reaction::Multipliers(lambda)) => (qdd, lambda),
+            (qdd, Reaction::Force(force)) => {
+                let (a, _) = Generated::constraint_matrices(self, &s.q, &s.qd, s.t);
+                (qdd, multipliers(&a, &force)?)
+            }
+        };
+        if !lambda.iter().all(|x| x.is_finite()) {
+            return Err(DynamicsError::NonFinite);
+        }
         if qdd.iter().all(|x| x.is_finite()) {
             Ok((qdd, lambda))
         } else {

@@ -140,9 +140,21 @@ fn forward(ctx: &Context, row: &Forward) -> Option<TokenStream> {
             let ret = ctx.result(motion, quote!(DynamicsError));
             let correction = ctx.correction_type();
             let body = ctx.call_gauss("Fallible", quote!(correction));
+            let k = Context::dim(ctx.k);
+            let multiplied_finish = ctx.private(quote!(Multiplied<#k>));
+            let call_args = ctx.args(Inputs::States);
+            let with =
+                quote!(self.gauss::<#multiplied_finish>(#call_args, ::core::option::Option::None));
+            let reaction = ctx.private(quote!(Reaction<T, #n, #k>));
+            let multiplied = ctx.result(
+                quote!((::constrained::nalgebra::SVector<T, #n>, #reaction)),
+                quote!(DynamicsError),
+            );
             return Some(quote! {
                 #[inline]
                 fn gauss(&self, #params, correction: #correction) -> #ret { #body }
+                #[inline]
+                fn gauss_multipliers(&self, #params) -> #multiplied { #with }
             });
         }
     };

@@ -23,8 +23,8 @@ pub(in crate::emit) type PathCode = (TokenStream, TokenStream);
 pub(in crate::emit) fn checked_motion(
     ctx: &Context,
     ldlt: &StructuredLdlt,
-    acc: &TokenStream,
-    force: &TokenStream,
+    (acc, force): (&TokenStream, &TokenStream),
+    multipliers: &[TokenStream],
     also: Option<TokenStream>,
     paths: Option<PathCode>,
 ) -> TokenStream {
@@ -33,6 +33,11 @@ pub(in crate::emit) fn checked_motion(
     if ctx.k == 0 {
         return quote!(__F::stands(#acc, move || #force));
     }
+    // Every row's λ where the fast path kept them all, as a closure only
+    // `Multiplied` calls: the unique λ where the model's rows are
+    // independent (generic rank K; a redundant set's are not unique, and
+    // the runtime's minimum norm answers there).
+    let lambda = (ctx.generic_rank == ctx.k).then(|| quote!([#(#multipliers),*]));
     let suspect = ldlt.suspect(ctx.generic_rank);
     let suspect = match also {
         Some(also) => quote!((#suspect) | #also),
@@ -61,14 +66,33 @@ pub(in crate::emit) fn checked_motion(
         }
     };
     if ctx.k > 1 {
+        let stands = match lambda {
+            Some(lambda) => quote! {
+                __F::stands_with(__acc, move || #force, move || {
+                    if __suspect {
+                        ::core::option::Option::None
+                    } else {
+                        ::core::option::Option::Some(#lambda)
+                    }
+                })
+            },
+            None => quote!(__F::stands(__acc, move || #force)),
+        };
         return quote! {
             let __acc = #acc;
-            if #suspect {
+            let __suspect = #suspect;
+            if __suspect {
                 #recheck
             }
-            __F::stands(__acc, move || #force)
+            #stands
         };
     }
+    let stands = match lambda {
+        Some(lambda) => quote! {
+            __F::stands_with(#acc, move || #force, move || ::core::option::Option::Some(#lambda))
+        },
+        None => quote!(__F::stands(#acc, move || #force)),
+    };
     quote! {
         if #suspect {
             #suspect_code
@@ -77,7 +101,7 @@ pub(in crate::emit) fn checked_motion(
             return __F::stands(__acc, move || #force);
         }
         #fast_code
-        __F::stands(#acc, move || #force)
+        #stands
     }
 }
 

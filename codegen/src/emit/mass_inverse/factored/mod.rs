@@ -564,7 +564,13 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());
     // The rank decision, checked after the fact, as for a constant M.
-    let value = checked_motion(ctx, &gauss.gram, &acc, &force, None, None);
+    let lambda: Vec<TokenStream> = (0..ctx.k)
+        .map(|j| {
+            let l = Context::local("lam", j);
+            quote!(#l)
+        })
+        .collect();
+    let value = checked_motion(ctx, &gauss.gram, (&acc, &force), &lambda, None, None);
     // A robot's solve is thousands of `let`s: nested no deeper than a block.
     let to_multipliers = bounded(gauss.to_multipliers.clone(), &value);
     let signature = ctx.gauss_signature();

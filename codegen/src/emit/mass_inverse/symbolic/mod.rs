@@ -174,7 +174,27 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         ),
         None => (to_multipliers, None),
     };
-    let value = checked_motion(ctx, &ldlt, &acc, &force, also, paths);
+    // λ of the rows as written: the solve's are those of the scaled rows
+    // `Â = D A` with `M` divided by a common mass `μ` (the force is
+    // `μ Âᵀ λ̂ = Aᵀ (μ D λ̂)`), so `λ = μ D λ̂`.
+    let mass = d.common_mass.map(|m| body.expr(m));
+    let lambda: Vec<TokenStream> = (0..ctx.k)
+        .map(|j| {
+            let l = Context::local("lam", j);
+            let scaled = match d.scale.get(j) {
+                Some(&s) if !s.is_one() => {
+                    let (s, _) = crate::emit::body::literal(s);
+                    quote!(#s * #l)
+                }
+                _ => quote!(#l),
+            };
+            match &mass {
+                Some(m) => quote!((#m) * (#scaled)),
+                None => scaled,
+            }
+        })
+        .collect();
+    let value = checked_motion(ctx, &ldlt, (&acc, &force), &lambda, also, paths);
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
         /// `constraint_force` and `acceleration_corrected` (`b + correction`),
