@@ -85,9 +85,12 @@ def section(rows, ns):
             f"Where our quadruped's `acceleration` ({ns(parts['acceleration'])}) goes: each called alone,",
             f"the generated `M` takes {ns(parts['mass_matrix'])}, `F` {ns(parts['forces'])}, `A` and `b` "
             f"{ns(parts['constraint_matrices'])}; the other {ns(max(rest, 0.0))} are the generated solve of",
-            "the auxiliary system (singular `M` along the quaternion: `M + s AᵀA` factored on the",
-            "tree's compile-time pattern, `M⁻¹Aᵀ` for 13 rows, the pivoted `LDLᵀ` of the 13 × 13",
-            "Gram matrix), in one straight-line body with `M`, `F`, `A` and `b`.",
+            "the auxiliary system (singular `M` along the quaternion: `M + s aₙaₙᵀ` with the",
+            "quaternion norm's row `aₙ` alone, factored on the tree's compile-time pattern;",
+            "`Y = L⁻¹PAᵀ` by forward substitution, `S = Yᵀ D⁻¹ Y`, the pivoted `LDLᵀ` of the",
+            "13 × 13 `S`, one back substitution for `q̈`), in one straight-line body with `M`,",
+            "`F`, `A` and `b`. `acceleration_and_multipliers` returns that solve's own `λ`",
+            "(every row kept), so it costs what `acceleration` does.",
         ]
     return [
         "",

@@ -85,13 +85,14 @@ build_all() {
         cargo test --locked --workspace --benches --no-run
 }
 stage "build: tests, benches and examples (test profile)" "$logs/build.log" build_all
-# After the build, the stages run two at a time, in pairs that share the
+# After the build, the stages run two at a time, in lanes that share the
 # two cores well: the tests (mostly one test binary, trybuild's and the
 # fuzz harness's builds at a time) beside the sympy suite (one Python
-# process); the doc tests, the std-feature crate and the examples beside
-# the embedded run (its own build, in a target directory of its own so
-# that the two cargo runs never wait on one lock, then QEMU). A pair
-# fails when either stage does; each stage's output stays in its own log.
+# process, about a minute and a half) followed by the embedded run (its
+# own build, in a target directory of its own so that the two cargo runs
+# never wait on one lock, then QEMU); then the doc tests, the std-feature
+# crate and the examples. A pair fails when either lane does; each stage's
+# output stays in its own log.
 both() {
     local first second failed=0
     "$1" & first=$!
@@ -114,7 +115,10 @@ sympy_stage() {
     CONSTRAINED_EXAMPLES_DIR="$examples" stage "sympy: the independent suite" "$logs/sympy.log" \
         bash scripts/sympy.sh
 }
-both tests_stage sympy_stage || exit 1
+# The second lane: the sympy suite, then the embedded run (below).
+sympy_then_embedded() {
+    sympy_stage && embedded_stage
+}
 
 # Every example, briefly, so that none can rot (the main one checks itself
 # and exits non-zero on disagreement); the LQR example at full length: it
@@ -143,6 +147,7 @@ embedded_stage() {
     CARGO_TARGET_DIR="$target/firmware" stage "embedded: firmware under QEMU against the host" "$logs/embedded.log" \
         bash scripts/embedded.sh
 }
-both host_stages embedded_stage || exit 1
+both tests_stage sympy_then_embedded || exit 1
+host_stages || exit 1
 
 python3 scripts/test_summary.py "$logs" "$summary" "$run_start"
