@@ -17,7 +17,7 @@
 //!
 //! [`checked`]: crate::rank::checked
 
-use crate::generated::{Generated, Motion};
+use crate::generated::{Generated, Motion, Reaction};
 use crate::rank::least_squares;
 use crate::DynamicsError;
 use nalgebra::{RealField, SVector};
@@ -148,18 +148,6 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for TotalForce {
     ) -> Self::Output {
         <Total as Finish<T, N>>::decided(motion, least_squares).1
     }
-}
-
-/// What [`Multiplied`] gives beside `q̈`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Reaction<T: RealField + Copy, const N: usize, const K: usize> {
-    /// Every row's multiplier, from the generated solve (all rows kept:
-    /// the unique `λ` of `Aᵀλ = Fᶜ`).
-    Multipliers(SVector<T, K>),
-    /// The constraint force `Fᶜ = Aᵀλ` only (a row dropped, the dense
-    /// solve, a recomputation, or a solve without `λ`): the runtime finds
-    /// `λ` from it (`constrained::multipliers`).
-    Force(SVector<T, N>),
 }
 
 /// `Result<(q̈, Reaction), DynamicsError>`: `q̈` with the generated `λ`

@@ -103,9 +103,9 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
         q: &SVector<T, N>,
         qd: &SVector<T, N>,
         t: T,
-    ) -> Result<(SVector<T, N>, crate::finish::Reaction<T, N, K>), DynamicsError> {
+    ) -> Result<(SVector<T, N>, Reaction<T, N, K>), DynamicsError> {
         self.gauss(q, qd, t, None)
-            .map(|(qdd, force)| (qdd, crate::finish::Reaction::Force(force)))
+            .map(|(qdd, force)| (qdd, Reaction::Force(force)))
     }
     /// The constraint-space step of the projections, `W S⁺ r` with
     /// `W = M⁻¹ Aᵀ`, `S = A W`, by the generated factorizations at this
@@ -162,4 +162,17 @@ pub(crate) fn auxiliary_mass<T: RealField + Copy, const N: usize, const K: usize
         T::one()
     };
     (m + a.transpose() * a * s, s)
+}
+
+/// What [`Generated::gauss_multipliers`] gives beside `q̈` (the runtime's
+/// `Multiplied` finisher makes it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reaction<T: RealField + Copy, const N: usize, const K: usize> {
+    /// Every row's multiplier, from the generated solve (all rows kept:
+    /// the unique `λ` of `Aᵀλ = Fᶜ`).
+    Multipliers(SVector<T, K>),
+    /// The constraint force `Fᶜ = Aᵀλ` only (a row dropped, the dense
+    /// solve, a recomputation, or a solve without `λ`): the runtime finds
+    /// `λ` from it (`constrained::multipliers`).
+    Force(SVector<T, N>),
 }

@@ -50,11 +50,11 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
-    pub use crate::finish::{
-        Fallible, Finish, Multiplied, Reaction, Total, TotalAcceleration, TotalForce,
-    };
+    pub use crate::finish::{Fallible, Finish, Multiplied, Total, TotalAcceleration, TotalForce};
     pub use crate::gauss_dense::gauss_dense;
-    pub use crate::generated::{largest, lit, signum, step, unscaled_bound, Generated, Motion};
+    pub use crate::generated::{
+        largest, lit, signum, step, unscaled_bound, Generated, Motion, Reaction,
+    };
     pub use crate::linearize::Tangent;
     pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};
 }

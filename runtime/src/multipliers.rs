@@ -42,8 +42,8 @@
 //! assert!((lambda - Vector2::new(1.0, 1.0)).norm() < 1e-15);
 //! ```
 
-use crate::finish::Reaction;
 use crate::generated::Generated;
+use crate::generated::Reaction;
 use crate::svd::JacobiSvd;
 use crate::{DynamicsError, State};
 use nalgebra::{RealField, SMatrix, SVector};

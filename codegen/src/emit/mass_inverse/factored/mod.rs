@@ -101,11 +101,8 @@ impl<'a> FactoredSolve<'a> {
         };
         // `gauss` without constraints solves with M once (for `a`); with
         // them, once more per column of W, and the Jacobian once per column.
-        let solves = if correction && k == 0 {
-            Solves::Once
-        } else {
-            Solves::Many
-        };
+        let once = correction && k == 0;
+        let solves = if once { Solves::Once } else { Solves::Many };
         // The auxiliary mass of `gauss`: a pivot that is not positive hands
         // the solve to the runtime (`auxiliary::dense_answer`).
         let mass_bail = match (&f.auxiliary, scope) {
@@ -138,36 +135,15 @@ impl<'a> FactoredSolve<'a> {
             .is_some()
             .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
         let factor_mass = mass.factor();
+        let head = quote! {
+            #preamble
+            #(#bindings)*
+            #check
+            #auxiliary
+            #factor_mass
+        };
         if scope == (Scope::Dynamics { gauss: true }) && k > 0 {
-            let lean = gram_form(ctx, f, &mass, &gram);
-            let corrected = f
-                .auxiliary
-                .is_none()
-                .then(|| corrected(&lean.residuals, &[]));
-            let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
-            let factor_gram = gram.factor();
-            let solve_gram = gram.solve(&lean.residuals, "y", &multipliers);
-            let (back, acceleration) = lean.back_substitution(ctx, &mass, &multipliers);
-            let to_gram = lean.code;
-            let force = constraint_force(ctx, &multipliers);
-            return FactoredSolve {
-                to_multipliers: quote! {
-                    #preamble
-                    #(#bindings)*
-                    #check
-                    #auxiliary
-                    #factor_mass
-                    #to_gram
-                    #corrected
-                    #factor_gram
-                    #solve_gram
-                    #back
-                },
-                mass,
-                gram,
-                acceleration,
-                force,
-            };
+            return Self::solver(ctx, f, (mass, gram), head);
         }
         // a = M⁻¹ F.
         let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
@@ -185,11 +161,7 @@ impl<'a> FactoredSolve<'a> {
         let (acceleration, force) = motion(ctx, f, &a_bound, &unconstrained, &multipliers);
         let to_multipliers = if dynamics {
             quote! {
-                #preamble
-                #(#bindings)*
-                #check
-                #auxiliary
-                #factor_mass
+                #head
                 #solve_a
                 #solve_w
                 #gram_entries
@@ -200,11 +172,7 @@ impl<'a> FactoredSolve<'a> {
             }
         } else {
             quote! {
-                #preamble
-                #(#bindings)*
-                #check
-                #auxiliary
-                #factor_mass
+                #head
                 #solve_w
                 #gram_entries
                 #factor_gram
@@ -214,6 +182,43 @@ impl<'a> FactoredSolve<'a> {
             mass,
             gram,
             to_multipliers,
+            acceleration,
+            force,
+        }
+    }
+
+    /// `gauss`'s solve with constraints, after `head` (the inputs, their
+    /// check, the auxiliary mass and `M`'s factorization): [`GramForm`].
+    fn solver(
+        ctx: &'a Context,
+        f: &'a Factored,
+        (mass, gram): (StructuredLdlt<'a>, StructuredLdlt<'a>),
+        head: TokenStream,
+    ) -> Self {
+        let k = ctx.k;
+        let lean = gram_form(ctx, f, &mass, &gram);
+        // (The auxiliary prelude corrected `b` itself.)
+        let corrected = f
+            .auxiliary
+            .is_none()
+            .then(|| corrected(&lean.residuals, &[]));
+        let multipliers: Vec<Ident> = (0..k).map(|j| Context::local("lam", j)).collect();
+        let factor_gram = gram.factor();
+        let solve_gram = gram.solve(&lean.residuals, "y", &multipliers);
+        let (back, acceleration) = lean.back_substitution(ctx, &mass, &multipliers);
+        let to_gram = lean.code;
+        let force = constraint_force(ctx, &multipliers);
+        FactoredSolve {
+            to_multipliers: quote! {
+                #head
+                #to_gram
+                #corrected
+                #factor_gram
+                #solve_gram
+                #back
+            },
+            mass,
+            gram,
             acceleration,
             force,
         }
