@@ -132,6 +132,16 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
 
 /// Every row of `b` factored, as a sum of squares where that costs at least
 /// three operations fewer, counted with `M`, `F`, `A` and the other rows.
+/// The entries of `M`, `A` and `F`: what the code computes beside `b`.
+fn pieces(mass: &[Vec<Id>], forces: &[Id], a: &[Vec<Id>]) -> Vec<Id> {
+    mass.iter()
+        .chain(a)
+        .flatten()
+        .chain(forces)
+        .copied()
+        .collect()
+}
+
 /// Per row, `b` from the partials (`Σᵢⱼ ∂²φ/∂qᵢ∂qⱼ·q̇ᵢq̇ⱼ`) or from
 /// forward mode (`D₀ D₀ φ`, [`AtRest`]), whichever costs fewer operations
 /// once factored, counted with `M`, `F`, `A` and the rows before (whose
@@ -146,13 +156,7 @@ fn cheaper_bias(
     partials: &[Id],
     structured: &[Id],
 ) -> Vec<Id> {
-    let mut context: Vec<Id> = mass
-        .iter()
-        .chain(a)
-        .flatten()
-        .chain(forces)
-        .copied()
-        .collect();
+    let mut context = pieces(mass, forces, a);
     let mut chosen = Vec::with_capacity(partials.len());
     for (&old, &new) in partials.iter().zip(structured) {
         let pick = if old == new {
@@ -186,13 +190,7 @@ fn complete_squares(
     b: &[Id],
 ) -> Vec<Id> {
     let mut rows = factorer.factor_all(g, b);
-    let shared: Vec<Id> = mass
-        .iter()
-        .chain(a)
-        .flatten()
-        .chain(forces)
-        .copied()
-        .collect();
+    let shared = pieces(mass, forces, a);
     for i in 0..b.len() {
         let context: Vec<Id> = shared
             .iter()

@@ -251,17 +251,11 @@ fn gram_form(
     mass: &StructuredLdlt,
     gram: &StructuredLdlt,
 ) -> GramForm {
-    let g = &ctx.eq.system.graph;
     let n = ctx.n;
     let (mut code, z) = mass.forward(&forces_rhs(ctx, f), "ay");
     let mut y = Vec::with_capacity(ctx.k);
-    for (j, row) in ctx.eq.a.iter().enumerate() {
-        let rhs: Vec<Option<TokenStream>> = row
-            .iter()
-            .enumerate()
-            .map(|(i, &e)| (!g.is_zero(e)).then(|| a_entry(j, i)))
-            .collect();
-        let (column, bound) = mass.forward(&rhs, &format!("wy{j}x"));
+    for j in 0..ctx.k {
+        let (column, bound) = mass.forward(&a_column(ctx, j), &format!("wy{j}x"));
         code.extend(column);
         // D⁻¹ Y, column by column.
         for (p, _) in bound.iter().enumerate().filter(|(_, &b)| b) {
@@ -390,6 +384,17 @@ fn forces_rhs(ctx: &Context, f: &Factored) -> Vec<Option<TokenStream>> {
         .collect()
 }
 
+/// Row `j` of `A` as a right-hand side (a column of `Aᵀ`): its locals,
+/// `None` where structurally zero.
+fn a_column(ctx: &Context, j: usize) -> Vec<Option<TokenStream>> {
+    let g = &ctx.eq.system.graph;
+    ctx.eq.a[j]
+        .iter()
+        .enumerate()
+        .map(|(i, &e)| (!g.is_zero(e)).then(|| a_entry(j, i)))
+        .collect()
+}
+
 /// The local `__a{r}_{i}` holding entry `(r, i)` of `A`.
 fn a_entry(r: usize, i: usize) -> TokenStream {
     let name = Context::local2("a", r, i);
@@ -446,16 +451,10 @@ fn named_inputs(
 /// The columns of `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`), by sparse solves
 /// with `M`'s factor.
 fn weighted_columns(ctx: &Context, f: &Factored, mass: &StructuredLdlt) -> TokenStream {
-    let g = &ctx.eq.system.graph;
     let mut solve_w = TokenStream::new();
-    for (j, row) in ctx.eq.a.iter().enumerate() {
-        let rhs: Vec<Option<TokenStream>> = row
-            .iter()
-            .enumerate()
-            .map(|(i, &e)| (!g.is_zero(e)).then(|| a_entry(j, i)))
-            .collect();
+    for j in 0..ctx.k {
         let out: Vec<Ident> = (0..ctx.n).map(|i| Context::local2("w", i, j)).collect();
-        let (code, bound) = mass.solve_sparse(&rhs, &format!("wy{j}x"), &out);
+        let (code, bound) = mass.solve_sparse(&a_column(ctx, j), &format!("wy{j}x"), &out);
         debug_assert!((0..ctx.n).all(|i| bound[i] == f.weighted[i][j]));
         solve_w.extend(code);
     }
