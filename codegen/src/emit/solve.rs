@@ -66,10 +66,12 @@ pub(in crate::emit) fn checked_motion(
         }
     };
     if ctx.k > 1 {
+        // The closure decides again whether a row was dropped: only
+        // `Multiplied` calls it, and the fast path stays as it was.
         let stands = match lambda {
             Some(lambda) => quote! {
                 __F::stands_with(__acc, move || #force, move || {
-                    if __suspect {
+                    if #suspect {
                         ::core::option::Option::None
                     } else {
                         ::core::option::Option::Some(#lambda)
@@ -80,8 +82,7 @@ pub(in crate::emit) fn checked_motion(
         };
         return quote! {
             let __acc = #acc;
-            let __suspect = #suspect;
-            if __suspect {
+            if #suspect {
                 #recheck
             }
             #stands

@@ -232,13 +232,15 @@ fn exported_block(local: &syn::Local) -> Option<&[Stmt]> {
     (bound == read).then_some(&block.block.stmts[..block.block.stmts.len() - 1])
 }
 
-/// The fast path's value `__F::stands(q̈, move || Fᶜ)` → `q̈`.
+/// The fast path's value `__F::stands(q̈, move || Fᶜ)` (or
+/// `__F::stands_with(q̈, move || Fᶜ, move || λ)`) → `q̈`.
 fn returned_acceleration(expr: &Expr) -> Option<&Expr> {
     let Expr::Call(call) = expr else { return None };
     let Expr::Path(path) = &*call.func else {
         return None;
     };
-    if path.path.segments.last()?.ident != "stands" {
+    let last = &path.path.segments.last()?.ident;
+    if last != "stands" && last != "stands_with" {
         return None;
     }
     call.args.first()
