@@ -80,7 +80,9 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
     const CONSTRAINT_LEVELS: [ConstraintLevel; K];
     /// Whether `M` is only positive semi-definite, so that Gauss's
     /// principle is solved for the auxiliary system `M + s AᵀA`,
-    /// `F + s Aᵀb` (Udwadia & Schutte 2010; see `effective_mass`).
+    /// `F + s Aᵀb` (Udwadia & Schutte 2010; see `effective_mass`): here
+    /// with every row, in the generated solve with the rows that complete
+    /// `M`'s rank.
     const SEMIDEFINITE_MASS: bool = false;
     /// The rank of `A` at consistent states, measured at compile time: `K`
     /// less the model's redundancy. A rank decision that keeps this many

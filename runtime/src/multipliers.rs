@@ -30,8 +30,8 @@
 //! generated solve kept every row (independent rows: the usual case), its
 //! own `λ` — the multipliers of `S λ = r` it solved for `q̈` — is
 //! returned as it is; otherwise (a redundant set, a suspect rank decision,
-//! the runtime's dense solve) `Aᵀ λ = Q_c` is solved by [`multipliers`]. Two copies of the same row share the
-//! force equally:
+//! the runtime's dense solve) `Aᵀ λ = Q_c` is solved by [`multipliers`].
+//! Two copies of the same row share the force equally:
 //!
 //! ```
 //! use constrained_runtime::multipliers::multipliers;
@@ -42,8 +42,7 @@
 //! assert!((lambda - Vector2::new(1.0, 1.0)).norm() < 1e-15);
 //! ```
 
-use crate::generated::Generated;
-use crate::generated::Reaction;
+use crate::generated::{Generated, Reaction};
 use crate::svd::JacobiSvd;
 use crate::{DynamicsError, State};
 use nalgebra::{RealField, SMatrix, SVector};

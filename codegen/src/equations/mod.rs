@@ -130,8 +130,6 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
         .collect()
 }
 
-/// Every row of `b` factored, as a sum of squares where that costs at least
-/// three operations fewer, counted with `M`, `F`, `A` and the other rows.
 /// The entries of `M`, `A` and `F`: what the code computes beside `b`.
 fn pieces(mass: &[Vec<Id>], forces: &[Id], a: &[Vec<Id>]) -> Vec<Id> {
     mass.iter()
@@ -159,10 +157,11 @@ fn cheaper_bias(
     let mut context = pieces(mass, forces, a);
     let mut chosen = Vec::with_capacity(partials.len());
     for (&old, &new) in partials.iter().zip(structured) {
-        let pick = if old == new {
-            old
+        let f_old = factorer.factor(g, old);
+        let (pick, factored) = if old == new {
+            (old, f_old)
         } else {
-            let (f_old, f_new) = (factorer.factor(g, old), factorer.factor(g, new));
+            let f_new = factorer.factor(g, new);
             let mut cost = |g: &crate::expr::Graph, id: Id| {
                 context.push(id);
                 let ops = crate::expr::squares::operations(g, &context);
@@ -170,17 +169,19 @@ fn cheaper_bias(
                 ops
             };
             if cost(g, f_new) < cost(g, f_old) {
-                new
+                (new, f_new)
             } else {
-                old
+                (old, f_old)
             }
         };
-        context.push(factorer.factor(g, pick));
+        context.push(factored);
         chosen.push(pick);
     }
     chosen
 }
 
+/// Every row of `b` factored, as a sum of squares where that costs at least
+/// three operations fewer, counted with `M`, `F`, `A` and the other rows.
 fn complete_squares(
     g: &mut crate::expr::Graph,
     factorer: &mut Factorer,

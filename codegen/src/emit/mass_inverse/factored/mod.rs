@@ -100,7 +100,8 @@ impl<'a> FactoredSolve<'a> {
             Scope::ConstraintSpace => quote!(return ::core::option::Option::None;),
         };
         // `gauss` without constraints solves with M once (for `a`); with
-        // them, once more per column of W, and the Jacobian once per column.
+        // them every pivot's reciprocal is read (`D⁻¹ Y`, the back
+        // substitution), as by the Jacobian's solve per column.
         let once = correction && k == 0;
         let solves = if once { Solves::Once } else { Solves::Many };
         // The auxiliary mass of `gauss`: a pivot that is not positive hands
@@ -258,7 +259,7 @@ fn gram_form(
         let (column, bound) = mass.forward(&a_column(ctx, j), &format!("wy{j}x"));
         code.extend(column);
         // D⁻¹ Y, column by column.
-        for (p, _) in bound.iter().enumerate().filter(|(_, &b)| b) {
+        for p in (0..n).filter(|&p| bound[p]) {
             let (yp, dp, inv) = (
                 Context::local(&format!("wy{j}x"), p),
                 Context::local(&format!("wd{j}x"), p),
