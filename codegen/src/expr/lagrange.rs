@@ -76,16 +76,12 @@ pub fn mass_from_kinetic_energy(
             m[i][j] = entry;
         }
     }
-    // sin² + cos² = 1 where it shortens the matrix (the Furuta pendulum's
-    // θ-free arm inertia, a Cartesian pendulum's constant m·l²).
-    let upper: Vec<Id> = (0..n).flat_map(|i| m[i][i..].to_vec()).collect();
-    let mut simplified = crate::expr::trig::simplify_all(g, &upper).into_iter();
+    // Written symmetric: the identities (`expr::trig`) are applied with the
+    // forces, on the set `q̈` is computed from.
     #[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
     for i in 0..n {
-        for j in i..n {
-            let entry = simplified.next().unwrap_or(m[i][j]);
-            m[i][j] = entry;
-            m[j][i] = entry;
+        for j in 0..i {
+            m[i][j] = m[j][i];
         }
     }
     Ok(m)
@@ -172,7 +168,9 @@ fn higher_terms_cancel(g: &mut Graph, d: &mut Differentiator, t: Id, n: usize) -
 }
 
 /// `F = Q − ∂V/∂q + ∂T/∂q − (∂²T/∂q̇∂qᵀ) q̇ − ∂²T/∂q̇∂t`; `kinetic` absent
-/// when `M` was written directly (then `F = Q − ∂V/∂q`).
+/// when `M` was written directly (then `F = Q − ∂V/∂q`). As derived: the
+/// caller applies the trigonometric identities (`expr::trig`), with `M`
+/// where `M` comes from `T`.
 pub fn forces(
     g: &mut Graph,
     d: &mut Differentiator,
@@ -206,8 +204,7 @@ pub fn forces(
             g.add(&terms)
         })
         .collect();
-    // sin² + cos² = 1 where it shortens the forces as a whole.
-    crate::expr::trig::simplify_all(g, &sums)
+    sums
 }
 
 #[cfg(test)]

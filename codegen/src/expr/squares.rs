@@ -306,30 +306,36 @@ fn lagrange_reduction(entries: &[(usize, usize, Num)]) -> Option<Vec<Square>> {
 pub fn operations(g: &Graph, roots: &[Id]) -> usize {
     g.reachable(roots)
         .into_iter()
-        .map(|id| match g.node(id) {
-            Node::Num(_) | Node::Sym(_) => 0,
-            Node::Add(terms, c0) => {
-                let scaled = terms
-                    .iter()
-                    .filter(|(_, c)| !c.is_one() && !(-*c).is_one())
-                    .count();
-                terms.len() - 1 + usize::from(!c0.is_zero()) + scaled
-            }
-            Node::Mul(factors) => {
-                let powers: usize = factors
-                    .iter()
-                    .map(|(_, e)| match e.as_integer() {
-                        Some(n) => n.unsigned_abs().saturating_sub(1) as usize,
-                        None => 1,
-                    })
-                    .sum();
-                // One division for the negative powers, whatever their count.
-                let division = usize::from(factors.iter().any(|(_, e)| e.is_negative()));
-                factors.len() - 1 + powers + division
-            }
-            Node::Pow(_) | Node::Func(..) => 1,
-        })
+        .map(|id| node_operations(g, id))
         .sum()
+}
+
+/// The arithmetic operations of node `id` alone, its operands computed
+/// (see [`operations`]).
+pub fn node_operations(g: &Graph, id: Id) -> usize {
+    match g.node(id) {
+        Node::Num(_) | Node::Sym(_) => 0,
+        Node::Add(terms, c0) => {
+            let scaled = terms
+                .iter()
+                .filter(|(_, c)| !c.is_one() && !(-*c).is_one())
+                .count();
+            terms.len() - 1 + usize::from(!c0.is_zero()) + scaled
+        }
+        Node::Mul(factors) => {
+            let powers: usize = factors
+                .iter()
+                .map(|(_, e)| match e.as_integer() {
+                    Some(n) => n.unsigned_abs().saturating_sub(1) as usize,
+                    None => 1,
+                })
+                .sum();
+            // One division for the negative powers, whatever their count.
+            let division = usize::from(factors.iter().any(|(_, e)| e.is_negative()));
+            factors.len() - 1 + powers + division
+        }
+        Node::Pow(_) | Node::Func(..) => 1,
+    }
 }
 
 #[cfg(test)]

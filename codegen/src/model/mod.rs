@@ -429,9 +429,12 @@ impl Lowerer<'_> {
         v
     }
 
-    /// `M = ∂²T/∂q̇∂q̇ᵀ` from `T`, checked like a written mass matrix, and
-    /// `T` itself.
-    fn kinetic(&mut self, keyword: &Ident, e: &Expr, n: usize) -> (Vec<Vec<Id>>, Option<Id>) {
+    /// `M = ∂²T/∂q̇∂q̇ᵀ` from `T`, as derived, `T` itself, and whether both
+    /// came without error (when `T` is not a quadratic form an error is
+    /// reported and `M` is zero). The caller simplifies `M` with the forces,
+    /// then checks it like a written mass matrix
+    /// ([`check::constant_mass_positive_semidefinite`]).
+    fn kinetic(&mut self, e: &Expr, n: usize) -> (Vec<Vec<Id>>, Id, bool) {
         let before = self.errors.count();
         let t = self.lower(e);
         let mut d = crate::expr::diff::Differentiator::new();
@@ -446,13 +449,10 @@ impl Lowerer<'_> {
                     ),
                 );
                 let zero = self.graph.int(0);
-                return (vec![vec![zero; n]; n], Some(t));
+                return (vec![vec![zero; n]; n], t, false);
             }
         };
-        if self.errors.count() == before {
-            check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
-        }
-        (m, Some(t))
+        (m, t, self.errors.count() == before)
     }
 
     /// The constraints written, then the norm of each quaternion joint's

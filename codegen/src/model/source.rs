@@ -4,10 +4,11 @@
 //! lowered once ([`Lowerer::dynamics`]), with the energies the generated
 //! `kinetic_energy`, `potential_energy` and `energy` evaluate.
 
+use super::check;
 use super::ctxt::Errors;
 use super::lower::Lowerer;
 use super::{urdf, BodyTerms, Energies, EnergyTerms, Sections};
-use crate::expr::{Id, Sym};
+use crate::expr::{Graph, Id, Sym};
 use crate::parse::{BodyInput, List, MassInput, SystemInput};
 use syn::{Expr, Ident};
 
@@ -161,11 +162,15 @@ impl Lowerer<'_> {
         described: Vec<crate::bodies::Described>,
     ) -> Lowered {
         let n = coordinates.len();
+        // The keyword of a mass matrix derived from `T` without error: it is
+        // checked once simplified with the forces.
+        let mut derived_mass = None;
         let (mass, kinetic, tree) = match source {
             Source::Mass(keyword, m) => (self.mass(keyword, m, n), None, None),
             Source::Kinetic(keyword, e) => {
-                let (m, t) = self.kinetic(keyword, e, n);
-                (m, t, None)
+                let (m, t, clean) = self.kinetic(e, n);
+                derived_mass = clean.then_some(keyword);
+                (m, Some(t), None)
             }
             Source::Bodies(..) | Source::Urdf(..) => {
                 let gravity = self.gravity(sections.gravity);
@@ -185,6 +190,7 @@ impl Lowerer<'_> {
             // M q̈ = Q − ∂V/∂q − c(q, q̇).
             let applied_less_v =
                 crate::expr::lagrange::forces(self.graph, &mut d, None, potential, &applied);
+            let applied_less_v = crate::expr::trig::simplify_all(self.graph, &applied_less_v);
             let forces = applied_less_v
                 .iter()
                 .zip(&dynamics.bias)
@@ -221,6 +227,15 @@ impl Lowerer<'_> {
         if kinetic.is_some() || potential.is_some() {
             let forces =
                 crate::expr::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
+            // The identities where they make the set `q̈` is computed from
+            // cheaper: `M` and `F` together when `M` comes from `T`.
+            let (mass, forces) = match kinetic {
+                Some(_) => joined(self.graph, mass, forces),
+                None => (mass, crate::expr::trig::simplify_all(self.graph, &forces)),
+            };
+            if let Some(keyword) = derived_mass {
+                check::constant_mass_positive_semidefinite(self.errors, self.graph, &mass, keyword);
+            }
             let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
             let v = potential.unwrap_or_else(|| self.graph.int(0));
             let energy = self.energy_terms(t, v);
@@ -273,4 +288,28 @@ impl Lowerer<'_> {
         let half = g.num(crate::expr::num::Num::Rational(1, 2));
         g.mul2(half, sum)
     }
+}
+
+/// `M` (derived from `T`) and `F` with the addition theorems applied where
+/// that makes the two together cheaper (`expr::trig::join_angle_sums`): a
+/// chain in joint angles reads `cos θ₂` where its Cartesian definitions
+/// gave `cos θ₁·cos(θ₁ + θ₂) + sin θ₁·sin(θ₁ + θ₂)`.
+fn joined(g: &mut Graph, mut mass: Vec<Vec<Id>>, forces: Vec<Id>) -> (Vec<Vec<Id>>, Vec<Id>) {
+    let n = forces.len();
+    if mass.len() != n || mass.iter().any(|row| row.len() != n) {
+        return (mass, forces);
+    }
+    let upper = (0..n).flat_map(|i| (i..n).map(move |j| (i, j)));
+    let roots: Vec<Id> = upper
+        .clone()
+        .map(|(i, j)| mass[i][j])
+        .chain(forces.iter().copied())
+        .collect();
+    let joined = crate::expr::trig::join_angle_sums(g, &roots);
+    for ((i, j), &entry) in upper.zip(&joined) {
+        mass[i][j] = entry;
+        mass[j][i] = entry;
+    }
+    let forces = joined.into_iter().skip(n * (n + 1) / 2).collect();
+    (mass, forces)
 }
