@@ -225,34 +225,7 @@ impl Lowerer<'_> {
             };
         }
         if kinetic.is_some() || potential.is_some() {
-            let forces =
-                crate::expr::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
-            // The identities where they make the set `q̈` is computed from
-            // cheaper: `M` and `F` together when `M` comes from `T`.
-            let (mass, forces) = match kinetic {
-                Some(_) => joined(self.graph, mass, forces),
-                None => (mass, crate::expr::trig::simplify_all(self.graph, &forces)),
-            };
-            if let Some(keyword) = derived_mass {
-                check::constant_mass_positive_semidefinite(self.errors, self.graph, &mass, keyword);
-            }
-            let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
-            let v = potential.unwrap_or_else(|| self.graph.int(0));
-            let energy = self.energy_terms(t, v);
-            let energies = Energies {
-                kinetic,
-                potential,
-                applied,
-            };
-            return Lowered {
-                mass,
-                forces,
-                kinetic,
-                potential,
-                energies: Some(energies),
-                bodies: None,
-                energy: Some(energy),
-            };
+            return self.from_energies(mass, (kinetic, potential), applied, derived_mass);
         }
         Lowered {
             mass,
@@ -262,6 +235,47 @@ impl Lowerer<'_> {
             energies: None,
             bodies: None,
             energy: None,
+        }
+    }
+
+    /// `F` from `T` (when given), `V` and `Q` by Lagrange's equations; `M`
+    /// and `F` simplified (`M` with `F` when it comes from `T`), then a
+    /// derived `M` checked (`derived_mass`: its keyword).
+    fn from_energies(
+        &mut self,
+        mass: Vec<Vec<Id>>,
+        (kinetic, potential): (Option<Id>, Option<Id>),
+        applied: Vec<Id>,
+        derived_mass: Option<&Ident>,
+    ) -> Lowered {
+        let mut d = crate::expr::diff::Differentiator::new();
+        let forces =
+            crate::expr::lagrange::forces(self.graph, &mut d, kinetic, potential, &applied);
+        // The identities where they make the set `q̈` is computed from
+        // cheaper: `M` and `F` together when `M` comes from `T`.
+        let (mass, forces) = match kinetic {
+            Some(_) => joined(self.graph, mass, forces),
+            None => (mass, crate::expr::trig::simplify_all(self.graph, &forces)),
+        };
+        if let Some(keyword) = derived_mass {
+            check::constant_mass_positive_semidefinite(self.errors, self.graph, &mass, keyword);
+        }
+        let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
+        let v = potential.unwrap_or_else(|| self.graph.int(0));
+        let energy = self.energy_terms(t, v);
+        let energies = Energies {
+            kinetic,
+            potential,
+            applied,
+        };
+        Lowered {
+            mass,
+            forces,
+            kinetic,
+            potential,
+            energies: Some(energies),
+            bodies: None,
+            energy: Some(energy),
         }
     }
 

@@ -24,6 +24,7 @@
 //! column through `L D Lᵀ` of `M` and of `S`.
 
 mod auxiliary;
+mod gram_form;
 pub(in crate::emit) mod jacobian;
 pub(in crate::emit) mod step;
 
@@ -34,6 +35,7 @@ use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
 use crate::equations::mass_inverse::Factored;
 use crate::expr::Id;
+use gram_form::gram_form;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
@@ -112,24 +114,7 @@ impl<'a> FactoredSolve<'a> {
         };
         let mass = StructuredLdlt::mass(&f.mass, mass_bail, solves);
         let gram = StructuredLdlt::gram(&f.gram);
-        let (named, mass_and_forces) = named_inputs(ctx, f, &mass, dynamics);
-        let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
-        let body = Body::new(ctx.eq, &roots);
-        let preamble = body.preamble();
-        let bindings = named.iter().map(|(name, id)| {
-            let value = body.expr(*id);
-            quote! { let #name = #value; }
-        });
-        // An overflowed M or F would be solved as a limit (1/∞ = 0): say so.
-        let finite = named[..mass_and_forces]
-            .iter()
-            .map(|(name, _)| quote!(#name.is_finite()));
-        let non_finite = bail(quote!(DynamicsError::NonFinite));
-        let check = quote! {
-            if !(#(#finite)&*) {
-                #non_finite
-            }
-        };
+        let inputs = inputs(ctx, f, &mass, dynamics, &bail);
         // A semi-definite M: the auxiliary mass and forces, from M, F, A, b.
         let auxiliary = f
             .auxiliary
@@ -137,9 +122,7 @@ impl<'a> FactoredSolve<'a> {
             .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
         let factor_mass = mass.factor();
         let head = quote! {
-            #preamble
-            #(#bindings)*
-            #check
+            #inputs
             #auxiliary
             #factor_mass
         };
@@ -226,139 +209,6 @@ impl<'a> FactoredSolve<'a> {
     }
 }
 
-/// The solver's form of Gauss's principle once `P M Pᵀ = L D Lᵀ` is
-/// factored: with `Y = L⁻¹ P Aᵀ` and `z = L⁻¹ P F` (forward
-/// substitutions only), `S = Yᵀ D⁻¹ Y`, `r = b − Yᵀ D⁻¹ z`, and after
-/// `S λ = r` one back substitution, `q̈ = Pᵀ L⁻ᵀ D⁻¹ (z + Y λ)`. Against
-/// forming `W = M⁻¹ Aᵀ` (a back substitution per row of `A`), `S = A W`,
-/// `a = M⁻¹ F` and `q̈ = a + W λ`, this skips every back substitution but
-/// one, and `Y` is as sparse as the tree makes it (`W` is as dense as the
-/// tree is deep). The Jacobian and the projections' step, which need `W`
-/// itself, keep that form.
-struct GramForm {
-    /// The forward substitutions, `D⁻¹ Y`, `S`'s entries and `r`.
-    code: TokenStream,
-    /// `r`'s locals.
-    residuals: Vec<Ident>,
-    /// Which positions of `z` are bound (`__ay{p}`).
-    z: Vec<bool>,
-    /// Which positions of each column of `Y` are bound (`__wy{j}x{p}`).
-    y: Vec<Vec<bool>>,
-}
-
-fn gram_form(
-    ctx: &Context,
-    f: &Factored,
-    mass: &StructuredLdlt,
-    gram: &StructuredLdlt,
-) -> GramForm {
-    let n = ctx.n;
-    let (mut code, z) = mass.forward(&forces_rhs(ctx, f), "ay");
-    let mut y = Vec::with_capacity(ctx.k);
-    for j in 0..ctx.k {
-        let (column, bound) = mass.forward(&a_column(ctx, j), &format!("wy{j}x"));
-        code.extend(column);
-        // D⁻¹ Y, column by column.
-        for p in (0..n).filter(|&p| bound[p]) {
-            let (yp, dp, inv) = (
-                Context::local(&format!("wy{j}x"), p),
-                Context::local(&format!("wd{j}x"), p),
-                mass.reciprocal_at(p),
-            );
-            code.extend(quote! { let #dp = #yp * #inv; });
-        }
-        y.push(bound);
-    }
-    for i in 0..ctx.k {
-        for j in 0..=i {
-            let pairs: Vec<_> = (0..n)
-                .filter(|&p| y[i][p] && y[j][p])
-                .map(|p| {
-                    let (yi, dj) = (
-                        Context::local(&format!("wy{i}x"), p),
-                        Context::local(&format!("wd{j}x"), p),
-                    );
-                    (quote!(#yi), quote!(#dj))
-                })
-                .collect();
-            if gram.is_nonzero(i, j) {
-                let (name, value) = (gram.entry(i, j), dot(pairs));
-                code.extend(quote! { let #name = #value; });
-            } else {
-                debug_assert!(pairs.is_empty(), "S's pattern covers Yᵀ D⁻¹ Y's");
-            }
-        }
-    }
-    let residuals: Vec<Ident> = (0..ctx.k).map(|r| Context::local("r", r)).collect();
-    for (j, name) in residuals.iter().enumerate() {
-        let pairs: Vec<_> = (0..n)
-            .filter(|&p| y[j][p] && z[p])
-            .map(|p| {
-                let (dj, zp) = (
-                    Context::local(&format!("wd{j}x"), p),
-                    Context::local("ay", p),
-                );
-                (quote!(#dj), quote!(#zp))
-            })
-            .collect();
-        let b = Context::local("b", j);
-        code.extend(if pairs.is_empty() {
-            quote! { let #name = #b; }
-        } else {
-            let yz = dot(pairs);
-            quote! { let #name = #b - (#yz); }
-        });
-    }
-    GramForm {
-        code,
-        residuals,
-        z,
-        y,
-    }
-}
-
-impl GramForm {
-    /// `q̈ = Pᵀ L⁻ᵀ D⁻¹ (z + Y λ)`: the code binding `__ac{i}` and `q̈`'s
-    /// entries (those names, or zero).
-    fn back_substitution(
-        &self,
-        ctx: &Context,
-        mass: &StructuredLdlt,
-        multipliers: &[Ident],
-    ) -> (TokenStream, Vec<TokenStream>) {
-        let mut code = TokenStream::new();
-        let sums: Vec<Option<TokenStream>> = (0..ctx.n)
-            .map(|p| {
-                let mut terms: Vec<TokenStream> = Vec::new();
-                if self.z[p] {
-                    let zp = Context::local("ay", p);
-                    terms.push(quote!(#zp));
-                }
-                for (j, lam) in multipliers.iter().enumerate() {
-                    if self.y[j][p] {
-                        let yp = Context::local(&format!("wy{j}x"), p);
-                        terms.push(quote!(#yp * #lam));
-                    }
-                }
-                (!terms.is_empty()).then(|| {
-                    let v = Context::local("av", p);
-                    code.extend(quote! { let #v = #(#terms)+*; });
-                    quote!(#v)
-                })
-            })
-            .collect();
-        let out: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ac", i)).collect();
-        let (back, bound) = mass.backward(&sums, &out);
-        code.extend(back);
-        let acceleration = out
-            .iter()
-            .zip(bound)
-            .map(|(x, b)| if b { quote!(#x) } else { quote!(T::zero()) })
-            .collect();
-        (code, acceleration)
-    }
-}
-
 /// The right-hand side of `a = M⁻¹ F`: the locals `__f{i}` that can be
 /// nonzero (of `F`, or of the auxiliary `F + s Aᵀb`).
 fn forces_rhs(ctx: &Context, f: &Factored) -> Vec<Option<TokenStream>> {
@@ -400,6 +250,37 @@ fn a_column(ctx: &Context, j: usize) -> Vec<Option<TokenStream>> {
 fn a_entry(r: usize, i: usize) -> TokenStream {
     let name = Context::local2("a", r, i);
     quote!(#name)
+}
+
+/// The model's expressions bound to locals ([`named_inputs`]) and checked:
+/// `M` and `F` finite (an overflowed one would be solved as a limit,
+/// 1/∞ = 0).
+fn inputs(
+    ctx: &Context,
+    f: &Factored,
+    mass: &StructuredLdlt,
+    dynamics: bool,
+    bail: &dyn Fn(TokenStream) -> TokenStream,
+) -> TokenStream {
+    let (named, mass_and_forces) = named_inputs(ctx, f, mass, dynamics);
+    let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
+    let body = Body::new(ctx.eq, &roots);
+    let preamble = body.preamble();
+    let bindings = named.iter().map(|(name, id)| {
+        let value = body.expr(*id);
+        quote! { let #name = #value; }
+    });
+    let finite = named[..mass_and_forces]
+        .iter()
+        .map(|(name, _)| quote!(#name.is_finite()));
+    let non_finite = bail(quote!(DynamicsError::NonFinite));
+    quote! {
+        #preamble
+        #(#bindings)*
+        if !(#(#finite)&*) {
+            #non_finite
+        }
+    }
 }
 
 /// The locals bound from the model's expressions: `M`'s lower pattern,
