@@ -30,6 +30,7 @@ mod angle_sums;
 use crate::expr::num::Num;
 use crate::expr::squares::node_operations;
 use crate::expr::{Func, Graph, Id, Node};
+use std::collections::btree_map::Entry;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// Expansions of more monomials than this keep the subexpression whole (an
@@ -43,8 +44,11 @@ const MAX_TERMS: usize = 96;
 /// forces spent a quarter of its expansion here for no rewrite kept; at
 /// 20,000 every reference model, the Furuta pendulum and every snapshot
 /// derive the same code, and the 8-link pendulum expands in 0.31 s, not
-/// 0.45 s.
-const MAX_WORK: usize = 20_000;
+/// 0.45 s. At 5,000 (counted per root on the nodes it expands anew) they
+/// still do; the 8-link pendulum's eight forces, which exceed it, each
+/// gave up after 3–4 ms at 20,000, and the expansion takes 0.16 s, not
+/// 0.17 s.
+const MAX_WORK: usize = 5_000;
 
 /// A product of atoms to integer powers, sorted by atom, no zero power.
 type Monomial = Vec<(Id, i64)>;
@@ -89,7 +93,13 @@ enum Identities {
 /// Each root in whichever of its forms (as it is, reduced by `identities`)
 /// makes the set cheapest (see [`simplify_all`]).
 fn decide(g: &mut Graph, roots: &[Id], identities: Identities) -> Vec<Id> {
-    let candidates: Vec<Option<Id>> = roots.iter().map(|&r| reduced(g, r, identities)).collect();
+    // One expansion of each node for all the roots: a matrix's entries
+    // share most of theirs.
+    let mut memo = HashMap::new();
+    let candidates: Vec<Option<Id>> = roots
+        .iter()
+        .map(|&r| reduced(g, r, identities, &mut memo))
+        .collect();
     if candidates.iter().all(Option::is_none) {
         return roots.to_vec();
     }
@@ -197,13 +207,18 @@ impl<'a> SetCost<'a> {
 /// `root` reduced modulo `sin²x + cos²x − 1` for each of its arguments
 /// `x`, rebuilt, when that removes monomials; `None` when it removes none
 /// or the expansion or the work exceeds its bounds.
-fn reduced(g: &mut Graph, root: Id, identities: Identities) -> Option<Id> {
+fn reduced(
+    g: &mut Graph,
+    root: Id,
+    identities: Identities,
+    memo: &mut HashMap<Id, Poly>,
+) -> Option<Id> {
     let arguments = trig_arguments(g, root);
     if arguments.is_empty() {
         return None;
     }
     let mut work = 0usize;
-    let expanded = expand(g, root, &mut work)?;
+    let expanded = expand(g, root, memo, &mut work)?;
     let mut best = expanded.clone();
     for x in arguments {
         let (sin, cos) = (g.func(Func::Sin, x), g.func(Func::Cos, x));
@@ -263,10 +278,13 @@ fn trig_arguments(g: &Graph, root: Id) -> Vec<Id> {
 }
 
 /// `root` as a polynomial in its atoms, or `None` when the work bound is
-/// reached.
-fn expand(g: &mut Graph, root: Id, work: &mut usize) -> Option<Poly> {
-    let mut memo: HashMap<Id, Poly> = HashMap::new();
+/// reached; `memo` holds the polynomials of the nodes already expanded (for
+/// earlier roots too), and `work` counts only the products computed anew.
+fn expand(g: &mut Graph, root: Id, memo: &mut HashMap<Id, Poly>, work: &mut usize) -> Option<Poly> {
     for id in g.reachable(&[root]) {
+        if memo.contains_key(&id) {
+            continue;
+        }
         let poly = match g.node(id).clone() {
             Node::Num(c) => Poly::from([(Vec::new(), c)]),
             Node::Add(terms, c0) => {
@@ -281,7 +299,7 @@ fn expand(g: &mut Graph, root: Id, work: &mut usize) -> Option<Poly> {
                 }
                 sum
             }
-            Node::Mul(factors) => product(g, &memo, &factors, work)?,
+            Node::Mul(factors) => product(g, memo, &factors, work)?,
             _ => atom(id),
         };
         let poly = if poly.len() > MAX_TERMS {
@@ -291,7 +309,7 @@ fn expand(g: &mut Graph, root: Id, work: &mut usize) -> Option<Poly> {
         };
         memo.insert(id, poly);
     }
-    memo.remove(&root)
+    memo.get(&root).cloned()
 }
 
 /// The polynomial that is the atom `id` alone.
@@ -339,10 +357,20 @@ fn product(
 
 /// Adds `c·m` to `p`, dropping the monomial when its coefficient cancels.
 fn accumulate(p: &mut Poly, m: Monomial, c: Num) {
-    let slot = p.entry(m.clone()).or_insert(Num::ZERO);
-    *slot = *slot + c;
-    if slot.is_zero() {
-        p.remove(&m);
+    match p.entry(m) {
+        Entry::Occupied(mut slot) => {
+            let sum = *slot.get() + c;
+            if sum.is_zero() {
+                slot.remove();
+            } else {
+                *slot.get_mut() = sum;
+            }
+        }
+        Entry::Vacant(slot) => {
+            if !c.is_zero() {
+                slot.insert(c);
+            }
+        }
     }
 }
 
@@ -363,11 +391,39 @@ fn multiply(a: &Poly, b: &Poly, work: &mut usize) -> Option<Poly> {
 
 /// The product of two monomials.
 fn times(a: &Monomial, b: &Monomial) -> Monomial {
-    let mut powers: BTreeMap<Id, i64> = a.iter().copied().collect();
-    for &(x, e) in b {
-        *powers.entry(x).or_insert(0) += e;
+    if !b.is_sorted_by_key(|&(x, _)| x) {
+        let mut sorted = b.clone();
+        sorted.sort_unstable_by_key(|&(x, _)| x);
+        return times(a, &sorted);
     }
-    powers.into_iter().filter(|&(_, e)| e != 0).collect()
+    // Both sorted by atom: merged in one pass (the expansion's inner loop).
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < b.len() {
+        let next = match (a.get(i), b.get(j)) {
+            (Some(&(x, e)), Some(&(y, f))) if x == y => {
+                (i, j) = (i + 1, j + 1);
+                (x, e + f)
+            }
+            (Some(&(x, e)), Some(&(y, _))) if x < y => {
+                i += 1;
+                (x, e)
+            }
+            (_, Some(&(y, f))) => {
+                j += 1;
+                (y, f)
+            }
+            (Some(&(x, e)), None) => {
+                i += 1;
+                (x, e)
+            }
+            (None, None) => break,
+        };
+        if next.1 != 0 {
+            out.push(next);
+        }
+    }
+    out
 }
 
 /// `p` with every `from²` replaced by `1 − to²` until no monomial holds
