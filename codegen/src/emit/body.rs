@@ -168,9 +168,10 @@ impl<'a> Body<'a> {
             let p = self.expr(b);
             quote! { let #name = T::one() / #p; }
         });
-        let subproducts = self.subproducts_after(None);
-        let temps = self.temporaries(false);
-        quote! { #coords #vels #accs #(#params)* #(#reciprocals)* #subproducts #temps }
+        let mut out = quote! { #coords #vels #accs #(#params)* #(#reciprocals)* };
+        out.extend(self.subproducts_after(None));
+        out.extend(self.temporaries(false));
+        out
     }
 
     /// The `let`s of the sub-products bound right after the temporary at
@@ -238,9 +239,14 @@ impl<'a> Body<'a> {
                 self.defining.set(position);
                 let value = self.node(id).0;
                 self.defining.set(usize::MAX);
-                quote! { let #name = #value; #shared }
+                // Moved into the statement, not interpolated (a copy).
+                let mut statement = quote! { let #name = };
+                statement.extend(value);
+                statement.extend(quote!(;));
+                statement.extend(shared);
+                statement
             });
-        quote! { #(#temps)* }
+        temps.collect()
     }
 
     /// The expression for `id` as the left operand of `*`: parenthesised
@@ -264,7 +270,7 @@ impl<'a> Body<'a> {
     fn wrapped(&self, id: Id, at_least: Prec) -> TokenStream {
         let (tokens, prec) = self.operand(id);
         if prec < at_least {
-            quote! { (#tokens) }
+            parenthesized(tokens)
         } else {
             tokens
         }
@@ -372,25 +378,29 @@ impl<'a> Body<'a> {
                         Prec::Unary
                     };
                     let t = if prec < at_least {
-                        quote! { (#tokens) }
+                        parenthesized(tokens)
                     } else {
                         tokens
                     };
                     if magnitude.is_one() {
                         t
                     } else {
-                        let (lit, _) = literal(magnitude);
-                        quote! { #lit * #t }
+                        let (mut lit, _) = literal(magnitude);
+                        lit.extend(quote!(*));
+                        lit.extend(t);
+                        lit
                     }
                 }
                 None => literal(magnitude).0,
             };
-            out.extend(match (i, negative) {
-                (0, false) => value,
-                (0, true) => quote! { -#value },
-                (_, false) => quote! { + #value },
-                (_, true) => quote! { - #value },
-            });
+            // Moved, not interpolated: `quote!` would copy every token of
+            // the term again at each level of nesting.
+            match (i, negative) {
+                (0, false) => {}
+                (_, true) => out.extend(quote!(-)),
+                (_, false) => out.extend(quote!(+)),
+            }
+            out.extend(value);
         }
         let prec = match parts.as_slice() {
             [(Some(_), m, true, _)] if m.is_one() => Prec::Unary,
@@ -507,7 +517,7 @@ impl<'a> Body<'a> {
                 // A sum factor of power 1 (`negatable_factor`), negated.
                 if let Node::Add(terms, c0) = self.graph.node(b) {
                     let (tokens, _) = self.signed_sum(terms, *c0, true);
-                    num.push(quote! { (#tokens) });
+                    num.push(parenthesized(tokens));
                     continue;
                 }
             }
@@ -525,25 +535,20 @@ impl<'a> Body<'a> {
                 num.extend(self.power(b, e));
             }
         }
-        let numerator = join_product(&num).unwrap_or_else(|| quote!(T::one()));
-        match den.len() {
-            0 => (
-                numerator,
-                if num.len() == 1 {
-                    Prec::Unary
-                } else {
-                    Prec::Product
-                },
-            ),
-            1 => {
-                let d = &den[0];
-                (quote! { #numerator / #d }, Prec::Product)
-            }
-            _ => {
-                let d = join_product(&den).expect("non-empty denominator");
-                (quote! { #numerator / (#d) }, Prec::Product)
-            }
-        }
+        let single = num.len() == 1;
+        let mut numerator = join_product(num).unwrap_or_else(|| quote!(T::one()));
+        let denominators = den.len();
+        let Some(d) = join_product(den) else {
+            let prec = if single { Prec::Unary } else { Prec::Product };
+            return (numerator, prec);
+        };
+        numerator.extend(quote!(/));
+        numerator.extend(if denominators == 1 {
+            d
+        } else {
+            parenthesized(d)
+        });
+        (numerator, Prec::Product)
     }
 
     /// `b^e` for `e > 0` as factors to multiply: `[b, b]` for `e = 2`,
@@ -581,7 +586,18 @@ fn reciprocal_of(g: &Graph, id: Id) -> Option<Id> {
     }
 }
 
-fn join_product(factors: &[TokenStream]) -> Option<TokenStream> {
-    let (first, rest) = factors.split_first()?;
-    Some(quote! { #first #(* #rest)* })
+fn join_product(factors: Vec<TokenStream>) -> Option<TokenStream> {
+    let mut factors = factors.into_iter();
+    let mut out = factors.next()?;
+    for f in factors {
+        out.extend(quote!(*));
+        out.extend(f);
+    }
+    Some(out)
+}
+
+/// `(tokens)`, the stream moved into the group, not copied.
+fn parenthesized(tokens: TokenStream) -> TokenStream {
+    let group = proc_macro2::Group::new(proc_macro2::Delimiter::Parenthesis, tokens);
+    proc_macro2::TokenTree::Group(group).into()
 }

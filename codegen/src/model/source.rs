@@ -225,7 +225,7 @@ impl Lowerer<'_> {
             };
         }
         if kinetic.is_some() || potential.is_some() {
-            return self.from_energies(mass, (kinetic, potential), applied, derived_mass);
+            return self.by_lagrange(mass, (kinetic, potential), applied, derived_mass);
         }
         Lowered {
             mass,
@@ -241,7 +241,7 @@ impl Lowerer<'_> {
     /// `F` from `T` (when given), `V` and `Q` by Lagrange's equations; `M`
     /// and `F` simplified (`M` with `F` when it comes from `T`), then a
     /// derived `M` checked (`derived_mass`: its keyword).
-    fn from_energies(
+    fn by_lagrange(
         &mut self,
         mass: Vec<Vec<Id>>,
         (kinetic, potential): (Option<Id>, Option<Id>),
