@@ -4,6 +4,7 @@
 use super::context::Context;
 pub(super) use super::literal::{literal, Prec};
 use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
+use super::tokens::{join_product, let_statement, parenthesized};
 use crate::equations::Equations;
 use crate::expr::cse::{Paired, Schedule, MAX_UNROLLED_POWER};
 use crate::expr::num::Num;
@@ -240,9 +241,7 @@ impl<'a> Body<'a> {
                 let value = self.node(id).0;
                 self.defining.set(usize::MAX);
                 // Moved into the statement, not interpolated (a copy).
-                let mut statement = quote! { let #name = };
-                statement.extend(value);
-                statement.extend(quote!(;));
+                let mut statement = let_statement(name, value);
                 statement.extend(shared);
                 statement
             });
@@ -584,20 +583,4 @@ fn reciprocal_of(g: &Graph, id: Id) -> Option<Id> {
         },
         _ => None,
     }
-}
-
-fn join_product(factors: Vec<TokenStream>) -> Option<TokenStream> {
-    let mut factors = factors.into_iter();
-    let mut out = factors.next()?;
-    for f in factors {
-        out.extend(quote!(*));
-        out.extend(f);
-    }
-    Some(out)
-}
-
-/// `(tokens)`, the stream moved into the group, not copied.
-fn parenthesized(tokens: TokenStream) -> TokenStream {
-    let group = proc_macro2::Group::new(proc_macro2::Delimiter::Parenthesis, tokens);
-    proc_macro2::TokenTree::Group(group).into()
 }

@@ -39,6 +39,7 @@ mod motion;
 mod solve;
 mod subproducts;
 mod tangent;
+mod tokens;
 
 use crate::equations::partition::Partition;
 use crate::equations::Equations;

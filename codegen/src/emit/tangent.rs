@@ -9,6 +9,7 @@
 
 use super::body::{literal, Body};
 use super::context::{Context, Inputs};
+use super::tokens::{braced, concat};
 use crate::equations::tangent::{Derivatives, Form};
 use crate::expr::{Id, Sym};
 use proc_macro2::TokenStream;
@@ -122,10 +123,7 @@ impl<'a> TangentTerms<'a> {
         };
         if !self.directional {
             let all = (0..self.forces.len()).map(|c| writes(&index(c).to_token_stream(), c));
-            return quote! {{
-                #preamble
-                #(#all)*
-            }};
+            return braced(concat(std::iter::once(preamble).chain(all)));
         }
         let seeds = (0..columns)
             .filter(|&c| self.body.uses(Sym::Seed(c)))
@@ -136,29 +134,19 @@ impl<'a> TangentTerms<'a> {
         let after = self.body.after_multipliers();
         let column = writes(&quote!(__c), 0);
         let columns = index(columns);
-        quote! {{
-            #preamble
-            for __c in 0..#columns {
-                #(#seeds)*
-                #after
-                #column
-            }
-        }}
+        let mut each = seeds.collect::<TokenStream>();
+        each.extend(after);
+        each.extend(column);
+        let mut block = preamble;
+        block.extend(quote! { for __c in 0..#columns });
+        block.extend(braced(each));
+        braced(block)
     }
 }
 
 /// `t₁ + t₂ − t₃ …` of signed terms, `None` for no terms.
 fn sum(terms: Vec<(bool, TokenStream)>) -> Option<TokenStream> {
-    let mut out = TokenStream::new();
-    for (i, (negative, term)) in terms.into_iter().enumerate() {
-        out.extend(match (i, negative) {
-            (0, false) => term,
-            (0, true) => quote!(-#term),
-            (_, false) => quote!(+ #term),
-            (_, true) => quote!(- #term),
-        });
-    }
-    (!out.is_empty()).then_some(out)
+    super::tokens::signed_sum(terms)
 }
 
 /// A `usize` index as an unsuffixed literal.

@@ -33,6 +33,7 @@ use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
+use crate::emit::tokens::{concat, let_statement};
 use crate::equations::mass_inverse::Factored;
 use crate::expr::Id;
 use gram_form::gram_form;
@@ -121,11 +122,7 @@ impl<'a> FactoredSolve<'a> {
             .is_some()
             .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
         let factor_mass = mass.factor();
-        let head = quote! {
-            #inputs
-            #auxiliary
-            #factor_mass
-        };
+        let head = concat([inputs, auxiliary.unwrap_or_default(), factor_mass]);
         if scope == (Scope::Dynamics { gauss: true }) && k > 0 {
             return Self::solver(ctx, f, (mass, gram), head);
         }
@@ -144,23 +141,18 @@ impl<'a> FactoredSolve<'a> {
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
         let (acceleration, force) = motion(ctx, f, &a_bound, &unconstrained, &multipliers);
         let to_multipliers = if dynamics {
-            quote! {
-                #head
-                #solve_a
-                #solve_w
-                #gram_entries
-                #residual_code
-                #corrected
-                #factor_gram
-                #solve_gram
-            }
+            concat([
+                head,
+                solve_a,
+                solve_w,
+                gram_entries,
+                residual_code,
+                corrected.unwrap_or_default(),
+                factor_gram,
+                solve_gram,
+            ])
         } else {
-            quote! {
-                #head
-                #solve_w
-                #gram_entries
-                #factor_gram
-            }
+            concat([head, solve_w, gram_entries, factor_gram])
         };
         FactoredSolve {
             mass,
@@ -193,14 +185,14 @@ impl<'a> FactoredSolve<'a> {
         let to_gram = lean.code;
         let force = constraint_force(ctx, &multipliers);
         FactoredSolve {
-            to_multipliers: quote! {
-                #head
-                #to_gram
-                #corrected
-                #factor_gram
-                #solve_gram
-                #back
-            },
+            to_multipliers: concat([
+                head,
+                to_gram,
+                corrected.unwrap_or_default(),
+                factor_gram,
+                solve_gram,
+                back,
+            ]),
             mass,
             gram,
             acceleration,
@@ -268,19 +260,20 @@ fn inputs(
     let preamble = body.preamble();
     let bindings = named.iter().map(|(name, id)| {
         let value = body.expr(*id);
-        quote! { let #name = #value; }
+        let_statement(name, value)
     });
     let finite = named[..mass_and_forces]
         .iter()
         .map(|(name, _)| quote!(#name.is_finite()));
     let non_finite = bail(quote!(DynamicsError::NonFinite));
-    quote! {
-        #preamble
-        #(#bindings)*
+    let mut out = preamble;
+    out.extend(bindings);
+    out.extend(quote! {
         if !(#(#finite)&*) {
             #non_finite
         }
-    }
+    });
+    out
 }
 
 /// The locals bound from the model's expressions: `M`'s lower pattern,
