@@ -577,3 +577,26 @@ fn seeded_kinetic_energies_are_accepted_exactly_when_quadratic() {
     }
     assert_eq!((accepted, rejected_count), (120, 120));
 }
+
+/// A kinetic energy whose mass matrix is negative is an error, also where
+/// `M` is constant only once `sin² + cos² = 1` is applied (the check runs
+/// after the identities, which `M` now gets together with `F`).
+#[test]
+fn a_negative_kinetic_energy_is_an_error() {
+    let why = "not positive semi-definite";
+    rejected(
+        "struct S { coordinates: [x], kinetic_energy: -dot(x).powi(2) / 2.0 }",
+        why,
+    );
+    rejected(
+        "struct S { coordinates: [th], definitions: [px = th.sin(), py = th.cos()], \
+         kinetic_energy: -(dt(px).powi(2) + dt(py).powi(2)) / 2.0 }",
+        why,
+    );
+    // The same pendulum with a positive energy is accepted.
+    assert!(outcome(
+        "struct S { coordinates: [th], definitions: [px = th.sin(), py = th.cos()], \
+         kinetic_energy: (dt(px).powi(2) + dt(py).powi(2)) / 2.0 }"
+    )
+    .is_ok());
+}

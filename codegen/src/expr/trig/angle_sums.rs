@@ -60,7 +60,7 @@ impl TrigAtoms {
 }
 
 /// The monomial of `p` that joins `c·m` by an addition theorem, and the
-/// polynomial (per unit of `c`) that replaces the two; `Ok(None)` when
+/// polynomial (per unit of `c`) that replaces the two; `Some(None)` when
 /// there is none, `None` past the work bound.
 #[allow(clippy::type_complexity)]
 fn join_pair(
