@@ -4,9 +4,12 @@
 //! `Parameters`). Every emitter asks it rather than spelling these out.
 
 use crate::equations::Equations;
+use crate::expr::Id;
 use crate::names::GENERATED_PREFIX;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{quote, ToTokens};
+use std::cell::RefCell;
+use std::collections::HashMap;
 use syn::Ident;
 
 /// Which arguments a generated function receives.
@@ -28,6 +31,11 @@ pub(super) struct Context<'a> {
     pub k: usize,
     /// The rank of `A` at consistent states (`k` less the redundancy).
     pub generic_rank: usize,
+    /// Straight-line bodies already emitted, by the locals they bind and
+    /// their expressions: `gauss` and the Jacobian bind the same `M`, `F`,
+    /// `A` and `b`, and a body's CSE schedule and tokens are a tenth of an
+    /// expansion. A clone of the tokens shares them.
+    pub bodies: RefCell<HashMap<Vec<(Ident, Id)>, TokenStream>>,
 }
 
 impl<'a> Context<'a> {
@@ -37,6 +45,7 @@ impl<'a> Context<'a> {
             n: eq.system.dof(),
             k: eq.a.len(),
             generic_rank,
+            bodies: RefCell::new(HashMap::new()),
         }
     }
 

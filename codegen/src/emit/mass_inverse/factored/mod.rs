@@ -255,19 +255,22 @@ fn inputs(
     bail: &dyn Fn(TokenStream) -> TokenStream,
 ) -> TokenStream {
     let (named, mass_and_forces) = named_inputs(ctx, f, mass, dynamics);
-    let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
-    let body = Body::new(ctx.eq, &roots);
-    let preamble = body.preamble();
-    let bindings = named.iter().map(|(name, id)| {
-        let value = body.expr(*id);
-        let_statement(name, value)
+    let cached = ctx.bodies.borrow().get(&named).cloned();
+    let mut out = cached.unwrap_or_else(|| {
+        let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
+        let body = Body::new(ctx.eq, &roots);
+        let mut out = body.preamble();
+        out.extend(named.iter().map(|(name, id)| {
+            let value = body.expr(*id);
+            let_statement(name, value)
+        }));
+        ctx.bodies.borrow_mut().insert(named.clone(), out.clone());
+        out
     });
     let finite = named[..mass_and_forces]
         .iter()
         .map(|(name, _)| quote!(#name.is_finite()));
     let non_finite = bail(quote!(DynamicsError::NonFinite));
-    let mut out = preamble;
-    out.extend(bindings);
     out.extend(quote! {
         if !(#(#finite)&*) {
             #non_finite
