@@ -44,11 +44,12 @@ const MAX_TERMS: usize = 96;
 /// forces spent a quarter of its expansion here for no rewrite kept; at
 /// 20,000 every reference model, the Furuta pendulum and every snapshot
 /// derive the same code, and the 8-link pendulum expands in 0.31 s, not
-/// 0.45 s. At 5,000 (counted per root on the nodes it expands anew) they
-/// still do; the 8-link pendulum's eight forces, which exceed it, each
-/// gave up after 3–4 ms at 20,000, and the expansion takes 0.16 s, not
-/// 0.17 s.
-const MAX_WORK: usize = 5_000;
+/// 0.45 s. At 2,000 (counted per root on the nodes it expands anew) they
+/// still do, and so do the pendulums of 2 to 16 links; the 8-link
+/// pendulum's forces, which exceed it, gave up after 10.7 ms in all at
+/// 5,000 and 5.0 ms at 2,000 (3–4 ms each at 20,000), while the 35
+/// entries it shortens take 5.3 ms.
+const MAX_WORK: usize = 2_000;
 
 /// A product of atoms to integer powers, sorted by atom, no zero power.
 type Monomial = Vec<(Id, i64)>;
