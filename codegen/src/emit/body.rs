@@ -8,7 +8,7 @@ use super::tokens::{join_product, let_statement, parenthesized};
 use crate::equations::Equations;
 use crate::expr::cse::{Paired, Schedule, MAX_UNROLLED_POWER};
 use crate::expr::num::Num;
-use crate::expr::{signed_parts, Emission, Func, Graph, Id, Node, Sym};
+use crate::expr::{signed_parts, Emission, FastHash, Func, Graph, Id, Node, Sym};
 use crate::names::{acceleration_name, velocity_name};
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::quote;
@@ -32,7 +32,7 @@ pub(super) struct Body<'a> {
     accelerations: Vec<Ident>,
     parameters: &'a [Ident],
     used: Vec<Sym>,
-    temp_names: HashMap<Id, Ident>,
+    temp_names: HashMap<Id, Ident, FastHash>,
     /// Nodes whose value needs the multipliers λ (computed mid-function) or
     /// the seeds `Sym::Seed` (set per column of a Jacobian).
     needs_multipliers: Vec<bool>,
@@ -45,7 +45,7 @@ pub(super) struct Body<'a> {
     /// Parameters that divide two or more products (a parametric mass in
     /// `q̈`, `S` and `W`): one reciprocal each, bound in the preamble, and
     /// a multiplication wherever one of them divides.
-    reciprocals: HashMap<Id, Ident>,
+    reciprocals: HashMap<Id, Ident, FastHash>,
     /// Products of variables and temporaries that several products share
     /// (`m·l`), each bound once right after its last factor
     /// (`super::subproducts`).
@@ -64,7 +64,7 @@ impl<'a> Body<'a> {
                 _ => None,
             })
             .collect();
-        let mut temp_names: HashMap<Id, Ident> = schedule
+        let mut temp_names: HashMap<Id, Ident, FastHash> = schedule
             .temporaries
             .iter()
             .enumerate()
@@ -94,7 +94,7 @@ impl<'a> Body<'a> {
                 }
             }
         }
-        let reciprocals: HashMap<Id, Ident> = divides
+        let reciprocals: HashMap<Id, Ident, FastHash> = divides
             .into_iter()
             .filter(|&(_, count)| count >= 2)
             .filter_map(|(b, _)| match g.node(b) {

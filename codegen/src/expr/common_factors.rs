@@ -22,7 +22,7 @@
 //! [`Factorer`]); the bounded depth also bounds the recursion.
 
 use crate::expr::num::Num;
-use crate::expr::{Graph, Id, Node};
+use crate::expr::{FastHash, Graph, Id, Node};
 use std::collections::{HashMap, HashSet};
 
 /// Sums with more terms than this are left as they are: the search is
@@ -37,7 +37,7 @@ const SURFACE_DEPTH: usize = 4;
 /// many of the Gauss pieces reach it.
 #[derive(Default)]
 pub struct Factorer {
-    done: HashMap<Id, Id>,
+    done: HashMap<Id, Id, FastHash>,
     /// Nodes kept whole: the user's named definitions, which the derivation
     /// prints by name only while their node is unchanged.
     atoms: HashSet<Id>,
@@ -53,7 +53,7 @@ impl Factorer {
     /// split into their factors.
     pub fn keeping(atoms: impl IntoIterator<Item = Id>) -> Self {
         Factorer {
-            done: HashMap::new(),
+            done: HashMap::default(),
             atoms: atoms.into_iter().collect(),
         }
     }

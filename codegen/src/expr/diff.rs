@@ -1,14 +1,14 @@
 //! Exact symbolic differentiation on the DAG, and the total time derivative.
 
 use crate::expr::num::Num;
-use crate::expr::{Func, Graph, Id, Node, Sym};
+use crate::expr::{FastHash, Func, Graph, Id, Node, Sym};
 use std::collections::HashMap;
 
 /// Memoised partial derivatives `∂e/∂v`; one per graph, reused across calls so
 /// that shared subexpressions are differentiated once.
 #[derive(Default)]
 pub struct Differentiator {
-    memo: HashMap<(Id, Sym), Id>,
+    memo: HashMap<(Id, Sym), Id, FastHash>,
 }
 
 impl Differentiator {
@@ -135,7 +135,7 @@ fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
 /// `e`, however many variables: the Jacobian's columns are then the
 /// directions `sᵢ = δᵢc` at run time, rather than one expression per column.
 pub struct Directional {
-    memo: HashMap<Id, Id>,
+    memo: HashMap<Id, Id, FastHash>,
     seeds: HashMap<Sym, usize>,
 }
 
@@ -144,7 +144,7 @@ impl Directional {
     /// `variables[i]`); other variables are constants.
     pub fn new(variables: &[Sym]) -> Directional {
         Directional {
-            memo: HashMap::new(),
+            memo: HashMap::default(),
             seeds: variables.iter().enumerate().map(|(i, &v)| (v, i)).collect(),
         }
     }
@@ -181,7 +181,7 @@ impl Rule for Directional {
 /// [`Differentiator::time_derivative`]'s partials.
 #[derive(Default)]
 pub struct AtRest {
-    memo: HashMap<Id, Id>,
+    memo: HashMap<Id, Id, FastHash>,
 }
 
 impl AtRest {

@@ -4,7 +4,7 @@
 
 use super::{accumulate, atom, multiply, times, Monomial, Poly, MAX_WORK};
 use crate::expr::num::Num;
-use crate::expr::{Func, Graph, Id, Node};
+use crate::expr::{FastHash, Func, Graph, Id, Node};
 use std::collections::HashMap;
 
 /// `p` with each pair of monomials that is one side of an addition theorem
@@ -39,7 +39,7 @@ pub(super) fn angle_sums(g: &mut Graph, mut p: Poly, work: &mut usize) -> Option
 /// The sines and cosines met so far: for each, its function, its argument
 /// and the other function of the same argument (`cos x` for `sin x`).
 #[derive(Default)]
-struct TrigAtoms(HashMap<Id, Option<(Func, Id, Id)>>);
+struct TrigAtoms(HashMap<Id, Option<(Func, Id, Id)>, FastHash>);
 
 impl TrigAtoms {
     fn get(&mut self, g: &mut Graph, atom: Id) -> Option<(Func, Id, Id)> {

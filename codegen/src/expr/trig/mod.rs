@@ -29,7 +29,7 @@ mod angle_sums;
 
 use crate::expr::num::Num;
 use crate::expr::squares::node_operations;
-use crate::expr::{Func, Graph, Id, Node};
+use crate::expr::{FastHash, Func, Graph, Id, Node};
 use std::collections::btree_map::Entry;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -56,6 +56,9 @@ type Monomial = Vec<(Id, i64)>;
 
 /// A polynomial: its monomials with their exact coefficients.
 type Poly = BTreeMap<Monomial, Num>;
+
+/// The polynomials of the nodes expanded so far.
+type Memo = HashMap<Id, Poly, FastHash>;
 
 /// `roots` with `sin²x + cos²x = 1` applied to each where that removes
 /// monomials and the whole set costs no more operations (module docs).
@@ -96,7 +99,7 @@ enum Identities {
 fn decide(g: &mut Graph, roots: &[Id], identities: Identities) -> Vec<Id> {
     // One expansion of each node for all the roots: a matrix's entries
     // share most of theirs.
-    let mut memo = HashMap::new();
+    let mut memo = Memo::default();
     let candidates: Vec<Option<Id>> = roots
         .iter()
         .map(|&r| reduced(g, r, identities, &mut memo))
@@ -151,7 +154,7 @@ fn decide(g: &mut Graph, roots: &[Id], identities: Identities) -> Vec<Id> {
 /// about 2 s to over 3 s.
 struct SetCost<'a> {
     g: &'a Graph,
-    uses: HashMap<Id, usize>,
+    uses: HashMap<Id, usize, FastHash>,
     total: usize,
 }
 
@@ -159,7 +162,7 @@ impl<'a> SetCost<'a> {
     fn new(g: &'a Graph, roots: &[Id]) -> Self {
         let mut set = SetCost {
             g,
-            uses: HashMap::new(),
+            uses: HashMap::default(),
             total: 0,
         };
         for &r in roots {
@@ -208,12 +211,7 @@ impl<'a> SetCost<'a> {
 /// `root` reduced modulo `sin²x + cos²x − 1` for each of its arguments
 /// `x`, rebuilt, when that removes monomials; `None` when it removes none
 /// or the expansion or the work exceeds its bounds.
-fn reduced(
-    g: &mut Graph,
-    root: Id,
-    identities: Identities,
-    memo: &mut HashMap<Id, Poly>,
-) -> Option<Id> {
+fn reduced(g: &mut Graph, root: Id, identities: Identities, memo: &mut Memo) -> Option<Id> {
     let arguments = trig_arguments(g, root);
     if arguments.is_empty() {
         return None;
@@ -281,7 +279,7 @@ fn trig_arguments(g: &Graph, root: Id) -> Vec<Id> {
 /// `root` as a polynomial in its atoms, or `None` when the work bound is
 /// reached; `memo` holds the polynomials of the nodes already expanded (for
 /// earlier roots too), and `work` counts only the products computed anew.
-fn expand(g: &mut Graph, root: Id, memo: &mut HashMap<Id, Poly>, work: &mut usize) -> Option<Poly> {
+fn expand(g: &mut Graph, root: Id, memo: &mut Memo, work: &mut usize) -> Option<Poly> {
     for id in g.reachable(&[root]) {
         if memo.contains_key(&id) {
             continue;
@@ -322,12 +320,7 @@ fn atom(id: Id) -> Poly {
 /// multiplied out (up to the fourth), a monomial factor to any integer power
 /// raises its powers, and anything else (a sum in a denominator, a
 /// fractional power) is an atom.
-fn product(
-    g: &mut Graph,
-    memo: &HashMap<Id, Poly>,
-    factors: &[(Id, Num)],
-    work: &mut usize,
-) -> Option<Poly> {
+fn product(g: &mut Graph, memo: &Memo, factors: &[(Id, Num)], work: &mut usize) -> Option<Poly> {
     let mut result = Poly::from([(Vec::new(), Num::ONE)]);
     for &(base, e) in factors {
         let poly = &memo[&base];
