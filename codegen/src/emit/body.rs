@@ -4,7 +4,7 @@
 use super::context::Context;
 pub(super) use super::literal::{literal, Prec};
 use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
-use super::tokens::{join_product, let_statement, parenthesized};
+use super::tokens::{join_product, let_statement, parenthesized, signed_sum};
 use crate::equations::Equations;
 use crate::expr::cse::{Paired, Schedule, MAX_UNROLLED_POWER};
 use crate::expr::num::Num;
@@ -363,8 +363,7 @@ impl<'a> Body<'a> {
             let positive = parts.remove(first);
             parts.insert(0, positive);
         }
-        let mut out = TokenStream::new();
-        for (i, &(term, magnitude, negative, flipped)) in parts.iter().enumerate() {
+        let terms = parts.iter().map(|&(term, magnitude, negative, flipped)| {
             let value = match term {
                 Some(t) => {
                     let (tokens, prec) = match (flipped, self.graph.node(t)) {
@@ -392,15 +391,9 @@ impl<'a> Body<'a> {
                 }
                 None => literal(magnitude).0,
             };
-            // Moved, not interpolated: `quote!` would copy every token of
-            // the term again at each level of nesting.
-            match (i, negative) {
-                (0, false) => {}
-                (_, true) => out.extend(quote!(-)),
-                (_, false) => out.extend(quote!(+)),
-            }
-            out.extend(value);
-        }
+            (negative, value)
+        });
+        let out = signed_sum(terms).unwrap_or_default();
         let prec = match parts.as_slice() {
             [(Some(_), m, true, _)] if m.is_one() => Prec::Unary,
             [(Some(_), _, _, _)] => Prec::Product,

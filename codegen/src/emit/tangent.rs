@@ -9,7 +9,7 @@
 
 use super::body::{literal, Body};
 use super::context::{Context, Inputs};
-use super::tokens::{braced, concat};
+use super::tokens::{braced, concat, signed_sum};
 use crate::equations::tangent::{Derivatives, Form};
 use crate::expr::{Id, Sym};
 use proc_macro2::TokenStream;
@@ -86,8 +86,8 @@ impl<'a> TangentTerms<'a> {
                 f[i].push(times(e, &lam[r], false));
                 b[r].push(times(e, &qdd[i], true));
             }
-            forces.push(f.into_iter().map(sum).collect());
-            rhs.push(b.into_iter().map(sum).collect());
+            forces.push(f.into_iter().map(signed_sum).collect());
+            rhs.push(b.into_iter().map(signed_sum).collect());
         }
         TangentTerms {
             body,
@@ -142,11 +142,6 @@ impl<'a> TangentTerms<'a> {
         block.extend(braced(each));
         braced(block)
     }
-}
-
-/// `t₁ + t₂ − t₃ …` of signed terms, `None` for no terms.
-fn sum(terms: Vec<(bool, TokenStream)>) -> Option<TokenStream> {
-    super::tokens::signed_sum(terms)
 }
 
 /// A `usize` index as an unsuffixed literal.

@@ -249,8 +249,10 @@ fn eval_a(eq: &Equations, s: &StateValues) -> Vec<Vec<f64>> {
     // evaluated once per row, a quarter of its expansion.
     let entries: Vec<Id> = eq.a.iter().flatten().copied().collect();
     let values = eq.system.graph.eval(&entries, &s.env());
-    let n = eq.a.first().map_or(0, Vec::len).max(1);
-    values.chunks(n).map(<[f64]>::to_vec).collect()
+    match eq.a.first().map_or(0, Vec::len) {
+        0 => vec![Vec::new(); eq.a.len()],
+        n => values.chunks(n).map(<[f64]>::to_vec).collect(),
+    }
 }
 
 /// A singular `M` is completed by the constraints: `[M; A]` has full column

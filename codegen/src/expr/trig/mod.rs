@@ -383,7 +383,8 @@ fn multiply(a: &Poly, b: &Poly, work: &mut usize) -> Option<Poly> {
     Some(p)
 }
 
-/// The product of two monomials.
+/// The product of two monomials; `b` need not be sorted (a pair of atoms
+/// written by hand), `a` must be.
 fn times(a: &Monomial, b: &Monomial) -> Monomial {
     if !b.is_sorted_by_key(|&(x, _)| x) {
         let mut sorted = b.clone();
@@ -437,9 +438,7 @@ fn reduce(p: &Poly, from: Id, to: Id, work: &mut usize) -> Option<Poly> {
             continue;
         }
         let lowered = times(&m, &vec![(from, -2)]);
-        let mut shifted = vec![(to, 2)];
-        shifted.sort();
-        pending.push((times(&lowered, &shifted), -c));
+        pending.push((times(&lowered, &vec![(to, 2)]), -c));
         pending.push((lowered, c));
     }
     Some(done)
