@@ -175,6 +175,46 @@ fn quadruped_generated_solve_equals_the_dense_reference() {
     assert!(multipliers_gap::<_, N, 14>(&twin, &states, false) == 0.0);
 }
 
+/// The saddle-point solve's two paths. Near standing with bent knees it
+/// answers itself: its `q̈` differs from the dense reference's in the last
+/// bits (not bit for bit, as the dense solve's own would) and agrees to
+/// 1e-12. With a leg stretched straight (hip and knee flexion 0), that
+/// foot's rows no longer fix its joints alone (two of its columns are
+/// parallel), its multipliers' pivots fail the run-time test, and the
+/// runtime's dense solve answers: bit for bit its `q̈`, which still
+/// satisfies `A q̈ = b`.
+#[test]
+fn a_straight_leg_hands_the_solve_to_the_dense_one() {
+    let (feet, rest) = standing(0.8);
+    let sys = robot(feet);
+    let bent: Vec<State<f64, N>> = (0..8).map(|k| perturbed(&rest, k)).collect();
+    let mut differs = false;
+    for s in &bent {
+        let (qdd, _) = constrained::__private::Generated::gauss(&sys, &s.q, &s.qd, s.t, None)
+            .expect("answers");
+        let (dense, _) =
+            constrained::__private::gauss_dense(&sys, &s.q, &s.qd, s.t, None).expect("answers");
+        let gap = (qdd - dense).amax() / dense.amax();
+        assert!(gap < 1e-12, "{gap:e}");
+        differs |= qdd != dense;
+    }
+    assert!(differs, "the fast path answered none of the bent states");
+    // The front-left leg straight (`fl_hfe = fl_kfe = 0`); where its foot
+    // is does not matter to the accelerations' solve.
+    let s = &bent[0];
+    let mut q = s.q;
+    q[8] = 0.0;
+    q[9] = 0.0;
+    let s = State::new(0.0, q, s.qd);
+    let (qdd, _) =
+        constrained::__private::Generated::gauss(&sys, &s.q, &s.qd, s.t, None).expect("answers");
+    let (dense, _) =
+        constrained::__private::gauss_dense(&sys, &s.q, &s.qd, s.t, None).expect("answers");
+    assert_eq!(qdd, dense, "the dense solve answers for a straight leg");
+    let (a, b) = sys.constraint_matrices(&s.q, &s.qd, s.t);
+    assert!(residual(&a, &b, &qdd) < 1e-12);
+}
+
 /// Joint-space PD about the standing pose, `τ = K_p (q_ref − q) − K_d q̇`,
 /// held over each millisecond: over 10 s with projection (tolerance 1e-12)
 /// the feet stay within 1e-9 m of their places, the base quaternion keeps

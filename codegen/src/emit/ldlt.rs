@@ -42,6 +42,14 @@ enum Pivots {
     /// Positive, or the given statement runs (a `return` of the function's
     /// error: `M`).
     Positive(TokenStream),
+    /// The saddle-point matrix (`crate::equations::saddle_point`): rows
+    /// below `coordinates` positive, the multipliers' negative and `−dⱼ`
+    /// above `10⁻³` times the part their coordinates gave;
+    /// otherwise the statement runs (the runtime's dense solve answers).
+    Signed {
+        coordinates: usize,
+        bail: TokenStream,
+    },
 }
 
 /// How often the function solves with the factorization.
@@ -98,6 +106,26 @@ impl<'a> StructuredLdlt<'a> {
         }
     }
 
+    /// The saddle-point matrix `[M Aᵀ; A 0]` (rows `0..n` the coordinates):
+    /// entries `__k{i}_{j}`, signed pivots, `bail` where one fails.
+    pub(super) fn saddle(structure: &'a Structure, n: usize, bail: TokenStream) -> Self {
+        StructuredLdlt {
+            structure,
+            roles: Roles {
+                entry: "k",
+                pivot: "kd",
+                inverse: "ki",
+                update: "ku",
+                lower: "kl",
+            },
+            pivots: Pivots::Signed {
+                coordinates: n,
+                bail,
+            },
+            solves: Solves::Many,
+        }
+    }
+
     /// Whether pivot `j`'s reciprocal is formed: not the last one's where
     /// the function solves once (nothing in the factorization reads it).
     fn reciprocal(&self, j: usize) -> bool {
@@ -144,77 +172,156 @@ impl<'a> StructuredLdlt<'a> {
         if k == 0 || self.scalar_gram() {
             return TokenStream::new(); // k = 1 divides by S itself in `solve`
         }
-        let l = &self.structure.fill;
-        let r = &self.roles;
         let mut out = match self.pivots {
             Pivots::Dropped => {
                 let rank_tolerance = quote!(::constrained::inverse::rank_tolerance::<T>());
                 quote! { let __tol: T = #rank_tolerance; }
             }
-            Pivots::Positive(_) => TokenStream::new(),
+            Pivots::Positive(_) | Pivots::Signed { .. } => TokenStream::new(),
         };
+        if matches!(self.pivots, Pivots::Signed { .. }) {
+            // Growth of at most 10³ in the pivots without pivoting: about
+            // 10⁻¹³ relative where the dense solve's is 10⁻¹⁶.
+            let tolerance = quote!(::constrained::__private::lit::<T>(1e-3f64));
+            out.extend(quote! { let __tol: T = #tolerance; });
+        }
         for j in 0..k {
-            let (dj, inv, xjj) = (
-                Context::local(r.pivot, j),
-                Context::local(r.inverse, j),
-                self.at(j, j),
-            );
-            let updated = (0..j).any(|c| l[j][c]);
-            let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
-                let (ujc, invc) = (
-                    Context::local2(r.update, j, c),
-                    Context::local(r.inverse, c),
-                );
-                quote!(- (#ujc * #ujc) * #invc)
-            });
-            out.extend(quote! { let #dj = #xjj #(#updates)*; });
             out.extend(match &self.pivots {
-                // A pivot nothing updated is its diagonal entry, and
-                // `d > tol·d` is `d > 0`: NaN gives 0 either way, and ∞,
-                // which `d > tol·d` dropped, gives `1/∞ = 0` here, the same
-                // reciprocal and the same "dropped" (`inv == 0`).
-                Pivots::Dropped if !updated => quote! {
-                    let #inv = if #dj > T::zero() { T::one() / #dj } else { T::zero() };
-                },
-                Pivots::Dropped => quote! {
-                    let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
-                },
-                // `!(d > 0)` also catches NaN.
-                Pivots::Positive(bail) => {
-                    let reciprocal = self
-                        .reciprocal(j)
-                        .then(|| quote! { let #inv = T::one() / #dj; });
-                    quote! {
-                        if !(#dj > T::zero()) {
-                            #bail
-                        }
-                        #reciprocal
-                    }
-                }
+                Pivots::Signed { coordinates, bail } => self.signed_pivot(j, *coordinates, bail),
+                _ => self.pivot(j),
             });
-            for i in j + 1..k {
-                if !l[i][j] {
-                    continue;
-                }
-                let (lij, uij, xij) = (
-                    Context::local2(r.lower, i, j),
-                    Context::local2(r.update, i, j),
-                    self.at(i, j),
-                );
-                let updates = (0..j).filter(|&c| l[i][c] && l[j][c]).map(|c| {
-                    let (uic, ljc) = (
-                        Context::local2(r.update, i, c),
-                        Context::local2(r.lower, j, c),
-                    );
-                    quote!(- #uic * #ljc)
-                });
-                out.extend(quote! {
-                    let #uij = #xij #(#updates)*;
-                    let #lij = #uij * #inv;
-                });
-            }
+            out.extend(self.column(j));
         }
         out
+    }
+
+    /// Pivot `j` and its reciprocal, for `S` (dropped where small) and `M`
+    /// (positive).
+    fn pivot(&self, j: usize) -> TokenStream {
+        let (l, r) = (&self.structure.fill, &self.roles);
+        let (dj, inv, xjj) = (
+            Context::local(r.pivot, j),
+            Context::local(r.inverse, j),
+            self.at(j, j),
+        );
+        let updated = (0..j).any(|c| l[j][c]);
+        let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
+            let (ujc, invc) = (
+                Context::local2(r.update, j, c),
+                Context::local(r.inverse, c),
+            );
+            quote!(- (#ujc * #ujc) * #invc)
+        });
+        let mut out = quote! { let #dj = #xjj #(#updates)*; };
+        out.extend(match &self.pivots {
+            // A pivot nothing updated is its diagonal entry, and
+            // `d > tol·d` is `d > 0`: NaN gives 0 either way, and ∞,
+            // which `d > tol·d` dropped, gives `1/∞ = 0` here, the same
+            // reciprocal and the same "dropped" (`inv == 0`).
+            Pivots::Dropped if !updated => quote! {
+                let #inv = if #dj > T::zero() { T::one() / #dj } else { T::zero() };
+            },
+            Pivots::Dropped => quote! {
+                let #inv = if #dj > __tol * #xjj { T::one() / #dj } else { T::zero() };
+            },
+            // `!(d > 0)` also catches NaN.
+            Pivots::Positive(bail) | Pivots::Signed { bail, .. } => {
+                let reciprocal = self
+                    .reciprocal(j)
+                    .then(|| quote! { let #inv = T::one() / #dj; });
+                quote! {
+                    if !(#dj > T::zero()) {
+                        #bail
+                    }
+                    #reciprocal
+                }
+            }
+        });
+        out
+    }
+
+    /// Column `j` of the factor below its pivot: the Schur-updated entries
+    /// `uᵢⱼ` and `lᵢⱼ = uᵢⱼ·invⱼ`.
+    fn column(&self, j: usize) -> TokenStream {
+        let (l, r) = (&self.structure.fill, &self.roles);
+        let inv = Context::local(r.inverse, j);
+        let mut out = TokenStream::new();
+        for i in j + 1..self.k() {
+            if !l[i][j] {
+                continue;
+            }
+            let (lij, uij, xij) = (
+                Context::local2(r.lower, i, j),
+                Context::local2(r.update, i, j),
+                self.at(i, j),
+            );
+            let updates = (0..j).filter(|&c| l[i][c] && l[j][c]).map(|c| {
+                let (uic, ljc) = (
+                    Context::local2(r.update, i, c),
+                    Context::local2(r.lower, j, c),
+                );
+                quote!(- #uic * #ljc)
+            });
+            out.extend(quote! {
+                let #uij = #xij #(#updates)*;
+                let #lij = #uij * #inv;
+            });
+        }
+        out
+    }
+
+    /// Pivot `j` of the saddle-point matrix and its reciprocal. A
+    /// coordinate's must be positive. A multiplier's diagonal entry is zero,
+    /// so `−dⱼ = Σ_c uⱼ꜀²·inv꜀`: the coordinate pivots' part `own` (each
+    /// term positive), less what the earlier multipliers' (negative) pivots
+    /// took back; it must stay above `tol·own` (`tol = 10⁻³`: the test of
+    /// `S`'s pivots, `sin²θ`, for the rows eliminated so far, a thousand
+    /// times stricter than the rank tolerance, since here a row that fails
+    /// it is not dropped but handed to the dense solve with all the others).
+    fn signed_pivot(&self, j: usize, coordinates: usize, bail: &TokenStream) -> TokenStream {
+        let (l, r) = (&self.structure.fill, &self.roles);
+        let (dj, inv) = (Context::local(r.pivot, j), Context::local(r.inverse, j));
+        let term = |c: usize| {
+            let (ujc, invc) = (
+                Context::local2(r.update, j, c),
+                Context::local(r.inverse, c),
+            );
+            quote!((#ujc * #ujc) * #invc)
+        };
+        let is_coordinate = |p: usize| self.structure.order[p] < coordinates;
+        if is_coordinate(j) {
+            let xjj = self.at(j, j);
+            let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
+                let t = term(c);
+                quote!(- #t)
+            });
+            return quote! {
+                let #dj = #xjj #(#updates)*;
+                if !(#dj > T::zero()) {
+                    #bail
+                }
+                let #inv = T::one() / #dj;
+            };
+        }
+        let own: Vec<TokenStream> = (0..j)
+            .filter(|&c| l[j][c] && is_coordinate(c))
+            .map(term)
+            .collect();
+        let back = (0..j).filter(|&c| l[j][c] && !is_coordinate(c)).map(term);
+        let own_name = Context::local("kown", j);
+        let own = if own.is_empty() {
+            quote!(T::zero())
+        } else {
+            quote!(#(#own)+*)
+        };
+        quote! {
+            let #own_name = #own;
+            let #dj = -#own_name #(- #back)*;
+            if !(-#dj > __tol * #own_name) {
+                #bail
+            }
+            let #inv = T::one() / #dj;
+        }
     }
 
     /// Whether the fast solve's rank decision must be verified, as a `bool`

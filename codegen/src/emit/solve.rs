@@ -5,7 +5,6 @@
 
 use super::body::literal;
 use super::context::Context;
-use super::ldlt::StructuredLdlt;
 use crate::expr::num::Num;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -15,14 +14,15 @@ use quote::quote;
 pub(in crate::emit) type PathCode = (TokenStream, TokenStream);
 
 /// `gauss`'s value `(q̈, Aᵀλ)` as its `Finish` makes it, with the rank
-/// decision of `ldlt` (the factorization of `S`) checked after the fact
+/// decision `suspect` (of the factorization of `S`: `None` where the solve
+/// took none) checked after the fact
 /// (`constrained::rank`): where fewer rows than the generic rank were kept,
 /// the runtime verifies the dropped ones and recomputes if they are
 /// violated. `also` is a further condition for that check; `paths`, code
 /// each path runs first.
 pub(in crate::emit) fn checked_motion(
     ctx: &Context,
-    ldlt: &StructuredLdlt,
+    suspect: Option<TokenStream>,
     (acc, force): (&TokenStream, &TokenStream),
     multipliers: &[TokenStream],
     also: Option<TokenStream>,
@@ -38,7 +38,14 @@ pub(in crate::emit) fn checked_motion(
     // independent (generic rank K; a redundant set's are not unique, and
     // the runtime's minimum norm answers there).
     let lambda = (ctx.generic_rank == ctx.k).then(|| quote!([#(#multipliers),*]));
-    let suspect = ldlt.suspect(ctx.generic_rank);
+    let Some(suspect) = suspect else {
+        // No rank decision was taken (every row kept, or the solve handed
+        // to the runtime): λ stands as it is.
+        let lambda = quote!([#(#multipliers),*]);
+        return quote! {
+            __F::stands_with(#acc, move || #force, move || ::core::option::Option::Some(#lambda))
+        };
+    };
     let suspect = match also {
         Some(also) => quote!((#suspect) | #also),
         None => suspect,

@@ -65,6 +65,9 @@ pub struct Factored {
     /// For a semi-definite `M`: the terms of its auxiliary mass, whose
     /// pattern `mass` then is (`M`'s and `AᵀA`'s).
     pub auxiliary: Option<Auxiliary>,
+    /// The saddle-point system's structure where `gauss` solves that
+    /// instead of the range-space form (`super::saddle_point`).
+    pub saddle: Option<Structure>,
 }
 
 /// The terms of Udwadia & Schutte's auxiliary mass `M + s A_RᵀA_R` that
@@ -163,6 +166,7 @@ impl Factored {
     /// auxiliary mass (nonzero where `M` or `AᵀA` is).
     fn new(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>], auxiliary: Option<Auxiliary>) -> Self {
         let (n, k) = (mass.len(), a.len());
+        let mass_entries = mass;
         let nonzero = |i: usize, j: usize| {
             let (i, j) = (i.max(j), i.min(j));
             !g.is_zero(mass[i][j])
@@ -191,11 +195,24 @@ impl Factored {
                 })
                 .collect(),
         );
+        let pattern: Vec<Vec<bool>> = a
+            .iter()
+            .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
+            .collect();
+        let range_cost = super::saddle_point::range_cost(&mass, &gram, &pattern);
+        let saddle = super::saddle_point::structure(
+            g,
+            (mass_entries, &mass),
+            a,
+            auxiliary.as_ref(),
+            range_cost,
+        );
         Factored {
             mass,
             weighted,
             gram,
             auxiliary,
+            saddle,
         }
     }
 }

@@ -5,6 +5,7 @@
 pub mod gibbs_appell;
 pub mod mass_inverse;
 pub mod partition;
+pub mod saddle_point;
 pub(crate) mod tangent;
 
 use crate::expr::common_factors::Factorer;

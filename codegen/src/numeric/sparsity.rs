@@ -36,6 +36,27 @@ impl Structure {
         }
     }
 
+    /// The factor pattern for a matrix with these nonzeros eliminated in
+    /// the given `order` (position `p` is row `order[p]`), chosen by the
+    /// caller (an indefinite matrix, whose pivots the order must keep away
+    /// from zero).
+    pub fn with_order(nonzero: Vec<Vec<bool>>, order: Vec<usize>) -> Self {
+        let k = nonzero.len();
+        let permuted: Vec<Vec<bool>> = (0..k)
+            .map(|p| {
+                (0..k)
+                    .map(|q| p != q && nonzero[order[p]][order[q]])
+                    .collect()
+            })
+            .collect();
+        let fill = factor_pattern(&permuted);
+        Structure {
+            nonzero,
+            order,
+            fill,
+        }
+    }
+
     /// The size of the matrix.
     pub fn len(&self) -> usize {
         self.nonzero.len()

@@ -26,6 +26,7 @@
 mod auxiliary;
 mod gram_form;
 pub(in crate::emit) mod jacobian;
+mod saddle;
 pub(in crate::emit) mod step;
 
 use crate::emit::body::Body;
@@ -442,6 +443,9 @@ fn constraint_force(ctx: &Context, multipliers: &[Ident]) -> Vec<TokenStream> {
 
 /// `gauss` for a configuration-dependent `M`.
 pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
+    if let Some(structure) = f.saddle.as_ref().filter(|_| ctx.generic_rank == ctx.k) {
+        return saddle::solver(ctx, f, structure);
+    }
     let gauss = FactoredSolve::new(ctx, f, true);
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
     let force = ctx.vector_value(gauss.force.iter().cloned());
@@ -452,7 +456,14 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
             quote!(#l)
         })
         .collect();
-    let value = checked_motion(ctx, &gauss.gram, (&acc, &force), &lambda, None, None);
+    let value = checked_motion(
+        ctx,
+        Some(gauss.gram.suspect(ctx.generic_rank)),
+        (&acc, &force),
+        &lambda,
+        None,
+        None,
+    );
     // A robot's solve is thousands of `let`s: nested no deeper than a block.
     let to_multipliers = bounded(gauss.to_multipliers.clone(), &value);
     let signature = ctx.gauss_signature();

@@ -194,7 +194,14 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
             }
         })
         .collect();
-    let value = checked_motion(ctx, &ldlt, (&acc, &force), &lambda, also, paths);
+    let value = checked_motion(
+        ctx,
+        Some(ldlt.suspect(ctx.generic_rank)),
+        (&acc, &force),
+        &lambda,
+        also,
+        paths,
+    );
     quote! {
         /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
         /// `constraint_force` and `acceleration_corrected` (`b + correction`),

@@ -1,0 +1,123 @@
+//! `gauss` through the saddle-point system
+//! (`crate::equations::saddle_point`): `[M Aᵀ; A 0] [q̈; μ] = [F; b]`,
+//! `λ = −μ`, factored once as `L D Lᵀ` in the compile-time order over its
+//! pattern, then solved once. `M` and `F` are the auxiliary ones for a
+//! semi-definite `M` (their added terms vanish where `A q̈ = b`, so `q̈`
+//! and `λ` are the actual system's). Every row is kept, so no rank
+//! decision is taken: a pivot that fails its test hands the solve to the
+//! runtime's dense one, which takes it.
+
+use super::auxiliary;
+use super::{a_entry, forces_rhs, inputs};
+use crate::emit::chunks::bounded;
+use crate::emit::context::Context;
+use crate::emit::ldlt::{Solves, StructuredLdlt};
+use crate::emit::solve::{checked_motion, corrected};
+use crate::emit::tokens::concat;
+use crate::equations::mass_inverse::Factored;
+use crate::numeric::sparsity::Structure;
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::Ident;
+
+/// The function `gauss`.
+pub(super) fn solver(ctx: &Context, f: &Factored, saddle: &Structure) -> TokenStream {
+    let (n, k) = (ctx.n, ctx.k);
+    let dense = auxiliary::dense_answer(ctx);
+    // `M`'s locals are named as for its own factorization (none runs).
+    let mass = StructuredLdlt::mass(&f.mass, dense.clone(), Solves::Many);
+    let bail = |error: TokenStream| ctx.gauss_error(error);
+    let head = inputs(ctx, f, &mass, true, &bail);
+    let b: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
+    let prelude = match &f.auxiliary {
+        Some(_) => auxiliary::prelude(ctx, f, &mass, true, true),
+        None => corrected(&b, &[]),
+    };
+    let ldlt = StructuredLdlt::saddle(saddle, n, dense);
+    let entries = entries(ctx, saddle, &mass, &ldlt);
+    let factor = ldlt.factor();
+    let mut rhs = forces_rhs(ctx, f);
+    rhs.extend(b.iter().map(|name| Some(quote!(#name))));
+    let out: Vec<Ident> = (0..n)
+        .map(|i| Context::local("kq", i))
+        .chain((0..k).map(|r| Context::local("mu", r)))
+        .collect();
+    let (solve, bound) = ldlt.solve_sparse(&rhs, "ky", &out);
+    let value_of = |p: usize| {
+        let name = &out[p];
+        if bound[p] {
+            quote!(#name)
+        } else {
+            quote!(T::zero())
+        }
+    };
+    let acceleration = (0..n).map(value_of);
+    let acc = ctx.vector_value(acceleration);
+    // Fᶜ = Aᵀλ = −Aᵀμ.
+    let g = &ctx.eq.system.graph;
+    let force = (0..n).map(|i| {
+        let terms: Vec<TokenStream> = (0..k)
+            .filter(|&r| !g.is_zero(ctx.eq.a[r][i]) && bound[n + r])
+            .map(|r| {
+                let (a, mu) = (a_entry(r, i), &out[n + r]);
+                quote!(#a * #mu)
+            })
+            .collect();
+        if terms.is_empty() {
+            quote!(T::zero())
+        } else {
+            quote!(-(#(#terms)+*))
+        }
+    });
+    let force = ctx.vector_value(force);
+    let lambda: Vec<TokenStream> = (0..k)
+        .map(|r| {
+            let mu = value_of(n + r);
+            quote!(-#mu)
+        })
+        .collect();
+    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None);
+    let body = concat([head, prelude, entries, factor, solve]);
+    let body = bounded(body, &value);
+    let signature = ctx.gauss_signature();
+    quote! {
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
+        /// as `__F` makes it: the saddle-point system, factored once.
+        #[inline(always)]
+        #signature {
+            #body
+            #value
+        }
+    }
+}
+
+/// The saddle-point matrix's entries `__k{i}_{j}` (lower triangle, its
+/// structural nonzeros): `M`'s locals, and `A`'s below them.
+fn entries(
+    ctx: &Context,
+    saddle: &Structure,
+    mass: &StructuredLdlt,
+    ldlt: &StructuredLdlt,
+) -> TokenStream {
+    let n = ctx.n;
+    let mut out = TokenStream::new();
+    for i in 0..saddle.len() {
+        for j in 0..=i {
+            if !saddle.nonzero[i][j] {
+                continue;
+            }
+            let value = if i < n {
+                let m = mass.entry(i, j);
+                quote!(#m)
+            } else if j < n {
+                a_entry(i - n, j)
+            } else {
+                continue;
+            };
+            let name = ldlt.entry(i, j);
+            out.extend(quote! { let #name = #value; });
+        }
+    }
+    out
+}
