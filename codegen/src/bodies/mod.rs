@@ -211,29 +211,7 @@ pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
             None => Placement::identity(g),
         };
         let joint_frame = parent.then(g, &d.placement);
-        let motion = match d.joint {
-            Some(j) => {
-                let q = g.sym(crate::expr::Sym::Coord(j.coordinate));
-                match j.kind {
-                    JointKind::Revolute => Placement {
-                        rotation: spatial::axis_angle(g, j.axis, q),
-                        translation: spatial::zero(g),
-                    },
-                    JointKind::Prismatic => Placement {
-                        rotation: spatial::identity(g),
-                        translation: spatial::scale(g, q, j.axis),
-                    },
-                    JointKind::Quaternion => {
-                        let q = free::coordinates(g, j.coordinate);
-                        Placement {
-                            rotation: free::rotation(g, q),
-                            translation: spatial::zero(g),
-                        }
-                    }
-                }
-            }
-            None => Placement::identity(g),
-        };
+        let motion = joint_motion(g, d);
         let world = joint_frame.then(g, &motion);
         frames.push(Placement {
             rotation: world.rotation.map(|row| spatial::hold3(g, row)),
@@ -241,4 +219,48 @@ pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
         });
     }
     frames
+}
+
+/// Every described body's frame in its parent's (the world's for a root):
+/// its placement, then its joint's motion, each entry held. A point's
+/// position built from these inside out, `p₀ + R₀ (p₁ + R₁ (… + Rₖ x))`,
+/// differentiates into matrix–vector products along the chain, where the
+/// world frames' matrix products differentiate into matrix products.
+pub fn parent_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
+    described
+        .iter()
+        .map(|d| {
+            let motion = joint_motion(g, d);
+            let local = d.placement.then(g, &motion);
+            Placement {
+                rotation: local.rotation.map(|row| spatial::hold3(g, row)),
+                translation: spatial::hold3(g, local.translation),
+            }
+        })
+        .collect()
+}
+
+/// The motion of `d`'s joint: its rotation or translation by `q`.
+fn joint_motion(g: &mut Graph, d: &Described) -> Placement {
+    let Some(j) = d.joint else {
+        return Placement::identity(g);
+    };
+    let q = g.sym(crate::expr::Sym::Coord(j.coordinate));
+    match j.kind {
+        JointKind::Revolute => Placement {
+            rotation: spatial::axis_angle(g, j.axis, q),
+            translation: spatial::zero(g),
+        },
+        JointKind::Prismatic => Placement {
+            rotation: spatial::identity(g),
+            translation: spatial::scale(g, q, j.axis),
+        },
+        JointKind::Quaternion => {
+            let q = free::coordinates(g, j.coordinate);
+            Placement {
+                rotation: free::rotation(g, q),
+                translation: spatial::zero(g),
+            }
+        }
+    }
 }

@@ -281,12 +281,15 @@ impl<'a> StructuredLdlt<'a> {
     fn signed_pivot(&self, j: usize, coordinates: usize, bail: &TokenStream) -> TokenStream {
         let (l, r) = (&self.structure.fill, &self.roles);
         let (dj, inv) = (Context::local(r.pivot, j), Context::local(r.inverse, j));
+        // `u·l` (= u²·inv, formed already): one multiplication a term
+        // fewer than `S`'s and `M`'s chain-friendly `(u·u)·inv`; a robot's
+        // saddle-point matrix is wide, not a chain.
         let term = |c: usize| {
-            let (ujc, invc) = (
+            let (ujc, ljc) = (
                 Context::local2(r.update, j, c),
-                Context::local(r.inverse, c),
+                Context::local2(r.lower, j, c),
             );
-            quote!((#ujc * #ujc) * #invc)
+            quote!(#ujc * #ljc)
         };
         let is_coordinate = |p: usize| self.structure.order[p] < coordinates;
         if is_coordinate(j) {

@@ -377,7 +377,7 @@ impl Lowerer<'_> {
         let Some(name) = single_ident(body) else {
             return Err(syn::Error::new_spanned(body, "expected a body's name"));
         };
-        let Some(frame) = self.frames.iter().find(|(n, _)| name == n).map(|f| f.1) else {
+        let Some(index) = self.frames.iter().position(|(n, _)| name == n) else {
             let why = if self.frames.is_empty() {
                 "points of bodies need a `bodies` or `urdf` section".to_string()
             } else {
@@ -385,6 +385,7 @@ impl Lowerer<'_> {
             };
             return Err(syn::Error::new_spanned(body, why));
         };
+        let frame = self.frames[index].1;
         if kind.as_deref() == Some("velocity") && matches!(at, Expr::Call(_)) {
             return self.velocity_at(&frame, at);
         }
@@ -394,13 +395,35 @@ impl Lowerer<'_> {
                 "the point is `[x, y, z]` in the body's frame",
             ));
         };
+        if kind.as_deref() == Some("position") {
+            return Ok(self.position_along_chain(index, local));
+        }
         let turned = spatial::mat_vec(self.graph, &frame.rotation, local);
         let position = spatial::add(self.graph, frame.translation, turned);
-        if kind.as_deref() == Some("position") {
-            return Ok(position);
-        }
         let mut d = crate::expr::diff::Differentiator::new();
         Ok(position.map(|p| d.time_derivative(self.graph, p, self.n).1))
+    }
+
+    /// The world position of the point `local` of body `index`, inside out
+    /// along its chain of parent frames (`crate::bodies::parent_frames`):
+    /// its derivatives are matrix–vector products, the world frame's would
+    /// be matrix products.
+    fn position_along_chain(&mut self, index: usize, local: V3) -> V3 {
+        let mut point = local;
+        let mut body = Some(index);
+        // Each step moves to the parent, whose index is lower: at most
+        // `chain.len()` steps.
+        for _ in 0..self.chain.len() {
+            let Some(i) = body else { break };
+            let Some(&(parent, frame)) = self.chain.get(i) else {
+                break;
+            };
+            let turned = spatial::mat_vec(self.graph, &frame.rotation, point);
+            point = spatial::add(self.graph, frame.translation, turned);
+            point = spatial::hold3(self.graph, point);
+            body = parent;
+        }
+        point
     }
 
     /// The rows of a constraint between points, or `None` when it is not one.

@@ -102,6 +102,9 @@ pub struct Lowerer<'a> {
     pub named: Vec<(String, Id)>,
     /// Each body's frame in the world, by name (systems with bodies).
     pub frames: Vec<(String, crate::bodies::Placement)>,
+    /// Each body's parent (by index in `frames`) and frame in the parent's
+    /// (`crate::bodies::parent_frames`), for points' positions.
+    pub chain: Vec<(Option<usize>, crate::bodies::Placement)>,
 }
 
 impl Lowerer<'_> {

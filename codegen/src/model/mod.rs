@@ -242,6 +242,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         n,
         named: Vec::new(),
         frames: Vec::new(),
+        chain: Vec::new(),
     };
     for (i, c) in coordinates.iter().enumerate() {
         lower.declare(c, Binding::Coordinate(i), &coordinates);

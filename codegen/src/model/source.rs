@@ -146,6 +146,8 @@ impl Lowerer<'_> {
             _ => return Vec::new(),
         };
         let frames = crate::bodies::world_frames(self.graph, &described);
+        let parents = crate::bodies::parent_frames(self.graph, &described);
+        self.chain = described.iter().map(|d| d.parent).zip(parents).collect();
         self.frames = described
             .iter()
             .map(|d| d.name.clone())
