@@ -344,6 +344,12 @@ impl<'a> Body<'a> {
     /// multiplied out once (`2·(a − b·c)`): it saved no operation on any
     /// reference model once the rows of `A` are scaled, and the 32-link
     /// chain ran slower with it (369 against 327 ns in one comparison).
+    /// Measured again at 16f6982 with every shared magnitude written once
+    /// (`c·(a − b)` for `c·a − c·b`): the quadruped's `q̈` 9,114 → 8,645
+    /// operations and 2.54 → 2.43 µs, but the 32-link chain's 315 → 372 ns
+    /// (three alternating rounds, `scripts/compare_acceleration.sh`) with
+    /// 1,226 → 1,101 operations; sparing the small powers of two kept the
+    /// chain and took the quadruped's gain with it (8,924 operations, 2.54 µs).
     fn signed_sum(&self, terms: &[(Id, Num)], c0: Num, negate: bool) -> (TokenStream, Prec) {
         let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(terms, c0)
             .into_iter()
