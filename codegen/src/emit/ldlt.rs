@@ -255,15 +255,28 @@ impl<'a> StructuredLdlt<'a> {
                 Context::local2(r.update, i, j),
                 self.at(i, j),
             );
-            let updates = (0..j).filter(|&c| l[i][c] && l[j][c]).map(|c| {
-                let (uic, ljc) = (
-                    Context::local2(r.update, i, c),
-                    Context::local2(r.lower, j, c),
-                );
-                quote!(- #uic * #ljc)
-            });
+            let products: Vec<TokenStream> = (0..j)
+                .filter(|&c| l[i][c] && l[j][c])
+                .map(|c| {
+                    let (uic, ljc) = (
+                        Context::local2(r.update, i, c),
+                        Context::local2(r.lower, j, c),
+                    );
+                    quote!(#uic * #ljc)
+                })
+                .collect();
+            // The saddle-point matrix's updates of the base run over every
+            // leg: summed as a balanced tree, the quadruped's `q̈` ran 2 %
+            // faster (2.50 against 2.545 µs, two alternating rounds), with
+            // the same operations; the same in its solves ran 4 % slower.
+            let value = if matches!(self.pivots, Pivots::Signed { .. }) && products.len() > 2 {
+                let sum = balanced(products);
+                quote!(#xij - #sum)
+            } else {
+                quote!(#xij #(- #products)*)
+            };
             out.extend(quote! {
-                let #uij = #xij #(#updates)*;
+                let #uij = #value;
                 let #lij = #uij * #inv;
             });
         }
@@ -532,4 +545,21 @@ impl<'a> StructuredLdlt<'a> {
     pub(super) fn is_nonzero(&self, i: usize, j: usize) -> bool {
         self.structure.nonzero[i.max(j)][i.min(j)]
     }
+}
+
+/// `Σ terms` as a balanced tree, `((a + b) + (c + d))`: the same additions
+/// as `a + b + c + d`, in log₂ n dependent steps instead of n − 1.
+fn balanced(mut terms: Vec<TokenStream>) -> TokenStream {
+    while terms.len() > 1 {
+        let mut next = Vec::with_capacity(terms.len().div_ceil(2));
+        let mut pairs = terms.into_iter();
+        while let Some(a) = pairs.next() {
+            next.push(match pairs.next() {
+                Some(b) => quote!((#a + #b)),
+                None => a,
+            });
+        }
+        terms = next;
+    }
+    terms.pop().unwrap_or_else(|| quote!(T::zero()))
 }
