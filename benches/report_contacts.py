@@ -84,13 +84,16 @@ def section(rows, ns):
             "",
             f"Where our quadruped's `acceleration` ({ns(parts['acceleration'])}) goes: each called alone,",
             f"the generated `M` takes {ns(parts['mass_matrix'])}, `F` {ns(parts['forces'])}, `A` and `b` "
-            f"{ns(parts['constraint_matrices'])}; the other {ns(max(rest, 0.0))} are the generated solve of",
-            "the auxiliary system (singular `M` along the quaternion: `M + s aₙaₙᵀ` with the",
-            "quaternion norm's row `aₙ` alone, factored on the tree's compile-time pattern;",
-            "`Y = L⁻¹PAᵀ` by forward substitution, `S = Yᵀ D⁻¹ Y`, the pivoted `LDLᵀ` of the",
-            "13 × 13 `S`, one back substitution for `q̈`), in one straight-line body with `M`,",
-            "`F`, `A` and `b`. `acceleration_and_multipliers` returns that solve's own `λ`",
-            "(every row kept), so it costs what `acceleration` does.",
+            f"{ns(parts['constraint_matrices'])}; the other {ns(max(rest, 0.0))} are the generated solve",
+            "(`M` singular along the quaternion, so the auxiliary `M + s aₙaₙᵀ` with the",
+            "quaternion norm's row `aₙ`): the saddle-point system `[M Aᵀ; A 0]` factored once",
+            "in a compile-time order that eliminates each leg's joints, then its foot's rows,",
+            "before the base, so that no foot's rows meet another's except through the base",
+            "(docs/math.md), in one straight-line body with `M`, `F`, `A` and `b`. The",
+            "separate calls repeat each other's sines and cosines, 12 `sin_cos` a call (about",
+            "a tenth of `acceleration`, as of Pinocchio's `constraintDynamics`).",
+            "`acceleration_and_multipliers` returns that solve's own `λ` (every row kept),",
+            "so it costs what `acceleration` does.",
         ]
     return [
         "",
