@@ -541,6 +541,53 @@ fn every_model_every_equation_every_hostile_state() {
     );
 }
 
+/// The quadruped (`examples/support/quadruped.rs`), whose `acceleration`
+/// is the saddle-point solve (`[M Aᵀ; A 0]` in a compile-time order that
+/// does not pivot, handing the solve to the runtime's dense one where a
+/// pivot fails), through the same hostile states and parameters as the
+/// reference models, in f64 and f32: no panic, every `Ok` finite, every
+/// `Ok` from finite input holding `A q̈ = b`.
+#[test]
+fn the_quadruped_in_the_fault_matrix() {
+    use crate::quadruped::model::Quadruped;
+    let feet = [
+        0.1946, 0.1465, 0.1946, -0.1465, -0.1946, 0.1465, -0.1946, -0.1465,
+    ];
+    let mut tally = Tally::default();
+    macro_rules! quadruped {
+        ($t:ty) => {
+            model::<$t, _, 19, 13, 8>(
+                &mut tally,
+                "Quadruped",
+                |p| {
+                    let z = <$t>::of(0.3);
+                    Quadruped::new(
+                        p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], z, z, z, z, z, z, z, z, z,
+                        z, z, z,
+                    )
+                },
+                feet,
+            )
+        };
+    }
+    quadruped!(f64);
+    quadruped!(f32);
+    println!(
+        "quadruped fault matrix: {} evaluations, {} Ok (each judged), {} Err, {} failures",
+        tally.evaluations,
+        tally.ok,
+        tally.err,
+        tally.failures.len()
+    );
+    assert!(tally.ok > 0, "no Ok to judge");
+    assert!(
+        tally.failures.is_empty(),
+        "{} failures:\n{}",
+        tally.failures.len(),
+        tally.failures.join("\n")
+    );
+}
+
 /// Every integrator with settings that cannot work: an `Err` up front, never
 /// a hang or a panic; with good settings from hostile states, `Ok` only with
 /// a finite state.

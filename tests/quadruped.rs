@@ -8,7 +8,7 @@
 #[path = "../examples/support/quadruped.rs"]
 #[allow(dead_code)]
 #[macro_use]
-mod model;
+pub(crate) mod model;
 
 use constrained::floating::FreeMotion;
 use constrained::multipliers::Multipliers;

@@ -311,9 +311,13 @@ impl<'a> StructuredLdlt<'a> {
                 let t = term(c);
                 quote!(- #t)
             });
+            // Positive and at most the largest finite value: an infinite
+            // pivot's reciprocal 0 would zero its column and leave a finite,
+            // wrong answer (the entries are finite, their updates may not be).
+            let largest = quote!(::constrained::__private::largest::<T>());
             return quote! {
                 let #dj = #xjj #(#updates)*;
-                if !(#dj > T::zero()) {
+                if !(#dj > T::zero() && #dj <= #largest) {
                     #bail
                 }
                 let #inv = T::one() / #dj;
