@@ -229,8 +229,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
         errors.at(list.span, "`coordinates` must name at least one coordinate");
     }
-    let empty = Vec::new();
-    let inputs = sections.inputs.map_or(&empty, |l| &l.items);
+    let inputs: &[Ident] = sections.inputs.map_or(&[][..], |l| &l.items);
     let (parameters, modes) = all_parameters(&sections, inputs);
     let first_input = modes.end;
     let n = coordinates.len();
