@@ -177,14 +177,14 @@ impl<'a> StructuredLdlt<'a> {
                 let rank_tolerance = quote!(::constrained::inverse::rank_tolerance::<T>());
                 quote! { let __tol: T = #rank_tolerance; }
             }
-            Pivots::Positive(_) | Pivots::Signed { .. } => TokenStream::new(),
-        };
-        if matches!(self.pivots, Pivots::Signed { .. }) {
             // Growth of at most 10³ in the pivots without pivoting: about
             // 10⁻¹³ relative where the dense solve's is 10⁻¹⁶.
-            let tolerance = quote!(::constrained::__private::lit::<T>(1e-3f64));
-            out.extend(quote! { let __tol: T = #tolerance; });
-        }
+            Pivots::Signed { .. } => {
+                let tolerance = quote!(::constrained::__private::lit::<T>(1e-3f64));
+                quote! { let __tol: T = #tolerance; }
+            }
+            Pivots::Positive(_) => TokenStream::new(),
+        };
         for j in 0..k {
             out.extend(match &self.pivots {
                 Pivots::Signed { coordinates, bail } => self.signed_pivot(j, *coordinates, bail),

@@ -204,7 +204,7 @@ impl Factored {
             g,
             (mass_entries, &mass),
             a,
-            auxiliary.as_ref(),
+            auxiliary.as_ref().map(|x| &x.normal[..]),
             range_cost,
         );
         Factored {

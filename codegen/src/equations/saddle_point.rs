@@ -31,7 +31,6 @@
 //! (a leg stretched straight, where its rows alone no longer fix its
 //! joints), so the order is a choice of speed, never of the answer.
 
-use super::mass_inverse::Auxiliary;
 use crate::expr::{Graph, Id};
 use crate::numeric::sparsity::Structure;
 
@@ -41,14 +40,15 @@ const MARGIN: f64 = 1e-2;
 
 /// The saddle-point matrix's structure (rows `0..n` the coordinates, `n..`
 /// the constraints; the elimination order chosen as the module says), or
-/// `None` where the range-space form is kept. `mass` is `M`'s or the
-/// auxiliary mass's pattern, `range_cost` the range-space form's estimated
-/// operations.
+/// `None` where the range-space form is kept. `mass_pattern` is `M`'s or
+/// the auxiliary mass's pattern, `normal` the auxiliary mass's `A_RᵀA_R`
+/// (`super::mass_inverse::Auxiliary::normal`) for a semi-definite `M`,
+/// `range_cost` the range-space form's estimated operations.
 pub fn structure(
     g: &Graph,
     (mass, mass_pattern): (&[Vec<Id>], &Structure),
     a: &[Vec<Id>],
-    auxiliary: Option<&Auxiliary>,
+    normal: Option<&[Vec<Id>]>,
     range_cost: usize,
 ) -> Option<Structure> {
     let (n, k) = (mass.len(), a.len());
@@ -71,7 +71,7 @@ pub fn structure(
             }
         }
     }
-    let samples = sampled(g, mass, a, auxiliary)?;
+    let samples = sampled(g, mass, a, normal)?;
     let order = greedy_order(&nonzero, n, samples)?;
     let structure = Structure::with_order(nonzero, order);
     (4 * saddle_cost(&structure) < 3 * range_cost).then_some(structure)
@@ -83,13 +83,13 @@ fn sampled(
     g: &Graph,
     mass: &[Vec<Id>],
     a: &[Vec<Id>],
-    auxiliary: Option<&Auxiliary>,
+    normal: Option<&[Vec<Id>]>,
 ) -> Option<Vec<Vec<Vec<f64>>>> {
     let (n, k) = (mass.len(), a.len());
     let mut entries: Vec<Id> = mass.iter().flatten().copied().collect();
     entries.extend(a.iter().flatten().copied());
-    if let Some(aux) = auxiliary {
-        entries.extend(aux.normal.iter().flatten().copied());
+    if let Some(normal) = normal {
+        entries.extend(normal.iter().flatten().copied());
     }
     let mut out = Vec::new();
     for point in crate::numeric::rng::sample_points(0x5add_1e00) {
@@ -98,7 +98,7 @@ fn sampled(
             return None;
         }
         let at = |offset: usize, i: usize, j: usize, width: usize| values[offset + i * width + j];
-        let scale = auxiliary.map(|_| {
+        let scale = normal.map(|_| {
             let trace: f64 = (0..n).map(|i| at(0, i, i, n)).sum();
             let norm: f64 = (0..n).map(|i| at(n * n + k * n, i, i, n)).sum();
             trace / norm
@@ -240,5 +240,8 @@ pub fn range_cost(mass: &Structure, gram: &Structure, a: &[Vec<bool>]) -> usize 
     }
     let (z, _) = forward_cost(mass, &vec![true; n]);
     let scaled: usize = columns.iter().flatten().filter(|&&y| y).count();
-    cost + z + scaled + 2 * n * k + 2 * n * k + 2 * factor_entries(mass) + n
+    // `r`'s products `Yᵀ D⁻¹ z`, and the back substitution: `Y λ`, `L⁻ᵀ`
+    // and `D⁻¹`.
+    let (residual, back) = (2 * n * k, 2 * n * k + 2 * factor_entries(mass) + n);
+    cost + z + scaled + residual + back
 }
