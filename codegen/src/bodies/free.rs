@@ -13,6 +13,16 @@
 //! so the recursions' `aᵢ = Xᵢ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ` stays exact.
 //! `G q = 0`: the direction `q` itself moves nothing, `M` is singular there
 //! and the norm's constraint row completes it (the auxiliary-mass solve).
+//!
+//! **Velocity coordinates.** `T = [q, Gᵀ]` is invertible wherever `q ≠ 0`
+//! (`[qᵀ; G] T = |q|² I`, since `G Gᵀ = |q|² I`), so the quaternion's
+//! accelerations can be written `q̈ = q α + Gᵀ β` exactly, on the unit
+//! sphere or off it. In `(α, β)` the joint's columns are `S q = 0` and
+//! `S Gᵀ = [2|q|² I; 0]` ([`velocity_subspace`]): `Tᵀ M T` has a zero row and
+//! column for `α` and the body's own axes for `β` (on the sphere `β` is
+//! half the body's angular acceleration), and the norm's row
+//! `2qᵀ q̈ = b` reads `2|q|² α = b`, `α` alone
+//! (`crate::equations::velocity`).
 
 use super::spatial::{Inertia, Spatial, M3, V3};
 use super::{Described, Joint, JointKind, Placement};
@@ -129,6 +139,43 @@ pub fn subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 4] {
         angular: super::spatial::scale(g, two, c),
         linear: zero,
     })
+}
+
+/// The joint's columns for `β` in the velocity coordinates (the module's
+/// `S Gᵀ`): `2|q|² eⱼ` in the body's axes, `j = 0, 1, 2`. (`α`'s, `S q`,
+/// is zero.)
+pub fn velocity_subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 3] {
+    let scale = velocity_scale(g, q);
+    let zero = g.int(0);
+    let zeros = super::spatial::zero(g);
+    [0, 1, 2].map(|j| {
+        let mut angular = [zero; 3];
+        angular[j] = scale;
+        Spatial {
+            angular,
+            linear: zeros,
+        }
+    })
+}
+
+/// `2|q|²`, the scale of [`velocity_subspace`].
+pub fn velocity_scale(g: &mut Graph, q: [Id; 4]) -> Id {
+    let two = g.int(2);
+    let squares: Vec<Id> = q.iter().map(|&c| g.pow(c, two)).collect();
+    let sum = g.add(&squares);
+    g.mul2(two, sum)
+}
+
+/// `G(q)`'s entries as (sign, index into `(w, x, y, z)`).
+pub const G_PATTERN: [[(bool, usize); 4]; 3] = [
+    [(false, 1), (true, 0), (true, 3), (false, 2)],
+    [(false, 2), (false, 3), (true, 0), (true, 1)],
+    [(false, 3), (true, 2), (false, 1), (true, 0)],
+];
+
+/// `G(q)`, 3 × 4: `ω = 2 G q̇` (the module's).
+pub fn g_matrix(g: &mut Graph, q: [Id; 4]) -> [[Id; 4]; 3] {
+    G_PATTERN.map(|row| row.map(|(plus, k)| if plus { q[k] } else { g.neg(q[k]) }))
 }
 
 /// `|q|² − 1`, the norm's constraint.

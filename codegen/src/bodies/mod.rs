@@ -170,6 +170,9 @@ impl Tree {
 pub struct Dynamics {
     /// `M(q)` by the composite-rigid-body algorithm, n × n, symmetric.
     pub mass: Vec<Vec<Id>>,
+    /// With quaternion joints, `Tᵀ M T`: `M` in the velocity coordinates of
+    /// [`free`] (each quaternion's `w` row and column zero).
+    pub velocity_mass: Option<Vec<Vec<Id>>>,
     /// The bias forces `c(q, q̇) = C(q, q̇) q̇ + g(q)` by recursive Newton–Euler.
     pub bias: Vec<Id>,
     /// `τ = M(q) q̈ + c(q, q̇)` by recursive Newton–Euler with `q̈` as

@@ -272,8 +272,15 @@ fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inert
 }
 
 /// The composite-rigid-body algorithm: `M(q)`, n × n, and each body's
-/// composite inertia.
-fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> (Vec<Vec<Id>>, Vec<Inertia>) {
+/// composite inertia. With `velocity`, each quaternion joint's columns are
+/// those of [`super::free::velocity_subspace`], and the matrix is
+/// `Tᵀ M T` ([`super::free`]).
+fn composite_rigid_body(
+    g: &mut Graph,
+    tree: &Tree,
+    n: usize,
+    velocity: bool,
+) -> (Vec<Vec<Id>>, Vec<Inertia>) {
     let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
     let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
     for (i, body) in tree.bodies.iter().enumerate().rev() {
@@ -288,7 +295,14 @@ fn composite_rigid_body(g: &mut Graph, tree: &Tree, n: usize) -> (Vec<Vec<Id>>, 
         .bodies
         .iter()
         .zip(&states)
-        .map(|(b, &js)| subspace(g, b, js))
+        .map(|(b, &js)| match (velocity, js.quaternion) {
+            (true, Some((q, _))) => super::free::velocity_subspace(g, q)
+                .into_iter()
+                .enumerate()
+                .map(|(k, s)| (b.joint.coordinate + 1 + k, s))
+                .collect(),
+            _ => subspace(g, b, js),
+        })
         .collect();
     for (i, own) in columns.iter().enumerate() {
         for &(ci, s) in own {
@@ -374,7 +388,12 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
         gravity: true,
     };
     let bias = newton_euler(g, tree, n, all);
-    let (mass, composite) = composite_rigid_body(g, tree, n);
+    let (mass, composite) = composite_rigid_body(g, tree, n, false);
+    let has_quaternion = tree
+        .bodies
+        .iter()
+        .any(|b| b.joint.kind == JointKind::Quaternion);
+    let velocity_mass = has_quaternion.then(|| composite_rigid_body(g, tree, n, true).0);
     let trace = (0..tree.bodies.len())
         .map(|i| Trace {
             velocity: bias.v[i],
@@ -407,6 +426,7 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
     let (kinetic, potential) = energies(g, tree);
     Dynamics {
         mass,
+        velocity_mass,
         bias: bias.tau,
         inverse,
         gravity,

@@ -52,6 +52,10 @@ impl MassInverse {
     }
 }
 
+/// `M` in the quaternions' velocity coordinates and the tree's bodies
+/// (`super::velocity`).
+pub type Tree<'a> = (&'a [Vec<Id>], &'a [crate::bodies::Body]);
+
 /// The compile-time structure of Gauss's principle for a configuration-
 /// dependent `M` (only `M`'s lower triangle is read, as by a Cholesky
 /// factorization).
@@ -68,6 +72,10 @@ pub struct Factored {
     /// The saddle-point system's structure where `gauss` solves that
     /// instead of the range-space form (`super::saddle_point`).
     pub saddle: Option<Structure>,
+    /// For bodies on quaternion joints, `gauss`'s system in their velocity
+    /// coordinates where that has a saddle-point form
+    /// (`super::velocity`); it then replaces `saddle`.
+    pub velocity: Option<super::velocity::Velocity>,
 }
 
 /// The terms of Udwadia & Schutte's auxiliary mass `M + s A_RᵀA_R` that
@@ -164,7 +172,12 @@ impl Auxiliary {
 impl Factored {
     /// The structure for the matrix factored: `M`, or for `auxiliary` the
     /// auxiliary mass (nonzero where `M` or `AᵀA` is).
-    fn new(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>], auxiliary: Option<Auxiliary>) -> Self {
+    fn new(
+        g: &mut Graph,
+        (mass, tree): (&[Vec<Id>], Option<Tree>),
+        (forces, a): (&[Id], &[Vec<Id>]),
+        auxiliary: Option<Auxiliary>,
+    ) -> Self {
         let (n, k) = (mass.len(), a.len());
         let mass_entries = mass;
         let nonzero = |i: usize, j: usize| {
@@ -207,12 +220,14 @@ impl Factored {
             auxiliary.as_ref().map(|x| &x.normal[..]),
             range_cost,
         );
+        let velocity = tree.and_then(|t| super::velocity::form(g, t, forces, a, range_cost));
         Factored {
             mass,
             weighted,
             gram,
             auxiliary,
             saddle,
+            velocity,
         }
     }
 }
@@ -284,7 +299,7 @@ fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
 pub fn build(
     g: &mut Graph,
     factorer: &mut Factorer,
-    mass: &[Vec<Id>],
+    (mass, tree): (&[Vec<Id>], Option<Tree>),
     forces: &[Id],
     a: &[Vec<Id>],
     b: &[Id],
@@ -292,12 +307,14 @@ pub fn build(
     let n = mass.len();
     if singular_everywhere(g, mass) {
         let auxiliary = Auxiliary::new(g, mass, a, n);
-        return MassInverse::Auxiliary(Box::new(Factored::new(g, mass, a, Some(auxiliary))));
+        let f = Factored::new(g, (mass, tree), (forces, a), Some(auxiliary));
+        return MassInverse::Auxiliary(Box::new(f));
     }
     let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
     let Some((inverse, masses, known_positive)) = symbolic_inverse(g, mass, diagonal, zero) else {
-        return MassInverse::Factored(Box::new(Factored::new(g, mass, a, None)));
+        let f = Factored::new(g, (mass, tree), (forces, a), None);
+        return MassInverse::Factored(Box::new(f));
     };
     // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a
     // common mass μ).

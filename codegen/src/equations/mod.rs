@@ -7,6 +7,7 @@ pub mod mass_inverse;
 pub mod partition;
 pub mod saddle_point;
 pub(crate) mod tangent;
+pub mod velocity;
 
 use crate::expr::common_factors::Factorer;
 use crate::expr::diff::{AtRest, Differentiator};
@@ -54,6 +55,13 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let g = &mut system.graph;
     system.mass = factorer.factor_rows(g, &system.mass);
     system.forces = factorer.factor_all(g, &system.forces);
+    if let Some(m) = system
+        .bodies
+        .as_mut()
+        .and_then(|b| b.velocity_mass.as_mut())
+    {
+        *m = factorer.factor_rows(g, m);
+    }
     let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
     let mut at_rest = AtRest::default();
     let mut structured = Vec::new();
@@ -87,7 +95,18 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     // squares where that shortens the code, counted with everything else
     // that is computed beside it (crate::expr::squares).
     let b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
-    let mass_inverse = mass_inverse::build(g, &mut factorer, &system.mass, &system.forces, &a, &b);
+    let tree = system
+        .bodies
+        .as_ref()
+        .and_then(|t| Some((t.velocity_mass.as_deref()?, &t.tree[..])));
+    let mass_inverse = mass_inverse::build(
+        g,
+        &mut factorer,
+        (&system.mass, tree),
+        &system.forces,
+        &a,
+        &b,
+    );
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     let pieces = Pieces {
         mass: &system.mass,

@@ -111,6 +111,9 @@ pub struct BodyTerms {
     pub tree: Vec<crate::bodies::Body>,
     /// Each body's intermediates of the recursions, named in the derivation.
     pub trace: Vec<crate::bodies::Trace>,
+    /// With quaternion joints, `M` in their velocity coordinates
+    /// (`crate::bodies::Dynamics::velocity_mass`).
+    pub velocity_mass: Option<Vec<Vec<Id>>>,
 }
 
 /// The energies of a system given by energies or bodies, for the

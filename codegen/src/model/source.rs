@@ -215,6 +215,7 @@ impl Lowerer<'_> {
                 files,
                 trace: dynamics.trace,
                 tree: tree.bodies,
+                velocity_mass: dynamics.velocity_mass,
             };
             return Lowered {
                 mass,

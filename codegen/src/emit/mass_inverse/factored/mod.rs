@@ -28,6 +28,7 @@ mod gram_form;
 pub(in crate::emit) mod jacobian;
 mod saddle;
 pub(in crate::emit) mod step;
+mod velocity;
 
 use crate::emit::body::Body;
 use crate::emit::chunks::bounded;
@@ -256,7 +257,19 @@ fn inputs(
     bail: &dyn Fn(TokenStream) -> TokenStream,
 ) -> TokenStream {
     let (named, mass_and_forces) = named_inputs(ctx, f, mass, dynamics);
-    let cached = ctx.bodies.borrow().get(&named).cloned();
+    bind(ctx, &named, mass_and_forces, bail)
+}
+
+/// `named`'s expressions bound to their locals by one CSE'd body (shared
+/// between the functions that bind the same list), the first `checked` of
+/// them checked finite.
+fn bind(
+    ctx: &Context,
+    named: &[(Ident, Id)],
+    checked: usize,
+    bail: &dyn Fn(TokenStream) -> TokenStream,
+) -> TokenStream {
+    let cached = ctx.bodies.borrow().get(named).cloned();
     let mut out = cached.unwrap_or_else(|| {
         let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
         let body = Body::new(ctx.eq, &roots);
@@ -265,10 +278,10 @@ fn inputs(
             let value = body.expr(*id);
             let_statement(name, value)
         }));
-        ctx.bodies.borrow_mut().insert(named.clone(), out.clone());
+        ctx.bodies.borrow_mut().insert(named.to_vec(), out.clone());
         out
     });
-    let finite = named[..mass_and_forces]
+    let finite = named[..checked]
         .iter()
         .map(|(name, _)| quote!(#name.is_finite()));
     let non_finite = bail(quote!(DynamicsError::NonFinite));
@@ -443,6 +456,9 @@ fn constraint_force(ctx: &Context, multipliers: &[Ident]) -> Vec<TokenStream> {
 
 /// `gauss` for a configuration-dependent `M`.
 pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
+    if let Some(v) = f.velocity.as_ref().filter(|_| ctx.generic_rank == ctx.k) {
+        return velocity::solver(ctx, v);
+    }
     if let Some(structure) = f.saddle.as_ref().filter(|_| ctx.generic_rank == ctx.k) {
         return saddle::solver(ctx, f, structure);
     }

@@ -1,0 +1,277 @@
+//! `gauss` in the quaternions' velocity coordinates
+//! (`crate::equations::velocity`): `TᵀMT`, `TᵀF`, `A T` and `b` bound by one
+//! CSE'd body; each quaternion's `α = b_norm / (A T)_{norm,α}`; the other
+//! rows' `b` less their `α` terms; the saddle-point `L D Lᵀ` of the rest in
+//! its compile-time order (signed pivots; one that fails its test hands the
+//! solve to the runtime's dense one, as in [`super::saddle`]); then
+//! `q̈ = T z` and the norms' multipliers. `Aᵀλ` is formed with the model's
+//! `A`, so every output is in the model's coordinates.
+
+use super::{auxiliary, bind};
+use crate::bodies::free::G_PATTERN;
+use crate::emit::chunks::bounded;
+use crate::emit::context::Context;
+use crate::emit::ldlt::StructuredLdlt;
+use crate::emit::solve::{checked_motion, corrected};
+use crate::emit::tokens::concat;
+use crate::equations::velocity::Velocity;
+use crate::expr::Id;
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::Ident;
+
+/// The function `gauss`.
+pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
+    let dense = auxiliary::dense_answer(ctx);
+    let ldlt = StructuredLdlt::saddle(&v.structure, v.coordinates.len(), dense.clone());
+    let bail = |error: TokenStream| ctx.gauss_error(error);
+    let (named, checked) = named(ctx, v, &ldlt);
+    let head = bind(ctx, &named, checked, &bail);
+    let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
+    let correction = corrected(&b, &[]);
+    let alphas = alphas(ctx, v, &dense);
+    let factor = ldlt.factor();
+    let (nr, kr) = (v.coordinates.len(), v.rows.len());
+    let g = &ctx.eq.system.graph;
+    let mut rhs: Vec<Option<TokenStream>> = v
+        .coordinates
+        .iter()
+        .map(|&i| {
+            (!g.is_zero(v.forces[i])).then(|| {
+                let f = Context::local("f", i);
+                quote!(#f)
+            })
+        })
+        .collect();
+    rhs.extend((0..kr).map(|rr| {
+        let name = Context::local("bv", rr);
+        Some(quote!(#name))
+    }));
+    let out: Vec<Ident> = (0..nr)
+        .map(|i| Context::local("kq", i))
+        .chain((0..kr).map(|r| Context::local("mu", r)))
+        .collect();
+    let (solve, bound) = ldlt.solve_sparse(&rhs, "ky", &out);
+    let value_of = |p: usize| {
+        let name = &out[p];
+        if bound[p] {
+            quote!(#name)
+        } else {
+            quote!(T::zero())
+        }
+    };
+    let (recover, acceleration) = accelerations(ctx, v, &value_of);
+    let (norms, mu) = multipliers(ctx, v, &value_of);
+    let acc = ctx.vector_value(acceleration.into_iter());
+    // Fᶜ = Aᵀλ = −Aᵀμ, with the model's A.
+    let force = (0..ctx.n).map(|i| {
+        let terms: Vec<TokenStream> = (0..ctx.k)
+            .filter(|&r| !g.is_zero(ctx.eq.a[r][i]))
+            .map(|r| {
+                let (a, m) = (Context::local2("a", r, i), &mu[r]);
+                quote!(#a * #m)
+            })
+            .collect();
+        if terms.is_empty() {
+            quote!(T::zero())
+        } else {
+            quote!(-(#(#terms)+*))
+        }
+    });
+    let force = ctx.vector_value(force);
+    let lambda: Vec<TokenStream> = mu.iter().map(|m| quote!(-#m)).collect();
+    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None);
+    let body = concat([head, correction, alphas, factor, solve, recover, norms]);
+    let body = bounded(body, &value);
+    let signature = ctx.gauss_signature();
+    quote! {
+        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
+        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
+        /// as `__F` makes it: in the quaternions' velocity coordinates, the
+        /// saddle-point system factored once.
+        #[inline(always)]
+        #signature {
+            #body
+            #value
+        }
+    }
+}
+
+/// The locals bound from the expressions: `TᵀMT`'s entries of the
+/// structure, `TᵀF` (these checked finite, their count second), the
+/// structure's entries of `A T`, `A T`'s `α` columns, the model's `A`
+/// (for `Aᵀλ`), `b`, the quaternions' coordinates.
+fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)>, usize) {
+    let g = &ctx.eq.system.graph;
+    let (n, k, nr) = (ctx.n, ctx.k, v.coordinates.len());
+    let mut named = Vec::new();
+    for i in 0..nr {
+        for j in 0..=i {
+            if v.structure.nonzero[i][j] {
+                let e = v.mass[v.coordinates[i]][v.coordinates[j]];
+                named.push((ldlt.entry(i, j), e));
+            }
+        }
+    }
+    for (i, &e) in v.forces.iter().enumerate() {
+        if !g.is_zero(e) {
+            named.push((Context::local("f", i), e));
+        }
+    }
+    let checked = named.len();
+    for (rr, &r) in v.rows.iter().enumerate() {
+        for (jj, &j) in v.coordinates.iter().enumerate() {
+            if !g.is_zero(v.a[r][j]) {
+                named.push((ldlt.entry(nr + rr, jj), v.a[r][j]));
+            }
+        }
+    }
+    for &(c, _) in &v.quaternions {
+        for r in 0..k {
+            if !g.is_zero(v.a[r][c]) {
+                named.push((Context::local2("aa", r, c), v.a[r][c]));
+            }
+        }
+    }
+    for r in 0..k {
+        for i in 0..n {
+            if !g.is_zero(ctx.eq.a[r][i]) {
+                named.push((Context::local2("a", r, i), ctx.eq.a[r][i]));
+            }
+        }
+    }
+    for (r, &e) in ctx.eq.b.iter().enumerate() {
+        named.push((Context::local("b", r), e));
+    }
+    for (&(c, _), q) in v.quaternions.iter().zip(&v.q) {
+        for (m, &e) in q.iter().enumerate() {
+            named.push((Context::local("qv", c + m), e));
+        }
+    }
+    (named, checked)
+}
+
+/// Each quaternion's `α = b_norm / (A T)_{norm,α}` (the divisor `2|q|²`
+/// below the safe minimum hands the solve to the dense one), then the kept
+/// rows' right-hand sides `__bv{rr} = b − Σ (A T)_{rα} α`.
+fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
+    let g = &ctx.eq.system.graph;
+    let safe_minimum = ctx.private(quote!(safe_minimum));
+    let mut out = TokenStream::new();
+    for &(c, norm) in &v.quaternions {
+        let (alpha, an, b) = (
+            Context::local("alpha", c),
+            Context::local2("aa", norm, c),
+            Context::local("b", norm),
+        );
+        out.extend(quote! {
+            if !(#an >= #safe_minimum::<T>()) {
+                #dense
+            }
+            let #alpha = #b / #an;
+        });
+    }
+    for (rr, &r) in v.rows.iter().enumerate() {
+        let b = Context::local("b", r);
+        let terms: Vec<TokenStream> = v
+            .quaternions
+            .iter()
+            .filter(|&&(c, _)| !g.is_zero(v.a[r][c]))
+            .map(|&(c, _)| {
+                let (a, alpha) = (Context::local2("aa", r, c), Context::local("alpha", c));
+                quote!(#a * #alpha)
+            })
+            .collect();
+        let name = Context::local("bv", rr);
+        let value = if terms.is_empty() {
+            quote!(#b)
+        } else {
+            quote!(#b - (#(#terms)+*))
+        };
+        out.extend(quote! { let #name = #value; });
+    }
+    out
+}
+
+/// `q̈ = T z`: the kept coordinates as solved, each quaternion's four as
+/// `q α + Gᵀ β` (locals `__qa{i}`); the code and each coordinate's value.
+fn accelerations(
+    ctx: &Context,
+    v: &Velocity,
+    value_of: &dyn Fn(usize) -> TokenStream,
+) -> (TokenStream, Vec<TokenStream>) {
+    let mut values: Vec<TokenStream> = (0..ctx.n).map(|_| quote!(T::zero())).collect();
+    for (p, &i) in v.coordinates.iter().enumerate() {
+        values[i] = value_of(p);
+    }
+    let mut code = TokenStream::new();
+    for &(c, _) in &v.quaternions {
+        let beta: Vec<TokenStream> = (0..3).map(|j| values[c + 1 + j].clone()).collect();
+        let alpha = Context::local("alpha", c);
+        for k in 0..4 {
+            let own = Context::local("qv", c + k);
+            let mut terms = vec![quote!(#own * #alpha)];
+            for (j, row) in G_PATTERN.iter().enumerate() {
+                let (plus, m) = row[k];
+                let (q, b) = (Context::local("qv", c + m), &beta[j]);
+                terms.push(if plus {
+                    quote!(+ #q * #b)
+                } else {
+                    quote!(- #q * #b)
+                });
+            }
+            let first = &terms[0];
+            let rest = &terms[1..];
+            let name = Context::local("qa", c + k);
+            code.extend(quote! { let #name = #first #(#rest)*; });
+        }
+        for k in 0..4 {
+            let name = Context::local("qa", c + k);
+            values[c + k] = quote!(#name);
+        }
+    }
+    (code, values)
+}
+
+/// `μ` for every row: the kept rows' as solved, each norm's
+/// `((TᵀF)_α − Σ (A T)_{rα} μ_r) / (A T)_{norm,α}` (locals `__mun{r}`).
+fn multipliers(
+    ctx: &Context,
+    v: &Velocity,
+    value_of: &dyn Fn(usize) -> TokenStream,
+) -> (TokenStream, Vec<TokenStream>) {
+    let g = &ctx.eq.system.graph;
+    let nr = v.coordinates.len();
+    let mut mu: Vec<TokenStream> = (0..ctx.k).map(|_| quote!(T::zero())).collect();
+    for (rr, &r) in v.rows.iter().enumerate() {
+        mu[r] = value_of(nr + rr);
+    }
+    let mut code = TokenStream::new();
+    for &(c, norm) in &v.quaternions {
+        let f = if g.is_zero(v.forces[c]) {
+            quote!(T::zero())
+        } else {
+            let f = Context::local("f", c);
+            quote!(#f)
+        };
+        let terms: Vec<TokenStream> = v
+            .rows
+            .iter()
+            .filter(|&&r| !g.is_zero(v.a[r][c]))
+            .map(|&r| {
+                let (a, m) = (Context::local2("aa", r, c), &mu[r]);
+                quote!(#a * #m)
+            })
+            .collect();
+        let an = Context::local2("aa", norm, c);
+        let name = Context::local("mun", norm);
+        let value = if terms.is_empty() {
+            quote!(#f / #an)
+        } else {
+            quote!((#f - (#(#terms)+*)) / #an)
+        };
+        code.extend(quote! { let #name = #value; });
+        mu[norm] = quote!(#name);
+    }
+    (code, mu)
+}
