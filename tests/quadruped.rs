@@ -215,7 +215,7 @@ fn a_straight_leg_hands_the_solve_to_the_dense_one() {
     assert!(residual(&a, &b, &qdd) < 1e-12);
 }
 
-/// The generated solve writes the quaternion's `q̈ = q α + Gᵀ β`
+/// The generated solve writes the quaternion's `q̈ = ½ (q α + Gᵀ β)`
 /// (`constrained_codegen::equations::velocity`), exact wherever `q ≠ 0`:
 /// off the unit sphere (`|q|` 0.8 and 1.25, with a rate along `q` itself,
 /// so that the norm's row has `b ≠ 0` from both) it still equals the

@@ -14,14 +14,14 @@
 //! `G q = 0`: the direction `q` itself moves nothing, `M` is singular there
 //! and the norm's constraint row completes it (the auxiliary-mass solve).
 //!
-//! **Velocity coordinates.** `T = [q, Gᵀ]` is invertible wherever `q ≠ 0`
-//! (`[qᵀ; G] T = |q|² I`, since `G Gᵀ = |q|² I`), so the quaternion's
-//! accelerations can be written `q̈ = q α + Gᵀ β` exactly, on the unit
-//! sphere or off it. In `(α, β)` the joint's columns are `S q = 0` and
-//! `S Gᵀ = [2|q|² I; 0]` ([`velocity_subspace`]): `Tᵀ M T` has a zero row and
-//! column for `α` and the body's own axes for `β` (on the sphere `β` is
-//! half the body's angular acceleration), and the norm's row
-//! `2qᵀ q̈ = b` reads `2|q|² α = b`, `α` alone
+//! **Velocity coordinates.** `T = ½ [q, Gᵀ]` is invertible wherever
+//! `q ≠ 0` (`[qᵀ; G] T = ½ |q|² I`, since `G Gᵀ = |q|² I`), so the
+//! quaternion's accelerations can be written `q̈ = ½ (q α + Gᵀ β)` exactly,
+//! on the unit sphere or off it. In `(α, β)` the joint's columns are
+//! `S q = 0` and `½ S Gᵀ = [|q|² I; 0]` ([`velocity_subspace`]): `Tᵀ M T` has
+//! a zero row and column for `α` and the body's own axes for `β` (on the
+//! sphere `β = ω̇`, since `ω̇ = 2 G q̈ + 2 G(q̇) q̇ = |q|² β`), and the norm's
+//! row `2qᵀ q̈ = b` reads `|q|² α = b`, `α` alone
 //! (`crate::equations::velocity`).
 
 use super::spatial::{Inertia, Spatial, M3, V3};
@@ -142,7 +142,7 @@ pub fn subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 4] {
 }
 
 /// The joint's columns for `β` in the velocity coordinates (the module's
-/// `S Gᵀ`): `2|q|² eⱼ` in the body's axes, `j = 0, 1, 2`. (`α`'s, `S q`,
+/// `½ S Gᵀ`): `|q|² eⱼ` in the body's axes, `j = 0, 1, 2`. (`α`'s, `S q`,
 /// is zero.)
 pub fn velocity_subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 3] {
     let scale = velocity_scale(g, q);
@@ -158,12 +158,11 @@ pub fn velocity_subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 3] {
     })
 }
 
-/// `2|q|²`, the scale of [`velocity_subspace`].
+/// `|q|²`, the scale of [`velocity_subspace`].
 pub fn velocity_scale(g: &mut Graph, q: [Id; 4]) -> Id {
     let two = g.int(2);
     let squares: Vec<Id> = q.iter().map(|&c| g.pow(c, two)).collect();
-    let sum = g.add(&squares);
-    g.mul2(two, sum)
+    g.add(&squares)
 }
 
 /// `G(q)`'s entries as (sign, index into `(w, x, y, z)`).

@@ -1,7 +1,8 @@
 //! Stage 3, for bodies on quaternion joints: `gauss` in the quaternions'
 //! velocity coordinates (`crate::bodies::free`). Each quaternion's
-//! accelerations are written `q̈ = q α + Gᵀ β` (`T = [q, Gᵀ]`, invertible
-//! wherever `q ≠ 0`, so nothing is approximated off the unit sphere), and
+//! accelerations are written `q̈ = ½ (q α + Gᵀ β)` (`T = ½ [q, Gᵀ]`,
+//! invertible wherever `q ≠ 0`, so nothing is approximated off the unit
+//! sphere; on it `β` is the body's angular acceleration), and
 //! the saddle-point system `[M Aᵀ; A 0] [q̈; μ] = [F; b]` multiplied by
 //! `Tᵀ` on the left becomes
 //!
@@ -12,7 +13,7 @@
 //!
 //! `TᵀMT` comes from the composite-rigid-body algorithm with the joint's
 //! columns `S T` (`α`'s is zero: its row and column vanish), and the norm's
-//! row `2qᵀ q̈ = b` becomes `2|q|² α = b`, on `α` alone. So each pair
+//! row `2qᵀ q̈ = b` becomes `|q|² α = b`, on `α` alone. So each pair
 //! (`α`, the norm's multiplier) is a 2 × 2 block `[0 c; c 0]` whose
 //! elimination changes no other entry of the matrix: `α = b_norm / c`
 //! first, `b ← b − (A T)_α α` for the other rows, the rest — every other
@@ -131,13 +132,14 @@ pub fn form(
     })
 }
 
-/// `x ← Tᵀ x` on the quaternion whose `w` is `c`: `x_c ← qᵀ x_q`,
-/// `x_{c+1+j} ← (G x_q)_j` (a row of `A` times `T`, or `F`).
+/// `x ← Tᵀ x` on the quaternion whose `w` is `c`: `x_c ← ½ qᵀ x_q`,
+/// `x_{c+1+j} ← ½ (G x_q)_j` (a row of `A` times `T`, or `F`).
 fn transform(g: &mut Graph, (c, q, big_g): (usize, [Id; 4], &[[Id; 4]; 3]), x: &mut [Id]) {
     let own: Vec<Id> = x[c..c + 4].to_vec();
     if own.iter().all(|&e| g.is_zero(e)) {
         return;
     }
+    let half = g.num(crate::expr::num::Num::Rational(1, 2));
     let dot = |g: &mut Graph, w: [Id; 4]| {
         let pairs: Vec<(Id, Id)> = w
             .iter()
@@ -146,7 +148,8 @@ fn transform(g: &mut Graph, (c, q, big_g): (usize, [Id; 4], &[[Id; 4]; 3]), x: &
             .map(|(&wk, &e)| (wk, e))
             .collect();
         let terms: Vec<Id> = pairs.into_iter().map(|(wk, e)| g.mul2(wk, e)).collect();
-        g.add(&terms)
+        let sum = g.add(&terms);
+        g.mul2(half, sum)
     };
     x[c] = dot(g, q);
     for (j, row) in big_g.iter().enumerate() {

@@ -12,9 +12,11 @@ use crate::bodies::free::G_PATTERN;
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::ldlt::StructuredLdlt;
+use crate::emit::literal::literal;
 use crate::emit::solve::{checked_motion, corrected};
 use crate::emit::tokens::concat;
 use crate::equations::velocity::Velocity;
+use crate::expr::num::Num;
 use crate::expr::Id;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -151,7 +153,7 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
     (named, checked)
 }
 
-/// Each quaternion's `α = b_norm / (A T)_{norm,α}` (the divisor `2|q|²`
+/// Each quaternion's `α = b_norm / (A T)_{norm,α}` (the divisor `|q|²`
 /// below the safe minimum hands the solve to the dense one), then the kept
 /// rows' right-hand sides `__bv{rr} = b − Σ (A T)_{rα} α`.
 fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
@@ -194,7 +196,8 @@ fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
 }
 
 /// `q̈ = T z`: the kept coordinates as solved, each quaternion's four as
-/// `q α + Gᵀ β` (locals `__qa{i}`); the code and each coordinate's value.
+/// `½ (q α + Gᵀ β)` (locals `__qa{i}`); the code and each coordinate's
+/// value.
 fn accelerations(
     ctx: &Context,
     v: &Velocity,
@@ -205,6 +208,7 @@ fn accelerations(
         values[i] = value_of(p);
     }
     let mut code = TokenStream::new();
+    let (half, _) = literal(Num::Rational(1, 2));
     for &(c, _) in &v.quaternions {
         let beta: Vec<TokenStream> = (0..3).map(|j| values[c + 1 + j].clone()).collect();
         let alpha = Context::local("alpha", c);
@@ -223,7 +227,7 @@ fn accelerations(
             let first = &terms[0];
             let rest = &terms[1..];
             let name = Context::local("qa", c + k);
-            code.extend(quote! { let #name = #first #(#rest)*; });
+            code.extend(quote! { let #name = (#first #(#rest)*) * #half; });
         }
         for k in 0..4 {
             let name = Context::local("qa", c + k);
