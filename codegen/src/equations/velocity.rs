@@ -58,10 +58,22 @@ pub fn quaternions(tree: &[Body]) -> Vec<usize> {
         .collect()
 }
 
-/// The velocity form of `gauss`'s system, where every quaternion has its
-/// norm's row (a row of `A` on its four coordinates alone with `G A_q = 0`
-/// identically, decided on the expressions) and the rest has a saddle-point
-/// order under three quarters of `range_cost`; `None` otherwise.
+/// `TᵀF`, `A T` and each quaternion's norm's row, before any order is
+/// sought.
+pub struct Transformed {
+    /// Each quaternion's `w` coordinate and its norm's row.
+    pub quaternions: Vec<(usize, usize)>,
+    /// Each quaternion's coordinates as expressions.
+    pub q: Vec<[Id; 4]>,
+    /// `TᵀF`.
+    pub forces: Vec<Id>,
+    /// `A T`.
+    pub a: Vec<Vec<Id>>,
+}
+
+/// The velocity form of `gauss`'s system, where [`transformed`] finds it
+/// and the rest has a saddle-point order under three quarters of
+/// `range_cost`; `None` otherwise.
 pub fn form(
     g: &mut Graph,
     (velocity_mass, tree): (&[Vec<Id>], &[Body]),
@@ -69,6 +81,55 @@ pub fn form(
     a: &[Vec<Id>],
     range_cost: usize,
 ) -> Option<Velocity> {
+    let Transformed {
+        quaternions,
+        q,
+        forces,
+        a,
+    } = transformed(g, (velocity_mass, tree), forces, a)?;
+    let n = forces.len();
+    let ws: Vec<usize> = quaternions.iter().map(|&(c, _)| c).collect();
+    let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();
+    let rows: Vec<usize> = (0..a.len())
+        .filter(|r| !quaternions.iter().any(|&(_, s)| s == *r))
+        .collect();
+    let mass: Vec<Vec<Id>> = coordinates
+        .iter()
+        .map(|&i| coordinates.iter().map(|&j| velocity_mass[i][j]).collect())
+        .collect();
+    let reduced_a: Vec<Vec<Id>> = rows
+        .iter()
+        .map(|&r| coordinates.iter().map(|&j| a[r][j]).collect())
+        .collect();
+    let pattern = Structure::new(
+        mass.iter()
+            .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
+            .collect(),
+    );
+    let structure =
+        super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, None, range_cost)?;
+    Some(Velocity {
+        quaternions,
+        q,
+        mass: velocity_mass.to_vec(),
+        forces,
+        a,
+        coordinates,
+        rows,
+        structure,
+    })
+}
+
+/// `TᵀF` and `A T` for every quaternion of the tree, where `TᵀMT` has no
+/// `α` row and each quaternion has its norm's row: a row of `A T` nonzero
+/// at its `α` alone (`G A_q = 0` identically, decided on the expressions);
+/// `None` otherwise.
+pub fn transformed(
+    g: &mut Graph,
+    (velocity_mass, tree): (&[Vec<Id>], &[Body]),
+    forces: &[Id],
+    a: &[Vec<Id>],
+) -> Option<Transformed> {
     let n = forces.len();
     let ws = quaternions(tree);
     if ws.is_empty() || velocity_mass.len() != n {
@@ -101,34 +162,11 @@ pub fn form(
         })?;
         quaternions.push((c, norm));
     }
-    let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();
-    let rows: Vec<usize> = (0..a.len())
-        .filter(|r| !quaternions.iter().any(|&(_, s)| s == *r))
-        .collect();
-    let mass: Vec<Vec<Id>> = coordinates
-        .iter()
-        .map(|&i| coordinates.iter().map(|&j| velocity_mass[i][j]).collect())
-        .collect();
-    let reduced_a: Vec<Vec<Id>> = rows
-        .iter()
-        .map(|&r| coordinates.iter().map(|&j| a[r][j]).collect())
-        .collect();
-    let pattern = Structure::new(
-        mass.iter()
-            .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
-            .collect(),
-    );
-    let structure =
-        super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, None, range_cost)?;
-    Some(Velocity {
+    Some(Transformed {
         quaternions,
         q,
-        mass: velocity_mass.to_vec(),
         forces,
         a,
-        coordinates,
-        rows,
-        structure,
     })
 }
 

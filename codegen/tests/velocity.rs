@@ -1,0 +1,158 @@
+//! The quaternions' velocity coordinates (`equations::velocity`), checked
+//! numerically against the model's own `M`, `F` and `A` at the generator's
+//! random sample points (arbitrary values, so every quaternion is off the
+//! unit sphere): `TᵀMT` from the composite-rigid-body algorithm with the
+//! columns `S T` equals `T` times `M` times `T` formed from numbers, and
+//! `TᵀF`, `A T` likewise, with `T = ½ [q, Gᵀ]` written out here from
+//! `G = [−v, w I − ṽ]`; each norm's row of `A T` is `|q|²` on `α` alone.
+//! For the quadruped (one free joint), a pinned top (one, with a point
+//! fixed) and two free bodies joined at a point (two; `gauss` keeps the
+//! range-space form for them: at the macro's sample points, off the unit
+//! sphere, no elimination order keeps every pivot's sign).
+
+use constrained_codegen::equations::velocity::transformed;
+use constrained_codegen::expr::{Id, Sym};
+use constrained_codegen::numeric::rng::sample_points;
+use constrained_codegen::{analyse_with, Options};
+
+const PINNED_TOP: &str = "
+    pub struct PinnedTop {
+        parameters: [a, c, m, l],
+        bodies: [
+            top {
+                joint: free(x, y, z, qw, qx, qy, qz),
+                mass: m,
+                com: [0.0, 0.0, l],
+                inertia: diag[a - m * l * l, a - m * l * l, c],
+            },
+        ],
+        constraints: [position(top, [0.0, 0.1, 0.0]) == [0.0, 0.0, 0.0]],
+    }";
+
+const JOINED: &str = "
+    pub struct Joined {
+        bodies: [
+            a {
+                joint: free(xa, ya, za, wa, ia, ja, ka),
+                mass: 2.0,
+                inertia: diag[0.1, 0.2, 0.3],
+            },
+            b {
+                joint: free(xb, yb, zb, wb, ib, jb, kb),
+                mass: 1.5,
+                com: [0.0, 0.1, 0.0],
+                inertia: diag[0.05, 0.04, 0.02],
+            },
+        ],
+        constraints: [position(a, [0.3, 0.0, 0.0]) == position(b, [0.0, 0.0, -0.2])],
+    }";
+
+/// `T` at one point, n × n: the identity but for each quaternion's block.
+fn transformation(n: usize, quaternions: &[usize], value: &dyn Fn(Sym) -> f64) -> Vec<Vec<f64>> {
+    let mut t: Vec<Vec<f64>> = (0..n)
+        .map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect())
+        .collect();
+    for &c in quaternions {
+        let [w, x, y, z] = [0, 1, 2, 3].map(|k| value(Sym::Coord(c + k)));
+        // Rows of G, written out: ω = 2 G q̇.
+        let g = [[-x, w, z, -y], [-y, -z, w, x], [-z, y, -x, w]];
+        for k in 0..4 {
+            t[c + k][c] = 0.5 * [w, x, y, z][k];
+            for j in 0..3 {
+                t[c + k][c + 1 + j] = 0.5 * g[j][k];
+            }
+        }
+    }
+    t
+}
+
+fn close(what: &str, got: f64, want: f64, scale: f64) {
+    assert!(
+        (got - want).abs() <= 1e-11 * scale.max(1.0),
+        "{what}: {got} against {want}"
+    );
+}
+
+/// Checks the velocity form of `text` at every sample point; returns how
+/// many quaternions it has.
+fn check(text: &str) -> usize {
+    let tokens: proc_macro2::TokenStream = text.parse().expect("tokens");
+    let (mut eq, _) = analyse_with(tokens, Options { jacobians: false }).expect("valid");
+    let bodies = eq.system.bodies.clone().expect("a tree");
+    let velocity_mass = bodies.velocity_mass.clone().expect("quaternion joints");
+    let (mass, forces, a) = (
+        eq.system.mass.clone(),
+        eq.system.forces.clone(),
+        eq.a.clone(),
+    );
+    let v = transformed(
+        &mut eq.system.graph,
+        (&velocity_mass, &bodies.tree),
+        &forces,
+        &a,
+    )
+    .expect("each quaternion's norm's row");
+    let g = &eq.system.graph;
+    let (n, k) = (forces.len(), a.len());
+    let quaternions: Vec<usize> = v.quaternions.iter().map(|&(c, _)| c).collect();
+    let mut roots: Vec<Id> = mass.iter().flatten().copied().collect();
+    roots.extend(forces.iter().copied());
+    roots.extend(a.iter().flatten().copied());
+    roots.extend(velocity_mass.iter().flatten().copied());
+    roots.extend(v.forces.iter().copied());
+    roots.extend(v.a.iter().flatten().copied());
+    for point in sample_points(0x7e10_c171) {
+        let x = g.eval(&roots, &point);
+        let (m, rest) = x.split_at(n * n);
+        let (f, rest) = rest.split_at(n);
+        let (am, rest) = rest.split_at(k * n);
+        let (vm, rest) = rest.split_at(n * n);
+        let (vf, va) = rest.split_at(n);
+        let t = transformation(n, &quaternions, &point);
+        let scale = m
+            .iter()
+            .chain(f)
+            .chain(am)
+            .fold(0.0_f64, |s, v| s.max(v.abs()));
+        for i in 0..n {
+            for j in 0..n {
+                let want: f64 = (0..n)
+                    .flat_map(|p| (0..n).map(move |r| (p, r)))
+                    .map(|(p, r)| t[p][i] * m[p * n + r] * t[r][j])
+                    .sum();
+                close(&format!("TᵀMT ({i}, {j})"), vm[i * n + j], want, scale);
+            }
+            let want: f64 = (0..n).map(|p| t[p][i] * f[p]).sum();
+            close(&format!("TᵀF {i}"), vf[i], want, scale);
+            for r in 0..k {
+                let want: f64 = (0..n).map(|p| am[r * n + p] * t[p][i]).sum();
+                close(&format!("A T ({r}, {i})"), va[r * n + i], want, scale);
+            }
+        }
+        for &(c, norm) in &v.quaternions {
+            let q2: f64 = (0..4).map(|k| point(Sym::Coord(c + k)).powi(2)).sum();
+            close("the norm's row at α", va[norm * n + c], q2, 1.0);
+            for i in (0..n).filter(|&i| i != c) {
+                assert!(g.is_zero(v.a[norm][i]), "the norm's row at {i}");
+                assert!(g.is_zero(velocity_mass[c][i]), "TᵀMT's α row at {i}");
+            }
+        }
+    }
+    v.quaternions.len()
+}
+
+#[test]
+fn the_quadruped_in_velocity_coordinates_is_its_model_transformed() {
+    let text = constrained_codegen::tools::fixtures::quadruped().expect("the quadruped");
+    assert_eq!(check(&text), 1);
+}
+
+#[test]
+fn a_pinned_top_in_velocity_coordinates_is_its_model_transformed() {
+    assert_eq!(check(PINNED_TOP), 1);
+}
+
+#[test]
+fn two_joined_free_bodies_in_velocity_coordinates_are_their_model_transformed() {
+    assert_eq!(check(JOINED), 2);
+}
