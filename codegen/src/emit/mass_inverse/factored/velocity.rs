@@ -64,7 +64,7 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
     };
     let (recover, acceleration) = accelerations(ctx, v, &value_of);
     let (norms, mu) = multipliers(ctx, v, &value_of);
-    let acc = ctx.vector_value(acceleration.into_iter());
+    let acc = ctx.vector_value(acceleration);
     // Fᶜ = Aᵀλ = −Aᵀμ, with the model's A.
     let force = (0..ctx.n).map(|i| {
         let terms: Vec<TokenStream> = (0..ctx.k)
