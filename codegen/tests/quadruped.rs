@@ -129,3 +129,30 @@ fn a_redundant_set_keeps_the_range_space_form() {
     assert!(f.saddle.is_none(), "a dependent row has no safe pivot");
     assert!(f.velocity.is_none(), "nor in the velocity coordinates");
 }
+
+/// The derivation says what `acceleration` computes: the solve in the
+/// quaternion's velocity coordinates, `α` from the norm's row (row 12,
+/// the quaternion at `qw`), then the rest's `L D Lᵀ` in its order, whose
+/// coordinates name `β₀…β₂` in place of the quaternion's `qx…qz`.
+#[test]
+fn the_derivation_describes_the_velocity_solve() {
+    let (eq, partition) =
+        analyse_with(quadruped(), Options { jacobians: false }).expect("the quadruped is valid");
+    let text = constrained_codegen::emit::derivation::text(&eq, &partition);
+    let at = text
+        .find("acceleration solves instead, in the quaternions' velocity coordinates")
+        .expect("the velocity solve described");
+    let part = &text[at..];
+    assert!(part.contains("quaternions at qw (row 12)"), "{part}");
+    assert!(part.contains("(18 coordinates, 12 rows)"), "{part}");
+    let order = part.lines().nth(5).expect("the order's line");
+    for name in ["fl_haa", "μ0", "β0", "β1", "β2", "x", "μ11"] {
+        assert!(
+            order
+                .split(", ")
+                .any(|s| s.trim() == name || s.trim().starts_with(&format!("{name} "))),
+            "{name} in {order}"
+        );
+    }
+    assert!(!order.contains("qx"), "{order}");
+}

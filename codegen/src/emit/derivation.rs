@@ -476,6 +476,7 @@ fn generalized_inverse(
         MassInverse::Symbolic(d) => d,
         MassInverse::Factored(f) => {
             factored(w, f, coordinates, rank);
+            super::derivation_saddle::text(w, f, coordinates, (rank, k));
             return;
         }
         MassInverse::Auxiliary(f) => {
@@ -494,6 +495,7 @@ fn generalized_inverse(
                  complete M's rank. It is solved for M_A, F_A on the pattern of M + A_RᵀA_R:"
             );
             factored(w, f, coordinates, rank);
+            super::derivation_saddle::text(w, f, coordinates, (rank, k));
             return;
         }
     };

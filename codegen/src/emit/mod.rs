@@ -26,6 +26,7 @@ mod chunks;
 mod context;
 pub mod derivation;
 mod derivation_bodies;
+mod derivation_saddle;
 mod dynamics;
 mod forwards;
 mod friction;

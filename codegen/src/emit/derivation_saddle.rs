@@ -1,0 +1,83 @@
+//! The derivation's account of `gauss` where it solves the saddle-point
+//! system (`crate::equations::saddle_point`), or that system in the
+//! quaternions' velocity coordinates (`crate::equations::velocity`),
+//! rather than the range-space form the generalized-inverse equation
+//! describes: what `acceleration` computes, in its compile-time order.
+
+use crate::equations::mass_inverse::Factored;
+use crate::numeric::sparsity::Structure;
+use std::fmt::Write;
+
+/// The elimination order of `s`, its rows named by `name`.
+fn order(s: &Structure, name: impl Fn(usize) -> String) -> String {
+    s.order
+        .iter()
+        .map(|&i| name(i))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The lines for `f`'s saddle-point solve, where `gauss` takes it (every
+/// row independent: `rank` is `k`); nothing otherwise.
+pub(super) fn text(
+    w: &mut String,
+    f: &Factored,
+    coordinates: &[String],
+    (rank, k): (usize, usize),
+) {
+    if rank != k {
+        return;
+    }
+    let pivots = "a coordinate's pivot must be positive and a row's negative, \
+                  away from 0, else the runtime's dense solve answers";
+    if let Some(v) = &f.velocity {
+        let nr = v.coordinates.len();
+        let name = |i: usize| {
+            if i < nr {
+                let c = v.coordinates[i];
+                match v.quaternions.iter().find(|&&(w, _)| c > w && c <= w + 3) {
+                    Some(&(w, _)) => format!("β{}", c - w - 1),
+                    None => coordinates[c].clone(),
+                }
+            } else {
+                format!("μ{}", v.rows[i - nr])
+            }
+        };
+        let quaternions: Vec<String> = v
+            .quaternions
+            .iter()
+            .map(|&(w, r)| format!("{} (row {r})", coordinates[w]))
+            .collect();
+        let _ = writeln!(
+            w,
+            "  acceleration solves instead, in the quaternions' velocity coordinates\n  \
+             q̈_q = ½ (q α + Gᵀ β), G = [−v, w I − ṽ] (T = ½ [q, Gᵀ], invertible wherever q ≠ 0),\n  \
+             [TᵀMT TᵀAᵀ; A T 0] [z; μ] = [TᵀF; b], λ = −μ: each norm's row reads |q|² α = b\n  \
+             on α alone, so α = b_norm / |q|² first (quaternions at {}),\n  \
+             b ← b − (A T)_α α for the other rows, then L D Lᵀ of the rest ({} coordinates, {} rows) in the order\n  \
+             {} ({pivots}),\n  \
+             then q̈ = T z and μ_norm = ((TᵀF)_α − Σ (A T)_rα μ_r) / |q|²",
+            quaternions.join(", "),
+            nr,
+            v.rows.len(),
+            order(&v.structure, name),
+        );
+        return;
+    }
+    if let Some(s) = &f.saddle {
+        let n = f.mass.len();
+        let name = |i: usize| {
+            if i < n {
+                coordinates[i].clone()
+            } else {
+                format!("μ{}", i - n)
+            }
+        };
+        let _ = writeln!(
+            w,
+            "  acceleration solves instead [M Aᵀ; A 0] [q̈; μ] = [F; b], λ = −μ, by L D Lᵀ in the order\n  \
+             {} ({pivots})",
+            order(s, name),
+        );
+    }
+}
