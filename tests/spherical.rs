@@ -7,7 +7,9 @@
 
 use constrained::models::{quaternion_state, HeavyTop, SphericalPendulum};
 use constrained::nalgebra::{Quaternion, Rotation3, SVector, UnitQuaternion, Vector3, Vector4};
-use constrained::{constrained_system, ConstrainedSystem, DormandPrince45, Stabilization, State};
+use constrained::{
+    constrained_system, ConstrainedSystem, DormandPrince45, DynamicsError, Stabilization, State,
+};
 
 constrained_system! {
     /// A symmetric top on a spherical joint at the world's origin: mass
@@ -264,4 +266,94 @@ fn a_floating_urdf_joint_is_the_bodies_free_joint() {
     }
     println!("floating URDF against the bodies section: {worst:.1e}");
     assert!(worst < 1e-12, "{worst:e}");
+}
+
+constrained_system! {
+    /// [`ArmAndBall`] with a point of the ball held on the plane
+    /// `z = −0.9`: one row besides the norm's, on the arm and the ball.
+    pub struct TetheredBall {
+        bodies: [
+            arm {
+                joint: revolute(q1, [0.0, 1.0, 0.0]),
+                mass: 1.2,
+                com: [0.0, 0.0, -0.3],
+                inertia: diag[0.02, 0.03, 0.004],
+            },
+            ball {
+                parent: arm,
+                joint: spherical(e0, e1, e2, e3),
+                xyz: [0.0, 0.0, -0.6],
+                rpy: [PI / 2.0, 0.0, 0.3],
+                mass: 0.8,
+                com: [0.05, -0.02, -0.2],
+                inertia: [[0.01, 0.001, 0.0], [0.001, 0.012, -0.002], [0.0, -0.002, 0.006]],
+            },
+        ],
+        constraints: [position(ball, [0.1, 0.0, -0.4]).z == -0.9],
+    }
+}
+
+/// A spherical joint inside a chain, with a row on both its bodies, is
+/// solved in the quaternion's velocity coordinates
+/// (`codegen/tests/velocity.rs`): at 10 states, half of them with the
+/// quaternion scaled off the unit sphere (by 0.84 to 1.16) and moving
+/// along itself, `q̈` and `Aᵀλ` equal the runtime's dense solve of the
+/// model's own system to 1e-12 and 1e-10, and `A q̈ = b` holds to 1e-12.
+/// (The states need not satisfy the plane's row: `q̈` is defined at any
+/// state.)
+#[test]
+fn a_tethered_ball_in_velocity_coordinates_is_the_dense_solve() {
+    let sys = TetheredBall::<f64>::new();
+    let mut fast = 0;
+    for k in 0..10 {
+        let x = f64::from(k);
+        let r = quaternion_state(
+            0.0,
+            Vector4::new(0.9, 0.2 * x.sin(), -0.3, 0.1 * x),
+            Vector3::new(1.5, -0.7 * x.cos(), 2.0),
+        );
+        let mut q =
+            SVector::<f64, 5>::from_column_slice(&[0.6 + 0.1 * x, r.q[0], r.q[1], r.q[2], r.q[3]]);
+        let mut qd =
+            SVector::<f64, 5>::from_column_slice(&[-1.1, r.qd[0], r.qd[1], r.qd[2], r.qd[3]]);
+        if k % 2 == 1 {
+            for i in 1..5 {
+                qd[i] += 0.3 * q[i];
+                q[i] *= 1.0 + 0.04 * (x - 5.0);
+            }
+        }
+        let (qdd, force) =
+            constrained::__private::Generated::gauss(&sys, &q, &qd, 0.0, None).expect("answers");
+        let (dense, dense_force) =
+            constrained::__private::gauss_dense(&sys, &q, &qd, 0.0, None).expect("answers");
+        fast += usize::from(qdd != dense);
+        let gap = (qdd - dense).amax() / dense.amax();
+        assert!(gap < 1e-12, "state {k}: q̈ {gap:e}");
+        let gap = (force - dense_force).amax() / dense_force.amax().max(1e-300);
+        assert!(gap < 1e-10, "state {k}: Aᵀλ {gap:e}");
+        let (a, b) = sys.constraint_matrices(&q, &qd, 0.0);
+        let residual = (a * qdd - b).amax() / (a.amax() * qdd.amax() + b.amax());
+        assert!(residual < 1e-12, "state {k}: A q̈ − b {residual:e}");
+    }
+    assert_eq!(fast, 10, "the generated solve answered every state itself");
+    // Far off the sphere (|q| 1.35 here) this `M` is no longer positive
+    // semi-definite (an eigenvalue −0.044): the generated solve says so,
+    // as the dense one does.
+    let r = quaternion_state(0.0, Vector4::new(0.9, 0.2, -0.3, 0.7), Vector3::zeros());
+    let q = SVector::<f64, 5>::from_column_slice(&[
+        1.3,
+        1.35 * r.q[0],
+        1.35 * r.q[1],
+        1.35 * r.q[2],
+        1.35 * r.q[3],
+    ]);
+    let qd = SVector::<f64, 5>::zeros();
+    let generated = constrained::__private::Generated::gauss(&sys, &q, &qd, 0.0, None);
+    let dense = constrained::__private::gauss_dense(&sys, &q, &qd, 0.0, None);
+    assert!(sys.mass_matrix(&q, 0.0).symmetric_eigenvalues().min() < -1e-3);
+    assert_eq!(
+        generated.err(),
+        Some(DynamicsError::MassNotPositiveDefinite)
+    );
+    assert_eq!(dense.err(), Some(DynamicsError::MassNotPositiveDefinite));
 }

@@ -6,10 +6,14 @@
 //! `TᵀF`, `A T` likewise, with `T = ½ [q, Gᵀ]` written out here from
 //! `G = [−v, w I − ṽ]`; each norm's row of `A T` is `|q|²` on `α` alone.
 //! For the quadruped (one free joint), a pinned top (one, with a point
-//! fixed) and two free bodies joined at a point (two; `gauss` keeps the
-//! range-space form for them: at the macro's sample points, off the unit
-//! sphere, no elimination order keeps every pivot's sign).
+//! fixed), two free bodies joined at a point (two) and a ball on a
+//! spherical joint at an arm's tip, a point of it on a plane (one, inside
+//! the chain); `gauss` takes the velocity form for each. (It did not for
+//! the last two while the saddle-point order was tested at the raw sample
+//! points: off the unit sphere their `M` has pivots of either sign, and no
+//! order passed; the points are now put on the sphere.)
 
+use constrained_codegen::equations::mass_inverse::MassInverse;
 use constrained_codegen::equations::velocity::transformed;
 use constrained_codegen::expr::{Id, Sym};
 use constrained_codegen::numeric::rng::sample_points;
@@ -138,6 +142,11 @@ fn check(text: &str) -> usize {
             }
         }
     }
+    let chosen = match &eq.mass_inverse {
+        MassInverse::Auxiliary(f) => f.velocity.is_some(),
+        _ => false,
+    };
+    assert!(chosen, "gauss takes the velocity form");
     v.quaternions.len()
 }
 
@@ -155,4 +164,31 @@ fn a_pinned_top_in_velocity_coordinates_is_its_model_transformed() {
 #[test]
 fn two_joined_free_bodies_in_velocity_coordinates_are_their_model_transformed() {
     assert_eq!(check(JOINED), 2);
+}
+
+const TETHERED_BALL: &str = "
+    pub struct TetheredBall {
+        bodies: [
+            arm {
+                joint: revolute(q1, [0.0, 1.0, 0.0]),
+                mass: 1.2,
+                com: [0.0, 0.0, -0.3],
+                inertia: diag[0.02, 0.03, 0.004],
+            },
+            ball {
+                parent: arm,
+                joint: spherical(e0, e1, e2, e3),
+                xyz: [0.0, 0.0, -0.6],
+                rpy: [1.5707963267948966, 0.0, 0.3],
+                mass: 0.8,
+                com: [0.05, -0.02, -0.2],
+                inertia: [[0.01, 0.001, 0.0], [0.001, 0.012, -0.002], [0.0, -0.002, 0.006]],
+            },
+        ],
+        constraints: [position(ball, [0.1, 0.0, -0.4]).z == -0.9],
+    }";
+
+#[test]
+fn a_spherical_joint_inside_a_chain_in_velocity_coordinates_is_its_model_transformed() {
+    assert_eq!(check(TETHERED_BALL), 1);
 }

@@ -213,11 +213,13 @@ impl Factored {
             .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
             .collect();
         let range_cost = super::saddle_point::range_cost(&mass, &gram, &pattern);
+        let quaternions =
+            tree.map_or_else(Vec::new, |(_, bodies)| super::velocity::quaternions(bodies));
         let saddle = super::saddle_point::structure(
             g,
             (mass_entries, &mass),
             a,
-            auxiliary.as_ref().map(|x| &x.normal[..]),
+            (auxiliary.as_ref().map(|x| &x.normal[..]), &quaternions),
             range_cost,
         );
         let velocity = tree.and_then(|t| super::velocity::form(g, t, forces, a, range_cost));

@@ -20,7 +20,8 @@
 //! above `10⁻²` times the part its own coordinates contributed
 //! (`Σ u²/d` over the coordinate pivots that updated it). The order is
 //! chosen greedily (fewest neighbours first) among the pivots that pass
-//! that test at every compile-time sample point, numerically; where no
+//! that test at every compile-time sample point, numerically (each
+//! quaternion put on the unit sphere there, where the states are); where no
 //! pivot passes at some step, or where the estimated operations are not
 //! under three quarters of the range-space form's (the estimates count
 //! the factorizations' and solves' operations from the patterns alone;
@@ -38,7 +39,7 @@
 //! each leg's elimination reads stays in registers only when it runs in
 //! one piece.
 
-use crate::expr::{Graph, Id};
+use crate::expr::{Graph, Id, Sym};
 use crate::numeric::sparsity::Structure;
 
 /// The margin a multiplier's pivot must keep at every sample point, against
@@ -50,12 +51,15 @@ const MARGIN: f64 = 1e-2;
 /// `None` where the range-space form is kept. `mass_pattern` is `M`'s or
 /// the auxiliary mass's pattern, `normal` the auxiliary mass's `A_RᵀA_R`
 /// (`super::mass_inverse::Auxiliary::normal`) for a semi-definite `M`,
-/// `range_cost` the range-space form's estimated operations.
+/// `range_cost` the range-space form's estimated operations. The sample
+/// points put the quaternions whose `w` is in `quaternions` on the unit
+/// sphere, where the states are (off it a body's `M` need not be
+/// positive semi-definite, and no order would pass there).
 pub fn structure(
     g: &Graph,
     (mass, mass_pattern): (&[Vec<Id>], &Structure),
     a: &[Vec<Id>],
-    normal: Option<&[Vec<Id>]>,
+    (normal, quaternions): (Option<&[Vec<Id>]>, &[usize]),
     range_cost: usize,
 ) -> Option<Structure> {
     let (n, k) = (mass.len(), a.len());
@@ -78,7 +82,7 @@ pub fn structure(
             }
         }
     }
-    let samples = sampled(g, mass, a, normal)?;
+    let samples = sampled(g, mass, a, (normal, quaternions))?;
     let order = greedy_order(&nonzero, n, samples)?;
     let structure = Structure::with_order(nonzero, order);
     (4 * saddle_cost(&structure) < 3 * range_cost).then_some(structure)
@@ -90,7 +94,7 @@ fn sampled(
     g: &Graph,
     mass: &[Vec<Id>],
     a: &[Vec<Id>],
-    normal: Option<&[Vec<Id>]>,
+    (normal, quaternions): (Option<&[Vec<Id>]>, &[usize]),
 ) -> Option<Vec<Vec<Vec<f64>>>> {
     let (n, k) = (mass.len(), a.len());
     let mut entries: Vec<Id> = mass.iter().flatten().copied().collect();
@@ -100,7 +104,20 @@ fn sampled(
     }
     let mut out = Vec::new();
     for point in crate::numeric::rng::sample_points(0x5add_1e00) {
-        let values = g.eval(&entries, &point);
+        let on_sphere = |s: Sym| match s {
+            Sym::Coord(i) => match quaternions.iter().find(|&&w| (w..w + 4).contains(&i)) {
+                Some(&w) => {
+                    let norm = (w..w + 4)
+                        .map(|j| point(Sym::Coord(j)).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    point(s) / norm
+                }
+                None => point(s),
+            },
+            _ => point(s),
+        };
+        let values = g.eval(&entries, &on_sphere);
         if !values.iter().all(|v| v.is_finite()) {
             return None;
         }

@@ -107,7 +107,7 @@ pub fn form(
             .collect(),
     );
     let structure =
-        super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, None, range_cost)?;
+        super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, (None, &ws), range_cost)?;
     Some(Velocity {
         quaternions,
         q,
