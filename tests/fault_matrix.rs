@@ -588,6 +588,41 @@ fn the_quadruped_in_the_fault_matrix() {
     );
 }
 
+/// The models `gauss` solves in their quaternions' velocity coordinates
+/// besides the quadruped — two free bodies joined at a point (two
+/// quaternions) and a ball on a spherical joint inside a chain with a
+/// point on a plane — through the same hostile states, in f64 and f32: no
+/// panic, every `Ok` finite, every `Ok` from finite input holding
+/// `A q̈ = b`.
+#[test]
+fn the_velocity_coordinates_in_the_fault_matrix() {
+    use crate::contacts::Joined;
+    use crate::spherical::TetheredBall;
+    let mut tally = Tally::default();
+    macro_rules! both {
+        ($t:ty) => {
+            model::<$t, _, 14, 5, 0>(&mut tally, "Joined", |_| Joined::new(), []);
+            model::<$t, _, 5, 2, 0>(&mut tally, "TetheredBall", |_| TetheredBall::new(), []);
+        };
+    }
+    both!(f64);
+    both!(f32);
+    println!(
+        "velocity coordinates' fault matrix: {} evaluations, {} Ok (each judged), {} Err, {} failures",
+        tally.evaluations,
+        tally.ok,
+        tally.err,
+        tally.failures.len()
+    );
+    assert!(tally.ok > 0, "no Ok to judge");
+    assert!(
+        tally.failures.is_empty(),
+        "{} failures:\n{}",
+        tally.failures.len(),
+        tally.failures.join("\n")
+    );
+}
+
 /// Every integrator with settings that cannot work: an `Err` up front, never
 /// a hang or a panic; with good settings from hostile states, `Ok` only with
 /// a finite state.
