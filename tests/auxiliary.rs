@@ -28,6 +28,11 @@ pub(crate) struct Gaps {
     pub force: f64,
     /// `maxᵢ |Aᵢ q̈ − bᵢ| / (‖Aᵢ‖₁ ‖q̈‖∞ + |bᵢ|)` of the generated `q̈`.
     pub residual: f64,
+    /// The solves (states, with and without the correction) where the
+    /// generated `q̈` is not bit for bit the dense one's: the generated
+    /// solve answered itself rather than handing the state to the dense
+    /// one.
+    pub own: usize,
 }
 
 /// The generated `gauss` against `gauss_dense` at every state, plain and
@@ -52,6 +57,7 @@ where
             let (dense_qdd, dense_force) =
                 gauss_dense(system, &s.q, &s.qd, s.t, correction).expect("the dense solve answers");
             let forces = system.forces(&s.q, &s.qd, s.t);
+            gaps.own += usize::from(qdd != dense_qdd);
             gaps.acceleration = gaps
                 .acceleration
                 .max((qdd - dense_qdd).amax() / dense_qdd.amax());

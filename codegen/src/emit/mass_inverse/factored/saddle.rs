@@ -47,29 +47,93 @@ pub(super) fn solver(ctx: &Context, f: &Factored, saddle: &Structure) -> TokenSt
     let factor = ldlt.factor();
     let mut rhs = forces_rhs(ctx, f);
     rhs.extend(b.iter().map(|name| Some(quote!(#name))));
+    let (solve, values) = solved(&ldlt, &rhs, (n, k));
+    let acceleration: Vec<TokenStream> = values[..n].iter().map(or_zero).collect();
+    let body = concat([head, prelude, entries, factor, solve]);
+    function(
+        ctx,
+        (acceleration, &values[n..]),
+        body,
+        "the saddle-point system, factored once.",
+    )
+}
+
+/// The function `gauss` from the code `body` that computes `q̈`'s entries
+/// `acceleration` and each row's `μ` (`None` where structurally zero):
+/// `Fᶜ = Aᵀλ = −Aᵀμ` with the model's `A`, `λ = −μ`, checked as every
+/// solve's motion is; `how` ends its documentation.
+pub(super) fn function(
+    ctx: &Context,
+    (acceleration, mu): (Vec<TokenStream>, &[Option<TokenStream>]),
+    body: TokenStream,
+    how: &str,
+) -> TokenStream {
+    let acc = ctx.vector_value(acceleration);
+    let force = ctx.vector_value(constraint_force(ctx, mu));
+    let lambda: Vec<TokenStream> = mu
+        .iter()
+        .map(|m| {
+            let m = or_zero(m);
+            quote!(-#m)
+        })
+        .collect();
+    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None);
+    let body = bounded(body, &value);
+    let signature = ctx.gauss_signature();
+    let doc = format!(
+        " `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,\n \
+         `constraint_force` and `acceleration_corrected` (`b + correction`),\n \
+         as `__F` makes it: {how}"
+    );
+    quote! {
+        #[doc = #doc]
+        #[inline(always)]
+        #signature {
+            #body
+            #value
+        }
+    }
+}
+
+/// The solve of the saddle-point system for `rhs` into `__kq{i}` (its
+/// `n` coordinates) and `__mu{r}` (its `k` rows): the code, and each
+/// unknown's local by position (`None` where structurally zero).
+pub(super) fn solved(
+    ldlt: &StructuredLdlt,
+    rhs: &[Option<TokenStream>],
+    (n, k): (usize, usize),
+) -> (TokenStream, Vec<Option<TokenStream>>) {
     let out: Vec<Ident> = (0..n)
         .map(|i| Context::local("kq", i))
         .chain((0..k).map(|r| Context::local("mu", r)))
         .collect();
-    let (solve, bound) = ldlt.solve_sparse(&rhs, "ky", &out);
-    let value_of = |p: usize| {
-        let name = &out[p];
-        if bound[p] {
-            quote!(#name)
-        } else {
-            quote!(T::zero())
-        }
-    };
-    let acceleration = (0..n).map(value_of);
-    let acc = ctx.vector_value(acceleration);
-    // Fᶜ = Aᵀλ = −Aᵀμ.
+    let (solve, bound) = ldlt.solve_sparse(rhs, "ky", &out);
+    let values = out
+        .iter()
+        .zip(bound)
+        .map(|(name, bound)| bound.then(|| quote!(#name)))
+        .collect();
+    (solve, values)
+}
+
+/// A solved value, `T::zero()` where structurally zero.
+pub(super) fn or_zero(value: &Option<TokenStream>) -> TokenStream {
+    value.clone().unwrap_or_else(|| quote!(T::zero()))
+}
+
+/// `Fᶜ = Aᵀλ = −Aᵀμ` with the model's `A` (locals `__a{r}_{i}`), one
+/// expression per coordinate, from each row's `μ`.
+pub(super) fn constraint_force<'a>(
+    ctx: &'a Context,
+    mu: &'a [Option<TokenStream>],
+) -> impl Iterator<Item = TokenStream> + 'a {
     let g = &ctx.eq.system.graph;
-    let force = (0..n).map(|i| {
-        let terms: Vec<TokenStream> = (0..k)
-            .filter(|&r| !g.is_zero(ctx.eq.a[r][i]) && bound[n + r])
-            .map(|r| {
-                let (a, mu) = (a_entry(r, i), &out[n + r]);
-                quote!(#a * #mu)
+    (0..ctx.n).map(move |i| {
+        let terms: Vec<TokenStream> = (0..ctx.k)
+            .filter(|&r| !g.is_zero(ctx.eq.a[r][i]))
+            .filter_map(|r| {
+                let (a, m) = (a_entry(r, i), mu[r].as_ref()?);
+                Some(quote!(#a * #m))
             })
             .collect();
         if terms.is_empty() {
@@ -77,28 +141,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored, saddle: &Structure) -> TokenSt
         } else {
             quote!(-(#(#terms)+*))
         }
-    });
-    let force = ctx.vector_value(force);
-    let lambda: Vec<TokenStream> = (0..k)
-        .map(|r| {
-            let mu = value_of(n + r);
-            quote!(-#mu)
-        })
-        .collect();
-    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None);
-    let body = concat([head, prelude, entries, factor, solve]);
-    let body = bounded(body, &value);
-    let signature = ctx.gauss_signature();
-    quote! {
-        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
-        /// as `__F` makes it: the saddle-point system, factored once.
-        #[inline(always)]
-        #signature {
-            #body
-            #value
-        }
-    }
+    })
 }
 
 /// The saddle-point matrix's entries `__k{i}_{j}` (lower triangle, its

@@ -7,13 +7,13 @@
 //! `q̈ = T z` and the norms' multipliers. `Aᵀλ` is formed with the model's
 //! `A`, so every output is in the model's coordinates.
 
+use super::saddle::{function, or_zero, solved};
 use super::{auxiliary, bind};
 use crate::bodies::free::G_PATTERN;
-use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::literal::literal;
-use crate::emit::solve::{checked_motion, corrected};
+use crate::emit::solve::corrected;
 use crate::emit::tokens::concat;
 use crate::equations::velocity::Velocity;
 use crate::expr::num::Num;
@@ -49,54 +49,16 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
         let name = Context::local("bv", rr);
         Some(quote!(#name))
     }));
-    let out: Vec<Ident> = (0..nr)
-        .map(|i| Context::local("kq", i))
-        .chain((0..kr).map(|r| Context::local("mu", r)))
-        .collect();
-    let (solve, bound) = ldlt.solve_sparse(&rhs, "ky", &out);
-    let value_of = |p: usize| {
-        let name = &out[p];
-        if bound[p] {
-            quote!(#name)
-        } else {
-            quote!(T::zero())
-        }
-    };
-    let (recover, acceleration) = accelerations(ctx, v, &value_of);
-    let (norms, mu) = multipliers(ctx, v, &value_of);
-    let acc = ctx.vector_value(acceleration);
-    // Fᶜ = Aᵀλ = −Aᵀμ, with the model's A.
-    let force = (0..ctx.n).map(|i| {
-        let terms: Vec<TokenStream> = (0..ctx.k)
-            .filter(|&r| !g.is_zero(ctx.eq.a[r][i]))
-            .map(|r| {
-                let (a, m) = (Context::local2("a", r, i), &mu[r]);
-                quote!(#a * #m)
-            })
-            .collect();
-        if terms.is_empty() {
-            quote!(T::zero())
-        } else {
-            quote!(-(#(#terms)+*))
-        }
-    });
-    let force = ctx.vector_value(force);
-    let lambda: Vec<TokenStream> = mu.iter().map(|m| quote!(-#m)).collect();
-    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None);
+    let (solve, values) = solved(&ldlt, &rhs, (nr, kr));
+    let (recover, acceleration) = accelerations(ctx, v, &values);
+    let (norms, mu) = multipliers(ctx, v, &values);
     let body = concat([head, correction, alphas, factor, solve, recover, norms]);
-    let body = bounded(body, &value);
-    let signature = ctx.gauss_signature();
-    quote! {
-        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
-        /// as `__F` makes it: in the quaternions' velocity coordinates, the
-        /// saddle-point system factored once.
-        #[inline(always)]
-        #signature {
-            #body
-            #value
-        }
-    }
+    function(
+        ctx,
+        (acceleration, &mu),
+        body,
+        "in the quaternions' velocity coordinates, the saddle-point system factored once.",
+    )
 }
 
 /// The locals bound from the expressions: `TᵀMT`'s entries of the
@@ -201,11 +163,11 @@ fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
 fn accelerations(
     ctx: &Context,
     v: &Velocity,
-    value_of: &dyn Fn(usize) -> TokenStream,
+    solved: &[Option<TokenStream>],
 ) -> (TokenStream, Vec<TokenStream>) {
     let mut values: Vec<TokenStream> = (0..ctx.n).map(|_| quote!(T::zero())).collect();
     for (p, &i) in v.coordinates.iter().enumerate() {
-        values[i] = value_of(p);
+        values[i] = or_zero(&solved[p]);
     }
     let mut code = TokenStream::new();
     let (half, _) = literal(Num::Rational(1, 2));
@@ -237,18 +199,19 @@ fn accelerations(
     (code, values)
 }
 
-/// `μ` for every row: the kept rows' as solved, each norm's
+/// `μ` for every row (`None` where structurally zero): the kept rows' as
+/// solved, each norm's
 /// `((TᵀF)_α − Σ (A T)_{rα} μ_r) / (A T)_{norm,α}` (locals `__mun{r}`).
 fn multipliers(
     ctx: &Context,
     v: &Velocity,
-    value_of: &dyn Fn(usize) -> TokenStream,
-) -> (TokenStream, Vec<TokenStream>) {
+    solved: &[Option<TokenStream>],
+) -> (TokenStream, Vec<Option<TokenStream>>) {
     let g = &ctx.eq.system.graph;
     let nr = v.coordinates.len();
-    let mut mu: Vec<TokenStream> = (0..ctx.k).map(|_| quote!(T::zero())).collect();
+    let mut mu: Vec<Option<TokenStream>> = vec![None; ctx.k];
     for (rr, &r) in v.rows.iter().enumerate() {
-        mu[r] = value_of(nr + rr);
+        mu[r] = solved[nr + rr].clone();
     }
     let mut code = TokenStream::new();
     for &(c, norm) in &v.quaternions {
@@ -262,9 +225,9 @@ fn multipliers(
             .rows
             .iter()
             .filter(|&&r| !g.is_zero(v.a[r][c]))
-            .map(|&r| {
-                let (a, m) = (Context::local2("aa", r, c), &mu[r]);
-                quote!(#a * #m)
+            .filter_map(|&r| {
+                let (a, m) = (Context::local2("aa", r, c), mu[r].as_ref()?);
+                Some(quote!(#a * #m))
             })
             .collect();
         let an = Context::local2("aa", norm, c);
@@ -275,7 +238,7 @@ fn multipliers(
             quote!((#f - (#(#terms)+*)) / #an)
         };
         code.extend(quote! { let #name = #value; });
-        mu[norm] = quote!(#name);
+        mu[norm] = Some(quote!(#name));
     }
     (code, mu)
 }
