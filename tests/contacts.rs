@@ -327,7 +327,7 @@ fn the_joined_bodies_velocity_solve_equals_the_dense_one() {
         states.push(State::new(0.0, q, qd));
     }
     use crate::auxiliary::{against_dense, assert_close};
-    let gaps = against_dense::<_, 14, 3>(&sys, &states);
+    let gaps = against_dense::<_, 14, 5>(&sys, &states);
     assert_close("Joined, on and off the sphere", &gaps);
     assert_eq!(
         gaps.own, 24,
