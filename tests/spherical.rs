@@ -126,28 +126,40 @@ fn a_rod_on_a_spherical_joint_is_the_spherical_pendulum() {
     assert!(worst < 1e-12, "{worst:e}");
 }
 
-constrained_system! {
-    /// A revolute arm carrying a body on a spherical joint at its tip.
-    pub struct ArmAndBall {
-        bodies: [
-            arm {
-                joint: revolute(q1, [0.0, 1.0, 0.0]),
-                mass: 1.2,
-                com: [0.0, 0.0, -0.3],
-                inertia: diag[0.02, 0.03, 0.004],
-            },
-            ball {
-                parent: arm,
-                joint: spherical(e0, e1, e2, e3),
-                xyz: [0.0, 0.0, -0.6],
-                rpy: [PI / 2.0, 0.0, 0.3],
-                mass: 0.8,
-                com: [0.05, -0.02, -0.2],
-                inertia: [[0.01, 0.001, 0.0], [0.001, 0.012, -0.002], [0.0, -0.002, 0.006]],
-            },
-        ],
-    }
+/// The arm and ball of [`ArmAndBall`] as `$name`, with `$rest` (more
+/// sections) after its bodies: written once for it and [`TetheredBall`].
+macro_rules! arm_and_ball {
+    ($(#[$attr:meta])* $name:ident $(, $($rest:tt)*)?) => {
+        constrained_system! {
+            $(#[$attr])*
+            pub struct $name {
+                bodies: [
+                    arm {
+                        joint: revolute(q1, [0.0, 1.0, 0.0]),
+                        mass: 1.2,
+                        com: [0.0, 0.0, -0.3],
+                        inertia: diag[0.02, 0.03, 0.004],
+                    },
+                    ball {
+                        parent: arm,
+                        joint: spherical(e0, e1, e2, e3),
+                        xyz: [0.0, 0.0, -0.6],
+                        rpy: [PI / 2.0, 0.0, 0.3],
+                        mass: 0.8,
+                        com: [0.05, -0.02, -0.2],
+                        inertia: [[0.01, 0.001, 0.0], [0.001, 0.012, -0.002], [0.0, -0.002, 0.006]],
+                    },
+                ],
+                $($($rest)*)?
+            }
+        }
+    };
 }
+
+arm_and_ball!(
+    /// A revolute arm carrying a body on a spherical joint at its tip.
+    ArmAndBall
+);
 
 /// The arm and its ball, unforced: over 10 s the energy is conserved to
 /// 1e-9 and the quaternion keeps its unit norm (projection).
@@ -268,30 +280,12 @@ fn a_floating_urdf_joint_is_the_bodies_free_joint() {
     assert!(worst < 1e-12, "{worst:e}");
 }
 
-constrained_system! {
+arm_and_ball!(
     /// [`ArmAndBall`] with a point of the ball held on the plane
     /// `z = −0.9`: one row besides the norm's, on the arm and the ball.
-    pub struct TetheredBall {
-        bodies: [
-            arm {
-                joint: revolute(q1, [0.0, 1.0, 0.0]),
-                mass: 1.2,
-                com: [0.0, 0.0, -0.3],
-                inertia: diag[0.02, 0.03, 0.004],
-            },
-            ball {
-                parent: arm,
-                joint: spherical(e0, e1, e2, e3),
-                xyz: [0.0, 0.0, -0.6],
-                rpy: [PI / 2.0, 0.0, 0.3],
-                mass: 0.8,
-                com: [0.05, -0.02, -0.2],
-                inertia: [[0.01, 0.001, 0.0], [0.001, 0.012, -0.002], [0.0, -0.002, 0.006]],
-            },
-        ],
-        constraints: [position(ball, [0.1, 0.0, -0.4]).z == -0.9],
-    }
-}
+    TetheredBall,
+    constraints: [position(ball, [0.1, 0.0, -0.4]).z == -0.9],
+);
 
 /// A spherical joint inside a chain, with a row on both its bodies, is
 /// solved in the quaternion's velocity coordinates
