@@ -72,7 +72,7 @@ fn each_foot_is_eliminated_with_its_leg() {
         panic!("the auxiliary solve");
     };
     let velocity = f.velocity.as_ref().expect("the velocity form is chosen");
-    assert_eq!(velocity.quaternions, vec![(3, 12)]);
+    assert_eq!(velocity.system.quaternions, vec![(3, 12)]);
     let mut kept: Vec<usize> = (0..19).collect();
     kept.remove(3);
     assert_eq!(velocity.coordinates, kept);
@@ -80,7 +80,7 @@ fn each_foot_is_eliminated_with_its_leg() {
     let g = &eq.system.graph;
     // TᵀMT has no α row or column; the norm's row of A T is on α alone.
     assert!((0..19).all(|j| g.is_zero(velocity.mass[3][j])));
-    assert!((0..19).all(|j| (j == 3) != g.is_zero(velocity.a[12][j])));
+    assert!((0..19).all(|j| (j == 3) != g.is_zero(velocity.system.a[12][j])));
     let saddle = &velocity.structure;
     let (n, k) = (18, 12);
     assert_eq!(saddle.len(), n + k);

@@ -145,7 +145,7 @@ pub fn subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 4] {
 /// `½ S Gᵀ`): `|q|² eⱼ` in the body's axes, `j = 0, 1, 2`. (`α`'s, `S q`,
 /// is zero.)
 pub fn velocity_subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 3] {
-    let scale = velocity_scale(g, q);
+    let scale = squared_norm(g, q);
     let zero = g.int(0);
     let zeros = super::spatial::zero(g);
     [0, 1, 2].map(|j| {
@@ -158,8 +158,9 @@ pub fn velocity_subspace(g: &mut Graph, q: [Id; 4]) -> [Spatial; 3] {
     })
 }
 
-/// `|q|²`, the scale of [`velocity_subspace`].
-pub fn velocity_scale(g: &mut Graph, q: [Id; 4]) -> Id {
+/// `|q|²`: the scale of [`velocity_subspace`], and of the norm's
+/// constraint.
+pub fn squared_norm(g: &mut Graph, q: [Id; 4]) -> Id {
     let two = g.int(2);
     let squares: Vec<Id> = q.iter().map(|&c| g.pow(c, two)).collect();
     g.add(&squares)
@@ -179,9 +180,7 @@ pub fn g_matrix(g: &mut Graph, q: [Id; 4]) -> [[Id; 4]; 3] {
 
 /// `|q|² − 1`, the norm's constraint.
 pub fn norm(g: &mut Graph, q: [Id; 4]) -> Id {
-    let two = g.int(2);
-    let squares: Vec<Id> = q.iter().map(|&c| g.pow(c, two)).collect();
-    let sum = g.add(&squares);
+    let sum = squared_norm(g, q);
     let one = g.int(1);
     g.sub(sum, one)
 }

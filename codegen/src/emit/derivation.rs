@@ -395,7 +395,7 @@ fn scaling_text(w: &mut String, d: &crate::equations::mass_inverse::Symbolic, p:
 }
 
 /// The elimination order of a structure, each row named by `name`.
-fn order(structure: &Structure, name: impl Fn(usize) -> String) -> String {
+pub(super) fn order(structure: &Structure, name: impl Fn(usize) -> String) -> String {
     structure
         .order
         .iter()

@@ -4,18 +4,9 @@
 //! rather than the range-space form the generalized-inverse equation
 //! describes: what `acceleration` computes, in its compile-time order.
 
+use super::derivation::order;
 use crate::equations::mass_inverse::Factored;
-use crate::numeric::sparsity::Structure;
 use std::fmt::Write;
-
-/// The elimination order of `s`, its rows named by `name`.
-fn order(s: &Structure, name: impl Fn(usize) -> String) -> String {
-    s.order
-        .iter()
-        .map(|&i| name(i))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
 
 /// The lines for `f`'s saddle-point solve, where `gauss` takes it (every
 /// row independent: `rank` is `k`); nothing otherwise.
@@ -35,7 +26,12 @@ pub(super) fn text(
         let name = |i: usize| {
             if i < nr {
                 let c = v.coordinates[i];
-                match v.quaternions.iter().find(|&&(w, _)| c > w && c <= w + 3) {
+                match v
+                    .system
+                    .quaternions
+                    .iter()
+                    .find(|&&(w, _)| c > w && c <= w + 3)
+                {
                     Some(&(w, _)) => format!("β{}", c - w - 1),
                     None => coordinates[c].clone(),
                 }
@@ -44,6 +40,7 @@ pub(super) fn text(
             }
         };
         let quaternions: Vec<String> = v
+            .system
             .quaternions
             .iter()
             .map(|&(w, r)| format!("{} (row {r})", coordinates[w]))

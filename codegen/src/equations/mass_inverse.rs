@@ -54,7 +54,7 @@ impl MassInverse {
 
 /// `M` in the quaternions' velocity coordinates and the tree's bodies
 /// (`super::velocity`).
-pub type Tree<'a> = (&'a [Vec<Id>], &'a [crate::bodies::Body]);
+pub type Bodies<'a> = (&'a [Vec<Id>], &'a [crate::bodies::Body]);
 
 /// The compile-time structure of Gauss's principle for a configuration-
 /// dependent `M` (only `M`'s lower triangle is read, as by a Cholesky
@@ -174,7 +174,7 @@ impl Factored {
     /// auxiliary mass (nonzero where `M` or `AᵀA` is).
     fn new(
         g: &mut Graph,
-        (mass, tree): (&[Vec<Id>], Option<Tree>),
+        (mass, tree): (&[Vec<Id>], Option<Bodies>),
         (forces, a): (&[Id], &[Vec<Id>]),
         auxiliary: Option<Auxiliary>,
     ) -> Self {
@@ -301,7 +301,7 @@ fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
 pub fn build(
     g: &mut Graph,
     factorer: &mut Factorer,
-    (mass, tree): (&[Vec<Id>], Option<Tree>),
+    (mass, tree): (&[Vec<Id>], Option<Bodies>),
     forces: &[Id],
     a: &[Vec<Id>],
     b: &[Id],

@@ -30,17 +30,10 @@ use crate::numeric::sparsity::Structure;
 
 /// `gauss`'s system in the quaternions' velocity coordinates.
 pub struct Velocity {
-    /// Each quaternion's `w` coordinate (where its `α` is) and its norm's
-    /// row.
-    pub quaternions: Vec<(usize, usize)>,
-    /// Each quaternion's coordinates `(w, x, y, z)` as expressions.
-    pub q: Vec<[Id; 4]>,
+    /// `TᵀF`, `A T` and each quaternion's norm's row.
+    pub system: Transformed,
     /// `TᵀMT`, n × n (each `α`'s row and column zero).
     pub mass: Vec<Vec<Id>>,
-    /// `TᵀF`.
-    pub forces: Vec<Id>,
-    /// `A T`, k × n (each norm's row nonzero at its `α` only).
-    pub a: Vec<Vec<Id>>,
     /// The coordinates solved by the saddle-point system (all but the
     /// `α`s), in order: the structure's first rows.
     pub coordinates: Vec<usize>,
@@ -61,13 +54,14 @@ pub fn quaternions(tree: &[Body]) -> Vec<usize> {
 /// `TᵀF`, `A T` and each quaternion's norm's row, before any order is
 /// sought.
 pub struct Transformed {
-    /// Each quaternion's `w` coordinate and its norm's row.
+    /// Each quaternion's `w` coordinate (where its `α` is) and its norm's
+    /// row.
     pub quaternions: Vec<(usize, usize)>,
-    /// Each quaternion's coordinates as expressions.
+    /// Each quaternion's coordinates `(w, x, y, z)` as expressions.
     pub q: Vec<[Id; 4]>,
     /// `TᵀF`.
     pub forces: Vec<Id>,
-    /// `A T`.
+    /// `A T`, k × n (each norm's row nonzero at its `α` only).
     pub a: Vec<Vec<Id>>,
 }
 
@@ -81,17 +75,12 @@ pub fn form(
     a: &[Vec<Id>],
     range_cost: usize,
 ) -> Option<Velocity> {
-    let Transformed {
-        quaternions,
-        q,
-        forces,
-        a,
-    } = transformed(g, (velocity_mass, tree), forces, a)?;
-    let n = forces.len();
-    let ws: Vec<usize> = quaternions.iter().map(|&(c, _)| c).collect();
+    let system = transformed(g, (velocity_mass, tree), forces, a)?;
+    let (n, a) = (forces.len(), &system.a);
+    let ws: Vec<usize> = system.quaternions.iter().map(|&(c, _)| c).collect();
     let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();
     let rows: Vec<usize> = (0..a.len())
-        .filter(|r| !quaternions.iter().any(|&(_, s)| s == *r))
+        .filter(|r| !system.quaternions.iter().any(|&(_, s)| s == *r))
         .collect();
     let mass: Vec<Vec<Id>> = coordinates
         .iter()
@@ -109,11 +98,8 @@ pub fn form(
     let structure =
         super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, (None, &ws), range_cost)?;
     Some(Velocity {
-        quaternions,
-        q,
+        system,
         mass: velocity_mass.to_vec(),
-        forces,
-        a,
         coordinates,
         rows,
         structure,
@@ -137,22 +123,20 @@ pub fn transformed(
     }
     let mut forces = forces.to_vec();
     let mut a = a.to_vec();
+    let mut q: Vec<[Id; 4]> = Vec::with_capacity(ws.len());
     for &c in &ws {
         if c + 4 > n || (0..n).any(|j| !g.is_zero(velocity_mass[c][j])) {
             return None;
         }
-        let q = crate::bodies::free::coordinates(g, c);
-        let big_g = crate::bodies::free::g_matrix(g, q);
-        transform(g, (c, q, &big_g), &mut forces);
+        let own = crate::bodies::free::coordinates(g, c);
+        let big_g = crate::bodies::free::g_matrix(g, own);
+        transform(g, (c, own, &big_g), &mut forces);
         for row in &mut a {
-            transform(g, (c, q, &big_g), row);
+            transform(g, (c, own, &big_g), row);
         }
+        q.push(own);
     }
     let mut quaternions = Vec::new();
-    let q: Vec<[Id; 4]> = ws
-        .iter()
-        .map(|&c| crate::bodies::free::coordinates(g, c))
-        .collect();
     for &c in &ws {
         let norm = (0..a.len()).find(|&r| {
             let row = &a[r];

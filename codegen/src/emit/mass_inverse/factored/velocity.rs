@@ -39,7 +39,7 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
         .coordinates
         .iter()
         .map(|&i| {
-            (!g.is_zero(v.forces[i])).then(|| {
+            (!g.is_zero(v.system.forces[i])).then(|| {
                 let f = Context::local("f", i);
                 quote!(#f)
             })
@@ -77,7 +77,7 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
             }
         }
     }
-    for (i, &e) in v.forces.iter().enumerate() {
+    for (i, &e) in v.system.forces.iter().enumerate() {
         if !g.is_zero(e) {
             named.push((Context::local("f", i), e));
         }
@@ -85,15 +85,15 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
     let checked = named.len();
     for (rr, &r) in v.rows.iter().enumerate() {
         for (jj, &j) in v.coordinates.iter().enumerate() {
-            if !g.is_zero(v.a[r][j]) {
-                named.push((ldlt.entry(nr + rr, jj), v.a[r][j]));
+            if !g.is_zero(v.system.a[r][j]) {
+                named.push((ldlt.entry(nr + rr, jj), v.system.a[r][j]));
             }
         }
     }
-    for &(c, _) in &v.quaternions {
+    for &(c, _) in &v.system.quaternions {
         for r in 0..k {
-            if !g.is_zero(v.a[r][c]) {
-                named.push((Context::local2("aa", r, c), v.a[r][c]));
+            if !g.is_zero(v.system.a[r][c]) {
+                named.push((Context::local2("aa", r, c), v.system.a[r][c]));
             }
         }
     }
@@ -107,7 +107,7 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
     for (r, &e) in ctx.eq.b.iter().enumerate() {
         named.push((Context::local("b", r), e));
     }
-    for (&(c, _), q) in v.quaternions.iter().zip(&v.q) {
+    for (&(c, _), q) in v.system.quaternions.iter().zip(&v.system.q) {
         for (m, &e) in q.iter().enumerate() {
             named.push((Context::local("qv", c + m), e));
         }
@@ -122,7 +122,7 @@ fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
     let g = &ctx.eq.system.graph;
     let safe_minimum = ctx.private(quote!(safe_minimum));
     let mut out = TokenStream::new();
-    for &(c, norm) in &v.quaternions {
+    for &(c, norm) in &v.system.quaternions {
         let (alpha, an, b) = (
             Context::local("alpha", c),
             Context::local2("aa", norm, c),
@@ -138,9 +138,10 @@ fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
     for (rr, &r) in v.rows.iter().enumerate() {
         let b = Context::local("b", r);
         let terms: Vec<TokenStream> = v
+            .system
             .quaternions
             .iter()
-            .filter(|&&(c, _)| !g.is_zero(v.a[r][c]))
+            .filter(|&&(c, _)| !g.is_zero(v.system.a[r][c]))
             .map(|&(c, _)| {
                 let (a, alpha) = (Context::local2("aa", r, c), Context::local("alpha", c));
                 quote!(#a * #alpha)
@@ -171,7 +172,7 @@ fn accelerations(
     }
     let mut code = TokenStream::new();
     let (half, _) = literal(Num::Rational(1, 2));
-    for &(c, _) in &v.quaternions {
+    for &(c, _) in &v.system.quaternions {
         let beta: Vec<TokenStream> = (0..3).map(|j| values[c + 1 + j].clone()).collect();
         let alpha = Context::local("alpha", c);
         for k in 0..4 {
@@ -214,8 +215,8 @@ fn multipliers(
         mu[r] = solved[nr + rr].clone();
     }
     let mut code = TokenStream::new();
-    for &(c, norm) in &v.quaternions {
-        let f = if g.is_zero(v.forces[c]) {
+    for &(c, norm) in &v.system.quaternions {
+        let f = if g.is_zero(v.system.forces[c]) {
             quote!(T::zero())
         } else {
             let f = Context::local("f", c);
@@ -224,7 +225,7 @@ fn multipliers(
         let terms: Vec<TokenStream> = v
             .rows
             .iter()
-            .filter(|&&r| !g.is_zero(v.a[r][c]))
+            .filter(|&&r| !g.is_zero(v.system.a[r][c]))
             .filter_map(|&r| {
                 let (a, m) = (Context::local2("aa", r, c), mu[r].as_ref()?);
                 Some(quote!(#a * #m))
