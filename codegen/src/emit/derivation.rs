@@ -2,6 +2,7 @@
 //! the way the paper writes it, so that a change in the generated equations
 //! reads as a change in mathematics in code review.
 
+use super::derivation_saddle::order;
 use crate::equations::gibbs_appell::{rank_one, RankOne};
 use crate::equations::mass_inverse::{Factored, MassInverse};
 use crate::equations::partition::Partition;
@@ -392,16 +393,6 @@ fn scaling_text(w: &mut String, d: &crate::equations::mass_inverse::Symbolic, p:
         "  Solved scaled, the same q̈ in fewer operations: {}.\n  Below {s},  {force}:",
         what.join(", and ")
     );
-}
-
-/// The elimination order of a structure, each row named by `name`.
-pub(super) fn order(structure: &Structure, name: impl Fn(usize) -> String) -> String {
-    structure
-        .order
-        .iter()
-        .map(|&i| name(i))
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// The number of structurally nonzero subdiagonal entries of `L`.

@@ -3,10 +3,21 @@
 //! quaternions' velocity coordinates (`crate::equations::velocity`),
 //! rather than the range-space form the generalized-inverse equation
 //! describes: what `acceleration` computes, in its compile-time order.
+//! Also the elimination orders every part of the derivation prints.
 
-use super::derivation::order;
 use crate::equations::mass_inverse::Factored;
+use crate::numeric::sparsity::Structure;
 use std::fmt::Write;
+
+/// The elimination order of a structure, each row named by `name`.
+pub(super) fn order(structure: &Structure, name: impl Fn(usize) -> String) -> String {
+    structure
+        .order
+        .iter()
+        .map(|&i| name(i))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 /// The lines for `f`'s saddle-point solve, where `gauss` takes it (every
 /// row independent: `rank` is `k`); nothing otherwise.
