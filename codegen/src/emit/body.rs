@@ -39,6 +39,11 @@ pub(super) struct Body<'a> {
     /// The temporaries that are products, by position in the schedule: a
     /// product written later reuses one whose factors it contains.
     temp_products: Vec<(usize, Id)>,
+    /// For each factor's base, the indices in `temp_products` of the
+    /// products whose first factor it is (in position order): a product's
+    /// candidates for reuse are found through its own factors, not by
+    /// scanning every temporary product.
+    products_by_first: HashMap<Id, Vec<usize>, FastHash>,
     /// While the definition of temporary `i` is written, `i`: only those
     /// before it may be reused. `usize::MAX` elsewhere.
     defining: std::cell::Cell<usize>,
@@ -77,13 +82,21 @@ impl<'a> Body<'a> {
                 _ => g.children(id).any(|c| needs_multipliers[c.index()]),
             };
         }
-        let temp_products = schedule
+        let temp_products: Vec<(usize, Id)> = schedule
             .temporaries
             .iter()
             .enumerate()
             .filter(|(_, &id)| matches!(g.node(id), Node::Mul(f) if f.len() > 1))
             .map(|(i, &id)| (i, id))
             .collect();
+        let mut products_by_first: HashMap<Id, Vec<usize>, FastHash> = HashMap::default();
+        for (k, &(_, id)) in temp_products.iter().enumerate() {
+            if let Node::Mul(factors) = g.node(id) {
+                if let Some(&(first, _)) = factors.first() {
+                    products_by_first.entry(first).or_default().push(k);
+                }
+            }
+        }
         let mut divides: HashMap<Id, usize> = HashMap::new();
         for &id in &reachable {
             if let Node::Mul(factors) = g.node(id) {
@@ -121,6 +134,7 @@ impl<'a> Body<'a> {
             subproducts,
             needs_multipliers,
             temp_products,
+            products_by_first,
             defining: std::cell::Cell::new(usize::MAX),
             graph: g,
             schedule,
@@ -421,33 +435,57 @@ impl<'a> Body<'a> {
         negated: Option<usize>,
     ) -> Option<(Id, Vec<usize>)> {
         let limit = self.defining.get();
-        let mut best: Option<(Id, Vec<usize>)> = None;
-        for &(position, p) in &self.temp_products {
+        // (number of factors, position, product) of the best so far: the
+        // most factors, the earliest among equals.
+        let mut best: Option<(usize, usize, Id)> = None;
+        let candidates = factors
+            .iter()
+            .filter_map(|(b, _)| self.products_by_first.get(b))
+            .flatten();
+        for &k in candidates {
+            let (position, p) = self.temp_products[k];
             if position >= limit {
-                break;
+                continue;
             }
             let Node::Mul(inner) = self.graph.node(p) else {
                 continue;
             };
-            if inner.len() >= factors.len()
-                || best.as_ref().is_some_and(|(_, c)| c.len() >= inner.len())
-            {
+            let better = best.is_none_or(|(size, at, _)| {
+                inner.len() > size || (inner.len() == size && position < at)
+            });
+            if inner.len() >= factors.len() || !better {
                 continue;
             }
-            let covered: Option<Vec<usize>> = inner
+            if inner
                 .iter()
-                .map(|f| {
-                    factors
-                        .iter()
-                        .position(|g| g == f)
-                        .filter(|&i| negated != Some(i))
-                })
-                .collect();
-            if let Some(covered) = covered {
-                best = Some((p, covered));
+                .all(|f| self.factor_position(factors, f, negated).is_some())
+            {
+                best = Some((inner.len(), position, p));
             }
         }
-        best
+        best.map(|(_, _, p)| {
+            let Node::Mul(inner) = self.graph.node(p) else {
+                return (p, Vec::new());
+            };
+            let covered = inner
+                .iter()
+                .filter_map(|f| self.factor_position(factors, f, negated))
+                .collect();
+            (p, covered)
+        })
+    }
+
+    /// Where `f` is among `factors`, unless it is the negated one.
+    fn factor_position(
+        &self,
+        factors: &[(Id, Num)],
+        f: &(Id, Num),
+        negated: Option<usize>,
+    ) -> Option<usize> {
+        factors
+            .iter()
+            .position(|g| g == f)
+            .filter(|&i| negated != Some(i))
     }
 
     /// For a product inlined into a sum, the position of a factor that is

@@ -128,6 +128,13 @@ impl SubProducts {
     /// reproduces the search's own substitutions).
     pub(super) fn apply(&self, mut set: Multiset) -> Multiset {
         for (i, &pair) in self.pairs.iter().enumerate() {
+            // A pair takes two factors: fewer left, none can match.
+            if set.values().sum::<u32>() < 2 {
+                break;
+            }
+            if !set.contains_key(&pair.0) {
+                continue;
+            }
             replace(&mut set, pair, Factor::Shared(i));
         }
         set

@@ -38,6 +38,11 @@ const SURFACE_DEPTH: usize = 4;
 #[derive(Default)]
 pub struct Factorer {
     done: HashMap<Id, Id, FastHash>,
+    /// Nodes below a root's surface, factored to the given depth: the same
+    /// node under many roots (or many times under one) is factored once
+    /// per depth. Nodes are interned, so a second factoring would build
+    /// the same node.
+    below: HashMap<(Id, usize), Id>,
     /// Nodes kept whole: the user's named definitions, which the derivation
     /// prints by name only while their node is unchanged.
     atoms: HashSet<Id>,
@@ -54,6 +59,7 @@ impl Factorer {
     pub fn keeping(atoms: impl IntoIterator<Item = Id>) -> Self {
         Factorer {
             done: HashMap::default(),
+            below: HashMap::new(),
             atoms: atoms.into_iter().collect(),
         }
     }
@@ -82,6 +88,9 @@ impl Factorer {
         if let Some(&done) = self.done.get(&id) {
             return done;
         }
+        if let Some(&done) = self.below.get(&(id, levels)) {
+            return done;
+        }
         let factored = match g.node(id).clone() {
             Node::Add(terms, c0) => {
                 let terms: Vec<(Id, Num)> = terms
@@ -104,10 +113,12 @@ impl Factorer {
             }
             _ => id,
         };
-        // Only whole-root results are memoized: the same node at another
-        // depth may be factored further.
+        // A node is memoized with its depth: at another depth it may be
+        // factored further.
         if levels == SURFACE_DEPTH {
             self.done.insert(id, factored);
+        } else {
+            self.below.insert((id, levels), factored);
         }
         factored
     }

@@ -322,6 +322,12 @@ impl Num {
     }
 
     fn product(self, other: Num) -> Num {
+        // Integers (most coefficients): no gcd to take.
+        if let (Num::Rational(a, 1), Num::Rational(c, 1)) = (self, other) {
+            if let Some(p) = a.checked_mul(c) {
+                return Num::Rational(p, 1);
+            }
+        }
         self.combine(
             other,
             |a, b, c, d| {
