@@ -47,6 +47,9 @@ pub(super) struct Body<'a> {
     /// While the definition of temporary `i` is written, `i`: only those
     /// before it may be reused. `usize::MAX` elsewhere.
     defining: std::cell::Cell<usize>,
+    /// Each constant's tokens, built once per body: a body writes the same
+    /// few constants thousands of times.
+    literals: std::cell::RefCell<HashMap<Num, TokenStream>>,
     /// Parameters that divide two or more products (a parametric mass in
     /// `q̈`, `S` and `W`): one reciprocal each, bound in the preamble, and
     /// a multiplication wherever one of them divides.
@@ -135,6 +138,7 @@ impl<'a> Body<'a> {
             needs_multipliers,
             temp_products,
             products_by_first,
+            literals: std::cell::RefCell::default(),
             defining: std::cell::Cell::new(usize::MAX),
             graph: g,
             schedule,
@@ -273,6 +277,15 @@ impl<'a> Body<'a> {
         self.operand(id).0
     }
 
+    /// The constant `n` (an atom), from this body's cache.
+    fn literal(&self, n: Num) -> TokenStream {
+        self.literals
+            .borrow_mut()
+            .entry(n)
+            .or_insert_with(|| literal(n).0)
+            .clone()
+    }
+
     fn operand(&self, id: Id) -> (TokenStream, Prec) {
         if let Some(name) = self.temp_names.get(&id) {
             return (quote!(#name), Prec::Atom);
@@ -291,7 +304,7 @@ impl<'a> Body<'a> {
 
     fn node(&self, id: Id) -> (TokenStream, Prec) {
         match self.graph.node(id) {
-            Node::Num(n) => literal(*n),
+            Node::Num(n) => (self.literal(*n), Prec::Atom),
             Node::Sym(s) => (
                 match *s {
                     Sym::Coord(i) => {
@@ -408,13 +421,13 @@ impl<'a> Body<'a> {
                     if magnitude.is_one() {
                         t
                     } else {
-                        let (mut lit, _) = literal(magnitude);
+                        let mut lit = self.literal(magnitude);
                         lit.extend(quote!(*));
                         lit.extend(t);
                         lit
                     }
                 }
-                None => literal(magnitude).0,
+                None => self.literal(magnitude),
             };
             (negative, value)
         });
