@@ -3,6 +3,7 @@
 
 use super::context::Context;
 pub(super) use super::literal::{literal, Prec};
+use super::reuse::TempProducts;
 use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
 use super::tokens::{join_product, let_statement, parenthesized, signed_sum};
 use crate::equations::Equations;
@@ -36,14 +37,9 @@ pub(super) struct Body<'a> {
     /// Nodes whose value needs the multipliers λ (computed mid-function) or
     /// the seeds `Sym::Seed` (set per column of a Jacobian).
     needs_multipliers: Vec<bool>,
-    /// The temporaries that are products, by position in the schedule: a
-    /// product written later reuses one whose factors it contains.
-    temp_products: Vec<(usize, Id)>,
-    /// For each factor's base, the indices in `temp_products` of the
-    /// products whose first factor it is (in position order): a product's
-    /// candidates for reuse are found through its own factors, not by
-    /// scanning every temporary product.
-    products_by_first: HashMap<Id, Vec<usize>, FastHash>,
+    /// The temporaries that are products: a product written later reuses
+    /// one whose factors it contains.
+    temp_products: TempProducts,
     /// While the definition of temporary `i` is written, `i`: only those
     /// before it may be reused. `usize::MAX` elsewhere.
     defining: std::cell::Cell<usize>,
@@ -85,21 +81,7 @@ impl<'a> Body<'a> {
                 _ => g.children(id).any(|c| needs_multipliers[c.index()]),
             };
         }
-        let temp_products: Vec<(usize, Id)> = schedule
-            .temporaries
-            .iter()
-            .enumerate()
-            .filter(|(_, &id)| matches!(g.node(id), Node::Mul(f) if f.len() > 1))
-            .map(|(i, &id)| (i, id))
-            .collect();
-        let mut products_by_first: HashMap<Id, Vec<usize>, FastHash> = HashMap::default();
-        for (k, &(_, id)) in temp_products.iter().enumerate() {
-            if let Node::Mul(factors) = g.node(id) {
-                if let Some(&(first, _)) = factors.first() {
-                    products_by_first.entry(first).or_default().push(k);
-                }
-            }
-        }
+        let temp_products = TempProducts::new(g, &schedule);
         let mut divides: HashMap<Id, usize> = HashMap::new();
         for &id in &reachable {
             if let Node::Mul(factors) = g.node(id) {
@@ -137,7 +119,6 @@ impl<'a> Body<'a> {
             subproducts,
             needs_multipliers,
             temp_products,
-            products_by_first,
             literals: std::cell::RefCell::default(),
             defining: std::cell::Cell::new(usize::MAX),
             graph: g,
@@ -440,67 +421,6 @@ impl<'a> Body<'a> {
         (out, prec)
     }
 
-    /// The largest earlier temporary product whose factors are a proper
-    /// subset of `factors` (exponents equal), with the positions it covers.
-    fn reusable_product(
-        &self,
-        factors: &[(Id, Num)],
-        negated: Option<usize>,
-    ) -> Option<(Id, Vec<usize>)> {
-        let limit = self.defining.get();
-        // (number of factors, position, product) of the best so far: the
-        // most factors, the earliest among equals.
-        let mut best: Option<(usize, usize, Id)> = None;
-        let candidates = factors
-            .iter()
-            .filter_map(|(b, _)| self.products_by_first.get(b))
-            .flatten();
-        for &k in candidates {
-            let (position, p) = self.temp_products[k];
-            if position >= limit {
-                continue;
-            }
-            let Node::Mul(inner) = self.graph.node(p) else {
-                continue;
-            };
-            let better = best.is_none_or(|(size, at, _)| {
-                inner.len() > size || (inner.len() == size && position < at)
-            });
-            if inner.len() >= factors.len() || !better {
-                continue;
-            }
-            if inner
-                .iter()
-                .all(|f| self.factor_position(factors, f, negated).is_some())
-            {
-                best = Some((inner.len(), position, p));
-            }
-        }
-        best.map(|(_, _, p)| {
-            let Node::Mul(inner) = self.graph.node(p) else {
-                return (p, Vec::new());
-            };
-            let covered = inner
-                .iter()
-                .filter_map(|f| self.factor_position(factors, f, negated))
-                .collect();
-            (p, covered)
-        })
-    }
-
-    /// Where `f` is among `factors`, unless it is the negated one.
-    fn factor_position(
-        &self,
-        factors: &[(Id, Num)],
-        f: &(Id, Num),
-        negated: Option<usize>,
-    ) -> Option<usize> {
-        factors
-            .iter()
-            .position(|g| g == f)
-            .filter(|&i| negated != Some(i))
-    }
-
     /// For a product inlined into a sum, the position of a factor that is
     /// itself an inlined sum with a negative part, so that negating the
     /// product costs nothing: that sum is written negated.
@@ -525,7 +445,9 @@ impl<'a> Body<'a> {
         let (mut num, mut den) = (Vec::new(), Vec::new());
         // A temporary product whose factors are among these (`t·λ` inside
         // `t·λ/m`) is reused rather than recomputed.
-        let reused = self.reusable_product(factors, negated);
+        let reused =
+            self.temp_products
+                .reusable(self.graph, factors, (negated, self.defining.get()));
         if let Some((p, _)) = &reused {
             let name = &self.temp_names[p];
             num.push(quote!(#name));

@@ -19,7 +19,7 @@
 //!
 //! Below both: `body` (expressions to tokens), `chunks` (long bodies in
 //! blocks), `context` (types, names, signatures), `ldlt` (the structured
-//! factorization), `subproducts`.
+//! factorization), `subproducts` and `reuse` (the products a body shares).
 
 mod body;
 mod chunks;
@@ -37,6 +37,7 @@ mod ldlt;
 mod literal;
 mod mass_inverse;
 mod motion;
+mod reuse;
 mod solve;
 mod subproducts;
 mod tangent;
