@@ -2,8 +2,8 @@
 //! `__t3/m` where `__t3 = t·λ` is bound before it. Each body keeps its
 //! temporary products indexed by their first factor, so that a product's
 //! candidates are found through its own factors rather than by scanning
-//! every temporary product (the scan was quadratic in a large body's
-//! products: a fifth of the 16-link pendulum's expansion).
+//! every temporary product (a scan quadratic in a large body's
+//! products).
 
 use crate::expr::cse::Schedule;
 use crate::expr::num::Num;

@@ -33,16 +33,15 @@ const MAX_TERMS: usize = 48;
 /// How many levels of sums and products below a root are factored.
 const SURFACE_DEPTH: usize = 4;
 
-/// A memo of factored roots over one graph: each is factored once, however
-/// many of the Gauss pieces reach it.
+/// A memo of factored nodes over one graph: each is factored once per
+/// depth, however many of the Gauss pieces reach it.
 #[derive(Default)]
 pub struct Factorer {
-    done: HashMap<Id, Id, FastHash>,
-    /// Nodes below a root's surface, factored to the given depth: the same
-    /// node under many roots (or many times under one) is factored once
-    /// per depth. Nodes are interned, so a second factoring would build
-    /// the same node.
-    below: HashMap<(Id, usize), Id>,
+    /// Each node factored to a depth (a root's is [`SURFACE_DEPTH`]): the
+    /// same node under many roots, or many times under one, is factored
+    /// once per depth. Nodes are interned, so a second factoring would
+    /// build the same node.
+    done: HashMap<(Id, usize), Id, FastHash>,
     /// Nodes kept whole: the user's named definitions, which the derivation
     /// prints by name only while their node is unchanged.
     atoms: HashSet<Id>,
@@ -59,7 +58,6 @@ impl Factorer {
     pub fn keeping(atoms: impl IntoIterator<Item = Id>) -> Self {
         Factorer {
             done: HashMap::default(),
-            below: HashMap::new(),
             atoms: atoms.into_iter().collect(),
         }
     }
@@ -85,10 +83,7 @@ impl Factorer {
         if levels == 0 || self.atoms.contains(&id) {
             return id;
         }
-        if let Some(&done) = self.done.get(&id) {
-            return done;
-        }
-        if let Some(&done) = self.below.get(&(id, levels)) {
+        if let Some(&done) = self.done.get(&(id, levels)) {
             return done;
         }
         let factored = match g.node(id).clone() {
@@ -113,13 +108,9 @@ impl Factorer {
             }
             _ => id,
         };
-        // A node is memoized with its depth: at another depth it may be
-        // factored further.
-        if levels == SURFACE_DEPTH {
-            self.done.insert(id, factored);
-        } else {
-            self.below.insert((id, levels), factored);
-        }
+        // Memoized with its depth: at another depth it may be factored
+        // further.
+        self.done.insert((id, levels), factored);
         factored
     }
 
