@@ -32,6 +32,7 @@ mod state;
 pub mod svd;
 mod symbolic;
 mod system;
+mod trig;
 
 pub use control::ControlError;
 pub use error::{DynamicsError, GibbsAppellError, IntegrationError};
@@ -57,4 +58,5 @@ pub mod __private {
     };
     pub use crate::linearize::Tangent;
     pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};
+    pub use crate::trig::sin_cos;
 }

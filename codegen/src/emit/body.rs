@@ -225,13 +225,17 @@ impl<'a> Body<'a> {
             })
             .map(|(position, &id)| {
                 let shared = self.subproducts_after(Some(position));
-                // A sine and cosine of one argument: one `sin_cos()`.
+                // A sine and cosine of one argument: one `sin_cos`, the
+                // runtime's (libm's `sincos` for `f64` and `f32`).
                 match self.schedule.paired.get(&id) {
                     Some(&Paired::Later) => return shared,
                     Some(&Paired::First { sin, cos, argument }) => {
                         let (s, c) = (&self.temp_names[&sin], &self.temp_names[&cos]);
-                        let argument = self.wrapped(argument, Prec::Atom);
-                        return quote! { let (#s, #c) = #argument.sin_cos(); #shared };
+                        let argument = self.operand(argument).0;
+                        return quote! {
+                            let (#s, #c) = ::constrained::__private::sin_cos(#argument);
+                            #shared
+                        };
                     }
                     None => {}
                 }

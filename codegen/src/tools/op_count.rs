@@ -267,6 +267,16 @@ fn pattern_names(pat: &Pat, names: &mut Vec<String>) -> Option<()> {
 }
 
 /// Adds the operations of `expr` to `ops` and the names it reads to `uses`.
+/// How many elementary functions a call named `name` evaluates: two for
+/// `sin_cos` (a method, or the runtime's function), one for the others.
+fn functions(name: &str) -> usize {
+    if name == "sin_cos" {
+        2
+    } else {
+        usize::from(is_function(name))
+    }
+}
+
 fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
     use syn::{BinOp, UnOp};
     match expr {
@@ -293,10 +303,8 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
             if name == "mul_add" {
                 ops.mul += 1;
                 ops.add += 1;
-            } else if name == "sin_cos" {
-                ops.functions += 2;
-            } else if is_function(&name) {
-                ops.functions += 1;
+            } else if functions(&name) > 0 {
+                ops.functions += functions(&name);
             } else if !FREE.contains(&name.as_str()) {
                 return None;
             }
@@ -310,9 +318,9 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
                 return None;
             };
             let name = path.path.segments.last()?.ident.to_string();
-            if is_function(&name) {
-                // The runtime's scalar helpers (`signum`, `step`).
-                ops.functions += 1;
+            if functions(&name) > 0 {
+                // The runtime's scalar helpers (`sin_cos`, `signum`, `step`).
+                ops.functions += functions(&name);
             } else if !FREE.contains(&name.as_str()) {
                 // A call into the runtime: not straight-line.
                 return None;
