@@ -67,21 +67,11 @@ mod tests {
     #[test]
     fn f64_and_f32_take_libm_bit_for_bit() {
         for x in samples(10_000, 10.0).chain([0.0, -0.0, 1e300, f64::INFINITY]) {
-            let (s, c) = sin_cos(x);
-            let (ls, lc) = libm::sincos(x);
-            assert_eq!(
-                (s.to_bits(), c.to_bits()),
-                (ls.to_bits(), lc.to_bits()),
-                "{x}"
-            );
+            let bits = |(s, c): (f64, f64)| (s.to_bits(), c.to_bits());
+            assert_eq!(bits(sin_cos(x)), bits(libm::sincos(x)), "{x}");
             let x = x as f32;
-            let (s, c) = sin_cos(x);
-            let (ls, lc) = libm::sincosf(x);
-            assert_eq!(
-                (s.to_bits(), c.to_bits()),
-                (ls.to_bits(), lc.to_bits()),
-                "{x}"
-            );
+            let bits = |(s, c): (f32, f32)| (s.to_bits(), c.to_bits());
+            assert_eq!(bits(sin_cos(x)), bits(libm::sincosf(x)), "{x}");
         }
         let (s, c) = sin_cos(f64::NAN);
         assert!(s.is_nan() && c.is_nan());
