@@ -266,7 +266,6 @@ fn pattern_names(pat: &Pat, names: &mut Vec<String>) -> Option<()> {
     Some(())
 }
 
-/// Adds the operations of `expr` to `ops` and the names it reads to `uses`.
 /// How many elementary functions a call named `name` evaluates: two for
 /// `sin_cos` (a method, or the runtime's function), one for the others.
 fn functions(name: &str) -> usize {
@@ -277,6 +276,7 @@ fn functions(name: &str) -> usize {
     }
 }
 
+/// Adds the operations of `expr` to `ops` and the names it reads to `uses`.
 fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
     use syn::{BinOp, UnOp};
     match expr {
@@ -303,8 +303,8 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
             if name == "mul_add" {
                 ops.mul += 1;
                 ops.add += 1;
-            } else if functions(&name) > 0 {
-                ops.functions += functions(&name);
+            } else if let count @ 1.. = functions(&name) {
+                ops.functions += count;
             } else if !FREE.contains(&name.as_str()) {
                 return None;
             }
@@ -318,9 +318,9 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
                 return None;
             };
             let name = path.path.segments.last()?.ident.to_string();
-            if functions(&name) > 0 {
+            if let count @ 1.. = functions(&name) {
                 // The runtime's scalar helpers (`sin_cos`, `signum`, `step`).
-                ops.functions += functions(&name);
+                ops.functions += count;
             } else if !FREE.contains(&name.as_str()) {
                 // A call into the runtime: not straight-line.
                 return None;
