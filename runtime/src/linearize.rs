@@ -63,12 +63,13 @@ impl<T: RealField + Copy, const N: usize, const NU: usize> Jacobians<T, N, NU> {
 
     /// Whether every entry is finite.
     #[must_use]
+    #[inline]
     pub fn is_finite(&self) -> bool {
-        self.dq
-            .iter()
-            .chain(self.dqd.iter())
-            .chain(self.du.iter())
-            .all(|x| x.is_finite())
+        // Without an early exit, and not through a chain of iterators: the
+        // generated `acceleration_jacobian` ends in this check, and the
+        // chain's `try_fold`, not inlined, took a sixth of the cart-pole's.
+        let finite = |m: &[T]| m.iter().fold(true, |ok, x| ok & x.is_finite());
+        finite(self.dq.as_slice()) & finite(self.dqd.as_slice()) & finite(self.du.as_slice())
     }
 }
 

@@ -31,64 +31,9 @@ pub(super) struct TangentTerms<'a> {
 
 impl<'a> TangentTerms<'a> {
     pub(super) fn new(ctx: &'a Context) -> Self {
-        let eq = ctx.eq;
-        let (n, k) = (ctx.n, ctx.k);
-        let g = &eq.system.graph;
-        let (sets, directional): (Vec<&Derivatives>, bool) = match &eq.tangent.form {
-            Form::Columns(columns) => (columns.iter().collect(), false),
-            Form::Directional(along) => (vec![along], true),
-        };
-        let mut roots: Vec<Id> = Vec::new();
-        for d in &sets {
-            roots.extend(d.forces.iter().filter(|&&e| !g.is_zero(e)));
-            roots.extend(d.mass.iter().map(|&(_, _, e)| e));
-            roots.extend(d.a.iter().map(|&(_, _, e)| e));
-            roots.extend(d.b.iter().filter(|&&e| !g.is_zero(e)));
-        }
-        let body = Body::new(eq, &roots);
-        let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
-        let lam: Vec<_> = (0..k).map(|r| Context::local("lam", r)).collect();
-        // A term is `(negative, tokens)`; a derivative that is ±1
-        // multiplies by nothing, a negative constant flips the sign.
-        let times = |e: Id, x: &syn::Ident, negative: bool| -> (bool, TokenStream) {
-            match g.as_num(e) {
-                Some(c) if c.is_one() => (negative, quote!(#x)),
-                Some(c) if (-c).is_one() => (!negative, quote!(#x)),
-                Some(c) => {
-                    let magnitude = literal(if c.is_negative() { -c } else { c }).0;
-                    (negative != c.is_negative(), quote!(#magnitude * #x))
-                }
-                None => {
-                    let e = body.expr(e);
-                    (negative, quote!((#e) * #x))
-                }
-            }
-        };
-        let mut forces = Vec::with_capacity(sets.len());
-        let mut rhs = Vec::with_capacity(sets.len());
-        for d in &sets {
-            let mut f: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); n];
-            for (i, &e) in d.forces.iter().enumerate() {
-                if !g.is_zero(e) {
-                    f[i].push((false, body.expr(e)));
-                }
-            }
-            for &(i, j, e) in &d.mass {
-                f[i].push(times(e, &qdd[j], true));
-            }
-            let mut b: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
-            for (r, &e) in d.b.iter().enumerate() {
-                if !g.is_zero(e) {
-                    b[r].push((false, body.expr(e)));
-                }
-            }
-            for &(r, i, e) in &d.a {
-                f[i].push(times(e, &lam[r], false));
-                b[r].push(times(e, &qdd[i], true));
-            }
-            forces.push(f.into_iter().map(signed_sum).collect());
-            rhs.push(b.into_iter().map(signed_sum).collect());
-        }
+        let (sets, directional) = sets(ctx);
+        let body = Body::new(ctx.eq, &roots(ctx, &sets));
+        let (forces, rhs) = terms(ctx, &sets, &|e| body.expr(e));
         TangentTerms {
             body,
             forces,
@@ -147,6 +92,120 @@ impl<'a> TangentTerms<'a> {
 /// A `usize` index as an unsuffixed literal.
 pub(super) fn index(i: usize) -> proc_macro2::Literal {
     proc_macro2::Literal::usize_unsuffixed(i)
+}
+
+/// The sets of derivatives: one per column, or the one along the seeds
+/// (then `true`).
+fn sets<'a>(ctx: &Context<'a>) -> (Vec<&'a Derivatives>, bool) {
+    match &ctx.eq.tangent.form {
+        Form::Columns(columns) => (columns.iter().collect(), false),
+        Form::Directional(along) => (vec![along], true),
+    }
+}
+
+/// The expressions the terms read: every structurally nonzero derivative.
+fn roots(ctx: &Context, sets: &[&Derivatives]) -> Vec<Id> {
+    let g = &ctx.eq.system.graph;
+    let mut roots: Vec<Id> = Vec::new();
+    for d in sets {
+        roots.extend(d.forces.iter().filter(|&&e| !g.is_zero(e)));
+        roots.extend(d.mass.iter().map(|&(_, _, e)| e));
+        roots.extend(d.a.iter().map(|&(_, _, e)| e));
+        roots.extend(d.b.iter().filter(|&&e| !g.is_zero(e)));
+    }
+    roots
+}
+
+/// `F̃` and `b̃` of each set, contracted with `__qdd{i}` and `__lam{r}`,
+/// each derivative written by `expr` (`None` where a structural zero).
+type Terms = (Vec<Vec<Option<TokenStream>>>, Vec<Vec<Option<TokenStream>>>);
+
+fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream) -> Terms {
+    let (n, k) = (ctx.n, ctx.k);
+    let g = &ctx.eq.system.graph;
+    let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
+    let lam: Vec<_> = (0..k).map(|r| Context::local("lam", r)).collect();
+    // A term is `(negative, tokens)`; a derivative that is ±1
+    // multiplies by nothing, a negative constant flips the sign.
+    let times = |e: Id, x: &syn::Ident, negative: bool| -> (bool, TokenStream) {
+        match g.as_num(e) {
+            Some(c) if c.is_one() => (negative, quote!(#x)),
+            Some(c) if (-c).is_one() => (!negative, quote!(#x)),
+            Some(c) => {
+                let magnitude = literal(if c.is_negative() { -c } else { c }).0;
+                (negative != c.is_negative(), quote!(#magnitude * #x))
+            }
+            None => {
+                let e = expr(e);
+                (negative, quote!((#e) * #x))
+            }
+        }
+    };
+    let mut forces = Vec::with_capacity(sets.len());
+    let mut rhs = Vec::with_capacity(sets.len());
+    for d in sets {
+        let mut f: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); n];
+        for (i, &e) in d.forces.iter().enumerate() {
+            if !g.is_zero(e) {
+                f[i].push((false, expr(e)));
+            }
+        }
+        for &(i, j, e) in &d.mass {
+            f[i].push(times(e, &qdd[j], true));
+        }
+        let mut b: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
+        for (r, &e) in d.b.iter().enumerate() {
+            if !g.is_zero(e) {
+                b[r].push((false, expr(e)));
+            }
+        }
+        for &(r, i, e) in &d.a {
+            f[i].push(times(e, &lam[r], false));
+            b[r].push(times(e, &qdd[i], true));
+        }
+        forces.push(f.into_iter().map(signed_sum).collect());
+        rhs.push(b.into_iter().map(signed_sum).collect());
+    }
+    (forces, rhs)
+}
+
+/// The per-column terms written over locals bound elsewhere: the
+/// derivatives each get a name (`__tg{i}`, constants inlined) for the
+/// caller to bind in its own body, so that they share its temporaries (its
+/// sines and cosines above all). `None` for the directional form.
+pub(super) struct NamedTerms {
+    /// The derivatives to bind, each under its name.
+    pub named: Vec<(syn::Ident, Id)>,
+    /// `forces[c][i]`: `F̃` of column `c`, row `i`.
+    pub forces: Vec<Vec<Option<TokenStream>>>,
+    /// `rhs[c][r]`: `b̃` of column `c`, constraint `r`.
+    pub rhs: Vec<Vec<Option<TokenStream>>>,
+}
+
+impl NamedTerms {
+    pub(super) fn new(ctx: &Context) -> Option<NamedTerms> {
+        let (sets, directional) = sets(ctx);
+        if directional {
+            return None;
+        }
+        let g = &ctx.eq.system.graph;
+        let mut names: std::collections::HashMap<Id, syn::Ident> = Default::default();
+        let mut named = Vec::new();
+        for e in roots(ctx, &sets) {
+            if g.as_num(e).is_none() && !names.contains_key(&e) {
+                let name = Context::local("tg", named.len());
+                names.insert(e, name.clone());
+                named.push((name, e));
+            }
+        }
+        let expr = |e: Id| match (g.as_num(e), names.get(&e)) {
+            (Some(c), _) => literal(c).0,
+            (None, Some(name)) => quote!(#name),
+            (None, None) => unreachable!("every derivative the terms read is named"),
+        };
+        let (forces, rhs) = terms(ctx, &sets, &expr);
+        Some(NamedTerms { named, forces, rhs })
+    }
 }
 
 /// `tangent_rhs(q, qd, t, qdd, lam, f, b)`: writes `F̃` and `b̃`, one

@@ -83,16 +83,23 @@ impl<'a> FactoredSolve<'a> {
     /// The solve to `λ`, for the solver `gauss` or (`gauss` false) the
     /// Jacobian.
     pub(super) fn new(ctx: &'a Context, f: &'a Factored, gauss: bool) -> Self {
-        Self::build(ctx, f, Scope::Dynamics { gauss })
+        Self::build(ctx, f, Scope::Dynamics { gauss }, &[])
+    }
+
+    /// The Jacobian's solve to `λ`, with `extra` expressions bound under
+    /// their names in the same body as `M`, `F`, `A` and `b` (the tangent
+    /// terms, which share their sines and cosines).
+    pub(super) fn with_extra(ctx: &'a Context, f: &'a Factored, extra: &[(Ident, Id)]) -> Self {
+        Self::build(ctx, f, Scope::Dynamics { gauss: false }, extra)
     }
 
     /// `M`'s factor, `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`) and `S`'s factor,
     /// in a function returning `Option` (no forces, no `b`).
     pub(super) fn constraint_space(ctx: &'a Context, f: &'a Factored) -> Self {
-        Self::build(ctx, f, Scope::ConstraintSpace)
+        Self::build(ctx, f, Scope::ConstraintSpace, &[])
     }
 
-    fn build(ctx: &'a Context, f: &'a Factored, scope: Scope) -> Self {
+    fn build(ctx: &'a Context, f: &'a Factored, scope: Scope, extra: &[(Ident, Id)]) -> Self {
         let k = ctx.k;
         let dynamics = matches!(scope, Scope::Dynamics { .. });
         let correction = matches!(scope, Scope::Dynamics { gauss: true });
@@ -117,7 +124,7 @@ impl<'a> FactoredSolve<'a> {
         };
         let mass = StructuredLdlt::mass(&f.mass, mass_bail, solves);
         let gram = StructuredLdlt::gram(&f.gram);
-        let inputs = inputs(ctx, f, &mass, dynamics, &bail);
+        let inputs = inputs(ctx, f, &mass, (dynamics, extra), &bail);
         // A semi-definite M: the auxiliary mass and forces, from M, F, A, b.
         let auxiliary = f
             .auxiliary
@@ -253,10 +260,11 @@ fn inputs(
     ctx: &Context,
     f: &Factored,
     mass: &StructuredLdlt,
-    dynamics: bool,
+    (dynamics, extra): (bool, &[(Ident, Id)]),
     bail: &dyn Fn(TokenStream) -> TokenStream,
 ) -> TokenStream {
-    let (named, mass_and_forces) = named_inputs(ctx, f, mass, dynamics);
+    let (mut named, mass_and_forces) = named_inputs(ctx, f, mass, dynamics);
+    named.extend(extra.iter().cloned());
     bind(ctx, &named, mass_and_forces, bail)
 }
 
