@@ -5,7 +5,9 @@
 //! `__lam{r}`, structural zeros left out. [`TangentTerms`] is read twice:
 //! by the hidden `tangent_rhs` (the runtime's dense solve) and by the
 //! generated structured solve (`super::mass_inverse::symbolic::jacobian`), which needs no
-//! matrix of them.
+//! matrix of them. [`NamedTerms`] are the same terms over derivatives the
+//! caller binds in its own body (`super::mass_inverse::factored::jacobian`,
+//! sharing the sines and cosines of `M`, `F`, `A` and `b`).
 
 use super::body::{literal, Body};
 use super::context::{Context, Inputs};
@@ -116,10 +118,11 @@ fn roots(ctx: &Context, sets: &[&Derivatives]) -> Vec<Id> {
     roots
 }
 
-/// `F̃` and `b̃` of each set, contracted with `__qdd{i}` and `__lam{r}`,
-/// each derivative written by `expr` (`None` where a structural zero).
+/// `F̃` and `b̃` of each set, `[set][row]`, `None` where a structural zero.
 type Terms = (Vec<Vec<Option<TokenStream>>>, Vec<Vec<Option<TokenStream>>>);
 
+/// `F̃` and `b̃` of each set, contracted with `__qdd{i}` and `__lam{r}`,
+/// each derivative written by `expr`.
 fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream) -> Terms {
     let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
