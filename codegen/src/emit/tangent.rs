@@ -144,24 +144,22 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
             }
         }
     };
+    // Each entry's own derivative (`∂F/∂v`, `∂b/∂v`) as its first term.
+    let own = |values: &[Id]| -> Vec<Vec<(bool, TokenStream)>> {
+        let term = |e: Id| (!g.is_zero(e)).then(|| (false, expr(e)));
+        values
+            .iter()
+            .map(|&e| term(e).into_iter().collect())
+            .collect()
+    };
     let mut forces = Vec::with_capacity(sets.len());
     let mut rhs = Vec::with_capacity(sets.len());
     for d in sets {
-        let mut f: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); n];
-        for (i, &e) in d.forces.iter().enumerate() {
-            if !g.is_zero(e) {
-                f[i].push((false, expr(e)));
-            }
-        }
+        let mut f = own(&d.forces);
         for &(i, j, e) in &d.mass {
             f[i].push(times(e, &qdd[j], true));
         }
-        let mut b: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
-        for (r, &e) in d.b.iter().enumerate() {
-            if !g.is_zero(e) {
-                b[r].push((false, expr(e)));
-            }
-        }
+        let mut b = own(&d.b);
         for &(r, i, e) in &d.a {
             f[i].push(times(e, &lam[r], false));
             b[r].push(times(e, &qdd[i], true));
