@@ -85,25 +85,46 @@ static int peer_compare(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* Median time per call in ns of `call(ctx)`: batches of about 5 ms after a
- * warm-up, 31 of them (the same statistic as criterion's median, near
- * enough for ratios of 2 and more). */
-static double peer_time(void (*call)(void *), void *ctx) {
+/* The thread's CPU time in ns: the robots' and the contacts' rows are timed
+ * on it on both sides (the Rust programs read the same clock), since on a
+ * shared machine the wall time of a pinned loop also counts the time other
+ * processes held its core (observed: the same call 10× slower from one round
+ * to the next). */
+static double peer_cpu_now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec * 1e9 + t.tv_nsec;
+}
+
+/* Median time per call in ns of `call(ctx)` on the clock `now`: batches of
+ * about 5 ms after a warm-up, 31 of them (the same statistic as criterion's
+ * median, near enough for ratios of 2 and more). */
+static double peer_time_on(double (*now)(void), void (*call)(void *), void *ctx) {
   long iters = 1;
   for (;;) {
-    double t0 = peer_now();
+    double t0 = now();
     for (long i = 0; i < iters; i++) call(ctx);
-    if (peer_now() - t0 > 5e6) break;
+    if (now() - t0 > 5e6) break;
     iters *= 2;
   }
   double samples[31];
   for (int s = 0; s < 31; s++) {
-    double t0 = peer_now();
+    double t0 = now();
     for (long i = 0; i < iters; i++) call(ctx);
-    samples[s] = (peer_now() - t0) / iters;
+    samples[s] = (now() - t0) / iters;
   }
   qsort(samples, 31, sizeof samples[0], peer_compare);
   return samples[15];
+}
+
+/* `peer_time_on` the wall clock (the chains and the four-bar). */
+static double peer_time(void (*call)(void *), void *ctx) {
+  return peer_time_on(peer_now, call, ctx);
+}
+
+/* `peer_time_on` the thread's CPU clock (the robots and the contacts). */
+static double peer_cpu_time(void (*call)(void *), void *ctx) {
+  return peer_time_on(peer_cpu_now, call, ctx);
 }
 
 /* Largest |a − b| over n entries. */

@@ -21,7 +21,7 @@
 // took. `lcaba` (which requires mu > 0) the same way; only its q̈ is
 // compared, to 1e-8 (its own convergence, see `run`). Only answers within
 // the tolerance are timed: per state, the median of common.h's batches, on
-// the thread's CPU clock (`cpu_time`).
+// the thread's CPU clock (`peer_cpu_time`).
 //
 // Usage: contacts REFERENCE_FILE ROUND
 #include "common.h"
@@ -41,35 +41,6 @@ typedef pin::RigidConstraintModel Constraint;
 typedef pin::RigidConstraintData ConstraintData;
 typedef std::vector<Constraint, Eigen::aligned_allocator<Constraint>> Constraints;
 typedef std::vector<ConstraintData, Eigen::aligned_allocator<ConstraintData>> ConstraintDatas;
-
-// The thread's CPU time in ns: the contacts rows are timed in CPU time on
-// both sides (the Rust side reads the same clock), since on a shared machine
-// the wall time of a pinned loop also counts the time other processes held
-// its core (observed: the same call 10× slower from one round to the next).
-static double cpu_now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e9 + t.tv_nsec;
-}
-
-// common.h's `peer_time` on the thread's CPU clock.
-static double cpu_time(void (*call)(void *), void *ctx) {
-  long iters = 1;
-  for (;;) {
-    double t0 = cpu_now();
-    for (long i = 0; i < iters; i++) call(ctx);
-    if (cpu_now() - t0 > 5e6) break;
-    iters *= 2;
-  }
-  double samples[31];
-  for (int s = 0; s < 31; s++) {
-    double t0 = cpu_now();
-    for (long i = 0; i < iters; i++) call(ctx);
-    samples[s] = (cpu_now() - t0) / iters;
-  }
-  qsort(samples, 31, sizeof samples[0], peer_compare);
-  return samples[15];
-}
 
 struct State {
   VectorXd q, v, tau, a, lambda;
@@ -235,7 +206,7 @@ static void run(Problem &p, bool lcaba, const char *round) {
   }
   const int ok = qdd <= tolerance && (lcaba || lambda <= tolerance);
   char time[32] = "null", lam[32] = "null";
-  if (ok) snprintf(time, sizeof time, "%.3f", cpu_time(lcaba ? call_lcaba : call_constraint_dynamics, &t) / p.states.size());
+  if (ok) snprintf(time, sizeof time, "%.3f", peer_cpu_time(lcaba ? call_lcaba : call_constraint_dynamics, &t) / p.states.size());
   if (!lcaba) snprintf(lam, sizeof lam, "%.3e", lambda);
   printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"system\": \"%s\", \"n\": %d, \"ns\": %s, "
          "\"states\": %zu, \"round\": %s, \"difference\": %.3e, \"lambda_difference\": %s, "

@@ -6,7 +6,8 @@
 // against `mass_matrix` and `rnea` against `inverse_dynamics`, relative to
 // the largest entry of the generated answer; only if all of a robot's
 // states agree does it time the three over the same states (common.h's
-// statistic, per state). One JSON line per result.
+// statistic on the thread's CPU clock, per state). One JSON line per
+// result, tagged with ROUND (run.sh alternates three rounds with ours).
 //
 // Our URDF reader takes an angle of `rpy` written as a multiple of π/2 to
 // all its digits (the UR5's `1.57079632679`) as that multiple exactly,
@@ -17,7 +18,7 @@
 // (`literal_difference`), and it is that model that is timed (the angles
 // do not change Pinocchio's work).
 //
-// Usage: robots PANDA_URDF UR5_URDF REFERENCE_FILE
+// Usage: robots PANDA_URDF UR5_URDF REFERENCE_FILE ROUND
 #include "common.h"
 
 #include <pinocchio/algorithm/aba.hpp>
@@ -163,7 +164,7 @@ static void check(const pin::Model &model, pin::Data &data, const std::vector<St
 }
 
 static void robot(const char *name, const char *path, const std::vector<std::string> &locked,
-                  const peer_record *records, int count) {
+                  const peer_record *records, int count, const char *round) {
   const pin::Model model = load(path, false, locked), exact = load(path, true, locked);
   pin::Data data(model);
   const int n = model.nv;
@@ -195,11 +196,11 @@ static void robot(const char *name, const char *path, const std::vector<std::str
     const double tolerance = 1e-12;
     const int ok = worst[k] <= tolerance;
     char time[32] = "null";
-    if (ok) snprintf(time, sizeof time, "%.3f", peer_time(calls[k], &ctx) / states.size());
+    if (ok) snprintf(time, sizeof time, "%.3f", peer_cpu_time(calls[k], &ctx) / states.size());
     printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"system\": \"%s\", \"n\": %d, \"ns\": %s, "
-           "\"states\": %zu, \"difference\": %.3e, \"literal_difference\": %.3e, "
+           "\"states\": %zu, \"round\": %s, \"difference\": %.3e, \"literal_difference\": %.3e, "
            "\"tolerance\": %.1e, \"ok\": %s}\n",
-           what[k], name, n, time, states.size(), worst[k], literal[k], tolerance,
+           what[k], name, n, time, states.size(), round, worst[k], literal[k], tolerance,
            ok ? "true" : "false");
     fflush(stdout);
     if (!ok) {
@@ -211,13 +212,13 @@ static void robot(const char *name, const char *path, const std::vector<std::str
 }
 
 int main(int argc, char **argv) {
-  if (argc != 4) {
-    fprintf(stderr, "usage: %s PANDA_URDF UR5_URDF REFERENCE_FILE\n", argv[0]);
+  if (argc != 5) {
+    fprintf(stderr, "usage: %s PANDA_URDF UR5_URDF REFERENCE_FILE ROUND\n", argv[0]);
     return 2;
   }
   static peer_record records[64];
   const int n = peer_read(argv[3], records, 64);
-  robot("panda", argv[1], {"panda_finger_joint1", "panda_finger_joint2"}, records, n);
-  robot("ur5", argv[2], {}, records, n);
+  robot("panda", argv[1], {"panda_finger_joint1", "panda_finger_joint2"}, records, n, argv[4]);
+  robot("ur5", argv[2], {}, records, n, argv[4]);
   return peer_failures ? 1 : 0;
 }

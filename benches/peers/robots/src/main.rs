@@ -5,23 +5,29 @@
 //! files (`benches/peers/robots.cpp`).
 //!
 //! ```text
-//! robots REFERENCE_FILE
+//! constrained-robots write REFERENCE_FILE
+//! constrained-robots time ROUND
 //! ```
 //!
-//! writes 20 pseudo-random states per robot and the generated answers in
-//! the format of `benches/peers/common.h`, one record per state: a header
-//! `panda 7` or `ur5 6`, then the lines `q`, `v`, `tau` (the joint torques,
-//! the system's inputs), `qdd` (`acceleration`), `M` (`mass_matrix`, row by
-//! row), `a` (an acceleration) and `tau_id` (`inverse_dynamics(q, v, a)`).
-//! Then it times `acceleration`, `mass_matrix` and `inverse_dynamics` over
-//! those states with `common.h`'s statistic (the median of 31 batches of
-//! about 5 ms, per state) and prints one JSON line per result. Run by
-//! `benches/peers/run.sh`, pinned to the core the peers use.
+//! `write` writes 20 pseudo-random states per robot and the generated
+//! answers in the format of `benches/peers/common.h`, one record per state:
+//! a header `panda 7` or `ur5 6`, then the lines `q`, `v`, `tau` (the joint
+//! torques, the system's inputs), `qdd` (`acceleration`), `M`
+//! (`mass_matrix`, row by row), `a` (an acceleration) and `tau_id`
+//! (`inverse_dynamics(q, v, a)`). `time` times `acceleration`,
+//! `mass_matrix` and `inverse_dynamics` over the same states with
+//! `common.h`'s statistic on the thread's CPU clock (the median of 31
+//! batches of about 5 ms, per state) and prints one JSON line per result,
+//! tagged with its round. `benches/peers/run.sh` runs three rounds, each
+//! followed by Pinocchio's, pinned to the core the peers use.
 
 use constrained::nalgebra::{SMatrix, SVector};
 use std::fmt::Write as _;
 use std::hint::black_box;
-use std::time::Instant;
+
+mod clock;
+
+use clock::median_ns;
 
 include!(concat!(env!("OUT_DIR"), "/robots.rs"));
 
@@ -104,8 +110,9 @@ where
         }
     }
 
-    /// Times the three methods over `samples`; one JSON line each.
-    fn time(&self, samples: &[Sample<N>]) {
+    /// Times the three methods over `samples`; one JSON line each, of
+    /// round `round`.
+    fn time(&self, samples: &[Sample<N>], round: &str) {
         let systems: Vec<S> = samples.iter().map(|s| (self.new)(&s.tau)).collect();
         let per_state = |ns: f64| ns / samples.len() as f64;
         let acceleration = median_ns(|| {
@@ -139,7 +146,7 @@ where
         ] {
             println!(
                 "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{}\", \"n\": {N}, \
-                 \"ns\": {:.3}, \"states\": {}, \"ok\": true}}",
+                 \"ns\": {:.3}, \"states\": {}, \"round\": {round}, \"ok\": true}}",
                 self.name,
                 per_state(ns),
                 samples.len()
@@ -156,33 +163,6 @@ fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>)
     out.push('\n');
 }
 
-/// `common.h`'s `peer_time`: the median time in ns of `call`, over 31
-/// batches of about 5 ms after doubling the batch up to that length.
-fn median_ns(mut call: impl FnMut()) -> f64 {
-    let mut iterations: u64 = 1;
-    loop {
-        let start = Instant::now();
-        for _ in 0..iterations {
-            call();
-        }
-        if start.elapsed().as_secs_f64() > 5e-3 || iterations >= 1 << 40 {
-            break;
-        }
-        iterations *= 2;
-    }
-    let mut samples: Vec<f64> = (0..31)
-        .map(|_| {
-            let start = Instant::now();
-            for _ in 0..iterations {
-                call();
-            }
-            start.elapsed().as_secs_f64() * 1e9 / iterations as f64
-        })
-        .collect();
-    samples.sort_by(f64::total_cmp);
-    samples[15]
-}
-
 /// Angles and rates within ±1 (rad, rad/s), torques within ±10 N m,
 /// accelerations within ±2 rad/s².
 fn samples<const N: usize>(rng: &mut Rng) -> Vec<Sample<N>> {
@@ -197,9 +177,7 @@ fn samples<const N: usize>(rng: &mut Rng) -> Vec<Sample<N>> {
 }
 
 fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .expect("usage: robots REFERENCE_FILE");
+    let args: Vec<String> = std::env::args().collect();
     let panda = Robot {
         name: "panda",
         new: |t: &Vector<7>| PandaUrdf::new(t[0], t[1], t[2], t[3], t[4], t[5], t[6]),
@@ -226,10 +204,22 @@ fn main() {
     };
     let mut rng = Rng(26);
     let (panda_states, ur5_states) = (samples::<7>(&mut rng), samples::<6>(&mut rng));
-    let mut out = String::new();
-    panda.reference(&mut out, &panda_states);
-    ur5.reference(&mut out, &ur5_states);
-    std::fs::write(&path, out).expect("writes the reference file");
-    panda.time(&panda_states);
-    ur5.time(&ur5_states);
+    match (args.get(1).map(String::as_str), args.get(2)) {
+        (Some("write"), Some(path)) => {
+            let mut out = String::new();
+            panda.reference(&mut out, &panda_states);
+            ur5.reference(&mut out, &ur5_states);
+            std::fs::write(path, out).expect("writes the reference file");
+        }
+        (Some("time"), Some(round)) => {
+            panda.time(&panda_states, round);
+            ur5.time(&ur5_states, round);
+        }
+        _ => {
+            eprintln!(
+                "usage: constrained-robots write REFERENCE_FILE | constrained-robots time ROUND"
+            );
+            std::process::exit(2);
+        }
+    }
 }

@@ -20,11 +20,14 @@
 //! (world axes, the force on the foot: `Q_c = Aᵀ λ`) are written as they
 //! are. Every state's `q̈` is checked against `A q̈ = b` (1e-12) first.
 
+#[path = "../clock.rs"]
+mod clock;
 #[path = "../../../../../examples/support/quadruped.rs"]
 #[allow(dead_code)]
 #[macro_use]
 mod model;
 
+use clock::median_ns;
 use constrained::floating::FreeMotion;
 use constrained::multipliers::Multipliers;
 use constrained::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
@@ -314,61 +317,6 @@ fn write(path: &str) {
     assert!(worst < 1e-12, "A q̈ = b only to {worst:e}");
     eprintln!("contacts: A q̈ = b to {worst:.1e} at every state");
     std::fs::write(path, out).expect("writes the reference file");
-}
-
-/// `struct timespec` of Linux's `clock_gettime`.
-#[repr(C)]
-struct Timespec {
-    seconds: i64,
-    nanoseconds: i64,
-}
-
-extern "C" {
-    fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
-}
-
-/// The thread's CPU time in ns (`CLOCK_THREAD_CPUTIME_ID`, Linux): the
-/// contacts rows are timed in CPU time on both sides (`contacts.cpp`'s
-/// `cpu_time`), since on a shared machine a pinned loop's wall time also
-/// counts the time other processes held its core.
-fn cpu_now() -> f64 {
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-    let mut t = Timespec {
-        seconds: 0,
-        nanoseconds: 0,
-    };
-    // SAFETY: `t` is a valid, writable `struct timespec` for the call.
-    let status = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) };
-    assert_eq!(status, 0, "the thread's CPU clock is readable");
-    t.seconds as f64 * 1e9 + t.nanoseconds as f64
-}
-
-/// `common.h`'s `peer_time` on the thread's CPU clock: the median time in
-/// ns of `call`, over 31 batches of about 5 ms after doubling the batch up
-/// to that length.
-fn median_ns(mut call: impl FnMut()) -> f64 {
-    let mut iterations: u64 = 1;
-    loop {
-        let start = cpu_now();
-        for _ in 0..iterations {
-            call();
-        }
-        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
-            break;
-        }
-        iterations *= 2;
-    }
-    let mut samples: Vec<f64> = (0..31)
-        .map(|_| {
-            let start = cpu_now();
-            for _ in 0..iterations {
-                call();
-            }
-            (cpu_now() - start) / iterations as f64
-        })
-        .collect();
-    samples.sort_by(f64::total_cmp);
-    samples[15]
 }
 
 /// Times `acceleration` and `acceleration_and_multipliers` over `cases`
