@@ -212,20 +212,6 @@ ROBOT_PAIRS = (("acceleration", "aba", "q̈", 3), ("mass_matrix", "crba", "M(q)"
                ("inverse_dynamics", "rnea", "inverse dynamics", 3))
 
 
-def load_robots():
-    """(peer, what, system) → the list of its rounds' JSON lines
-    (`benchmarks/robots.json`, written by benches/peers/run.sh)."""
-    path = TARGET / "benchmarks" / "robots.json"
-    rows = {}
-    if not path.exists():
-        return rows
-    for line in path.read_text().splitlines():
-        if line.startswith("{"):
-            r = json.loads(line)
-            rows.setdefault((r["peer"], r["what"], r["system"]), []).append(r)
-    return rows
-
-
 def robot_ratios(rows, system, ours, theirs):
     """The rounds' ratios Pinocchio / ours, paired by round."""
     return report_contacts.ratios(rows, system, ours, theirs)
@@ -533,7 +519,7 @@ def main():
     if pin8 and mq["pendulum_angles_8/acceleration"]:
         targets.append(("M(q): 8-link pendulum in joint angles within 3 × Pinocchio's `aba`",
                         mq["pendulum_angles_8/acceleration"] / pin8, "≤ 3", lambda r: r <= 3, "{:.2f}×"))
-    robots = load_robots()
+    robots = report_contacts.load(TARGET, "robots.json")
     targets += robot_targets(robots)
     contacts = report_contacts.load(TARGET)
     targets += report_contacts.targets(contacts)

@@ -18,9 +18,10 @@ def _median(values):
     return ordered[middle] if len(ordered) % 2 else (ordered[middle - 1] + ordered[middle]) / 2
 
 
-def load(target):
-    """(peer, what, system) → the list of its rounds' JSON lines."""
-    path = Path(target) / "benchmarks" / "contacts.json"
+def load(target, name="contacts.json"):
+    """(peer, what, system) → the list of its rounds' JSON lines, from
+    `benchmarks/<name>` (the contacts', or the robots' `robots.json`)."""
+    path = Path(target) / "benchmarks" / name
     rows = {}
     if not path.exists():
         return rows
