@@ -12,7 +12,7 @@
 //! over the columns of `tangent_rhs` (the code the runtime's dense solve
 //! calls too), which grows with `n + k` rather than with the columns.
 
-use super::FactoredSolve;
+use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
@@ -120,67 +120,28 @@ fn straight_line(
     terms: &NamedTerms,
 ) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
-    let g = &ctx.eq.system.graph;
     let mut out = TokenStream::new();
     for c in (0..terms.forces.len()).filter(|&c| nonzero_column(terms, c)) {
         let u: Vec<Ident> = (0..n).map(|i| Context::local2("ju", c, i)).collect();
         let (solve_u, u_bound) = gauss
             .mass
             .solve_sparse(&terms.forces[c], &format!("jy{c}x"), &u);
-        out.extend(solve_u);
-        let residuals: Vec<Option<TokenStream>> = (0..k)
-            .map(|j| {
-                let products: Vec<TokenStream> = (0..n)
-                    .filter(|&i| u_bound[i] && !g.is_zero(ctx.eq.a[j][i]))
-                    .map(|i| {
-                        let (aji, ui) = (Context::local2("a", j, i), &u[i]);
-                        quote!(#aji * #ui)
-                    })
-                    .collect();
-                match (&terms.rhs[c][j], products.is_empty()) {
-                    (None, true) => None,
-                    (Some(b), _) => Some(quote!((#b) #(- #products)*)),
-                    (None, false) => Some(quote!(-(#(#products)+*))),
-                }
-            })
-            .collect();
-        let r: Vec<Option<TokenStream>> = residuals
+        let r: Vec<Ident> = (0..k).map(|j| Context::local2("jr", c, j)).collect();
+        let (residuals, r_bound) = residual_code(ctx, &r, &terms.rhs[c], (&u_bound, &u));
+        let r: Vec<Option<TokenStream>> = r
             .iter()
-            .enumerate()
-            .map(|(j, value)| {
-                value.as_ref().map(|_| {
-                    let name = Context::local2("jr", c, j);
-                    quote!(#name)
-                })
-            })
+            .zip(&r_bound)
+            .map(|(name, &bound)| bound.then(|| quote!(#name)))
             .collect();
-        for (j, value) in residuals.iter().enumerate() {
-            if let Some(value) = value {
-                let name = Context::local2("jr", c, j);
-                out.extend(quote!(let #name = #value;));
-            }
-        }
         let mu: Vec<Ident> = (0..k).map(|j| Context::local2("jmu", c, j)).collect();
         let (solve_mu, mu_bound) = gauss.gram.solve_sparse(&r, &format!("jz{c}x"), &mu);
-        out.extend(solve_mu);
+        out.extend([solve_u, residuals, solve_mu]);
         let (matrix, column) = destination(ctx, c);
-        for i in 0..n {
-            let mut terms: Vec<TokenStream> = Vec::new();
-            if u_bound[i] {
-                let ui = &u[i];
-                terms.push(quote!(#ui));
-            }
-            terms.extend(
-                (0..k)
-                    .filter(|&j| mu_bound[j] && f.weighted[i][j])
-                    .map(|j| {
-                        let (w, m) = (Context::local2("w", i, j), &mu[j]);
-                        quote!(#w * #m)
-                    }),
-            );
-            if !terms.is_empty() {
+        let column_values = accelerations(f, (&u_bound, &u), (&mu_bound, &mu));
+        for (i, value) in column_values.into_iter().enumerate() {
+            if let Some(value) = value {
                 let row = index(i);
-                out.extend(quote!(__jac.#matrix.data.0[#column][#row] = #(#terms)+*;));
+                out.extend(quote!(__jac.#matrix.data.0[#column][#row] = #value;));
             }
         }
     }
@@ -195,34 +156,19 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
     let d_l = ctx.jacobians_zero().1;
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let (qdd_vector, lam) = (vector(ctx, "qdd", n), vector(ctx, "lam", k));
-    let g = &ctx.eq.system.graph;
-    let a = &ctx.eq.a;
     let fv: Vec<Ident> = (0..n).map(|i| Context::local("jf", i)).collect();
     let u: Vec<Ident> = (0..n).map(|i| Context::local("ju", i)).collect();
     let rv: Vec<Ident> = (0..k).map(|j| Context::local("jb", j)).collect();
     let r: Vec<Ident> = (0..k).map(|j| Context::local("jr", j)).collect();
     let mu: Vec<Ident> = (0..k).map(|j| Context::local("jmu", j)).collect();
     let solve_u = gauss.mass.solve(&fv, "jy", &u);
-    let residuals = (0..k).map(|j| {
-        let products = (0..n).filter(|&i| !g.is_zero(a[j][i])).map(|i| {
-            let (aji, ui) = (Context::local2("a", j, i), &u[i]);
-            quote!(#aji * #ui)
-        });
-        let b = &rv[j];
-        quote!(#b #(- #products)*)
-    });
+    let (every_u, every_mu) = (vec![true; n], vec![true; k]);
+    let b: Vec<Option<TokenStream>> = rv.iter().map(|b| Some(quote!(#b))).collect();
+    let residuals = residual_code(ctx, &r, &b, (&every_u, &u)).0;
     let solve_mu = gauss.gram.solve(&r, "jz", &mu);
-    let column = (0..n).map(|i| {
-        let products: Vec<TokenStream> = (0..k)
-            .filter(|&j| f.weighted[i][j])
-            .map(|j| {
-                let (w, m) = (Context::local2("w", i, j), &mu[j]);
-                quote!(#w * #m)
-            })
-            .collect();
-        let ui = &u[i];
-        quote!(#ui #(+ #products)*)
-    });
+    let column = accelerations(f, (&every_u, &u), (&every_mu, &mu))
+        .into_iter()
+        .map(|e| e.unwrap_or_else(|| quote!(T::zero())));
     let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
     quote! {
         let mut __fs = ::constrained::nalgebra::SMatrix::<T, #n_l, #d_l>::zeros();
@@ -235,7 +181,7 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
             let [#(#fv),*] = *__f;
             #unpack_b
             #solve_u
-            #(let #r = #residuals;)*
+            #residuals
             #solve_mu
             *__out = [#(#column),*];
         }

@@ -141,7 +141,8 @@ impl<'a> FactoredSolve<'a> {
         let solve_w = weighted_columns(ctx, f, &mass);
         let gram_entries = gram_entries(ctx, f, &gram);
         let residuals: Vec<Ident> = (0..k).map(|r| Context::local("r", r)).collect();
-        let residual_code = residual_code(ctx, &residuals, &a_bound, &unconstrained);
+        let (residual_code, _) =
+            residual_code(ctx, &residuals, &b_locals(ctx), (&a_bound, &unconstrained));
         // (The auxiliary prelude corrected `b` itself.)
         let corrected =
             (correction && k > 0 && f.auxiliary.is_none()).then(|| corrected(&residuals, &[]));
@@ -384,15 +385,17 @@ fn gram_entries(ctx: &Context, f: &Factored, gram: &StructuredLdlt) -> TokenStre
 }
 
 /// `r = b − A a` into the locals `residuals`, over `a`'s nonzeros
-/// (`a_bound`).
+/// (`a_bound`) and `b`'s (`None` a structural zero). Returns the code and
+/// which residuals it binds (the others are zero).
 fn residual_code(
     ctx: &Context,
     residuals: &[Ident],
-    a_bound: &[bool],
-    unconstrained: &[Ident],
-) -> TokenStream {
+    b: &[Option<TokenStream>],
+    (a_bound, unconstrained): (&[bool], &[Ident]),
+) -> (TokenStream, Vec<bool>) {
     let (g, a) = (&ctx.eq.system.graph, &ctx.eq.a);
     let mut residual_code = TokenStream::new();
+    let mut bound = vec![false; residuals.len()];
     for (r, name) in residuals.iter().enumerate() {
         let pairs: Vec<_> = (0..ctx.n)
             .filter(|&l| !g.is_zero(a[r][l]) && a_bound[l])
@@ -401,16 +404,63 @@ fn residual_code(
                 (a_entry(r, l), quote!(#u))
             })
             .collect();
-        let b = Context::local("b", r);
-        let value = if pairs.is_empty() {
-            quote!(#b)
-        } else {
-            let aa = dot(pairs);
-            quote!(#b - (#aa))
+        let value = match (&b[r], pairs.is_empty()) {
+            (None, true) => continue,
+            (Some(b), true) => quote!(#b),
+            (Some(b), false) => {
+                let aa = dot(pairs);
+                quote!(#b - (#aa))
+            }
+            (None, false) => {
+                let aa = dot(pairs);
+                quote!(-(#aa))
+            }
         };
+        bound[r] = true;
         residual_code.extend(quote! { let #name = #value; });
     }
-    residual_code
+    (residual_code, bound)
+}
+
+/// The locals `__b{r}` as right-hand sides, none structurally zero.
+fn b_locals(ctx: &Context) -> Vec<Option<TokenStream>> {
+    (0..ctx.k)
+        .map(|r| {
+            let b = Context::local("b", r);
+            Some(quote!(#b))
+        })
+        .collect()
+}
+
+/// `q̈ᵢ = aᵢ + Σⱼ Wᵢⱼ λⱼ`, one expression per coordinate, over `a`'s
+/// nonzeros (`a_bound`) and the multipliers' (`lambda_bound`); `None`
+/// where no term is left.
+fn accelerations(
+    f: &Factored,
+    (a_bound, unconstrained): (&[bool], &[Ident]),
+    (lambda_bound, multipliers): (&[bool], &[Ident]),
+) -> Vec<Option<TokenStream>> {
+    (0..unconstrained.len())
+        .map(|i| {
+            let pairs: Vec<(TokenStream, TokenStream)> = (0..multipliers.len())
+                .filter(|&j| f.weighted[i][j] && lambda_bound[j])
+                .map(|j| {
+                    let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
+                    (quote!(#w), quote!(#lam))
+                })
+                .collect();
+            let u = &unconstrained[i];
+            match (a_bound[i], pairs.is_empty()) {
+                (true, true) => Some(quote!(#u)),
+                (true, false) => {
+                    let wl = dot(pairs);
+                    Some(quote!(#u + (#wl)))
+                }
+                (false, true) => None,
+                (false, false) => Some(dot(pairs)),
+            }
+        })
+        .collect()
 }
 
 /// `q̈ᵢ = aᵢ + Σⱼ Wᵢⱼ λⱼ` and `Fᶜᵢ = Σⱼ Aⱼᵢ λⱼ`, one expression per
@@ -422,26 +472,10 @@ fn motion(
     unconstrained: &[Ident],
     multipliers: &[Ident],
 ) -> (Vec<TokenStream>, Vec<TokenStream>) {
-    let k = ctx.k;
-    let acceleration = (0..ctx.n)
-        .map(|i| {
-            let pairs: Vec<(TokenStream, TokenStream)> = (0..k)
-                .filter(|&j| f.weighted[i][j])
-                .map(|j| {
-                    let (w, lam) = (Context::local2("w", i, j), &multipliers[j]);
-                    (quote!(#w), quote!(#lam))
-                })
-                .collect();
-            let u = &unconstrained[i];
-            match (a_bound[i], pairs.is_empty()) {
-                (true, true) => quote!(#u),
-                (true, false) => {
-                    let wl = dot(pairs);
-                    quote!(#u + (#wl))
-                }
-                (false, _) => dot(pairs),
-            }
-        })
+    let every = vec![true; ctx.k];
+    let acceleration = accelerations(f, (a_bound, unconstrained), (&every, multipliers))
+        .into_iter()
+        .map(|e| e.unwrap_or_else(|| quote!(T::zero())))
         .collect();
     (acceleration, constraint_force(ctx, multipliers))
 }
