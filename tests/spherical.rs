@@ -7,9 +7,7 @@
 
 use constrained::models::{quaternion_state, HeavyTop, SphericalPendulum};
 use constrained::nalgebra::{Quaternion, Rotation3, SVector, UnitQuaternion, Vector3, Vector4};
-use constrained::{
-    constrained_system, ConstrainedSystem, DormandPrince45, DynamicsError, Stabilization, State,
-};
+use constrained::{constrained_system, ConstrainedSystem, DormandPrince45, Stabilization, State};
 
 constrained_system! {
     /// A symmetric top on a spherical joint at the world's origin: mass
@@ -326,9 +324,10 @@ fn a_tethered_ball_in_velocity_coordinates_is_the_dense_solve() {
         gaps.own, 20,
         "the generated solve answered every state itself"
     );
-    // Far off the sphere (|q| 1.35 here) this `M` is no longer positive
-    // semi-definite (an eigenvalue −0.044): the generated solve says so,
-    // as the dense one does.
+    // Far off the sphere (|q| 1.35 here) the ball is still a rigid body
+    // turned by R(q/|q|), so `M` stays positive semi-definite (rank 4 of
+    // 5: singular along `q` alone) and the generated solve answers, as the
+    // dense one does, with the same `q̈`.
     let r = quaternion_state(0.0, Vector4::new(0.9, 0.2, -0.3, 0.7), Vector3::zeros());
     let q = SVector::<f64, 5>::from_column_slice(&[
         1.3,
@@ -338,12 +337,11 @@ fn a_tethered_ball_in_velocity_coordinates_is_the_dense_solve() {
         1.35 * r.q[3],
     ]);
     let qd = SVector::<f64, 5>::zeros();
-    let generated = constrained::__private::Generated::gauss(&sys, &q, &qd, 0.0, None);
-    let dense = constrained::__private::gauss_dense(&sys, &q, &qd, 0.0, None);
-    assert!(sys.mass_matrix(&q, 0.0).symmetric_eigenvalues().min() < -1e-3);
-    assert_eq!(
-        generated.err(),
-        Some(DynamicsError::MassNotPositiveDefinite)
-    );
-    assert_eq!(dense.err(), Some(DynamicsError::MassNotPositiveDefinite));
+    let (generated, _) =
+        constrained::__private::Generated::gauss(&sys, &q, &qd, 0.0, None).expect("answers");
+    let (dense, _) =
+        constrained::__private::gauss_dense(&sys, &q, &qd, 0.0, None).expect("answers");
+    let eigenvalues = sys.mass_matrix(&q, 0.0).symmetric_eigenvalues();
+    assert!(eigenvalues.min() > -1e-12, "{eigenvalues}");
+    assert!((generated - dense).amax() < 1e-12 * dense.amax().max(1.0));
 }

@@ -6,9 +6,13 @@
 //! or below today's counts (19,747 and 4,173 before the solve by forward
 //! substitution, the row choice and `b` by forward mode; 12,904 and 2,944
 //! before the saddle-point solve and the feet's positions built along
-//! their chains; 9,114 before the velocity coordinates, 8,361 before their scale ½), and `gauss` solves
+//! their chains; 9,114 before the velocity coordinates, 8,361 before their
+//! scale ½, 8,094 before the base's own axes: `A` and `b` then rose from
+//! 1,320 to 1,480, the quotient of `R(q/|q|)` in their quaternion columns),
+//! and `gauss` solves
 //! the saddle-point system in the quaternion's velocity coordinates with
-//! each foot's rows eliminated right after its leg's joints.
+//! each foot's rows eliminated together with its leg's joints, in the
+//! base's axes.
 
 use constrained_codegen::equations::mass_inverse::MassInverse;
 use constrained_codegen::tools::op_count;
@@ -49,11 +53,11 @@ fn the_solve_costs_no_more_than_today() {
     let total = op_count::acceleration(&file)
         .expect("a generated solve")
         .total();
-    assert!(total <= 8_094, "q̈ costs {total} operations");
+    assert!(total <= 6_928, "q̈ costs {total} operations");
     let ab = op_count::method(&file, "constraint_matrices")
         .expect("A and b")
         .total();
-    assert!(ab <= 1_320, "A and b cost {ab} operations");
+    assert!(ab <= 1_480, "A and b cost {ab} operations");
 }
 
 /// The velocity form (`equations::velocity`) of the saddle-point system
@@ -93,18 +97,37 @@ fn each_foot_is_eliminated_with_its_leg() {
     };
     let base_first = (0..6).map(position).min().expect("six base coordinates");
     for leg in 0..3 {
-        // Three of the feet are eliminated before any base coordinate (the
-        // fourth's rows may pivot on the base's position, whose entries in
-        // them are the constant 1).
-        let joints = (0..3).map(|j| position(6 + 3 * leg + j));
-        let rows = (0..3).map(|j| position(n + 3 * leg + j));
-        let last_joint = joints.max().expect("three joints");
-        let (first_row, last_row) = (
-            rows.clone().min().expect("three rows"),
-            rows.max().expect("three rows"),
+        // Three of the feet are eliminated with their legs before any base
+        // coordinate (the fourth's rows may pivot on the base's position,
+        // whose entries in them, in the base's axes, are the constant 1).
+        let first_joint = (0..3)
+            .map(|j| position(6 + 3 * leg + j))
+            .min()
+            .expect("three joints");
+        let last = (0..3)
+            .flat_map(|j| [position(6 + 3 * leg + j), position(n + 3 * leg + j)])
+            .max()
+            .expect("six");
+        assert!(
+            last < base_first,
+            "leg {leg}: joints and rows before the base"
         );
-        assert!(last_joint < first_row, "leg {leg}: joints before rows");
-        assert!(last_row < base_first, "leg {leg}: rows before the base");
+        assert!(
+            last - first_joint < 6,
+            "leg {leg}: its joints and rows together, without another leg's"
+        );
+    }
+    // The feet's rows in the base's axes: `I` on the position, no `α`.
+    let one = |e| g.as_num(e).is_some_and(|x| x.is_one());
+    for r in 0..12 {
+        for j in 0..3 {
+            let e = velocity.system.a[r][j];
+            assert!(
+                if r % 3 == j { one(e) } else { g.is_zero(e) },
+                "row {r}, z{j}"
+            );
+        }
+        assert!(g.is_zero(velocity.system.a[r][3]), "row {r}: no α");
     }
 }
 

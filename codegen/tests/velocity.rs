@@ -4,7 +4,10 @@
 //! unit sphere): `TᵀMT` from the composite-rigid-body algorithm with the
 //! columns `S T` equals `T` times `M` times `T` formed from numbers, and
 //! `TᵀF`, `A T` likewise, with `T = ½ [q, Gᵀ]` written out here from
-//! `G = [−v, w I − ṽ]`; each norm's row of `A T` is `|q|²` on `α` alone.
+//! `G = [−v, w I − ṽ]` and, for a free base, `p̈ = R̂ z`; each norm's row of
+//! `A T` is `|q|²` on `α` alone. The model's `A` and `b` equal the symbolic
+//! derivatives of φ (the rows of a point under a free base are a closed
+//! form), and those rows in the base's axes are `R̂ᵀ A T` and `R̂ᵀ b`.
 //! For the quadruped (one free joint), a pinned top (one, with a point
 //! fixed), two free bodies joined at a point (two) and a ball on a
 //! spherical joint at an arm's tip, a point of it on a plane (one, inside
@@ -13,9 +16,12 @@
 //! points: off the unit sphere their `M` has pivots of either sign, and no
 //! order passed; the points are now put on the sphere.)
 
+use constrained_codegen::equations::in_base::rows;
 use constrained_codegen::equations::mass_inverse::MassInverse;
 use constrained_codegen::equations::velocity::transformed;
+use constrained_codegen::expr::diff::Differentiator;
 use constrained_codegen::expr::{Id, Sym};
+use constrained_codegen::model::Level;
 use constrained_codegen::numeric::rng::sample_points;
 use constrained_codegen::{analyse_with, Options};
 
@@ -58,7 +64,7 @@ fn transformation(n: usize, quaternions: &[usize], value: &dyn Fn(Sym) -> f64) -
         .collect();
     for &c in quaternions {
         let [w, x, y, z] = [0, 1, 2, 3].map(|k| value(Sym::Coord(c + k)));
-        // Rows of G, written out: ω = 2 G q̇.
+        // Rows of G, written out: ω = k G q̇, k = 2/|q|².
         let g = [[-x, w, z, -y], [-y, -z, w, x], [-z, y, -x, w]];
         for k in 0..4 {
             t[c + k][c] = 0.5 * [w, x, y, z][k];
@@ -77,6 +83,26 @@ fn close(what: &str, got: f64, want: f64, scale: f64) {
     );
 }
 
+/// `A` and `b` of every constraint by the symbolic derivative of φ itself
+/// (the generator's own rows of points under a free base are a closed form,
+/// checked against these).
+fn derivatives(eq: &mut constrained_codegen::equations::Equations) -> (Vec<Vec<Id>>, Vec<Id>) {
+    let n = eq.system.forces.len();
+    let mut d = Differentiator::new();
+    let g = &mut eq.system.graph;
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for c in &eq.system.constraints {
+        let velocity = match c.level {
+            Level::Velocity => c.phi,
+            Level::Position => d.time_derivative(g, c.phi, n).1,
+        };
+        let (row, rest) = d.time_derivative(g, velocity, n);
+        a.push(row);
+        b.push(g.neg(rest));
+    }
+    (a, b)
+}
+
 /// Checks the velocity form of `text` at every sample point; returns how
 /// many quaternions it has.
 fn check(text: &str) -> usize {
@@ -84,20 +110,19 @@ fn check(text: &str) -> usize {
     let (mut eq, _) = analyse_with(tokens, Options { jacobians: false }).expect("valid");
     let bodies = eq.system.bodies.clone().expect("a tree");
     let velocity_mass = bodies.velocity_mass.clone().expect("quaternion joints");
-    let (mass, forces, a) = (
-        eq.system.mass.clone(),
-        eq.system.forces.clone(),
-        eq.a.clone(),
-    );
+    let velocity_forces = bodies.velocity_forces.clone().expect("quaternion joints");
+    let (a, b) = derivatives(&mut eq);
+    let (mass, forces) = (eq.system.mass.clone(), eq.system.forces.clone());
+    let (n, k) = (forces.len(), a.len());
+    let in_base = rows(&mut eq.system.graph, &eq.system.constraints, n);
     let v = transformed(
         &mut eq.system.graph,
         (&velocity_mass, &bodies.tree),
-        &forces,
+        &velocity_forces,
         &a,
     )
     .expect("each quaternion's norm's row");
     let g = &eq.system.graph;
-    let (n, k) = (forces.len(), a.len());
     let quaternions: Vec<usize> = v.quaternions.iter().map(|&(c, _)| c).collect();
     let mut roots: Vec<Id> = mass.iter().flatten().copied().collect();
     roots.extend(forces.iter().copied());
@@ -105,18 +130,43 @@ fn check(text: &str) -> usize {
     roots.extend(velocity_mass.iter().flatten().copied());
     roots.extend(v.forces.iter().copied());
     roots.extend(v.a.iter().flatten().copied());
+    roots.extend(b.iter().copied());
+    roots.extend(eq.a.iter().flatten().copied());
+    roots.extend(eq.b.iter().copied());
+    for (_, r) in &v.free {
+        roots.extend(r.iter().flatten().copied());
+    }
+    for t in &in_base {
+        roots.extend(t.a.iter().flatten().copied());
+        roots.extend(t.b.iter().copied());
+    }
     for point in sample_points(0x7e10_c171) {
         let x = g.eval(&roots, &point);
         let (m, rest) = x.split_at(n * n);
         let (f, rest) = rest.split_at(n);
         let (am, rest) = rest.split_at(k * n);
         let (vm, rest) = rest.split_at(n * n);
-        let (vf, va) = rest.split_at(n);
-        let t = transformation(n, &quaternions, &point);
+        let (vf, rest) = rest.split_at(n);
+        let (va, rest) = rest.split_at(k * n);
+        let (bm, rest) = rest.split_at(k);
+        let (model_a, rest) = rest.split_at(k * n);
+        let (model_b, mut rest) = rest.split_at(k);
+        let mut t = transformation(n, &quaternions, &point);
+        for &(p, _) in &v.free {
+            // p̈ = R̂ z.
+            let (r, more) = rest.split_at(9);
+            rest = more;
+            for i in 0..3 {
+                for j in 0..3 {
+                    t[p + i][p + j] = r[3 * i + j];
+                }
+            }
+        }
         let scale = m
             .iter()
             .chain(f)
             .chain(am)
+            .chain(bm)
             .fold(0.0_f64, |s, v| s.max(v.abs()));
         for i in 0..n {
             for j in 0..n {
@@ -131,6 +181,36 @@ fn check(text: &str) -> usize {
             for r in 0..k {
                 let want: f64 = (0..n).map(|p| am[r * n + p] * t[p][i]).sum();
                 close(&format!("A T ({r}, {i})"), va[r * n + i], want, scale);
+                close(
+                    &format!("A ({r}, {i})"),
+                    model_a[r * n + i],
+                    am[r * n + i],
+                    scale,
+                );
+            }
+        }
+        for r in 0..k {
+            close(&format!("b {r}"), model_b[r], bm[r], scale);
+        }
+        for (triple, own) in in_base.iter().enumerate() {
+            // R̂ᵀ (A T) and R̂ᵀ b, with the free base's R̂ (the only one).
+            let p = v.free.first().expect("a free base").0;
+            let (aa, more) = rest.split_at(3 * n);
+            let (bb, more) = more.split_at(3);
+            rest = more;
+            let r_hat = |i: usize, j: usize| t[p + i][p + j];
+            for i in 0..3 {
+                for j in 0..n {
+                    let want: f64 = (0..3).map(|l| r_hat(l, i) * va[own.rows[l] * n + j]).sum();
+                    close(
+                        &format!("triple {triple}: R̂ᵀ A T ({i}, {j})"),
+                        aa[i * n + j],
+                        want,
+                        scale,
+                    );
+                }
+                let want: f64 = (0..3).map(|l| r_hat(l, i) * bm[own.rows[l]]).sum();
+                close(&format!("triple {triple}: R̂ᵀ b {i}"), bb[i], want, scale);
             }
         }
         for &(c, norm) in &v.quaternions {

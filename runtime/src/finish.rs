@@ -110,6 +110,28 @@ impl<T: RealField + Copy, const N: usize> Finish<T, N> for Total {
     }
 }
 
+/// `Result<q̈, DynamicsError>`: [`Fallible`]'s acceleration alone; the
+/// constraint force is never made (so that `acceleration` does not pay for
+/// `Aᵀλ` where the generated `gauss` is not inlined into it).
+pub struct FallibleAcceleration;
+
+impl<T: RealField + Copy, const N: usize> Finish<T, N> for FallibleAcceleration {
+    type Output = Result<SVector<T, N>, DynamicsError>;
+
+    #[inline(always)]
+    fn stands(acceleration: SVector<T, N>, _: impl FnOnce() -> SVector<T, N>) -> Self::Output {
+        Ok(acceleration)
+    }
+
+    #[inline(always)]
+    fn decided(
+        motion: Result<Motion<T, N>, DynamicsError>,
+        _: impl FnOnce() -> Motion<T, N>,
+    ) -> Self::Output {
+        motion.map(|(acceleration, _)| acceleration)
+    }
+}
+
 /// `q̈` of a total method, as [`Total`]; the constraint force is never made.
 pub struct TotalAcceleration;
 

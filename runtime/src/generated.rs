@@ -97,6 +97,17 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
         t: T,
         correction: Option<&SVector<T, K>>,
     ) -> Result<Motion<T, N>, DynamicsError>;
+    /// `q̈` of [`gauss`](Self::gauss) alone (this default: its first half);
+    /// the generated systems' never make the constraint force.
+    fn gauss_acceleration(
+        &self,
+        q: &SVector<T, N>,
+        qd: &SVector<T, N>,
+        t: T,
+        correction: Option<&SVector<T, K>>,
+    ) -> Result<SVector<T, N>, DynamicsError> {
+        self.gauss(q, qd, t, correction).map(|m| m.0)
+    }
     /// `q̈` and, where the generated solve kept every row, each row's
     /// multiplier `λ` from that solve; else the constraint force `Aᵀλ`
     /// (this default: always), from which the runtime finds `λ`.

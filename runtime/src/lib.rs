@@ -51,7 +51,9 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
-    pub use crate::finish::{Fallible, Finish, Multiplied, Total, TotalAcceleration, TotalForce};
+    pub use crate::finish::{
+        Fallible, FallibleAcceleration, Finish, Multiplied, Total, TotalAcceleration, TotalForce,
+    };
     pub use crate::gauss_dense::gauss_dense;
     pub use crate::generated::{
         largest, lit, signum, step, unscaled_bound, Generated, Motion, Reaction,

@@ -123,7 +123,7 @@ where
     forwarded_methods!(system_definitions);
     #[inline]
     fn acceleration(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
-        finite(Generated::gauss(self, &s.q, &s.qd, s.t, None).map(|m| m.0))
+        finite(Generated::gauss_acceleration(self, &s.q, &s.qd, s.t, None))
     }
     #[inline]
     fn acceleration_moore_penrose(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {
@@ -135,7 +135,13 @@ where
         s: &State<T, N>,
         db: &SVector<T, K>,
     ) -> Result<SVector<T, N>, DynamicsError> {
-        finite(Generated::gauss(self, &s.q, &s.qd, s.t, Some(db)).map(|m| m.0))
+        finite(Generated::gauss_acceleration(
+            self,
+            &s.q,
+            &s.qd,
+            s.t,
+            Some(db),
+        ))
     }
     #[inline]
     fn constraint_force(&self, s: &State<T, N>) -> Result<SVector<T, N>, DynamicsError> {

@@ -73,6 +73,22 @@ impl Placement {
         }
     }
 
+    /// Whether this is the identity, decided on the constants.
+    pub fn is_identity(&self, g: &Graph) -> bool {
+        let one = |id| g.as_num(id).is_some_and(crate::expr::num::Num::is_one);
+        self.translation.iter().all(|&t| g.is_zero(t))
+            && (0..3).all(|r| {
+                (0..3).all(|c| {
+                    let e = self.rotation[r][c];
+                    if r == c {
+                        one(e)
+                    } else {
+                        g.is_zero(e)
+                    }
+                })
+            })
+    }
+
     /// `self ∘ inner`: the placement in `self`'s outer frame of a frame
     /// placed by `inner` in `self`'s frame.
     pub fn then(&self, g: &mut Graph, inner: &Placement) -> Placement {
@@ -173,6 +189,9 @@ pub struct Dynamics {
     /// With quaternion joints, `Tᵀ M T`: `M` in the velocity coordinates of
     /// [`free`] (each quaternion's `w` row and column zero).
     pub velocity_mass: Option<Vec<Vec<Id>>>,
+    /// With quaternion joints, `Tᵀ c`: the bias forces in the same
+    /// unknowns.
+    pub velocity_bias: Option<Vec<Id>>,
     /// The bias forces `c(q, q̇) = C(q, q̇) q̇ + g(q)` by recursive Newton–Euler.
     pub bias: Vec<Id>,
     /// `τ = M(q) q̈ + c(q, q̇)` by recursive Newton–Euler with `q̈` as

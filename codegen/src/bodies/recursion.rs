@@ -206,6 +206,20 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
             let vi = vi.add(g, sq).held(g);
             v.push(vi);
             let coriolis = vi.cross_motion(g, sq);
+            let coriolis = match states[i].quaternion {
+                // Sᵢ varies with q: Σ Ṡₖ q̇ₖ as well.
+                Some((q, _)) => {
+                    let c = body.joint.coordinate;
+                    let rates = [0, 1, 2, 3].map(|k| g.sym(Sym::Vel(c + k)));
+                    let rate = super::free::subspace_rate(g, q, rates, sq.angular);
+                    let angular = spatial::add(g, coriolis.angular, rate);
+                    Spatial {
+                        angular,
+                        ..coriolis
+                    }
+                }
+                None => coriolis,
+            };
             let ai = motion_to_child(g, body, states[i], ap);
             a.push(ai.add(g, coriolis));
             vi
@@ -291,19 +305,15 @@ fn composite_rigid_body(
     }
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
-    let columns: Vec<Vec<(usize, Spatial)>> = tree
-        .bodies
-        .iter()
-        .zip(&states)
-        .map(|(b, &js)| match (velocity, js.quaternion) {
-            (true, Some((q, _))) => super::free::velocity_subspace(g, q)
-                .into_iter()
-                .enumerate()
-                .map(|(k, s)| (b.joint.coordinate + 1 + k, s))
-                .collect(),
-            _ => subspace(g, b, js),
-        })
-        .collect();
+    let columns: Vec<Vec<(usize, Spatial)>> = if velocity {
+        velocity_columns(g, tree, &states)
+    } else {
+        tree.bodies
+            .iter()
+            .zip(&states)
+            .map(|(b, &js)| subspace(g, b, js))
+            .collect()
+    };
     for (i, own) in columns.iter().enumerate() {
         for &(ci, s) in own {
             let mut force = composite[i].apply(g, s).held(g);
@@ -323,6 +333,67 @@ fn composite_rigid_body(
         }
     }
     (m, composite)
+}
+
+/// Each body's columns in the velocity form's unknowns
+/// (`crate::equations::velocity`): a quaternion's `β` columns `eⱼ`
+/// ([`super::free::velocity_subspace`]); a free base's position
+/// accelerations in its own axes, `p̈ = R̂ z` (the columns `[0; eⱼ]` of the
+/// base itself, at the slides' coordinates, which lose theirs); every
+/// other joint's own.
+fn velocity_columns(
+    g: &mut Graph,
+    tree: &Tree,
+    states: &[JointState],
+) -> Vec<Vec<(usize, Spatial)>> {
+    let bases: Vec<Option<usize>> = (0..tree.bodies.len())
+        .map(|i| super::free::free_base_in_tree(g, &tree.bodies, i))
+        .collect();
+    let slides: Vec<usize> = bases.iter().flatten().flat_map(|&x| x..x + 3).collect();
+    tree.bodies
+        .iter()
+        .zip(states)
+        .zip(&bases)
+        .map(|((b, &js), base)| {
+            let c = b.joint.coordinate;
+            if b.joint.kind == JointKind::Prismatic && slides.contains(&c) {
+                return Vec::new();
+            }
+            if js.quaternion.is_none() {
+                return subspace(g, b, js);
+            }
+            let mut own: Vec<(usize, Spatial)> = Vec::new();
+            if let Some(x) = *base {
+                for (j, s) in super::free::velocity_subspace(g).into_iter().enumerate() {
+                    let linear = Spatial {
+                        angular: s.linear,
+                        linear: s.angular,
+                    };
+                    own.push((x + j, linear));
+                }
+            }
+            for (j, s) in super::free::velocity_subspace(g).into_iter().enumerate() {
+                own.push((c + 1 + j, s));
+            }
+            own
+        })
+        .collect()
+}
+
+/// The bias forces in the velocity form's unknowns: `Sᵥᵀ fᵢ` for each
+/// body's [`velocity_columns`] (0 for each quaternion's `α`, along which
+/// nothing moves).
+fn velocity_bias(g: &mut Graph, tree: &Tree, n: usize, forces: &[Spatial]) -> Vec<Id> {
+    let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
+    let columns = velocity_columns(g, tree, &states);
+    let zero = g.int(0);
+    let mut tau = vec![zero; n];
+    for (own, f) in columns.iter().zip(forces) {
+        for &(c, s) in own {
+            tau[c] = s.dot(g, *f);
+        }
+    }
+    tau
 }
 
 /// `T = Σ ½ vᵢᵀ Iᵢ vᵢ` and `V = −Σ gᵀ (mᵢ pᵢ + Rᵢ hᵢ)`, with each body's
@@ -394,6 +465,7 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
         .iter()
         .any(|b| b.joint.kind == JointKind::Quaternion);
     let velocity_mass = has_quaternion.then(|| composite_rigid_body(g, tree, n, true).0);
+    let velocity_bias = has_quaternion.then(|| velocity_bias(g, tree, n, &bias.f));
     let trace = (0..tree.bodies.len())
         .map(|i| Trace {
             velocity: bias.v[i],
@@ -427,6 +499,7 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
     Dynamics {
         mass,
         velocity_mass,
+        velocity_bias,
         bias: bias.tau,
         inverse,
         gravity,

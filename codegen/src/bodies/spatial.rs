@@ -264,6 +264,13 @@ pub struct Inertia {
 }
 
 impl Inertia {
+    /// Whether every entry is the constant zero (a massless body).
+    pub fn is_zero(&self, g: &Graph) -> bool {
+        g.is_zero(self.mass)
+            && self.first_moment.iter().all(|&e| g.is_zero(e))
+            && self.rotational.iter().flatten().all(|&e| g.is_zero(e))
+    }
+
     /// No mass.
     pub fn zero(g: &mut Graph) -> Inertia {
         let z = g.int(0);

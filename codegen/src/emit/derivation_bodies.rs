@@ -208,7 +208,7 @@ fn joint(body: &Body, coordinates: &[String], p: &Printer) -> String {
             format!("prismatic along {}, {}", vector(p, j.axis), names.join(""))
         }
         JointKind::Quaternion => format!(
-            "spherical, unit quaternion ({}), ω = 2 G(q) q̇ (S = [2G; 0])",
+            "spherical, quaternion ({}) turned by R(q/|q|), ω = k G(q) q̇ (S = [kG; 0], k = 2/|q|²)",
             names.join(", ")
         ),
     }

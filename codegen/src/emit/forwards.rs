@@ -140,6 +140,11 @@ fn forward(ctx: &Context, row: &Forward) -> Option<TokenStream> {
             let ret = ctx.result(motion, quote!(DynamicsError));
             let correction = ctx.correction_type();
             let body = ctx.call_gauss("Fallible", quote!(correction));
+            let only = ctx.call_gauss("FallibleAcceleration", quote!(correction));
+            let acceleration = ctx.result(
+                quote!(::constrained::nalgebra::SVector<T, #n>),
+                quote!(DynamicsError),
+            );
             let k = Context::dim(ctx.k);
             let multiplied_finish = ctx.private(quote!(Multiplied<#k>));
             let call_args = ctx.args(Inputs::States);
@@ -153,6 +158,10 @@ fn forward(ctx: &Context, row: &Forward) -> Option<TokenStream> {
             return Some(quote! {
                 #[inline]
                 fn gauss(&self, #params, correction: #correction) -> #ret { #body }
+                #[inline]
+                fn gauss_acceleration(&self, #params, correction: #correction) -> #acceleration {
+                    #only
+                }
                 #[inline]
                 fn gauss_multipliers(&self, #params) -> #multiplied { #with }
             });

@@ -28,14 +28,15 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     // The total methods of a system with a constant positive definite M
     // ask the solver for their value directly (the least-squares answer
     // where it fails: `TotalAcceleration`, `TotalForce`).
-    // The fallible ones take their half of `Fallible`'s pair: the half not
-    // taken is computed by nothing (straight-line arithmetic, removed).
+    // The fallible ones: `q̈` alone by `FallibleAcceleration` (the force is
+    // never made, even where `gauss` is not inlined), the force as the
+    // second half of `Fallible`'s pair.
     let gauss = |correction: TokenStream, force: bool| match (ctx.eq.mass_inverse.fallible(), force)
     {
-        (true, force) => {
+        (true, false) => ctx.call_gauss("FallibleAcceleration", correction),
+        (true, true) => {
             let call = ctx.call_gauss("Fallible", correction);
-            let part = if force { quote!(1) } else { quote!(0) };
-            quote!(#call.map(|s| s.#part))
+            quote!(#call.map(|s| s.1))
         }
         (false, true) => ctx.call_gauss("TotalForce", correction),
         (false, false) => ctx.call_gauss("TotalAcceleration", correction),

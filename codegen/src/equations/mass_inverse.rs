@@ -52,9 +52,19 @@ impl MassInverse {
     }
 }
 
-/// `M` in the quaternions' velocity coordinates and the tree's bodies
+/// What the velocity form of a tree with quaternions is built from
 /// (`super::velocity`).
-pub type Bodies<'a> = (&'a [Vec<Id>], &'a [crate::bodies::Body]);
+#[derive(Clone, Copy)]
+pub struct Bodies<'a> {
+    /// `TᵀMT`.
+    pub mass: &'a [Vec<Id>],
+    /// `TᵀF`.
+    pub forces: &'a [Id],
+    /// The tree's bodies.
+    pub bodies: &'a [crate::bodies::Body],
+    /// The rows of points under a free base, in its axes.
+    pub in_base: &'a [super::in_base::InBaseRows],
+}
 
 /// The compile-time structure of Gauss's principle for a configuration-
 /// dependent `M` (only `M`'s lower triangle is read, as by a Cholesky
@@ -175,7 +185,7 @@ impl Factored {
     fn new(
         g: &mut Graph,
         (mass, tree): (&[Vec<Id>], Option<Bodies>),
-        (forces, a): (&[Id], &[Vec<Id>]),
+        a: &[Vec<Id>],
         auxiliary: Option<Auxiliary>,
     ) -> Self {
         let (n, k) = (mass.len(), a.len());
@@ -213,8 +223,7 @@ impl Factored {
             .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
             .collect();
         let range_cost = super::saddle_point::range_cost(&mass, &gram, &pattern);
-        let quaternions =
-            tree.map_or_else(Vec::new, |(_, bodies)| super::velocity::quaternions(bodies));
+        let quaternions = tree.map_or_else(Vec::new, |t| super::velocity::quaternions(t.bodies));
         let saddle = super::saddle_point::structure(
             g,
             (mass_entries, &mass),
@@ -222,7 +231,7 @@ impl Factored {
             (auxiliary.as_ref().map(|x| &x.normal[..]), &quaternions),
             range_cost,
         );
-        let velocity = tree.and_then(|t| super::velocity::form(g, t, forces, a, range_cost));
+        let velocity = tree.and_then(|t| super::velocity::form(g, t, a, range_cost));
         Factored {
             mass,
             weighted,
@@ -309,13 +318,13 @@ pub fn build(
     let n = mass.len();
     if singular_everywhere(g, mass) {
         let auxiliary = Auxiliary::new(g, mass, a, n);
-        let f = Factored::new(g, (mass, tree), (forces, a), Some(auxiliary));
+        let f = Factored::new(g, (mass, tree), a, Some(auxiliary));
         return MassInverse::Auxiliary(Box::new(f));
     }
     let zero = g.int(0);
     let diagonal = (0..n).all(|i| (0..n).all(|j| i == j || g.is_zero(mass[i][j])));
     let Some((inverse, masses, known_positive)) = symbolic_inverse(g, mass, diagonal, zero) else {
-        let f = Factored::new(g, (mass, tree), (forces, a), None);
+        let f = Factored::new(g, (mass, tree), a, None);
         return MassInverse::Factored(Box::new(f));
     };
     // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a

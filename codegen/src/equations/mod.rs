@@ -3,6 +3,7 @@
 //! ([`mass_inverse`]) and the tangent pieces (`tangent`).
 
 pub mod gibbs_appell;
+pub mod in_base;
 pub mod mass_inverse;
 pub mod partition;
 pub mod saddle_point;
@@ -53,15 +54,15 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let mut d = Differentiator::new();
     let mut factorer = Factorer::keeping(system.named.iter().map(|(_, id)| *id));
     let g = &mut system.graph;
+    if let Some(b) = system.bodies.as_mut() {
+        b.velocity_forces = velocity::forces(g, b, &system.forces);
+    }
     system.mass = factorer.factor_rows(g, &system.mass);
     system.forces = factorer.factor_all(g, &system.forces);
-    if let Some(m) = system
-        .bodies
-        .as_mut()
-        .and_then(|b| b.velocity_mass.as_mut())
-    {
-        *m = factorer.factor_rows(g, m);
+    if let Some(b) = system.bodies.as_mut() {
+        velocity::factor(g, &mut factorer, b);
     }
+    let in_base = in_base::rows(g, &system.constraints, n);
     let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
     let mut at_rest = AtRest::default();
     let mut structured = Vec::new();
@@ -94,11 +95,24 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
     // squares where that shortens the code, counted with everything else
     // that is computed beside it (crate::expr::squares).
-    let b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
-    let tree = system
-        .bodies
-        .as_ref()
-        .and_then(|t| Some((t.velocity_mass.as_deref()?, &t.tree[..])));
+    let mut b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
+    // The rows of points under a free base in their closed form
+    // (`in_base`): the same values, without the quotient rule of `R̂`.
+    for rows in &in_base {
+        for (i, &r) in rows.rows.iter().enumerate() {
+            a[r] = factorer.factor_all(g, &rows.model_a[i]);
+            b[r] = factorer.factor(g, rows.model_b[i]);
+        }
+    }
+    let g = &mut system.graph;
+    let tree = system.bodies.as_ref().and_then(|t| {
+        Some(mass_inverse::Bodies {
+            mass: t.velocity_mass.as_deref()?,
+            forces: t.velocity_forces.as_deref()?,
+            bodies: &t.tree[..],
+            in_base: &in_base[..],
+        })
+    });
     let mass_inverse = mass_inverse::build(
         g,
         &mut factorer,

@@ -2,9 +2,10 @@
 //! velocity coordinates (`crate::bodies::free`). Each quaternion's
 //! accelerations are written `q̈ = ½ (q α + Gᵀ β)` (`T = ½ [q, Gᵀ]`,
 //! invertible wherever `q ≠ 0`, so nothing is approximated off the unit
-//! sphere; on it `β` is the body's angular acceleration), and
-//! the saddle-point system `[M Aᵀ; A 0] [q̈; μ] = [F; b]` multiplied by
-//! `Tᵀ` on the left becomes
+//! sphere; `β` is the body's angular acceleration but for the term
+//! `k (qᵀq̇) ω` that vanishes on the sphere), a free base's position's
+//! `p̈ = R̂ z` (its own axes), and the saddle-point system
+//! `[M Aᵀ; A 0] [q̈; μ] = [F; b]` multiplied by `Tᵀ` on the left becomes
 //!
 //! ```text
 //! [ TᵀMT  TᵀAᵀ ] [ z ]   [ TᵀF ]
@@ -12,8 +13,10 @@
 //! ```
 //!
 //! `TᵀMT` comes from the composite-rigid-body algorithm with the joint's
-//! columns `S T` (`α`'s is zero: its row and column vanish), and the norm's
-//! row `2qᵀ q̈ = b` becomes `|q|² α = b`, on `α` alone. So each pair
+//! columns `S T` (`α`'s is zero: its row and column vanish; a free base's
+//! position's are `[0; eⱼ]` in its own frame), `TᵀF` from the recursions'
+//! body forces projected on the same columns, and the norm's row
+//! `2qᵀ q̈ = b` becomes `|q|² α = b`, on `α` alone. So each pair
 //! (`α`, the norm's multiplier) is a 2 × 2 block `[0 c; c 0]` whose
 //! elimination changes no other entry of the matrix: `α = b_norm / c`
 //! first, `b ← b − (A T)_α α` for the other rows, the rest — every other
@@ -21,9 +24,12 @@
 //! saddle-point system of [`super::saddle_point`], and last the norm's
 //! multiplier `μ_norm = ((TᵀF)_α − Σ (A T)_{rα} μ_r) / c`. For a floating
 //! base the rest is the twist formulation's system: six base coordinates
-//! instead of seven and a norm's row, and `M`'s quaternion rows are the
-//! body's composite inertia rather than its products with `G`.
+//! instead of seven and a norm's row, `M`'s rows the base's composite
+//! inertia in its own axes, and the rows of its feet premultiplied by
+//! `R̂ᵀ` ([`super::in_base`]), so that none of it holds the attitude but
+//! gravity.
 
+use crate::bodies::spatial::M3;
 use crate::bodies::{Body, JointKind};
 use crate::expr::{Graph, Id};
 use crate::numeric::sparsity::Structure;
@@ -61,8 +67,15 @@ pub struct Transformed {
     pub q: Vec<[Id; 4]>,
     /// `TᵀF`.
     pub forces: Vec<Id>,
-    /// `A T`, k × n (each norm's row nonzero at its `α` only).
+    /// `A T`, k × n (each norm's row nonzero at its `α` only); the rows
+    /// of `in_base` premultiplied by `R̂ᵀ`.
     pub a: Vec<Vec<Id>>,
+    /// The rows of points under a free base solved in its axes: their
+    /// `b` and multipliers are `R̂ᵀ b` and `R̂ᵀ λ`.
+    pub in_base: Vec<super::in_base::InBaseRows>,
+    /// Each free base's `x` coordinate and `R̂`: its position's
+    /// accelerations are `p̈ = R̂ z`.
+    pub free: Vec<(usize, M3)>,
 }
 
 /// The velocity form of `gauss`'s system, where [`transformed`] finds it
@@ -70,12 +83,19 @@ pub struct Transformed {
 /// `range_cost`; `None` otherwise.
 pub fn form(
     g: &mut Graph,
-    (velocity_mass, tree): (&[Vec<Id>], &[Body]),
-    forces: &[Id],
+    bodies: super::mass_inverse::Bodies,
     a: &[Vec<Id>],
     range_cost: usize,
 ) -> Option<Velocity> {
-    let system = transformed(g, (velocity_mass, tree), forces, a)?;
+    let (velocity_mass, tree, forces) = (bodies.mass, bodies.bodies, bodies.forces);
+    let mut system = transformed(g, (velocity_mass, tree), forces, a)?;
+    let in_base = bodies.in_base;
+    for rows in in_base {
+        for (i, &r) in rows.rows.iter().enumerate() {
+            system.a[r].clone_from(&rows.a[i]);
+        }
+    }
+    system.in_base = in_base.to_vec();
     let (n, a) = (forces.len(), &system.a);
     let ws: Vec<usize> = system.quaternions.iter().map(|&(c, _)| c).collect();
     let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();
@@ -121,21 +141,19 @@ pub fn transformed(
     if ws.is_empty() || velocity_mass.len() != n {
         return None;
     }
-    let mut forces = forces.to_vec();
+    let forces = forces.to_vec();
     let mut a = a.to_vec();
     let mut q: Vec<[Id; 4]> = Vec::with_capacity(ws.len());
     for &c in &ws {
         if c + 4 > n || (0..n).any(|j| !g.is_zero(velocity_mass[c][j])) {
             return None;
         }
-        let own = crate::bodies::free::coordinates(g, c);
-        let big_g = crate::bodies::free::g_matrix(g, own);
-        transform(g, (c, own, &big_g), &mut forces);
-        for row in &mut a {
-            transform(g, (c, own, &big_g), row);
-        }
-        q.push(own);
+        q.push(crate::bodies::free::coordinates(g, c));
     }
+    for row in &mut a {
+        transpose(g, tree, row);
+    }
+    let free = free_bases(g, tree);
     let mut quaternions = Vec::new();
     for &c in &ws {
         let norm = (0..a.len()).find(|&r| {
@@ -151,6 +169,8 @@ pub fn transformed(
         q,
         forces,
         a,
+        in_base: Vec::new(),
+        free,
     })
 }
 
@@ -176,5 +196,84 @@ fn transform(g: &mut Graph, (c, q, big_g): (usize, [Id; 4], &[[Id; 4]; 3]), x: &
     x[c] = dot(g, q);
     for (j, row) in big_g.iter().enumerate() {
         x[c + 1 + j] = dot(g, *row);
+    }
+}
+
+/// Each free base of the tree: its `x` coordinate and `R̂`.
+fn free_bases(g: &mut Graph, tree: &[Body]) -> Vec<(usize, M3)> {
+    let mut out = Vec::new();
+    for i in 0..tree.len() {
+        if let Some(x) = crate::bodies::free::free_base_in_tree(g, tree, i) {
+            let q = crate::bodies::free::coordinates(g, tree[i].joint.coordinate);
+            out.push((x, crate::bodies::free::rotation(g, q)));
+        }
+    }
+    out
+}
+
+/// `x ← Tᵀ x` for the whole tree: each quaternion's
+/// (`½ [qᵀ; G] x_q`) and each free base's `x_p ← R̂ᵀ x_p` (`p̈ = R̂ z`). A
+/// row of `A` becomes one of `A T`, generalized forces `TᵀQ`.
+pub fn transpose(g: &mut Graph, tree: &[Body], x: &mut [Id]) {
+    let n = x.len();
+    for c in quaternions(tree) {
+        if c + 4 > n {
+            continue;
+        }
+        let own = crate::bodies::free::coordinates(g, c);
+        let big_g = crate::bodies::free::g_matrix(g, own);
+        transform(g, (c, own, &big_g), x);
+    }
+    for (p, r) in free_bases(g, tree) {
+        if p + 3 > n {
+            continue;
+        }
+        let own = [x[p], x[p + 1], x[p + 2]];
+        if own.iter().all(|&e| g.is_zero(e)) {
+            continue;
+        }
+        for (j, slot) in x[p..p + 3].iter_mut().enumerate() {
+            let terms: Vec<Id> = (0..3).map(|i| g.mul2(r[i][j], own[i])).collect();
+            *slot = g.add(&terms);
+        }
+    }
+}
+
+/// `TᵀF` from `F = Q − c` with the bias forces `c` written in the
+/// velocity form's unknowns directly (`velocity_bias`, from the
+/// recursions' own forces, free of the products `R̂ᵀR̂` and `G Gᵀ` that
+/// `Tᵀ c` would multiply out): `Tᵀ (F + c) − Tᵀc`.
+pub fn forces(g: &mut Graph, bodies: &crate::model::BodyTerms, f: &[Id]) -> Option<Vec<Id>> {
+    let bias = bodies.velocity_bias.as_ref()?;
+    if bias.len() != f.len() || bodies.bias.len() != f.len() {
+        return None;
+    }
+    let mut applied: Vec<Id> = f
+        .iter()
+        .zip(&bodies.bias)
+        .map(|(&f, &c)| g.add2(f, c))
+        .collect();
+    transpose(g, &bodies.tree, &mut applied);
+    Some(
+        applied
+            .iter()
+            .zip(bias)
+            .map(|(&q, &c)| g.sub(q, c))
+            .collect(),
+    )
+}
+
+/// `TᵀMT` and `TᵀF` with their common factors pulled out, as `M` and `F`
+/// are ([`crate::expr::common_factors`]).
+pub fn factor(
+    g: &mut Graph,
+    factorer: &mut crate::expr::common_factors::Factorer,
+    b: &mut crate::model::BodyTerms,
+) {
+    if let Some(m) = b.velocity_mass.as_mut() {
+        *m = factorer.factor_rows(g, m);
+    }
+    if let Some(f) = b.velocity_forces.as_mut() {
+        *f = factorer.factor_all(g, f);
     }
 }

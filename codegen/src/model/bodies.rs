@@ -426,10 +426,47 @@ impl Lowerer<'_> {
         point
     }
 
-    /// The rows of a constraint between points, or `None` when it is not one.
-    pub fn point_rows(&mut self, c: &crate::parse::ConstraintInput) -> Option<Vec<Id>> {
+    /// The point of `position(body, [x, y, z])` in the axes of the free
+    /// base above the body, with the base's `(w, x)` coordinates
+    /// ([`crate::model::InBase`]); `None` for any other expression, or a
+    /// body with no free base above it.
+    fn point_in_base(&mut self, e: &Expr) -> Option<(usize, usize, V3)> {
+        let Expr::Call(call) = e else { return None };
+        let args: Vec<&Expr> = call.args.iter().collect();
+        let kind = single_ident(&call.func).map(ToString::to_string);
+        let (Some("position"), [body, at]) = (kind.as_deref(), &args[..]) else {
+            return None;
+        };
+        let name = single_ident(body)?;
+        let index = self.frames.iter().position(|(n, _)| name == n)?;
+        let mut point = self.triple(at, "the point")?;
+        let mut body = Some(index);
+        // Each step moves to the parent, whose index is lower.
+        for _ in 0..self.chain.len() {
+            let i = body?;
+            if let Some(&Some((w, x))) = self.bases.get(i) {
+                return Some((w, x, point));
+            }
+            let &(parent, frame) = self.chain.get(i)?;
+            let turned = spatial::mat_vec(self.graph, &frame.rotation, point);
+            point = spatial::add(self.graph, frame.translation, turned);
+            point = spatial::hold3(self.graph, point);
+            body = parent;
+        }
+        None
+    }
+
+    /// The rows of a constraint between points, or `None` when it is not
+    /// one; for `position(body, r) == [..]` (constant) on a body under a
+    /// free base, also the point in the base's axes
+    /// (`point_in_base`).
+    #[allow(clippy::type_complexity)]
+    pub fn point_rows(
+        &mut self,
+        c: &crate::parse::ConstraintInput,
+    ) -> Option<(Vec<Id>, Option<(usize, usize, V3)>)> {
         if let Some(rows) = self.orientation_rows(c) {
-            return Some(rows);
+            return Some((rows, None));
         }
         let is_point = |e: &Expr| match e {
             Expr::Call(call) => single_ident(&call.func)
@@ -450,7 +487,7 @@ impl Lowerer<'_> {
                     _ => {
                         self.errors
                             .spanned(e, "a point equals `[x, y, z]` or another point");
-                        return Some(Vec::new());
+                        return Some((Vec::new(), None));
                     }
                 };
                 [ids[0], ids[1], ids[2]]
@@ -458,16 +495,26 @@ impl Lowerer<'_> {
             Some(e) => {
                 self.errors
                     .spanned(e, "a point equals `[x, y, z]` or another point");
-                return Some(Vec::new());
+                return Some((Vec::new(), None));
             }
             None => {
                 self.errors.spanned(
                     &c.tokens,
                     "a point alone is not a constraint: write `position(..) == [x, y, z]`",
                 );
-                return Some(Vec::new());
+                return Some((Vec::new(), None));
             }
         };
-        Some((0..3).map(|i| self.graph.sub(lhs[i], rhs[i])).collect())
+        let constant = rhs.iter().all(|&e| {
+            !self
+                .graph
+                .mentions(e, |s| matches!(s, Sym::Coord(_) | Sym::Vel(_) | Sym::Time))
+        });
+        let in_base = match &c.rhs {
+            Some(Expr::Array(_)) if constant => self.point_in_base(&c.lhs),
+            _ => None,
+        };
+        let rows = (0..3).map(|i| self.graph.sub(lhs[i], rhs[i])).collect();
+        Some((rows, in_base))
     }
 }

@@ -158,6 +158,7 @@ impl Lowerer<'_> {
             phi,
             level: super::Level::Position,
             tokens,
+            in_base: None,
         }
     }
 }

@@ -179,6 +179,7 @@ pub fn apply(
             phi,
             level: super::Level::Velocity,
             tokens: entry.tokens.clone(),
+            in_base: None,
         });
     }
 }

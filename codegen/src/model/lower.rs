@@ -105,9 +105,27 @@ pub struct Lowerer<'a> {
     /// Each body's parent (by index in `frames`) and frame in the parent's
     /// (`crate::bodies::parent_frames`), for points' positions.
     pub chain: Vec<(Option<usize>, crate::bodies::Placement)>,
+    /// By the same index, `(w, x)`: the quaternion's and the position's
+    /// first coordinates of a free base on the world
+    /// (`crate::bodies::free::free_base`).
+    pub bases: Vec<Option<(usize, usize)>>,
 }
 
-impl Lowerer<'_> {
+impl<'a> Lowerer<'a> {
+    /// A lowerer of `n` coordinates with nothing declared.
+    pub fn new(graph: &'a mut Graph, errors: &'a mut Errors, n: usize) -> Self {
+        Lowerer {
+            graph,
+            names: HashMap::new(),
+            errors,
+            n,
+            named: Vec::new(),
+            frames: Vec::new(),
+            chain: Vec::new(),
+            bases: Vec::new(),
+        }
+    }
+
     /// Declares `name`, or records why it cannot be one: reserved by the
     /// DSL or by generated code, a function of the DSL, or declared twice.
     pub fn declare(&mut self, name: &Ident, binding: Binding, coordinates: &[Ident]) {

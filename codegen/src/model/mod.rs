@@ -22,7 +22,6 @@ use ctxt::Errors;
 use lower::{Binding, Lowerer};
 use proc_macro2::Span;
 use source::{source, Lowered, Source};
-use std::collections::HashMap;
 use std::ops::Range;
 use syn::{Attribute, Expr, Ident, Visibility};
 
@@ -44,6 +43,26 @@ pub struct Constraint {
     pub level: Level,
     /// The constraint's tokens, to span errors found after lowering.
     pub tokens: proc_macro2::TokenStream,
+    /// For a row of `position(body, r) == c` (`c` constant) on a body
+    /// under a free base: the point in the base's axes.
+    pub in_base: Option<InBase>,
+}
+
+/// A row `φᵢ = (p + R̂ r)ᵢ − cᵢ` of a point of a body under a free base
+/// (position `p`, quaternion `q`, `R̂ = R(q/|q|)`), `r` the point in the
+/// base's axes, a function of the joints between: the velocity form
+/// (`crate::equations::velocity`) solves the three rows premultiplied by
+/// `R̂ᵀ`, free of the base's attitude.
+#[derive(Clone, Copy, Debug)]
+pub struct InBase {
+    /// The quaternion's `w` coordinate.
+    pub w: usize,
+    /// The base's `x` coordinate.
+    pub x: usize,
+    /// `r`, in the base's axes.
+    pub point: crate::bodies::spatial::V3,
+    /// Which of the three rows, `i`.
+    pub component: usize,
 }
 
 /// A checked system: every expression is a node of `graph`.
@@ -114,6 +133,12 @@ pub struct BodyTerms {
     /// With quaternion joints, `M` in their velocity coordinates
     /// (`crate::bodies::Dynamics::velocity_mass`).
     pub velocity_mass: Option<Vec<Vec<Id>>>,
+    /// With quaternion joints, the bias forces in the same unknowns
+    /// (`crate::bodies::Dynamics::velocity_bias`).
+    pub velocity_bias: Option<Vec<Id>>,
+    /// With quaternion joints, `TᵀF`: `Tᵀ` of `F`'s applied part (`F + c`)
+    /// less the velocity bias; set by `crate::equations`.
+    pub velocity_forces: Option<Vec<Id>>,
 }
 
 /// The energies of a system given by energies or bodies, for the
@@ -237,15 +262,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     let first_input = modes.end;
     let n = coordinates.len();
     let mut graph = new_graph(parameters.len(), n);
-    let mut lower = Lowerer {
-        graph: &mut graph,
-        names: HashMap::new(),
-        errors: &mut errors,
-        n,
-        named: Vec::new(),
-        frames: Vec::new(),
-        chain: Vec::new(),
-    };
+    let mut lower = Lowerer::new(&mut graph, &mut errors, n);
     for (i, c) in coordinates.iter().enumerate() {
         lower.declare(c, Binding::Coordinate(i), &coordinates);
     }
@@ -489,11 +506,20 @@ impl Lowerer<'_> {
     /// One constraint, or three where both sides are points
     /// (`position(a, [..]) == position(b, [..])`, or `== [x, y, z]`).
     fn constraints(&mut self, c: &ConstraintInput) -> Vec<Constraint> {
-        let Some(rows) = self.point_rows(c) else {
+        let Some((rows, in_base)) = self.point_rows(c) else {
             return vec![self.constraint(c)];
         };
         rows.into_iter()
-            .map(|phi| self.constraint_of(phi, &c.tokens))
+            .enumerate()
+            .map(|(component, phi)| Constraint {
+                in_base: in_base.map(|(w, x, point)| InBase {
+                    w,
+                    x,
+                    point,
+                    component,
+                }),
+                ..self.constraint_of(phi, &c.tokens)
+            })
             .collect()
     }
 
@@ -512,6 +538,7 @@ impl Lowerer<'_> {
                 phi,
                 level: Level::Position,
                 tokens: c.tokens.clone(),
+                in_base: None,
             };
         }
         self.constraint_of(phi, &c.tokens)
@@ -534,6 +561,7 @@ impl Lowerer<'_> {
             phi,
             level,
             tokens: tokens.clone(),
+            in_base: None,
         }
     }
 

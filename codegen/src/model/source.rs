@@ -148,6 +148,12 @@ impl Lowerer<'_> {
         let frames = crate::bodies::world_frames(self.graph, &described);
         let parents = crate::bodies::parent_frames(self.graph, &described);
         self.chain = described.iter().map(|d| d.parent).zip(parents).collect();
+        self.bases = (0..described.len())
+            .map(|i| {
+                let x = crate::bodies::free::free_base(self.graph, &described, i)?;
+                Some((x + 3, x))
+            })
+            .collect();
         self.frames = described
             .iter()
             .map(|d| d.name.clone())
@@ -216,6 +222,8 @@ impl Lowerer<'_> {
                 trace: dynamics.trace,
                 tree: tree.bodies,
                 velocity_mass: dynamics.velocity_mass,
+                velocity_bias: dynamics.velocity_bias,
+                velocity_forces: None,
             };
             return Lowered {
                 mass,

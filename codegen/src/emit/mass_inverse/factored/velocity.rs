@@ -30,7 +30,11 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
     let (named, checked) = named(ctx, v, &ldlt);
     let head = bind(ctx, &named, checked, &bail);
     let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
-    let correction = corrected(&b, &[]);
+    let correction = if v.system.in_base.is_empty() {
+        corrected(&b, &[])
+    } else {
+        turned_correction(v, &b)
+    };
     let alphas = alphas(ctx, v, &dense);
     let factor = ldlt.factor();
     let (nr, kr) = (v.coordinates.len(), v.rows.len());
@@ -51,7 +55,8 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
     }));
     let (solve, values) = solved(&ldlt, &rhs, (nr, kr));
     let (recover, acceleration) = accelerations(ctx, v, &values);
-    let (norms, mu) = multipliers(ctx, v, &values);
+    let (norms, mut mu) = multipliers(ctx, v, &values);
+    let norms = concat([norms, in_world(v, &mut mu)]);
     let body = concat([head, correction, alphas, factor, solve, recover, norms]);
     function(
         ctx,
@@ -105,7 +110,28 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
         }
     }
     for (r, &e) in ctx.eq.b.iter().enumerate() {
+        // A row of a point under a free base: `R̂ᵀ b`.
+        let e = v
+            .system
+            .in_base
+            .iter()
+            .find_map(|t| Some(t.b[t.rows.iter().position(|&x| x == r)?]))
+            .unwrap_or(e);
         named.push((Context::local("b", r), e));
+    }
+    for (t, rows) in v.system.in_base.iter().enumerate() {
+        for (i, row) in rows.rotation.iter().enumerate() {
+            for (j, &e) in row.iter().enumerate() {
+                named.push((rotation_local(t, i, j), e));
+            }
+        }
+    }
+    for (t, (_, rotation)) in v.system.free.iter().enumerate() {
+        for (i, row) in rotation.iter().enumerate() {
+            for (j, &e) in row.iter().enumerate() {
+                named.push((Context::local2("rf", t, 3 * i + j), e));
+            }
+        }
     }
     for (&(c, _), q) in v.system.quaternions.iter().zip(&v.system.q) {
         for (m, &e) in q.iter().enumerate() {
@@ -171,6 +197,20 @@ fn accelerations(
         values[i] = or_zero(&solved[p]);
     }
     let mut code = TokenStream::new();
+    for (t, &(x, _)) in v.system.free.iter().enumerate() {
+        // p̈ = R̂ z.
+        let z: Vec<TokenStream> = (0..3).map(|j| values[x + j].clone()).collect();
+        for i in 0..3 {
+            let [r0, r1, r2] = [0, 1, 2].map(|j| Context::local2("rf", t, 3 * i + j));
+            let (z0, z1, z2) = (&z[0], &z[1], &z[2]);
+            let name = Context::local("pa", x + i);
+            code.extend(quote! { let #name = #r0 * #z0 + #r1 * #z1 + #r2 * #z2; });
+        }
+        for i in 0..3 {
+            let name = Context::local("pa", x + i);
+            values[x + i] = quote!(#name);
+        }
+    }
     let (half, _) = literal(Num::Rational(1, 2));
     for &(c, _) in &v.system.quaternions {
         let beta: Vec<TokenStream> = (0..3).map(|j| values[c + 1 + j].clone()).collect();
@@ -242,4 +282,51 @@ fn multipliers(
         mu[norm] = Some(quote!(#name));
     }
     (code, mu)
+}
+
+/// The local of `R̂[i][j]` of the `t`-th triple of rows in a base's axes.
+fn rotation_local(t: usize, i: usize, j: usize) -> Ident {
+    Context::local2("rb", t, 3 * i + j)
+}
+
+/// `b + δb` for `acceleration_corrected`, as `emit::solve::corrected`
+/// writes it, but with the rows of a point under a free base in the
+/// base's axes: `R̂ᵀ b + R̂ᵀ δb`.
+fn turned_correction(v: &Velocity, b: &[Ident]) -> TokenStream {
+    let d: Vec<Ident> = (0..b.len()).map(|i| Context::local("db", i)).collect();
+    let mut sums: Vec<TokenStream> = b.iter().zip(&d).map(|(b, d)| quote!(#b + #d)).collect();
+    for (t, rows) in v.system.in_base.iter().enumerate() {
+        let [d0, d1, d2] = rows.rows.map(|r| &d[r]);
+        for (i, &r) in rows.rows.iter().enumerate() {
+            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(t, j, i));
+            let own = &b[r];
+            sums[r] = quote!(#own + (#r0 * #d0 + #r1 * #d1 + #r2 * #d2));
+        }
+    }
+    quote! {
+        let (#(#b,)*) = match correction {
+            ::core::option::Option::Some(__db) => {
+                let [[#(#d),*]] = __db.data.0;
+                (#(#sums,)*)
+            }
+            ::core::option::Option::None => (#(#b,)*),
+        };
+    }
+}
+
+/// Each triple of rows solved in a base's axes gives `λ'`; the model's
+/// rows' are `λ = R̂ λ'` (locals `__mub{r}`).
+fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
+    let mut code = TokenStream::new();
+    for (t, rows) in v.system.in_base.iter().enumerate() {
+        let own: Vec<TokenStream> = rows.rows.iter().map(|&r| or_zero(&mu[r])).collect();
+        for (i, &r) in rows.rows.iter().enumerate() {
+            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(t, i, j));
+            let [m0, m1, m2] = [&own[0], &own[1], &own[2]];
+            let name = Context::local("mub", r);
+            code.extend(quote! { let #name = #r0 * #m0 + #r1 * #m1 + #r2 * #m2; });
+            mu[r] = Some(quote!(#name));
+        }
+    }
+    code
 }

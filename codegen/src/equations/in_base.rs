@@ -1,0 +1,164 @@
+//! The rows `position(body, r) == c` of a body under a free base, in the
+//! base's axes (`crate::model::InBase`). With the base at `p`, turned by
+//! `R̂ = R(q/|q|)` with the body angular velocity `ω = 2 G q̇ / |q|²`
+//! (`crate::bodies::free`), and `r(q)` the point in the base's axes (a
+//! function of the joints between), the three rows are
+//! `φ = p + R̂ r − c`, and
+//!
+//! ```text
+//! R̂ᵀ φ̈ = z + β × r + J q̈ + ω × (ω × r) + 2 ω × ṙ + ä₀ − k (qᵀq̇) ω × r
+//! ```
+//!
+//! in the velocity form's unknowns (`p̈ = R̂ z`, `q̈_quat = ½ (q α + Gᵀ β)`, so that
+//! `ω̇ = β − k (qᵀq̇) ω`, `k = 2/|q|²`), where `J = ∂r/∂q`, `ṙ = J q̇` and
+//! `ä₀ = D₀D₀ r` (the point's acceleration in the base with `q̈ = 0`).
+//! Premultiplying the rows by `R̂ᵀ` (invertible: the multipliers are
+//! `λ = R̂ λ'`) leaves them free of the attitude, with no quotient rule: `Ṙ̂ = R̂ ω̃` holds of the numbers wherever `q ≠ 0`. The
+//! `α` column is zero (`R̂` is homogeneous of degree 0 in `q`).
+
+use crate::bodies::free;
+use crate::bodies::spatial::{self, M3, V3};
+use crate::expr::diff::{AtRest, Differentiator};
+use crate::expr::{Graph, Id, Sym};
+use crate::model::Constraint;
+
+/// Three rows of one point under a free base, premultiplied by `R̂ᵀ`.
+#[derive(Clone, Debug)]
+pub struct InBaseRows {
+    /// The model's rows, `x`, `y`, `z`.
+    pub rows: [usize; 3],
+    /// `R̂ᵀ A T`, three rows over the velocity form's `n` unknowns.
+    pub a: [Vec<Id>; 3],
+    /// `R̂ᵀ b`.
+    pub b: [Id; 3],
+    /// `R̂`: `λ = R̂ λ'`, and a correction `δb` of the rows enters as
+    /// `R̂ᵀ δb`.
+    pub rotation: M3,
+    /// The model's own rows of `A` (in `q̇`), in the same closed form:
+    /// `I` for the position, `R̂ ((k Gₘ) × r)` for the quaternion's `q̇ₘ`,
+    /// `R̂ J` for the joints between.
+    pub model_a: [Vec<Id>; 3],
+    /// The model's own `b = R̂ (R̂ᵀ b)`.
+    pub model_b: [Id; 3],
+}
+
+/// Every complete triple of rows of one point under a free base, in the
+/// base's axes.
+pub fn rows(g: &mut Graph, constraints: &[Constraint], n: usize) -> Vec<InBaseRows> {
+    let mut out = Vec::new();
+    let mut d = Differentiator::new();
+    let mut at_rest = AtRest::default();
+    for r in 0..constraints.len().saturating_sub(2) {
+        let triple = [r, r + 1, r + 2].map(|i| constraints[i].in_base);
+        let [Some(x), Some(y), Some(z)] = triple else {
+            continue;
+        };
+        let same = |o: &crate::model::InBase| o.w == x.w && o.x == x.x && o.point == x.point;
+        if [x.component, y.component, z.component] != [0, 1, 2] || !same(&y) || !same(&z) {
+            continue;
+        }
+        if x.w + 4 > n || x.x + 3 > n {
+            continue;
+        }
+        out.push(triple_rows(
+            g,
+            (&mut d, &mut at_rest),
+            x,
+            [r, r + 1, r + 2],
+            n,
+        ));
+    }
+    out
+}
+
+fn triple_rows(
+    g: &mut Graph,
+    (d, at_rest): (&mut Differentiator, &mut AtRest),
+    base: crate::model::InBase,
+    rows: [usize; 3],
+    n: usize,
+) -> InBaseRows {
+    let q = free::coordinates(g, base.w);
+    let rates = [0, 1, 2, 3].map(|k| g.sym(Sym::Vel(base.w + k)));
+    let big_g = free::g_matrix(g, q);
+    let k = free::twice_inverse_norm(g, q);
+    let omega: V3 = big_g.map(|row| {
+        let terms: Vec<Id> = row
+            .iter()
+            .zip(&rates)
+            .map(|(&a, &b)| g.mul2(a, b))
+            .collect();
+        let sum = g.add(&terms);
+        let w = g.mul2(k, sum);
+        spatial::hold(g, w)
+    });
+    let r = base.point;
+    let velocity: V3 = r.map(|e| at_rest.derivative(g, e));
+    let acceleration: V3 = velocity.map(|e| at_rest.derivative(g, e));
+    let omega_r = spatial::cross(g, omega, r);
+    let centripetal = spatial::cross(g, omega, omega_r);
+    let transport = spatial::cross(g, omega, velocity);
+    let two = g.int(2);
+    let transport = spatial::scale(g, two, transport);
+    let dot: Vec<Id> = q.iter().zip(&rates).map(|(&a, &b)| g.mul2(a, b)).collect();
+    let dot = g.add(&dot);
+    let minus = g.int(-1);
+    let scale = g.mul(&[minus, k, dot]);
+    let norm_rate = spatial::scale(g, scale, omega_r);
+    let rotation = free::rotation(g, q);
+    let zero = g.int(0);
+    let one = g.int(1);
+    let b = [0, 1, 2].map(|i| {
+        let sum = g.add(&[centripetal[i], transport[i], acceleration[i], norm_rate[i]]);
+        g.neg(sum)
+    });
+    let a = [0, 1, 2].map(|i| {
+        let mut row: Vec<Id> = (0..n).map(|j| d.partial(g, r[i], Sym::Coord(j))).collect();
+        for j in 0..3 {
+            // R̂ᵀ p̈ = z: the position's accelerations in the base's axes.
+            row[base.x + j] = if i == j { one } else { zero };
+            let mut unit = [zero; 3];
+            unit[j] = one;
+            row[base.w + 1 + j] = spatial::cross(g, unit, r)[i];
+        }
+        row[base.w] = zero;
+        row
+    });
+    let turn = |g: &mut Graph, v: V3| spatial::mat_vec(g, &rotation, v);
+    let model_b = turn(g, b);
+    // R̂ ((k Gₘ) × r) = (R̂ k Gₘ) × (R̂ r): the turned columns are the same
+    // for every point of the base.
+    let world_r = turn(g, r);
+    let world_r = spatial::hold3(g, world_r);
+    let mut model_a = [0, 1, 2].map(|_| vec![zero; n]);
+    for j in 0..n {
+        let column: V3 = if (base.x..base.x + 3).contains(&j) {
+            let mut unit = [zero; 3];
+            unit[j - base.x] = one;
+            unit
+        } else if (base.w..base.w + 4).contains(&j) {
+            let m = j - base.w;
+            let own: V3 = [0, 1, 2].map(|l| g.mul2(k, big_g[l][m]));
+            let own = turn(g, own);
+            let own = spatial::hold3(g, own);
+            spatial::cross(g, own, world_r)
+        } else {
+            let own: V3 = [0, 1, 2].map(|l| a[l][j]);
+            if own.iter().all(|&e| g.is_zero(e)) {
+                continue;
+            }
+            turn(g, own)
+        };
+        for (row, &e) in model_a.iter_mut().zip(&column) {
+            row[j] = e;
+        }
+    }
+    InBaseRows {
+        rows,
+        a,
+        b,
+        rotation,
+        model_a,
+        model_b,
+    }
+}
