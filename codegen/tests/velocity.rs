@@ -133,9 +133,6 @@ fn check(text: &str) -> usize {
     roots.extend(b.iter().copied());
     roots.extend(eq.a.iter().flatten().copied());
     roots.extend(eq.b.iter().copied());
-    for (_, r) in &v.free {
-        roots.extend(r.iter().flatten().copied());
-    }
     for t in &in_base {
         roots.extend(t.a.iter().flatten().copied());
         roots.extend(t.b.iter().copied());
@@ -153,12 +150,30 @@ fn check(text: &str) -> usize {
         let (model_b, mut rest) = rest.split_at(k);
         let mut t = transformation(n, &quaternions, &point);
         for &(p, _) in &v.free {
-            // p̈ = R̂ z.
-            let (r, more) = rest.split_at(9);
-            rest = more;
+            // p̈ = R̂ z, R̂ = R(q/|q|) written out here: I + k (w ṽ + ṽ²),
+            // k = 2/|q|², the quaternion right after the position.
+            let [w, x, y, z] = [3, 4, 5, 6].map(|c| point(Sym::Coord(p + c)));
+            let k = 2.0 / (w * w + x * x + y * y + z * z);
+            let r = [
+                [
+                    1.0 - k * (y * y + z * z),
+                    k * (x * y - w * z),
+                    k * (x * z + w * y),
+                ],
+                [
+                    k * (x * y + w * z),
+                    1.0 - k * (x * x + z * z),
+                    k * (y * z - w * x),
+                ],
+                [
+                    k * (x * z - w * y),
+                    k * (y * z + w * x),
+                    1.0 - k * (x * x + y * y),
+                ],
+            ];
             for i in 0..3 {
                 for j in 0..3 {
-                    t[p + i][p + j] = r[3 * i + j];
+                    t[p + i][p + j] = r[i][j];
                 }
             }
         }

@@ -117,21 +117,38 @@ pub(in crate::emit) fn checked_motion(
 /// the locals holding `r`; `scale` is the row scaling `D` of the system
 /// solved (`crate::equations::mass_inverse::Symbolic`), empty for none.
 pub(in crate::emit) fn corrected(residuals: &[syn::Ident], scale: &[Num]) -> TokenStream {
-    let d: Vec<_> = (0..residuals.len())
-        .map(|i| Context::local("db", i))
+    let terms: Vec<TokenStream> = correction_locals(residuals.len())
+        .iter()
+        .enumerate()
+        .map(|(i, db)| match scale.get(i) {
+            Some(&s) if !s.is_one() => {
+                let (s, _) = literal(s);
+                quote!(#s * #db)
+            }
+            _ => quote!(#db),
+        })
         .collect();
-    let scaled = d.iter().enumerate().map(|(i, db)| match scale.get(i) {
-        Some(&s) if !s.is_one() => {
-            let (s, _) = literal(s);
-            quote!(#s * #db)
-        }
-        _ => quote!(#db),
-    });
+    corrected_by(residuals, &terms)
+}
+
+/// The locals `__db{i}` of a correction's entries, as [`corrected_by`]
+/// binds them.
+pub(in crate::emit) fn correction_locals(k: usize) -> Vec<syn::Ident> {
+    (0..k).map(|i| Context::local("db", i)).collect()
+}
+
+/// `r + term` where `gauss` was given a correction `db`, each `term`
+/// written over the locals of [`correction_locals`].
+pub(in crate::emit) fn corrected_by(
+    residuals: &[syn::Ident],
+    terms: &[TokenStream],
+) -> TokenStream {
+    let d = correction_locals(residuals.len());
     quote! {
         let (#(#residuals,)*) = match correction {
             ::core::option::Option::Some(__db) => {
                 let [[#(#d),*]] = __db.data.0;
-                (#(#residuals + #scaled,)*)
+                (#(#residuals + #terms,)*)
             }
             ::core::option::Option::None => (#(#residuals,)*),
         };

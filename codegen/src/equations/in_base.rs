@@ -17,7 +17,7 @@
 //! `α` column is zero (`R̂` is homogeneous of degree 0 in `q`).
 
 use crate::bodies::free;
-use crate::bodies::spatial::{self, M3, V3};
+use crate::bodies::spatial::{self, V3};
 use crate::expr::diff::{AtRest, Differentiator};
 use crate::expr::{Graph, Id, Sym};
 use crate::model::Constraint;
@@ -31,9 +31,10 @@ pub struct InBaseRows {
     pub a: [Vec<Id>; 3],
     /// `R̂ᵀ b`.
     pub b: [Id; 3],
-    /// `R̂`: `λ = R̂ λ'`, and a correction `δb` of the rows enters as
-    /// `R̂ᵀ δb`.
-    pub rotation: M3,
+    /// The base's `x` coordinate: its `R̂` (`crate::equations::velocity`'s
+    /// `free`) turns the multipliers back, `λ = R̂ λ'`, and a correction
+    /// `δb` of the rows enters as `R̂ᵀ δb`.
+    pub base: usize,
     /// The model's own rows of `A` (in `q̇`), in the same closed form:
     /// `I` for the position, `R̂ ((k Gₘ) × r)` for the quaternion's `q̇ₘ`,
     /// `R̂ J` for the joints between.
@@ -157,7 +158,7 @@ fn triple_rows(
         rows,
         a,
         b,
-        rotation,
+        base: base.x,
         model_a,
         model_b,
     }

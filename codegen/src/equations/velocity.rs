@@ -89,13 +89,18 @@ pub fn form(
 ) -> Option<Velocity> {
     let (velocity_mass, tree, forces) = (bodies.mass, bodies.bodies, bodies.forces);
     let mut system = transformed(g, (velocity_mass, tree), forces, a)?;
-    let in_base = bodies.in_base;
-    for rows in in_base {
+    // Only the triples under a base the tree's own form turns (both find
+    // the same free joints; any other keeps its rows of `A T`).
+    let in_base: Vec<_> = (bodies.in_base.iter())
+        .filter(|rows| system.free.iter().any(|&(x, _)| x == rows.base))
+        .cloned()
+        .collect();
+    for rows in &in_base {
         for (i, &r) in rows.rows.iter().enumerate() {
             system.a[r].clone_from(&rows.a[i]);
         }
     }
-    system.in_base = in_base.to_vec();
+    system.in_base = in_base;
     let (n, a) = (forces.len(), &system.a);
     let ws: Vec<usize> = system.quaternions.iter().map(|&(c, _)| c).collect();
     let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();

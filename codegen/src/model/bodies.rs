@@ -409,12 +409,27 @@ impl Lowerer<'_> {
     /// its derivatives are matrix–vector products, the world frame's would
     /// be matrix products.
     fn position_along_chain(&mut self, index: usize, local: V3) -> V3 {
+        self.along_chain(index, local, false).0
+    }
+
+    /// The point `local` of body `index` carried up its chain of parent
+    /// frames to the world, or with `to_base` up to the first free base
+    /// on the way (whose `(w, x)` comes with it; without one, `None`).
+    fn along_chain(
+        &mut self,
+        index: usize,
+        local: V3,
+        to_base: bool,
+    ) -> (V3, Option<(usize, usize)>) {
         let mut point = local;
         let mut body = Some(index);
         // Each step moves to the parent, whose index is lower: at most
         // `chain.len()` steps.
         for _ in 0..self.chain.len() {
             let Some(i) = body else { break };
+            if let Some(&Some(base)) = self.bases.get(i).filter(|_| to_base) {
+                return (point, Some(base));
+            }
             let Some(&(parent, frame)) = self.chain.get(i) else {
                 break;
             };
@@ -423,7 +438,7 @@ impl Lowerer<'_> {
             point = spatial::hold3(self.graph, point);
             body = parent;
         }
-        point
+        (point, None)
     }
 
     /// The point of `position(body, [x, y, z])` in the axes of the free
@@ -439,21 +454,11 @@ impl Lowerer<'_> {
         };
         let name = single_ident(body)?;
         let index = self.frames.iter().position(|(n, _)| name == n)?;
-        let mut point = self.triple(at, "the point")?;
-        let mut body = Some(index);
-        // Each step moves to the parent, whose index is lower.
-        for _ in 0..self.chain.len() {
-            let i = body?;
-            if let Some(&Some((w, x))) = self.bases.get(i) {
-                return Some((w, x, point));
-            }
-            let &(parent, frame) = self.chain.get(i)?;
-            let turned = spatial::mat_vec(self.graph, &frame.rotation, point);
-            point = spatial::add(self.graph, frame.translation, turned);
-            point = spatial::hold3(self.graph, point);
-            body = parent;
+        let local = self.triple(at, "the point")?;
+        match self.along_chain(index, local, true) {
+            (point, Some((w, x))) => Some((w, x, point)),
+            (_, None) => None,
         }
-        None
     }
 
     /// The rows of a constraint between points, or `None` when it is not

@@ -13,8 +13,9 @@ use crate::bodies::free::G_PATTERN;
 use crate::emit::context::Context;
 use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::literal::literal;
-use crate::emit::solve::corrected;
+use crate::emit::solve::{corrected, corrected_by, correction_locals};
 use crate::emit::tokens::concat;
+use crate::equations::in_base::InBaseRows;
 use crate::equations::velocity::Velocity;
 use crate::expr::num::Num;
 use crate::expr::Id;
@@ -119,17 +120,10 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
             .unwrap_or(e);
         named.push((Context::local("b", r), e));
     }
-    for (t, rows) in v.system.in_base.iter().enumerate() {
-        for (i, row) in rows.rotation.iter().enumerate() {
-            for (j, &e) in row.iter().enumerate() {
-                named.push((rotation_local(t, i, j), e));
-            }
-        }
-    }
     for (t, (_, rotation)) in v.system.free.iter().enumerate() {
         for (i, row) in rotation.iter().enumerate() {
             for (j, &e) in row.iter().enumerate() {
-                named.push((Context::local2("rf", t, 3 * i + j), e));
+                named.push((free_rotation(t, i, j), e));
             }
         }
     }
@@ -201,7 +195,7 @@ fn accelerations(
         // p̈ = R̂ z.
         let z: Vec<TokenStream> = (0..3).map(|j| values[x + j].clone()).collect();
         for i in 0..3 {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| Context::local2("rf", t, 3 * i + j));
+            let [r0, r1, r2] = [0, 1, 2].map(|j| free_rotation(t, i, j));
             let (z0, z1, z2) = (&z[0], &z[1], &z[2]);
             let name = Context::local("pa", x + i);
             code.extend(quote! { let #name = #r0 * #z0 + #r1 * #z1 + #r2 * #z2; });
@@ -284,44 +278,47 @@ fn multipliers(
     (code, mu)
 }
 
-/// The local of `R̂[i][j]` of the `t`-th triple of rows in a base's axes.
-fn rotation_local(t: usize, i: usize, j: usize) -> Ident {
-    Context::local2("rb", t, 3 * i + j)
+/// The local of `R̂[i][j]` of the `t`-th free base.
+fn free_rotation(t: usize, i: usize, j: usize) -> Ident {
+    Context::local2("rf", t, 3 * i + j)
 }
 
-/// `b + δb` for `acceleration_corrected`, as `emit::solve::corrected`
-/// writes it, but with the rows of a point under a free base in the
-/// base's axes: `R̂ᵀ b + R̂ᵀ δb`.
+/// The local of `R̂[i][j]` of the free base of a triple of rows in its
+/// axes (`crate::equations::velocity::form` keeps only triples whose base
+/// is among `free`).
+fn rotation_local(v: &Velocity, rows: &InBaseRows, i: usize, j: usize) -> Ident {
+    let t = v
+        .system
+        .free
+        .iter()
+        .position(|&(x, _)| x == rows.base)
+        .unwrap_or(0);
+    free_rotation(t, i, j)
+}
+
+/// `b + δb` for `acceleration_corrected`, with the rows of a point under a
+/// free base in the base's axes: `R̂ᵀ b + R̂ᵀ δb`.
 fn turned_correction(v: &Velocity, b: &[Ident]) -> TokenStream {
-    let d: Vec<Ident> = (0..b.len()).map(|i| Context::local("db", i)).collect();
-    let mut sums: Vec<TokenStream> = b.iter().zip(&d).map(|(b, d)| quote!(#b + #d)).collect();
-    for (t, rows) in v.system.in_base.iter().enumerate() {
+    let d = correction_locals(b.len());
+    let mut terms: Vec<TokenStream> = d.iter().map(|d| quote!(#d)).collect();
+    for rows in &v.system.in_base {
         let [d0, d1, d2] = rows.rows.map(|r| &d[r]);
         for (i, &r) in rows.rows.iter().enumerate() {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(t, j, i));
-            let own = &b[r];
-            sums[r] = quote!(#own + (#r0 * #d0 + #r1 * #d1 + #r2 * #d2));
+            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(v, rows, j, i));
+            terms[r] = quote!((#r0 * #d0 + #r1 * #d1 + #r2 * #d2));
         }
     }
-    quote! {
-        let (#(#b,)*) = match correction {
-            ::core::option::Option::Some(__db) => {
-                let [[#(#d),*]] = __db.data.0;
-                (#(#sums,)*)
-            }
-            ::core::option::Option::None => (#(#b,)*),
-        };
-    }
+    corrected_by(b, &terms)
 }
 
 /// Each triple of rows solved in a base's axes gives `λ'`; the model's
 /// rows' are `λ = R̂ λ'` (locals `__mub{r}`).
 fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
     let mut code = TokenStream::new();
-    for (t, rows) in v.system.in_base.iter().enumerate() {
+    for rows in &v.system.in_base {
         let own: Vec<TokenStream> = rows.rows.iter().map(|&r| or_zero(&mu[r])).collect();
         for (i, &r) in rows.rows.iter().enumerate() {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(t, i, j));
+            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(v, rows, i, j));
             let [m0, m1, m2] = [&own[0], &own[1], &own[2]];
             let name = Context::local("mub", r);
             code.extend(quote! { let #name = #r0 * #m0 + #r1 * #m1 + #r2 * #m2; });
