@@ -141,8 +141,8 @@ fn quadruped_satisfies_a_qdd_b_and_a_dependent_row_changes_nothing() {
     );
 }
 
-/// The generated solve (the auxiliary mass `M + s AᵀA` factored on the
-/// tree pattern) equals the runtime's dense reference `gauss_dense` on
+/// The generated solve (in the velocity coordinates, each leg through its
+/// foot's rows; the twin's by the saddle-point `LDLᵀ`) equals the runtime's dense reference `gauss_dense` on
 /// `q̈` and the feet's forces to 1e-12 at 24 states near standing, with
 /// and without a correction of `b`, and so does the twin with a fifth,
 /// dependent row, whose generated `LDLᵀ` drops a row in its compile-time
@@ -175,14 +175,14 @@ fn quadruped_generated_solve_equals_the_dense_reference() {
     assert!(multipliers_gap::<_, N, 14>(&twin, &states, false) == 0.0);
 }
 
-/// The saddle-point solve's two paths. Near standing with bent knees it
-/// answers itself: its `q̈` differs from the dense reference's in the last
-/// bits (not bit for bit, as the dense solve's own would) and agrees to
-/// 1e-12. With a leg stretched straight (hip and knee flexion 0), that
-/// foot's rows no longer fix its joints alone (two of its columns are
-/// parallel), its multipliers' pivots fail the run-time test, and the
-/// runtime's dense solve answers: bit for bit its `q̈`, which still
-/// satisfies `A q̈ = b`.
+/// The generated solve's two paths. Near standing with bent knees it
+/// answers itself (each leg through its foot's `J⁻¹`): its `q̈` differs
+/// from the dense reference's in the last bits (not bit for bit, as the
+/// dense solve's own would) and agrees to 1e-12. With a leg stretched
+/// straight (hip and knee flexion 0), that foot's rows no longer fix its
+/// joints alone (two of its columns are parallel), its `det J` fails the
+/// run-time test, and the runtime's dense solve answers: bit for bit its
+/// `q̈`, which still satisfies `A q̈ = b`.
 #[test]
 fn a_straight_leg_hands_the_solve_to_the_dense_one() {
     let (feet, rest) = standing(0.8);

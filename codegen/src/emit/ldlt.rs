@@ -106,6 +106,24 @@ impl<'a> StructuredLdlt<'a> {
         }
     }
 
+    /// A floating base's 6 × 6 inertia with its feet's legs eliminated
+    /// (`super::mass_inverse::factored::legs`): entries `__bs{i}_{j}`,
+    /// pivots that must be positive, else `bail` runs; solved once.
+    pub(super) fn reduced(structure: &'a Structure, bail: TokenStream) -> Self {
+        StructuredLdlt {
+            structure,
+            roles: Roles {
+                entry: "bs",
+                pivot: "bsd",
+                inverse: "bsi",
+                update: "bsx",
+                lower: "bsl",
+            },
+            pivots: Pivots::Positive(bail),
+            solves: Solves::Once,
+        }
+    }
+
     /// The saddle-point matrix `[M Aᵀ; A 0]` (rows `0..n` the coordinates):
     /// entries `__k{i}_{j}`, signed pivots, `bail` where one fails.
     pub(super) fn saddle(structure: &'a Structure, n: usize, bail: TokenStream) -> Self {

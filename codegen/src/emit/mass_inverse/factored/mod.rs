@@ -26,6 +26,7 @@
 mod auxiliary;
 mod gram_form;
 pub(in crate::emit) mod jacobian;
+mod legs;
 mod saddle;
 pub(in crate::emit) mod step;
 mod velocity;

@@ -37,7 +37,6 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
         turned_correction(v, &b)
     };
     let alphas = alphas(ctx, v, &dense);
-    let factor = ldlt.factor();
     let (nr, kr) = (v.coordinates.len(), v.rows.len());
     let g = &ctx.eq.system.graph;
     let mut rhs: Vec<Option<TokenStream>> = v
@@ -54,11 +53,20 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
         let name = Context::local("bv", rr);
         Some(quote!(#name))
     }));
-    let (solve, values) = solved(&ldlt, &rhs, (nr, kr));
+    let (solve, values) = match super::legs::find(v) {
+        Some(legs) => {
+            let entry = |i: usize, j: usize| v.structure.nonzero[i][j].then(|| ldlt.entry(i, j));
+            super::legs::solve(&legs, (nr, kr), &entry, &rhs, &dense)
+        }
+        None => {
+            let (solve, values) = solved(&ldlt, &rhs, (nr, kr));
+            (concat([ldlt.factor(), solve]), values)
+        }
+    };
     let (recover, acceleration) = accelerations(ctx, v, &values);
     let (norms, mut mu) = multipliers(ctx, v, &values);
     let norms = concat([norms, in_world(v, &mut mu)]);
-    let body = concat([head, correction, alphas, factor, solve, recover, norms]);
+    let body = concat([head, correction, alphas, solve, recover, norms]);
     function(
         ctx,
         (acceleration, &mu),
