@@ -209,11 +209,11 @@ pub(super) fn solve(
     }
     let structure = Structure::with_order(vec![vec![true; 6]; 6], (0..6).collect());
     let ldlt = StructuredLdlt::reduced(&structure, dense.clone());
-    for m in 0..6 {
-        for o in 0..=m {
+    for (m, row) in s_terms.iter().enumerate() {
+        for (o, terms) in row.iter().enumerate().take(m + 1) {
             let own = at(legs.base[m], legs.base[o]);
             let entry = ldlt.entry(m, o);
-            let value = minus(own, sum(s_terms[m][o].clone())).unwrap_or_else(zero);
+            let value = minus(own, sum(terms.clone())).unwrap_or_else(zero);
             code.extend(quote! { let #entry = #value; });
         }
     }
