@@ -57,6 +57,9 @@ fn motion_to_child(g: &mut Graph, body: &Body, js: JointState, m: Spatial) -> Sp
     match body.joint.kind {
         JointKind::Revolute => {
             // The child's axes are the joint's turned by qᵢ: coordinates by −qᵢ.
+            // The shifted velocity held: turned, its sums' contents would
+            // multiply every product of the sine and cosine.
+            let v = spatial::hold3(g, v);
             let (s, c) = js.sin_cos;
             let back = (g.neg(s), c);
             Spatial {
@@ -233,7 +236,7 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
             let sq = joint_motion(g, &s, Sym::Accel);
             a[i] = a[i].add(g, sq).held(g);
         }
-        let momentum = body.inertia.apply(g, vi);
+        let momentum = body.inertia.apply(g, vi).held(g);
         let ia = body.inertia.apply(g, a[i]);
         let gyroscopic = vi.cross_force(g, momentum);
         f.push(ia.add(g, gyroscopic).held(g));
