@@ -96,9 +96,12 @@ fn triple_rows(
     let r = base.point;
     let velocity: V3 = r.map(|e| at_rest.derivative(g, e));
     let acceleration: V3 = velocity.map(|e| at_rest.derivative(g, e));
+    // `ṙ` held where it multiplies ω: its sums' contents would otherwise
+    // multiply every product.
+    let held_velocity = spatial::hold3(g, velocity);
     let omega_r = spatial::cross(g, omega, r);
     let centripetal = spatial::cross(g, omega, omega_r);
-    let transport = spatial::cross(g, omega, velocity);
+    let transport = spatial::cross(g, omega, held_velocity);
     let two = g.int(2);
     let transport = spatial::scale(g, two, transport);
     let dot: Vec<Id> = q.iter().zip(&rates).map(|(&a, &b)| g.mul2(a, b)).collect();
