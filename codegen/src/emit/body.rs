@@ -210,9 +210,7 @@ impl<'a> Body<'a> {
     /// divides two or more products.
     fn reciprocal_after(&self, id: Id) -> TokenStream {
         match (self.reciprocals.get(&id), self.temp_names.get(&id)) {
-            (Some(r), Some(t)) if !matches!(self.graph.node(id), Node::Sym(_)) => {
-                quote! { let #r = T::one() / #t; }
-            }
+            (Some(r), Some(t)) => quote! { let #r = T::one() / #t; },
             _ => TokenStream::new(),
         }
     }
@@ -250,25 +248,27 @@ impl<'a> Body<'a> {
                 !reciprocal_of(self.graph, id).is_some_and(|b| self.reciprocals.contains_key(&b))
             })
             .map(|(position, &id)| {
-                let mut shared = self.subproducts_after(Some(position));
-                shared.extend(self.reciprocal_after(id));
+                let shared = self.subproducts_after(Some(position));
                 // A sine and cosine of one argument: one `sin_cos`, the
-                // runtime's (libm's `sincos` for `f64` and `f32`).
+                // runtime's (libm's `sincos` for `f64` and `f32`), and the
+                // reciprocals of both where they divide.
                 match self.schedule.paired.get(&id) {
                     Some(&Paired::Later) => return shared,
                     Some(&Paired::First { sin, cos, argument }) => {
                         let (s, c) = (&self.temp_names[&sin], &self.temp_names[&cos]);
                         let argument = self.operand(argument).0;
-                        let other = if sin == id { cos } else { sin };
-                        let other = self.reciprocal_after(other);
+                        let (rs, rc) = (self.reciprocal_after(sin), self.reciprocal_after(cos));
                         return quote! {
                             let (#s, #c) = ::constrained::__private::sin_cos(#argument);
-                            #other
+                            #rs
+                            #rc
                             #shared
                         };
                     }
                     None => {}
                 }
+                let mut shared = shared;
+                shared.extend(self.reciprocal_after(id));
                 let name = &self.temp_names[&id];
                 self.defining.set(position);
                 let value = self.node(id).0;

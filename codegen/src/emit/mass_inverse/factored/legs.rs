@@ -29,6 +29,7 @@
 use super::super::super::context::Context;
 use super::super::super::ldlt::StructuredLdlt;
 use crate::emit::literal::literal;
+use crate::emit::tokens::{join_product, signed_sum};
 use crate::equations::velocity::Velocity;
 use crate::expr::num::Num;
 use crate::numeric::sparsity::Structure;
@@ -107,7 +108,7 @@ fn name(role: &str, t: usize, e: usize) -> Ident {
 
 /// `a + b + …`, `None` for no terms.
 fn sum(terms: Vec<TokenStream>) -> Option<TokenStream> {
-    (!terms.is_empty()).then(|| quote!(#(#terms)+*))
+    signed_sum(terms.into_iter().map(|t| (false, t)))
 }
 
 /// `Σ aᵢ bᵢ` over the pairs whose factors are both structurally nonzero.
@@ -360,23 +361,18 @@ fn answers(
 /// `Σ ± aᵢ bᵢ` over the pairs whose factors are both structurally nonzero
 /// (`T::zero()` for none).
 fn signed_products(pairs: &[(Option<TokenStream>, Option<TokenStream>, bool)]) -> TokenStream {
-    let mut out = TokenStream::new();
-    for (a, b, negative) in pairs {
-        let (Some(a), Some(b)) = (a, b) else {
-            continue;
-        };
-        out.extend(match (out.is_empty(), negative) {
-            (true, false) => quote!(#a * #b),
-            (true, true) => quote!(-(#a * #b)),
-            (false, false) => quote!(+ #a * #b),
-            (false, true) => quote!(- #a * #b),
-        });
+    let mut terms: Vec<(bool, TokenStream)> = pairs
+        .iter()
+        .filter_map(|(a, b, negative)| {
+            let (a, b) = (a.as_ref()?, b.as_ref()?);
+            Some((*negative, quote!(#a * #b)))
+        })
+        .collect();
+    // A leading subtracted product is `-(a * b)`.
+    if let Some((true, first)) = terms.first_mut() {
+        *first = quote!((#first));
     }
-    if out.is_empty() {
-        quote!(T::zero())
-    } else {
-        out
-    }
+    signed_sum(terms).unwrap_or_else(|| quote!(T::zero()))
 }
 
 /// `J⁻¹` of leg `t` by its cofactors (locals `__lja{t}_{3i+k}`), after the
@@ -408,7 +404,7 @@ fn inverse(
         quote!((#row))
     });
     let (det, inverse_det) = (Context::local("ljd", t), Context::local("lji", t));
-    let norms = crate::emit::tokens::join_product(norms.collect()).unwrap_or_default();
+    let norms = join_product(norms.collect()).unwrap_or_default();
     code.extend(quote! {
         let #det = #det_value;
         if !(#det * #det > (#tolerance * #tolerance) * #norms) {

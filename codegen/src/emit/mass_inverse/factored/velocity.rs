@@ -3,7 +3,9 @@
 //! CSE'd body; each quaternion's `α = b_norm / (A T)_{norm,α}`; the other
 //! rows' `b` less their `α` terms; the saddle-point `L D Lᵀ` of the rest in
 //! its compile-time order (signed pivots; one that fails its test hands the
-//! solve to the runtime's dense one, as in [`super::saddle`]); then
+//! solve to the runtime's dense one, as in [`super::saddle`]), or, for a
+//! floating base standing on legs, each leg through its foot's rows and the
+//! base's 6 × 6 inertia with the feet held ([`super::legs`]); then
 //! `q̈ = T z` and the norms' multipliers. `Aᵀλ` is formed with the model's
 //! `A`, so every output is in the model's coordinates.
 
@@ -53,26 +55,29 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
         let name = Context::local("bv", rr);
         Some(quote!(#name))
     }));
-    let (solve, values) = match super::legs::find(v) {
+    let ((solve, values), how) = match super::legs::find(v) {
         Some(legs) => {
             let entry = |i: usize, j: usize| v.structure.nonzero[i][j].then(|| ldlt.entry(i, j));
-            super::legs::solve(&legs, (nr, kr), &entry, &rhs, &dense)
+            let solved = super::legs::solve(&legs, (nr, kr), &entry, &rhs, &dense);
+            (
+                solved,
+                "in the quaternions' velocity coordinates, each leg through its foot's rows \
+                 and the base's inertia with the feet held factored once.",
+            )
         }
         None => {
             let (solve, values) = solved(&ldlt, &rhs, (nr, kr));
-            (concat([ldlt.factor(), solve]), values)
+            (
+                (concat([ldlt.factor(), solve]), values),
+                "in the quaternions' velocity coordinates, the saddle-point system factored once.",
+            )
         }
     };
     let (recover, acceleration) = accelerations(ctx, v, &values);
     let (norms, mut mu) = multipliers(ctx, v, &values);
     let norms = concat([norms, in_world(v, &mut mu)]);
     let body = concat([head, correction, alphas, solve, recover, norms]);
-    function(
-        ctx,
-        (acceleration, &mu),
-        body,
-        "in the quaternions' velocity coordinates, the saddle-point system factored once.",
-    )
+    function(ctx, (acceleration, &mu), body, how)
 }
 
 /// The locals bound from the expressions: `TᵀMT`'s entries of the
