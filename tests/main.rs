@@ -18,6 +18,7 @@ mod directional;
 mod docs;
 mod energies;
 mod evaluations;
+mod event_edges;
 mod events;
 mod fault_matrix;
 mod finite_differences;

@@ -76,17 +76,18 @@ macro_rules! shared_settings {
             /// the integration restarts from. Returns at `t_end` or at the
             /// first crossing whose action is [`Action::Stop`](crate::integrate::Action::Stop) (in
             /// [`EventRun::stopped`](crate::integrate::EventRun::stopped)), with `state` where it stopped.
-            pub fn advance_events<Sys, F, const N: usize, const K: usize, const E: usize>(
+            pub fn advance_events<Sys, F, D, const N: usize, const K: usize, const E: usize>(
                 &self,
                 system: &Sys,
                 state: &mut State<T, N>,
                 t_end: T,
-                events: &$crate::integrate::Events<T, F, E>,
+                events: &$crate::integrate::Events<T, F, E, D>,
                 handler: impl FnMut(&$crate::integrate::Crossing<T, N>, &mut State<T, N>),
             ) -> Result<$crate::integrate::EventRun<T, N>, IntegrationError<T>>
             where
                 Sys: ConstrainedSystem<T, N, K>,
                 F: Fn(&State<T, N>) -> [T; E],
+                D: $crate::integrate::events::Rates<T, N, E>,
             {
                 let stepper = self.stepper(*state, t_end)?;
                 $crate::integrate::stepper::drive(stepper, system, state, events, handler)
@@ -111,7 +112,9 @@ pub mod tableau;
 pub use controller::PiController;
 pub use embedded::EmbeddedRungeKutta;
 pub use euler::SemiImplicitEuler;
-pub use events::{Action, Crossing, Direction, Event, EventStats, Events};
+pub use events::{
+    Action, Crossing, Direction, Event, EventStats, Events, NoRates, Rates, WithRates,
+};
 pub use explicit::ExplicitRungeKutta;
 pub use stepper::{EventRun, StepOutcome, Stepper};
 pub use stick_slip::{StickSlip, StickSlipOutcome};

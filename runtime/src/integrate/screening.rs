@@ -3,7 +3,7 @@
 //! module docs).
 
 use super::c;
-use super::events::{values, EventStats, Events};
+use super::events::{values, EventStats, Events, Rates};
 use crate::{IntegrationError, State};
 use nalgebra::RealField;
 
@@ -47,11 +47,11 @@ fn screened<T: RealField + Copy, const E: usize>(
 
 /// The first look at a fresh step: the functions' values at its end, and
 /// whether screening lets it skip its grid (then nothing crosses in it, and
-/// `refs` are moved to its end). `before`: the functions' values at the
+/// `refs` are moved to its end; never with known rates). `before`: the functions' values at the
 /// previous step's start, when that step was not interrupted.
 #[inline(always)]
-pub(super) fn screen<T, F, const N: usize, const E: usize>(
-    events: &Events<T, F, E>,
+pub(super) fn screen<T, F, D, const N: usize, const E: usize>(
+    events: &Events<T, F, E, D>,
     refs: &mut [(T, T); E],
     before: Option<&[(T, T); E]>,
     end: &State<T, N>,
@@ -60,9 +60,13 @@ pub(super) fn screen<T, F, const N: usize, const E: usize>(
 where
     T: RealField + Copy,
     F: Fn(&State<T, N>) -> [T; E],
+    D: Rates<T, N, E>,
 {
     let g_end = values(events, end)?;
+    // Functions with known rates are searched on every step: the rates
+    // see a dip between grid points only where the grid is searched.
     let skip = E > 0
+        && !D::KNOWN
         && events.screening
         && events.samples > 0
         && before.is_some_and(|before| screened(before, refs, (end.t, &g_end)));

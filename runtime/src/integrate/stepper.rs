@@ -4,7 +4,7 @@
 
 use super::accepted::Work;
 use super::controller::PiController;
-use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found};
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found, Rates};
 use super::screening;
 use super::{Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
@@ -28,14 +28,24 @@ pub enum StepOutcome<T, const N: usize> {
     Finished,
 }
 
-/// A reported crossing, for `set_state` to tell a restart at it.
+/// The last reported crossing's state, for `set_state` to tell a restart
+/// at it.
 #[derive(Clone, Copy, Debug)]
 struct Reported<T, const N: usize> {
-    index: usize,
-    rising: bool,
     state: State<T, N>,
-    /// The function's value at the right end of the crossing's bracket.
-    g_right: T,
+}
+
+/// The crossings reported at one instant (within the time tolerance of its
+/// first), across the state changes made there: what makes each function's
+/// crossing there reported once, and a crossing that a state change did not
+/// end an error instead of a loop.
+#[derive(Clone, Copy, Debug)]
+struct Instant<T, const E: usize> {
+    t: T,
+    /// Per function, `Some(rising)` once reported at this instant.
+    reported: [Option<bool>; E],
+    /// The functions found crossing together with the last one reported.
+    together: [bool; E],
 }
 
 /// An integration in progress, one accepted step per [`step`](Self::step)
@@ -84,13 +94,8 @@ pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
     anchor: (T, usize),
     /// The last crossing reported in the current step.
     reported: Option<Reported<T, N>>,
-    /// After `set_state` with the crossing's own state (the system changed,
-    /// not the state): the function that crossed and its value past the
-    /// crossing, its reference for the restarted search.
-    continuing: Option<(usize, T)>,
-    /// The crossing whose state `set_state` changed, while the step from
-    /// it has not ended.
-    restarted: Option<(usize, bool, T)>,
+    /// The instant of the last crossings reported.
+    instant: Option<Instant<T, E>>,
 }
 
 impl<T, I, const N: usize, const S: usize, const E: usize> Stepper<T, I, N, S, E>
@@ -127,8 +132,7 @@ where
             before: None,
             anchor: (state.t, 0),
             reported: None,
-            continuing: None,
-            restarted: None,
+            instant: None,
         })
     }
 
@@ -183,28 +187,32 @@ where
     ///
     /// At a crossing, with the crossing's own state (to restart after
     /// changing the system, e.g. a controller's mode), the crossing counts
-    /// as done: the function is sought from its new side. With a changed
-    /// state (an impact), if the function that crossed crosses again in
-    /// the same direction within the time tolerance, the change did not
-    /// take the trajectory off its surface: the next [`step`](Self::step)
-    /// is `Err(EventRepeats)` (the stepper stays usable: switch the model
-    /// to the persistent contact and set the state again).
+    /// as done: the function is sought from its new side, and the other
+    /// functions crossing at the same instant are still reported. With a
+    /// changed state (an impact) every function is sought from the new
+    /// state (one that crossed here and is left exactly at zero counts as
+    /// on its old side); if one that crossed here crosses again in the same
+    /// direction within the time tolerance, the change did not take the
+    /// trajectory off its surface: the next [`step`](Self::step) is
+    /// `Err(EventRepeats)` (the stepper stays usable: switch the model to
+    /// the persistent contact and set the state again).
     pub fn set_state(&mut self, state: State<T, N>) -> Result<(), IntegrationError<T>> {
         super::span(&state, self.t_end)?;
-        self.restarted = None;
-        self.continuing = None;
-        match self.reported.take() {
-            Some(r) if r.state == state => self.continuing = Some((r.index, r.g_right)),
-            Some(r) if r.state.t == state.t => {
-                self.restarted = Some((r.index, r.rising, r.state.t))
-            }
-            _ => {}
+        let reported = self.reported.take();
+        if reported.is_none_or(|r| r.state.t != state.t) {
+            self.instant = None;
         }
+        // The crossing's own state (the system changed, not the state): the
+        // search goes on from the references the report left, each function
+        // already reported at this instant past its crossing.
+        self.refs = match (reported, self.refs) {
+            (Some(r), Some(refs)) if r.state == state => Some(refs.map(|(_, g)| (state.t, g))),
+            _ => None,
+        };
         self.state = state;
         self.carried = false;
         self.kept = false;
         self.pending = false;
-        self.refs = None;
         self.before = None;
         self.anchor = (state.t, 0);
         Ok(())
@@ -220,14 +228,15 @@ where
 
     /// Advances by one accepted step, or to the next crossing inside the
     /// current one (see [`StepOutcome`]).
-    pub fn step<Sys, F, const K: usize>(
+    pub fn step<Sys, F, D, const K: usize>(
         &mut self,
         system: &Sys,
-        events: &Events<T, F, E>,
+        events: &Events<T, F, E, D>,
     ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
         F: Fn(&State<T, N>) -> [T; E],
+        D: Rates<T, N, E>,
     {
         events.validate()?;
         let mut refs = self.references(events)?;
@@ -286,14 +295,15 @@ where
     /// nothing more than the run without events (`at` has no step after
     /// it).
     #[inline(always)]
-    fn next_event<Sys, F, const K: usize>(
+    fn next_event<Sys, F, D, const K: usize>(
         &mut self,
         system: &Sys,
-        events: &Events<T, F, E>,
+        events: &Events<T, F, E, D>,
     ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
     where
         Sys: ConstrainedSystem<T, N, K>,
         F: Fn(&State<T, N>) -> [T; E],
+        D: Rates<T, N, E>,
     {
         if self.pending {
             return self.step(system, events);
@@ -339,15 +349,18 @@ where
             self.before = Some(start);
             self.state = *self.work.end();
             self.reported = None;
-            self.restarted = None;
         }
     }
 
     /// Per event function, the time and value its next crossing is sought
-    /// from: kept from the last search, else evaluated at the state.
-    fn references<F>(
+    /// from: kept from the last search, else evaluated at the state. After
+    /// a state change at a crossing, a function reported there that the new
+    /// state leaves exactly at zero (a handler that puts the ball back on
+    /// the ground) counts as on its old side: its next crossing in the same
+    /// direction is found, and is `EventRepeats` if it comes at once.
+    fn references<F, D>(
         &mut self,
-        events: &Events<T, F, E>,
+        events: &Events<T, F, E, D>,
     ) -> Result<[(T, T); E], IntegrationError<T>>
     where
         F: Fn(&State<T, N>) -> [T; E],
@@ -357,9 +370,14 @@ where
         }
         let g = events::values(events, &self.state)?;
         let mut refs = core::array::from_fn(|i| (self.state.t, g[i]));
-        if let Some((i, g_right)) = self.continuing.take() {
-            if let Some(r) = refs.get_mut(i) {
-                r.1 = g_right;
+        if let Some(instant) = &self.instant {
+            // Far below any value the functions take, a sign and no weight.
+            let tiny = T::default_epsilon() * T::default_epsilon();
+            for (r, reported) in refs.iter_mut().zip(&instant.reported) {
+                match reported {
+                    Some(rising) if r.1 == T::zero() => r.1 = if *rising { -tiny } else { tiny },
+                    _ => {}
+                }
             }
         }
         Ok(refs)
@@ -367,12 +385,14 @@ where
 
     /// What the search of the kept step found, reported: its end when
     /// nothing (the step is done), else the crossing, whose state becomes
-    /// the stepper's.
-    fn report<F>(
+    /// the stepper's. The references only move forward: a function already
+    /// past the crossing (reported at the same instant) keeps its own, the
+    /// others restart at the crossing.
+    fn report<F, D>(
         &mut self,
-        found: Option<Found<T>>,
+        found: Option<Found<T, E>>,
         mut refs: [(T, T); E],
-        events: &Events<T, F, E>,
+        events: &Events<T, F, E, D>,
     ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
     where
         F: Fn(&State<T, N>) -> [T; E],
@@ -386,7 +406,6 @@ where
             self.refs = Some(refs);
             self.pending = false;
             self.reported = None;
-            self.restarted = None;
             return Ok(if self.state.t >= self.t_end {
                 StepOutcome::Finished
             } else {
@@ -395,27 +414,21 @@ where
         };
         let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
         let span = work.span(&work.start, end_slope, &I::DENSE);
-        if let Some((event, rising, t)) = self.restarted {
-            let tolerance = events.time_tolerance(&span);
-            if found.index == event && found.rising == rising && found.left - t <= tolerance {
-                return Err(IntegrationError::EventRepeats { t, event });
-            }
-        }
+        let instant = self.at_instant(&found, events.time_tolerance(&span))?;
         let state = span.at(found.left);
         let g = events::values(events, &state)?;
-        refs = core::array::from_fn(|i| (found.left, g[i]));
-        if let Some(r) = refs.get_mut(found.index) {
-            *r = (found.right, found.g_right);
+        for (j, (r, gj)) in refs.iter_mut().zip(g).enumerate() {
+            if j == found.index {
+                *r = (found.right, found.g_right);
+            } else if r.0 < found.left {
+                *r = (found.left, gj);
+            }
         }
         self.refs = Some(refs);
         self.state = state;
         self.event_stats.crossings += 1;
-        self.reported = Some(Reported {
-            index: found.index,
-            rising: found.rising,
-            state,
-            g_right: found.g_right,
-        });
+        self.reported = Some(Reported { state });
+        self.instant = Some(instant);
         let action = events
             .kinds
             .get(found.index)
@@ -431,6 +444,58 @@ where
             },
             action,
         }))
+    }
+
+    /// The instant `found` belongs to, with it recorded: the current one if
+    /// `found` is within `tolerance` of it, else a new one. A function
+    /// reported at this instant in the same direction before has crossed
+    /// again at once: whatever the state changes there did, they did not
+    /// take the trajectory off its surface, so it is
+    /// `Err(EventRepeats)`, never a loop of events at one time (each
+    /// function can be reported at most once a direction at one instant).
+    fn at_instant(
+        &self,
+        found: &Found<T, E>,
+        tolerance: T,
+    ) -> Result<Instant<T, E>, IntegrationError<T>> {
+        let mut instant = match self.instant {
+            Some(instant) if found.left - instant.t <= tolerance => instant,
+            _ => Instant {
+                t: found.left,
+                reported: [None; E],
+                together: [false; E],
+            },
+        };
+        let Some(reported) = instant.reported.get_mut(found.index) else {
+            return Err(IntegrationError::InvalidParameter); // unreachable: index < E
+        };
+        if *reported == Some(found.rising) {
+            return Err(IntegrationError::EventRepeats {
+                t: instant.t,
+                event: found.index,
+            });
+        }
+        *reported = Some(found.rising);
+        for (all, &this) in instant.together.iter_mut().zip(&found.together) {
+            *all |= this;
+        }
+        Ok(instant)
+    }
+
+    /// At a crossing ([`StepOutcome::Event`]): which event functions cross
+    /// at its instant, within the time tolerance (the reported one
+    /// included; `[false; E]` elsewhere). Those after it are reported next,
+    /// one a call at the same state, in time order and, at the same time,
+    /// in index order, each once; a state change ([`set_state`](Self::set_state))
+    /// ends the group: the search starts anew from the new state, where
+    /// the ones still crossing are reported. To apply simultaneous impacts
+    /// as one (a bar landing flat on both ends), mark every gap this
+    /// returns as active in one `impact`.
+    pub fn simultaneous(&self) -> [bool; E] {
+        match (&self.reported, &self.instant) {
+            (Some(_), Some(instant)) => instant.together,
+            _ => [false; E],
+        }
     }
 }
 
@@ -449,11 +514,21 @@ pub struct EventRun<T, const N: usize> {
 /// The driver with events, on a stepper: `handler(&crossing, &mut state)`
 /// runs at every crossing with the state there, and a changed state
 /// restarts the stepper from it.
-pub(super) fn drive<T, I, Sys, F, const N: usize, const K: usize, const S: usize, const E: usize>(
+pub(super) fn drive<
+    T,
+    I,
+    Sys,
+    F,
+    D,
+    const N: usize,
+    const K: usize,
+    const S: usize,
+    const E: usize,
+>(
     mut stepper: Stepper<T, I, N, S, E>,
     system: &Sys,
     state: &mut State<T, N>,
-    events: &Events<T, F, E>,
+    events: &Events<T, F, E, D>,
     mut handler: impl FnMut(&Crossing<T, N>, &mut State<T, N>),
 ) -> Result<EventRun<T, N>, IntegrationError<T>>
 where
@@ -461,6 +536,7 @@ where
     I: StepMethod<T, S>,
     Sys: ConstrainedSystem<T, N, K>,
     F: Fn(&State<T, N>) -> [T; E],
+    D: Rates<T, N, E>,
 {
     let result = loop {
         match stepper.next_event(system, events) {
