@@ -131,7 +131,11 @@ fn a_bar_dropped_flat_lands_on_both_ends_at_once_and_comes_to_rest() {
             [g[0], g[1]]
         },
         [Event::record(Direction::Falling); 2],
-    );
+    )
+    .with_rates(move |s: &State<f64, 3>| {
+        let r = Bar::new(m, l, G, 0.0).gap_rates(&s.q, &s.qd, s.t);
+        [r[0], r[1]]
+    });
     let drop = State::new(0.0, Vector3::new(0.0, 1.0, 0.0), Vector3::zeros());
     let mut stepper = DormandPrince45::new(1e-10, 1e-12)
         .stepper(drop, 5.0)

@@ -1,5 +1,5 @@
 //! The methods of a system with gaps (`unilateral: [..]`): `GAPS`,
-//! `gaps`, `gap_jacobian` and `impact`, the impulsive form of Gauss's
+//! `gaps`, `gap_jacobian`, `gap_rates` and `impact`, the impulsive form of Gauss's
 //! principle through the runtime's `impact::impact_with_gaps` (`docs/math.md`,
 //! "Impacts"). Nothing is generated for a system without gaps.
 
@@ -63,6 +63,14 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
         pub fn gap_jacobian(&self, #params) -> #jac_type {
             #jpreamble
             #jvalue
+        }
+
+        /// The gaps' rates `ġ = ∇g · q̇`, one per gap: given to the event
+        /// location (`Events::with_rates`), they let it find a gap that
+        /// closes and opens again between two points of its search grid.
+        #[inline]
+        pub fn gap_rates(&self, #state) -> #gap_type {
+            self.gap_jacobian(q, t) * qd
         }
 
         /// The impact map (the impulsive form of Gauss's principle): `q̇⁺`

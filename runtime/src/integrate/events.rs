@@ -71,7 +71,7 @@
 //! when a grid point falls between them: a foot that touches the ground and
 //! leaves it within one grid interval has passed through it unseen. Where
 //! the functions' time derivatives `ġ` are known ([`Events::with_rates`]:
-//! for a gap `g(q)`, `ġ = ∇g · q̇` from the generated `gap_jacobian`), each
+//! for a gap `g(q)`, `ġ = ∇g · q̇`, the generated `gap_rates`), each
 //! grid interval in which a function keeps its sign is checked for a dip:
 //! the cubic through its values and rates at the interval's ends places its
 //! extrema, the function is evaluated there, and an extremum on the other
@@ -215,7 +215,7 @@ impl<T: RealField + Copy, F, const E: usize> Events<T, F, E> {
     }
 
     /// The same with the functions' time derivatives `ġ(&state) -> [T; E]`
-    /// (for a gap `g(q)`, `ġ = ∇g · q̇`: `gap_jacobian(q, t) * q̇`). With
+    /// (for a gap `g(q)`, `ġ = ∇g · q̇`: the generated `gap_rates`). With
     /// them, each grid interval where a function keeps its sign is checked
     /// for a dip through zero between its ends: the cubic through the
     /// values and rates at the ends locates the extrema, where the function
