@@ -235,14 +235,13 @@ def robot_section(rows):
     URDFs, the generated code against Pinocchio on the same files."""
     median = report_contacts._median
     table = []
-    worst, literal = {}, {}
+    worst = {}
     for system, _, name in ROBOTS:
         for ours, theirs, label, _ in ROBOT_PAIRS:
             mine, peer = rows.get(("constrained", ours, system), []), rows.get(("pinocchio", theirs, system), [])
             if not (mine and peer):
                 continue
             worst[theirs] = max([worst.get(theirs, 0.0)] + [r["difference"] for r in peer])
-            literal[system] = max([literal.get(system, 0.0)] + [r.get("literal_difference", 0.0) for r in peer])
             r = robot_ratios(rows, system, ours, theirs)
             ours_ns = median([x["ns"] for x in mine])
             if r:
@@ -255,7 +254,6 @@ def robot_section(rows):
     if not table:
         return []
     agree = ", ".join(f"`{k}` {v:.1e}" for k, v in worst.items())
-    as_written = ", ".join(f"{k} {v:.1e}" for k, v in literal.items())
     return [
         "",
         "## Robots: the Panda and the UR5 from URDF, against Pinocchio",
@@ -266,17 +264,14 @@ def robot_section(rows):
         "(`benches/peers/robots`, release build), Pinocchio with `urdf::buildModel` and",
         "`buildReducedModel` (`benches/peers/robots.cpp`). At 20 pseudo-random states per",
         "robot Pinocchio's answers were checked against ours before timing, in every round,",
-        f"relative to the largest entry (largest seen: {agree}; `crba` symmetrised). Our reader takes",
-        "an `rpy` angle written as a multiple of π/2 to all its digits (the UR5's",
-        "`1.57079632679`) as that multiple exactly; Pinocchio takes the decimal, 4.9e-12 rad",
-        "away, so it is checked on the file with those angles written to double precision",
-        f"(on the files as written: {as_written}). Times are per",
+        f"relative to the largest entry (largest seen: {agree}; `crba` symmetrised), both",
+        "reading the files as written (the UR5's `1.57079632679` is that angle, not π/2).",
+        "Times are per",
         "state, the median of 31 batches over the 20 states, the same loop on both",
         "sides, pinned to one core, on the thread's CPU clock (`CLOCK_THREAD_CPUTIME_ID`),",
         "in 3 alternating rounds (ours, then Pinocchio's); each side's time is the median",
         "of its rounds, the ratio the median of the rounds' ratios (their range in",
-        "brackets). One pass each on the wall clock, as before 2026-12-03, read the Panda",
-        "1.7× slower on our side in a run than alone minutes later. `crba` computes the",
+        "brackets). `crba` computes the",
         "upper triangle only; our `mass_matrix` returns the full matrix.",
         "",
         "| robot | what | ours | Pinocchio | Pinocchio / ours |",

@@ -42,4 +42,5 @@ mod robustness;
 mod rotations;
 mod spherical;
 mod stick_slip;
+mod urdf_as_written;
 mod user_names;

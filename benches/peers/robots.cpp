@@ -9,14 +9,9 @@
 // statistic on the thread's CPU clock, per state). One JSON line per
 // result, tagged with ROUND (run.sh alternates three rounds with ours).
 //
-// Our URDF reader takes an angle of `rpy` written as a multiple of π/2 to
-// all its digits (the UR5's `1.57079632679`) as that multiple exactly,
-// where Pinocchio takes the decimal: 4.9e-12 rad apart, which moves the
-// UR5's answers by some 1e-11 of their size. So Pinocchio is checked on
-// the file with those angles written to double precision (the same rule,
-// `exact_angles` here); the literal file's difference is printed too
-// (`literal_difference`), and it is that model that is timed (the angles
-// do not change Pinocchio's work).
+// Both read the files as written (our reader takes only an angle that is
+// a multiple of π/2 to double precision as that multiple, which moves no
+// answer beyond rounding), so the check needs no adjusted copy.
 //
 // Usage: robots PANDA_URDF UR5_URDF REFERENCE_FILE ROUND
 #include "common.h"
@@ -31,7 +26,6 @@
 
 #include <cctype>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -55,52 +49,11 @@ static VectorXd vec(const peer_record &r, const char *name, int n) {
   return Eigen::Map<const VectorXd>(v, n);
 }
 
-// codegen/src/model/urdf.rs's `angles`: a decimal with at least five
-// digits, no exponent, within half a unit of its last digit of a nonzero
-// multiple of π/2, is that multiple.
-static std::string exact_angle(const std::string &text) {
-  const double value = strtod(text.c_str(), nullptr), quarter = M_PI / 2;
-  const double k = std::round(value / quarter);
-  int digits = 0;
-  for (char c : text) digits += isdigit((unsigned char)c) ? 1 : 0;
-  const size_t dot = text.find('.');
-  const int decimals = dot == std::string::npos ? 0 : (int)(text.size() - dot - 1);
-  const bool close = fabs(value - k * quarter) <= 0.5 * pow(10.0, -decimals) * (1 + 1e-9);
-  if (k == 0 || digits < 5 || text.find_first_of("eE") != std::string::npos || !close) return text;
-  char exact[32];
-  snprintf(exact, sizeof exact, "%.17g", k * quarter);
-  return exact;
-}
-
-// The URDF's text with every `rpy` angle passed through `exact_angle`.
-static std::string exact_angles(const char *path) {
-  std::ifstream file(path);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  const std::string text = buffer.str();
-  const std::regex rpy("rpy=\"([^\"]*)\"");
-  std::string out;
-  auto last = text.cbegin();
-  for (std::sregex_iterator it(text.begin(), text.end(), rpy), end; it != end; ++it) {
-    out.append(last, (*it)[0].first);
-    std::istringstream angles((*it)[1].str());
-    std::string angle, joined;
-    while (angles >> angle) joined += (joined.empty() ? "" : " ") + exact_angle(angle);
-    out += "rpy=\"" + joined + "\"";
-    last = (*it)[0].second;
-  }
-  out.append(last, text.cend());
-  return out;
-}
-
-// The model of a URDF (as written, or with exact right angles), with the
-// joints named in `locked` held at zero.
-static pin::Model load(const char *path, bool exact, const std::vector<std::string> &locked) {
+// The model of a URDF as written, with the joints named in `locked` held
+// at zero.
+static pin::Model load(const char *path, const std::vector<std::string> &locked) {
   pin::Model full;
-  if (exact)
-    pin::urdf::buildModelFromXML(exact_angles(path), full);
-  else
-    pin::urdf::buildModel(path, full);
+  pin::urdf::buildModel(path, full);
   std::vector<pin::JointIndex> ids;
   for (const std::string &name : locked) {
     if (!full.existJointName(name)) {
@@ -165,7 +118,7 @@ static void check(const pin::Model &model, pin::Data &data, const std::vector<St
 
 static void robot(const char *name, const char *path, const std::vector<std::string> &locked,
                   const peer_record *records, int count, const char *round) {
-  const pin::Model model = load(path, false, locked), exact = load(path, true, locked);
+  const pin::Model model = load(path, locked);
   pin::Data data(model);
   const int n = model.nv;
   std::vector<State> states;
@@ -185,10 +138,8 @@ static void robot(const char *name, const char *path, const std::vector<std::str
     fprintf(stderr, "the reference has no %s states\n", name);
     exit(2);
   }
-  double worst[3], literal[3];
-  check(model, data, states, literal);
-  pin::Data exact_data(exact);
-  check(exact, exact_data, states, worst);
+  double worst[3];
+  check(model, data, states, worst);
   Timed ctx{&model, &data, &states};
   const char *what[3] = {"aba", "crba", "rnea"};
   void (*calls[3])(void *) = {call_aba, call_crba, call_rnea};
@@ -198,9 +149,9 @@ static void robot(const char *name, const char *path, const std::vector<std::str
     char time[32] = "null";
     if (ok) snprintf(time, sizeof time, "%.3f", peer_cpu_time(calls[k], &ctx) / states.size());
     printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"system\": \"%s\", \"n\": %d, \"ns\": %s, "
-           "\"states\": %zu, \"round\": %s, \"difference\": %.3e, \"literal_difference\": %.3e, "
+           "\"states\": %zu, \"round\": %s, \"difference\": %.3e, "
            "\"tolerance\": %.1e, \"ok\": %s}\n",
-           what[k], name, n, time, states.size(), round, worst[k], literal[k], tolerance,
+           what[k], name, n, time, states.size(), round, worst[k], tolerance,
            ok ? "true" : "false");
     fflush(stdout);
     if (!ok) {

@@ -117,6 +117,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let derivation = derivation::text(eq, partition);
     let definition = struct_definition(sys, n, k, &derivation_doc(&derivation));
     let symbolic = symbolic(eq);
+    let names = &sys.coordinate_names;
 
     quote! {
         #definition
@@ -125,6 +126,9 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         impl<T: ::constrained::nalgebra::RealField + Copy> #name<T> {
             /// Number of coordinates `n`.
             pub const DOF: usize = #n_lit;
+            /// The coordinates' names, in the order of `q` (for a URDF,
+            /// the joints' names as written, in Pinocchio's order).
+            pub const COORDINATES: [&'static str; #n_lit] = [#(#names),*];
             /// Number of constraints `k` (rows of `A`, redundant ones included).
             pub const CONSTRAINTS: usize = #k_lit;
             /// Number of control inputs (`inputs: [..]`, the last fields).

@@ -75,6 +75,9 @@ pub struct System {
     pub name: Ident,
     /// Coordinates `q`, in order.
     pub coordinates: Vec<Ident>,
+    /// Their names for users (`COORDINATES`): as written, the joints' own
+    /// for a URDF (which need not be identifiers).
+    pub coordinate_names: Vec<String>,
     /// Parameters, then the control inputs, in order: both are struct
     /// fields and `Sym::Param` in expressions.
     pub parameters: Vec<Ident>,
@@ -254,6 +257,10 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
             .coordinates
             .map_or_else(Vec::new, |l| l.items.clone()),
     };
+    let coordinate_names = match source {
+        Source::Urdf(_, robot) => robot.coordinate_names(),
+        _ => coordinates.iter().map(ToString::to_string).collect(),
+    };
     if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
         errors.at(list.span, "`coordinates` must name at least one coordinate");
     }
@@ -312,6 +319,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         vis: input.vis.clone(),
         name: input.name.clone(),
         coordinates,
+        coordinate_names,
         parameters,
         inputs: inputs.len(),
         graph,

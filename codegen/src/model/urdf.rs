@@ -15,9 +15,14 @@
 //! or unreadable number.
 //!
 //! The joints become the coordinates, named after the joints (characters
-//! other than letters, digits and `_` replaced by `_`), in depth-first
-//! order from the root with children in file order, as Pinocchio numbers
-//! them. Joints named in `locked: [..]` are held at zero (fixed).
+//! other than letters, digits and `_` replaced by `_`), in Pinocchio's
+//! order (`model.names[1:]` of `pinocchio::urdf::buildModel`): depth-first
+//! from the root, the child joints of each link in the order of their
+//! names compared byte by byte (urdfdom keeps the joints in a map keyed by
+//! name), whatever their order in the file. Fixed joints take no
+//! coordinate but are walked through in the same order. The generated
+//! `COORDINATES` lists the joints' names as written in the file. Joints
+//! named in `locked: [..]` are held at zero (fixed).
 //!
 //! A `floating` joint is the `bodies` section's free joint
 //! (`crate::bodies::free`): seven coordinates, named after the joint with
@@ -25,12 +30,13 @@
 //! `_qx`, `_qy`, `_qz` (its attitude, a unit quaternion whose norm is a
 //! constraint), in that order — `w` first, unlike Pinocchio's `q`.
 //!
-//! Numbers are read exactly where they are short decimals. An angle of
-//! `rpy` that is a multiple of π/2 written to as many digits as it has
-//! (`1.5707963267949`, `-1.57079632679`, at least five significant
-//! digits) is taken as that multiple exactly, so that frames turned by
-//! right angles keep their exact zeros: the difference from the literal is
-//! below half a unit of its last digit (5e-12 rad for 11 decimals).
+//! Numbers are read as written, exactly (decimals are rationals until the
+//! generated code rounds them once). One exception keeps exact zeros: an
+//! angle of `rpy` that is a nonzero multiple of π/2 to double precision
+//! (`1.5707963267948966`, `-3.141592653589793`: within 4 ulps) is that
+//! multiple exactly, which moves no answer by more than rounding. Anything
+//! farther (`1.5708`, `1.57079632679`) is the angle written, as Pinocchio,
+//! MuJoCo and Drake read it.
 
 use crate::bodies::spatial::{self, Inertia, V3};
 use crate::bodies::{Described, Joint, JointKind, Placement};
@@ -277,6 +283,22 @@ impl Robot {
         out
     }
 
+    /// The coordinates' names as the file writes the joints' (a floating
+    /// joint's seven suffixed), in the order of [`coordinates`](Self::coordinates).
+    pub fn coordinate_names(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for j in self.links.iter().filter_map(|l| l.joint.as_ref()) {
+            match j.kind {
+                Some(JointKind::Quaternion) => {
+                    out.extend(FLOATING.map(|suffix| format!("{}_{suffix}", j.name)))
+                }
+                Some(_) => out.push(j.name.clone()),
+                None => {}
+            }
+        }
+        out
+    }
+
     /// The index in `q` of each floating joint's `qw`.
     pub fn quaternions(&self) -> Vec<usize> {
         let mut coordinate = 0;
@@ -391,29 +413,35 @@ fn numbers(g: &mut Graph, texts: &[String; 3]) -> V3 {
     [0, 1, 2].map(|i| number(g, &texts[i]))
 }
 
-/// Angles, each a multiple of π/2 exactly where it is one to the digits
-/// written (see the module docs).
+/// Angles as written, but for a multiple of π/2 to double precision
+/// (see [`right_angle`]), which is that multiple exactly.
 fn angles(g: &mut Graph, texts: &[String; 3]) -> V3 {
-    [0, 1, 2].map(|i| {
-        let text = &texts[i];
-        let value: f64 = text.parse().unwrap_or(0.0);
-        let quarter = std::f64::consts::FRAC_PI_2;
-        let k = (value / quarter).round();
-        let digits = text
-            .trim_start_matches(['-', '+'])
-            .chars()
-            .filter(char::is_ascii_digit)
-            .count();
-        let decimals = text.split_once('.').map_or(0, |(_, f)| f.len()) as i32;
-        let close = (value - k * quarter).abs() <= 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-9);
-        if k != 0.0 && digits >= 5 && !text.contains(['e', 'E']) && close {
+    [0, 1, 2].map(|i| match right_angle(&texts[i]) {
+        Some(k) => {
             let pi = g.num(Num::Float(std::f64::consts::PI));
-            let half = g.num(Num::ratio(k as i128, 2)); // reduced: k may be even
+            let half = g.num(Num::ratio(k, 2)); // reduced: k may be even
             g.mul2(half, pi)
-        } else {
-            number(g, text)
         }
+        None => number(g, &texts[i]),
     })
+}
+
+/// `Some(k)` when the decimal `text` is `k π/2` (k ≠ 0) to double
+/// precision: its nearest double within 4 ulps of the double nearest
+/// `k π/2`. Such an angle is that multiple exactly, so a frame turned by a
+/// right angle keeps its exact zeros, and no answer moves by more than
+/// rounding. Any other decimal is read as written: `1.5708` and
+/// `1.57079632679` are not π/2, as they are not to Pinocchio, MuJoCo or
+/// Drake.
+fn right_angle(text: &str) -> Option<i128> {
+    let value: f64 = text.trim().parse().ok()?;
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let k = (value / quarter).round();
+    if k == 0.0 || !(k.abs() < 1e6) {
+        return None;
+    }
+    let nearest = k * quarter;
+    ((value - nearest).abs() <= 4.0 * f64::EPSILON * nearest.abs()).then_some(k as i128)
 }
 
 impl Reader<'_> {
@@ -486,14 +514,18 @@ impl Reader<'_> {
                 inertial: self.inertial(link_nodes[i])?,
             });
             let me = links.len() - 1;
-            // Children in file order: pushed in reverse onto the stack.
-            let children: Vec<usize> = joint_nodes
-                .iter()
-                .filter_map(|j| {
-                    (0..names.len()).find(|&c| parent_of[c].is_some_and(|(p, n)| p == i && n == *j))
+            // Children by their joints' names, byte by byte: urdfdom keeps
+            // the joints in a map keyed by name and hands each link its
+            // child joints in that order, which is the order Pinocchio's
+            // `buildModel` numbers them in. Pushed in reverse onto the stack.
+            let mut children: Vec<(&str, usize)> = (0..names.len())
+                .filter_map(|c| {
+                    let (p, joint) = parent_of[c]?;
+                    (p == i).then(|| (joint.attribute("name").unwrap_or_default(), c))
                 })
                 .collect();
-            stack.extend(children.into_iter().rev().map(|c| (c, Some(me))));
+            children.sort_unstable();
+            stack.extend(children.into_iter().rev().map(|(_, c)| (c, Some(me))));
         }
         if links.len() != names.len() {
             return Err(self.error(robot, "the joints form a loop: a URDF is a tree"));
@@ -550,5 +582,27 @@ mod tests {
             .map(ToString::to_string)
             .collect();
         assert_eq!(names, ["shoulder"]);
+    }
+
+    #[test]
+    fn a_decimal_is_a_right_angle_only_to_double_precision() {
+        let cases = [
+            ("1.5707963267948966", Some(1)),
+            ("-1.5707963267948966", Some(-1)),
+            ("1.570796326794897", Some(1)), // the next double up
+            ("3.141592653589793", Some(2)),
+            ("-3.14159265358979", None), // 4.5 ε|π| from −π: as written
+            ("4.71238898038469", Some(3)),
+            ("1.5707963267949", None), // 10 ε|π/2| off
+            ("1.57079632679", None),
+            ("1.5708", None),
+            ("1.570800", None),
+            ("0", None),
+            ("-0.0", None),
+            ("1e300", None),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(right_angle(text), expected, "{text}");
+        }
     }
 }
