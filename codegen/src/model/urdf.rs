@@ -437,7 +437,7 @@ fn right_angle(text: &str) -> Option<i128> {
     let value: f64 = text.trim().parse().ok()?;
     let quarter = std::f64::consts::FRAC_PI_2;
     let k = (value / quarter).round();
-    if k == 0.0 || !(k.abs() < 1e6) {
+    if k == 0.0 || k.is_nan() || k.abs() >= 1e6 {
         return None;
     }
     let nearest = k * quarter;
