@@ -116,7 +116,8 @@ pub fn skew(g: &mut Graph, a: V3) -> M3 {
 
 /// `sin x` and `cos x`, exact where `x` is a constant multiple of π/2 (to
 /// within a few units in the last place, as `PI / 2.0` evaluates): a frame
-/// turned by a right angle has exact zeros and ones, which then fold.
+/// turned by a right angle has exact zeros and ones, which then fold; the
+/// nearest doubles for any other constant (`crate::expr::rounded`).
 pub fn sin_cos(g: &mut Graph, x: Id) -> (Id, Id) {
     if let Some(value) = g.as_num(x).map(Num::to_f64) {
         let quarter = value / std::f64::consts::FRAC_PI_2;
@@ -130,6 +131,12 @@ pub fn sin_cos(g: &mut Graph, x: Id) -> (Id, Id) {
             };
             return (g.int(s), g.int(c));
         }
+    }
+    // Any other constant angle: evaluated here, each rounded once, so the
+    // generated code has no sine of a constant and whatever it multiplies
+    // (a locked subtree's inertia) folds into constants.
+    if let Some((s, c)) = g.as_num(x).and_then(crate::expr::rounded::sin_cos) {
+        return (g.num(Num::Float(s)), g.num(Num::Float(c)));
     }
     (g.func(Func::Sin, x), g.func(Func::Cos, x))
 }

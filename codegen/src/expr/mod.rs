@@ -35,6 +35,7 @@ pub(crate) mod func;
 pub(crate) mod lagrange;
 pub mod num;
 pub mod print;
+pub(crate) mod rounded;
 pub(crate) mod squares;
 #[cfg(test)]
 mod tests;

@@ -252,6 +252,11 @@ impl Num {
         }
     }
 
+    /// The exact value of a rational of either size (`None` for a float).
+    pub fn exact_value(self) -> Option<BigRational> {
+        self.exact()
+    }
+
     /// Whether this is an exact rational (of either size), not a float.
     pub fn is_exact(self) -> bool {
         !matches!(self, Num::Float(_))
