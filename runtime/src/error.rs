@@ -68,6 +68,12 @@ pub enum GibbsAppellError {
     /// row independent, `A` of rank above `r`), no `q̈` of the form satisfies
     /// every row; the generalized-inverse form says what does.
     Inconsistent,
+    /// A row of `A` lies wholly below `T`'s normal range at this state (a
+    /// state scaled toward the smallest subnormal number): its entries and
+    /// its `b`, products of subnormal numbers, have lost their relative
+    /// precision (`f32` at 1e-45 keeps one bit), so `q̈` and its check
+    /// against `A q̈ = b` cannot be trusted to `√ε`. Rescale the model.
+    Underflow,
 }
 
 impl fmt::Display for GibbsAppellError {
@@ -88,6 +94,10 @@ impl fmt::Display for GibbsAppellError {
                 "the Gibbs–Appell acceleration violates a row of A q̈ = b outside its partition \
                  (off the surface where the redundant rows depend on the others; use the \
                  generalized-inverse form)"
+            }
+            GibbsAppellError::Underflow => {
+                "a row of A is subnormal at this state: its digits are lost to underflow, so the \
+                 Gibbs–Appell acceleration cannot be trusted (rescale the model)"
             }
             GibbsAppellError::NonFinite => {
                 "the Gibbs–Appell acceleration is not finite (non-finite input, or a result \
