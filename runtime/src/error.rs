@@ -22,6 +22,15 @@ pub enum DynamicsError {
     /// e.g. at a singular configuration): the reduced linearization does
     /// not exist in this partition (`constrained::linearize::reduced`).
     SingularPartition,
+    /// `q̈` has no derivative here that `T` resolves
+    /// (`acceleration_jacobian`, `linearize`; `constrained::linearize`):
+    /// where `A` loses rank (Appell's particle at rest, `q̇ = 0`, where
+    /// `q̈` is homogeneous of degree one in `q̇`; a linkage at its branch
+    /// point) `q̈` is not differentiable, and near a branch point the rank
+    /// decision `acceleration` checks makes it jump, at its tolerance, by
+    /// more than `√ε` of `q̈`, so that its derivative depends on the scale
+    /// it is taken at.
+    NotDifferentiable,
 }
 
 impl fmt::Display for DynamicsError {
@@ -36,6 +45,10 @@ impl fmt::Display for DynamicsError {
             }
             DynamicsError::SingularPartition => {
                 "the eliminated coordinates cannot be solved for at this state"
+            }
+            DynamicsError::NotDifferentiable => {
+                "the acceleration is not differentiable at this state to working precision \
+                 (the constraints lose rank here, or nearly: a branch point)"
             }
         })
     }
