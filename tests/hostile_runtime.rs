@@ -240,3 +240,118 @@ fn non_finite_starting_state_is_an_invalid_parameter() {
         }
     }
 }
+
+/// `lqr_gain` on the cart-pole of `examples/cart_pole_lqr.rs` (linearized
+/// upright by the generated `linearize`, 10 ms hold) with loose
+/// tolerances: the returned gain's own Riccati residual, that of its cost
+/// `P_K` (the closed-loop Lyapunov solution, here by its Kronecker form),
+/// is within the tolerance asked for. At 0.1 the gain returned once had a
+/// residual of 0.26, 34 % from the Riccati solution.
+#[test]
+fn lqr_gain_meets_the_tolerance_asked_for_as_a_riccati_residual() {
+    use constrained::control::{discretize, lqr_gain};
+    use constrained::models::CartPole;
+    use constrained::nalgebra::{DMatrix, DVector, Matrix1, Matrix4, Vector4};
+    let cart_pole = CartPole::new(1.0, 0.3, 0.8, 9.81, 0.0);
+    let upright = Vector2::new(0.0, std::f64::consts::PI);
+    let (a, b) = cart_pole
+        .linearize(&upright, &Vector2::zeros(), 0.0)
+        .expect("upright cart-pole");
+    let (ad, bd) = discretize(&a, &b, 0.01).expect("finite");
+    let q = Matrix4::from_diagonal(&Vector4::new(1.0, 10.0, 0.1, 0.1));
+    let r = Matrix1::new(0.1);
+    for tolerance in [0.5, 0.1, 1e-2, 1e-4, 1e-8] {
+        let k = lqr_gain(&ad, &bd, &q, &r, tolerance, 100_000).expect("stabilizable");
+        // P_K = C + A_Kᵀ P_K A_K, C = Q + KᵀRK: (I − A_Kᵀ ⊗ A_Kᵀ) vec P = vec C.
+        let closed = ad - bd * k;
+        let c = q + k.transpose() * r * k;
+        let kron = DMatrix::<f64>::from_fn(16, 16, |i, j| {
+            let delta = if i == j { 1.0 } else { 0.0 };
+            delta - closed[(j % 4, i % 4)] * closed[(j / 4, i / 4)]
+        });
+        let rhs = DVector::<f64>::from_fn(16, |i, _| c[(i % 4, i / 4)]);
+        let p = kron.lu().solve(&rhs).expect("stable closed loop");
+        let p = Matrix4::from_fn(|i, j| p[i + 4 * j]);
+        let s = r + bd.transpose() * p * bd;
+        let gain = s.try_inverse().expect("R + BᵀPB > 0") * bd.transpose() * p * ad;
+        let residual = (q + ad.transpose() * p * (ad - bd * gain) - p).amax() / p.amax();
+        println!("tolerance {tolerance:e}: relative Riccati residual of the gain {residual:.2e}");
+        assert!(
+            residual <= tolerance,
+            "tolerance {tolerance:e}: the gain's relative Riccati residual is {residual:e}"
+        );
+    }
+}
+
+/// The smallest positive `f32`, 2⁻¹⁴⁹.
+const SMALLEST_SUBNORMAL: f32 = 1.0e-45;
+
+/// `acceleration_gibbs_appell` in `f32` at states made of the smallest
+/// subnormal number: every `Ok` satisfies the model's own `A q̈ = b`
+/// (evaluated in `f64` at the same state, where nothing underflows) to
+/// `√ε` of `f32`, relative; a row that has lost its digits is
+/// `Err(Underflow)`. Appell's particle answered `Ok` 1.4 % off (its
+/// `b = α ż` rounds `0.7·2⁻¹⁴⁹` to `2⁻¹⁴⁹`, and the check ran on the
+/// rounded row).
+#[test]
+fn gibbs_appell_in_f32_at_the_smallest_subnormal_state_is_err_or_right() {
+    use constrained::models::*;
+    use constrained::nalgebra::SVector;
+    use constrained::rank::relative_residual;
+    use constrained::{ConstrainedSystem, GibbsAppellError};
+    let tiny = SMALLEST_SUBNORMAL;
+    assert_eq!(tiny.to_bits(), 1);
+    let (mut ok, mut underflow) = (0, 0);
+    macro_rules! probe {
+        ($model:ident, $n:literal, [$($p:expr),*]) => {{
+            let (s32, s64) = ($model::<f32>::new($($p as f32),*), $model::<f64>::new($($p),*));
+            let alternating = SVector::<f32, $n>::from_fn(|i, _| if i % 2 == 0 { tiny } else { -tiny });
+            for (q, qd) in [
+                (SVector::<f32, $n>::from_element(tiny), SVector::from_element(tiny)),
+                (SVector::from_element(0.5), SVector::from_element(tiny)),
+                (alternating, -alternating),
+            ] {
+                let state = State::new(0.25f32, q, qd);
+                let wide = State::new(0.25f64, q.map(f64::from), qd.map(f64::from));
+                match ConstrainedSystem::acceleration_gibbs_appell(&s32, &state) {
+                    Ok(qdd) => {
+                        ok += 1;
+                        let (a, b) = ConstrainedSystem::constraint_matrices(&s64, &wide);
+                        let residual = relative_residual(&a, &b, &qdd.map(f64::from));
+                        assert!(
+                            residual <= f64::from(f32::EPSILON).sqrt(),
+                            "{} at q = {q:?}, q̇ = {qd:?}: Ok {qdd:?} with relative residual {residual:e}",
+                            stringify!($model)
+                        );
+                    }
+                    Err(GibbsAppellError::Underflow) => underflow += 1,
+                    Err(_) => {}
+                }
+            }
+        }};
+    }
+    probe!(Appell, 3, [9.81, 0.7]);
+    probe!(AppellTimeDependent, 3, [9.81, 0.7]);
+    probe!(SphericalPendulum, 3, [1.5, 9.81, 1.2]);
+    probe!(DoublePendulum, 4, [1.0, 2.0, 1.0, 0.8, 9.81]);
+    probe!(RedundantDoublePendulum, 4, [1.0, 2.0, 1.0, 0.8, 9.81]);
+    probe!(BeadOnRotatingHoop, 3, [0.5, 9.81, 1.0, 2.0]);
+    probe!(ChaplyginSleigh, 3, [2.0, 0.4, 0.3, 0.5]);
+    probe!(SliderCrank, 4, [1.0, 2.0, 0.5, 1.5, 3.0, 9.81]);
+    probe!(TwoLinkArmOnLine, 2, [1.0, 0.5, 1.0, 1.0, 9.81, 0.5]);
+    probe!(Crane, 3, [5.0, 1.0, 2.0, 9.81, 0.1, 4.0, 3.0, 20.0, 1.0]);
+    probe!(HeavyTop, 4, [1.0, 2.0, 1.0, 9.81, 0.5]);
+    probe!(RollingDisk, 5, [1.0, 0.5, 0.06, 0.12, 9.81]);
+    println!("{ok} Ok, each right to √ε; {underflow} Err(Underflow)");
+    // Appell's own case, by name.
+    let appell = Appell::<f32>::new(9.81, 0.7);
+    let state = State::new(
+        0.0f32,
+        Vector3::from_element(tiny),
+        Vector3::from_element(tiny),
+    );
+    assert_eq!(
+        ConstrainedSystem::acceleration_gibbs_appell(&appell, &state),
+        Err(GibbsAppellError::Underflow)
+    );
+}

@@ -328,9 +328,15 @@ fn the_f32_four_bar_jacobian_near_its_branch_point_is_err_or_the_f64_one() {
         let s32 = four_bar_state(&f32_bar, theta, 1.3);
         let s64 = four_bar_state(&f64_bar, f64::from(theta), 1.3);
         let j32 = f32_bar.acceleration_jacobian(&s32.q, &s32.qd, 0.0);
-        let j64 = f64_bar
-            .acceleration_jacobian(&s64.q, &s64.qd, 0.0)
-            .expect("f64 Jacobian");
+        let j64 = match f64_bar.acceleration_jacobian(&s64.q, &s64.qd, 0.0) {
+            Ok(j) => j,
+            // Where f64 finds no derivative it can resolve, f32 cannot.
+            Err(e) => {
+                assert_eq!(e, DynamicsError::NotDifferentiable, "θ = {theta:e}");
+                assert!(j32.is_err(), "θ = {theta:e}: f32 Ok where f64 is {e:?}");
+                continue;
+            }
+        };
         let Ok(j) = j32 else {
             println!("θ = {theta:e}: f32 {j32:?}");
             continue;
@@ -348,4 +354,103 @@ fn the_f32_four_bar_jacobian_near_its_branch_point_is_err_or_the_f64_one() {
             "θ = {theta:e}: f32 Jacobian off by {worst:e}"
         );
     }
+}
+
+/// Appell's particle at rest (`q̇ = 0`, where `A = [ẋ, ẏ, −ż]` vanishes):
+/// `q̈` is homogeneous of degree one in `q̇` and has no derivative there.
+/// `try_acceleration_jacobian`, `try_linearize` and `linearize_reduced`
+/// say so, `Err(NotDifferentiable)`, in `f32` and `f64`, time-dependent
+/// constraint or not; the plain-valued forms (pinned: `M` is a constant)
+/// return every entry NaN, never a mixture that passes for a number. They
+/// once returned 18 non-finite entries as a plain value with no way to
+/// ask why. Moving, the same methods answer, finite.
+#[test]
+fn appell_at_rest_has_no_derivative_and_says_so() {
+    let mut cases = 0;
+    macro_rules! at_rest {
+        ($t:ty) => {{
+            let appell = Appell::<$t>::new(9.81, 0.7);
+            let timed = AppellTimeDependent::<$t>::new(9.81, 0.7);
+            let rest = SVector::<$t, 3>::zeros();
+            for q in [[0.3, -0.4, 1.0], [0.0, 0.0, 0.0], [2.0, 1.0, -3.0]] {
+                let q = SVector::<$t, 3>::from(q);
+                for t in [0.0, 0.25, 1.5] {
+                    let no = Err(DynamicsError::NotDifferentiable);
+                    assert_eq!(appell.try_acceleration_jacobian(&q, &rest, t), no);
+                    assert_eq!(timed.try_acceleration_jacobian(&q, &rest, t), no);
+                    assert_eq!(appell.try_linearize(&q, &rest, t).err(), no.err());
+                    assert_eq!(timed.try_linearize(&q, &rest, t).err(), no.err());
+                    assert_eq!(appell.linearize_reduced(&q, &rest, t).err(), no.err());
+                    for j in [
+                        appell.acceleration_jacobian(&q, &rest, t),
+                        timed.acceleration_jacobian(&q, &rest, t),
+                    ] {
+                        let entries = j.dq.iter().chain(j.dqd.iter());
+                        assert!(entries.clone().all(|x| x.is_nan()), "{j:?}");
+                    }
+                    let (a, _) = appell.linearize(&q, &rest, t);
+                    assert!(a.rows(3, 3).iter().all(|x| x.is_nan()), "{a}");
+                    cases += 2;
+                }
+                let moving = SVector::<$t, 3>::from([0.3, 0.2, 0.1]);
+                for system_jacobian in [
+                    appell.try_acceleration_jacobian(&q, &moving, 0.25),
+                    timed.try_acceleration_jacobian(&q, &moving, 0.25),
+                ] {
+                    let j = system_jacobian.expect("moving: differentiable");
+                    assert!(j.is_finite());
+                }
+            }
+        }};
+    }
+    at_rest!(f64);
+    at_rest!(f32);
+    assert_eq!(cases, 36);
+}
+
+/// The parallelogram four-bar 1e-8 rad from its branch point: the
+/// Jacobian of every row (`∂p̈₁/∂p₁ = 5.6e8`) is what central differences
+/// of `acceleration` give for steps above 1e-12, but below 1e-13 they give
+/// 2.66, because `acceleration` keeps the fast solve's dropped-row `q̈`
+/// wherever the dropped row holds to its tolerance: it jumps, by up to
+/// `1000 ε κ = 9e-5` of `q̈` (`κ = 4e8`, the rank decision's conditioning),
+/// and has no derivative `f64` resolves. The Jacobian once answered
+/// `Ok(5.6e8)`; now it and `linearize` are `Err(NotDifferentiable)` from
+/// 3e-5 rad in, where `1000 ε κ` passes `√ε`, and `Ok` at 1e-4.
+#[test]
+fn the_four_bar_jacobian_is_err_where_acceleration_jumps_at_its_rank_tolerance() {
+    let four_bar = ParallelogramFourBar::<f64>::new(1.2, 0.15, 1.0, 2.0, 9.81);
+    // The two scales of the derivative at 1e-8, ∂p̈₁/∂p₁ (row 2, column 2).
+    let state = four_bar_state(&four_bar, 1e-8, 1.3);
+    let (q, qd) = (state.q, state.qd);
+    // Opaque to the compiler, which would otherwise reject the macro's
+    // unused branch `c - 9` as an overflow.
+    let c = std::hint::black_box(2usize);
+    let fine = central!(four_bar, q, qd, c, 9, 1e-13).expect("finite")[2];
+    let coarse = central!(four_bar, q, qd, c, 9, 1e-11).expect("finite")[2];
+    println!("θ = 1e-8: ∂p̈₁/∂p₁ by steps of 1e-13: {fine:e}, of 1e-11: {coarse:e}");
+    assert!(
+        fine.abs() < 10.0 && (coarse - 5.6057e8).abs() < 1e5,
+        "{fine}, {coarse}"
+    );
+    for theta in [1e-8, -1e-8, 1e-7, 1e-6, 1e-5, 3e-5] {
+        for omega in [0.0, 1.3, -2.0] {
+            let s = four_bar_state(&four_bar, theta, omega);
+            assert_eq!(
+                four_bar.acceleration_jacobian(&s.q, &s.qd, 0.0).err(),
+                Some(DynamicsError::NotDifferentiable),
+                "θ = {theta:e}, ω = {omega}"
+            );
+            assert_eq!(
+                four_bar.linearize(&s.q, &s.qd, 0.0).err(),
+                Some(DynamicsError::NotDifferentiable),
+                "θ = {theta:e}, ω = {omega}"
+            );
+        }
+    }
+    let s = four_bar_state(&four_bar, 1e-4, 1.3);
+    let j = four_bar
+        .acceleration_jacobian(&s.q, &s.qd, 0.0)
+        .expect("θ = 1e-4: differentiable to √ε");
+    assert!((j.dq[(2, 2)] - 5.6058e4).abs() < 1.0, "{}", j.dq[(2, 2)]);
 }

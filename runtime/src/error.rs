@@ -22,6 +22,15 @@ pub enum DynamicsError {
     /// e.g. at a singular configuration): the reduced linearization does
     /// not exist in this partition (`constrained::linearize::reduced`).
     SingularPartition,
+    /// `q̈` has no derivative here that `T` resolves
+    /// (`acceleration_jacobian`, `linearize`; `constrained::linearize`):
+    /// where `A` loses rank (Appell's particle at rest, `q̇ = 0`, where
+    /// `q̈` is homogeneous of degree one in `q̇`; a linkage at its branch
+    /// point) `q̈` is not differentiable, and near a branch point the rank
+    /// decision `acceleration` checks makes it jump, at its tolerance, by
+    /// more than `√ε` of `q̈`, so that its derivative depends on the scale
+    /// it is taken at.
+    NotDifferentiable,
 }
 
 impl fmt::Display for DynamicsError {
@@ -36,6 +45,10 @@ impl fmt::Display for DynamicsError {
             }
             DynamicsError::SingularPartition => {
                 "the eliminated coordinates cannot be solved for at this state"
+            }
+            DynamicsError::NotDifferentiable => {
+                "the acceleration is not differentiable at this state to working precision \
+                 (the constraints lose rank here, or nearly: a branch point)"
             }
         })
     }
@@ -68,6 +81,12 @@ pub enum GibbsAppellError {
     /// row independent, `A` of rank above `r`), no `q̈` of the form satisfies
     /// every row; the generalized-inverse form says what does.
     Inconsistent,
+    /// A row of `A` lies wholly below `T`'s normal range at this state (a
+    /// state scaled toward the smallest subnormal number): its entries and
+    /// its `b`, products of subnormal numbers, have lost their relative
+    /// precision (`f32` at 1e-45 keeps one bit), so `q̈` and its check
+    /// against `A q̈ = b` cannot be trusted to `√ε`. Rescale the model.
+    Underflow,
 }
 
 impl fmt::Display for GibbsAppellError {
@@ -88,6 +107,10 @@ impl fmt::Display for GibbsAppellError {
                 "the Gibbs–Appell acceleration violates a row of A q̈ = b outside its partition \
                  (off the surface where the redundant rows depend on the others; use the \
                  generalized-inverse form)"
+            }
+            GibbsAppellError::Underflow => {
+                "a row of A is subnormal at this state: its digits are lost to underflow, so the \
+                 Gibbs–Appell acceleration cannot be trusted (rescale the model)"
             }
             GibbsAppellError::NonFinite => {
                 "the Gibbs–Appell acceleration is not finite (non-finite input, or a result \

@@ -112,8 +112,19 @@ pub fn acceleration<
     // and null space, but A_eᵀA_e neither overflows nor underflows for
     // coordinates far from 1 (1e154 or 1e-154 in f64).
     let (mut a_scaled, mut b_scaled) = (*a, *b);
+    // 2^-126 in f32, 2^-1022 in f64 (4 over the largest value); NaN, so
+    // never above, for a `T` without one.
+    let smallest_normal = nalgebra::convert::<f64, T>(4.0) / crate::generated::largest::<T>();
     for i in 0..K {
         let largest = a_scaled.row(i).amax();
+        // Scaling would restore the row's size, not the digits it lost to
+        // underflow: in `f32` at the smallest subnormal state Appell's
+        // `b = α ż` rounds 0.7·2^-149 to 2^-149, and the `q̈` that solved the
+        // rounded row exactly was 1.4 % (backward) off the model's, with
+        // every check passing on the rounded row.
+        if largest > T::zero() && largest < smallest_normal {
+            return Err(GibbsAppellError::Underflow);
+        }
         if largest > T::zero() {
             a_scaled.row_mut(i).unscale_mut(largest);
             b_scaled[i] /= largest;
@@ -436,6 +447,36 @@ mod tests {
         )
         .unwrap();
         assert!(((a * qdd)[0] - 0.1).abs() < 1e-14);
+    }
+
+    /// Appell's rows in `f32` at the smallest subnormal velocity: `b = α ż`
+    /// rounds `0.7·2^-149` to `2^-149`, and the `q̈` solving the rounded row
+    /// (which every check on it passed) is 1.4 % off the model's.
+    #[test]
+    fn a_subnormal_row_is_underflow_not_a_solution_of_its_rounding() {
+        let tiny = f32::from_bits(1);
+        let result = acceleration::<f32, 3, 1, 1, 2>(
+            &Matrix1x3::new(tiny, tiny, -tiny),
+            &Vector1::new(0.7 * tiny),
+            &Matrix3::identity(),
+            &Vector3::new(0.0, 0.0, -9.81),
+            &[0],
+            false,
+        );
+        assert_eq!(result, Err(GibbsAppellError::Underflow));
+        // Just above the smallest normal number the row keeps its digits.
+        let small = 2.0 * f32::MIN_POSITIVE;
+        let qdd = acceleration::<f32, 3, 1, 1, 2>(
+            &Matrix1x3::new(small, small, -small),
+            &Vector1::new(0.7 * small),
+            &Matrix3::identity(),
+            &Vector3::new(0.0, 0.0, -9.81),
+            &[0],
+            false,
+        )
+        .expect("normal rows");
+        let residual = (qdd[0] + qdd[1] - qdd[2] - 0.7) / 9.81;
+        assert!(residual.abs() < 1e-6, "{qdd}");
     }
 
     #[test]

@@ -33,8 +33,9 @@
 
 use crate::generated::{auxiliary_mass, Generated, Motion};
 use crate::inverse::PivotedLdlt;
-use crate::rank::{safe_minimum, tight_cut};
+use crate::rank::{consistency_tolerance, safe_minimum, tight_cut};
 use crate::svd::JacobiSvd;
+use crate::DynamicsError;
 use nalgebra::{Cholesky, Const, RealField, SMatrix, SVector};
 
 /// The Jacobians of `q̈(q, q̇, u)`: `dq = ∂q̈/∂q`, `dqd = ∂q̈/∂q̇`,
@@ -58,6 +59,20 @@ impl<T: RealField + Copy, const N: usize, const NU: usize> Jacobians<T, N, NU> {
             dq: SMatrix::zeros(),
             dqd: SMatrix::zeros(),
             du: SMatrix::zeros(),
+        }
+    }
+
+    /// Every entry NaN: what the total (plain-valued) `acceleration_jacobian`
+    /// of a system whose `acceleration` cannot fail returns where its
+    /// `try_acceleration_jacobian` is an `Err` (the derivative does not
+    /// exist, cannot be trusted or overflows).
+    #[must_use]
+    pub fn not_a_number() -> Self {
+        let nan = T::zero() / T::zero();
+        Jacobians {
+            dq: SMatrix::from_element(nan),
+            dqd: SMatrix::from_element(nan),
+            du: SMatrix::from_element(nan),
         }
     }
 
@@ -125,10 +140,9 @@ impl<T: RealField + Copy, const N: usize> MassSolve<T, N> {
     }
 }
 
-/// The Jacobians of `q̈` at `(q, q̇, t)`, given the motion `(q̈, Fᶜ)` the
-/// system's solver returned there. Called by the generated
-/// `acceleration_jacobian`; `D = 2N + NU` columns.
-#[allow(clippy::many_single_char_names)]
+/// [`try_acceleration_jacobian`] with its `Err` as every entry NaN
+/// ([`Jacobians::not_a_number`]).
+#[must_use]
 pub fn acceleration_jacobian<
     T,
     S,
@@ -147,6 +161,43 @@ where
     T: RealField + Copy,
     S: Generated<T, N, K> + Tangent<T, N, K, D>,
 {
+    try_acceleration_jacobian::<T, S, N, K, NU, D>(system, q, qd, t, motion)
+        .unwrap_or_else(|_| Jacobians::not_a_number())
+}
+
+/// The Jacobians of `q̈` at `(q, q̇, t)`, given the motion `(q̈, Fᶜ)` the
+/// system's solver returned there. Called by the generated
+/// `acceleration_jacobian` where its own solve's rank decision is suspect;
+/// `D = 2N + NU` columns.
+///
+/// `Err(NotDifferentiable)` where `q̈` has no derivative `T` can resolve:
+/// `A` has lost rank to rounding level (Appell's particle at rest, `q̇ = 0`,
+/// where `A = [ẋ, ẏ, −ż]` vanishes and `q̈`, homogeneous of degree one in
+/// `q̇`, has a derivative in no direction), or the rank decision behind
+/// `acceleration` is too close to call for its derivative to hold
+/// (`recomputed_jacobian`). `Err(NonFinite)` where `M` or a row of `A` has
+/// lost its digits to underflow, or the solve cannot be done. The entries
+/// of an `Ok` are not checked for finiteness here (the generated caller
+/// checks its result once, whichever solve gave it).
+#[allow(clippy::many_single_char_names)]
+pub fn try_acceleration_jacobian<
+    T,
+    S,
+    const N: usize,
+    const K: usize,
+    const NU: usize,
+    const D: usize,
+>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    motion: Motion<T, N>,
+) -> Result<Jacobians<T, N, NU>, DynamicsError>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K> + Tangent<T, N, K, D>,
+{
     const { assert!(D == 2 * N + NU, "D = 2N + NU columns") };
     let (qdd, force) = motion;
     let (a, _) = system.constraint_matrices(q, qd, t);
@@ -160,7 +211,7 @@ where
     // `M = 4 Gᵀ J G` at `e = 1e-154` is 4e-308) has lost its digits, and
     // so have the tangent terms made from it: no derivative to trust.
     if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
-        return not_a_number();
+        return Err(DynamicsError::NonFinite);
     }
     let mass = MassSolve::new(m);
     // W = M⁻¹ Aᵀ, S = A W, one factorization of each.
@@ -175,9 +226,12 @@ where
     // `acceleration` checked it and kept the rows it must: differentiate
     // that `q̈` the way it was recomputed.
     let underflow = gram.diagonal().iter().any(|&x| x < safe_minimum());
-    if K > 0 && (underflow || ldlt.rank() < S::GENERIC_RANK) {
-        return recomputed_jacobian::<T, S, N, K, NU, D>(system, q, qd, t, &m, s, &a, motion)
-            .unwrap_or_else(not_a_number);
+    let dropped = ldlt.rank() < S::GENERIC_RANK;
+    if K > 0 && (underflow || dropped) {
+        let branch = dropped && !underflow;
+        return recomputed_jacobian::<T, S, N, K, NU, D>(
+            system, q, qd, t, &m, s, &a, motion, branch,
+        );
     }
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
@@ -202,18 +256,7 @@ where
             jac.du.set_column(c - 2 * N, &dqdd);
         }
     }
-    jac
-}
-
-/// Every entry NaN: the Jacobian where it cannot be trusted, which the
-/// fallible methods return as `Err(NonFinite)`.
-fn not_a_number<T: RealField + Copy, const N: usize, const NU: usize>() -> Jacobians<T, N, NU> {
-    let nan = T::zero() / T::zero();
-    Jacobians {
-        dq: SMatrix::from_element(nan),
-        dqd: SMatrix::from_element(nan),
-        du: SMatrix::from_element(nan),
-    }
+    Ok(jac)
 }
 
 /// The Jacobians where `acceleration`'s fast solve dropped more rows than
@@ -228,8 +271,26 @@ fn not_a_number<T: RealField + Copy, const N: usize, const NU: usize>() -> Jacob
 /// D (b̃ᵥ − A uᵥ)`, `X = D A L⁻ᵀ`, `uᵥ = M⁻¹F̃ᵥ`, with the same cut (no
 /// squaring of `A`: at `θ = 1e-8` the four-bar's `S` has lost every digit
 /// of its smallest pivot, `X` none). `λ` solves `Xᵀ ν = L⁻¹ Fᶜ`, `λ = D ν`.
-/// `None` where `A` has lost rank to rounding level (at the branch point
-/// itself `q̈` is not differentiable) or the solve cannot be done.
+///
+/// Checked after the fact where the fast solve dropped a row (`branch`):
+/// `acceleration` keeps the fast solve's `q̈` wherever the dropped row
+/// holds to [`consistency_tolerance`] `c`, so within a slab about the
+/// consistent states it follows the rows kept, whose derivative differs
+/// from the one with every row by order `1/θ`, and outside it the
+/// recomputation: `acceleration` jumps, across the slab, by up to `c κ` of
+/// `q̈` (`κ = σ₁/σ_r` of `X`, the conditioning of the rank decision). Where
+/// that exceeds `√ε` the derivative is no property of `acceleration` that
+/// `T` resolves: central differences give either answer depending on the
+/// step (the four-bar at `θ = 1e-8`, `κ = 4e8`: `∂p̈₁/∂p₁ = 5.6e8` for steps
+/// above 1e-12, 2.66 below 1e-13), and the result is
+/// `Err(NotDifferentiable)`. The bound holds for `θ ≥ 1e-4` there
+/// (`c κ = 9e-9`) and fails from `3e-5`; in `f32` (`c = 1.2e-4`) wherever
+/// a row was dropped.
+///
+/// `Err(NotDifferentiable)` also where `A` has lost rank to rounding level
+/// (at the branch point itself `q̈` is not differentiable);
+/// `Err(NonFinite)` where a row has lost its digits to underflow or the
+/// solve cannot be done.
 #[allow(clippy::too_many_arguments, clippy::many_single_char_names)]
 fn recomputed_jacobian<T, S, const N: usize, const K: usize, const NU: usize, const D: usize>(
     system: &S,
@@ -240,53 +301,48 @@ fn recomputed_jacobian<T, S, const N: usize, const K: usize, const NU: usize, co
     s: T,
     a: &SMatrix<T, K, N>,
     motion: Motion<T, N>,
-) -> Option<Jacobians<T, N, NU>>
+    branch: bool,
+) -> Result<Jacobians<T, N, NU>, DynamicsError>
 where
     T: RealField + Copy,
     S: Generated<T, N, K> + Tangent<T, N, K, D>,
 {
+    let non_finite = DynamicsError::NonFinite;
     let (qdd, force) = motion;
     if !(m.iter().chain(a.iter()).all(|x| x.is_finite())) {
-        return None;
+        return Err(non_finite);
     }
-    let chol = Cholesky::new(*m)?;
+    let chol = Cholesky::new(*m).ok_or(non_finite)?;
     let l = chol.l();
-    // D: each row to unit largest entry (divided: a subnormal row's
-    // reciprocal overflows).
-    let mut scaled = *a;
-    let mut largest = SVector::<T, K>::from_element(T::one());
-    // 2^-1022 in f64 (4 over the largest value); NaN, so never below, for
-    // a `T` without one.
-    let smallest_normal = nalgebra::convert::<f64, T>(4.0) / crate::generated::largest::<T>();
-    for i in 0..K {
-        let x = scaled.row(i).amax();
-        // A subnormal row has lost its digits (f32 at 1e-40).
-        if x > T::zero() && x < smallest_normal {
-            return None;
-        }
-        if x > T::zero() {
-            scaled.row_mut(i).unscale_mut(x);
-            largest[i] = x;
-        }
-    }
-    let xt = l.solve_lower_triangular(&scaled.transpose())?;
-    let svd = JacobiSvd::new(&xt.transpose())?;
+    let (scaled, largest) = scaled_rows(a).ok_or(non_finite)?;
+    let xt = l
+        .solve_lower_triangular(&scaled.transpose())
+        .ok_or(non_finite)?;
+    let svd = JacobiSvd::new(&xt.transpose()).ok_or(non_finite)?;
     let sigma = svd.singular_values();
     let cut = tight_cut::<T, N, K>() * sigma.max();
     let kept = sigma.iter().filter(|&&x| x > cut).count();
     if kept < S::GENERIC_RANK {
-        return None;
+        return Err(DynamicsError::NotDifferentiable);
     }
+    let mut sorted = sigma;
+    sorted
+        .as_mut_slice()
+        .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
     let mut cut = cut;
     if S::GENERIC_RANK < K {
-        let mut sorted = sigma;
-        sorted
-            .as_mut_slice()
-            .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
         cut = cut.max(sorted[S::GENERIC_RANK]);
     }
-    let transposed = JacobiSvd::new(&xt)?;
-    let nu = transposed.solve(&l.solve_lower_triangular(&force)?, cut)?;
+    // The rank decision's conditioning (doc comment): c σ₁ against √ε σ_r.
+    if branch && S::GENERIC_RANK > 0 {
+        let weakest = sorted[S::GENERIC_RANK - 1];
+        if consistency_tolerance::<T>() * sorted[0] > T::default_epsilon().sqrt() * weakest {
+            return Err(DynamicsError::NotDifferentiable);
+        }
+    }
+    let transposed = JacobiSvd::new(&xt).ok_or(non_finite)?;
+    let rhs = l.solve_lower_triangular(&force).ok_or(non_finite)?;
+    let nu = transposed.solve(&rhs, cut).ok_or(non_finite)?;
     let lam = nu.component_div(&largest);
     let mut f_tilde = SMatrix::<T, N, D>::zeros();
     let mut b_tilde = SMatrix::<T, K, D>::zeros();
@@ -300,7 +356,8 @@ where
         }
         let u = chol.solve(&f_c);
         let r = (b_c - a * u).component_div(&largest);
-        let z = l.transpose().solve_upper_triangular(&svd.solve(&r, cut)?)?;
+        let y = svd.solve(&r, cut).ok_or(non_finite)?;
+        let z = l.transpose().solve_upper_triangular(&y).ok_or(non_finite)?;
         let dqdd = u + z;
         if c < N {
             jac.dq.set_column(c, &dqdd);
@@ -310,7 +367,37 @@ where
             jac.du.set_column(c - 2 * N, &dqdd);
         }
     }
-    jac.is_finite().then_some(jac)
+    if jac.is_finite() {
+        Ok(jac)
+    } else {
+        Err(non_finite)
+    }
+}
+
+/// `(D A, diag D⁻¹)`: each row of `a` scaled to unit largest entry (by
+/// division: a subnormal row's reciprocal overflows), a zero row left as
+/// it is; `None` where a row's largest entry is subnormal (`f32` at 1e-40:
+/// the row has lost its digits).
+#[allow(clippy::type_complexity)]
+fn scaled_rows<T: RealField + Copy, const K: usize, const N: usize>(
+    a: &SMatrix<T, K, N>,
+) -> Option<(SMatrix<T, K, N>, SVector<T, K>)> {
+    let mut scaled = *a;
+    let mut largest = SVector::<T, K>::from_element(T::one());
+    // 2^-1022 in f64 (4 over the largest value); NaN, so never below, for
+    // a `T` without one.
+    let smallest_normal = nalgebra::convert::<f64, T>(4.0) / crate::generated::largest::<T>();
+    for i in 0..K {
+        let x = scaled.row(i).amax();
+        if x > T::zero() && x < smallest_normal {
+            return None;
+        }
+        if x > T::zero() {
+            scaled.row_mut(i).unscale_mut(x);
+            largest[i] = x;
+        }
+    }
+    Some((scaled, largest))
 }
 
 /// `(A, B)` of `δẋ = A δx + B δu` for `x = (q, q̇)`:

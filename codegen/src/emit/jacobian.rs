@@ -1,5 +1,5 @@
-//! Code for the linearization: `acceleration_jacobian`, `linearize`,
-//! `linearize_reduced`, and the impl of the runtime's hidden `Tangent`
+//! Code for the linearization: `acceleration_jacobian`, `linearize`, their
+//! `Result`-valued `try_` forms, `linearize_reduced`, and the impl of the runtime's hidden `Tangent`
 //! trait (`tangent_rhs`, `velocity_constraint_jacobian`) they rest on.
 //!
 //! `tangent_rhs` evaluates, for every column variable `v` (coordinates,
@@ -36,84 +36,182 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     );
     let jacobians = ctx.path(quote!(Jacobians<T, #n_lit, #nu_lit>));
     let (a_type, b_type) = (ctx.matrix(2 * n, 2 * n), ctx.matrix(2 * n, nu));
-    let jacobian = ctx.path(quote!(linearize::acceleration_jacobian));
+    let jacobian = ctx.path(quote!(linearize::try_acceleration_jacobian));
     let linearization = ctx.path(quote!(linearize::linearization));
     let none = quote!(::core::option::Option::None);
-    let (fallible_solve, total_solve) = (
-        ctx.call_gauss("Fallible", none.clone()),
-        ctx.call_gauss("Total", none),
-    );
+    let fallible = ctx.eq.mass_inverse.fallible();
+    let motion = if fallible {
+        let solve = ctx.call_gauss("Fallible", none);
+        quote!(#solve?)
+    } else {
+        ctx.call_gauss("Total", none)
+    };
     let k_lit = Context::dim(ctx.k);
-    let value =
-        quote!(#jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion));
     let finite = ctx.finite_or_error(quote!(__j));
-    let (jac_ret, lin_ret, jac_body, lin_body) = if ctx.eq.mass_inverse.fallible() {
-        (
-            ctx.result(jacobians.clone(), quote!(DynamicsError)),
-            ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError)),
-            quote! {
-                let __motion = #fallible_solve?;
-                let __j = #value;
-                #finite
-            },
-            quote! {
-                self.acceleration_jacobian(#args)
-                    .map(|j| #linearization::<T, #n_lit, #nu_lit, #n2_lit>(&j))
-            },
-        )
-    } else {
-        (
-            jacobians.clone(),
-            quote!((#a_type, #b_type)),
-            quote! {
-                let __motion = #total_solve;
-                #value
-            },
-            quote! {
-                #linearization::<T, #n_lit, #nu_lit, #n2_lit>(&self.acceleration_jacobian(#args))
-            },
-        )
-    };
-    let fallibility = if ctx.eq.mass_inverse.fallible() {
-        "`Err` exactly where [`acceleration`](Self::acceleration) fails, \
-         and `Err(NonFinite)` where a derivative overflows or cannot be \
-         trusted (at a branch point, where `A` has lost rank to rounding; \
-         where `M` or a row of `A` has lost its digits to underflow)."
-    } else {
-        "Total, as [`acceleration`](Self::acceleration) is (where a derivative \
-         overflows or cannot be trusted, at a branch point where `A` has lost \
-         rank to rounding, the entries are not finite)."
-    };
-    let jac_doc = format!(
-        " The exact Jacobians of `q̈(q, q̇, u)` at this state: `dq = ∂q̈/∂q`, \
-         `dqd = ∂q̈/∂q̇`, `du = ∂q̈/∂u` (columns in the order of `coordinates` \
-         and `inputs`). Differentiated at compile time and solved through one \
-         factorization: `M q̈ᵥ = F̃ᵥ + Aᵀλᵥ`, `A q̈ᵥ = b̃ᵥ` for each variable `v` \
-         (see `constrained::linearize`). Where the rank decision dropped rows \
-         of `A`, the Jacobian of the `q̈` actually returned. {fallibility}"
+    // The one body, a `Result`: `acceleration_jacobian`'s where
+    // `acceleration` can fail, else `try_acceleration_jacobian`'s, which
+    // the total `acceleration_jacobian` turns into NaN entries.
+    let body = mass_inverse::jacobian(
+        ctx,
+        &quote! {
+            let __motion = #motion;
+            let __j = #jacobian::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(
+                self, #args, __motion,
+            )?;
+            #finite
+        },
     );
-    let lin_doc = format!(
-        " The linearization `δẋ = A δx + B δu` of `ẋ = (q̇, q̈(q, q̇, u))` for \
-         `x = (q, q̇)`: `A = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]]`, `B = [[0], [∂q̈/∂u]]`. \
-         In all `2n` coordinates: on a constrained system it carries the \
-         constraint directions (see `constrained::linearize::reduced` for the \
-         linearization on the constraint manifold). {fallibility}"
+    let jac_result = ctx.result(jacobians.clone(), quote!(DynamicsError));
+    let lin_result = ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError));
+    let linearized = quote!(.map(|j| #linearization::<T, #n_lit, #nu_lit, #n2_lit>(&j)));
+    let not_a_number = ctx.path(quote!(Jacobians::<T, #n_lit, #nu_lit>::not_a_number()));
+    let docs = Docs::new(fallible);
+    let (jac_doc, lin_doc, try_jac_doc, try_lin_doc) = (
+        &docs.jacobian,
+        &docs.linearize,
+        &docs.try_jacobian,
+        &docs.try_linearize,
     );
-    let jac_body = mass_inverse::jacobian(ctx, &jac_body);
     let reduced = reduced(ctx, partition);
+    let (jacobian_methods, linearize_methods) = if fallible {
+        (
+            quote! {
+                #[doc = #jac_doc]
+                #[inline]
+                pub fn acceleration_jacobian(&self, #params) -> #jac_result {
+                    #body
+                }
+
+                #[doc = #try_jac_doc]
+                #[inline]
+                pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
+                    self.acceleration_jacobian(#args)
+                }
+            },
+            quote! {
+                #[doc = #lin_doc]
+                #[inline]
+                pub fn linearize(&self, #params) -> #lin_result {
+                    self.acceleration_jacobian(#args) #linearized
+                }
+
+                #[doc = #try_lin_doc]
+                #[inline]
+                pub fn try_linearize(&self, #params) -> #lin_result {
+                    self.linearize(#args)
+                }
+            },
+        )
+    } else {
+        (
+            quote! {
+                #[doc = #try_jac_doc]
+                #[inline]
+                pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
+                    #body
+                }
+
+                #[doc = #jac_doc]
+                #[inline]
+                pub fn acceleration_jacobian(&self, #params) -> #jacobians {
+                    self.try_acceleration_jacobian(#args).unwrap_or_else(|_| #not_a_number)
+                }
+            },
+            quote! {
+                #[doc = #lin_doc]
+                #[inline]
+                pub fn linearize(&self, #params) -> (#a_type, #b_type) {
+                    #linearization::<T, #n_lit, #nu_lit, #n2_lit>(&self.acceleration_jacobian(#args))
+                }
+
+                #[doc = #try_lin_doc]
+                #[inline]
+                pub fn try_linearize(&self, #params) -> #lin_result {
+                    self.try_acceleration_jacobian(#args) #linearized
+                }
+            },
+        )
+    };
     quote! {
         #reduced
+        #jacobian_methods
+        #linearize_methods
+    }
+}
 
-        #[doc = #jac_doc]
-        #[inline]
-        pub fn acceleration_jacobian(&self, #params) -> #jac_ret {
-            #jac_body
-        }
+/// The docs of the four methods, by whether `acceleration` can fail.
+struct Docs {
+    jacobian: String,
+    linearize: String,
+    try_jacobian: String,
+    try_linearize: String,
+}
 
-        #[doc = #lin_doc]
-        #[inline]
-        pub fn linearize(&self, #params) -> #lin_ret {
-            #lin_body
+impl Docs {
+    fn new(fallible: bool) -> Self {
+        let errors = "`Err(NotDifferentiable)` where `q̈` has no derivative \
+             that `T` resolves (where `A` loses rank, e.g. a velocity-level \
+             constraint at rest, or so nearly that the rank decision \
+             `acceleration` checks makes it jump by more than `√ε`: see \
+             `constrained::linearize`), and `Err(NonFinite)` where a \
+             derivative overflows or `M` or a row of `A` has lost its digits \
+             to underflow";
+        let fallibility = if fallible {
+            format!("`Err` exactly where [`acceleration`](Self::acceleration) fails; {errors}.")
+        } else {
+            "Total, as [`acceleration`](Self::acceleration) is: where the \
+             derivative does not exist, cannot be trusted or overflows, every \
+             entry is NaN; [`try_acceleration_jacobian`](Self::try_acceleration_jacobian) \
+             says which as an `Err`."
+                .to_owned()
+        };
+        let jacobian = format!(
+            " The exact Jacobians of `q̈(q, q̇, u)` at this state: `dq = ∂q̈/∂q`, \
+             `dqd = ∂q̈/∂q̇`, `du = ∂q̈/∂u` (columns in the order of `coordinates` \
+             and `inputs`). Differentiated at compile time and solved through one \
+             factorization: `M q̈ᵥ = F̃ᵥ + Aᵀλᵥ`, `A q̈ᵥ = b̃ᵥ` for each variable `v` \
+             (see `constrained::linearize`). Where the rank decision dropped rows \
+             of `A`, the Jacobian of the `q̈` actually returned. {fallibility}"
+        );
+        let linearize = format!(
+            " The linearization `δẋ = A δx + B δu` of `ẋ = (q̇, q̈(q, q̇, u))` for \
+             `x = (q, q̇)`: `A = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]]`, `B = [[0], [∂q̈/∂u]]`. \
+             In all `2n` coordinates: on a constrained system it carries the \
+             constraint directions (see `constrained::linearize::reduced` for the \
+             linearization on the constraint manifold). {}",
+            if fallible {
+                "`Err` exactly where [`acceleration_jacobian`](Self::acceleration_jacobian) is."
+            } else {
+                "Total: every entry of `∂q̈` NaN where \
+                 [`acceleration_jacobian`](Self::acceleration_jacobian)'s are \
+                 ([`try_linearize`](Self::try_linearize) says why)."
+            }
+        );
+        let (try_jacobian, try_linearize) = if fallible {
+            (
+                " [`acceleration_jacobian`](Self::acceleration_jacobian), under the \
+                 name every system has for the `Result`-valued Jacobian."
+                    .to_owned(),
+                " [`linearize`](Self::linearize), under the name every system has \
+                 for the `Result`-valued linearization."
+                    .to_owned(),
+            )
+        } else {
+            (
+                format!(
+                    " [`acceleration_jacobian`](Self::acceleration_jacobian) with its \
+                     failures as values: never a non-finite entry in an `Ok`; {errors}."
+                ),
+                " [`linearize`](Self::linearize) with its failures as values, those of \
+                 [`try_acceleration_jacobian`](Self::try_acceleration_jacobian)."
+                    .to_owned(),
+            )
+        };
+        Docs {
+            jacobian,
+            linearize,
+            try_jacobian,
+            try_linearize,
         }
     }
 }
@@ -137,11 +235,7 @@ fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
     let reduced_type = ctx.path(quote!(linearize::Reduced<T, #nx_l, #nu_l, #nq_l, #nv_l>));
     let ret = ctx.result(reduced_type, quote!(DynamicsError));
     let function = ctx.path(quote!(linearize::reduced));
-    let jacobian = if ctx.eq.mass_inverse.fallible() {
-        quote!(self.acceleration_jacobian(#args)?)
-    } else {
-        quote!(self.acceleration_jacobian(#args))
-    };
+    let jacobian = quote!(self.try_acceleration_jacobian(#args)?);
     let doc = format!(
         " The linearization on the constraint manifold \
          (`constrained::linearize::Reduced`): `{nq}` coordinates and `{nv}` \
@@ -149,7 +243,7 @@ fn reduced(ctx: &Context, partition: &Partition) -> TokenStream {
          conditioned. The constraint directions are eliminated, so its \
          eigenvalues are the physical ones. `Err(SingularPartition)` where \
          the constraints lose rank at this state; otherwise as \
-         [`acceleration_jacobian`](Self::acceleration_jacobian)."
+         [`try_acceleration_jacobian`](Self::try_acceleration_jacobian)."
     );
     quote! {
         #[doc = #doc]

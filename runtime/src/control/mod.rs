@@ -21,10 +21,12 @@
 //! The gain `K` of `u = −K δx` minimises `Σ δxᵀ Q δx + δuᵀ R δu`:
 //! `P = Q + A_dᵀ P A_d − A_dᵀ P B_d (R + B_dᵀ P B_d)⁻¹ B_dᵀ P A_d` iterated
 //! from `P = Q`, `K = (R + B_dᵀ P B_d)⁻¹ B_dᵀ P A_d`. A gain is returned
-//! only when both checks hold for it: the Riccati residual of its `P` is
-//! within the tolerance, and the closed loop `A_d − B_d K` is certified
-//! stable (some power `(A_d − B_d K)^{2^j}` has 1-norm below ½, which
-//! bounds its spectral radius below 1).
+//! only when both checks hold for it: the closed loop `A_d − B_d K` is
+//! certified stable (some power `(A_d − B_d K)^{2^j}` has 1-norm below ½,
+//! which bounds its spectral radius below 1), and the Riccati residual of
+//! the gain's own cost `P_K` (not of the iteration's `P`, whose step says
+//! little where the closed loop is slow) is within the tolerance, relative
+//! to `P_K`; Newton's step improves a gain that is not ([`lqr_gain`]).
 
 use crate::pow2::{exponent, ldexp, pow2};
 use nalgebra::{Cholesky, RealField, SMatrix};
@@ -37,10 +39,11 @@ pub enum ControlError {
     NonFinite,
     /// `R + B_dᵀ P B_d` is not positive definite (`R` must be).
     NotPositiveDefinite,
-    /// The Riccati iteration did not reach, within its iterations, a `P`
-    /// whose residual is within the tolerance and whose gain stabilizes the
-    /// closed loop: the pair `(A_d, B_d)` is not stabilizable (or `(Q, A_d)`
-    /// not detectable), or it converges slowly.
+    /// No gain was reached, within the iterations, that stabilizes the
+    /// closed loop and whose Riccati residual is within the tolerance: the
+    /// pair `(A_d, B_d)` is not stabilizable (or `(Q, A_d)` not
+    /// detectable), the iteration converges slowly, or the tolerance lies
+    /// below what rounding lets `T` resolve.
     NotConverged,
     /// A setting that cannot work: a tolerance that is not in `(0, 1)`
     /// (NaN, infinite, zero, negative, or so loose that any `P` passes), or
@@ -275,15 +278,32 @@ fn certified_stable<T: RealField + Copy, const N: usize>(m: &SMatrix<T, N, N>) -
 }
 
 /// The gain `K` (`u = −K δx`) of the discrete-time LQR for `(A_d, B_d)`
-/// with weights `Q` (positive semi-definite) and `R` (positive definite):
-/// the Riccati iteration until the residual of `P` (its relative change in
-/// one more step) is below `tolerance` *and* `A_d − B_d K` is certified
-/// stable (module docs), at most `max_iterations` steps. A tolerance met by
-/// a gain that does not stabilize (a loose one, early in the iteration)
-/// does not end the iteration.
+/// with weights `Q` (positive semi-definite) and `R` (positive definite),
+/// whose Riccati residual is within `tolerance`, checked after the fact.
+///
+/// The Riccati iteration runs until its step is below `tolerance` and its
+/// gain is certified stable (module docs); then the gain is checked: its
+/// cost `P_K`, the solution of `P = Q + KᵀRK + (A_d − B_d K)ᵀ P
+/// (A_d − B_d K)`, must satisfy the Riccati equation to `tolerance`
+/// relative, `‖Q + A_dᵀP_K A_d − A_dᵀP_K B_d (R + B_dᵀP_K B_d)⁻¹ B_dᵀP_K A_d
+/// − P_K‖ ≤ tolerance ‖P_K‖` (largest entries). Where it does not, the
+/// gain is improved by Newton's (Hewer's) step `K ← (R + B_dᵀP_K B_d)⁻¹
+/// B_dᵀP_K A_d` and checked again. The iteration's step alone is no such
+/// check: where the closed loop is slow (the cart-pole held for 10 ms,
+/// `ρ(A_d − B_d K) ≈ 0.99`) it is a hundredth of the distance to the
+/// solution, and at a tolerance of 0.1 the iteration once returned a gain
+/// 34 % from the Riccati solution (one entry 90 %) with relative residual
+/// 0.26.
+///
+/// The residual bounds how far `K` is from optimal, not `K`'s relative
+/// error, which is larger by the conditioning of the Riccati equation
+/// (about `1/(1 − ρ²)` for a closed loop of spectral radius `ρ`); each
+/// Newton step squares it, so the gain returned is usually far better than
+/// the tolerance asked for. Every gain returned is certified stable. At
+/// most `max_iterations` steps of either kind, and at most 50 Newton steps.
 ///
 /// `Err(InvalidParameter)` for a tolerance outside `(0, 1)` or
-/// `max_iterations = 0`; `Err(NotConverged)` when no certified gain is
+/// `max_iterations = 0`; `Err(NotConverged)` when no checked gain is
 /// reached (the pair is not stabilizable: `diag(1, 0.5)`, `B = [0, 1]ᵀ`);
 /// `Err(NonFinite)` for a non-finite input.
 pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
@@ -308,49 +328,132 @@ pub fn lqr_gain<T: RealField + Copy, const NX: usize, const NU: usize>(
     if !usable || max_iterations == 0 {
         return Err(ControlError::InvalidParameter);
     }
-    let gain = |p: &SMatrix<T, NX, NX>| -> Result<SMatrix<T, NU, NX>, ControlError> {
-        let s = r + b.transpose() * p * b;
-        let chol = Cholesky::new(s).ok_or(ControlError::NotPositiveDefinite)?;
-        Ok(chol.solve(&(b.transpose() * p * a)))
-    };
-    let mut p = *q;
-    // The stability check costs up to 64 products; after a failed one the
-    // next waits until the iteration count has doubled.
-    let mut next_check = 0usize;
-    for iteration in 0..max_iterations {
-        // R + BᵀPB is positive definite for a positive definite R and a
-        // positive semi-definite P, which the iteration keeps in exact
-        // arithmetic: a failure after the first step is a P that diverged
-        // (an unstable mode out of reach of B) and lost it to rounding.
-        let k = match gain(&p) {
-            Err(ControlError::NotPositiveDefinite) if iteration > 0 => {
-                return Err(ControlError::NotConverged)
-            }
-            other => other?,
-        };
-        let next = q + a.transpose() * p * (a - b * k);
-        // Symmetrize: rounding would otherwise accumulate an antisymmetric part.
-        let next = (next + next.transpose()) * c::<T>(0.5);
-        // The Riccati residual of P (and of the gain K it gives).
-        let residual = (next - p).amax();
-        let scale = next.amax();
+    let riccati = Riccati { a, b, q, r };
+    let (mut k, used) = riccati.stabilizing_gain(tolerance, max_iterations)?;
+    // Newton's steps converge quadratically from a stabilizing gain: where
+    // NEWTON_STEPS of them do not reach the tolerance, it lies below what
+    // rounding in `P_K` lets `T` resolve, and more would not help.
+    for _ in used..max_iterations.min(used + NEWTON_STEPS) {
+        let p = riccati.cost(&k).ok_or(ControlError::NotConverged)?;
+        let next = riccati.gain(&p)?;
+        let residual = riccati.residual(&p, &next);
         if !residual.is_finite() {
             return Err(ControlError::NotConverged);
         }
-        if residual <= tolerance * scale && iteration >= next_check {
-            if certified_stable(&(a - b * k)) {
-                return Ok(k);
-            }
-            if residual == T::zero() {
-                // A fixed point whose gain does not stabilize: no further
-                // iteration changes it.
-                return Err(ControlError::NotConverged);
-            }
-            next_check = 2 * iteration + 1;
+        if residual <= tolerance * p.amax() {
+            return Ok(k);
         }
-        p = next;
+        // Hewer's step from a stabilizing gain stabilizes in exact
+        // arithmetic; a gain that rounding left uncertified is not kept.
+        if !certified_stable(&(a - b * next)) {
+            return Err(ControlError::NotConverged);
+        }
+        k = next;
     }
     Err(ControlError::NotConverged)
+}
+
+/// The most Newton steps [`lqr_gain`] takes after the Riccati iteration.
+const NEWTON_STEPS: usize = 50;
+
+/// The discrete-time algebraic Riccati equation of `(A_d, B_d, Q, R)`.
+struct Riccati<'m, T: RealField + Copy, const NX: usize, const NU: usize> {
+    a: &'m SMatrix<T, NX, NX>,
+    b: &'m SMatrix<T, NX, NU>,
+    q: &'m SMatrix<T, NX, NX>,
+    r: &'m SMatrix<T, NU, NU>,
+}
+
+impl<T: RealField + Copy, const NX: usize, const NU: usize> Riccati<'_, T, NX, NU> {
+    /// `K = (R + BᵀPB)⁻¹ BᵀPA`.
+    fn gain(&self, p: &SMatrix<T, NX, NX>) -> Result<SMatrix<T, NU, NX>, ControlError> {
+        let s = self.r + self.b.transpose() * p * self.b;
+        let chol = Cholesky::new(s).ok_or(ControlError::NotPositiveDefinite)?;
+        Ok(chol.solve(&(self.b.transpose() * p * self.a)))
+    }
+
+    /// One step of the iteration, `Q + AᵀP(A − BK)` with `K` the gain of
+    /// `P`, symmetrized (rounding would otherwise accumulate an
+    /// antisymmetric part).
+    fn step(&self, p: &SMatrix<T, NX, NX>, k: &SMatrix<T, NU, NX>) -> SMatrix<T, NX, NX> {
+        let next = self.q + self.a.transpose() * p * (self.a - self.b * k);
+        (next + next.transpose()) * c::<T>(0.5)
+    }
+
+    /// The largest entry of the Riccati residual `step(P) − P`, given the
+    /// gain `k` of `P`.
+    fn residual(&self, p: &SMatrix<T, NX, NX>, k: &SMatrix<T, NU, NX>) -> T {
+        (self.step(p, k) - p).amax()
+    }
+
+    /// The Riccati iteration from `P = Q` until its step is within
+    /// `tolerance` and its gain certified stable: that gain and the
+    /// iterations used.
+    fn stabilizing_gain(
+        &self,
+        tolerance: T,
+        max_iterations: usize,
+    ) -> Result<(SMatrix<T, NU, NX>, usize), ControlError> {
+        let mut p = *self.q;
+        // The stability check costs up to 64 products; after a failed one
+        // the next waits until the iteration count has doubled.
+        let mut next_check = 0usize;
+        for iteration in 0..max_iterations {
+            // R + BᵀPB is positive definite for a positive definite R and a
+            // positive semi-definite P, which the iteration keeps in exact
+            // arithmetic: a failure after the first step is a P that
+            // diverged (an unstable mode out of reach of B) and lost it to
+            // rounding.
+            let k = match self.gain(&p) {
+                Err(ControlError::NotPositiveDefinite) if iteration > 0 => {
+                    return Err(ControlError::NotConverged)
+                }
+                other => other?,
+            };
+            let next = self.step(&p, &k);
+            let residual = (next - p).amax();
+            if !residual.is_finite() {
+                return Err(ControlError::NotConverged);
+            }
+            if residual <= tolerance * next.amax() && iteration >= next_check {
+                if certified_stable(&(self.a - self.b * k)) {
+                    return Ok((k, iteration + 1));
+                }
+                if residual == T::zero() {
+                    // A fixed point whose gain does not stabilize: no
+                    // further iteration changes it.
+                    return Err(ControlError::NotConverged);
+                }
+                next_check = 2 * iteration + 1;
+            }
+            p = next;
+        }
+        Err(ControlError::NotConverged)
+    }
+
+    /// The cost `P_K` of a stabilizing gain: `P = S + A_Kᵀ P A_K` with
+    /// `S = Q + KᵀRK`, `A_K = A − BK`, by doubling (`P ← P + A_KᵀPA_K`,
+    /// `A_K ← A_K²`, each doubling the terms of `Σ A_Kᵀʲ S A_Kʲ` summed)
+    /// until the terms added no longer change `P`. `None` where they do not
+    /// fall within 64 doublings or overflow (a gain that does not
+    /// stabilize).
+    fn cost(&self, k: &SMatrix<T, NU, NX>) -> Option<SMatrix<T, NX, NX>> {
+        let mut power = self.a - self.b * k;
+        let s = self.q + k.transpose() * self.r * k;
+        let mut p = (s + s.transpose()) * c::<T>(0.5);
+        for _ in 0..64 {
+            let term = power.transpose() * p * power;
+            if !term.iter().all(|x| x.is_finite()) {
+                return None;
+            }
+            p += (term + term.transpose()) * c::<T>(0.5);
+            if term.amax() <= T::default_epsilon() * p.amax() {
+                return Some(p);
+            }
+            power = power * power;
+        }
+        None
+    }
 }
 
 #[cfg(test)]

@@ -35,9 +35,10 @@ pub(super) fn solver(ctx: &Context) -> TokenStream {
     }
 }
 
-/// The body of `acceleration_jacobian`; `dense` is the runtime's solve, as
-/// an expression of the method's return type (the whole body where the
-/// strategy has no Jacobian of its own).
+/// The body of the `Result`-valued Jacobian (`acceleration_jacobian`, or
+/// `try_acceleration_jacobian` where `acceleration` is total); `dense` is
+/// the runtime's solve, as an expression of the same type (the whole body
+/// where the strategy has no Jacobian of its own).
 pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> TokenStream {
     match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::jacobian::jacobian(ctx, d, dense),

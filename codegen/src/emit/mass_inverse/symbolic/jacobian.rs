@@ -31,8 +31,9 @@ use crate::expr::Id;
 use proc_macro2::TokenStream;
 use quote::quote;
 
-/// The body of `acceleration_jacobian`; `dense` is the runtime's solve, as
-/// an expression of the method's return type.
+/// The body of `acceleration_jacobian` (`try_acceleration_jacobian` for a
+/// total system), a `Result`; `dense` is the runtime's solve, as an
+/// expression of the same type.
 pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream) -> TokenStream {
     // Right-hand sides along a direction have no column structure to
     // exploit: the runtime's dense solve, looping over the columns.
@@ -61,11 +62,10 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
 
     let k_l = Context::dim(k);
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
-    let value = if ctx.eq.mass_inverse.fallible() {
-        ctx.finite_or_error(quote!(__jac))
-    } else {
-        quote!(__jac)
-    };
+    // A `Result` whether or not `acceleration` can fail: the body is
+    // `try_acceleration_jacobian`'s for a total system, and a derivative
+    // that does not exist or overflows is an `Err` there too.
+    let value = ctx.finite_or_error(quote!(__jac));
     let to_multipliers = &gauss.to_multipliers;
     let unscaled = unscaled_multipliers(d, &gauss);
     if k == 0 {
@@ -96,11 +96,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
         Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
-    let adopt = if ctx.eq.mass_inverse.fallible() {
-        adopt_dense(dense)
-    } else {
-        quote!(__jac = { #dense };)
-    };
+    let adopt = adopt_dense(dense);
     quote! {
         #to_multipliers
         let mut __jac = #jacobians_zero;
