@@ -61,81 +61,121 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             #finite
         },
     );
-    let jac_result = ctx.result(jacobians.clone(), quote!(DynamicsError));
-    let lin_result = ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError));
-    let linearized = quote!(.map(|j| #linearization::<T, #n_lit, #nu_lit, #n2_lit>(&j)));
-    let not_a_number = ctx.path(quote!(Jacobians::<T, #n_lit, #nu_lit>::not_a_number()));
-    let docs = Docs::new(fallible);
-    let (jac_doc, lin_doc, try_jac_doc, try_lin_doc) = (
-        &docs.jacobian,
-        &docs.linearize,
-        &docs.try_jacobian,
-        &docs.try_linearize,
-    );
-    let reduced = reduced(ctx, partition);
-    let (jacobian_methods, linearize_methods) = if fallible {
-        (
-            quote! {
-                #[doc = #jac_doc]
-                #[inline]
-                pub fn acceleration_jacobian(&self, #params) -> #jac_result {
-                    #body
-                }
-
-                #[doc = #try_jac_doc]
-                #[inline]
-                pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
-                    self.acceleration_jacobian(#args)
-                }
-            },
-            quote! {
-                #[doc = #lin_doc]
-                #[inline]
-                pub fn linearize(&self, #params) -> #lin_result {
-                    self.acceleration_jacobian(#args) #linearized
-                }
-
-                #[doc = #try_lin_doc]
-                #[inline]
-                pub fn try_linearize(&self, #params) -> #lin_result {
-                    self.linearize(#args)
-                }
-            },
-        )
-    } else {
-        (
-            quote! {
-                #[doc = #try_jac_doc]
-                #[inline]
-                pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
-                    #body
-                }
-
-                #[doc = #jac_doc]
-                #[inline]
-                pub fn acceleration_jacobian(&self, #params) -> #jacobians {
-                    self.try_acceleration_jacobian(#args).unwrap_or_else(|_| #not_a_number)
-                }
-            },
-            quote! {
-                #[doc = #lin_doc]
-                #[inline]
-                pub fn linearize(&self, #params) -> (#a_type, #b_type) {
-                    #linearization::<T, #n_lit, #nu_lit, #n2_lit>(&self.acceleration_jacobian(#args))
-                }
-
-                #[doc = #try_lin_doc]
-                #[inline]
-                pub fn try_linearize(&self, #params) -> #lin_result {
-                    self.try_acceleration_jacobian(#args) #linearized
-                }
-            },
-        )
+    let parts = Public {
+        params,
+        args,
+        body,
+        jac_result: ctx.result(jacobians.clone(), quote!(DynamicsError)),
+        lin_result: ctx.result(quote!((#a_type, #b_type)), quote!(DynamicsError)),
+        linearization: quote!(#linearization::<T, #n_lit, #nu_lit, #n2_lit>),
+        not_a_number: ctx.path(quote!(Jacobians::<T, #n_lit, #nu_lit>::not_a_number())),
+        jacobians,
+        linear: quote!((#a_type, #b_type)),
     };
+    let reduced = reduced(ctx, partition);
+    let (jacobian_methods, linearize_methods) = parts.methods(&Docs::new(fallible), fallible);
     quote! {
         #reduced
         #jacobian_methods
         #linearize_methods
+    }
+}
+
+/// The public entry points' parts: the one body and what the two forms
+/// (total, `Result`) wrap it in.
+struct Public {
+    params: TokenStream,
+    args: TokenStream,
+    body: TokenStream,
+    jac_result: TokenStream,
+    lin_result: TokenStream,
+    linearization: TokenStream,
+    not_a_number: TokenStream,
+    jacobians: TokenStream,
+    linear: TokenStream,
+}
+
+impl Public {
+    /// `acceleration_jacobian`, `try_acceleration_jacobian`, `linearize`
+    /// and `try_linearize`: the `Result` forms are the body where
+    /// `acceleration` can fail; else the total forms wrap the `try_` ones.
+    fn methods(&self, docs: &Docs, fallible: bool) -> (TokenStream, TokenStream) {
+        let Public {
+            params,
+            args,
+            body,
+            jac_result,
+            lin_result,
+            linearization,
+            not_a_number,
+            jacobians,
+            linear,
+        } = self;
+        let (jac_doc, lin_doc, try_jac_doc, try_lin_doc) = (
+            &docs.jacobian,
+            &docs.linearize,
+            &docs.try_jacobian,
+            &docs.try_linearize,
+        );
+        if fallible {
+            (
+                quote! {
+                    #[doc = #jac_doc]
+                    #[inline]
+                    pub fn acceleration_jacobian(&self, #params) -> #jac_result {
+                        #body
+                    }
+
+                    #[doc = #try_jac_doc]
+                    #[inline]
+                    pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
+                        self.acceleration_jacobian(#args)
+                    }
+                },
+                quote! {
+                    #[doc = #lin_doc]
+                    #[inline]
+                    pub fn linearize(&self, #params) -> #lin_result {
+                        self.acceleration_jacobian(#args) .map(|j| #linearization(&j))
+                    }
+
+                    #[doc = #try_lin_doc]
+                    #[inline]
+                    pub fn try_linearize(&self, #params) -> #lin_result {
+                        self.linearize(#args)
+                    }
+                },
+            )
+        } else {
+            (
+                quote! {
+                    #[doc = #try_jac_doc]
+                    #[inline]
+                    pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
+                        #body
+                    }
+
+                    #[doc = #jac_doc]
+                    #[inline]
+                    pub fn acceleration_jacobian(&self, #params) -> #jacobians {
+                        self.try_acceleration_jacobian(#args).unwrap_or_else(|_| #not_a_number)
+                    }
+                },
+                quote! {
+                    #[doc = #lin_doc]
+                    #[inline]
+                    pub fn linearize(&self, #params) -> #linear {
+                        #linearization(&self.acceleration_jacobian(#args))
+                    }
+
+                    #[doc = #try_lin_doc]
+                    #[inline]
+                    pub fn try_linearize(&self, #params) -> #lin_result {
+                        self.try_acceleration_jacobian(#args) .map(|j| #linearization(&j))
+                    }
+                },
+            )
+        }
     }
 }
 

@@ -64,7 +64,6 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let ctx = Context::new(eq, partition.rank);
     let sys = &eq.system;
     let (n, k) = (ctx.n, ctx.k);
-    let (n_lit, k_lit, nu_lit) = (Context::dim(n), Context::dim(k), Context::dim(sys.inputs));
     let name = &sys.name;
     let mass = matrix_function(
         &ctx,
@@ -74,9 +73,10 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         &sys.mass,
         n,
     );
+    let forces = quote!(forces);
     let forces = vector_function(
         &ctx,
-        quote!(forces),
+        forces,
         " The impressed forces `F(q, q̇, t)`.",
         &sys.forces,
     );
@@ -111,36 +111,16 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     });
     let tangent_impl = eq.jacobians.then(|| jacobian::tangent_impl(&ctx));
     let generated_impl = forwards::generated_impl(&ctx);
-    let levels = motion::levels(&ctx);
-    let level = ctx.path(quote!(ConstraintLevel));
-    let symbolic_type = ctx.path(quote!(SymbolicSystem));
     let derivation = derivation::text(eq, partition);
     let definition = struct_definition(sys, n, k, &derivation_doc(&derivation));
-    let symbolic = symbolic(eq);
-    let names = &sys.coordinate_names;
+    let constants = constants(&ctx, &derivation);
 
     quote! {
         #definition
 
         #[allow(unused_variables, non_snake_case, clippy::all, clippy::pedantic)]
         impl<T: ::constrained::nalgebra::RealField + Copy> #name<T> {
-            /// Number of coordinates `n`.
-            pub const DOF: usize = #n_lit;
-            /// The coordinates' names, in the order of `q` (for a URDF,
-            /// the joints' names as written, in Pinocchio's order).
-            pub const COORDINATES: [&'static str; #n_lit] = [#(#names),*];
-            /// Number of constraints `k` (rows of `A`, redundant ones included).
-            pub const CONSTRAINTS: usize = #k_lit;
-            /// Number of control inputs (`inputs: [..]`, the last fields).
-            pub const INPUTS: usize = #nu_lit;
-            /// For each constraint, whether it was differentiated twice
-            /// (position level) or once (velocity level).
-            pub const CONSTRAINT_LEVELS: [#level; #k_lit] = [#(#levels),*];
-            /// The derivation, as the paper would write it: M, F, φ, A, b, S
-            /// and the solution (also in the type's documentation).
-            pub const DERIVATION: &'static str = #derivation;
-            /// The system in sympy syntax, for independent verification.
-            pub const SYMBOLIC: #symbolic_type = #symbolic;
+            #constants
 
             #mass
             #forces
@@ -160,6 +140,38 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         #generated_impl
         #tangent_impl
         #friction_impl
+    }
+}
+
+/// The system's constants: its sizes, the coordinates' names, the
+/// constraints' levels, the derivation's text and the sympy export.
+fn constants(ctx: &Context, derivation: &str) -> TokenStream {
+    let sys = &ctx.eq.system;
+    let (n_lit, k_lit) = (Context::dim(ctx.n), Context::dim(ctx.k));
+    let nu_lit = Context::dim(sys.inputs);
+    let levels = motion::levels(ctx);
+    let level = ctx.path(quote!(ConstraintLevel));
+    let symbolic_type = ctx.path(quote!(SymbolicSystem));
+    let symbolic = symbolic(ctx.eq);
+    let names = &sys.coordinate_names;
+    quote! {
+        /// Number of coordinates `n`.
+        pub const DOF: usize = #n_lit;
+        /// The coordinates' names, in the order of `q` (for a URDF, the
+        /// joints' names as written, in Pinocchio's order).
+        pub const COORDINATES: [&'static str; #n_lit] = [#(#names),*];
+        /// Number of constraints `k` (rows of `A`, redundant ones included).
+        pub const CONSTRAINTS: usize = #k_lit;
+        /// Number of control inputs (`inputs: [..]`, the last fields).
+        pub const INPUTS: usize = #nu_lit;
+        /// For each constraint, whether it was differentiated twice
+        /// (position level) or once (velocity level).
+        pub const CONSTRAINT_LEVELS: [#level; #k_lit] = [#(#levels),*];
+        /// The derivation, as the paper would write it: M, F, φ, A, b, S
+        /// and the solution (also in the type's documentation).
+        pub const DERIVATION: &'static str = #derivation;
+        /// The system in sympy syntax, for independent verification.
+        pub const SYMBOLIC: #symbolic_type = #symbolic;
     }
 }
 

@@ -105,6 +105,7 @@ pub mod events;
 mod explicit;
 mod method;
 mod screening;
+mod search;
 mod stepper;
 mod stick_slip;
 pub mod tableau;

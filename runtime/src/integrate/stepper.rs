@@ -4,8 +4,9 @@
 
 use super::accepted::Work;
 use super::controller::PiController;
-use super::events::{self, Action, Crossing, Direction, EventStats, Events, Found, Rates};
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Rates};
 use super::screening;
+use super::search::{self, Found};
 use super::{Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::{RealField, SVector};
@@ -270,7 +271,7 @@ where
                 None
             } else {
                 let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-                events::search(
+                search::search(
                     events,
                     &work.span(&work.start, end_slope, &I::DENSE),
                     &mut refs,
@@ -330,7 +331,7 @@ where
                 None
             } else {
                 let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-                events::search(
+                search::search(
                     events,
                     &work.span(&self.state, end_slope, &I::DENSE),
                     &mut refs,

@@ -1,0 +1,70 @@
+//! The URDF reader's unit tests: mimic refusals and the right-angle rule.
+
+use super::*;
+
+/// A revolute joint and a finger on a prismatic joint that mimics it
+/// (as the Panda's second finger mimics the first).
+const MIMIC: &str = r#"<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+  <link name="finger"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+  <joint name="finger_joint" type="prismatic"><parent link="arm"/><child link="finger"/>
+<mimic joint="shoulder"/>
+  </joint>
+</robot>"#;
+
+fn read(locked: &[&str]) -> syn::Result<Robot> {
+    let path = std::env::temp_dir().join(format!("constrained-mimic-{}.urdf", std::process::id()));
+    std::fs::write(&path, MIMIC).expect("the temporary directory is writable");
+    let literal = LitStr::new(&path.display().to_string(), Span::call_site());
+    let list = List {
+        items: locked
+            .iter()
+            .map(|n| Ident::new(n, Span::call_site()))
+            .collect(),
+        span: Span::call_site(),
+    };
+    let robot = Robot::read(&literal, Some(&list));
+    let _ = std::fs::remove_file(&path);
+    robot
+}
+
+#[test]
+fn mimic_is_refused_on_a_moving_joint_and_ignored_on_a_locked_one() {
+    let error = read(&[]).err().expect("a moving mimic joint is refused");
+    let message = error.to_string();
+    assert!(
+        message.contains(":7: joint `finger_joint`: <mimic> is not supported"),
+        "{message}"
+    );
+    let robot = read(&["finger_joint"]).expect("a locked mimic joint is read");
+    let names: Vec<String> = robot
+        .coordinates()
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(names, ["shoulder"]);
+}
+
+#[test]
+fn a_decimal_is_a_right_angle_only_to_double_precision() {
+    let cases = [
+        ("1.5707963267948966", Some(1)),
+        ("-1.5707963267948966", Some(-1)),
+        ("1.570796326794897", Some(1)), // the next double up
+        ("3.141592653589793", Some(2)),
+        ("-3.14159265358979", None), // 4.5 ε|π| from −π: as written
+        ("4.71238898038469", Some(3)),
+        ("1.5707963267949", None), // 10 ε|π/2| off
+        ("1.57079632679", None),
+        ("1.5708", None),
+        ("1.570800", None),
+        ("0", None),
+        ("-0.0", None),
+        ("1e300", None),
+    ];
+    for (text, expected) in cases {
+        assert_eq!(right_angle(text), expected, "{text}");
+    }
+}
