@@ -9,7 +9,7 @@
 //! Ignored, as by the rigid-body algorithms of Pinocchio: visual and
 //! collision geometry, `<limit>`, `<dynamics>`, `<safety_controller>`,
 //! `<calibration>`, `<transmission>`, `<gazebo>`, `<material>`, and
-//! `<mimic>` on a locked joint. Refused with the file and line: other
+//! `<mimic>` on a fixed or locked joint. Refused with the file and line: other
 //! joint types (`planar`), `<mimic>` on a joint that moves, a
 //! tree with no single root, a link that is two joints' child, a missing
 //! or unreadable number.
@@ -177,9 +177,10 @@ impl Reader<'_> {
                 )))
             }
         };
-        // A locked joint does not move, so whom it would mimic is moot (the
-        // Panda's second finger mimics the first).
-        if let Some(mimic) = Self::child(joint, "mimic").filter(|_| !is_locked) {
+        // A fixed or locked joint does not move, so whom it would mimic is
+        // moot (the Panda's second finger mimics the first; TALOS's grippers
+        // write <mimic> on fixed joints).
+        if let Some(mimic) = Self::child(joint, "mimic").filter(|_| kind.is_some()) {
             return Err(self.error(mimic, format!("joint `{name}`: <mimic> is not supported")));
         }
         let (xyz, rpy) = self.origin(joint)?;

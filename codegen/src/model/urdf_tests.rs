@@ -15,8 +15,16 @@ const MIMIC: &str = r#"<robot name="r">
 </robot>"#;
 
 fn read(locked: &[&str]) -> syn::Result<Robot> {
-    let path = std::env::temp_dir().join(format!("constrained-mimic-{}.urdf", std::process::id()));
-    std::fs::write(&path, MIMIC).expect("the temporary directory is writable");
+    read_text(MIMIC, locked)
+}
+
+fn read_text(text: &str, locked: &[&str]) -> syn::Result<Robot> {
+    let path = std::env::temp_dir().join(format!(
+        "constrained-mimic-{}-{}.urdf",
+        std::process::id(),
+        text.len()
+    ));
+    std::fs::write(&path, text).expect("the temporary directory is writable");
     let literal = LitStr::new(&path.display().to_string(), Span::call_site());
     let list = List {
         items: locked
@@ -67,4 +75,12 @@ fn a_decimal_is_a_right_angle_only_to_double_precision() {
     for (text, expected) in cases {
         assert_eq!(right_angle(text), expected, "{text}");
     }
+}
+
+#[test]
+fn mimic_on_a_fixed_joint_is_ignored() {
+    // TALOS's grippers write <mimic> on joints of type `fixed`.
+    let text = MIMIC.replace(r#"type="prismatic""#, r#"type="fixed""#);
+    let robot = read_text(&text, &[]).expect("a fixed mimic joint is read");
+    assert_eq!(robot.coordinate_names(), ["shoulder"]);
 }
