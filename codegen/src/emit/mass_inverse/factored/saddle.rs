@@ -9,7 +9,7 @@
 //!
 //! The fallback is the runtime's dense solve, several times slower than
 //! the fast path, rather than a generated range-space solve: generated
-//! beside this one it would lengthen every build by a quarter, and in the
+//! beside this one it would lengthen every build by almost a third, and in the
 //! same function it would keep the inputs alive past the attempt and slow
 //! the fast path. A leg stretched straight, where the pivot fails, is the
 //! edge of the robot's workspace, not where it walks.
