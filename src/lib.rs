@@ -181,6 +181,10 @@ pub mod guide {
     pub mod math {
         #![doc = include_str!("../docs/math.md")]
     }
+    /// How it is checked: the contract, the tests and the test command.
+    pub mod testing {
+        #![doc = include_str!("../docs/testing.md")]
+    }
 }
 
 // The README's Rust snippets, compiled and run as doc tests so that they

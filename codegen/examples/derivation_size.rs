@@ -2,7 +2,7 @@
 //! sympy (`DERIVATION` and `SYMBOLIC`), against the size of the input and of
 //! the expression DAG, for the planar 32-link chain, a model with 520
 //! definitions (`fixtures::definition_heavy`) and compositions nested as
-//! text: the table of README's "Derivations" section.
+//! text: the sizes the derivation-text check of docs/testing.md refers to.
 //!
 //! `cargo run --release -p constrained-codegen --example derivation_size`
 

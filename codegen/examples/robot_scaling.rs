@@ -1,7 +1,8 @@
 //! Operations per `q̈` and expansion time of the Franka Panda's 1…7-joint
-//! prefixes written as bodies (`fixtures::panda`): the table of the README's
-//! robots section (`M` by the composite-rigid-body algorithm, the bias
-//! forces by recursive Newton–Euler, then the library's solve).
+//! prefixes written as bodies (`fixtures::panda`): the table of the DSL
+//! guide's rigid-body section, docs/dsl.md (`M` by the composite-rigid-body
+//! algorithm, the bias forces by recursive Newton–Euler, then the library's
+//! solve).
 //!
 //! `cargo run --release -p constrained-codegen --example robot_scaling`
 

@@ -26,7 +26,7 @@
 //! loss: the error of `q̈` grows like `ε / measure` (`A_e⁺` and `R = A_e⁺ A_I`
 //! both grow like its inverse square root), so a folded double pendulum,
 //! whose preferred columns `x₁, y₁` are nearly parallel while `A` keeps full
-//! rank, lost 8 digits before this rule; with it, 14 digits remain.
+//! rank, loses 8 digits without this rule; with it, 14 digits remain.
 //!
 //! A column or row counts when its residual, squared, exceeds
 //! [`rank_tolerance`] times the largest squared norm among the candidates.

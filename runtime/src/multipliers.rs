@@ -103,16 +103,15 @@ pub fn multipliers<T: RealField + Copy, const N: usize, const K: usize>(
     }
     let count = nalgebra::convert::<f64, T>((N + K) as f64 * 64.0);
     // Independent rows, the usual case: the one solution, by orthogonal
-    // factors of Aᵀ (no SVD: the quadruped's 13 rows took 71 µs that way
-    // with q̈, against 8 µs for q̈ alone).
+    // factors of Aᵀ (no SVD, which costs the quadruped's 13 rows several
+    // times what its q̈ costs).
     if let Some(lambda) = independent(a, force, count) {
         return Ok(lambda);
     }
     // A itself is decomposed (K columns of length N to orthogonalize, not
-    // N of length K, N − K of which must be rotated down to zero): the
-    // quadruped's q̈ and λ (13 rows, 19 coordinates) took 934 µs before, 82
-    // µs after (the first wall time, the second CPU time, on a loaded
-    // machine; q̈ alone is 24 µs); the same singular values, the same cut.
+    // N of length K, N − K of which must be rotated down to zero): for the
+    // quadruped (13 rows, 19 coordinates) an order of magnitude less work
+    // than decomposing Aᵀ, with the same singular values and the same cut.
     let svd = JacobiSvd::new(a).ok_or(DynamicsError::NonFinite)?;
     let largest = svd.singular_values().amax();
     let cut = largest * T::default_epsilon() * count;

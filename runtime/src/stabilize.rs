@@ -114,8 +114,8 @@ where
 ///
 /// Never inlined: it runs once per step, and inlined into an integrator's
 /// loop its code (two Newton solves, a generated factorization and a dense
-/// fallback) crowded out the four accelerations of an RK4 step, plain
-/// steps included (N = 4 chain: 267 ns → 408 ns).
+/// fallback) crowds out the four accelerations of an RK4 step, and plain
+/// steps, which never call it, slow down by half.
 #[inline(never)]
 pub fn project<T, S, const N: usize, const K: usize>(
     system: &S,

@@ -244,8 +244,8 @@ mod tests {
     }
 
     /// `A M^{-1/2}` of the redundant double pendulum at rest (rank 2): with
-    /// a plain `ε` convergence test the rotations cycled on rounding noise
-    /// through all sweeps and a finite input was reported as non-finite.
+    /// a plain `ε` convergence test the rotations cycle on rounding noise
+    /// through all sweeps and a finite input is reported as non-finite.
     #[test]
     fn converges_on_rank_deficient_input() {
         let x = Matrix3x4::<f64>::new(
@@ -301,7 +301,7 @@ mod tests {
             x[(0, 0)] = bad;
             assert!(JacobiSvd::new(&x).is_none(), "{bad}");
         }
-        // An infinite matrix was `Some`, and its solve NaN.
+        // An infinite matrix is `None`, not a decomposition whose solve is NaN.
         assert!(JacobiSvd::new(&SMatrix::<f64, 2, 3>::repeat(f64::INFINITY)).is_none());
         let svd = JacobiSvd::new(&redundant_pendulum_x()).unwrap();
         assert_eq!(svd.solve(&Vector3::new(1.0, f64::NAN, 0.0), 0.0), None);

@@ -11,14 +11,13 @@
 //! scalars already call `libm`), so that a host simulation and its firmware
 //! agree exactly.
 //!
-//! Measured and not kept (2026-12-03): the same FreeBSD algorithm written
-//! inline, with libm's call only for the arguments it leaves out. It is as
-//! fast alone (10–11 ns a pair) and two evaluations at one angle in one
-//! function share it (an opaque call is made twice: the cart-pole's
+//! The call is not replaced by the same FreeBSD algorithm written inline
+//! (libm's call only for the arguments it leaves out): that is as fast
+//! alone, and two evaluations at one angle in one function would share it
+//! where an opaque call is made twice (the cart-pole's
 //! `acceleration_jacobian` recomputes `sin_cos(θ)` in its tangent
-//! right-hand sides, 45–50 ns inline against 54–69 ns with the call), but
-//! the four-bar's `acceleration` took 81–107 ns inline against 62 ns with
-//! the call, in the same alternating rounds.
+//! right-hand sides), but inlined into a larger body such as the
+//! four-bar's `acceleration` it makes the whole call markedly slower.
 
 use core::any::Any;
 use nalgebra::RealField;

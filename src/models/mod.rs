@@ -4,6 +4,24 @@
 //! They are shared by the tests, the examples, the benchmarks and the docs
 //! (as sympy's `physics.mechanics.models` is), and each one's expansion and
 //! derivation is pinned by an insta snapshot. Read the sources for the DSL.
+//!
+//! Appell's particle (`h = z` and `h = x·y + sin t`), the spherical
+//! pendulum and the planar double pendulum in Cartesian coordinates, the
+//! double pendulum with a redundant third constraint, a bead on a hoop
+//! spinning at constant ω (time-dependent φ), the Chaplygin sleigh
+//! (nonholonomic, linear in velocities, turned by a torque input), a
+//! slider-crank whose guide constraint is given twice, a two-link arm in
+//! joint angles with a non-diagonal `M(q)` and its tip held on a line, an
+//! overhead crane with a saturated drive and Coulomb friction, a
+//! parallelogram four-bar in body coordinates (9 coordinates, 8 pins) with a
+//! branch point and its motion in closed form; and, given by their energies,
+//! the same four-bar in its three link angles (block-diagonal `M(q)`, 2 loop
+//! closures), a cart-pole in (s, θ) pushed by a control input (and the same
+//! cart-pole in Cartesian coordinates with the rod as a constraint), the
+//! double pendulum in its angles, a free rigid body and a heavy symmetric
+//! top in unit quaternions (singular `M`, completed by the norm
+//! constraint), and a coin rolling on a plane in Euler angles (two
+//! nonholonomic constraints).
 
 mod appell;
 mod arm;

@@ -383,20 +383,11 @@ impl<'a> Body<'a> {
     /// a positive part first (no unary minus while one exists), and where
     /// every part is negative, one product's sum factor negated instead
     /// (`−ż·(g − α)` is `ż·(α − g)`). A shared rational content is not
-    /// multiplied out once (`2·(a − b·c)`): it saved no operation on any
-    /// reference model once the rows of `A` are scaled, and the 32-link
-    /// chain ran slower with it (369 against 327 ns in one comparison).
-    /// Measured again at 16f6982 with every shared magnitude written once
-    /// (`c·(a − b)` for `c·a − c·b`): the quadruped's `q̈` 9,114 → 8,645
-    /// operations and 2.54 → 2.43 µs, but the 32-link chain's 315 → 372 ns
-    /// (three alternating rounds, `scripts/compare_acceleration.sh`) with
-    /// 1,226 → 1,101 operations; sparing the small powers of two kept the
-    /// chain and took the quadruped's gain with it (8,924 operations, 2.54 µs).
-    /// At b4f4fc9, grouping only a factored `M`'s inputs (the quadruped,
-    /// the robots, HeavyTop 363 → 344, RigidBodyQuaternion 375 → 341
-    /// operations) gained no time: the quadruped 2.494 against 2.497 µs, the
-    /// Panda 432 against 433 ns, the UR5 190 against 190 ns (two alternating
-    /// rounds each).
+    /// factored out (`2·(a − b·c)`), nor a shared magnitude (`c·(a − b)`
+    /// for `c·a − c·b`): once the rows of `A` are scaled it saves few
+    /// operations, and the longer dependency chain it makes costs the
+    /// chains more time than the fewer operations save elsewhere
+    /// (`scripts/compare_acceleration.sh` compares two revisions' code).
     fn signed_sum(&self, terms: &[(Id, Num)], c0: Num, negate: bool) -> (TokenStream, Prec) {
         let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(terms, c0)
             .into_iter()
@@ -565,7 +556,7 @@ impl<'a> Body<'a> {
     /// `[b.sqrt()]` for `e = 1/2`, `[b.powi(7)]`, `[b.powf(lit)]`.
     fn power(&self, b: Id, e: Num) -> Vec<TokenStream> {
         // Each arm renders the base once: rendering it twice and dropping
-        // one copy doubled the work per nesting level (exponential time).
+        // one copy doubles the work per nesting level (exponential time).
         let atom = || self.wrapped(b, Prec::Atom);
         match e.as_integer() {
             Some(k) if k <= MAX_UNROLLED_POWER => vec![self.wrapped(b, Prec::Unary); k as usize],

@@ -52,18 +52,14 @@ pub(in crate::emit) fn checked_motion(
     };
     let (suspect_code, fast_code) = paths.unwrap_or_default();
     let checked = ctx.private(quote!(checked));
-    // Two shapes, each the faster where it is used (measured against the
-    // solve before `Finish`, alternating binaries of one run,
+    // Two shapes, each the faster where it is used (compared by
     // scripts/compare_acceleration.sh). k ≥ 2: q̈ bound once and the check
-    // merging back into the fast path (the double pendulum, the chains,
-    // the four-bars: within 1 %, the 32-link chain 0.91×). k = 1: the
-    // suspect path complete in its own branch, with its own q̈ and return,
-    // so that nothing of the fast path lives across the runtime call and
-    // the fast path keeps no stack frame (the 1-link chain 0.89×, Appell's
-    // particle 0.93×, the sleigh 0.94×, the two-link arm 0.96×; where that
-    // path instead returned the runtime's answer through one generic call
-    // taking the force as a closure, the k ≥ 2 models were up to 1.48×
-    // slower, the closure's captures kept alive to the check).
+    // merging back into the fast path. k = 1: the suspect path complete in
+    // its own branch, with its own q̈ and return, so that nothing of the
+    // fast path lives across the runtime call and the fast path keeps no
+    // stack frame. Neither returns the runtime's answer through a generic
+    // call taking the force as a closure: the closure's captures would
+    // stay alive to the check and slow the fast path.
     // The runtime's check of `__acc`, returning its recomputation.
     let recheck = quote! {
         if let ::core::option::Option::Some(__recomputed) =

@@ -93,8 +93,8 @@ impl SubProducts {
             .filter(|set| set.values().sum::<u32>() >= 2)
             .collect();
         // Pair counts are kept up to date as sets change rather than
-        // recounted every round: recounting made the 16-link pendulum in
-        // angles expand in 2.0 s instead of 1.3 s.
+        // recounted every round: recounting is quadratic in the rounds, a
+        // large share of a big model's expansion.
         let mut counts: HashMap<(Factor, Factor), usize> = HashMap::new();
         for set in &sets {
             count_pairs(set, &mut counts, true);

@@ -26,18 +26,18 @@
 //! under three quarters of the range-space form's (the estimates count
 //! the factorizations' and solves' operations from the patterns alone;
 //! on small systems the range-space code saves more than they see: the
-//! rolling disk's estimate of 94 against 102 became 171 operations
-//! against 161), there is no saddle-point form. The
+//! rolling disk's saddle point estimated at 94 operations against 102
+//! counts 171 against 161 once generated), there is no saddle-point form. The
 //! generated code repeats the test at run time with `10⁻³` and hands the solve to the runtime's dense one where it fails
 //! (a leg stretched straight, where its rows alone no longer fix its
 //! joints), so the order is a choice of speed, never of the answer.
 //!
-//! Measured and not kept: interleaving the legs' independent eliminations
-//! (any order that keeps each pivot after those whose columns reach it
-//! has the same updates and fill) so that their chains of reciprocals
-//! overlap made the quadruped's `q̈` slower, 2.25 → 2.37 µs: the code
-//! each leg's elimination reads stays in registers only when it runs in
-//! one piece.
+//! The legs' independent eliminations are not interleaved (any order that
+//! keeps each pivot after those whose columns reach it has the same
+//! updates and fill, and interleaving would overlap their chains of
+//! reciprocals): the code each leg's elimination reads stays in registers
+//! only when it runs in one piece, and interleaved, the quadruped's `q̈`
+//! is slower.
 
 use crate::expr::{Graph, Id, Sym};
 use crate::numeric::sparsity::Structure;

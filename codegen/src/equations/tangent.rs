@@ -22,7 +22,7 @@
 //!   with `s` the column's unit vector. Chosen where the columns would
 //!   cost more than [`COLUMN_BUDGET`] times as many nodes (a dense `M(q)`
 //!   from energies, whose every entry depends on every coordinate: the
-//!   16-link pendulum's columns took 280,000 nodes and 35 MB of code).
+//!   16-link pendulum's columns would take 280,000 nodes and 35 MB of code).
 
 use crate::expr::diff::{Differentiator, Directional};
 use crate::expr::{Graph, Id, Sym};

@@ -5,7 +5,7 @@ use super::{Args, Func, Graph, Id, Node, Parity};
 use crate::expr::num::Num;
 
 /// The longest product that a product it multiplies absorbs factor by
-/// factor. Longer products stay one factor: flattening them made the
+/// factor. Longer products stay one factor: flattening them makes the
 /// derivative of a depth-n composition O(n²) in edges and text (issue 13).
 /// Eight factors cover every product of the reference models, so their
 /// canonical forms (and the snapshots) are unaffected.

@@ -49,8 +49,8 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 /// A multiply-rotate hasher (the Fx hash of rustc) for the graph's maps:
 /// their keys are nodes and ids the macro builds itself, so SipHash's
-/// protection against chosen keys buys nothing, and it was 4 % of an
-/// expansion.
+/// protection against chosen keys buys nothing and costs a few percent of
+/// an expansion.
 #[derive(Default, Clone, Copy)]
 pub struct FastHasher(u64);
 

@@ -111,8 +111,9 @@ impl Hash for Num {
 fn gcd(a: i128, b: i128) -> i128 {
     let (a, b) = (a.unsigned_abs(), b.unsigned_abs());
     // Binary (Stein's): no division, which for 128 bits is a library call
-    // (gcds and the divisions by them were a tenth of an expansion); in 64
-    // bits where both fit, as the coefficients of most models do.
+    // (gcds and the divisions by them are frequent enough in an expansion
+    // for that call to show); in 64 bits where both fit, as the
+    // coefficients of most models do.
     let g = match (u64::try_from(a), u64::try_from(b)) {
         (Ok(a), Ok(b)) => u128::from(binary_gcd_u64(a, b)),
         _ => binary_gcd_u128(a, b),

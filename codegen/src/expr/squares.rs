@@ -30,7 +30,7 @@ const MAX_CONTRIBUTIONS: usize = 64;
 
 /// The fewest operations a rewrite must save. The count over `b` and its
 /// context predicts the solve's only roughly (`r = b − A a` is factored
-/// again, rows are scaled), and a saving of one there became a loss of six
+/// again, rows are scaled), and a saving of one there is a loss of six
 /// in the redundant double pendulum's `q̈` (a square that re-expanded
 /// `x₁² + y₁² − l₁² + 1`, which `A` shares).
 const MIN_SAVING: usize = 3;

@@ -28,8 +28,8 @@ fn diagonal_reference(l: [f64; 2], b: [f64; 2], h: f64) -> (Matrix2<f64>, Matrix
     (ad, bd)
 }
 
-/// `diag(−1e308, −1e308)` over `h = 50`: `‖A h‖` overflows, and the old
-/// scaling halved `h` 1100 times into 0 and returned `(I, 0)`. Exact:
+/// `diag(−1e308, −1e308)` over `h = 50`: `‖A h‖` overflows, and a naive
+/// scaling halves `h` 1100 times into 0 and returns `(I, 0)`. Exact:
 /// `A_d = 0`, `B_d = 1e-308` (subnormal: to ~2 ulps of a normal number).
 #[test]
 fn discretize_survives_a_norm_beyond_the_range() {
@@ -54,9 +54,9 @@ fn discretize_survives_a_norm_beyond_the_range() {
     assert_eq!(discretize(&a, &b, 50.0), Err(ControlError::NonFinite));
 }
 
-/// A stiff `A` keeps its slow mode: `diag(−1e16, −1)`, `h = 1` gave
-/// `A_d[1,1] = 1` (`e^{−2⁻⁵⁵}` rounds to 1 before squaring back), and
-/// `diag(−1e12, −1)`, `h = 0.02` was off by 3.4e-6.
+/// A stiff `A` keeps its slow mode: `diag(−1e16, −1)`, `h = 1` must not
+/// give `A_d[1,1] = 1` (`e^{−2⁻⁵⁵}` rounds to 1 if squared back naively),
+/// and `diag(−1e12, −1)`, `h = 0.02` must not lose digits to the fast mode.
 #[test]
 fn discretize_keeps_the_slow_mode_of_a_stiff_matrix() {
     let b = [1.0, 1.0];
@@ -189,8 +189,9 @@ fn lqr_gain_refuses_tolerances_that_cannot_work() {
 }
 
 /// The cart-pole of `examples/cart_pole_lqr.rs` (upright, 10 ms hold):
-/// a loose tolerance (0.1) used to return the early iteration's gain,
-/// whose closed loop has ρ = 1.02. Every returned gain must stabilize:
+/// a loose tolerance (0.1) is met by an early iteration's gain, whose
+/// closed loop has ρ = 1.02, which must not be returned. Every returned
+/// gain must stabilize:
 /// ρ(A_d − B_d K) < 1, checked by the eigenvalues (an independent
 /// test from the library's certificate).
 #[test]

@@ -72,7 +72,7 @@ impl<T: RealField + Copy, const N: usize, const S: usize> Interpolant<'_, T, N, 
     /// The polynomial of [`at`](Self::at), its coefficients computed
     /// (both parts, one pass over the components per coefficient and no
     /// temporary vectors: this runs once per step with events, and for the
-    /// 32-link chain each temporary was a 512-byte copy).
+    /// 32-link chain each temporary would be a 512-byte copy).
     #[inline]
     pub fn polynomial(&self) -> Polynomial<T, N> {
         let h = self.h;

@@ -319,8 +319,8 @@ where
     let mut remaining = span(state, t_end)?;
     let mut stats = Stats::default();
     let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
-    // Time is `start + n·h`, not a running sum: in f32 with h = 1e-3 the sum
-    // drifted by ~1 % per step near t = 100 (the ulp of t), silently.
+    // Time is `start + n·h`, not a running sum: in f32 with h = 1e-3 a sum
+    // drifts by ~1 % per step near t = 100 (the ulp of t), silently.
     let start = state.t;
     let mut carried: Option<Derivative<T, N>> = None;
     while remaining > T::zero() {

@@ -1,6 +1,6 @@
 //! What `features = ["std"]` promises a user, from the outside:
 //! `constrained::nalgebra` has `std` (`DVector`, `from_vec`), `?` carries
-//! every runtime error into `Box<dyn Error>`, and the README's flow calls
+//! every runtime error into `Box<dyn Error>`, and the guides' flow calls
 //! the system's methods on the state without naming the trait.
 
 use constrained::models::{Appell, SphericalPendulum};

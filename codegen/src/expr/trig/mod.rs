@@ -40,15 +40,13 @@ const MAX_TERMS: usize = 96;
 
 /// The most monomial products one simplification may compute before it
 /// gives up and leaves the expression as it was: a bound on the time the
-/// macro spends here whatever the input. At 200,000 the 16-link pendulum's
-/// forces spent a quarter of its expansion here for no rewrite kept; at
-/// 20,000 every reference model, the Furuta pendulum and every snapshot
-/// derive the same code, and the 8-link pendulum expands in 0.31 s, not
-/// 0.45 s. At 2,000 (counted per root on the nodes it expands anew) they
-/// still do, and so do the pendulums of 2 to 16 links; the 8-link
-/// pendulum's forces, which exceed it, gave up after 10.7 ms in all at
-/// 5,000 and 5.0 ms at 2,000 (3–4 ms each at 20,000), while the 35
-/// entries it shortens take 5.3 ms.
+/// macro spends here whatever the input. At 2,000 (counted per root on the
+/// nodes it expands anew) every reference model, the Furuta pendulum,
+/// every snapshot and the pendulums of 2 to 16 links derive the same code
+/// as with a bound a hundred times higher, which spends a quarter of the
+/// 16-link pendulum's expansion on its forces for no rewrite kept; the
+/// 8-link pendulum's forces, which exceed it, give up after a few
+/// milliseconds in all, about what the 35 entries it shortens take.
 const MAX_WORK: usize = 2_000;
 
 /// A product of atoms to integer powers, sorted by atom, no zero power.
@@ -79,8 +77,8 @@ pub fn simplify_all(g: &mut Graph, roots: &[Id]) -> Vec<Id> {
 ///
 /// The set is the whole of what `q̈` is computed from, because a product
 /// `sin x·sin y` the mass matrix no longer needs may still be needed by the
-/// forces: joined in `M` alone, the 8-link pendulum's `q̈` grew from 4,672
-/// to 4,953 operations, though `M` alone went from 1,080 to 924.
+/// forces: joined in `M` alone, the 8-link pendulum's `q̈` would take 4,953
+/// operations instead of 4,672, though `M` alone would shrink from 1,080 to 924.
 pub fn join_angle_sums(g: &mut Graph, roots: &[Id]) -> Vec<Id> {
     decide(g, roots, Identities::AngleSums)
 }
@@ -150,8 +148,8 @@ fn decide(g: &mut Graph, roots: &[Id], identities: Identities) -> Vec<Id> {
 /// replaced one at a time: each node counts the roots and counted parents
 /// that use it, and only the nodes whose count rises from or falls to zero
 /// are visited. Deciding root by root over the whole of `M` and `F` by
-/// walking the set each time took the 16-link pendulum's expansion from
-/// about 2 s to over 3 s.
+/// walking the set each time would make the 16-link pendulum's expansion
+/// half as long again.
 struct SetCost<'a> {
     g: &'a Graph,
     uses: HashMap<Id, usize, FastHash>,

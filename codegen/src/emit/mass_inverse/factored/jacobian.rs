@@ -7,8 +7,7 @@
 //! `A` and `b`, so that they share its temporaries (its sines and cosines
 //! are computed once, not again by `tangent_rhs`), and solves its columns
 //! straight-line over their structural nonzeros (a column that is
-//! identically zero costs nothing): the cart-pole's Jacobian went from
-//! 57 ns to 25 ns. A larger one, or the directional form, runs one loop
+//! identically zero costs nothing). A larger one, or the directional form, runs one loop
 //! over the columns of `tangent_rhs` (the code the runtime's dense solve
 //! calls too), which grows with `n + k` rather than with the columns.
 

@@ -7,14 +7,12 @@
 //! decision is taken: a pivot that fails its test hands the solve to the
 //! runtime's dense one, which takes it.
 //!
-//! Measured on the quadruped with a leg stretched straight: the dense
-//! solve answers in 14.2 µs, against 2.5 µs on the fast path. The
-//! range-space solve generated beside this one as a cold function answered
-//! there in 4.4 µs, at no cost to the fast path, but it made the example's
-//! release build 8.1 → 10.6 s (36,328 lines against 29,516); in one function
-//! with it (a labeled block the failing pivot leaves), the fast path ran
-//! 2.64 µs, the inputs kept alive past the attempt. Neither was kept: the
-//! straight leg is the edge of the robot's workspace, not where it walks.
+//! The fallback is the runtime's dense solve, several times slower than
+//! the fast path, rather than a generated range-space solve: generated
+//! beside this one it would lengthen every build by almost a third, and in the
+//! same function it would keep the inputs alive past the attempt and slow
+//! the fast path. A leg stretched straight, where the pivot fails, is the
+//! edge of the robot's workspace, not where it walks.
 
 use super::auxiliary;
 use super::{a_entry, forces_rhs, inputs};
