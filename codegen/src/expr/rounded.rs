@@ -26,9 +26,8 @@ const LARGEST: f64 = 16.0;
 /// `(sin x, cos x)` of a constant angle, each the `f64` nearest its exact
 /// value; `None` for a non-finite or too large `x`. The angle is first the
 /// `f64` nearest `x`, as every other reader of a URDF file takes
-/// `rpy="1.5708"`: its cosine, −3.6732051033465740e-6, is what Pinocchio
-/// computes, where the decimal's own (−3.6732051033725085e-6) differs by
-/// 7e-12 of itself.
+/// `rpy="1.5708"`: its cosine is then Pinocchio's to the last bit, where
+/// the cosine of the decimal itself differs from it by 7e-12 of its size.
 pub fn sin_cos(x: Num) -> Option<(f64, f64)> {
     let value = x.to_f64();
     if !value.is_finite() || value.abs() > LARGEST {
