@@ -60,8 +60,8 @@ pub struct Partition {
     pub states: usize,
     /// How many consistent states checked the decision (the second batch).
     pub checked: usize,
-    /// How many consistent states of both batches have a rank below `rank`:
-    /// branch points, where the run time decides.
+    /// How many of the states measured have a rank below `rank` (on the
+    /// surface: branch points, where the run time decides).
     pub lower: usize,
 }
 
@@ -136,14 +136,12 @@ pub fn partition_with(eq: &Equations, seeds: Seeds) -> syn::Result<Partition> {
         .chain(&check)
         .filter(|a| rank_of(a) < rank)
         .count();
-    let position_rows: Vec<usize> = (0..eq.a.len())
-        .filter(|&i| eq.system.constraints[i].level == Level::Position)
-        .collect();
+    let (positions, _) = position_rows(eq);
     let position_rank = first
         .iter()
         .chain(&check)
         .map(|a| {
-            let rows: Vec<Vec<f64>> = position_rows.iter().map(|&i| a[i].clone()).collect();
+            let rows: Vec<Vec<f64>> = positions.iter().map(|&i| a[i].clone()).collect();
             independent_columns(&rows, RANK_TOLERANCE).len()
         })
         .max()
