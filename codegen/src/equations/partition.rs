@@ -835,4 +835,46 @@ mod tests {
             }
         }
     }
+
+    /// Two components of the surface, `x = 0` (rank 1) and `y = z = 1`
+    /// (rank 2): both are met, the rank is the larger whatever the seeds,
+    /// and the states of the smaller are counted (the run time decides
+    /// there). Only states exactly on `x = 0` count: one that Newton left
+    /// at `x ~ 1e-13` has rank 2 to the column-relative tolerance.
+    #[test]
+    fn states_of_lower_rank_leave_the_rank_to_the_largest() {
+        let eq = analyse(
+            "pub struct TwoComponents {
+                coordinates: [x, y, z],
+                mass: diag[1.0, 1.0, 1.0],
+                forces: [0.0, 0.0, 0.0],
+                constraints: [x * (y - 1.0) == 0.0, x * (z - 1.0) == 0.0],
+            }",
+        );
+        let p = partition(&eq).expect("partition");
+        assert!(p.lower > 0 && p.lower < p.states + p.checked, "{p:?}");
+        let mut rng = SplitMix64::new(0x10e5);
+        for _ in 0..50 {
+            let seeds = Seeds {
+                states: rng.next_u64(),
+                check: rng.next_u64(),
+                random: rng.next_u64(),
+            };
+            let p = partition_with(&eq, seeds).expect("partition");
+            assert_eq!((p.rank, p.position_rank), (2, 2), "{seeds:?}");
+        }
+    }
+
+    /// Columns chosen at the first batch that a state of the check batch
+    /// makes dependent are chosen again at both.
+    #[test]
+    fn columns_dependent_at_the_check_are_chosen_again() {
+        let first = vec![vec![vec![1.0, 0.5, 0.1]]];
+        assert_eq!(columns(&first, &[], 1, 3), vec![0]);
+        let check = vec![vec![vec![0.0, 1.0, 0.2]]];
+        assert_eq!(columns(&first, &check, 1, 3), vec![1]);
+        // A check that keeps them independent keeps the first choice.
+        let check = vec![vec![vec![0.3, 1.0, 0.2]]];
+        assert_eq!(columns(&first, &check, 1, 3), vec![0]);
+    }
 }
