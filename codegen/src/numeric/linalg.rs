@@ -206,4 +206,19 @@ mod rank_tests {
             "{x:?}"
         );
     }
+
+    #[test]
+    fn damped_least_squares_solves_consistent_rows_and_stays_finite_without_rank() {
+        // Three consistent rows in two unknowns: the solution, to the damping.
+        let j = vec![vec![1.0, 2.0], vec![3.0, -1.0], vec![1.0, 1.0]];
+        let x = damped_least_squares(&j, &[5.0, 1.0, 3.0], 1e-14);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-12 && (x[1] - 2.0).abs() < 1e-12,
+            "{x:?}"
+        );
+        // A zero column: that unknown is left alone, the other solved.
+        let j = vec![vec![2.0, 0.0], vec![0.0, 0.0]];
+        let x = damped_least_squares(&j, &[4.0, 1.0], 1e-12);
+        assert!((x[0] - 2.0).abs() < 1e-10 && x[1] == 0.0, "{x:?}");
+    }
 }
