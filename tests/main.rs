@@ -31,6 +31,7 @@ mod impacts;
 mod integrators;
 mod jacobian_edges;
 mod linearize;
+mod lock_rank;
 mod momentum;
 mod nonsmooth;
 mod projection;

@@ -181,3 +181,48 @@ fn redundant_on_the_surface_projects_and_integrates_like_its_twin() {
         }
     }
 }
+
+constrained::constrained_system! {
+    /// A surface of two components: `x = 0`, where the two rows are
+    /// parallel (rank 1), and the line `y = z = 1`, where they are
+    /// independent (rank 2). Pushed along `x`.
+    pub struct TwoComponents {
+        coordinates: [x, y, z],
+        mass: diag[1.0, 1.0, 1.0],
+        forces: [1.0, 0.0, 0.0],
+        constraints: [x * (y - 1.0) == 0.0, x * (z - 1.0) == 0.0],
+    }
+}
+
+/// The macro's rank is the larger of the two components' (no redundancy:
+/// a rank of 1 would let the fast solve drop an independent row unchecked
+/// on the line); on `x = 0`, where a row is redundant, the run time decides
+/// and holds `ẍ = 0` against the push; on the line the push moves `x`.
+#[test]
+fn a_state_of_lower_rank_is_decided_at_run_time() {
+    use constrained::nalgebra::SVector;
+    assert_eq!(
+        <TwoComponents<f64> as ConstrainedSystem<f64, 3, 2>>::REDUNDANCY,
+        0
+    );
+    assert!(
+        TwoComponents::<f64>::DERIVATION.contains("decided at run time"),
+        "{}",
+        TwoComponents::<f64>::DERIVATION
+    );
+    let system = TwoComponents::<f64>::new();
+    let cases = [
+        ([0.0, 0.3, -0.4], [0.0, 0.5, 0.2], [0.0, 0.0, 0.0]),
+        ([0.7, 1.0, 1.0], [0.3, 0.0, 0.0], [1.0, 0.0, 0.0]),
+    ];
+    for (q, qd, expected) in cases {
+        let (q, qd) = (SVector::from(q), SVector::from(qd));
+        let qdd = system.acceleration(&q, &qd, 0.0);
+        let (a, b) = system.constraint_matrices(&q, &qd, 0.0);
+        assert!(relative_residual(&a, &b, &qdd) <= 1e-14, "{q:?}: {qdd:?}");
+        assert!(
+            (qdd - SVector::from(expected)).amax() <= 1e-14,
+            "{q:?}: {qdd:?}"
+        );
+    }
+}

@@ -284,7 +284,14 @@ fn gibbs_appell(
         .iter()
         .map(|&e| format!("q̈[{}]", coordinates[e]))
         .collect();
-    let measured = if partition.on_surface {
+    let measured = if partition.on_surface && partition.lower > 0 {
+        // Said only where it happens, so that other models' text is as it was.
+        format!(
+            "at {} consistent states; lower at {} of them and the {} that checked it: \
+             branch points, decided at run time",
+            partition.states, partition.lower, partition.checked
+        )
+    } else if partition.on_surface {
         format!("at {} consistent states", partition.states)
     } else {
         "off the constraint surface (no consistent state was found)".to_string()

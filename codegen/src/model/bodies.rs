@@ -470,9 +470,6 @@ impl Lowerer<'_> {
         &mut self,
         c: &crate::parse::ConstraintInput,
     ) -> Option<(Vec<Id>, Option<(usize, usize, V3)>)> {
-        if let Some(rows) = self.orientation_rows(c) {
-            return Some((rows, None));
-        }
         let is_point = |e: &Expr| match e {
             Expr::Call(call) => single_ident(&call.func)
                 .is_some_and(|f| f == "position" || f == "velocity" || f == "angular_velocity"),

@@ -159,6 +159,7 @@ impl Lowerer<'_> {
             level: super::Level::Position,
             tokens,
             in_base: None,
+            branch: None,
         }
     }
 }

@@ -180,6 +180,7 @@ pub fn apply(
             level: super::Level::Velocity,
             tokens: entry.tokens.clone(),
             in_base: None,
+            branch: None,
         });
     }
 }

@@ -46,6 +46,11 @@ pub struct Constraint {
     /// For a row of `position(body, r) == c` (`c` constant) on a body
     /// under a free base: the point in the base's axes.
     pub in_base: Option<InBase>,
+    /// For a row of an orientation lock, a residual that vanishes with the
+    /// rows of the lock only on its branch (`Eᵢᵢ − 1`, `model::rotation`):
+    /// the rows vanish at half turns too, where their rank drops, and the
+    /// rank of `A` is measured on the branch.
+    pub branch: Option<Id>,
 }
 
 /// A row `φᵢ = (p + R̂ r)ᵢ − cᵢ` of a point of a body under a free base
@@ -514,6 +519,15 @@ impl Lowerer<'_> {
     /// One constraint, or three where both sides are points
     /// (`position(a, [..]) == position(b, [..])`, or `== [x, y, z]`).
     fn constraints(&mut self, c: &ConstraintInput) -> Vec<Constraint> {
+        if let Some(rows) = self.orientation_rows(c) {
+            return rows
+                .into_iter()
+                .map(|(phi, branch)| Constraint {
+                    branch: Some(branch),
+                    ..self.constraint_of(phi, &c.tokens)
+                })
+                .collect();
+        }
         let Some((rows, in_base)) = self.point_rows(c) else {
             return vec![self.constraint(c)];
         };
@@ -547,6 +561,7 @@ impl Lowerer<'_> {
                 level: Level::Position,
                 tokens: c.tokens.clone(),
                 in_base: None,
+                branch: None,
             };
         }
         self.constraint_of(phi, &c.tokens)
@@ -570,6 +585,7 @@ impl Lowerer<'_> {
             level,
             tokens: tokens.clone(),
             in_base: None,
+            branch: None,
         }
     }
 

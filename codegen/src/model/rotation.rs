@@ -18,6 +18,10 @@
 //! rows' multipliers are the torque the lock exerts on `a` in world axes
 //! (`−λ` on `b`). The rows also vanish at a half turn (`E` symmetric):
 //! the lock holds an attitude near its target, as a projection keeps it.
+//! The rows' rank drops there (to 1 of 3), so each row carries a branch
+//! residual, `Eᵢᵢ − 1`: the three vanish together only where `E = I`, and
+//! the states the rank of `A` is measured at are projected onto them too
+//! (`crate::equations::partition`).
 
 use super::lower::Lowerer;
 use crate::bodies::spatial::{self, M3, V3};
@@ -113,9 +117,9 @@ impl Lowerer<'_> {
     }
 
     /// The three rows of `orientation(a) == orientation(b)` or
-    /// `orientation(a) == [roll, pitch, yaw]`; `None` when `c` is not an
-    /// orientation lock.
-    pub fn orientation_rows(&mut self, c: &crate::parse::ConstraintInput) -> Option<Vec<Id>> {
+    /// `orientation(a) == [roll, pitch, yaw]`, each with its branch residual
+    /// `Eᵢᵢ − 1` (module docs); `None` when `c` is not an orientation lock.
+    pub fn orientation_rows(&mut self, c: &crate::parse::ConstraintInput) -> Option<Vec<(Id, Id)>> {
         let lhs = call_named(&c.lhs, "orientation")?;
         let usage = "an orientation lock is `orientation(a) == orientation(b)` or `orientation(a) == [roll, pitch, yaw]`";
         let a = match &lhs[..] {
@@ -140,7 +144,13 @@ impl Lowerer<'_> {
             }
         };
         let e = spatial::mat_mul(self.graph, &a.rotation, &spatial::transpose(&target));
-        Some(self.vee(&e).to_vec())
+        let one = self.graph.int(1);
+        let rows = self.vee(&e);
+        Some(
+            (0..3)
+                .map(|i| (rows[i], self.graph.sub(e[i][i], one)))
+                .collect(),
+        )
     }
 
     /// `[roll, pitch, yaw]` of numbers and parameters: `Rz Ry Rx`.

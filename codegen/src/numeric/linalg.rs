@@ -139,6 +139,42 @@ pub fn minimum_norm_solve(j: &[Vec<f64>], r: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// The damped least-squares step `x = (JᵀJ + μ I)⁻¹ Jᵀ r` (Levenberg–
+/// Marquardt), `μ` a `damping` fraction of the largest diagonal entry of
+/// `JᵀJ`: the least-squares `x` where `J` has full column rank, kept finite
+/// and short along directions where it has not (an overdetermined residual
+/// whose rows lose rank at its zero). `JᵀJ + μ I` is positive definite, so
+/// elimination needs no pivoting.
+pub fn damped_least_squares(j: &[Vec<f64>], r: &[f64], damping: f64) -> Vec<f64> {
+    let n = j.first().map_or(0, Vec::len);
+    let column = |c: usize| -> Vec<f64> { j.iter().map(|row| row[c]).collect() };
+    let columns: Vec<Vec<f64>> = (0..n).map(column).collect();
+    let mut normal: Vec<Vec<f64>> = (0..n)
+        .map(|a| (0..n).map(|b| dot(&columns[a], &columns[b])).collect())
+        .collect();
+    let largest = (0..n).map(|i| normal[i][i]).fold(0.0, f64::max);
+    let mu = damping * largest + f64::MIN_POSITIVE;
+    (0..n).for_each(|i| normal[i][i] += mu);
+    let mut x: Vec<f64> = columns.iter().map(|c| dot(c, r)).collect();
+    for c in 0..n {
+        let pivot = normal[c][c];
+        for i in c + 1..n {
+            let f = normal[i][c] / pivot;
+            let (above, below) = normal.split_at_mut(i);
+            below[0][c..]
+                .iter_mut()
+                .zip(&above[c][c..])
+                .for_each(|(y, p)| *y -= f * p);
+            x[i] -= f * x[c];
+        }
+    }
+    for c in (0..n).rev() {
+        let s: f64 = (c + 1..n).map(|k| normal[c][k] * x[k]).sum();
+        x[c] = (x[c] - s) / normal[c][c];
+    }
+    x
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -169,5 +205,20 @@ mod rank_tests {
             (x[0] - 1.0).abs() < 1e-14 && (x[1] - 1.0).abs() < 1e-14,
             "{x:?}"
         );
+    }
+
+    #[test]
+    fn damped_least_squares_solves_consistent_rows_and_stays_finite_without_rank() {
+        // Three consistent rows in two unknowns: the solution, to the damping.
+        let j = vec![vec![1.0, 2.0], vec![3.0, -1.0], vec![1.0, 1.0]];
+        let x = damped_least_squares(&j, &[5.0, 1.0, 3.0], 1e-14);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-12 && (x[1] - 2.0).abs() < 1e-12,
+            "{x:?}"
+        );
+        // A zero column: that unknown is left alone, the other solved.
+        let j = vec![vec![2.0, 0.0], vec![0.0, 0.0]];
+        let x = damped_least_squares(&j, &[4.0, 1.0], 1e-12);
+        assert!((x[0] - 2.0).abs() < 1e-10 && x[1] == 0.0, "{x:?}");
     }
 }
