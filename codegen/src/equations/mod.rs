@@ -7,6 +7,7 @@ pub mod in_base;
 pub mod mass_inverse;
 pub mod partition;
 pub mod saddle_point;
+mod surface;
 pub(crate) mod tangent;
 pub mod velocity;
 

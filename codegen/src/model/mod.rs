@@ -21,7 +21,7 @@ use check::MassSource;
 use ctxt::Errors;
 use lower::{Binding, Lowerer};
 use proc_macro2::Span;
-use source::{source, Lowered, Source};
+use source::{inputs_in_forces_only, source, Source};
 use std::ops::Range;
 use syn::{Attribute, Expr, Ident, Visibility};
 
@@ -383,34 +383,6 @@ fn new_graph(parameters: usize, n: usize) -> Graph {
         graph.sym(Sym::Vel(i));
     }
     graph
-}
-
-/// Control inputs may appear in `forces` only.
-fn inputs_in_forces_only(
-    lower: &mut Lowerer,
-    is_input: &dyn Fn(Sym) -> bool,
-    source: Source,
-    sections: &Sections,
-    dynamics: &Lowered,
-    constraints: &[Constraint],
-) {
-    let g = &*lower.graph;
-    let mentions = |id: Id| g.mentions(id, is_input);
-    let mass_has_input = dynamics.mass.iter().flatten().any(|&m| mentions(m))
-        || dynamics.kinetic.is_some_and(&mentions);
-    if let (true, Some(keyword)) = (mass_has_input, source.keyword()) {
-        check::input_outside_forces(lower.errors, keyword, source.what());
-    }
-    if let (Some(v), Some((keyword, _))) = (dynamics.potential, sections.potential_energy) {
-        if mentions(v) {
-            check::input_outside_forces(lower.errors, keyword, "`potential_energy`");
-        }
-    }
-    for c in constraints {
-        if mentions(c.phi) {
-            check::input_outside_forces(lower.errors, &c.tokens, "a constraint");
-        }
-    }
 }
 
 impl Lowerer<'_> {

@@ -7,7 +7,7 @@
 use super::check;
 use super::ctxt::Errors;
 use super::lower::Lowerer;
-use super::{urdf, BodyTerms, Energies, EnergyTerms, Sections};
+use super::{urdf, BodyTerms, Constraint, Energies, EnergyTerms, Sections};
 use crate::expr::{Graph, Id, Sym};
 use crate::parse::{BodyInput, List, MassInput, SystemInput};
 use syn::{Expr, Ident};
@@ -337,4 +337,32 @@ fn joined(g: &mut Graph, mut mass: Vec<Vec<Id>>, forces: Vec<Id>) -> (Vec<Vec<Id
     }
     let forces = joined.into_iter().skip(n * (n + 1) / 2).collect();
     (mass, forces)
+}
+
+/// Control inputs may appear in `forces` only.
+pub(super) fn inputs_in_forces_only(
+    lower: &mut Lowerer,
+    is_input: &dyn Fn(Sym) -> bool,
+    source: Source,
+    sections: &Sections,
+    dynamics: &Lowered,
+    constraints: &[Constraint],
+) {
+    let g = &*lower.graph;
+    let mentions = |id: Id| g.mentions(id, is_input);
+    let mass_has_input = dynamics.mass.iter().flatten().any(|&m| mentions(m))
+        || dynamics.kinetic.is_some_and(&mentions);
+    if let (true, Some(keyword)) = (mass_has_input, source.keyword()) {
+        check::input_outside_forces(lower.errors, keyword, source.what());
+    }
+    if let (Some(v), Some((keyword, _))) = (dynamics.potential, sections.potential_energy) {
+        if mentions(v) {
+            check::input_outside_forces(lower.errors, keyword, "`potential_energy`");
+        }
+    }
+    for c in constraints {
+        if mentions(c.phi) {
+            check::input_outside_forces(lower.errors, &c.tokens, "a constraint");
+        }
+    }
 }
