@@ -61,9 +61,12 @@ where
     found
 }
 
+/// Two event functions of the height.
+type Pair = fn(f64) -> [f64; 2];
+
 #[test]
 fn functions_crossing_together_are_each_reported_once_in_index_order() {
-    let cases: [(&str, fn(f64) -> [f64; 2]); 4] = [
+    let cases: [(&str, Pair); 4] = [
         ("identical", |y| [y - 0.5, y - 0.5]),
         ("proportional", |y| [y - 0.5, 2.0 * (y - 0.5)]),
         ("opposite", |y| [y - 0.5, 0.5 - y]),
