@@ -57,6 +57,11 @@ fn urdf_errors_name_the_file_and_line() {
             "`j9` is not a joint of `tests/data/two_links.urdf`",
         ),
         ("two_links.urdf", "coordinates: [x]", "remove `coordinates`"),
+        (
+            "no_joint_moves.urdf",
+            "",
+            "no_joint_moves.urdf:2: no joint of the robot moves",
+        ),
     ];
     for (file, extra, expected) in cases {
         let message = error_of(file, extra);

@@ -295,6 +295,9 @@ pub struct Symbolic {
 /// of them; a point where it cannot be evaluated counts as regular).
 fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
     let n = mass.len();
+    if n == 0 {
+        return false; // nothing to be singular (a model the checks refuse)
+    }
     let entries: Vec<Id> = mass.iter().flatten().copied().collect();
     crate::numeric::rng::sample_points(0x5e11_d3f1).all(|point| {
         let values = g.eval(&entries, &point);

@@ -248,6 +248,13 @@ impl Robot {
             l.items.iter().map(ToString::to_string).collect()
         });
         let links = reader.tree(&locked)?;
+        if links.iter().all(|l| l.joint.as_ref().is_none_or(|j| j.kind.is_none())) {
+            return Err(reader.error(
+                doc.root_element(),
+                "no joint of the robot moves (every one is fixed or locked): \
+                 a system needs at least one coordinate",
+            ));
+        }
         let known: Vec<String> = links
             .iter()
             .filter_map(|l| l.joint.as_ref())
