@@ -22,10 +22,8 @@ fn expand(path: &str) -> String {
         Err(e) => return line(path, &format!("\"error\": {:?}", e.to_string())),
     };
     let start = Instant::now();
-    let expanded = constrained_codegen::expand_with(
-        tokens,
-        constrained_codegen::Options { jacobians: false },
-    );
+    let expanded =
+        constrained_codegen::expand_with(tokens, constrained_codegen::Options { jacobians: false });
     let seconds = start.elapsed().as_secs_f64();
     match expanded {
         Err(e) => line(path, &format!("\"error\": {:?}", e.to_string())),
@@ -69,7 +67,9 @@ fn count_coordinates(text: &str) -> usize {
 
 /// Calls of `sin_cos`, `.sin()` or `.cos()` whose argument is a literal.
 fn constant_trig(text: &str) -> usize {
-    let literal_call = text.matches("sin_cos (:: constrained :: __private :: lit").count();
+    let literal_call = text
+        .matches("sin_cos (:: constrained :: __private :: lit")
+        .count();
     let method = ["lit :: < T > (", "lit::<T>("]
         .iter()
         .map(|lit| {
