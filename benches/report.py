@@ -12,6 +12,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import report_contacts
+import report_urdf_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 # Cargo's target directory (scripts/benchmarks.sh passes it: CARGO_TARGET_DIR
@@ -550,6 +551,8 @@ def main():
         "creates one for Pinocchio and MuJoCo (`benches/peers/`), compiles the peers",
         "against their wheels' headers, checks each answer against ours before timing it,",
         "and rewrites this file. Earlier runs are in the history of this file in git.",
+        "The URDF sweep's section comes from `bash scripts/urdf_sweep.sh`, run before it",
+        "(about six minutes; the same environment).",
         "",
         "## Targets",
         "",
@@ -717,6 +720,8 @@ def main():
     if peer:
         lines += peer_sections(peer, timed, chain, rk4, get, mq)
     lines += robot_section(robots)
+    # Present where scripts/urdf_sweep.sh has been run.
+    lines += report_urdf_sweep.section(report_urdf_sweep.load(TARGET / "benchmarks" / "urdf_sweep.json"))
     lines += report_contacts.section(contacts, ns)
     lines.append("")
     (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))

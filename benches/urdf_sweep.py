@@ -26,6 +26,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+import report_urdf_sweep
+
 STATES = 5
 
 
@@ -157,7 +159,7 @@ def build_and_run(name, path, n, names, model, sweep, repo):
     data = pin.Data(model)
     index = {c: model.joints[model.getJointId(c)].idx_v for c in ours}
     order = [index[c] for c in ours]
-    worst = 0.0
+    worst = {"q̈": 0.0, "M": 0.0, "τ": 0.0, "g": 0.0}
     for k, s in enumerate(ss):
         q, v, a = pinocchio_vectors(model, s)
         qdd, tau, g, m = (np.array([float(x) for x in lines[1 + 4 * k + i].split()]) for i in range(4))
@@ -167,9 +169,15 @@ def build_and_run(name, path, n, names, model, sweep, repo):
         p_g = pin.computeGeneralizedGravity(model, data, q)[order]
         p_m = pin.crba(model, data, q)
         p_m = (np.triu(p_m) + np.triu(p_m, 1).T)[np.ix_(order, order)]
-        for ours_, theirs in ((qdd, p_qdd), (tau, p_tau), (g, p_g), (m, p_m)):
+        for what, ours_, theirs in (("q̈", qdd, p_qdd), ("τ", tau, p_tau), ("g", g, p_g), ("M", m, p_m)):
             scale = max(abs(theirs).max(), 1e-300)
-            worst = max(worst, abs(ours_ - theirs).max() / scale)
+            worst[what] = max(worst[what], abs(ours_ - theirs).max() / scale)
+        # Where M is ill-conditioned two correct q̈ differ by up to its
+        # condition number times ε: both residuals say whether each solves it.
+        bias = pin.rnea(model, data, q, v, np.zeros(model.nv))[order]
+        worst["residual"] = max(worst.get("residual", 0.0),
+                                abs(m @ qdd + bias).max() / max(abs(bias).max(), 1e-300))
+        worst["condition"] = max(worst.get("condition", 0.0), float(np.linalg.cond(p_m)))
     return cpu, worst, None if ours == names else ["not in Pinocchio's order"]
 
 
@@ -209,27 +217,7 @@ def main():
         print(json.dumps(row), file=sys.stderr, flush=True)
     (target / "benchmarks").mkdir(parents=True, exist_ok=True)
     (target / "benchmarks" / "urdf_sweep.json").write_text("\n".join(json.dumps(r) for r in rows) + "\n")
-    print_table(rows)
-
-
-def print_table(rows):
-    loaded = [r for r in rows if r["pinocchio"]]
-    agree = [r for r in loaded if r.get("worst") is not None and r["worst"] <= 1e-12 and not r.get("failure")]
-    print(f"{len(rows)} URDF files; Pinocchio loads {len(loaded)}; {len(agree)} of them "
-          f"({100 * len(agree) / max(len(loaded), 1):.0f} %) agree to ≤ 1e-12.\n")
-    print("| file | joints | expansion | build CPU | operations per q̈ | worst relative difference | sines of constants |")
-    print("|---|---|---|---|---|---|---|")
-    for r in rows:
-        if not r["pinocchio"]:
-            print(f"| `{r['file']}` | – | not loaded by Pinocchio | | | | |")
-        elif not r.get("ok"):
-            print(f"| `{r['file']}` | {r['n']} | refused: {r['error']} | | | | |")
-        elif r.get("worst") is None:
-            print(f"| `{r['file']}` | {r['n']} | {r['seconds']:.2f} s | failed: {r['failure']} | {r['ops']:,} | | |")
-        else:
-            note = f" ({r['failure'][0]})" if r.get("failure") else ""
-            print(f"| `{r['file']}` | {r['n']} | {r['seconds']:.2f} s | {r['build_cpu']:.1f} s | "
-                  f"{r['ops']:,} | {r['worst']:.1e}{note} | {r['constant_trig']} |")
+    print("\n".join(report_urdf_sweep.section(rows)))
 
 
 if __name__ == "__main__":
