@@ -9,17 +9,9 @@ use constrained::integrate::{Direction, Event, Events, StepOutcome};
 use constrained::nalgebra::{Vector1, Vector3};
 use constrained::{constrained_system, DormandPrince45, IntegrationError, Rk4, State};
 
-constrained_system! {
-    /// A unit mass on a line under gravity `g`, held by a support force
-    /// `n` when resting.
-    struct Ball {
-        coordinates: [y],
-        parameters: [g],
-        inputs: [n],
-        mass: diag[1.0],
-        forces: [n - g],
-    }
-}
+// A unit mass on a line under gravity `g`, held by a support force `n`
+// when resting.
+use crate::events::Ball;
 
 constrained_system! {
     /// A uniform bar of mass `m` and length `l` in the vertical plane

@@ -13,7 +13,7 @@ use constrained::{
 constrained_system! {
     /// A ball of unit mass over the ground `y = 0`, under gravity `g` and a
     /// support force `n` (zero in flight).
-    struct Ball {
+    pub struct Ball {
         coordinates: [y],
         parameters: [g],
         inputs: [n],

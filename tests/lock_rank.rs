@@ -13,83 +13,53 @@ use constrained::floating::FreeMotion;
 use constrained::nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
 use constrained::{constrained_system, ConstrainedSystem};
 
-constrained_system! {
+/// A free brick with its attitude locked at `target`, declaring the
+/// parameters given.
+macro_rules! locked_brick {
+    ($(#[$doc:meta])* $name:ident { $($parameters:tt)* } at [$($target:tt)*]) => {
+        constrained_system! {
+            $(#[$doc])*
+            pub struct $name {
+                $($parameters)*
+                bodies: [
+                    brick {
+                        joint: free(x, y, z, qw, qx, qy, qz),
+                        mass: 2.0,
+                        com: [0.1, 0.05, -0.2],
+                        inertia: diag[0.01, 0.02, 0.03],
+                    },
+                ],
+                constraints: [orientation(brick) == [$($target)*]],
+            }
+        }
+    };
+}
+
+locked_brick! {
     /// The brick without parameters.
-    pub struct LockedBrick {
-        bodies: [
-            brick {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 2.0,
-                com: [0.1, 0.05, -0.2],
-                inertia: diag[0.01, 0.02, 0.03],
-            },
-        ],
-        constraints: [orientation(brick) == [0.0, 0.0, 0.0]],
-    }
+    LockedBrick {} at [0.0, 0.0, 0.0]
 }
 
-constrained_system! {
+locked_brick! {
     /// Five unused parameters (the reported case).
-    pub struct LockedBrickFive {
-        parameters: [p0, p1, p2, p3, p4],
-        bodies: [
-            brick {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 2.0,
-                com: [0.1, 0.05, -0.2],
-                inertia: diag[0.01, 0.02, 0.03],
-            },
-        ],
-        constraints: [orientation(brick) == [0.0, 0.0, 0.0]],
-    }
+    LockedBrickFive { parameters: [p0, p1, p2, p3, p4], } at [0.0, 0.0, 0.0]
 }
 
-constrained_system! {
+locked_brick! {
     /// Seven unused parameters.
-    pub struct LockedBrickSeven {
-        parameters: [p0, p1, p2, p3, p4, p5, p6],
-        bodies: [
-            brick {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 2.0,
-                com: [0.1, 0.05, -0.2],
-                inertia: diag[0.01, 0.02, 0.03],
-            },
-        ],
-        constraints: [orientation(brick) == [0.0, 0.0, 0.0]],
-    }
+    LockedBrickSeven { parameters: [p0, p1, p2, p3, p4, p5, p6], } at [0.0, 0.0, 0.0]
 }
 
-constrained_system! {
+locked_brick! {
     /// Ten unused parameters.
-    pub struct LockedBrickTen {
+    LockedBrickTen {
         parameters: [p0, p1, p2, p3, p4, p5, p6, p7, p8, p9],
-        bodies: [
-            brick {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 2.0,
-                com: [0.1, 0.05, -0.2],
-                inertia: diag[0.01, 0.02, 0.03],
-            },
-        ],
-        constraints: [orientation(brick) == [0.0, 0.0, 0.0]],
-    }
+    } at [0.0, 0.0, 0.0]
 }
 
-constrained_system! {
+locked_brick! {
     /// Locked at an attitude given by parameters, with two unused ones.
-    pub struct LockedBrickTurned {
-        parameters: [roll, pitch, yaw, p3, p4],
-        bodies: [
-            brick {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 2.0,
-                com: [0.1, 0.05, -0.2],
-                inertia: diag[0.01, 0.02, 0.03],
-            },
-        ],
-        constraints: [orientation(brick) == [roll, pitch, yaw]],
-    }
+    LockedBrickTurned { parameters: [roll, pitch, yaw, p3, p4], } at [roll, pitch, yaw]
 }
 
 /// A state on the lock: anywhere, moving, its attitude the target's and

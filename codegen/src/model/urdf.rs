@@ -248,7 +248,10 @@ impl Robot {
             l.items.iter().map(ToString::to_string).collect()
         });
         let links = reader.tree(&locked)?;
-        if links.iter().all(|l| l.joint.as_ref().is_none_or(|j| j.kind.is_none())) {
+        if links
+            .iter()
+            .all(|l| l.joint.as_ref().is_none_or(|j| j.kind.is_none()))
+        {
             return Err(reader.error(
                 doc.root_element(),
                 "no joint of the robot moves (every one is fixed or locked): \
