@@ -72,11 +72,7 @@ fn links_stay_inside_the_repository() {
     let mut broken = Vec::new();
     for file in documents() {
         let text = std::fs::read_to_string(&file).expect("readable");
-        let name = file
-            .strip_prefix(root)
-            .unwrap_or(&file)
-            .display()
-            .to_string();
+        let name = repository_path(&file);
         if text.contains("../shared") {
             broken.push(format!(
                 "{name}: mentions ../shared, which is not in the repository"
@@ -352,11 +348,7 @@ fn readme_and_comments_carry_no_history() {
     for dir in COMMENTED_SOURCES {
         for file in rust_files(&root.join(dir)) {
             let text = std::fs::read_to_string(&file).expect("readable");
-            let name = file
-                .strip_prefix(root)
-                .unwrap_or(&file)
-                .display()
-                .to_string();
+            let name = repository_path(&file);
             for (n, comment) in comments(&text) {
                 if let Some(what) = history_in(&comment) {
                     found.push(format!("{name}:{n}: {what}: {comment}"));
@@ -369,4 +361,13 @@ fn readme_and_comments_carry_no_history() {
         "history belongs in git:\n{}",
         found.join("\n")
     );
+}
+
+/// A file's path relative to the repository, for messages.
+fn repository_path(file: &Path) -> String {
+    let root = Path::new(ROOT);
+    file.strip_prefix(root)
+        .unwrap_or(file)
+        .display()
+        .to_string()
 }

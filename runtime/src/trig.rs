@@ -4,12 +4,11 @@
 //! each result under one ulp), for any other scalar `T::sin_cos`.
 //!
 //! With `std`, `f64::sin_cos` becomes the C library's `sincos` (LLVM joins
-//! the `sin` and `cos` calls), which on the benchmarks' machine (glibc,
-//! x86-64) takes 14–16 ns a pair against libm's 9–10 ns. Calling libm also
-//! makes a `std` build compute
-//! the same bits as the `no_std` build of the same model (where nalgebra's
-//! scalars already call `libm`), so that a host simulation and its firmware
-//! agree exactly.
+//! the `sin` and `cos` calls), which glibc on x86-64 evaluates more slowly
+//! than libm does. Calling libm also makes a `std` build compute the same
+//! bits as the `no_std` build of the same model (where nalgebra's scalars
+//! already call `libm`), so that a host simulation and its firmware agree
+//! exactly.
 //!
 //! The call is not replaced by the same FreeBSD algorithm written inline
 //! (libm's call only for the arguments it leaves out): that is as fast

@@ -295,16 +295,14 @@ pub struct Symbolic {
 /// of them; a point where it cannot be evaluated counts as regular).
 fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
     let n = mass.len();
-    if n == 0 {
-        return false; // nothing to be singular (a model the checks refuse)
-    }
     let entries: Vec<Id> = mass.iter().flatten().copied().collect();
     crate::numeric::rng::sample_points(0x5e11_d3f1).all(|point| {
         let values = g.eval(&entries, &point);
         if values.iter().any(|v| !v.is_finite()) {
             return false;
         }
-        let m: Vec<Vec<f64>> = values.chunks(n).map(<[f64]>::to_vec).collect();
+        // n = 0 (no coordinate, refused by the checks): nothing is singular.
+        let m: Vec<Vec<f64>> = values.chunks(n.max(1)).map(<[f64]>::to_vec).collect();
         crate::numeric::linalg::independent_columns(&m, 1e-12).len() < n
     })
 }

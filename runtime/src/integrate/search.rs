@@ -63,6 +63,7 @@ where
     let end = span.end();
     let tolerance = events.time_tolerance(span);
     let intervals = events.samples.saturating_add(1);
+    let mut rates = RateCache::new();
     for k in 1..=intervals {
         let s = if k == intervals {
             end.t
@@ -91,7 +92,15 @@ where
             let (tl, gl) = *reference;
             let bracket = match sign_change(gl, gs, kind.direction) {
                 Some(rising) => Some((((tl, gl), (s, gs)), rising)),
-                None if D::KNOWN => dip(events, span, i, ((tl, gl), (s, gs)), kind, stats)?,
+                None if D::KNOWN => dip(
+                    events,
+                    span,
+                    i,
+                    ((tl, gl), (s, gs)),
+                    kind,
+                    &mut rates,
+                    stats,
+                )?,
                 None => None,
             };
             let Some((bracket, rising)) = bracket else {
@@ -162,6 +171,50 @@ where
     Ok(())
 }
 
+/// The rates at the last two times asked for, all functions' at once: a
+/// grid interval's ends are shared by every function searched there and
+/// by the next interval, so each is evaluated once.
+struct RateCache<T, const E: usize> {
+    slots: [Option<(T, [T; E])>; 2],
+    next: usize,
+}
+
+impl<T: RealField + Copy, const E: usize> RateCache<T, E> {
+    fn new() -> Self {
+        RateCache {
+            slots: [None, None],
+            next: 0,
+        }
+    }
+
+    /// The rates at `t` (`None` where not known), or an error if one is
+    /// not finite.
+    fn at<F, D, const N: usize, const S: usize>(
+        &mut self,
+        events: &Events<T, F, E, D>,
+        span: &Span<'_, T, N, S>,
+        t: T,
+    ) -> Result<Option<[T; E]>, IntegrationError<T>>
+    where
+        D: Rates<T, N, E>,
+    {
+        if let Some((_, r)) = self.slots.iter().flatten().find(|(at, _)| *at == t) {
+            return Ok(Some(*r));
+        }
+        let Some(r) = events.rates.rates(&span.at(t)) else {
+            return Ok(None);
+        };
+        if let Some(event) = r.iter().position(|x| !x.is_finite()) {
+            return Err(IntegrationError::EventNotFinite { t, event });
+        }
+        if let Some(slot) = self.slots.get_mut(self.next) {
+            *slot = Some((t, r));
+        }
+        self.next = 1 - self.next;
+        Ok(Some(r))
+    }
+}
+
 /// For a function with known rates that keeps its strict sign from `a` to
 /// `b`: a bracket of its first counted crossing inside, if it dips through
 /// zero and back between them. The cubic through its values and rates at
@@ -177,6 +230,7 @@ fn dip<T, F, D, const N: usize, const S: usize, const E: usize>(
     i: usize,
     ((a, ga), (b, gb)): ((T, T), (T, T)),
     kind: &Event,
+    rates: &mut RateCache<T, E>,
     stats: &mut EventStats,
 ) -> Result<Option<Bracket<T>>, IntegrationError<T>>
 where
@@ -189,15 +243,8 @@ where
     if !(positive || (ga < zero && gb < zero)) {
         return Ok(None);
     }
-    let rate = |t: T| -> Result<Option<T>, IntegrationError<T>> {
-        let Some(rates) = events.rates.rates(&span.at(t)) else {
-            return Ok(None);
-        };
-        match rates.get(i).copied() {
-            Some(r) if r.is_finite() => Ok(Some(r)),
-            Some(_) => Err(IntegrationError::EventNotFinite { t, event: i }),
-            None => Ok(None),
-        }
+    let mut rate = |t: T| -> Result<Option<T>, IntegrationError<T>> {
+        Ok(rates.at(events, span, t)?.and_then(|r| r.get(i).copied()))
     };
     let (Some(da), Some(db)) = (rate(a)?, rate(b)?) else {
         return Ok(None);
