@@ -56,11 +56,7 @@ pub fn described(
             name: format!("{name}/{axis}"),
             parent: if k == 0 { parent } else { Some(first + k - 1) },
             placement: if k == 0 { placement } else { identity },
-            joint: Some(Joint {
-                kind: JointKind::Prismatic,
-                coordinate: coordinate + k,
-                axis: unit,
-            }),
+            joint: Some(Joint::new(JointKind::Prismatic, coordinate + k, unit)),
             inertia: Inertia::zero(g),
         });
     }
@@ -88,11 +84,11 @@ pub fn spherical(
         name: name.to_string(),
         parent,
         placement,
-        joint: Some(Joint {
-            kind: JointKind::Quaternion,
+        joint: Some(Joint::new(
+            JointKind::Quaternion,
             coordinate,
-            axis: super::spatial::zero(g),
-        }),
+            super::spatial::zero(g),
+        )),
         inertia,
     }
 }

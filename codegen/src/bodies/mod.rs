@@ -13,46 +13,13 @@
 //! differentiating the kinetic energy twice.
 
 pub(crate) mod free;
+pub(crate) mod joint;
 pub(crate) mod recursion;
 pub(crate) mod spatial;
 
 use crate::expr::{Graph, Id};
+pub use joint::{Joint, JointKind, Mimic};
 use spatial::{Inertia, Spatial, M3, V3};
-
-/// How a body moves relative to its parent.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum JointKind {
-    /// Rotation by the coordinate about the axis.
-    Revolute,
-    /// Translation by the coordinate along the axis.
-    Prismatic,
-    /// Rotation by the unit quaternion of four coordinates from
-    /// `coordinate` on, `(w, x, y, z)` (the spherical part of a free
-    /// joint, [`free`]); the axis is unused.
-    Quaternion,
-}
-
-impl Joint {
-    /// The coordinates the joint moves: one, or a quaternion's four.
-    pub fn coordinates(&self) -> std::ops::Range<usize> {
-        let count = match self.kind {
-            JointKind::Quaternion => 4,
-            _ => 1,
-        };
-        self.coordinate..self.coordinate + count
-    }
-}
-
-/// A one-degree-of-freedom joint.
-#[derive(Clone, Copy, Debug)]
-pub struct Joint {
-    /// Revolute or prismatic.
-    pub kind: JointKind,
-    /// Index of its coordinate in `q`.
-    pub coordinate: usize,
-    /// The unit axis, in the joint's (and the child's) frame.
-    pub axis: V3,
-}
 
 /// Where a frame sits in another: the columns of `rotation` are its axes,
 /// `translation` its origin, both in the other frame's coordinates.
@@ -262,27 +229,10 @@ pub fn parent_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
         .collect()
 }
 
-/// The motion of `d`'s joint: its rotation or translation by `q`.
+/// The motion of `d`'s joint: its rotation and translation by `q`.
 fn joint_motion(g: &mut Graph, d: &Described) -> Placement {
-    let Some(j) = d.joint else {
-        return Placement::identity(g);
-    };
-    let q = g.sym(crate::expr::Sym::Coord(j.coordinate));
-    match j.kind {
-        JointKind::Revolute => Placement {
-            rotation: spatial::axis_angle(g, j.axis, q),
-            translation: spatial::zero(g),
-        },
-        JointKind::Prismatic => Placement {
-            rotation: spatial::identity(g),
-            translation: spatial::scale(g, q, j.axis),
-        },
-        JointKind::Quaternion => {
-            let q = free::coordinates(g, j.coordinate);
-            Placement {
-                rotation: free::rotation(g, q),
-                translation: spatial::zero(g),
-            }
-        }
+    match d.joint {
+        Some(j) => joint::JointState::new(g, j).placement(g),
+        None => Placement::identity(g),
     }
 }

@@ -13,36 +13,13 @@
 //! its axis, or a quaternion's rotation), so that only the second involves
 //! `qᵢ`. A quaternion joint has four columns in `Sᵢ` ([`super::free`]).
 
-use super::spatial::{self, Inertia, Spatial, M3, V3};
-use super::{Body, Dynamics, JointKind, Trace, Tree};
+use super::joint::{JointKind, JointState};
+use super::spatial::{self, Inertia, Spatial};
+use super::{Body, Dynamics, Trace, Tree};
 use crate::expr::{Graph, Id, Sym};
 
-/// The joint variables of one body as expressions.
-#[derive(Clone, Copy)]
-struct JointState {
-    /// `qᵢ`.
-    q: Id,
-    /// `sin qᵢ`, `cos qᵢ` for a revolute joint.
-    sin_cos: (Id, Id),
-    /// A quaternion joint's coordinates and `R(q)`.
-    quaternion: Option<([Id; 4], M3)>,
-}
-
 fn joint_state(g: &mut Graph, body: &Body) -> JointState {
-    let q = g.sym(Sym::Coord(body.joint.coordinate));
-    let sin_cos = match body.joint.kind {
-        JointKind::Revolute => spatial::sin_cos(g, q),
-        JointKind::Prismatic | JointKind::Quaternion => (g.int(0), g.int(1)),
-    };
-    let quaternion = (body.joint.kind == JointKind::Quaternion).then(|| {
-        let q = super::free::coordinates(g, body.joint.coordinate);
-        (q, super::free::rotation(g, q))
-    });
-    JointState {
-        q,
-        sin_cos,
-        quaternion,
-    }
+    JointState::new(g, body.joint)
 }
 
 /// `Xᵢ m`: a motion vector of the parent's frame in the body's frame.
@@ -53,66 +30,26 @@ fn motion_to_child(g: &mut Graph, body: &Body, js: JointState, m: Spatial) -> Sp
     let shifted = spatial::cross(g, m.angular, p.translation);
     let v = spatial::add(g, m.linear, shifted);
     let v = spatial::mat_t_vec(g, &p.rotation, v);
-    let a = body.joint.axis;
-    match body.joint.kind {
-        JointKind::Revolute => {
-            // The child's axes are the joint's turned by qᵢ: coordinates by −qᵢ.
-            // The shifted velocity held: turned, its sums' contents would
-            // multiply every product of the sine and cosine.
-            let v = spatial::hold3(g, v);
-            let (s, c) = js.sin_cos;
-            let back = (g.neg(s), c);
-            Spatial {
-                angular: spatial::rotate(g, a, back, w),
-                linear: spatial::rotate(g, a, back, v),
-            }
-        }
-        JointKind::Prismatic => {
-            let offset = spatial::scale(g, js.q, a);
+    // Then the joint's own: v'' = R_Jᵀ (v' + ω' × p_J).
+    let v = match js.slide(g) {
+        Some(offset) => {
             let shifted = spatial::cross(g, w, offset);
-            Spatial {
-                angular: w,
-                linear: spatial::add(g, v, shifted),
-            }
+            spatial::add(g, v, shifted)
         }
-        JointKind::Quaternion => {
-            let r = quaternion_rotation(g, js);
-            Spatial {
-                angular: spatial::mat_t_vec(g, &r, w),
-                linear: spatial::mat_t_vec(g, &r, v),
-            }
-        }
-    }
-}
-
-/// A quaternion joint's `R(q)` (the identity for any other joint).
-fn quaternion_rotation(g: &mut Graph, js: JointState) -> M3 {
-    match js.quaternion {
-        Some((_, r)) => r,
-        None => spatial::identity(g),
-    }
+        None => v,
+    };
+    js.to_child(g, w, v)
 }
 
 /// `Xᵢᵀ f`: a force vector of the body's frame in the parent's frame.
 fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Spatial {
-    let a = body.joint.axis;
-    let (n, force) = match body.joint.kind {
-        JointKind::Revolute => (
-            spatial::rotate(g, a, js.sin_cos, f.angular),
-            spatial::rotate(g, a, js.sin_cos, f.linear),
-        ),
-        JointKind::Prismatic => {
-            let offset = spatial::scale(g, js.q, a);
-            let moment = spatial::cross(g, offset, f.linear);
-            (spatial::add(g, f.angular, moment), f.linear)
+    let (n, force) = js.to_parent(g, f.angular, f.linear);
+    let n = match js.slide(g) {
+        Some(offset) => {
+            let moment = spatial::cross(g, offset, force);
+            spatial::add(g, n, moment)
         }
-        JointKind::Quaternion => {
-            let r = quaternion_rotation(g, js);
-            (
-                spatial::mat_vec(g, &r, f.angular),
-                spatial::mat_vec(g, &r, f.linear),
-            )
-        }
+        None => n,
     };
     let p = &body.placement;
     let force = spatial::mat_vec(g, &p.rotation, force);
@@ -125,31 +62,14 @@ fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Sp
 }
 
 /// `Sᵢ`: the joint's motion subspace, one motion vector per coordinate.
-fn subspace(g: &mut Graph, body: &Body, js: JointState) -> Vec<(usize, Spatial)> {
-    let z = spatial::zero(g);
-    let c = body.joint.coordinate;
-    match (body.joint.kind, js.quaternion) {
-        (JointKind::Revolute, _) => vec![(
-            c,
-            Spatial {
-                angular: body.joint.axis,
-                linear: z,
-            },
-        )],
-        (JointKind::Prismatic, _) => vec![(
-            c,
-            Spatial {
-                angular: z,
-                linear: body.joint.axis,
-            },
-        )],
-        (JointKind::Quaternion, Some((q, _))) => super::free::subspace(g, q)
-            .into_iter()
-            .enumerate()
-            .map(|(k, s)| (c + k, s))
-            .collect(),
-        (JointKind::Quaternion, None) => Vec::new(),
-    }
+fn subspace(g: &mut Graph, js: JointState) -> Vec<(usize, Spatial)> {
+    js.columns(g)
+}
+
+/// `x ← x + y`, where `x` starts at 0: a coordinate that several joints
+/// move (a mimic's) sums their parts.
+fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
+    *x = if g.is_zero(*x) { y } else { g.add2(*x, y) };
 }
 
 /// `Σₖ Sₖ xₖ` for the joint's coordinates' velocities or accelerations.
@@ -202,19 +122,16 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
             Some(p) => (v[p], a[p]),
             None => (base_velocity, base_acceleration),
         };
-        let s = subspace(g, body, states[i]);
+        let s = subspace(g, states[i]);
         let vi = motion_to_child(g, body, states[i], vp);
         let vi = if terms.velocities {
             let sq = joint_motion(g, &s, Sym::Vel);
             let vi = vi.add(g, sq).held(g);
             v.push(vi);
             let coriolis = vi.cross_motion(g, sq);
-            let coriolis = match states[i].quaternion {
+            let coriolis = match states[i].column_rate(g, sq.angular) {
                 // Sᵢ varies with q: Σ Ṡₖ q̇ₖ as well.
-                Some((q, _)) => {
-                    let c = body.joint.coordinate;
-                    let rates = [0, 1, 2, 3].map(|k| g.sym(Sym::Vel(c + k)));
-                    let rate = super::free::subspace_rate(g, q, rates, sq.angular);
+                Some(rate) => {
                     let angular = spatial::add(g, coriolis.angular, rate);
                     Spatial {
                         angular,
@@ -244,8 +161,9 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
     let zero = g.int(0);
     let mut tau = vec![zero; n];
     for (i, body) in tree.bodies.iter().enumerate().rev() {
-        for (c, s) in subspace(g, body, states[i]) {
-            tau[c] = s.dot(g, f[i]);
+        for (c, s) in subspace(g, states[i]) {
+            let part = s.dot(g, f[i]);
+            accumulate(g, &mut tau[c], part);
         }
         if let Some(p) = body.parent {
             let up = force_to_parent(g, body, states[i], f[i]);
@@ -257,32 +175,13 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
 
 /// The inertia of a body about its parent's origin, in its parent's axes.
 fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inertia) -> Inertia {
-    let a = body.joint.axis;
-    let in_joint = match body.joint.kind {
-        JointKind::Revolute => {
-            let turn = |g: &mut Graph, v: V3| spatial::rotate(g, a, js.sin_cos, v);
-            let h = turn(g, inertia.first_moment);
-            // R Ī Rᵀ: each column turned, then each row; symmetric.
-            let cols = spatial::transpose(&inertia.rotational).map(|col| turn(g, col));
-            let half = spatial::transpose(&cols);
-            let full = half.map(|row| turn(g, row));
-            let rotational = [0, 1, 2].map(|r| [0, 1, 2].map(|c| full[r.min(c)][r.max(c)]));
-            Inertia {
-                mass: inertia.mass,
-                first_moment: h,
-                rotational,
-            }
-        }
-        JointKind::Prismatic => {
+    let turned = js.turn_inertia(g, inertia);
+    let in_joint = match js.slide(g) {
+        Some(offset) => {
             let identity = spatial::identity(g);
-            let offset = spatial::scale(g, js.q, a);
-            inertia.to_parent(g, &identity, offset)
+            turned.to_parent(g, &identity, offset)
         }
-        JointKind::Quaternion => {
-            let r = quaternion_rotation(g, js);
-            let zero = spatial::zero(g);
-            inertia.to_parent(g, &r, zero)
-        }
+        None => turned,
     };
     let p = &body.placement;
     in_joint.to_parent(g, &p.rotation, p.translation)
@@ -314,14 +213,15 @@ fn composite_rigid_body(
         tree.bodies
             .iter()
             .zip(&states)
-            .map(|(b, &js)| subspace(g, b, js))
+            .map(|(_, &js)| subspace(g, js))
             .collect()
     };
     for (i, own) in columns.iter().enumerate() {
         for &(ci, s) in own {
             let mut force = composite[i].apply(g, s).held(g);
             for &(ck, sk) in own {
-                m[ci][ck] = sk.dot(g, force);
+                let mik = sk.dot(g, force);
+                accumulate(g, &mut m[ci][ck], mik);
             }
             let mut j = i;
             while let Some(p) = tree.bodies[j].parent {
@@ -329,8 +229,10 @@ fn composite_rigid_body(
                 j = p;
                 for &(cj, sj) in &columns[j] {
                     let mij = sj.dot(g, force);
-                    m[ci][cj] = mij;
-                    m[cj][ci] = mij;
+                    accumulate(g, &mut m[ci][cj], mij);
+                    if ci != cj {
+                        accumulate(g, &mut m[cj][ci], mij);
+                    }
                 }
             }
         }
@@ -363,7 +265,7 @@ fn velocity_columns(
                 return Vec::new();
             }
             if js.quaternion.is_none() {
-                return subspace(g, b, js);
+                return subspace(g, js);
             }
             let mut own: Vec<(usize, Spatial)> = Vec::new();
             if let Some(x) = *base {
@@ -393,7 +295,8 @@ fn velocity_bias(g: &mut Graph, tree: &Tree, n: usize, forces: &[Spatial]) -> Ve
     let mut tau = vec![zero; n];
     for (own, f) in columns.iter().zip(forces) {
         for &(c, s) in own {
-            tau[c] = s.dot(g, *f);
+            let part = s.dot(g, *f);
+            accumulate(g, &mut tau[c], part);
         }
     }
     tau
@@ -421,18 +324,17 @@ fn energies(g: &mut Graph, tree: &Tree) -> (Id, Id) {
                 (Spatial::zero(g), world, z)
             }
         };
-        let s = subspace(g, body, states[i]);
+        let s = subspace(g, states[i]);
         let sq = joint_motion(g, &s, Sym::Vel);
         let vi = motion_to_child(g, body, states[i], vp);
         let vi = vi.add(g, sq).held(g);
         // gᵀ pᵢ = gᵀ p_λ + g_λᵀ rᵢ, rᵢ the origin in the parent's frame.
-        let origin = match body.joint.kind {
-            JointKind::Revolute | JointKind::Quaternion => body.placement.translation,
-            JointKind::Prismatic => {
-                let slide = spatial::scale(g, states[i].q, body.joint.axis);
+        let origin = match states[i].slide(g) {
+            Some(slide) => {
                 let slide = spatial::mat_vec(g, &body.placement.rotation, slide);
                 spatial::add(g, body.placement.translation, slide)
             }
+            None => body.placement.translation,
         };
         let rise = spatial::dot(g, gp.linear, origin);
         let hi = g.add2(hp, rise);

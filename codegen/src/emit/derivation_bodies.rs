@@ -202,16 +202,29 @@ fn joint(body: &Body, coordinates: &[String], p: &Printer) -> String {
         .coordinates()
         .filter_map(|c| coordinates.get(c).map(String::as_str))
         .collect();
-    match j.kind {
-        JointKind::Revolute => format!("revolute about {}, {}", vector(p, j.axis), names.join("")),
-        JointKind::Prismatic => {
-            format!("prismatic along {}, {}", vector(p, j.axis), names.join(""))
-        }
-        JointKind::Quaternion => format!(
-            "spherical, quaternion ({}) turned by R(q/|q|), ω = k G(q) q̇ (S = [kG; 0], k = 2/|q|²)",
-            names.join(", ")
+    let pitch = match j.kind {
+        JointKind::Helical { pitch } => p.print(pitch),
+        _ => String::new(),
+    };
+    let separator = if j.kind == JointKind::Quaternion {
+        ", "
+    } else {
+        ""
+    };
+    // A mimic's value is `m q + o` of the coordinate it follows.
+    let value = match j.mimic {
+        Some(m) => format!(
+            "{}·{} + {}",
+            p.print(m.multiplier),
+            names.join(separator),
+            p.print(m.offset)
         ),
-    }
+        None => names.join(separator),
+    };
+    j.template()
+        .replace("{axis}", &vector(p, j.axis))
+        .replace("{pitch}", &pitch)
+        .replace("{q}", &value)
 }
 
 /// The joint frame in the parent's: `p` and `R`, omitted where they are

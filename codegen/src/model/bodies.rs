@@ -185,11 +185,7 @@ impl Lowerer<'_> {
         };
         let coordinate = coordinates.iter().position(|c| c == q)?;
         let axis = self.axis(axis)?;
-        Some(Joint {
-            kind,
-            coordinate,
-            axis,
-        })
+        Some(Joint::new(kind, coordinate, axis))
     }
 
     /// A joint's axis, normalised (exactly, where it is a constant).

@@ -360,11 +360,7 @@ impl Robot {
                 let norm2 = spatial::dot(g, axis, axis);
                 let norm = g.sqrt(norm2);
                 coordinate += 1;
-                Joint {
-                    kind,
-                    coordinate: coordinate - 1,
-                    axis: axis.map(|c| g.div(c, norm)),
-                }
+                Joint::new(kind, coordinate - 1, axis.map(|c| g.div(c, norm)))
             });
             out.push(described(link, parent, placement, joint, inertia));
             index.push(out.len() - 1);
