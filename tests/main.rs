@@ -30,6 +30,7 @@ mod hostile_runtime;
 mod impacts;
 mod integrators;
 mod jacobian_edges;
+mod joints;
 mod linearize;
 mod lock_rank;
 mod momentum;

@@ -35,7 +35,7 @@ fn bodies_errors_say_why() {
             "the joint's axis is zero",
         ),
         (
-            "a { joint: planar(q1, [0.0, 0.0, 1.0]) }".to_string(),
+            "a { joint: cylindrical(q1, [0.0, 0.0, 1.0]) }".to_string(),
             "expected `revolute(q, axis)`",
         ),
         (

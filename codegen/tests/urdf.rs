@@ -21,14 +21,14 @@ fn error_of(file: &str, extra: &str) -> String {
 fn urdf_errors_name_the_file_and_line() {
     let cases = [
         (
-            "planar.urdf",
+            "spherical.urdf",
             "",
-            "tests/data/planar.urdf:5: joint `slide` of type `planar` is not supported",
+            "tests/data/spherical.urdf:5: joint `slide` of type `spherical` is not supported",
         ),
         (
             "mimic.urdf",
             "",
-            "tests/data/mimic.urdf:9: joint `j2`: <mimic> is not supported",
+            "tests/data/mimic.urdf:9: joint `j2`: <mimic> names `j9`, which is not a joint of the file",
         ),
         (
             "bad_number.urdf",

@@ -184,7 +184,7 @@ impl JointState {
 
     /// `R_Jᵀ ω`, `R_Jᵀ v`: the two parts of a motion vector of the joint
     /// frame in the child's axes.
-    pub fn to_child(&self, g: &mut Graph, w: V3, v: V3) -> Spatial {
+    pub fn to_child(self, g: &mut Graph, w: V3, v: V3) -> Spatial {
         if let Some((_, r)) = self.quaternion {
             return Spatial {
                 angular: spatial::mat_t_vec(g, &r, w),
@@ -212,7 +212,7 @@ impl JointState {
 
     /// `R_J n`, `R_J f`: the two parts of a force vector of the child's
     /// axes in the joint frame's.
-    pub fn to_parent(&self, g: &mut Graph, n: V3, f: V3) -> (V3, V3) {
+    pub fn to_parent(self, g: &mut Graph, n: V3, f: V3) -> (V3, V3) {
         if let Some((_, r)) = self.quaternion {
             return (spatial::mat_vec(g, &r, n), spatial::mat_vec(g, &r, f));
         }

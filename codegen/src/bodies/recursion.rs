@@ -229,10 +229,10 @@ fn composite_rigid_body(
                 j = p;
                 for &(cj, sj) in &columns[j] {
                     let mij = sj.dot(g, force);
+                    // Two bodies: both Mᵢⱼ and Mⱼᵢ of the joints' matrix,
+                    // the same entry when a mimic shares its coordinate.
                     accumulate(g, &mut m[ci][cj], mij);
-                    if ci != cj {
-                        accumulate(g, &mut m[cj][ci], mij);
-                    }
+                    accumulate(g, &mut m[cj][ci], mij);
                 }
             }
         }

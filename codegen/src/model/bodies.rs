@@ -8,6 +8,7 @@
 //!     upper {                              // the body's name
 //!         parent: world,                   // optional: `world` or an earlier body
 //!         joint: revolute(q1, [0, 0, 1]),  // revolute | prismatic (coordinate, axis) | fixed
+//!                                          // | helical(q, axis, pitch) | planar(x, y, θ)
 //!                                          // | spherical(qw, qx, qy, qz)
 //!                                          // | free(x, y, z, qw, qx, qy, qz) (`super::free`)
 //!         xyz: [0, 0, 0.333],              // optional: the joint frame's origin in the parent's
@@ -38,6 +39,9 @@ pub fn joint_coordinates(bodies: &List<BodyInput>) -> Vec<Ident> {
         .flat_map(
             |b| match (super::free::quaternion_call(b), field(b, "joint")) {
                 (Some((call, _)), _) => super::free::names(call),
+                (None, Some(Expr::Call(call))) if is_call(call, "planar") => {
+                    call.args.iter().filter_map(single_ident).cloned().collect()
+                }
                 (None, Some(Expr::Call(call))) => call
                     .args
                     .first()
@@ -49,6 +53,25 @@ pub fn joint_coordinates(bodies: &List<BodyInput>) -> Vec<Ident> {
             },
         )
         .collect()
+}
+
+/// The joints a body may have, as written, for messages: one row of the
+/// joint model (`crate::bodies::joint`) each, and `fixed`.
+const JOINTS: &str = "`revolute(q, axis)` (or `continuous`), `prismatic(q, axis)`, \
+                      `helical(q, axis, pitch)`, `planar(x, y, θ)`, `fixed`, \
+                      `spherical(qw, qx, qy, qz)` or `free(x, y, z, qw, qx, qy, qz)`, \
+                      with `axis` `[x, y, z]`";
+
+fn is_call(call: &syn::ExprCall, name: &str) -> bool {
+    single_ident(&call.func).is_some_and(|f| f == name)
+}
+
+/// The `planar(x, y, θ)` call of a body's joint, if it is one.
+fn planar_call(body: &BodyInput) -> Option<&syn::ExprCall> {
+    match field(body, "joint")? {
+        Expr::Call(call) if is_call(call, "planar") => Some(call),
+        _ => None,
+    }
 }
 
 fn field<'a>(body: &'a BodyInput, name: &str) -> Option<&'a Expr> {
@@ -89,6 +112,15 @@ impl Lowerer<'_> {
                 let inertia = self.inertia(body);
                 let at = (parent, placement, described.len());
                 let parts = self.quaternion_bodies(call, coordinates, &name, at, inertia);
+                names.extend(parts.iter().map(|d| d.name.clone()));
+                described.extend(parts);
+                continue;
+            }
+            if let Some(call) = planar_call(body) {
+                let placement = self.placement(body);
+                let inertia = self.inertia(body);
+                let at = (parent, placement, described.len());
+                let parts = self.planar_bodies(call, coordinates, &name, at, inertia);
                 names.extend(parts.iter().map(|d| d.name.clone()));
                 described.extend(parts);
                 continue;
@@ -151,14 +183,49 @@ impl Lowerer<'_> {
         }
     }
 
+    /// `planar(x, y, θ)`: the body and the two massless slides under it
+    /// (`crate::bodies::joint::planar`); nothing, with an error, unless it
+    /// names three coordinates.
+    fn planar_bodies(
+        &mut self,
+        call: &syn::ExprCall,
+        coordinates: &[Ident],
+        name: &str,
+        at: (Option<usize>, Placement, usize),
+        inertia: Inertia,
+    ) -> Vec<Described> {
+        let index: Option<Vec<usize>> = call
+            .args
+            .iter()
+            .map(|a| single_ident(a).and_then(|q| coordinates.iter().position(|c| c == q)))
+            .collect();
+        let Some(index) = index.filter(|i| i.len() == 3) else {
+            self.errors.spanned(
+                call,
+                "expected `planar(x, y, θ)`: the body's origin in its joint frame's \
+                 x–y plane and its turn about that frame's z axis, three coordinates",
+            );
+            return Vec::new();
+        };
+        let mut parts = crate::bodies::joint::planar(self.graph, name, at, index[0], inertia);
+        // Each slide and the turn keep the coordinate the call names.
+        for (part, &c) in parts.iter_mut().zip(&index) {
+            if let Some(j) = part.joint.as_mut() {
+                j.coordinate = c;
+            }
+        }
+        parts
+    }
+
     fn joint(&mut self, body: &BodyInput, coordinates: &[Ident]) -> Option<Joint> {
         let Some(e) = field(body, "joint") else {
-            self.errors.at(body.span, format!("body `{}` has no `joint` (`revolute(q, axis)`, `prismatic(q, axis)`, `fixed`, `spherical(qw, qx, qy, qz)` or `free(x, y, z, qw, qx, qy, qz)`)", body.name));
+            self.errors.at(
+                body.span,
+                format!("body `{}` has no `joint` ({JOINTS})", body.name),
+            );
             return None;
         };
-        let usage = "expected `revolute(q, axis)`, `prismatic(q, axis)`, `fixed`, \
-                     `spherical(qw, qx, qy, qz)` or `free(x, y, z, qw, qx, qy, qz)`, \
-                     with `axis` `[x, y, z]`";
+        let usage = format!("expected {JOINTS}");
         if single_ident(e).is_some_and(|k| k == "fixed") {
             return None;
         }
@@ -166,20 +233,25 @@ impl Lowerer<'_> {
             self.errors.spanned(e, usage);
             return None;
         };
-        let kind = match single_ident(&call.func).map(ToString::to_string).as_deref() {
-            Some("revolute" | "continuous") => JointKind::Revolute,
-            Some("prismatic") => JointKind::Prismatic,
+        let args: Vec<&Expr> = call.args.iter().collect();
+        let kind = match (
+            single_ident(&call.func).map(ToString::to_string).as_deref(),
+            args.len(),
+        ) {
+            (Some("revolute" | "continuous"), 2) => JointKind::Revolute,
+            (Some("prismatic"), 2) => JointKind::Prismatic,
+            (Some("helical"), 3) => {
+                let pitch = self.lower(args[2]);
+                self.constant_of_state(args[2], pitch, "the pitch");
+                JointKind::Helical { pitch }
+            }
             _ => {
-                self.errors.spanned(&call.func, usage);
+                self.errors.spanned(e, usage);
                 return None;
             }
         };
-        let args: Vec<&Expr> = call.args.iter().collect();
-        let (Some(q), Some(axis), 2) = (
-            args.first().and_then(|a| single_ident(a)),
-            args.get(1),
-            args.len(),
-        ) else {
+        let (Some(q), Some(axis)) = (args.first().and_then(|a| single_ident(a)), args.get(1))
+        else {
             self.errors.spanned(e, usage);
             return None;
         };

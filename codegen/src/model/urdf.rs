@@ -39,7 +39,7 @@
 //! MuJoCo and Drake read it.
 
 use crate::bodies::spatial::{self, Inertia, V3};
-use crate::bodies::{Described, Joint, JointKind, Placement};
+use crate::bodies::{Described, Joint, JointKind, Mimic, Placement};
 use crate::expr::num::Num;
 use crate::expr::Graph;
 use crate::parse::List;
@@ -71,14 +71,53 @@ struct Inertial {
     inertia: [String; 6],
 }
 
+/// How a URDF joint moves: a row of the joint model
+/// (`crate::bodies::joint`), or one of the chains of rows.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Moves {
+    /// `revolute`, `continuous` or `prismatic`: one coordinate.
+    One(JointKind),
+    /// `floating`: a free joint, seven coordinates.
+    Floating,
+    /// `planar`: three coordinates.
+    Planar,
+}
+
+impl Moves {
+    /// The coordinates' suffixes after the joint's name (none: the name).
+    fn suffixes(self) -> &'static [&'static str] {
+        match self {
+            Moves::One(_) => &[""],
+            Moves::Floating => &FLOATING,
+            Moves::Planar => &PLANAR,
+        }
+    }
+}
+
+/// A `<mimic>` on a joint that moves, as written, with its line.
+struct MimicSpec {
+    joint: String,
+    multiplier: String,
+    offset: String,
+    line: u32,
+}
+
 struct JointSpec {
     name: String,
-    /// `None`: fixed (or locked); `Some(JointKind::Quaternion)`: a
-    /// `floating` joint, lowered as a free joint.
-    kind: Option<JointKind>,
+    /// `None`: fixed (or locked).
+    kind: Option<Moves>,
     xyz: [String; 3],
     rpy: [String; 3],
     axis: [String; 3],
+    /// `Some`: the joint follows another's coordinate and has none itself.
+    mimic: Option<MimicSpec>,
+}
+
+impl JointSpec {
+    /// The coordinates the joint has: none for a fixed, locked or mimic joint.
+    fn own(&self) -> Option<Moves> {
+        self.kind.filter(|_| self.mimic.is_none())
+    }
 }
 
 type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
@@ -167,22 +206,23 @@ impl Reader<'_> {
         let is_locked = locked.contains(&identifier(&name));
         let kind = match self.attribute(joint, "type")?.as_str() {
             _ if is_locked => None,
-            "revolute" | "continuous" => Some(JointKind::Revolute),
-            "prismatic" => Some(JointKind::Prismatic),
-            "floating" => Some(JointKind::Quaternion),
+            "revolute" | "continuous" => Some(Moves::One(JointKind::Revolute)),
+            "prismatic" => Some(Moves::One(JointKind::Prismatic)),
+            "floating" => Some(Moves::Floating),
+            "planar" => Some(Moves::Planar),
             "fixed" => None,
             other => {
                 return Err(self.error(joint, format!(
-                    "joint `{name}` of type `{other}` is not supported (revolute, continuous, prismatic, fixed, floating)"
+                    "joint `{name}` of type `{other}` is not supported (revolute, continuous, prismatic, planar, floating, fixed)"
                 )))
             }
         };
         // A fixed or locked joint does not move, so whom it would mimic is
-        // moot (the Panda's second finger mimics the first; TALOS's grippers
-        // write <mimic> on fixed joints).
-        if let Some(mimic) = Self::child(joint, "mimic").filter(|_| kind.is_some()) {
-            return Err(self.error(mimic, format!("joint `{name}`: <mimic> is not supported")));
-        }
+        // moot (TALOS's grippers write <mimic> on fixed joints).
+        let mimic = match Self::child(joint, "mimic").filter(|_| kind.is_some()) {
+            Some(m) => Some(self.mimic(m, &name, kind)?),
+            None => None,
+        };
         let (xyz, rpy) = self.origin(joint)?;
         let axis = match Self::child(joint, "axis") {
             Some(a) => self.numbers(a, "xyz", "1 0 0")?,
@@ -194,12 +234,37 @@ impl Reader<'_> {
             xyz,
             rpy,
             axis,
+            mimic,
+        })
+    }
+
+    /// `<mimic joint multiplier offset>` on the joint `name`, which moves
+    /// as `kind`: only a one-coordinate joint can follow one coordinate.
+    fn mimic(&self, m: Node, name: &str, kind: Option<Moves>) -> syn::Result<MimicSpec> {
+        if !matches!(kind, Some(Moves::One(_))) {
+            return Err(self.error(
+                m,
+                format!(
+                    "joint `{name}`: only a revolute, continuous or prismatic joint can <mimic>"
+                ),
+            ));
+        }
+        let [multiplier] = self.numbers::<1>(m, "multiplier", "1")?;
+        let [offset] = self.numbers::<1>(m, "offset", "0")?;
+        Ok(MimicSpec {
+            joint: self.attribute(m, "joint")?,
+            multiplier,
+            offset,
+            line: self.doc.text_pos_at(m.range().start).row,
         })
     }
 }
 
 /// The suffixes of a floating joint's coordinates.
-const FLOATING: [&str; 7] = ["x", "y", "z", "qw", "qx", "qy", "qz"];
+const FLOATING: [&str; 7] = ["_x", "_y", "_z", "_qw", "_qx", "_qy", "_qz"];
+
+/// The suffixes of a planar joint's coordinates.
+const PLANAR: [&str; 3] = ["_x", "_y", "_theta"];
 
 fn zeros() -> [String; 3] {
     ["0".into(), "0".into(), "0".into()]
@@ -250,7 +315,7 @@ impl Robot {
         let links = reader.tree(&locked)?;
         if links
             .iter()
-            .all(|l| l.joint.as_ref().is_none_or(|j| j.kind.is_none()))
+            .all(|l| l.joint.as_ref().is_none_or(|j| j.own().is_none()))
         {
             return Err(reader.error(
                 doc.root_element(),
@@ -270,41 +335,33 @@ impl Robot {
                 format!("`{unknown}` is not a joint of `{file}`"),
             ));
         }
-        Ok(Robot {
+        let robot = Robot {
             path: full.display().to_string(),
             links,
             span: path.span(),
-        })
+        };
+        robot.check_mimics(&file)?;
+        Ok(robot)
     }
 
     /// The coordinates: the movable joints' names, in the tree's order (a
-    /// floating joint's seven suffixed, see the module docs).
+    /// floating or planar joint's suffixed, see the module docs; a mimic
+    /// joint has none).
     pub fn coordinates(&self) -> Vec<Ident> {
-        let mut out = Vec::new();
-        for j in self.links.iter().filter_map(|l| l.joint.as_ref()) {
-            let name = identifier(&j.name);
-            match j.kind {
-                Some(JointKind::Quaternion) => out.extend(
-                    FLOATING.map(|suffix| Ident::new(&format!("{name}_{suffix}"), self.span)),
-                ),
-                Some(_) => out.push(Ident::new(&name, self.span)),
-                None => {}
-            }
-        }
-        out
+        self.coordinate_names()
+            .iter()
+            .map(|name| Ident::new(&identifier(name), self.span))
+            .collect()
     }
 
     /// The coordinates' names as the file writes the joints' (a floating
-    /// joint's seven suffixed), in the order of [`coordinates`](Self::coordinates).
+    /// or planar joint's suffixed), in the order of
+    /// [`coordinates`](Self::coordinates).
     pub fn coordinate_names(&self) -> Vec<String> {
         let mut out = Vec::new();
         for j in self.links.iter().filter_map(|l| l.joint.as_ref()) {
-            match j.kind {
-                Some(JointKind::Quaternion) => {
-                    out.extend(FLOATING.map(|suffix| format!("{}_{suffix}", j.name)))
-                }
-                Some(_) => out.push(j.name.clone()),
-                None => {}
+            if let Some(moves) = j.own() {
+                out.extend(moves.suffixes().iter().map(|s| format!("{}{s}", j.name)));
             }
         }
         out
@@ -314,25 +371,36 @@ impl Robot {
     pub fn quaternions(&self) -> Vec<usize> {
         let mut coordinate = 0;
         let mut out = Vec::new();
-        for kind in self.links.iter().filter_map(|l| l.joint.as_ref()?.kind) {
-            if kind == JointKind::Quaternion {
+        for moves in self.links.iter().filter_map(|l| l.joint.as_ref()?.own()) {
+            if moves == Moves::Floating {
                 out.push(coordinate + 3);
-                coordinate += 7;
-            } else {
-                coordinate += 1;
             }
+            coordinate += moves.suffixes().len();
         }
         out
+    }
+
+    /// The first coordinate of each link's joint (`None`: it has none).
+    fn first_coordinates(&self) -> Vec<Option<usize>> {
+        let mut coordinate = 0;
+        self.links
+            .iter()
+            .map(|l| {
+                let moves = l.joint.as_ref()?.own()?;
+                coordinate += moves.suffixes().len();
+                Some(coordinate - moves.suffixes().len())
+            })
+            .collect()
     }
 
     /// The links as bodies, numbers lowered into `g`; a floating joint's
     /// child as the four bodies of a free joint.
     pub fn described(&self, g: &mut Graph) -> Vec<Described> {
-        let mut coordinate = 0;
+        let first = self.first_coordinates();
         let mut out: Vec<Described> = Vec::with_capacity(self.links.len());
-        // Each link's index in `out` (its own body, after a free joint's slides).
+        // Each link's index in `out` (its own body, after a chain's slides).
         let mut index: Vec<usize> = Vec::with_capacity(self.links.len());
-        for link in &self.links {
+        for (link, &coordinate) in self.links.iter().zip(&first) {
             let parent = link.parent.and_then(|p| index.get(p).copied());
             let inertia = inertia(g, link.inertial.as_ref());
             let Some(j) = &link.joint else {
@@ -347,25 +415,101 @@ impl Robot {
                 rotation: spatial::rpy(g, a),
                 translation,
             };
-            if j.kind == Some(JointKind::Quaternion) {
-                let at = (parent, placement, out.len());
-                let parts = crate::bodies::free::described(g, &link.name, at, coordinate, inertia);
-                coordinate += 7;
-                out.extend(parts);
-                index.push(out.len() - 1);
-                continue;
+            let at = (parent, placement, out.len());
+            match (j.kind, coordinate) {
+                (Some(Moves::Floating), Some(c)) => {
+                    out.extend(crate::bodies::free::described(
+                        g, &link.name, at, c, inertia,
+                    ));
+                }
+                (Some(Moves::Planar), Some(c)) => {
+                    out.extend(crate::bodies::joint::planar(g, &link.name, at, c, inertia));
+                }
+                (Some(Moves::One(kind)), _) => {
+                    let (placement, joint) = self.one(g, j, kind, coordinate, &first, placement);
+                    out.push(described(link, parent, placement, joint, inertia));
+                }
+                _ => out.push(described(link, parent, placement, None, inertia)),
             }
-            let joint = j.kind.map(|kind| {
-                let axis = numbers(g, &j.axis);
-                let norm2 = spatial::dot(g, axis, axis);
-                let norm = g.sqrt(norm2);
-                coordinate += 1;
-                Joint::new(kind, coordinate - 1, axis.map(|c| g.div(c, norm)))
-            });
-            out.push(described(link, parent, placement, joint, inertia));
             index.push(out.len() - 1);
         }
         out
+    }
+
+    /// A one-coordinate joint: its own coordinate, or the one it mimics
+    /// (`first` holds each link's). A mimic of a joint that does not move
+    /// (fixed or locked) is held where it follows it, at its offset: its
+    /// placement takes that motion, and it has no joint.
+    fn one(
+        &self,
+        g: &mut Graph,
+        j: &JointSpec,
+        kind: JointKind,
+        coordinate: Option<usize>,
+        first: &[Option<usize>],
+        placement: Placement,
+    ) -> (Placement, Option<Joint>) {
+        let axis = numbers(g, &j.axis);
+        let norm2 = spatial::dot(g, axis, axis);
+        let norm = g.sqrt(norm2);
+        let axis = axis.map(|c| g.div(c, norm));
+        let Some(m) = &j.mimic else {
+            return (placement, coordinate.map(|c| Joint::new(kind, c, axis)));
+        };
+        let followed = self
+            .links
+            .iter()
+            .position(|l| l.joint.as_ref().is_some_and(|p| p.name == m.joint))
+            .and_then(|i| first[i]);
+        let multiplier = number(g, &m.multiplier);
+        let offset = number(g, &m.offset);
+        match followed {
+            Some(c) => {
+                let mut joint = Joint::new(kind, c, axis);
+                joint.mimic = Some(Mimic { multiplier, offset });
+                (placement, Some(joint))
+            }
+            None => {
+                let held =
+                    crate::bodies::joint::JointState::at(g, Joint::new(kind, 0, axis), offset);
+                let motion = held.placement(g);
+                (placement.then(g, &motion), None)
+            }
+        }
+    }
+
+    /// Every `<mimic>` follows a joint of the file with one coordinate or
+    /// none, and not another mimic.
+    fn check_mimics(&self, file: &str) -> syn::Result<()> {
+        let joints: Vec<&JointSpec> = self.links.iter().filter_map(|l| l.joint.as_ref()).collect();
+        for j in &joints {
+            let Some(m) = &j.mimic else { continue };
+            let at = |why: String| {
+                syn::Error::new(
+                    self.span,
+                    format!("{file}:{}: joint `{}`: {why}", m.line, j.name),
+                )
+            };
+            let Some(followed) = joints.iter().find(|p| p.name == m.joint) else {
+                return Err(at(format!(
+                    "<mimic> names `{}`, which is not a joint of the file",
+                    m.joint
+                )));
+            };
+            if followed.mimic.is_some() {
+                return Err(at(format!(
+                    "<mimic> names `{}`, itself a mimic: name the joint it follows",
+                    m.joint
+                )));
+            }
+            if matches!(followed.own(), Some(Moves::Floating | Moves::Planar)) {
+                return Err(at(format!(
+                    "<mimic> names `{}`, which has more than one coordinate",
+                    m.joint
+                )));
+            }
+        }
+        Ok(())
     }
 }
 

@@ -39,13 +39,9 @@ fn read_text(text: &str, locked: &[&str]) -> syn::Result<Robot> {
 }
 
 #[test]
-fn mimic_is_refused_on_a_moving_joint_and_ignored_on_a_locked_one() {
-    let error = read(&[]).err().expect("a moving mimic joint is refused");
-    let message = error.to_string();
-    assert!(
-        message.contains(":7: joint `finger_joint`: <mimic> is not supported"),
-        "{message}"
-    );
+fn a_mimic_joint_has_no_coordinate_of_its_own() {
+    let robot = read(&[]).expect("a moving mimic joint is read");
+    assert_eq!(robot.coordinate_names(), ["shoulder"]);
     let robot = read(&["finger_joint"]).expect("a locked mimic joint is read");
     let names: Vec<String> = robot
         .coordinates()
@@ -53,6 +49,38 @@ fn mimic_is_refused_on_a_moving_joint_and_ignored_on_a_locked_one() {
         .map(ToString::to_string)
         .collect();
     assert_eq!(names, ["shoulder"]);
+}
+
+#[test]
+fn a_mimic_follows_one_coordinate_of_a_joint_that_is_no_mimic() {
+    let cases = [
+        // A mimic of a mimic.
+        (
+            MIMIC.replace(
+                "</robot>",
+                r#"<link name="tip"/><joint name="tip_joint" type="revolute"><parent link="finger"/><child link="tip"/>
+<mimic joint="finger_joint"/></joint></robot>"#,
+            ),
+            ":10: joint `tip_joint`: <mimic> names `finger_joint`, itself a mimic",
+        ),
+        // A joint of three coordinates followed.
+        (
+            MIMIC.replace(r#"type="revolute""#, r#"type="planar""#),
+            ":7: joint `finger_joint`: <mimic> names `shoulder`, which has more than one coordinate",
+        ),
+        // A mimic that is not one coordinate.
+        (
+            MIMIC.replace(r#"type="prismatic""#, r#"type="floating""#),
+            ":7: joint `finger_joint`: only a revolute, continuous or prismatic joint can <mimic>",
+        ),
+    ];
+    for (text, expected) in cases {
+        let message = read_text(&text, &[]).err().map(|e| e.to_string());
+        assert!(
+            message.as_deref().is_some_and(|m| m.contains(expected)),
+            "{message:?}"
+        );
+    }
 }
 
 #[test]
