@@ -9,7 +9,11 @@ those that expand, a crate of their own built in release mode (its CPU
 time), whose `acceleration` (τ = 0), `mass_matrix`, `inverse_dynamics` and
 `gravity_forces` at 5 pseudo-random states are compared with `aba`, `crba`,
 `rnea` and `computeGeneralizedGravity`, each vector and matrix by the
-joints' names, relative to its largest entry. Writes
+joints' names, relative to its largest entry. `<mimic>` is read as
+Pinocchio reads it with `mimic=True` (the mimic joint follows the joint it
+names and has no coordinate); `aba` refuses such models, so there the
+reference q̈ solves `crba` q̈ = −`rnea`(q, v, 0). SWEEP_ONLY, if set, is a
+substring of the files to sweep. Writes
 <target>/benchmarks/urdf_sweep.json and prints the Markdown table.
 
 Usage: urdf_sweep.py ROBOTS_DIR TARGET_DIR REPO_DIR
@@ -33,14 +37,23 @@ STATES = 5
 
 def pinocchio_model(path):
     try:
-        return pin.buildModelFromUrdf(str(path))
+        return pin.buildModelFromUrdf(str(path), mimic=True)
     except Exception as error:  # noqa: BLE001 - any refusal is reported
         return error
 
 
+def is_mimic(joint):
+    return joint.shortname() == "JointModelMimic"
+
+
+def coordinates(model):
+    """The joints with coordinates of their own, by name, in Pinocchio's order."""
+    return [n for n, j in zip(list(model.names)[1:], list(model.joints)[1:]) if not is_mimic(j)]
+
+
 def states(model):
     """Per state, each joint's (q, v, a) by name; pseudo-random, fixed."""
-    names = list(model.names)[1:]
+    names = coordinates(model)
     out = []
     for k in range(STATES):
         out.append({
@@ -56,6 +69,8 @@ def pinocchio_vectors(model, state):
     q, v, a = np.zeros(model.nq), np.zeros(model.nv), np.zeros(model.nv)
     for jid in range(1, model.njoints):
         joint, name = model.joints[jid], model.names[jid]
+        if is_mimic(joint):  # follows its joint: Pinocchio fills it in
+            continue
         angle, rate, acc = state[name]
         if joint.nq == 2:  # a continuous joint: (cos, sin)
             q[joint.idx_q], q[joint.idx_q + 1] = math.cos(angle), math.sin(angle)
@@ -164,7 +179,12 @@ def build_and_run(name, path, n, names, model, sweep, repo):
         q, v, a = pinocchio_vectors(model, s)
         qdd, tau, g, m = (np.array([float(x) for x in lines[1 + 4 * k + i].split()]) for i in range(4))
         m = m.reshape((n, n), order="F")
-        p_qdd = pin.aba(model, data, q, v, np.zeros(model.nv))[order]
+        if any(is_mimic(j) for j in model.joints):
+            full = pin.crba(model, data, q)
+            full = np.triu(full) + np.triu(full, 1).T
+            p_qdd = np.linalg.solve(full, -pin.rnea(model, data, q, v, np.zeros(model.nv)))[order]
+        else:
+            p_qdd = pin.aba(model, data, q, v, np.zeros(model.nv))[order]
         p_tau = pin.rnea(model, data, q, v, a)[order]
         p_g = pin.computeGeneralizedGravity(model, data, q)[order]
         p_m = pin.crba(model, data, q)
@@ -186,7 +206,8 @@ def main():
     sweep = target / "urdf-sweep"
     tool = sweep / "tool" / "release" / "urdf-sweep"
     rows = []
-    for path in sorted(robots.rglob("*.urdf")):
+    only = os.environ.get("SWEEP_ONLY", "")
+    for path in sorted(p for p in robots.rglob("*.urdf") if only in str(p)):
         name = path.stem.replace("-", "_").replace(".", "_")
         label = str(path.relative_to(robots))
         model = pinocchio_model(path)
@@ -206,7 +227,7 @@ def main():
             names = None
             cpu, worst, failure = None, None, None
             try:
-                names = [c for c in list(model.names)[1:]]
+                names = coordinates(model)
                 cpu, worst, failure = build_and_run(name, path, expanded["n"], names, model, sweep, repo)
             except Exception as error:  # noqa: BLE001 - reported in the table
                 failure = [f"{type(error).__name__}: {error}"]

@@ -179,6 +179,24 @@ fn a_screw_alone_by_hand() {
 }
 
 #[test]
+fn the_derivation_names_each_joint_as_the_table_does() {
+    let screw = Screw::<f64>::DERIVATION;
+    assert!(
+        screw.contains("helical about [0, 0, 1], pitch 1/20, theta"),
+        "{screw}"
+    );
+    let mimic = Mimic::<f64>::DERIVATION;
+    assert!(
+        mimic.contains("revolute about [0, 1, 0], 1/2·turn + 3/10"),
+        "{mimic}"
+    );
+    assert!(
+        mimic.contains("prismatic along [0, 1, 0], −left_finger + 1/100"),
+        "{mimic}"
+    );
+}
+
+#[test]
 fn a_screw_is_a_turn_and_a_slide_along_one_axis() {
     let (screw, split) = (ScrewArm::<f64>::new(), ScrewArmSplit::<f64>::new());
     // (q1, θ) ↦ (q1, s = θ, d = h θ).

@@ -110,17 +110,48 @@ impl Joint {
         self.coordinate..self.coordinate + self.kind.coordinate_count()
     }
 
-    /// How the derivation names the joint, `{axis}`, `{pitch}` and `{q}`
-    /// standing for the printed axis, pitch and coordinates.
-    pub fn template(&self) -> &'static str {
+    /// How the derivation names the joint, given how to print a number
+    /// and a vector, and the names of its coordinates (a mimic's value is
+    /// `m q + o` of the coordinate it follows).
+    pub fn describe(
+        &self,
+        number: &dyn Fn(Id) -> String,
+        vector: &dyn Fn(V3) -> String,
+        names: &[&str],
+    ) -> String {
+        let q = match self.mimic {
+            Some(m) => mimic_value(&number(m.multiplier), &names.join(""), &number(m.offset)),
+            None => names.join(""),
+        };
+        let axis = vector(self.axis);
         match self.kind {
-            JointKind::Revolute => "revolute about {axis}, {q}",
-            JointKind::Prismatic => "prismatic along {axis}, {q}",
-            JointKind::Helical { .. } => "helical about {axis}, pitch {pitch}, {q}",
-            JointKind::Quaternion => {
-                "spherical, quaternion ({q}) turned by R(q/|q|), ω = k G(q) q̇ (S = [kG; 0], k = 2/|q|²)"
+            JointKind::Revolute => format!("revolute about {axis}, {q}"),
+            JointKind::Prismatic => format!("prismatic along {axis}, {q}"),
+            JointKind::Helical { pitch } => {
+                format!("helical about {axis}, pitch {}, {q}", number(pitch))
             }
+            JointKind::Quaternion => format!(
+                "spherical, quaternion ({}) turned by R(q/|q|), ω = k G(q) q̇ (S = [kG; 0], k = 2/|q|²)",
+                names.join(", ")
+            ),
         }
+    }
+}
+
+/// `m·q + o` as a person writes it: no `1·`, `−q` for `m = −1`, no `+ 0`,
+/// `− x` for a negative offset.
+fn mimic_value(m: &str, q: &str, o: &str) -> String {
+    let scaled = match m {
+        "1" => q.to_string(),
+        "-1" | "−1" => format!("−{q}"),
+        _ => format!("{m}·{q}"),
+    };
+    match o {
+        "0" => scaled,
+        _ => match o.strip_prefix('-').or_else(|| o.strip_prefix('−')) {
+            Some(magnitude) => format!("{scaled} − {magnitude}"),
+            None => format!("{scaled} + {o}"),
+        },
     }
 }
 

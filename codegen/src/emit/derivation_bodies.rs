@@ -8,7 +8,7 @@
 //! bodies.
 
 use crate::bodies::spatial::{Spatial, M3, V3};
-use crate::bodies::{Body, JointKind, Trace};
+use crate::bodies::{Body, Trace};
 use crate::expr::num::Num;
 use crate::expr::print::{subscript, Printer};
 use crate::expr::{Func, Graph, Id, Node};
@@ -202,29 +202,7 @@ fn joint(body: &Body, coordinates: &[String], p: &Printer) -> String {
         .coordinates()
         .filter_map(|c| coordinates.get(c).map(String::as_str))
         .collect();
-    let pitch = match j.kind {
-        JointKind::Helical { pitch } => p.print(pitch),
-        _ => String::new(),
-    };
-    let separator = if j.kind == JointKind::Quaternion {
-        ", "
-    } else {
-        ""
-    };
-    // A mimic's value is `m q + o` of the coordinate it follows.
-    let value = match j.mimic {
-        Some(m) => format!(
-            "{}·{} + {}",
-            p.print(m.multiplier),
-            names.join(separator),
-            p.print(m.offset)
-        ),
-        None => names.join(separator),
-    };
-    j.template()
-        .replace("{axis}", &vector(p, j.axis))
-        .replace("{pitch}", &pitch)
-        .replace("{q}", &value)
+    j.describe(&|id| p.print(id), &|v| vector(p, v), &names)
 }
 
 /// The joint frame in the parent's: `p` and `R`, omitted where they are

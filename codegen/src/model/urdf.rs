@@ -4,15 +4,21 @@
 //! Read: `<link>` (its `<inertial>`: `<origin xyz rpy>`, `<mass value>`,
 //! `<inertia ixx ixy ixz iyy iyz izz>`, about the inertial frame's origin,
 //! which is the centre of mass), `<joint>` of type `revolute`,
-//! `continuous`, `prismatic`, `fixed` or `floating` (`<origin xyz rpy>`,
-//! `<parent link>`, `<child link>`, `<axis xyz>`, default `1 0 0`).
-//! Ignored, as by the rigid-body algorithms of Pinocchio: visual and
-//! collision geometry, `<limit>`, `<dynamics>`, `<safety_controller>`,
-//! `<calibration>`, `<transmission>`, `<gazebo>`, `<material>`, and
-//! `<mimic>` on a fixed or locked joint. Refused with the file and line: other
-//! joint types (`planar`), `<mimic>` on a joint that moves, a
-//! tree with no single root, a link that is two joints' child, a missing
-//! or unreadable number.
+//! `continuous`, `prismatic`, `planar`, `fixed` or `floating` (`<origin
+//! xyz rpy>`, `<parent link>`, `<child link>`, `<axis xyz>`, default
+//! `1 0 0`), and `<mimic joint multiplier offset>` on a one-coordinate
+//! joint: it follows the joint it names, `m q + o`, with no coordinate of
+//! its own (`crate::bodies::joint`), as Pinocchio's `buildModel(..,
+//! mimic=True)` reads it; a mimic of a joint that does not move is held at
+//! its offset. Ignored, as by the rigid-body algorithms of Pinocchio:
+//! visual and collision geometry, `<limit>`, `<dynamics>`,
+//! `<safety_controller>`, `<calibration>`, `<transmission>`, `<gazebo>`,
+//! `<material>`, `<mimic>` on a fixed or locked joint, and a planar
+//! joint's `<axis>` (its plane is the joint frame's `x`–`y`, as in
+//! Pinocchio). Refused with the file and line: other joint types, a mimic
+//! of a mimic or of a joint with several coordinates, a tree with no
+//! single root, a link that is two joints' child, a missing or unreadable
+//! number.
 //!
 //! The joints become the coordinates, named after the joints (characters
 //! other than letters, digits and `_` replaced by `_`), in Pinocchio's
@@ -28,7 +34,9 @@
 //! (`crate::bodies::free`): seven coordinates, named after the joint with
 //! `_x`, `_y`, `_z` (the child's origin in the joint frame) and `_qw`,
 //! `_qx`, `_qy`, `_qz` (its attitude, a unit quaternion whose norm is a
-//! constraint), in that order — `w` first, unlike Pinocchio's `q`.
+//! constraint), in that order — `w` first, unlike Pinocchio's `q`. A
+//! `planar` joint has three, `_x`, `_y`, `_theta`
+//! (`crate::bodies::joint::planar`).
 //!
 //! Numbers are read as written, exactly (decimals are rationals until the
 //! generated code rounds them once). One exception keeps exact zeros: an
