@@ -284,18 +284,7 @@ fn gibbs_appell(
         .iter()
         .map(|&e| format!("q̈[{}]", coordinates[e]))
         .collect();
-    let measured = if partition.on_surface && partition.lower > 0 {
-        // Said only where it happens, so that other models' text is as it was.
-        format!(
-            "at {} consistent states; lower at {} of them and the {} that checked it: \
-             branch points, decided at run time",
-            partition.states, partition.lower, partition.checked
-        )
-    } else if partition.on_surface {
-        format!("at {} consistent states", partition.states)
-    } else {
-        "off the constraint surface (no consistent state was found)".to_string()
-    };
+    let measured = measured_at(partition);
     let _ = writeln!(
         w,
         "Explicit Gibbs–Appell equation ({}):  rank A = {r} ({measured}); eliminated: {}",
@@ -319,9 +308,32 @@ fn gibbs_appell(
         if r == 1 { "" } else { "s" },
         if eq.a.len() > r { " (chosen at run time)" } else { "" }
     );
-    let Some(RankOne { rows, .. }) = rank_one else {
-        return;
-    };
+    if let Some(RankOne { rows, .. }) = rank_one {
+        rank_one_rows(w, eq, rows, p);
+    }
+}
+
+/// Where the partition's rank was measured: at how many consistent states
+/// (and at how many of them it was lower), or off the constraint surface.
+fn measured_at(partition: &Partition) -> String {
+    if partition.on_surface && partition.lower > 0 {
+        // Said only where it happens, so that other models' text is as it was.
+        format!(
+            "at {} consistent states; lower at {} of them and the {} that checked it: \
+             branch points, decided at run time",
+            partition.states, partition.lower, partition.checked
+        )
+    } else if partition.on_surface {
+        format!("at {} consistent states", partition.states)
+    } else {
+        "off the constraint surface (no consistent state was found)".to_string()
+    }
+}
+
+/// For rank 1, the system's every row: the row of `A q̈ = b` on top (or
+/// where several could be, which is chosen at run time), then the rows of
+/// `B` with their right-hand sides.
+fn rank_one_rows(w: &mut String, eq: &Equations, rows: &[(Vec<Id>, Id)], p: &Printer) {
     let line = |ids: &[Id]| {
         ids.iter()
             .map(|&x| p.print(x))
