@@ -100,110 +100,99 @@ impl Public {
     /// and `try_linearize`: the `Result` forms are the body where
     /// `acceleration` can fail; else the total forms wrap the `try_` ones.
     fn methods(&self, docs: &Docs, fallible: bool) -> (TokenStream, TokenStream) {
-        if fallible {
-            self.fallible_methods(docs)
-        } else {
-            self.total_methods(docs)
-        }
+        (
+            self.jacobian_methods(docs, fallible),
+            self.linearize_methods(docs, fallible),
+        )
     }
 
-    /// [`Public::methods`] where `acceleration` can fail: the plain names
-    /// return the `Result` of the body, and the `try_` names repeat them.
-    fn fallible_methods(&self, docs: &Docs) -> (TokenStream, TokenStream) {
+    /// `acceleration_jacobian` and `try_acceleration_jacobian`: where
+    /// `acceleration` can fail the plain name holds the body and the `try_`
+    /// name repeats it; else the `try_` name holds it and the plain name
+    /// answers NaN for its `Err`.
+    fn jacobian_methods(&self, docs: &Docs, fallible: bool) -> TokenStream {
         let Public {
             params,
             args,
             body,
             jac_result,
-            lin_result,
-            linearization,
+            not_a_number,
+            jacobians,
             ..
         } = self;
-        let Docs {
-            jacobian: jac_doc,
-            linearize: lin_doc,
-            try_jacobian: try_jac_doc,
-            try_linearize: try_lin_doc,
-        } = docs;
-        (
+        let (doc, try_doc) = (&docs.jacobian, &docs.try_jacobian);
+        if fallible {
             quote! {
-                #[doc = #jac_doc]
+                #[doc = #doc]
                 #[inline]
                 pub fn acceleration_jacobian(&self, #params) -> #jac_result {
                     #body
                 }
 
-                #[doc = #try_jac_doc]
+                #[doc = #try_doc]
                 #[inline]
                 pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
                     self.acceleration_jacobian(#args)
                 }
-            },
+            }
+        } else {
             quote! {
-                #[doc = #lin_doc]
-                #[inline]
-                pub fn linearize(&self, #params) -> #lin_result {
-                    self.acceleration_jacobian(#args) .map(|j| #linearization(&j))
-                }
-
-                #[doc = #try_lin_doc]
-                #[inline]
-                pub fn try_linearize(&self, #params) -> #lin_result {
-                    self.linearize(#args)
-                }
-            },
-        )
-    }
-
-    /// [`Public::methods`] where `acceleration` cannot fail: the `try_`
-    /// names return the `Result` of the body, and the plain names answer
-    /// NaN where it is an `Err` (a derivative that does not exist).
-    fn total_methods(&self, docs: &Docs) -> (TokenStream, TokenStream) {
-        let Public {
-            params,
-            args,
-            body,
-            jac_result,
-            lin_result,
-            linearization,
-            not_a_number,
-            jacobians,
-            linear,
-        } = self;
-        let Docs {
-            jacobian: jac_doc,
-            linearize: lin_doc,
-            try_jacobian: try_jac_doc,
-            try_linearize: try_lin_doc,
-        } = docs;
-        (
-            quote! {
-                #[doc = #try_jac_doc]
+                #[doc = #try_doc]
                 #[inline]
                 pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
                     #body
                 }
 
-                #[doc = #jac_doc]
+                #[doc = #doc]
                 #[inline]
                 pub fn acceleration_jacobian(&self, #params) -> #jacobians {
                     self.try_acceleration_jacobian(#args).unwrap_or_else(|_| #not_a_number)
                 }
-            },
+            }
+        }
+    }
+
+    /// `linearize` and `try_linearize`, from the Jacobian methods: both the
+    /// `Result` where `acceleration` can fail; else `linearize` is total.
+    fn linearize_methods(&self, docs: &Docs, fallible: bool) -> TokenStream {
+        let Public {
+            params,
+            args,
+            lin_result,
+            linearization,
+            linear,
+            ..
+        } = self;
+        let (doc, try_doc) = (&docs.linearize, &docs.try_linearize);
+        if fallible {
             quote! {
-                #[doc = #lin_doc]
+                #[doc = #doc]
+                #[inline]
+                pub fn linearize(&self, #params) -> #lin_result {
+                    self.acceleration_jacobian(#args) .map(|j| #linearization(&j))
+                }
+
+                #[doc = #try_doc]
+                #[inline]
+                pub fn try_linearize(&self, #params) -> #lin_result {
+                    self.linearize(#args)
+                }
+            }
+        } else {
+            quote! {
+                #[doc = #doc]
                 #[inline]
                 pub fn linearize(&self, #params) -> #linear {
                     #linearization(&self.acceleration_jacobian(#args))
                 }
 
-                #[doc = #try_lin_doc]
+                #[doc = #try_doc]
                 #[inline]
                 pub fn try_linearize(&self, #params) -> #lin_result {
                     self.try_acceleration_jacobian(#args) .map(|j| #linearization(&j))
                 }
-            },
-        )
+            }
+        }
     }
 }
 

@@ -21,6 +21,7 @@
 
 use crate::emit::context::{Context, Inputs};
 use crate::emit::ldlt::StructuredLdlt;
+use crate::emit::solve::corrected;
 use crate::equations::mass_inverse::{Auxiliary, Factored};
 use crate::expr::Id;
 use proc_macro2::TokenStream;
@@ -103,7 +104,12 @@ pub(super) fn prelude(
     dynamics: bool,
     correct: bool,
 ) -> TokenStream {
-    let correction = (correct && ctx.k > 0).then(|| corrected_b(ctx.k));
+    // `b + db` rebinding the locals `__b{r}` where `gauss` is given a
+    // correction.
+    let correction = (correct && ctx.k > 0).then(|| {
+        let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
+        corrected(&b, &[])
+    });
     let (trace, norm) = traces(ctx, f);
     let entries = auxiliary_mass(ctx, f, mass);
     let forces = match (&f.auxiliary, dynamics) {
@@ -127,22 +133,6 @@ pub(super) fn prelude(
         let __saux = __trace / __norm;
         #entries
         #forces
-    }
-}
-
-/// `b + db` rebinding the locals `__b{r}` of the `k` rows where `gauss` is
-/// given a correction, `b` as it is where not.
-fn corrected_b(k: usize) -> TokenStream {
-    let b: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
-    let db: Vec<Ident> = (0..k).map(|r| Context::local("db", r)).collect();
-    quote! {
-        let (#(#b,)*) = match correction {
-            ::core::option::Option::Some(__db) => {
-                let [[#(#db),*]] = __db.data.0;
-                (#(#b + #db,)*)
-            }
-            ::core::option::Option::None => (#(#b,)*),
-        };
     }
 }
 
