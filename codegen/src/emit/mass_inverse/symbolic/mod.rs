@@ -200,26 +200,7 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         ),
         None => (to_multipliers, None),
     };
-    // λ of the rows as written: the solve's are those of the scaled rows
-    // `Â = D A` with `M` divided by a common mass `μ` (the force is
-    // `μ Âᵀ λ̂ = Aᵀ (μ D λ̂)`), so `λ = μ D λ̂`.
-    let mass = d.common_mass.map(|m| body.expr(m));
-    let lambda: Vec<TokenStream> = (0..ctx.k)
-        .map(|j| {
-            let l = Context::local("lam", j);
-            let scaled = match d.scale.get(j) {
-                Some(&s) if !s.is_one() => {
-                    let (s, _) = crate::emit::body::literal(s);
-                    quote!(#s * #l)
-                }
-                _ => quote!(#l),
-            };
-            match &mass {
-                Some(m) => quote!((#m) * (#scaled)),
-                None => scaled,
-            }
-        })
-        .collect();
+    let lambda = written_multipliers(ctx, d, &body);
     let value = checked_motion(
         ctx,
         Some(ldlt.suspect(ctx.generic_rank)),
@@ -238,6 +219,29 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
             #value
         }
     }
+}
+
+/// `λ` of the rows as written: the solve's are those of the scaled rows
+/// `Â = D A` with `M` divided by a common mass `μ` (the force is
+/// `μ Âᵀ λ̂ = Aᵀ (μ D λ̂)`), so `λ = μ D λ̂`.
+fn written_multipliers(ctx: &Context, d: &Symbolic, body: &Body) -> Vec<TokenStream> {
+    let mass = d.common_mass.map(|m| body.expr(m));
+    (0..ctx.k)
+        .map(|j| {
+            let l = Context::local("lam", j);
+            let scaled = match d.scale.get(j) {
+                Some(&s) if !s.is_one() => {
+                    let (s, _) = crate::emit::body::literal(s);
+                    quote!(#s * #l)
+                }
+                _ => quote!(#l),
+            };
+            match &mass {
+                Some(m) => quote!((#m) * (#scaled)),
+                None => scaled,
+            }
+        })
+        .collect()
 }
 
 /// Whether a row scaled down (`D`, d < 1) overflows in the model's own
