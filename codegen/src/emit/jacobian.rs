@@ -244,7 +244,20 @@ impl Docs {
                  ([`try_linearize`](Self::try_linearize) says why)."
             }
         );
-        let (try_jacobian, try_linearize) = if fallible {
+        let (try_jacobian, try_linearize) = Docs::try_forms(fallible, errors);
+        Docs {
+            jacobian,
+            linearize,
+            try_jacobian,
+            try_linearize,
+        }
+    }
+
+    /// The docs of `try_acceleration_jacobian` and `try_linearize`: the
+    /// same methods under the `Result`-valued names where `acceleration`
+    /// can fail, else the total methods' failures as values (`errors`).
+    fn try_forms(fallible: bool, errors: &str) -> (String, String) {
+        if fallible {
             (
                 " [`acceleration_jacobian`](Self::acceleration_jacobian), under the \
                  name every system has for the `Result`-valued Jacobian."
@@ -263,12 +276,6 @@ impl Docs {
                  [`try_acceleration_jacobian`](Self::try_acceleration_jacobian)."
                     .to_owned(),
             )
-        };
-        Docs {
-            jacobian,
-            linearize,
-            try_jacobian,
-            try_linearize,
         }
     }
 }

@@ -104,33 +104,41 @@ fn squares(g: &mut Graph, factorer: &Factorer, root: Id) -> Option<Id> {
         let form = match lagrange_reduction(&entries) {
             Some(squares) if squares.len() < entries.len() => {
                 shorter = true;
-                let items: Vec<(Id, Num)> = squares
-                    .into_iter()
-                    .map(|(d, l)| {
-                        let items: Vec<(Id, Num)> = l
-                            .into_iter()
-                            .map(|(v, c)| (g.sym(Sym::Vel(v)), c))
-                            .collect();
-                        let linear = g.linear_combination(items);
-                        (g.pown(linear, Num::int(2)), d)
-                    })
-                    .collect();
-                g.linear_combination(items)
+                sum_of_squares(g, squares)
             }
-            _ => {
-                let items: Vec<(Id, Num)> = entries
-                    .into_iter()
-                    .map(|(i, j, c)| {
-                        let (vi, vj) = (g.sym(Sym::Vel(i)), g.sym(Sym::Vel(j)));
-                        (g.mul2(vi, vj), c)
-                    })
-                    .collect();
-                g.linear_combination(items)
-            }
+            _ => quadratic_form(g, entries),
         };
         rest.push((g.mul2(term, form), Num::ONE));
     }
     shorter.then(|| g.linear_combination(rest))
+}
+
+/// `Σ dₖ·(Σ lₖⱼ·q̇ⱼ)²` in the graph.
+fn sum_of_squares(g: &mut Graph, squares: Vec<Square>) -> Id {
+    let items: Vec<(Id, Num)> = squares
+        .into_iter()
+        .map(|(d, l)| {
+            let items: Vec<(Id, Num)> = l
+                .into_iter()
+                .map(|(v, c)| (g.sym(Sym::Vel(v)), c))
+                .collect();
+            let linear = g.linear_combination(items);
+            (g.pown(linear, Num::int(2)), d)
+        })
+        .collect();
+    g.linear_combination(items)
+}
+
+/// `Σ c·q̇ᵢ·q̇ⱼ` in the graph, as it was: the form no reduction shortened.
+fn quadratic_form(g: &mut Graph, entries: Vec<(usize, usize, Num)>) -> Id {
+    let items: Vec<(Id, Num)> = entries
+        .into_iter()
+        .map(|(i, j, c)| {
+            let (vi, vj) = (g.sym(Sym::Vel(i)), g.sym(Sym::Vel(j)));
+            (g.mul2(vi, vj), c)
+        })
+        .collect();
+    g.linear_combination(items)
 }
 
 /// `root` as a polynomial of degree at most two in the velocities, or
