@@ -129,7 +129,7 @@ fn sum_of_squares(g: &mut Graph, squares: Vec<Square>) -> Id {
     g.linear_combination(items)
 }
 
-/// `Σ c·q̇ᵢ·q̇ⱼ` in the graph, as it was: the form no reduction shortened.
+/// `Σ c·q̇ᵢ·q̇ⱼ` in the graph, unreduced: the form where no reduction is shorter.
 fn quadratic_form(g: &mut Graph, entries: Vec<(usize, usize, Num)>) -> Id {
     let items: Vec<(Id, Num)> = entries
         .into_iter()
