@@ -99,9 +99,17 @@ fn overflow_free(eq: &equations::Equations) -> syn::Result<()> {
         ));
     }
     let found = expr::finite::non_finite(&sys.graph);
-    let Some(&first) = found.first() else {
+    if found.is_empty() {
         return Ok(());
-    };
+    }
+    Err(non_finite_error(sys, &found))
+}
+
+/// The error for the constants of `sys` that are not finite where generated
+/// code evaluates them (`found`, in arena order, not empty): spanned on
+/// the first constraint, else the mass matrix, that holds one, and on the
+/// system's name where no input does.
+fn non_finite_error(sys: &model::System, found: &[expr::finite::NonFinite]) -> syn::Error {
     let names = |v: &[syn::Ident]| v.iter().map(ToString::to_string).collect::<Vec<_>>();
     let (coordinates, parameters) = (names(&sys.coordinates), names(&sys.parameters));
     let printer = expr::print::Printer::new(
@@ -124,9 +132,8 @@ fn overflow_free(eq: &equations::Equations) -> syn::Result<()> {
             bad.value
         )
     };
-    // Spanned on the input that holds one, where one does.
     let mut flagged = vec![false; sys.graph.len()];
-    for bad in &found {
+    for bad in found {
         flagged[bad.node.index()] = true;
     }
     let within = |root: expr::Id| {
@@ -138,13 +145,13 @@ fn overflow_free(eq: &equations::Equations) -> syn::Result<()> {
     };
     for c in &sys.constraints {
         if let Some(bad) = within(c.phi) {
-            return Err(syn::Error::new_spanned(&c.tokens, message(bad)));
+            return syn::Error::new_spanned(&c.tokens, message(bad));
         }
     }
     if let Some(bad) = sys.mass.iter().flatten().find_map(|&m| within(m)) {
-        return Err(syn::Error::new(sys.mass_span, message(bad)));
+        return syn::Error::new(sys.mass_span, message(bad));
     }
-    Err(syn::Error::new(sys.name.span(), message(first)))
+    syn::Error::new(sys.name.span(), message(found[0]))
 }
 
 /// Stages 1–3: the checked system, its derived equations and the

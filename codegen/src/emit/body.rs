@@ -1,17 +1,19 @@
 //! Straight-line code for a set of output expressions: variable bindings,
 //! shared temporaries in topological order, and the outputs themselves.
 
+mod arithmetic;
+
 use super::context::Context;
 pub(super) use super::literal::{literal, Prec};
 use super::reuse::TempProducts;
-use super::subproducts::{qualifies, qualifying, Factor, SubProducts};
-use super::tokens::{join_product, let_statement, parenthesized, signed_sum};
+use super::subproducts::{Factor, SubProducts};
+use super::tokens::{let_statement, parenthesized};
 use crate::equations::Equations;
-use crate::expr::cse::{Paired, Schedule, MAX_UNROLLED_POWER};
+use crate::expr::cse::{Paired, Schedule};
 use crate::expr::num::Num;
-use crate::expr::{signed_parts, Emission, FastHash, Func, Graph, Id, Node, Sym};
+use crate::expr::{Emission, FastHash, Func, Graph, Id, Node, Sym};
 use crate::names::{acceleration_name, velocity_name};
-use proc_macro2::{Literal, Span, TokenStream};
+use proc_macro2::{Span, TokenStream};
 use quote::quote;
 use std::collections::HashMap;
 use syn::Ident;
@@ -78,42 +80,9 @@ impl<'a> Body<'a> {
             .enumerate()
             .map(|(i, &id)| (id, Context::local("t", i)))
             .collect();
-        let mut needs_multipliers = vec![false; g.len()];
-        for &id in &reachable {
-            needs_multipliers[id.index()] = match g.node(id) {
-                Node::Sym(s) => matches!(s, Sym::Multiplier(_) | Sym::Seed(_)),
-                _ => g.children(id).any(|c| needs_multipliers[c.index()]),
-            };
-        }
+        let needs_multipliers = multiplier_nodes(g, &reachable);
         let temp_products = TempProducts::new(g, &schedule);
-        // Parameters and temporaries that divide two or more products: one
-        // reciprocal each (LLVM keeps every `x / d` a division, exactly).
-        let position: HashMap<Id, usize, FastHash> = schedule
-            .temporaries
-            .iter()
-            .enumerate()
-            .map(|(i, &id)| (id, i))
-            .collect();
-        let mut divides: HashMap<Id, usize> = HashMap::new();
-        for &id in &reachable {
-            if let Node::Mul(factors) = g.node(id) {
-                for &(b, e) in factors.iter() {
-                    let divisor =
-                        matches!(g.node(b), Node::Sym(Sym::Param(_))) || position.contains_key(&b);
-                    if e.is_negative() && divisor {
-                        *divides.entry(b).or_default() += 1;
-                    }
-                }
-            }
-        }
-        let reciprocals: HashMap<Id, Ident, FastHash> = divides
-            .into_iter()
-            .filter(|&(_, count)| count >= 2)
-            .filter_map(|(b, _)| match g.node(b) {
-                Node::Sym(Sym::Param(i)) => Some((b, Context::local("rp", *i))),
-                _ => Some((b, Context::local("rt", *position.get(&b)?))),
-            })
-            .collect();
+        let reciprocals = reciprocal_names(g, &reachable, &schedule.temporaries);
         let products: Vec<Id> = reachable
             .into_iter()
             .filter(|&id| matches!(g.node(id), Node::Mul(_)) && reciprocal_of(g, id).is_none())
@@ -372,208 +341,55 @@ impl<'a> Body<'a> {
             }
         }
     }
+}
 
-    /// `Σ cᵢ·tᵢ + c₀` as `a + b - 2·c + …`: subtraction for negative
-    /// coefficients, no multiplication by ±1.
-    fn sum(&self, terms: &[(Id, Num)], c0: Num) -> (TokenStream, Prec) {
-        self.signed_sum(terms, c0, false)
+/// Which nodes (by arena index) of `reachable` (topological) need the
+/// multipliers λ or the seeds `Sym::Seed`, directly or through a child.
+fn multiplier_nodes(g: &Graph, reachable: &[Id]) -> Vec<bool> {
+    let mut needs_multipliers = vec![false; g.len()];
+    for &id in reachable {
+        needs_multipliers[id.index()] = match g.node(id) {
+            Node::Sym(s) => matches!(s, Sym::Multiplier(_) | Sym::Seed(_)),
+            _ => g.children(id).any(|c| needs_multipliers[c.index()]),
+        };
     }
+    needs_multipliers
+}
 
-    /// The sum, or its negation, in as few operations as its form allows:
-    /// a positive part first (no unary minus while one exists), and where
-    /// every part is negative, one product's sum factor negated instead
-    /// (`−ż·(g − α)` is `ż·(α − g)`). A shared rational content is not
-    /// factored out (`2·(a − b·c)`), nor a shared magnitude (`c·(a − b)`
-    /// for `c·a − c·b`): once the rows of `A` are scaled it saves few
-    /// operations, and the longer dependency chain it makes costs the
-    /// chains more time than the fewer operations save elsewhere
-    /// (`scripts/compare_acceleration.sh` compares two revisions' code).
-    fn signed_sum(&self, terms: &[(Id, Num)], c0: Num, negate: bool) -> (TokenStream, Prec) {
-        let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(terms, c0)
-            .into_iter()
-            .map(|(t, m, negative)| (t, m, negative != negate, None))
-            .collect();
-        if parts.iter().all(|p| p.2) {
-            let flip = parts
-                .iter()
-                .enumerate()
-                .find_map(|(i, p)| Some((i, self.negatable_factor(p.0?)?)));
-            if let Some((i, factor)) = flip {
-                parts[i].2 = false;
-                parts[i].3 = Some(factor);
+/// The parameters and `temporaries` that divide two or more products of
+/// `reachable`, each with the name of its reciprocal (`__rp{i}` after the
+/// parameter, `__rt{i}` after the temporary's position): one reciprocal
+/// each, since LLVM keeps every `x / d` a division, exactly.
+fn reciprocal_names(
+    g: &Graph,
+    reachable: &[Id],
+    temporaries: &[Id],
+) -> HashMap<Id, Ident, FastHash> {
+    let position: HashMap<Id, usize, FastHash> = temporaries
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
+    let mut divides: HashMap<Id, usize> = HashMap::new();
+    for &id in reachable {
+        if let Node::Mul(factors) = g.node(id) {
+            for &(b, e) in factors.iter() {
+                let divisor =
+                    matches!(g.node(b), Node::Sym(Sym::Param(_))) || position.contains_key(&b);
+                if e.is_negative() && divisor {
+                    *divides.entry(b).or_default() += 1;
+                }
             }
         }
-        if let Some(first) = parts.iter().position(|p| !p.2) {
-            let positive = parts.remove(first);
-            parts.insert(0, positive);
-        }
-        let terms = parts.iter().map(|&(term, magnitude, negative, flipped)| {
-            let value = match term {
-                Some(t) => {
-                    let (tokens, prec) = match (flipped, self.graph.node(t)) {
-                        (Some(which), Node::Mul(factors)) => self.product(factors, Some(which)),
-                        _ => self.operand(t),
-                    };
-                    let at_least = if magnitude.is_one() {
-                        Prec::Product
-                    } else {
-                        Prec::Unary
-                    };
-                    let t = if prec < at_least {
-                        parenthesized(tokens)
-                    } else {
-                        tokens
-                    };
-                    if magnitude.is_one() {
-                        t
-                    } else {
-                        let mut lit = self.literal(magnitude);
-                        lit.extend(quote!(*));
-                        lit.extend(t);
-                        lit
-                    }
-                }
-                None => self.literal(magnitude),
-            };
-            (negative, value)
-        });
-        let out = signed_sum(terms).unwrap_or_default();
-        let prec = match parts.as_slice() {
-            [(Some(_), m, true, _)] if m.is_one() => Prec::Unary,
-            [(Some(_), _, _, _)] => Prec::Product,
-            _ => Prec::Sum,
-        };
-        (out, prec)
     }
-
-    /// For a product inlined into a sum, the position of a factor that is
-    /// itself an inlined sum with a negative part, so that negating the
-    /// product costs nothing: that sum is written negated.
-    fn negatable_factor(&self, t: Id) -> Option<usize> {
-        if self.temp_names.contains_key(&t) {
-            return None;
-        }
-        let Node::Mul(factors) = self.graph.node(t) else {
-            return None;
-        };
-        factors.iter().position(|&(b, e)| {
-            e.is_one()
-                && !self.temp_names.contains_key(&b)
-                && matches!(self.graph.node(b), Node::Add(terms, c0)
-                    if terms.len() + usize::from(!c0.is_zero()) > 1
-                        && (terms.iter().any(|t| t.1.is_negative()) || c0.is_negative()))
+    divides
+        .into_iter()
+        .filter(|&(_, count)| count >= 2)
+        .filter_map(|(b, _)| match g.node(b) {
+            Node::Sym(Sym::Param(i)) => Some((b, Context::local("rp", *i))),
+            _ => Some((b, Context::local("rt", *position.get(&b)?))),
         })
-    }
-
-    /// `Π bᵢ^eᵢ` as `num / den`, small integer powers unrolled.
-    fn product(&self, factors: &[(Id, Num)], negated: Option<usize>) -> (TokenStream, Prec) {
-        let (mut num, mut den) = (Vec::new(), Vec::new());
-        // A temporary product whose factors are among these (`t·λ` inside
-        // `t·λ/m`) is reused rather than recomputed.
-        let reused =
-            self.temp_products
-                .reusable(self.graph, factors, (negated, self.defining.get()));
-        if let Some((p, _)) = &reused {
-            let name = &self.temp_names[p];
-            num.push(quote!(#name));
-        }
-        let covered = |i: usize| {
-            reused
-                .as_ref()
-                .is_some_and(|(_, covered)| covered.contains(&i))
-        };
-        // The variables left are written through the shared sub-products
-        // (`m·l` once for `m·l·cos θ` and `m·l²`); what remains of each
-        // variable's power is written below.
-        let rest = factors
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| !covered(i) && negated != Some(i))
-            .map(|(_, &f)| f);
-        let shareable = |id: Id| self.subproducts.shareable(id);
-        let applied = self
-            .subproducts
-            .apply(qualifying(self.graph, rest, &shareable));
-        for (&f, &k) in &applied {
-            if let Factor::Shared(i) = f {
-                let name = Context::local("sp", i);
-                num.extend((0..k).map(|_| quote!(#name)));
-            }
-        }
-        for (i, &(b, e)) in factors.iter().enumerate() {
-            if covered(i) {
-                continue;
-            }
-            // A variable: only the power no sub-product took.
-            let e = if negated != Some(i) && qualifies(self.graph, b, e, &shareable).is_some() {
-                let left = applied.get(&Factor::Leaf(b)).copied().unwrap_or(0);
-                if left == 0 {
-                    continue;
-                }
-                Num::int(i64::from(left))
-            } else {
-                e
-            };
-            if negated == Some(i) {
-                // A sum factor of power 1 (`negatable_factor`), negated.
-                if let Node::Add(terms, c0) = self.graph.node(b) {
-                    let (tokens, _) = self.signed_sum(terms, *c0, true);
-                    num.push(parenthesized(tokens));
-                    continue;
-                }
-            }
-            if let (true, Some(name), Some(k)) = (
-                e.is_negative(),
-                self.reciprocals.get(&b),
-                (-e).as_integer().filter(|&k| k <= MAX_UNROLLED_POWER),
-            ) {
-                num.extend((0..k).map(|_| quote!(#name)));
-                continue;
-            }
-            if e.is_negative() {
-                den.extend(self.power(b, -e));
-            } else {
-                num.extend(self.power(b, e));
-            }
-        }
-        let single = num.len() == 1;
-        let mut numerator = join_product(num).unwrap_or_else(|| quote!(T::one()));
-        let denominators = den.len();
-        let Some(d) = join_product(den) else {
-            let prec = if single { Prec::Unary } else { Prec::Product };
-            return (numerator, prec);
-        };
-        numerator.extend(quote!(/));
-        numerator.extend(if denominators == 1 {
-            d
-        } else {
-            parenthesized(d)
-        });
-        (numerator, Prec::Product)
-    }
-
-    /// `b^e` for `e > 0` as factors to multiply: `[b, b]` for `e = 2`,
-    /// `[b.sqrt()]` for `e = 1/2`, `[b.powi(7)]`, `[b.powf(lit)]`.
-    fn power(&self, b: Id, e: Num) -> Vec<TokenStream> {
-        // Each arm renders the base once: rendering it twice and dropping
-        // one copy doubles the work per nesting level (exponential time).
-        let atom = || self.wrapped(b, Prec::Atom);
-        match e.as_integer() {
-            Some(k) if k <= MAX_UNROLLED_POWER => vec![self.wrapped(b, Prec::Unary); k as usize],
-            Some(k) => {
-                let (k, atom) = (Literal::i32_unsuffixed(k as i32), atom());
-                vec![quote! { #atom.powi(#k) }]
-            }
-            None if e == Num::ratio(1, 2) => {
-                let atom = atom();
-                vec![quote! { #atom.sqrt() }]
-            }
-            None => {
-                let ((lit, _), atom) = (literal(e), atom());
-                vec![quote! { #atom.powf(#lit) }]
-            }
-        }
-    }
+        .collect()
 }
 
 /// `p` when `id` is the node `1/p`.

@@ -59,8 +59,25 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
         gaps_text(w, eq, g, &p, &coordinates);
         return out;
     }
+    constraints_text(w, eq, g, &p, &coordinates);
+    generalized_inverse(w, eq, &p, &coordinates, partition.rank);
+    let _ = writeln!(w);
+    gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
+    gaps_text(w, eq, g, &p, &coordinates);
+    out
+}
+
+/// The constraints as written, each with its level, and the rows of
+/// `A q̈ = b` they are differentiated into.
+fn constraints_text(
+    w: &mut String,
+    eq: &Equations,
+    g: &Graph,
+    p: &Printer,
+    coordinates: &[String],
+) {
     let _ = writeln!(w, "Constraints  φ(q, q̇, t) = 0:");
-    for (i, c) in sys.constraints.iter().enumerate() {
+    for (i, c) in eq.system.constraints.iter().enumerate() {
         let how = match c.level {
             Level::Position => "position level: differentiated twice",
             Level::Velocity => "velocity level: differentiated once",
@@ -75,15 +92,10 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
     );
     for (i, (a, &b)) in eq.a.iter().zip(&eq.b).enumerate() {
         let s = subscript(i + 1);
-        let _ = writeln!(w, "  A{s} = [{}]", row_text(g, &p, a, &coordinates));
+        let _ = writeln!(w, "  A{s} = [{}]", row_text(g, p, a, coordinates));
         let _ = writeln!(w, "  b{s} = {}", p.print(b));
     }
     let _ = writeln!(w);
-    generalized_inverse(w, eq, &p, &coordinates, partition.rank);
-    let _ = writeln!(w);
-    gibbs_appell(w, eq, partition, rank_one.as_ref(), &p, &coordinates);
-    gaps_text(w, eq, g, &p, &coordinates);
-    out
 }
 
 /// The gaps of `unilateral: [..]` and their gradients, the rows the impact
@@ -284,18 +296,7 @@ fn gibbs_appell(
         .iter()
         .map(|&e| format!("q̈[{}]", coordinates[e]))
         .collect();
-    let measured = if partition.on_surface && partition.lower > 0 {
-        // Said only where it happens, so that other models' text is as it was.
-        format!(
-            "at {} consistent states; lower at {} of them and the {} that checked it: \
-             branch points, decided at run time",
-            partition.states, partition.lower, partition.checked
-        )
-    } else if partition.on_surface {
-        format!("at {} consistent states", partition.states)
-    } else {
-        "off the constraint surface (no consistent state was found)".to_string()
-    };
+    let measured = measured_at(partition);
     let _ = writeln!(
         w,
         "Explicit Gibbs–Appell equation ({}):  rank A = {r} ({measured}); eliminated: {}",
@@ -319,9 +320,32 @@ fn gibbs_appell(
         if r == 1 { "" } else { "s" },
         if eq.a.len() > r { " (chosen at run time)" } else { "" }
     );
-    let Some(RankOne { rows, .. }) = rank_one else {
-        return;
-    };
+    if let Some(RankOne { rows, .. }) = rank_one {
+        rank_one_rows(w, eq, rows, p);
+    }
+}
+
+/// Where the partition's rank was measured: at how many consistent states
+/// (and at how many of them it was lower), or off the constraint surface.
+fn measured_at(partition: &Partition) -> String {
+    if partition.on_surface && partition.lower > 0 {
+        // Said only where it happens, so that other models' text is as it was.
+        format!(
+            "at {} consistent states; lower at {} of them and the {} that checked it: \
+             branch points, decided at run time",
+            partition.states, partition.lower, partition.checked
+        )
+    } else if partition.on_surface {
+        format!("at {} consistent states", partition.states)
+    } else {
+        "off the constraint surface (no consistent state was found)".to_string()
+    }
+}
+
+/// For rank 1, the system's every row: the row of `A q̈ = b` on top (or
+/// where several could be, which is chosen at run time), then the rows of
+/// `B` with their right-hand sides.
+fn rank_one_rows(w: &mut String, eq: &Equations, rows: &[(Vec<Id>, Id)], p: &Printer) {
     let line = |ids: &[Id]| {
         ids.iter()
             .map(|&x| p.print(x))
@@ -456,6 +480,25 @@ fn factored(w: &mut String, f: &Factored, coordinates: &[String], rank: usize) {
     );
 }
 
+/// Why a singular `M` is solved through Udwadia & Schutte's auxiliary
+/// system, and which rows `A_R` of `A` complete its rank.
+fn auxiliary_text(w: &mut String, f: &Factored) {
+    let rows = f.auxiliary.as_ref().map_or_else(String::new, |x| {
+        let listed: Vec<String> = x.rows.iter().map(ToString::to_string).collect();
+        match listed.len() {
+            1 => format!("is row {} of A", listed[0]),
+            _ => format!("are rows {} of A", listed.join(", ")),
+        }
+    });
+    let _ = writeln!(
+        w,
+        "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
+         Udwadia & Schutte's auxiliary system M_A = M + s A_RᵀA_R, F_A = F + s A_Rᵀ b_R (s = tr M / ‖A_R‖²)\n  \
+         has the same q̈ and, as A q̈ = b, the same λ; A_R {rows}, the sparsest rows that\n  \
+         complete M's rank. It is solved for M_A, F_A on the pattern of M + A_RᵀA_R:"
+    );
+}
+
 /// The generalized-inverse equation (eq. 26) as it is solved.
 fn generalized_inverse(
     w: &mut String,
@@ -478,20 +521,7 @@ fn generalized_inverse(
             return;
         }
         MassInverse::Auxiliary(f) => {
-            let rows = f.auxiliary.as_ref().map_or_else(String::new, |x| {
-                let listed: Vec<String> = x.rows.iter().map(ToString::to_string).collect();
-                match listed.len() {
-                    1 => format!("is row {} of A", listed[0]),
-                    _ => format!("are rows {} of A", listed.join(", ")),
-                }
-            });
-            let _ = writeln!(
-                w,
-                "  M is singular (positive semi-definite) and [M; A] has full column rank at consistent states:\n  \
-                 Udwadia & Schutte's auxiliary system M_A = M + s A_RᵀA_R, F_A = F + s A_Rᵀ b_R (s = tr M / ‖A_R‖²)\n  \
-                 has the same q̈ and, as A q̈ = b, the same λ; A_R {rows}, the sparsest rows that\n  \
-                 complete M's rank. It is solved for M_A, F_A on the pattern of M + A_RᵀA_R:"
-            );
+            auxiliary_text(w, f);
             factored(w, f, coordinates, rank);
             super::derivation_saddle::text(w, f, coordinates, (rank, k));
             return;

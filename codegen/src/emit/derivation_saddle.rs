@@ -6,6 +6,7 @@
 //! Also the elimination orders every part of the derivation prints.
 
 use crate::equations::mass_inverse::Factored;
+use crate::equations::velocity::Velocity;
 use crate::numeric::sparsity::Structure;
 use std::fmt::Write;
 
@@ -33,43 +34,7 @@ pub(super) fn text(
     let pivots = "a coordinate's pivot must be positive and a row's negative, \
                   away from 0, else the runtime's dense solve answers";
     if let Some(v) = &f.velocity {
-        let nr = v.coordinates.len();
-        let name = |i: usize| {
-            if i < nr {
-                let c = v.coordinates[i];
-                match v
-                    .system
-                    .quaternions
-                    .iter()
-                    .find(|&&(w, _)| c > w && c <= w + 3)
-                {
-                    Some(&(w, _)) => format!("β{}", c - w - 1),
-                    None => coordinates[c].clone(),
-                }
-            } else {
-                format!("μ{}", v.rows[i - nr])
-            }
-        };
-        let quaternions: Vec<String> = v
-            .system
-            .quaternions
-            .iter()
-            .map(|&(w, r)| format!("{} (row {r})", coordinates[w]))
-            .collect();
-        let _ = writeln!(
-            w,
-            "  acceleration solves instead, in the quaternions' velocity coordinates\n  \
-             q̈_q = ½ (q α + Gᵀ β), G = [−v, w I − ṽ] (T = ½ [q, Gᵀ], invertible wherever q ≠ 0),\n  \
-             [TᵀMT TᵀAᵀ; A T 0] [z; μ] = [TᵀF; b], λ = −μ: each norm's row reads |q|² α = b\n  \
-             on α alone, so α = b_norm / |q|² first (quaternions at {}),\n  \
-             b ← b − (A T)_α α for the other rows, then L D Lᵀ of the rest ({} coordinates, {} rows) in the order\n  \
-             {} ({pivots}),\n  \
-             then q̈ = T z and μ_norm = ((TᵀF)_α − Σ (A T)_rα μ_r) / |q|²",
-            quaternions.join(", "),
-            nr,
-            v.rows.len(),
-            order(&v.structure, name),
-        );
+        velocity_text(w, v, coordinates, pivots);
         return;
     }
     if let Some(s) = &f.saddle {
@@ -88,4 +53,47 @@ pub(super) fn text(
             order(s, name),
         );
     }
+}
+
+/// The lines for the saddle-point solve in the quaternions' velocity
+/// coordinates: the substitution `q̈_q = ½ (q α + Gᵀ β)`, the norms' rows
+/// solved first, then the factorization's order of the rest.
+fn velocity_text(w: &mut String, v: &Velocity, coordinates: &[String], pivots: &str) {
+    let nr = v.coordinates.len();
+    let name = |i: usize| {
+        if i < nr {
+            let c = v.coordinates[i];
+            match v
+                .system
+                .quaternions
+                .iter()
+                .find(|&&(w, _)| c > w && c <= w + 3)
+            {
+                Some(&(w, _)) => format!("β{}", c - w - 1),
+                None => coordinates[c].clone(),
+            }
+        } else {
+            format!("μ{}", v.rows[i - nr])
+        }
+    };
+    let quaternions: Vec<String> = v
+        .system
+        .quaternions
+        .iter()
+        .map(|&(w, r)| format!("{} (row {r})", coordinates[w]))
+        .collect();
+    let _ = writeln!(
+        w,
+        "  acceleration solves instead, in the quaternions' velocity coordinates\n  \
+         q̈_q = ½ (q α + Gᵀ β), G = [−v, w I − ṽ] (T = ½ [q, Gᵀ], invertible wherever q ≠ 0),\n  \
+         [TᵀMT TᵀAᵀ; A T 0] [z; μ] = [TᵀF; b], λ = −μ: each norm's row reads |q|² α = b\n  \
+         on α alone, so α = b_norm / |q|² first (quaternions at {}),\n  \
+         b ← b − (A T)_α α for the other rows, then L D Lᵀ of the rest ({} coordinates, {} rows) in the order\n  \
+         {} ({pivots}),\n  \
+         then q̈ = T z and μ_norm = ((TᵀF)_α − Σ (A T)_rα μ_r) / |q|²",
+        quaternions.join(", "),
+        nr,
+        v.rows.len(),
+        order(&v.structure, name),
+    );
 }

@@ -17,37 +17,18 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     if entries.is_empty() {
         return TokenStream::new();
     }
-    let f = entries.len();
-    let f_lit = Context::dim(f);
+    let f_lit = Context::dim(entries.len());
     let state = ctx.params(Inputs::States);
-    let vector = ctx.vector(f);
-    let function = |ids: &[Id]| {
-        let body = Body::new(ctx.eq, ids);
-        let (preamble, value) = (
-            body.preamble(),
-            ctx.vector_value(ids.iter().map(|&e| body.expr(e))),
-        );
-        quote! { #preamble #value }
-    };
-    let velocities = function(&entries.iter().map(|e| e.velocity).collect::<Vec<_>>());
-    let normals = function(&entries.iter().map(|e| e.normal).collect::<Vec<_>>());
-    let mus: Vec<Id> = entries
-        .iter()
-        .flat_map(|e| [e.mu_static, e.mu_kinetic])
-        .collect();
-    let body = Body::new(ctx.eq, &mus);
-    let preamble = body.preamble();
-    let pairs = entries.iter().map(|e| {
-        let (s, k) = (body.expr(e.mu_static), body.expr(e.mu_kinetic));
-        quote!((#s, #k))
-    });
+    let vector = ctx.vector(entries.len());
+    let velocities = vector_function(ctx, &entries.iter().map(|e| e.velocity).collect::<Vec<_>>());
+    let normals = vector_function(ctx, &entries.iter().map(|e| e.normal).collect::<Vec<_>>());
+    let coefficients = coefficients(ctx);
     let written: Vec<String> = entries.iter().map(|e| e.tokens.to_string()).collect();
     let doc = format!(
         " The sliding velocities `v`, in the order written: `{}`.",
         written.join("`, `")
     );
-    let mode = ctx.path(quote!(friction::Mode));
-    let fields: Vec<_> = (0..f).map(friction_mode).collect();
+    let modes = mode_methods(ctx);
     quote! {
         /// Number of friction entries (`friction: [..]`).
         pub const FRICTION: usize = #f_lit;
@@ -67,10 +48,51 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
         /// The coefficients `(μs, μk)`, one pair per friction entry.
         #[inline]
         pub fn friction_coefficients(&self) -> [(T, T); #f_lit] {
-            #preamble
-            [#(#pairs),*]
+            #coefficients
         }
 
+        #modes
+    }
+}
+
+/// The body of a method returning the vector of `ids`' values.
+fn vector_function(ctx: &Context, ids: &[Id]) -> TokenStream {
+    let body = Body::new(ctx.eq, ids);
+    let (preamble, value) = (
+        body.preamble(),
+        ctx.vector_value(ids.iter().map(|&e| body.expr(e))),
+    );
+    quote! { #preamble #value }
+}
+
+/// The body of `friction_coefficients`: the array of each entry's pair
+/// `(μs, μk)`.
+fn coefficients(ctx: &Context) -> TokenStream {
+    let entries = &ctx.eq.system.friction;
+    let mus: Vec<Id> = entries
+        .iter()
+        .flat_map(|e| [e.mu_static, e.mu_kinetic])
+        .collect();
+    let body = Body::new(ctx.eq, &mus);
+    let preamble = body.preamble();
+    let pairs = entries.iter().map(|e| {
+        let (s, k) = (body.expr(e.mu_static), body.expr(e.mu_kinetic));
+        quote!((#s, #k))
+    });
+    quote! {
+        #preamble
+        [#(#pairs),*]
+    }
+}
+
+/// `friction_modes` and `with_friction_modes`, over the system's mode
+/// fields.
+fn mode_methods(ctx: &Context) -> TokenStream {
+    let f = ctx.eq.system.friction.len();
+    let f_lit = Context::dim(f);
+    let mode = ctx.path(quote!(friction::Mode));
+    let fields: Vec<_> = (0..f).map(friction_mode).collect();
+    quote! {
         /// The friction entries' modes (`Stick` after `new`).
         #[inline]
         pub fn friction_modes(&self) -> [#mode; #f_lit] {

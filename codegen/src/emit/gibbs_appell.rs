@@ -25,28 +25,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
         .map(|&e| Literal::usize_unsuffixed(e))
         .collect();
     let coupled = !eq.mass_inverse.is_diagonal();
-    let names: Vec<String> = partition
-        .eliminated
-        .iter()
-        .map(|&e| format!("`{}`", eq.system.coordinates[e]))
-        .collect();
-    let equation = if coupled { "eq. 37" } else { "eq. 18" };
-    let matrices_doc = format!(
-        " The explicit Gibbs–Appell system ({equation}) as `(S, s)` with `S q̈ = s`, \
-         {n} × {n}, columns in the original coordinate order: {r} independent rows of \
-         `A q̈ = b`, then the {} rows of eq. {}. The eliminated accelerations are those of \
-         {} (chosen at compile time, rank {r}); where their columns of `A` are poorly \
-         conditioned the partition is re-chosen at run time. `Err(RankDeficient)` where \
-         `A` itself drops below rank {r}.",
-        n - partition.rank,
-        if coupled { "35" } else { "13" },
-        if names.is_empty() {
-            "no coordinate".to_string()
-        } else {
-            names.join(", ")
-        },
-        r = partition.rank,
-    );
+    let matrices_doc = matrices_doc(ctx, partition);
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let call = |function: TokenStream| {
         let function = ctx.path(quote!(gibbs_appell::#function));
@@ -80,4 +59,33 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             #acceleration
         }
     }
+}
+
+/// The doc of `gibbs_appell_matrices`: the equation, its rows and the
+/// eliminated coordinates chosen at compile time.
+fn matrices_doc(ctx: &Context, partition: &Partition) -> String {
+    let (eq, n) = (ctx.eq, ctx.n);
+    let coupled = !eq.mass_inverse.is_diagonal();
+    let names: Vec<String> = partition
+        .eliminated
+        .iter()
+        .map(|&e| format!("`{}`", eq.system.coordinates[e]))
+        .collect();
+    let equation = if coupled { "eq. 37" } else { "eq. 18" };
+    format!(
+        " The explicit Gibbs–Appell system ({equation}) as `(S, s)` with `S q̈ = s`, \
+         {n} × {n}, columns in the original coordinate order: {r} independent rows of \
+         `A q̈ = b`, then the {} rows of eq. {}. The eliminated accelerations are those of \
+         {} (chosen at compile time, rank {r}); where their columns of `A` are poorly \
+         conditioned the partition is re-chosen at run time. `Err(RankDeficient)` where \
+         `A` itself drops below rank {r}.",
+        n - partition.rank,
+        if coupled { "35" } else { "13" },
+        if names.is_empty() {
+            "no coordinate".to_string()
+        } else {
+            names.join(", ")
+        },
+        r = partition.rank,
+    )
 }

@@ -16,32 +16,17 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     if gaps.is_empty() {
         return TokenStream::new();
     }
-    let (n, k, u) = (ctx.n, ctx.k, gaps.len());
+    let u = gaps.len();
     let u_lit = Context::dim(u);
     let params = ctx.params(Inputs::Positions);
-    let values: Vec<Id> = gaps.iter().map(|g| g.gap).collect();
-    let body = Body::new(ctx.eq, &values);
-    let (preamble, value) = (
-        body.preamble(),
-        ctx.vector_value(values.iter().map(|&e| body.expr(e))),
-    );
-    let rows: Vec<&Vec<Id>> = gaps.iter().map(|g| &g.gradient).collect();
-    let roots: Vec<Id> = rows.iter().flat_map(|r| r.iter().copied()).collect();
-    let jbody = Body::new(ctx.eq, &roots);
-    let columns = (0..n)
-        .map(|j| rows.iter().map(|r| jbody.expr(r[j])).collect())
-        .collect();
-    let (jpreamble, jvalue) = (jbody.preamble(), ctx.matrix_value(u, columns));
-    let (gap_type, jac_type) = (ctx.vector(u), ctx.matrix(u, n));
+    let (preamble, value) = gap_values(ctx);
+    let (jpreamble, jvalue) = gap_gradients(ctx);
+    let (gap_type, jac_type) = (ctx.vector(u), ctx.matrix(u, ctx.n));
     let written: Vec<String> = gaps.iter().map(|g| g.tokens.to_string()).collect();
     let list = written.join("`, `");
     let gaps_doc = format!(" The gaps `g(q)`, in the order written: `{list}`.");
     let state = ctx.params(Inputs::States);
-    let n_lit = Context::dim(n);
-    let r_lit = Context::dim(k + u);
-    let impact_type = ctx.path(quote!(Impact<T, #n_lit, #r_lit>));
-    let result = ctx.result(impact_type, quote!(DynamicsError));
-    let map = ctx.path(quote!(impact::impact_with_gaps));
+    let impact = impact_method(ctx);
     let symbolic = symbolic(ctx);
     quote! {
         /// Number of gaps (`unilateral: [..]` entries).
@@ -73,6 +58,44 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
             self.gap_jacobian(q, t) * qd
         }
 
+        #impact
+    }
+}
+
+/// The body of `gaps`: its preamble and the vector of the gaps' values.
+fn gap_values(ctx: &Context) -> (TokenStream, TokenStream) {
+    let values: Vec<Id> = ctx.eq.system.unilateral.iter().map(|g| g.gap).collect();
+    let body = Body::new(ctx.eq, &values);
+    (
+        body.preamble(),
+        ctx.vector_value(values.iter().map(|&e| body.expr(e))),
+    )
+}
+
+/// The body of `gap_jacobian`: its preamble and the matrix of the gaps'
+/// gradients, one row per gap.
+fn gap_gradients(ctx: &Context) -> (TokenStream, TokenStream) {
+    let gaps = &ctx.eq.system.unilateral;
+    let rows: Vec<&Vec<Id>> = gaps.iter().map(|g| &g.gradient).collect();
+    let roots: Vec<Id> = rows.iter().flat_map(|r| r.iter().copied()).collect();
+    let jbody = Body::new(ctx.eq, &roots);
+    let columns = (0..ctx.n)
+        .map(|j| rows.iter().map(|r| jbody.expr(r[j])).collect())
+        .collect();
+    (jbody.preamble(), ctx.matrix_value(gaps.len(), columns))
+}
+
+/// The `impact` method, through the runtime's `impact::impact_with_gaps`.
+fn impact_method(ctx: &Context) -> TokenStream {
+    let u = ctx.eq.system.unilateral.len();
+    let u_lit = Context::dim(u);
+    let state = ctx.params(Inputs::States);
+    let n_lit = Context::dim(ctx.n);
+    let r_lit = Context::dim(ctx.k + u);
+    let impact_type = ctx.path(quote!(Impact<T, #n_lit, #r_lit>));
+    let result = ctx.result(impact_type, quote!(DynamicsError));
+    let map = ctx.path(quote!(impact::impact_with_gaps));
+    quote! {
         /// The impact map (the impulsive form of Gauss's principle): `q̇⁺`
         /// closest to `q̇⁻ = qd` in the metric of `M` such that each gap
         /// marked `active` rebounds by Newton's law,

@@ -100,81 +100,98 @@ impl Public {
     /// and `try_linearize`: the `Result` forms are the body where
     /// `acceleration` can fail; else the total forms wrap the `try_` ones.
     fn methods(&self, docs: &Docs, fallible: bool) -> (TokenStream, TokenStream) {
+        (
+            self.jacobian_methods(docs, fallible),
+            self.linearize_methods(docs, fallible),
+        )
+    }
+
+    /// `acceleration_jacobian` and `try_acceleration_jacobian`: where
+    /// `acceleration` can fail the plain name holds the body and the `try_`
+    /// name repeats it; else the `try_` name holds it and the plain name
+    /// answers NaN for its `Err`.
+    fn jacobian_methods(&self, docs: &Docs, fallible: bool) -> TokenStream {
         let Public {
             params,
             args,
             body,
             jac_result,
-            lin_result,
-            linearization,
             not_a_number,
             jacobians,
-            linear,
+            ..
         } = self;
-        let (jac_doc, lin_doc, try_jac_doc, try_lin_doc) = (
-            &docs.jacobian,
-            &docs.linearize,
-            &docs.try_jacobian,
-            &docs.try_linearize,
-        );
+        let (doc, try_doc) = (&docs.jacobian, &docs.try_jacobian);
         if fallible {
-            (
-                quote! {
-                    #[doc = #jac_doc]
-                    #[inline]
-                    pub fn acceleration_jacobian(&self, #params) -> #jac_result {
-                        #body
-                    }
+            quote! {
+                #[doc = #doc]
+                #[inline]
+                pub fn acceleration_jacobian(&self, #params) -> #jac_result {
+                    #body
+                }
 
-                    #[doc = #try_jac_doc]
-                    #[inline]
-                    pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
-                        self.acceleration_jacobian(#args)
-                    }
-                },
-                quote! {
-                    #[doc = #lin_doc]
-                    #[inline]
-                    pub fn linearize(&self, #params) -> #lin_result {
-                        self.acceleration_jacobian(#args) .map(|j| #linearization(&j))
-                    }
-
-                    #[doc = #try_lin_doc]
-                    #[inline]
-                    pub fn try_linearize(&self, #params) -> #lin_result {
-                        self.linearize(#args)
-                    }
-                },
-            )
+                #[doc = #try_doc]
+                #[inline]
+                pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
+                    self.acceleration_jacobian(#args)
+                }
+            }
         } else {
-            (
-                quote! {
-                    #[doc = #try_jac_doc]
-                    #[inline]
-                    pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
-                        #body
-                    }
+            quote! {
+                #[doc = #try_doc]
+                #[inline]
+                pub fn try_acceleration_jacobian(&self, #params) -> #jac_result {
+                    #body
+                }
 
-                    #[doc = #jac_doc]
-                    #[inline]
-                    pub fn acceleration_jacobian(&self, #params) -> #jacobians {
-                        self.try_acceleration_jacobian(#args).unwrap_or_else(|_| #not_a_number)
-                    }
-                },
-                quote! {
-                    #[doc = #lin_doc]
-                    #[inline]
-                    pub fn linearize(&self, #params) -> #linear {
-                        #linearization(&self.acceleration_jacobian(#args))
-                    }
+                #[doc = #doc]
+                #[inline]
+                pub fn acceleration_jacobian(&self, #params) -> #jacobians {
+                    self.try_acceleration_jacobian(#args).unwrap_or_else(|_| #not_a_number)
+                }
+            }
+        }
+    }
 
-                    #[doc = #try_lin_doc]
-                    #[inline]
-                    pub fn try_linearize(&self, #params) -> #lin_result {
-                        self.try_acceleration_jacobian(#args) .map(|j| #linearization(&j))
-                    }
-                },
-            )
+    /// `linearize` and `try_linearize`, from the Jacobian methods: both the
+    /// `Result` where `acceleration` can fail; else `linearize` is total.
+    fn linearize_methods(&self, docs: &Docs, fallible: bool) -> TokenStream {
+        let Public {
+            params,
+            args,
+            lin_result,
+            linearization,
+            linear,
+            ..
+        } = self;
+        let (doc, try_doc) = (&docs.linearize, &docs.try_linearize);
+        if fallible {
+            quote! {
+                #[doc = #doc]
+                #[inline]
+                pub fn linearize(&self, #params) -> #lin_result {
+                    self.acceleration_jacobian(#args) .map(|j| #linearization(&j))
+                }
+
+                #[doc = #try_doc]
+                #[inline]
+                pub fn try_linearize(&self, #params) -> #lin_result {
+                    self.linearize(#args)
+                }
+            }
+        } else {
+            quote! {
+                #[doc = #doc]
+                #[inline]
+                pub fn linearize(&self, #params) -> #linear {
+                    #linearization(&self.acceleration_jacobian(#args))
+                }
+
+                #[doc = #try_doc]
+                #[inline]
+                pub fn try_linearize(&self, #params) -> #lin_result {
+                    self.try_acceleration_jacobian(#args) .map(|j| #linearization(&j))
+                }
+            }
         }
     }
 }
@@ -227,7 +244,20 @@ impl Docs {
                  ([`try_linearize`](Self::try_linearize) says why)."
             }
         );
-        let (try_jacobian, try_linearize) = if fallible {
+        let (try_jacobian, try_linearize) = Docs::try_forms(fallible, errors);
+        Docs {
+            jacobian,
+            linearize,
+            try_jacobian,
+            try_linearize,
+        }
+    }
+
+    /// The docs of `try_acceleration_jacobian` and `try_linearize`: the
+    /// same methods under the `Result`-valued names where `acceleration`
+    /// can fail, else the total methods' failures as values (`errors`).
+    fn try_forms(fallible: bool, errors: &str) -> (String, String) {
+        if fallible {
             (
                 " [`acceleration_jacobian`](Self::acceleration_jacobian), under the \
                  name every system has for the `Result`-valued Jacobian."
@@ -246,12 +276,6 @@ impl Docs {
                  [`try_acceleration_jacobian`](Self::try_acceleration_jacobian)."
                     .to_owned(),
             )
-        };
-        Docs {
-            jacobian,
-            linearize,
-            try_jacobian,
-            try_linearize,
         }
     }
 }

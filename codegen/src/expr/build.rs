@@ -166,48 +166,13 @@ impl Graph {
                     Some(v) => coefficient = coefficient * v,
                     None => factors.push((id, e)),
                 },
-                // (c·t)^e = c^e · t^e for integer e (exactly, and only then).
-                Node::Add(terms, c0) if integer_power && c0.is_zero() && terms.len() == 1 => {
-                    let (t, c) = terms[0];
-                    match c.pow(e) {
-                        Some(v) => {
-                            coefficient = coefficient * v;
-                            pending.push((t, e));
-                        }
-                        None => factors.push((id, e)),
+                Node::Add(..) if integer_power => match self.sum_content(id, e) {
+                    Some((v, rest)) => {
+                        coefficient = coefficient * v;
+                        pending.push((rest, e));
                     }
-                }
-                // A sum as a factor is made primitive (coprime integer
-                // coefficients, the leading one positive) and its content
-                // joins the coefficient, so that g·(2y − 2z) and
-                // g·(−2y + 2z) become ±2·g·(y − z) and collect, while
-                // 4·a + b stays as it is. Exact rational content under an
-                // integer power only.
-                Node::Add(terms, c0) if integer_power => {
-                    let content =
-                        crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
-                            .map(|c| if terms[0].1.is_negative() { -c } else { c });
-                    let content = content.unwrap_or(Num::ONE);
-                    if content.is_one() || !matches!(content, Num::Rational(..)) {
-                        factors.push((id, e));
-                    } else {
-                        let inv = content.recip();
-                        let scaled: Vec<(Id, Num)> =
-                            terms.iter().map(|&(t, c)| (t, c * inv)).collect();
-                        let constant = *c0 * inv;
-                        let mut items = scaled;
-                        let k = self.num(constant);
-                        items.push((k, Num::ONE));
-                        let primitive = self.linear_combination(items);
-                        match content.pow(e) {
-                            Some(v) => {
-                                coefficient = coefficient * v;
-                                pending.push((primitive, e));
-                            }
-                            None => factors.push((id, e)),
-                        }
-                    }
-                }
+                    None => factors.push((id, e)),
+                },
                 // (Π bᵢ^eᵢ)^e = Π bᵢ^(eᵢ·e) for integer e, for a short
                 // product; a long one stays a factor, so that the chain and
                 // product rules on nested compositions (sin∘sin∘…) build
@@ -221,6 +186,51 @@ impl Graph {
         if coefficient.is_zero() {
             return self.num(Num::ZERO);
         }
+        let kept = self.merged_factors(factors, &mut coefficient);
+        let core = match kept.as_slice() {
+            [] => return self.num(coefficient),
+            [(b, e)] if e.is_one() => *b,
+            _ => self.intern(Node::Mul(kept.into_boxed_slice())),
+        };
+        self.scale(core, coefficient)
+    }
+
+    /// For the sum `id` as a factor under the integer power `e`: the
+    /// coefficient `c^e` that leaves the product's factor and the sum `t`
+    /// that stays in its place, or `None` when the sum stays whole.
+    ///
+    /// A one-term sum `c·t` gives `(c·t)^e = c^e · t^e` (exactly, and only
+    /// then). Any other sum is made primitive (coprime integer coefficients,
+    /// the leading one positive) and its content joins the coefficient, so
+    /// that g·(2y − 2z) and g·(−2y + 2z) become ±2·g·(y − z) and collect,
+    /// while 4·a + b stays as it is. Exact rational content only.
+    fn sum_content(&mut self, id: Id, e: Num) -> Option<(Num, Id)> {
+        let Node::Add(terms, c0) = self.node(id) else {
+            return None;
+        };
+        if c0.is_zero() && terms.len() == 1 {
+            let (t, c) = terms[0];
+            return c.pow(e).map(|v| (v, t));
+        }
+        let content = crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
+            .map(|c| if terms[0].1.is_negative() { -c } else { c });
+        let content = content.unwrap_or(Num::ONE);
+        if content.is_one() || !matches!(content, Num::Rational(..)) {
+            return None;
+        }
+        let inv = content.recip();
+        let mut items: Vec<(Id, Num)> = terms.iter().map(|&(t, c)| (t, c * inv)).collect();
+        let constant = *c0 * inv;
+        let k = self.num(constant);
+        items.push((k, Num::ONE));
+        let primitive = self.linear_combination(items);
+        content.pow(e).map(|v| (v, primitive))
+    }
+
+    /// The gathered `factors` of a product sorted by base, with equal bases'
+    /// exponents added and zero exponents dropped; numeric bases whose merged
+    /// exponent became exact (√2·√2) fold into `coefficient`.
+    fn merged_factors(&self, mut factors: Vec<(Id, Num)>, coefficient: &mut Num) -> Vec<(Id, Num)> {
         factors.sort_by_key(|&(b, _)| b);
         let mut merged: Vec<(Id, Num)> = Vec::with_capacity(factors.len());
         for (b, e) in factors {
@@ -229,23 +239,17 @@ impl Graph {
                 _ => merged.push((b, e)),
             }
         }
-        // Numeric bases whose merged exponent became exact (√2·√2) fold.
         let mut kept = Vec::with_capacity(merged.len());
         for (b, e) in merged {
             if e.is_zero() {
                 continue;
             }
             match self.as_num(b).and_then(|n| n.pow(e)) {
-                Some(v) => coefficient = coefficient * v,
+                Some(v) => *coefficient = *coefficient * v,
                 None => kept.push((b, e)),
             }
         }
-        let core = match kept.as_slice() {
-            [] => return self.num(coefficient),
-            [(b, e)] if e.is_one() => *b,
-            _ => self.intern(Node::Mul(kept.into_boxed_slice())),
-        };
-        self.scale(core, coefficient)
+        kept
     }
 
     /// `e` with every product that has a sum as a factor (to the first

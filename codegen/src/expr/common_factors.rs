@@ -193,21 +193,7 @@ fn factor_sum_within(
             .iter()
             .map(|&(t, _)| factors_of(g, atoms, t))
             .collect();
-        // The base (with the sign of its exponent) in the most terms;
-        // ties go to the smaller `Id` (the older, usually simpler, node).
-        let mut counts: HashMap<(Id, bool), usize> = HashMap::new();
-        for factors in &per_term {
-            for &(b, e) in factors {
-                if matches!(e, Num::Rational(..)) && !matches!(g.node(b), Node::Num(_)) {
-                    *counts.entry((b, !e.is_negative())).or_default() += 1;
-                }
-            }
-        }
-        let best = counts
-            .into_iter()
-            .filter(|&(key, c)| c >= 2 && !refused.contains(&key))
-            .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
-        let Some(((base, positive), _)) = best else {
+        let Some((base, positive)) = most_shared_base(g, &per_term, &refused) else {
             break;
         };
         let (power, members) = shared_power(&per_term, base, positive);
@@ -232,25 +218,60 @@ fn factor_sum_within(
         }
         let inner = factor_sum_within(g, atoms, cofactors, Num::ZERO, depth - 1);
         let grouped = g.product([(base, power), (inner, Num::ONE)]);
-        let mut rest: Vec<(Id, Num)> = terms
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| !members.contains(i))
-            .map(|(_, &item)| item)
-            .collect();
-        // `grouped` may come back as `c·product` (a one-term sum): keep
-        // its coefficient in the term, as `linear_combination` would.
-        match g.node(grouped) {
-            Node::Add(inner_terms, k) if k.is_zero() && inner_terms.len() == 1 => {
-                rest.push(inner_terms[0]);
-            }
-            _ => rest.push((grouped, Num::ONE)),
-        }
-        terms = rest;
+        terms = members_replaced(g, &terms, &members, grouped);
     }
     let constant = g.num(c0);
     terms.push((constant, Num::ONE));
     g.linear_combination(terms)
+}
+
+/// The base (with the sign of its exponent) among the factors of the most
+/// terms, at least two, that has not been `refused`; ties go to the smaller
+/// `Id` (the older, usually simpler, node). Only bases under a rational
+/// exponent count, and no number.
+fn most_shared_base(
+    g: &Graph,
+    per_term: &[Vec<(Id, Num)>],
+    refused: &HashSet<(Id, bool)>,
+) -> Option<(Id, bool)> {
+    let mut counts: HashMap<(Id, bool), usize> = HashMap::new();
+    for factors in per_term {
+        for &(b, e) in factors {
+            if matches!(e, Num::Rational(..)) && !matches!(g.node(b), Node::Num(_)) {
+                *counts.entry((b, !e.is_negative())).or_default() += 1;
+            }
+        }
+    }
+    counts
+        .into_iter()
+        .filter(|&(key, c)| c >= 2 && !refused.contains(&key))
+        .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+        .map(|(key, _)| key)
+}
+
+/// `terms` with the `members` (indices) replaced by the one term `grouped`,
+/// which is their sum factored. `grouped` may come back as `c·product` (a
+/// one-term sum): its coefficient stays in the term, as
+/// `linear_combination` would keep it.
+fn members_replaced(
+    g: &Graph,
+    terms: &[(Id, Num)],
+    members: &[usize],
+    grouped: Id,
+) -> Vec<(Id, Num)> {
+    let mut rest: Vec<(Id, Num)> = terms
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !members.contains(i))
+        .map(|(_, &item)| item)
+        .collect();
+    match g.node(grouped) {
+        Node::Add(inner_terms, k) if k.is_zero() && inner_terms.len() == 1 => {
+            rest.push(inner_terms[0]);
+        }
+        _ => rest.push((grouped, Num::ONE)),
+    }
+    rest
 }
 
 #[cfg(test)]

@@ -28,6 +28,7 @@
 //! and tight where it matters: they reject only products and sums whose
 //! exact value, or that of a part the code computes, exceeds `f64`.
 
+use crate::expr::num::Num;
 use crate::expr::{power, Graph, Id, Node};
 
 /// A constant subexpression that is not finite where generated code
@@ -64,68 +65,11 @@ pub fn non_finite(g: &Graph) -> Vec<NonFinite> {
 /// The value of `id` where it is constant (`None` where it has variables),
 /// given those of the nodes before it, or what of it is not finite.
 fn node_value(g: &Graph, id: Id, value: &[Option<f64>]) -> Result<Option<f64>, NonFinite> {
-    let report = |v: f64| (!v.is_finite()).then_some(NonFinite { node: id, value: v });
     let own = match g.node(id) {
         Node::Num(n) => Some(n.to_f64()),
         Node::Sym(_) => None,
-        Node::Add(terms, c0) => {
-            let mut bound = c0.to_f64().abs();
-            let mut sum = Some(c0.to_f64());
-            for &(t, c) in terms.iter() {
-                match value[t.index()] {
-                    Some(v) => {
-                        let term = c.to_f64() * v;
-                        if let Some(bad) = report(term) {
-                            return Err(bad);
-                        }
-                        bound += term.abs();
-                        sum = sum.map(|s| s + term);
-                    }
-                    None => sum = None,
-                }
-            }
-            if let Some(bad) = report(bound) {
-                return Err(bad);
-            }
-            sum
-        }
-        Node::Mul(factors) => {
-            let (mut big_num, mut big_den, mut small_den) = (1.0f64, 1.0f64, 1.0f64);
-            let mut product = Some((1.0f64, 1.0f64));
-            for &(b, e) in factors.iter() {
-                let Some(base) = value[b.index()] else {
-                    product = None;
-                    continue;
-                };
-                let divides = e.is_negative();
-                let magnitude = if divides { -e } else { e };
-                // As emitted: the base under the exponent's magnitude,
-                // a divisor where the exponent is negative.
-                let p = power(base, magnitude);
-                if let Some(bad) = report(p) {
-                    return Err(bad);
-                }
-                if divides {
-                    big_den *= p.abs().max(1.0);
-                    small_den *= p.abs().min(1.0);
-                } else {
-                    big_num *= p.abs().max(1.0);
-                }
-                product = product.map(|(n, d)| if divides { (n, d * p) } else { (n * p, d) });
-            }
-            for bound in [big_num, big_den] {
-                if let Some(bad) = report(bound) {
-                    return Err(bad);
-                }
-            }
-            if small_den == 0.0 {
-                return Err(NonFinite {
-                    node: id,
-                    value: f64::INFINITY,
-                });
-            }
-            product.map(|(n, d)| n / d)
-        }
+        Node::Add(terms, c0) => sum_value(id, terms, c0.to_f64(), value)?,
+        Node::Mul(factors) => product_value(id, factors, value)?,
         Node::Pow([b, x]) => match (value[b.index()], value[x.index()]) {
             (Some(b), Some(x)) => Some(b.powf(x)),
             _ => None,
@@ -142,8 +86,86 @@ fn node_value(g: &Graph, id: Id, value: &[Option<f64>]) -> Result<Option<f64>, N
             constant.then(|| f.eval(&values[..f.arity()]))
         }
     };
-    match own.and_then(report) {
-        Some(bad) => Err(bad),
-        None => Ok(own),
+    if let Some(v) = own {
+        finite(id, v)?;
     }
+    Ok(own)
+}
+
+/// `Ok` where `v` is finite, else `v` reported as the value of `id` that
+/// is not.
+fn finite(id: Id, v: f64) -> Result<(), NonFinite> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(NonFinite { node: id, value: v })
+    }
+}
+
+/// The value of the sum `id` = `Σ cᵢ·tᵢ + c₀` where it is constant, after
+/// checking that each constant term and the sum of the constant parts'
+/// magnitudes are finite (no partial sum, in whatever order the emitted code
+/// adds, exceeds that bound).
+fn sum_value(
+    id: Id,
+    terms: &[(Id, Num)],
+    c0: f64,
+    value: &[Option<f64>],
+) -> Result<Option<f64>, NonFinite> {
+    let mut bound = c0.abs();
+    let mut sum = Some(c0);
+    for &(t, c) in terms {
+        match value[t.index()] {
+            Some(v) => {
+                let term = c.to_f64() * v;
+                finite(id, term)?;
+                bound += term.abs();
+                sum = sum.map(|s| s + term);
+            }
+            None => sum = None,
+        }
+    }
+    finite(id, bound)?;
+    Ok(sum)
+}
+
+/// The value of the product `id` = `Π bᵢ^eᵢ` where it is constant, after
+/// checking each constant factor as emitted (the base under the exponent's
+/// magnitude, a divisor where the exponent is negative), the product of the
+/// numerator's and of the denominator's factors above 1 in magnitude, and
+/// that the denominator's factors below 1 do not underflow to zero: sharing
+/// may change the order in which they are multiplied.
+fn product_value(
+    id: Id,
+    factors: &[(Id, Num)],
+    value: &[Option<f64>],
+) -> Result<Option<f64>, NonFinite> {
+    let (mut big_num, mut big_den, mut small_den) = (1.0f64, 1.0f64, 1.0f64);
+    let mut product = Some((1.0f64, 1.0f64));
+    for &(b, e) in factors {
+        let Some(base) = value[b.index()] else {
+            product = None;
+            continue;
+        };
+        let divides = e.is_negative();
+        let magnitude = if divides { -e } else { e };
+        let p = power(base, magnitude);
+        finite(id, p)?;
+        if divides {
+            big_den *= p.abs().max(1.0);
+            small_den *= p.abs().min(1.0);
+        } else {
+            big_num *= p.abs().max(1.0);
+        }
+        product = product.map(|(n, d)| if divides { (n, d * p) } else { (n * p, d) });
+    }
+    finite(id, big_num)?;
+    finite(id, big_den)?;
+    if small_den == 0.0 {
+        return Err(NonFinite {
+            node: id,
+            value: f64::INFINITY,
+        });
+    }
+    Ok(product.map(|(n, d)| n / d))
 }

@@ -157,63 +157,8 @@ impl<'a> Printer<'a> {
         match self.graph.node(id) {
             Node::Num(n) => self.number(*n),
             Node::Sym(s) => (self.symbol(*s), Prec::Atom),
-            Node::Add(terms, c0) => {
-                let mut out = String::new();
-                for (i, (term, magnitude, negative)) in
-                    signed_parts(terms, *c0).into_iter().enumerate()
-                {
-                    let text = match term {
-                        Some(t) => self.scaled(t, magnitude),
-                        None => magnitude.to_string(),
-                    };
-                    match (i, negative) {
-                        (0, false) => out.push_str(&text),
-                        (0, true) => out.push_str(&format!("{}{text}", self.minus())),
-                        (_, false) => out.push_str(&format!(" + {text}")),
-                        (_, true) => out.push_str(&format!(" {} {text}", self.minus())),
-                    }
-                }
-                let single_positive = terms.len() == 1 && c0.is_zero() && !terms[0].1.is_negative();
-                (
-                    out,
-                    if single_positive {
-                        Prec::Product
-                    } else {
-                        Prec::Sum
-                    },
-                )
-            }
-            Node::Mul(factors) => {
-                let (mut num, mut den) = (Vec::new(), Vec::new());
-                for &(b, e) in factors.iter() {
-                    if e.is_negative() {
-                        den.push(self.power(b, -e));
-                    } else {
-                        num.push(self.power(b, e));
-                    }
-                }
-                let num_text = if num.is_empty() {
-                    "1".to_string()
-                } else {
-                    num.join(self.times())
-                };
-                if den.is_empty() {
-                    return (
-                        num_text,
-                        if num.len() == 1 {
-                            Prec::Power
-                        } else {
-                            Prec::Product
-                        },
-                    );
-                }
-                let den_text = if den.len() == 1 {
-                    den.remove(0)
-                } else {
-                    format!("({})", den.join(self.times()))
-                };
-                (format!("{num_text}/{den_text}"), Prec::Product)
-            }
+            Node::Add(terms, c0) => self.sum(terms, *c0),
+            Node::Mul(factors) => self.product(factors),
             Node::Pow([b, e]) => {
                 let base = self.wrap(self.render(*b), Prec::Atom);
                 let exponent = self.wrap(self.render(*e), Prec::Atom);
@@ -235,6 +180,67 @@ impl<'a> Printer<'a> {
                 (call, Prec::Atom)
             }
         }
+    }
+
+    /// `Σ cᵢ·tᵢ + c₀` written with signs between the terms (`a − 2·b + 1`);
+    /// a single positive term binds as a product.
+    fn sum(&self, terms: &[(Id, Num)], c0: Num) -> (String, Prec) {
+        let mut out = String::new();
+        for (i, (term, magnitude, negative)) in signed_parts(terms, c0).into_iter().enumerate() {
+            let text = match term {
+                Some(t) => self.scaled(t, magnitude),
+                None => magnitude.to_string(),
+            };
+            match (i, negative) {
+                (0, false) => out.push_str(&text),
+                (0, true) => out.push_str(&format!("{}{text}", self.minus())),
+                (_, false) => out.push_str(&format!(" + {text}")),
+                (_, true) => out.push_str(&format!(" {} {text}", self.minus())),
+            }
+        }
+        let single_positive = terms.len() == 1 && c0.is_zero() && !terms[0].1.is_negative();
+        (
+            out,
+            if single_positive {
+                Prec::Product
+            } else {
+                Prec::Sum
+            },
+        )
+    }
+
+    /// `Π bᵢ^eᵢ` as a fraction: the factors of positive exponent over those
+    /// of negative exponent (`a·b/(c·d)`), `1` for an empty numerator.
+    fn product(&self, factors: &[(Id, Num)]) -> (String, Prec) {
+        let (mut num, mut den) = (Vec::new(), Vec::new());
+        for &(b, e) in factors {
+            if e.is_negative() {
+                den.push(self.power(b, -e));
+            } else {
+                num.push(self.power(b, e));
+            }
+        }
+        let num_text = if num.is_empty() {
+            "1".to_string()
+        } else {
+            num.join(self.times())
+        };
+        if den.is_empty() {
+            return (
+                num_text,
+                if num.len() == 1 {
+                    Prec::Power
+                } else {
+                    Prec::Product
+                },
+            );
+        }
+        let den_text = if den.len() == 1 {
+            den.remove(0)
+        } else {
+            format!("({})", den.join(self.times()))
+        };
+        (format!("{num_text}/{den_text}"), Prec::Product)
     }
 
     /// `c·t` for a positive coefficient `c`: `t`, `3·t`, `t/2`, `3·t/4`.
@@ -367,50 +373,14 @@ pub fn shared_subexpressions(
     name: impl Fn(usize) -> String,
 ) -> Vec<(Id, String)> {
     let order = g.reachable(roots);
-    // Uses inside other expressions: a whole printed expression that is
-    // only repeated as a whole (`b₂` and `(b − A a)₂`) reads better written
-    // out twice than named.
-    let mut uses: HashMap<Id, usize> = HashMap::new();
-    let mut multiplier: HashMap<Id, bool> = HashMap::new();
-    for &id in &order {
-        let mut children: Vec<Id> = g.children(id).collect();
-        children.sort();
-        children.dedup();
-        for &c in &children {
-            *uses.entry(c).or_default() += 1;
-        }
-        let own = matches!(g.node(id), Node::Sym(Sym::Multiplier(_)));
-        let inherited = children
-            .iter()
-            .any(|c| multiplier.get(c).copied().unwrap_or(false));
-        multiplier.insert(id, own || inherited);
-    }
-    // Estimated written length, children counted by name where named.
-    let own_length = |id: Id| match g.node(id) {
-        Node::Num(_) | Node::Sym(_) => 3,
-        Node::Add(terms, _) => 4 * terms.len() + 2,
-        Node::Mul(factors) => 3 * factors.len(),
-        Node::Pow(_) => 3,
-        Node::Func(f, _) => f.name().len() + 2,
-    };
-    // First, everything written out (saturating: trees can be exponential).
-    let mut full: HashMap<Id, usize> = HashMap::new();
-    for &id in &order {
-        let inner = g.children(id).fold(0usize, |sum, c| {
-            sum.saturating_add(full.get(&c).copied().unwrap_or(3))
-        });
-        full.insert(id, own_length(id).saturating_add(inner));
-    }
-    let written_out = roots.iter().fold(0usize, |sum, r| {
-        sum.saturating_add(full.get(r).copied().unwrap_or(0))
-    });
-    if written_out < WRITTEN_OUT_BUDGET {
+    let (uses, multiplier) = uses_and_multipliers(g, &order);
+    if written_out_length(g, &order, roots) < WRITTEN_OUT_BUDGET {
         return Vec::new();
     }
     let mut length: HashMap<Id, usize> = HashMap::new();
     let mut names = Vec::new();
     for &id in &order {
-        let own = own_length(id);
+        let own = own_length(g, id);
         let inner: usize = g
             .children(id)
             .map(|c| length.get(&c).copied().unwrap_or(3))
@@ -431,6 +401,56 @@ pub fn shared_subexpressions(
         length.insert(id, written);
     }
     names
+}
+
+/// For the nodes of `order` (topological): how many distinct nodes use each
+/// inside them, and whether each depends on a multiplier `λ`. Only uses
+/// inside other expressions count: a whole printed expression that is only
+/// repeated as a whole (`b₂` and `(b − A a)₂`) reads better written out
+/// twice than named.
+fn uses_and_multipliers(g: &Graph, order: &[Id]) -> (HashMap<Id, usize>, HashMap<Id, bool>) {
+    let mut uses: HashMap<Id, usize> = HashMap::new();
+    let mut multiplier: HashMap<Id, bool> = HashMap::new();
+    for &id in order {
+        let mut children: Vec<Id> = g.children(id).collect();
+        children.sort();
+        children.dedup();
+        for &c in &children {
+            *uses.entry(c).or_default() += 1;
+        }
+        let own = matches!(g.node(id), Node::Sym(Sym::Multiplier(_)));
+        let inherited = children
+            .iter()
+            .any(|c| multiplier.get(c).copied().unwrap_or(false));
+        multiplier.insert(id, own || inherited);
+    }
+    (uses, multiplier)
+}
+
+/// The estimated written length of `id` itself, its children not counted.
+fn own_length(g: &Graph, id: Id) -> usize {
+    match g.node(id) {
+        Node::Num(_) | Node::Sym(_) => 3,
+        Node::Add(terms, _) => 4 * terms.len() + 2,
+        Node::Mul(factors) => 3 * factors.len(),
+        Node::Pow(_) => 3,
+        Node::Func(f, _) => f.name().len() + 2,
+    }
+}
+
+/// The estimated length of `roots` with everything written out, nothing
+/// named (saturating: trees can be exponentially larger than the DAG).
+fn written_out_length(g: &Graph, order: &[Id], roots: &[Id]) -> usize {
+    let mut full: HashMap<Id, usize> = HashMap::new();
+    for &id in order {
+        let inner = g.children(id).fold(0usize, |sum, c| {
+            sum.saturating_add(full.get(&c).copied().unwrap_or(3))
+        });
+        full.insert(id, own_length(g, id).saturating_add(inner));
+    }
+    roots.iter().fold(0usize, |sum, r| {
+        sum.saturating_add(full.get(r).copied().unwrap_or(0))
+    })
 }
 
 #[cfg(test)]

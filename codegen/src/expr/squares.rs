@@ -104,53 +104,54 @@ fn squares(g: &mut Graph, factorer: &Factorer, root: Id) -> Option<Id> {
         let form = match lagrange_reduction(&entries) {
             Some(squares) if squares.len() < entries.len() => {
                 shorter = true;
-                let items: Vec<(Id, Num)> = squares
-                    .into_iter()
-                    .map(|(d, l)| {
-                        let items: Vec<(Id, Num)> = l
-                            .into_iter()
-                            .map(|(v, c)| (g.sym(Sym::Vel(v)), c))
-                            .collect();
-                        let linear = g.linear_combination(items);
-                        (g.pown(linear, Num::int(2)), d)
-                    })
-                    .collect();
-                g.linear_combination(items)
+                sum_of_squares(g, squares)
             }
-            _ => {
-                let items: Vec<(Id, Num)> = entries
-                    .into_iter()
-                    .map(|(i, j, c)| {
-                        let (vi, vj) = (g.sym(Sym::Vel(i)), g.sym(Sym::Vel(j)));
-                        (g.mul2(vi, vj), c)
-                    })
-                    .collect();
-                g.linear_combination(items)
-            }
+            _ => quadratic_form(g, entries),
         };
         rest.push((g.mul2(term, form), Num::ONE));
     }
     shorter.then(|| g.linear_combination(rest))
 }
 
+/// `Σ dₖ·(Σ lₖⱼ·q̇ⱼ)²` in the graph.
+fn sum_of_squares(g: &mut Graph, squares: Vec<Square>) -> Id {
+    let items: Vec<(Id, Num)> = squares
+        .into_iter()
+        .map(|(d, l)| {
+            let items: Vec<(Id, Num)> = l
+                .into_iter()
+                .map(|(v, c)| (g.sym(Sym::Vel(v)), c))
+                .collect();
+            let linear = g.linear_combination(items);
+            (g.pown(linear, Num::int(2)), d)
+        })
+        .collect();
+    g.linear_combination(items)
+}
+
+/// `Σ c·q̇ᵢ·q̇ⱼ` in the graph, unreduced: the form where no reduction is shorter.
+fn quadratic_form(g: &mut Graph, entries: Vec<(usize, usize, Num)>) -> Id {
+    let items: Vec<(Id, Num)> = entries
+        .into_iter()
+        .map(|(i, j, c)| {
+            let (vi, vj) = (g.sym(Sym::Vel(i)), g.sym(Sym::Vel(j)));
+            (g.mul2(vi, vj), c)
+        })
+        .collect();
+    g.linear_combination(items)
+}
+
 /// `root` as a polynomial of degree at most two in the velocities, or
 /// `None` (a velocity under a function or in a named definition, which the
 /// derivation shows by its name; a higher degree; too many terms).
 fn expand(g: &mut Graph, factorer: &Factorer, root: Id) -> Option<Poly> {
-    let mut memo: HashMap<Id, Poly> = HashMap::new();
     let order = g.reachable(&[root]);
-    let moving: Vec<bool> = {
-        let mut moving = vec![false; g.len()];
-        for &id in &order {
-            moving[id.index()] = match g.node(id) {
-                Node::Sym(Sym::Vel(_)) => true,
-                node => node.children().any(|c| moving[c.index()]),
-            };
-        }
-        moving
+    let mut expansion = Expansion {
+        memo: HashMap::new(),
+        moving: moving_nodes(g, &order),
     };
     for &id in &order {
-        if !moving[id.index()] {
+        if !expansion.moving[id.index()] {
             continue;
         }
         if factorer.keeps(id) {
@@ -161,62 +162,92 @@ fn expand(g: &mut Graph, factorer: &Factorer, root: Id) -> Option<Poly> {
                 let one = g.num(Num::ONE);
                 Poly::from([(vec![i], vec![(one, Num::ONE)])])
             }
-            Node::Add(terms, c0) => {
-                let mut sum = Poly::new();
-                if !c0.is_zero() {
-                    let one = g.num(Num::ONE);
-                    sum.entry(Vec::new()).or_default().push((one, c0));
-                }
-                for (t, c) in terms.iter().copied() {
-                    let part = part(&memo, &moving, t)?;
-                    for (m, contributions) in part {
-                        let slot = sum.entry(m).or_default();
-                        slot.extend(contributions.into_iter().map(|(x, k)| (x, k * c)));
-                    }
-                }
-                sum
-            }
-            Node::Mul(factors) => {
-                let mut product = constant(g.num(Num::ONE));
-                for (base, e) in factors.iter().copied() {
-                    if !moving[base.index()] {
-                        // A velocity-free factor, at any power, is one
-                        // coefficient.
-                        let factor = constant(g.pown(base, e));
-                        product = multiply(g, &product, &factor)?;
-                        continue;
-                    }
-                    // A velocity to a power other than 1 or 2 exceeds the
-                    // degree (or is no polynomial).
-                    let power = match e.as_integer() {
-                        Some(p @ 1..=2) => p,
-                        _ => return None,
-                    };
-                    let factor = part(&memo, &moving, base)?;
-                    for _ in 0..power {
-                        product = multiply(g, &product, &factor)?;
-                    }
-                }
-                product
-            }
+            Node::Add(terms, c0) => expansion.sum(g, &terms, c0)?,
+            Node::Mul(factors) => expansion.product(g, &factors)?,
             _ => return None,
         };
         let size: usize = poly.values().map(Vec::len).sum();
         if size > MAX_CONTRIBUTIONS {
             return None;
         }
-        memo.insert(id, poly);
+        expansion.memo.insert(id, poly);
     }
-    part(&memo, &moving, root)
+    expansion.part(root)
 }
 
-/// The polynomial of `id`: expanded if it holds a velocity, a constant
-/// coefficient otherwise.
-fn part(memo: &HashMap<Id, Poly>, moving: &[bool], id: Id) -> Option<Poly> {
-    if moving[id.index()] {
-        return memo.get(&id).cloned();
+/// Which nodes of `order` (topological, indexed by arena position) hold a
+/// velocity: only those are expanded, the others are coefficients.
+fn moving_nodes(g: &Graph, order: &[Id]) -> Vec<bool> {
+    let mut moving = vec![false; g.len()];
+    for &id in order {
+        moving[id.index()] = match g.node(id) {
+            Node::Sym(Sym::Vel(_)) => true,
+            node => node.children().any(|c| moving[c.index()]),
+        };
     }
-    Some(constant(id))
+    moving
+}
+
+/// The polynomials of the velocity-holding nodes expanded so far, which
+/// the nodes after them are built from.
+struct Expansion {
+    /// The polynomial of each expanded node.
+    memo: HashMap<Id, Poly>,
+    /// Whether each node (by arena index) holds a velocity.
+    moving: Vec<bool>,
+}
+
+impl Expansion {
+    /// The polynomial of `id`: expanded if it holds a velocity, a constant
+    /// coefficient otherwise.
+    fn part(&self, id: Id) -> Option<Poly> {
+        if self.moving[id.index()] {
+            return self.memo.get(&id).cloned();
+        }
+        Some(constant(id))
+    }
+
+    /// The polynomial of `Σ cᵢ·tᵢ + c₀`: the parts' contributions scaled by
+    /// their coefficients, monomial by monomial.
+    fn sum(&self, g: &mut Graph, terms: &[(Id, Num)], c0: Num) -> Option<Poly> {
+        let mut sum = Poly::new();
+        if !c0.is_zero() {
+            let one = g.num(Num::ONE);
+            sum.entry(Vec::new()).or_default().push((one, c0));
+        }
+        for &(t, c) in terms {
+            let part = self.part(t)?;
+            for (m, contributions) in part {
+                let slot = sum.entry(m).or_default();
+                slot.extend(contributions.into_iter().map(|(x, k)| (x, k * c)));
+            }
+        }
+        Some(sum)
+    }
+
+    /// The polynomial of `Π bᵢ^eᵢ`, or `None` past degree two.
+    fn product(&self, g: &mut Graph, factors: &[(Id, Num)]) -> Option<Poly> {
+        let mut product = constant(g.num(Num::ONE));
+        for &(base, e) in factors {
+            if !self.moving[base.index()] {
+                // A velocity-free factor, at any power, is one coefficient.
+                let factor = constant(g.pown(base, e));
+                product = multiply(g, &product, &factor)?;
+                continue;
+            }
+            // A velocity to a power other than 1 or 2 exceeds the degree
+            // (or is no polynomial).
+            let power = match e.as_integer() {
+                Some(p @ 1..=2) => p,
+                _ => return None,
+            };
+            let factor = self.part(base)?;
+            for _ in 0..power {
+                product = multiply(g, &product, &factor)?;
+            }
+        }
+        Some(product)
+    }
 }
 
 /// The polynomial that is the velocity-free coefficient `c` alone.

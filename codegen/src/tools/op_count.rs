@@ -278,60 +278,20 @@ fn functions(name: &str) -> usize {
 
 /// Adds the operations of `expr` to `ops` and the names it reads to `uses`.
 fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
-    use syn::{BinOp, UnOp};
     match expr {
         Expr::Binary(b) => {
-            match b.op {
-                BinOp::Add(_) | BinOp::AddAssign(_) => ops.add += 1,
-                BinOp::Sub(_) | BinOp::SubAssign(_) => ops.sub += 1,
-                BinOp::Mul(_) | BinOp::MulAssign(_) => ops.mul += 1,
-                BinOp::Div(_) | BinOp::DivAssign(_) => ops.div += 1,
-                // Comparisons and the logic of checks compute no value of q̈.
-                _ => {}
-            }
+            count_binary(&b.op, ops);
             walk(&b.left, ops, uses)?;
             walk(&b.right, ops, uses)?;
         }
         Expr::Unary(u) => {
-            if matches!(u.op, UnOp::Neg(_)) {
+            if matches!(u.op, syn::UnOp::Neg(_)) {
                 ops.neg += 1;
             }
             walk(&u.expr, ops, uses)?;
         }
-        Expr::MethodCall(m) => {
-            let name = m.method.to_string();
-            if name == "mul_add" {
-                ops.mul += 1;
-                ops.add += 1;
-            } else if let count @ 1.. = functions(&name) {
-                ops.functions += count;
-            } else if !FREE.contains(&name.as_str()) {
-                return None;
-            }
-            walk(&m.receiver, ops, uses)?;
-            for a in &m.args {
-                walk(a, ops, uses)?;
-            }
-        }
-        Expr::Call(c) => {
-            let Expr::Path(path) = &*c.func else {
-                return None;
-            };
-            let name = path.path.segments.last()?.ident.to_string();
-            if let count @ 1.. = functions(&name) {
-                // The runtime's scalar helpers (`sin_cos`, `signum`, `step`).
-                ops.functions += count;
-            } else if !FREE.contains(&name.as_str()) {
-                // A call into the runtime: not straight-line.
-                return None;
-            }
-            // `lit(2.5)` is a constant: its literal is not read.
-            if name != "lit" {
-                for a in &c.args {
-                    walk(a, ops, uses)?;
-                }
-            }
-        }
+        Expr::MethodCall(m) => method_call(m, ops, uses)?,
+        Expr::Call(c) => call(c, ops, uses)?,
         Expr::Path(p) => {
             if let Some(ident) = p.path.get_ident() {
                 uses.push(ident.to_string());
@@ -356,20 +316,75 @@ fn walk(expr: &Expr, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
         Expr::Block(b) => block(&b.block.stmts, ops, uses)?,
         Expr::Paren(p) => walk(&p.expr, ops, uses)?,
         Expr::Group(g) => walk(&g.expr, ops, uses)?,
-        Expr::Tuple(t) => {
-            for e in &t.elems {
-                walk(e, ops, uses)?;
-            }
-        }
-        Expr::Array(a) => {
-            for e in &a.elems {
-                walk(e, ops, uses)?;
-            }
-        }
+        Expr::Tuple(t) => walk_all(&t.elems, ops, uses)?,
+        Expr::Array(a) => walk_all(&a.elems, ops, uses)?,
         Expr::Lit(_) => {}
         Expr::Field(f) => walk(&f.base, ops, uses)?,
         Expr::Reference(r) => walk(&r.expr, ops, uses)?,
         _ => return None,
+    }
+    Some(())
+}
+
+/// Counts the arithmetic operation of a binary operator (compound
+/// assignments included); comparisons and the logic of checks compute no
+/// value of q̈ and count nothing.
+fn count_binary(op: &syn::BinOp, ops: &mut OpCount) {
+    use syn::BinOp;
+    match op {
+        BinOp::Add(_) | BinOp::AddAssign(_) => ops.add += 1,
+        BinOp::Sub(_) | BinOp::SubAssign(_) => ops.sub += 1,
+        BinOp::Mul(_) | BinOp::MulAssign(_) => ops.mul += 1,
+        BinOp::Div(_) | BinOp::DivAssign(_) => ops.div += 1,
+        _ => {}
+    }
+}
+
+/// [`walk`] over each of `exprs` in turn.
+fn walk_all<'a>(
+    exprs: impl IntoIterator<Item = &'a Expr>,
+    ops: &mut OpCount,
+    uses: &mut Vec<String>,
+) -> Option<()> {
+    for e in exprs {
+        walk(e, ops, uses)?;
+    }
+    Some(())
+}
+
+/// A method call: `mul_add` is a multiply and an add, the elementary
+/// functions count as such, the free methods (conversions) count nothing, and
+/// any other method leaves straight-line code (`None`).
+fn method_call(m: &syn::ExprMethodCall, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
+    let name = m.method.to_string();
+    if name == "mul_add" {
+        ops.mul += 1;
+        ops.add += 1;
+    } else if let count @ 1.. = functions(&name) {
+        ops.functions += count;
+    } else if !FREE.contains(&name.as_str()) {
+        return None;
+    }
+    walk(&m.receiver, ops, uses)?;
+    walk_all(&m.args, ops, uses)
+}
+
+/// A call of a path: the runtime's scalar helpers (`sin_cos`, `signum`,
+/// `step`) count as elementary functions, the free ones count nothing, and a
+/// call into the rest of the runtime is not straight-line (`None`).
+fn call(c: &syn::ExprCall, ops: &mut OpCount, uses: &mut Vec<String>) -> Option<()> {
+    let Expr::Path(path) = &*c.func else {
+        return None;
+    };
+    let name = path.path.segments.last()?.ident.to_string();
+    if let count @ 1.. = functions(&name) {
+        ops.functions += count;
+    } else if !FREE.contains(&name.as_str()) {
+        return None;
+    }
+    // `lit(2.5)` is a constant: its literal is not read.
+    if name != "lit" {
+        walk_all(&c.args, ops, uses)?;
     }
     Some(())
 }

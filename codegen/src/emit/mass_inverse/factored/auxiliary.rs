@@ -21,6 +21,7 @@
 
 use crate::emit::context::{Context, Inputs};
 use crate::emit::ldlt::StructuredLdlt;
+use crate::emit::solve::corrected;
 use crate::equations::mass_inverse::{Auxiliary, Factored};
 use crate::expr::Id;
 use proc_macro2::TokenStream;
@@ -103,57 +104,14 @@ pub(super) fn prelude(
     dynamics: bool,
     correct: bool,
 ) -> TokenStream {
-    let sys = &ctx.eq.system;
-    let (g, n, k) = (&sys.graph, ctx.n, ctx.k);
-    let mass_nonzero = |i: usize, j: usize| !g.is_zero(sys.mass[i][j]);
-    let normal_nonzero = |i: usize, j: usize| {
-        f.auxiliary
-            .as_ref()
-            .is_some_and(|x| !g.is_zero(x.normal[i][j]))
-    };
-    let correction = (correct && k > 0).then(|| {
-        let b: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
-        let db: Vec<Ident> = (0..k).map(|r| Context::local("db", r)).collect();
-        quote! {
-            let (#(#b,)*) = match correction {
-                ::core::option::Option::Some(__db) => {
-                    let [[#(#db),*]] = __db.data.0;
-                    (#(#b + #db,)*)
-                }
-                ::core::option::Option::None => (#(#b,)*),
-            };
-        }
+    // `b + db` rebinding the locals `__b{r}` where `gauss` is given a
+    // correction.
+    let correction = (correct && ctx.k > 0).then(|| {
+        let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
+        corrected(&b, &[])
     });
-    let trace = sum((0..n)
-        .filter(|&i| mass_nonzero(i, i))
-        .map(|i| {
-            let m = model_mass(i, i);
-            quote!(#m)
-        })
-        .collect());
-    let norm = sum((0..n)
-        .filter(|&i| normal_nonzero(i, i))
-        .map(|i| {
-            let x = normal(i, i);
-            quote!(#x)
-        })
-        .collect());
-    let mut entries = TokenStream::new();
-    for i in 0..n {
-        for j in 0..=i {
-            if !f.mass.nonzero[i][j] {
-                continue;
-            }
-            let (m, x) = (model_mass(i, j), normal(i, j));
-            let value = match (mass_nonzero(i, j), normal_nonzero(i, j)) {
-                (true, true) => quote!(#m + __saux * #x),
-                (true, false) => quote!(#m),
-                (false, _) => quote!(__saux * #x),
-            };
-            let name = mass.entry(i, j);
-            entries.extend(quote! { let #name = #value; });
-        }
-    }
+    let (trace, norm) = traces(ctx, f);
+    let entries = auxiliary_mass(ctx, f, mass);
     let forces = match (&f.auxiliary, dynamics) {
         (Some(aux), true) => Some(auxiliary_forces(ctx, aux)),
         _ => None,
@@ -176,6 +134,61 @@ pub(super) fn prelude(
         #entries
         #forces
     }
+}
+
+/// Whether entry `(i, j)` of `A_RᵀA_R` can be nonzero.
+fn normal_nonzero(ctx: &Context, f: &Factored, i: usize, j: usize) -> bool {
+    let g = &ctx.eq.system.graph;
+    f.auxiliary
+        .as_ref()
+        .is_some_and(|x| !g.is_zero(x.normal[i][j]))
+}
+
+/// `tr M` and `‖A_R‖²_F = tr A_RᵀA_R`, the scale's numerator and
+/// denominator, over the diagonals' nonzeros.
+fn traces(ctx: &Context, f: &Factored) -> (TokenStream, TokenStream) {
+    let sys = &ctx.eq.system;
+    let trace = sum((0..ctx.n)
+        .filter(|&i| !sys.graph.is_zero(sys.mass[i][i]))
+        .map(|i| {
+            let m = model_mass(i, i);
+            quote!(#m)
+        })
+        .collect());
+    let norm = sum((0..ctx.n)
+        .filter(|&i| normal_nonzero(ctx, f, i, i))
+        .map(|i| {
+            let x = normal(i, i);
+            quote!(#x)
+        })
+        .collect());
+    (trace, norm)
+}
+
+/// The auxiliary mass `M + s A_RᵀA_R` over the factored pattern, under the
+/// names the factorization reads.
+fn auxiliary_mass(ctx: &Context, f: &Factored, mass: &StructuredLdlt) -> TokenStream {
+    let sys = &ctx.eq.system;
+    let mut entries = TokenStream::new();
+    for i in 0..ctx.n {
+        for j in 0..=i {
+            if !f.mass.nonzero[i][j] {
+                continue;
+            }
+            let (m, x) = (model_mass(i, j), normal(i, j));
+            let value = match (
+                !sys.graph.is_zero(sys.mass[i][j]),
+                normal_nonzero(ctx, f, i, j),
+            ) {
+                (true, true) => quote!(#m + __saux * #x),
+                (true, false) => quote!(#m),
+                (false, _) => quote!(__saux * #x),
+            };
+            let name = mass.entry(i, j);
+            entries.extend(quote! { let #name = #value; });
+        }
+    }
+    entries
 }
 
 /// The runtime's dense solve (with every row of `A`) as `gauss`'s answer:

@@ -28,6 +28,9 @@ pub(super) struct GramForm {
     y: Vec<Vec<bool>>,
 }
 
+/// The [`GramForm`] of `gauss`'s solve: the forward substitutions of `F`
+/// and of each row of `A` through `M`'s factor (`mass`), `D⁻¹ Y`, the
+/// entries of `S` on `gram`'s pattern, and `r`.
 pub(super) fn gram_form(
     ctx: &Context,
     f: &Factored,
@@ -51,26 +54,7 @@ pub(super) fn gram_form(
         }
         y.push(bound);
     }
-    for i in 0..ctx.k {
-        for j in 0..=i {
-            let pairs: Vec<_> = (0..n)
-                .filter(|&p| y[i][p] && y[j][p])
-                .map(|p| {
-                    let (yi, dj) = (
-                        Context::local(&format!("wy{i}x"), p),
-                        Context::local(&format!("wd{j}x"), p),
-                    );
-                    (quote!(#yi), quote!(#dj))
-                })
-                .collect();
-            if gram.is_nonzero(i, j) {
-                let (name, value) = (gram.entry(i, j), dot(pairs));
-                code.extend(quote! { let #name = #value; });
-            } else {
-                debug_assert!(pairs.is_empty(), "S's pattern covers Yᵀ D⁻¹ Y's");
-            }
-        }
-    }
+    code.extend(gram_products(n, gram, &y));
     let residuals: Vec<Ident> = (0..ctx.k).map(|r| Context::local("r", r)).collect();
     for (j, name) in residuals.iter().enumerate() {
         let pairs: Vec<_> = (0..n)
@@ -97,6 +81,33 @@ pub(super) fn gram_form(
         z,
         y,
     }
+}
+
+/// `S = Yᵀ D⁻¹ Y` on `gram`'s pattern (lower triangle), over the bound
+/// positions `y` of each column of `Y`.
+fn gram_products(n: usize, gram: &StructuredLdlt, y: &[Vec<bool>]) -> TokenStream {
+    let mut code = TokenStream::new();
+    for i in 0..y.len() {
+        for j in 0..=i {
+            let pairs: Vec<_> = (0..n)
+                .filter(|&p| y[i][p] && y[j][p])
+                .map(|p| {
+                    let (yi, dj) = (
+                        Context::local(&format!("wy{i}x"), p),
+                        Context::local(&format!("wd{j}x"), p),
+                    );
+                    (quote!(#yi), quote!(#dj))
+                })
+                .collect();
+            if gram.is_nonzero(i, j) {
+                let (name, value) = (gram.entry(i, j), dot(pairs));
+                code.extend(quote! { let #name = #value; });
+            } else {
+                debug_assert!(pairs.is_empty(), "S's pattern covers Yᵀ D⁻¹ Y's");
+            }
+        }
+    }
+    code
 }
 
 impl GramForm {

@@ -251,12 +251,20 @@ fn share(
     code: &mut TokenStream,
     (s_terms, r_terms): (&mut [Vec<Vec<TokenStream>>], &mut [Vec<TokenStream>]),
 ) -> [Option<Ident>; 3] {
-    let (half, _) = literal(Num::Rational(1, 2));
     let b = |k: usize| rhs[leg.nr + leg.rows[k]].clone();
     let c = [0, 1, 2].map(|i| {
         let value = dot((0..3).map(|k| (leg.a(i, k), b(k))));
         bind(code, leg.name("ljc", i), value)
     });
+    gram_share(leg, code, s_terms);
+    residual_share(leg, rhs, &c, code, r_terms);
+    c
+}
+
+/// The leg's terms of `S`, `Eᵀ W + Wᵀ E` (pushed into `s_terms`, lower
+/// triangle), with `W = J⁻ᵀ Y`, `Y = M_lb − ½ M_ll J⁻¹ E`.
+fn gram_share(leg: &Leg, code: &mut TokenStream, s_terms: &mut [Vec<Vec<TokenStream>>]) {
+    let (half, _) = literal(Num::Rational(1, 2));
     // G = M_ll J⁻¹, then Y = M_lb − ½ G E.
     let g = [0, 1, 2].map(|i| {
         [0, 1, 2].map(|k| {
@@ -303,6 +311,17 @@ fn share(
             }
         }
     }
+}
+
+/// The leg's terms of `r`, `M_lbᵀ c + Eᵀ J⁻ᵀ (f_l − M_ll c)` (pushed into
+/// `r_terms`), given `c = J⁻¹ b`.
+fn residual_share(
+    leg: &Leg,
+    rhs: &[Option<TokenStream>],
+    c: &[Option<Ident>; 3],
+    code: &mut TokenStream,
+    r_terms: &mut [Vec<TokenStream>],
+) {
     // w = f_l − M_ll c, x = J⁻ᵀ w.
     let f = |i: usize| rhs[leg.joints[i]].clone();
     let wl = [0, 1, 2].map(|i| {
@@ -320,7 +339,6 @@ fn share(
             r.push(quote!(#value));
         }
     }
-    c
 }
 
 /// The leg's `θ̈ = c − J⁻¹ (E u)` (locals `__ljq{t}_{i}`) and

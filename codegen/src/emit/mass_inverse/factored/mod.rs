@@ -136,6 +136,24 @@ impl<'a> FactoredSolve<'a> {
         if scope == (Scope::Dynamics { gauss: true }) && k > 0 {
             return Self::solver(ctx, f, (mass, gram), head);
         }
+        Self::column_solve(ctx, f, (mass, gram), head, scope)
+    }
+
+    /// Every solve but `gauss`'s with constraints, after `head` (the
+    /// inputs, their check, the auxiliary mass and `M`'s factorization):
+    /// `a = M⁻¹ F`, `W = M⁻¹ Aᵀ` column by column, `S = A W` and
+    /// `r = b − A a`, and `S λ = r`; only `W` and `S`'s factor for
+    /// [`Scope::ConstraintSpace`].
+    fn column_solve(
+        ctx: &'a Context,
+        f: &'a Factored,
+        (mass, gram): (StructuredLdlt<'a>, StructuredLdlt<'a>),
+        head: TokenStream,
+        scope: Scope,
+    ) -> Self {
+        let k = ctx.k;
+        let dynamics = matches!(scope, Scope::Dynamics { .. });
+        let correction = matches!(scope, Scope::Dynamics { gauss: true });
         // a = M⁻¹ F.
         let unconstrained: Vec<Ident> = (0..ctx.n).map(|i| Context::local("ua", i)).collect();
         let (solve_a, a_bound) = mass.solve_sparse(&forces_rhs(ctx, f), "ay", &unconstrained);

@@ -85,8 +85,17 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
 /// structure's entries of `A T`, `A T`'s `α` columns, the model's `A`
 /// (for `Aᵀλ`), `b`, the quaternions' coordinates.
 fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)>, usize) {
+    let mut named = mass_and_forces(ctx, v, ldlt);
+    let checked = named.len();
+    named.extend(constraint_inputs(ctx, v, ldlt));
+    (named, checked)
+}
+
+/// `TᵀMT`'s entries of the structure and `TᵀF`'s nonzeros, the inputs
+/// checked finite.
+fn mass_and_forces(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> Vec<(Ident, Id)> {
     let g = &ctx.eq.system.graph;
-    let (n, k, nr) = (ctx.n, ctx.k, v.coordinates.len());
+    let nr = v.coordinates.len();
     let mut named = Vec::new();
     for i in 0..nr {
         for j in 0..=i {
@@ -101,7 +110,16 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
             named.push((Context::local("f", i), e));
         }
     }
-    let checked = named.len();
+    named
+}
+
+/// The structure's entries of `A T`, `A T`'s `α` columns, the model's `A`
+/// (for `Aᵀλ`), `b` (`R̂ᵀ b` for a point's rows under a free base), the
+/// free bases' rotations and the quaternions' coordinates.
+fn constraint_inputs(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> Vec<(Ident, Id)> {
+    let g = &ctx.eq.system.graph;
+    let (n, k, nr) = (ctx.n, ctx.k, v.coordinates.len());
+    let mut named = Vec::new();
     for (rr, &r) in v.rows.iter().enumerate() {
         for (jj, &j) in v.coordinates.iter().enumerate() {
             if !g.is_zero(v.system.a[r][j]) {
@@ -145,7 +163,7 @@ fn named(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> (Vec<(Ident, Id)
             named.push((Context::local("qv", c + m), e));
         }
     }
-    (named, checked)
+    named
 }
 
 /// Each quaternion's `α = b_norm / (A T)_{norm,α}` (the divisor `|q|²`

@@ -27,7 +27,7 @@ use crate::emit::mass_inverse::adopt_dense;
 use crate::emit::tangent::{index, TangentTerms};
 use crate::equations::mass_inverse::Symbolic;
 use crate::equations::tangent::Form;
-use crate::expr::Id;
+use crate::expr::{Graph, Id};
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -40,26 +40,10 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     if matches!(ctx.eq.tangent.form, Form::Directional(_)) {
         return dense.clone();
     }
-    let (n, k) = (ctx.n, ctx.k);
-    let g = &ctx.eq.system.graph;
-    let nonzero = |e: Id| !g.is_zero(e);
-    // The constant pieces of every column's solve: A, W = M⁻¹Aᵀ and M⁻¹,
-    // structural nonzeros only, named once.
-    let mut extra: Vec<Id> = Vec::new();
-    for entries in [&d.rows, &d.weighted, &d.inverse] {
-        extra.extend(entries.iter().flatten().copied().filter(|&e| nonzero(e)));
-    }
-    extra.extend(d.common_mass);
-    let gauss = SymbolicSolve::new(ctx, d, &extra, false);
+    let k = ctx.k;
+    let gauss = SymbolicSolve::new(ctx, d, &column_constants(ctx, d), false);
     let (constants, qdd) = constants(ctx, d, &gauss);
-
-    let terms = TangentTerms::new(ctx);
-    let tangent_preamble = terms.body.preamble();
-    let mut columns = TokenStream::new();
-    for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
-        columns.extend(column(ctx, d, c, f, b));
-    }
-
+    let (tangent_preamble, columns) = straight_line_columns(ctx, d);
     let k_l = Context::dim(k);
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
     // A `Result` whether or not `acceleration` can fail: the body is
@@ -81,21 +65,11 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
             #value
         };
     }
-
-    // μᵥ and W μᵥ, a loop over the columns.
-    let r: Vec<_> = (0..k).map(|j| Context::local("jr", j)).collect();
-    let mu: Vec<_> = (0..k).map(|j| Context::local("jmu", j)).collect();
-    let solve = gauss.ldlt.solve(&r, "jy", &mu);
-    let (outputs, updates) = weighted_update(d, &mu, nonzero, n);
+    let multipliers = multiplier_loop(ctx, d, &gauss);
     // One local holds the answer on every path, so that it is built where
     // the caller wants it (a returned local assigned on two paths, or a
     // second local, costs a copy of the whole Jacobian: 32 KiB at 32 links).
-    // The same condition as `acceleration`'s check (`checked_motion`).
-    let suspect = gauss.ldlt.suspect(ctx.generic_rank);
-    let suspect = match overflowing_rows(ctx, d) {
-        Some(also) => quote!((#suspect) | #also),
-        None => suspect,
-    };
+    let suspect = suspect(ctx, d, &gauss);
     let adopt = adopt_dense(dense);
     quote! {
         #to_multipliers
@@ -111,17 +85,66 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
                 #tangent_preamble
                 #columns
             }
-            let __outs = __jac.dq.data.0.iter_mut()
-                .chain(__jac.dqd.data.0.iter_mut())
-                .chain(__jac.du.data.0.iter_mut());
-            for (__r, __out) in __rs.iter().zip(__outs) {
-                let [#(#r),*] = *__r;
-                #solve
-                let [#(#outputs),*] = __out;
-                #updates
-            }
+            #multipliers
         }
         #value
+    }
+}
+
+/// The constant pieces of every column's solve, named once: the structural
+/// nonzeros of `A`, `W = M⁻¹Aᵀ` and `M⁻¹`, and the common mass.
+fn column_constants(ctx: &Context, d: &Symbolic) -> Vec<Id> {
+    let g = &ctx.eq.system.graph;
+    let mut extra: Vec<Id> = Vec::new();
+    for entries in [&d.rows, &d.weighted, &d.inverse] {
+        extra.extend(entries.iter().flatten().copied().filter(|&e| !g.is_zero(e)));
+    }
+    extra.extend(d.common_mass);
+    extra
+}
+
+/// The tangent terms' preamble and the straight-line part of every column
+/// ([`column`]), each in a scope of its own.
+fn straight_line_columns(ctx: &Context, d: &Symbolic) -> (TokenStream, TokenStream) {
+    let terms = TangentTerms::new(ctx);
+    let preamble = terms.body.preamble();
+    let mut columns = TokenStream::new();
+    for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
+        columns.extend(column(ctx, d, c, f, b));
+    }
+    (preamble, columns)
+}
+
+/// When the dense solve answers instead: the same condition as
+/// `acceleration`'s check (`checked_motion`), the factorization's rank
+/// decision suspect or a scaled row overflowing.
+fn suspect(ctx: &Context, d: &Symbolic, gauss: &SymbolicSolve) -> TokenStream {
+    let suspect = gauss.ldlt.suspect(ctx.generic_rank);
+    match overflowing_rows(ctx, d) {
+        Some(also) => quote!((#suspect) | #also),
+        None => suspect,
+    }
+}
+
+/// `μᵥ` and `W μᵥ` for every column, one loop over the columns: each
+/// column's right-hand side `__rs[c]` solved by `acceleration`'s
+/// factorization of `S`, and `W μᵥ` added into the column's outputs.
+fn multiplier_loop(ctx: &Context, d: &Symbolic, gauss: &SymbolicSolve) -> TokenStream {
+    let g = &ctx.eq.system.graph;
+    let r: Vec<_> = (0..ctx.k).map(|j| Context::local("jr", j)).collect();
+    let mu: Vec<_> = (0..ctx.k).map(|j| Context::local("jmu", j)).collect();
+    let solve = gauss.ldlt.solve(&r, "jy", &mu);
+    let (outputs, updates) = weighted_update(d, &mu, |e| !g.is_zero(e), ctx.n);
+    quote! {
+        let __outs = __jac.dq.data.0.iter_mut()
+            .chain(__jac.dqd.data.0.iter_mut())
+            .chain(__jac.du.data.0.iter_mut());
+        for (__r, __out) in __rs.iter().zip(__outs) {
+            let [#(#r),*] = *__r;
+            #solve
+            let [#(#outputs),*] = __out;
+            #updates
+        }
     }
 }
 
@@ -178,7 +201,6 @@ fn column(
 ) -> TokenStream {
     let n = ctx.n;
     let g = &ctx.eq.system.graph;
-    let nonzero = |e: Id| !g.is_zero(e);
     let (part, cc) = match c {
         c if c < n => (quote!(dq), c),
         c if c < 2 * n => (quote!(dqd), c - n),
@@ -194,12 +216,27 @@ fn column(
             f_nonzero.push(i);
         }
     }
-    // aᵥ = M⁻¹ F̃ᵥ, written into the Jacobian's column.
+    let (free, a_nonzero) = free_acceleration(g, d, &f_nonzero, &quote!(__jac.#part.data.0[#ccl]));
+    code.extend(free);
+    code.extend(constraint_rhs(g, d, &a_nonzero, b, &quote!(__rs[#cl])));
+    quote! {{ #code }}
+}
+
+/// `aᵥ = M⁻¹ F̃ᵥ` over the nonzeros of `M⁻¹` and of `F̃ᵥ` (`f_nonzero`,
+/// bound as `__jf…`), each entry bound as `__ju…` and written into the
+/// Jacobian's column `out`; and the rows of `aᵥ` that are nonzero.
+fn free_acceleration(
+    g: &Graph,
+    d: &Symbolic,
+    f_nonzero: &[usize],
+    out: &TokenStream,
+) -> (TokenStream, Vec<usize>) {
+    let mut code = TokenStream::new();
     let mut a_nonzero = Vec::new();
     for (i, row) in d.inverse.iter().enumerate() {
         let products: Vec<TokenStream> = f_nonzero
             .iter()
-            .filter(|&&l| nonzero(row[l]))
+            .filter(|&&l| !g.is_zero(row[l]))
             .map(|&l| {
                 let (m, f) = (Context::local2("jm", i, l), Context::local("jf", l));
                 quote!(#m * #f)
@@ -209,16 +246,29 @@ fn column(
             let (u, il) = (Context::local("ju", i), index(i));
             code.extend(quote! {
                 let #u = #(#products)+*;
-                __jac.#part.data.0[#ccl][#il] = #u;
+                #out[#il] = #u;
             });
             a_nonzero.push(i);
         }
     }
-    // b̃ᵥ − A aᵥ, the right-hand side of S μᵥ.
+    (code, a_nonzero)
+}
+
+/// `b̃ᵥ − A aᵥ`, the right-hand side of `S μᵥ`, written into `out`: `b̃ᵥ`
+/// (`b`) scaled by `D` to match the scaled rows `Â`, over the nonzeros of
+/// `Â` and of `aᵥ` (`a_nonzero`).
+fn constraint_rhs(
+    g: &Graph,
+    d: &Symbolic,
+    a_nonzero: &[usize],
+    b: &[Option<TokenStream>],
+    out: &TokenStream,
+) -> TokenStream {
+    let mut code = TokenStream::new();
     for (j, row) in d.rows.iter().enumerate() {
         let products: Vec<TokenStream> = a_nonzero
             .iter()
-            .filter(|&&i| nonzero(row[i]))
+            .filter(|&&i| !g.is_zero(row[i]))
             .map(|&i| {
                 let (a, u) = (Context::local2("ja", j, i), Context::local("ju", i));
                 quote!(#a * #u)
@@ -239,9 +289,9 @@ fn column(
             (None, true) => continue,
         };
         let jl = index(j);
-        code.extend(quote! { __rs[#cl][#jl] = #value; });
+        code.extend(quote! { #out[#jl] = #value; });
     }
-    quote! {{ #code }}
+    code
 }
 
 /// The model's own multipliers `λ = μ D λ̃` that the tangent terms hold,

@@ -10,7 +10,7 @@ use crate::emit::context::Context;
 use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::solve::{checked_motion, corrected};
 use crate::equations::mass_inverse::Symbolic;
-use crate::expr::Id;
+use crate::expr::{Graph, Id};
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -59,23 +59,8 @@ impl<'a> SymbolicSolve<'a> {
         let g = &ctx.eq.system.graph;
         let residuals: Vec<_> = (0..k).map(|i| Context::local("r", i)).collect();
         let ldlt = StructuredLdlt::gram(&d.structure);
-        let mut named: Vec<(syn::Ident, Id)> = Vec::new();
-        for (i, (r, &residual)) in residuals.iter().zip(&d.residual).enumerate() {
-            for j in 0..=i {
-                if !g.is_zero(d.gram[i][j]) {
-                    named.push((ldlt.entry(i, j), d.gram[i][j]));
-                }
-            }
-            named.push((r.clone(), residual));
-        }
-        // Each distinct mass that is not a positive constant is checked once.
-        let mut unchecked: Vec<Id> = Vec::new();
-        for &m in &d.masses {
-            let constant_positive = g.as_num(m).is_some_and(|v| v.to_f64() > 0.0);
-            if !constant_positive && !unchecked.contains(&m) {
-                unchecked.push(m);
-            }
-        }
+        let named = gram_entries(g, d, &ldlt, &residuals);
+        let unchecked = unchecked_masses(g, d);
         let mut roots: Vec<Id> = named.iter().map(|(_, id)| *id).collect();
         roots.extend(&unchecked);
         roots.extend(&d.acceleration);
@@ -87,24 +72,7 @@ impl<'a> SymbolicSolve<'a> {
             let value = body.expr(*id);
             quote! { let #name = #value; }
         });
-        let error = quote!(DynamicsError::MassNotPositiveDefinite);
-        let exit = if gauss {
-            ctx.gauss_error(error)
-        } else {
-            let error = ctx.path(error);
-            quote!(return ::core::result::Result::Err(#error);)
-        };
-        let check = (!unchecked.is_empty()).then(|| {
-            let positive = unchecked.iter().map(|&m| {
-                let m = body.expr(m);
-                quote! { #m > T::zero() }
-            });
-            quote! {
-                if !(#(#positive)&&*) {
-                    #exit
-                }
-            }
-        });
+        let check = mass_check(ctx, &body, &unchecked, gauss);
         let corrected = (gauss && k > 0).then(|| corrected(&residuals, &d.scale));
         let multipliers: Vec<_> = (0..k).map(|i| Context::local("lam", i)).collect();
         let factor = ldlt.factor();
@@ -138,6 +106,64 @@ impl<'a> SymbolicSolve<'a> {
             scalar,
         }
     }
+}
+
+/// The locals the factorization reads, with their expressions: the
+/// structural nonzeros of each row of `S` up to the diagonal, then that
+/// row's residual `r` (named `residuals`).
+fn gram_entries(
+    g: &Graph,
+    d: &Symbolic,
+    ldlt: &StructuredLdlt,
+    residuals: &[syn::Ident],
+) -> Vec<(syn::Ident, Id)> {
+    let mut named: Vec<(syn::Ident, Id)> = Vec::new();
+    for (i, (r, &residual)) in residuals.iter().zip(&d.residual).enumerate() {
+        for j in 0..=i {
+            if !g.is_zero(d.gram[i][j]) {
+                named.push((ldlt.entry(i, j), d.gram[i][j]));
+            }
+        }
+        named.push((r.clone(), residual));
+    }
+    named
+}
+
+/// The masses checked positive at run time: each distinct one that is not
+/// a positive constant, once.
+fn unchecked_masses(g: &Graph, d: &Symbolic) -> Vec<Id> {
+    let mut unchecked: Vec<Id> = Vec::new();
+    for &m in &d.masses {
+        let constant_positive = g.as_num(m).is_some_and(|v| v.to_f64() > 0.0);
+        if !constant_positive && !unchecked.contains(&m) {
+            unchecked.push(m);
+        }
+    }
+    unchecked
+}
+
+/// The run-time check that the `unchecked` masses are positive, leaving
+/// with `MassNotPositiveDefinite` (through `gauss`'s `Finish`, or as an
+/// `Err` for the Jacobian) where one is not; `None` without such masses.
+fn mass_check(ctx: &Context, body: &Body, unchecked: &[Id], gauss: bool) -> Option<TokenStream> {
+    let error = quote!(DynamicsError::MassNotPositiveDefinite);
+    let exit = if gauss {
+        ctx.gauss_error(error)
+    } else {
+        let error = ctx.path(error);
+        quote!(return ::core::result::Result::Err(#error);)
+    };
+    (!unchecked.is_empty()).then(|| {
+        let positive = unchecked.iter().map(|&m| {
+            let m = body.expr(m);
+            quote! { #m > T::zero() }
+        });
+        quote! {
+            if !(#(#positive)&&*) {
+                #exit
+            }
+        }
+    })
 }
 
 /// `M⁻¹` known symbolically (`M` diagonal or a numeric constant): `a`, `S`,
@@ -174,26 +200,7 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         ),
         None => (to_multipliers, None),
     };
-    // λ of the rows as written: the solve's are those of the scaled rows
-    // `Â = D A` with `M` divided by a common mass `μ` (the force is
-    // `μ Âᵀ λ̂ = Aᵀ (μ D λ̂)`), so `λ = μ D λ̂`.
-    let mass = d.common_mass.map(|m| body.expr(m));
-    let lambda: Vec<TokenStream> = (0..ctx.k)
-        .map(|j| {
-            let l = Context::local("lam", j);
-            let scaled = match d.scale.get(j) {
-                Some(&s) if !s.is_one() => {
-                    let (s, _) = crate::emit::body::literal(s);
-                    quote!(#s * #l)
-                }
-                _ => quote!(#l),
-            };
-            match &mass {
-                Some(m) => quote!((#m) * (#scaled)),
-                None => scaled,
-            }
-        })
-        .collect();
+    let lambda = written_multipliers(ctx, d, &body);
     let value = checked_motion(
         ctx,
         Some(ldlt.suspect(ctx.generic_rank)),
@@ -212,6 +219,29 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
             #value
         }
     }
+}
+
+/// `λ` of the rows as written: the solve's are those of the scaled rows
+/// `Â = D A` with `M` divided by a common mass `μ` (the force is
+/// `μ Âᵀ λ̂ = Aᵀ (μ D λ̂)`), so `λ = μ D λ̂`.
+fn written_multipliers(ctx: &Context, d: &Symbolic, body: &Body) -> Vec<TokenStream> {
+    let mass = d.common_mass.map(|m| body.expr(m));
+    (0..ctx.k)
+        .map(|j| {
+            let l = Context::local("lam", j);
+            let scaled = match d.scale.get(j) {
+                Some(&s) if !s.is_one() => {
+                    let (s, _) = crate::emit::body::literal(s);
+                    quote!(#s * #l)
+                }
+                _ => quote!(#l),
+            };
+            match &mass {
+                Some(m) => quote!((#m) * (#scaled)),
+                None => scaled,
+            }
+        })
+        .collect()
 }
 
 /// Whether a row scaled down (`D`, d < 1) overflows in the model's own
