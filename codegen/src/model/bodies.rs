@@ -426,22 +426,23 @@ impl Lowerer<'_> {
         Ok(self.point(&field.base)?[axis])
     }
 
-    /// The world coordinates of `position(body, [..])`,
-    /// `velocity(body, [..])`, `velocity(body, position(..))` or
-    /// `angular_velocity(body)` (the last two: `super::rotation`).
+    /// The world coordinates of a vector of a body: a row of
+    /// [`super::body_functions::BODY_FUNCTIONS`].
     pub fn point(&mut self, e: &Expr) -> syn::Result<V3> {
-        let usage = "expected `position(body, [x, y, z])`, `velocity(body, [x, y, z])` or `angular_velocity(body)`";
-        let Expr::Call(call) = e else {
-            return Err(syn::Error::new_spanned(e, usage));
-        };
-        let kind = single_ident(&call.func).map(ToString::to_string);
-        let args: Vec<&Expr> = call.args.iter().collect();
-        if kind.as_deref() == Some("angular_velocity") {
-            return self.angular_velocity(e, &args);
+        match super::body_functions::body_function(e) {
+            Some((f, call)) => {
+                let args: Vec<&Expr> = call.args.iter().collect();
+                (f.lower)(self, e, &args)
+            }
+            None => Err(syn::Error::new_spanned(
+                e,
+                super::body_functions::vector_usage(),
+            )),
         }
-        let (Some("position" | "velocity"), [body, at]) = (kind.as_deref(), &args[..]) else {
-            return Err(syn::Error::new_spanned(e, usage));
-        };
+    }
+
+    /// The body named by `body` and its world frame.
+    fn body_frame(&mut self, body: &Expr) -> syn::Result<(usize, Placement)> {
         let Some(name) = single_ident(body) else {
             return Err(syn::Error::new_spanned(body, "expected a body's name"));
         };
@@ -453,23 +454,57 @@ impl Lowerer<'_> {
             };
             return Err(syn::Error::new_spanned(body, why));
         };
-        let frame = self.frames[index].1;
-        if kind.as_deref() == Some("velocity") && matches!(at, Expr::Call(_)) {
-            return self.velocity_at(&frame, at);
-        }
-        let Some(local) = self.triple(at, "the point") else {
+        Ok((index, self.frames[index].1))
+    }
+
+    /// `[x, y, z]` of a point fixed in a body.
+    fn local_point(&mut self, at: &Expr) -> syn::Result<V3> {
+        self.triple(at, "the point").ok_or_else(|| {
+            syn::Error::new_spanned(at, "the point is `[x, y, z]` in the body's frame")
+        })
+    }
+
+    /// `position(body, [x, y, z])`: the world position of the point.
+    pub fn position(&mut self, e: &Expr, args: &[&Expr]) -> syn::Result<V3> {
+        let [body, at] = args else {
             return Err(syn::Error::new_spanned(
-                at,
-                "the point is `[x, y, z]` in the body's frame",
+                e,
+                "expected `position(body, [x, y, z])`",
             ));
         };
-        if kind.as_deref() == Some("position") {
-            return Ok(self.position_along_chain(index, local));
+        let (index, _) = self.body_frame(body)?;
+        let local = self.local_point(at)?;
+        Ok(self.position_along_chain(index, local))
+    }
+
+    /// `velocity(body, [x, y, z])`: the world velocity of the point, the
+    /// time derivative of its position; `velocity(body, position(..))`:
+    /// `super::rotation`.
+    pub fn point_velocity(&mut self, e: &Expr, args: &[&Expr]) -> syn::Result<V3> {
+        let [body, at] = args else {
+            return Err(syn::Error::new_spanned(
+                e,
+                "expected `velocity(body, [x, y, z])` or `velocity(body, position(other, [x, y, z]))`",
+            ));
+        };
+        let (_, frame) = self.body_frame(body)?;
+        if matches!(at, Expr::Call(_)) {
+            return self.velocity_at(&frame, at);
         }
+        let local = self.local_point(at)?;
         let turned = spatial::mat_vec(self.graph, &frame.rotation, local);
         let position = spatial::add(self.graph, frame.translation, turned);
         let mut d = crate::expr::diff::Differentiator::new();
         Ok(position.map(|p| d.time_derivative(self.graph, p, self.n).1))
+    }
+
+    /// `orientation(..)` where a vector is expected: it is one side of a lock.
+    pub fn lock_only(&mut self, e: &Expr, _: &[&Expr]) -> syn::Result<V3> {
+        Err(syn::Error::new_spanned(
+            e,
+            "`orientation(body)` is one side of a lock: `orientation(a) == orientation(b)` \
+             or `orientation(a) == [roll, pitch, yaw]`",
+        ))
     }
 
     /// The world position of the point `local` of body `index`, inside out
@@ -538,10 +573,9 @@ impl Lowerer<'_> {
         &mut self,
         c: &crate::parse::ConstraintInput,
     ) -> Option<(Vec<Id>, Option<(usize, usize, V3)>)> {
-        let is_point = |e: &Expr| match e {
-            Expr::Call(call) => single_ident(&call.func)
-                .is_some_and(|f| f == "position" || f == "velocity" || f == "angular_velocity"),
-            _ => false,
+        let is_point = |e: &Expr| {
+            super::body_functions::body_function(e)
+                .is_some_and(|(f, _)| f.role == super::body_functions::Role::Vector)
         };
         if !is_point(&c.lhs) {
             return None;

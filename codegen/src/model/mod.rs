@@ -5,6 +5,7 @@
 //! - `check`: the rules on lowered expressions, one function each.
 
 pub(crate) mod bodies;
+pub(crate) mod body_functions;
 pub(crate) mod check;
 pub(crate) mod ctxt;
 pub(crate) mod free;
