@@ -115,9 +115,18 @@ fn points_need_known_bodies_and_three_entries() {
     // Every function of bodies from one table: its usage in the message.
     let body = "bodies: [a { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 1.0 }]";
     for (force, expected) in [
-        ("orientation(a).x", "`orientation(body)` is one side of a lock"),
-        ("spin(a).x", "expected `position(body, [x, y, z])`, `velocity(body, [x, y, z])`"),
-        ("angular_velocity(a, a).z", "expected `angular_velocity(body)`"),
+        (
+            "orientation(a).x",
+            "`orientation(body)` is one side of a lock",
+        ),
+        (
+            "spin(a).x",
+            "expected `position(body, [x, y, z])`, `velocity(body, [x, y, z])`",
+        ),
+        (
+            "angular_velocity(a, a).z",
+            "expected `angular_velocity(body)`",
+        ),
     ] {
         let source = format!("struct R {{ {body}, forces: [{force}] }}");
         let message = expand(source.parse().expect("tokens"))

@@ -11,6 +11,7 @@ pub(crate) mod ctxt;
 pub(crate) mod free;
 pub(crate) mod friction;
 pub mod lower;
+mod points;
 mod rotation;
 mod source;
 pub(crate) mod unilateral;
