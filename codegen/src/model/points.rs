@@ -31,7 +31,7 @@ impl Lowerer<'_> {
     }
 
     /// The world coordinates of a vector of a body: a row of
-    /// [`super::body_functions::BODY_FUNCTIONS`].
+    /// `BODY_FUNCTIONS` (in `model/body_functions.rs`).
     pub fn point(&mut self, e: &Expr) -> syn::Result<V3> {
         match super::body_functions::body_function(e) {
             Some((f, call)) => {
