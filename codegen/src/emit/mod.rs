@@ -43,7 +43,6 @@ mod subproducts;
 mod tangent;
 mod tokens;
 
-use crate::equations::partition::Partition;
 use crate::equations::Equations;
 use crate::expr::print::{shared_subexpressions, Printer, Style};
 use crate::expr::Id;
@@ -60,7 +59,8 @@ use syn::Ident;
 pub const POWER_METHODS: &[&str] = &["sqrt", "powi", "powf"];
 
 /// Emits the struct, its constants and its functions.
-pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
+pub fn system(eq: &Equations) -> TokenStream {
+    let partition = &eq.partition;
     let ctx = Context::new(eq, partition.rank);
     let sys = &eq.system;
     let (n, k) = (ctx.n, ctx.k);

@@ -14,6 +14,7 @@
 //! `M + s A_RᵀA_R`, whose pattern is `M`'s and `A_RᵀA_R`'s, `A_R` the
 //! sparsest rows that complete `M`'s rank ([`Auxiliary`]).
 
+use super::velocity::Bodies;
 use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
@@ -50,20 +51,6 @@ impl MassInverse {
             MassInverse::Factored(_) | MassInverse::Auxiliary(_) => true,
         }
     }
-}
-
-/// What the velocity form of a tree with quaternions is built from
-/// (`super::velocity`).
-#[derive(Clone, Copy)]
-pub struct Bodies<'a> {
-    /// `TᵀMT`.
-    pub mass: &'a [Vec<Id>],
-    /// `TᵀF`.
-    pub forces: &'a [Id],
-    /// The tree's bodies.
-    pub bodies: &'a [crate::bodies::Body],
-    /// The rows of points under a free base, in its axes.
-    pub in_base: &'a [super::in_base::InBaseRows],
 }
 
 /// The compile-time structure of Gauss's principle for a configuration-

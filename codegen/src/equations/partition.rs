@@ -43,7 +43,7 @@ use crate::model::Level;
 use crate::numeric::linalg::independent_columns;
 
 /// The partition used by the Gibbs–Appell form.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Partition {
     /// The generic rank `r` of `A` (on the constraint surface when `on_surface`).
     pub rank: usize,

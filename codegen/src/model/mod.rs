@@ -144,9 +144,6 @@ pub struct BodyTerms {
     /// With quaternion joints, the bias forces in the same unknowns
     /// (`crate::bodies::Dynamics::velocity_bias`).
     pub velocity_bias: Option<Vec<Id>>,
-    /// With quaternion joints, `TᵀF`: `Tᵀ` of `F`'s applied part (`F + c`)
-    /// less the velocity bias; set by `crate::equations`.
-    pub velocity_forces: Option<Vec<Id>>,
 }
 
 /// The energies of a system given by energies or bodies, for the

@@ -223,7 +223,6 @@ impl Lowerer<'_> {
                 tree: tree.bodies,
                 velocity_mass: dynamics.velocity_mass,
                 velocity_bias: dynamics.velocity_bias,
-                velocity_forces: None,
             };
             return Lowered {
                 mass,
