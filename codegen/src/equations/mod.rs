@@ -2,6 +2,7 @@
 //! `A q̈ = b` by the total-derivative rule; then Gauss's principle
 //! ([`mass_inverse`]) and the tangent pieces (`tangent`).
 
+mod auxiliary;
 pub mod gibbs_appell;
 pub mod in_base;
 pub mod mass_inverse;
