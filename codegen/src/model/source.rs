@@ -134,8 +134,6 @@ pub(super) struct Lowered {
 }
 
 impl Lowerer<'_> {
-    /// `M` and `F` from the [`Source`], in the usual order of the input so
-    /// that errors come in source order.
     /// The bodies of a tree source, lowered, and their frames in the world
     /// recorded for `position(..)` and `velocity(..)`.
     pub(super) fn described(
@@ -165,6 +163,8 @@ impl Lowerer<'_> {
         described
     }
 
+    /// `M` and `F` from the [`Source`], in the usual order of the input so
+    /// that errors come in source order.
     pub(super) fn dynamics(
         &mut self,
         source: Source,
@@ -196,46 +196,8 @@ impl Lowerer<'_> {
             Some(list) => self.vector(list, "`forces`", n),
             None => vec![self.graph.int(0); n],
         };
-        let mut d = crate::expr::diff::Differentiator::new();
-        if let Some((tree, dynamics)) = tree {
-            // M q̈ = Q − ∂V/∂q − c(q, q̇).
-            let applied_less_v =
-                crate::expr::lagrange::forces(self.graph, &mut d, None, potential, &applied);
-            let applied_less_v = crate::expr::trig::simplify_all(self.graph, &applied_less_v);
-            let forces = applied_less_v
-                .iter()
-                .zip(&dynamics.bias)
-                .map(|(&f, &c)| self.graph.sub(f, c))
-                .collect();
-            let total_v = match potential {
-                Some(v) => self.graph.add2(dynamics.potential, v),
-                None => dynamics.potential,
-            };
-            let energy = self.energy_terms(dynamics.kinetic, total_v);
-            let files = match source {
-                Source::Urdf(_, robot) => vec![robot.path.clone()],
-                _ => Vec::new(),
-            };
-            let bodies = BodyTerms {
-                names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
-                inverse: dynamics.inverse,
-                gravity: dynamics.gravity,
-                bias: dynamics.bias,
-                files,
-                trace: dynamics.trace,
-                tree: tree.bodies,
-                velocity_mass: dynamics.velocity_mass,
-                velocity_bias: dynamics.velocity_bias,
-            };
-            return Lowered {
-                mass,
-                forces,
-                kinetic: None,
-                potential,
-                energies: None,
-                bodies: Some(bodies),
-                energy: Some(energy),
-            };
+        if let Some(tree) = tree {
+            return self.by_bodies(source, tree, mass, potential, &applied);
         }
         if kinetic.is_some() || potential.is_some() {
             return self.by_lagrange(mass, (kinetic, potential), applied, derived_mass);
@@ -248,6 +210,57 @@ impl Lowerer<'_> {
             energies: None,
             bodies: None,
             energy: None,
+        }
+    }
+
+    /// `F = Q − ∂V/∂q − c(q, q̇)` and the energies and terms of a tree of
+    /// bodies, from its recursions.
+    fn by_bodies(
+        &mut self,
+        source: Source,
+        (tree, dynamics): (crate::bodies::Tree, crate::bodies::Dynamics),
+        mass: Vec<Vec<Id>>,
+        potential: Option<Id>,
+        applied: &[Id],
+    ) -> Lowered {
+        let mut d = crate::expr::diff::Differentiator::new();
+        // M q̈ = Q − ∂V/∂q − c(q, q̇).
+        let applied_less_v =
+            crate::expr::lagrange::forces(self.graph, &mut d, None, potential, applied);
+        let applied_less_v = crate::expr::trig::simplify_all(self.graph, &applied_less_v);
+        let forces = applied_less_v
+            .iter()
+            .zip(&dynamics.bias)
+            .map(|(&f, &c)| self.graph.sub(f, c))
+            .collect();
+        let total_v = match potential {
+            Some(v) => self.graph.add2(dynamics.potential, v),
+            None => dynamics.potential,
+        };
+        let energy = self.energy_terms(dynamics.kinetic, total_v);
+        let files = match source {
+            Source::Urdf(_, robot) => vec![robot.path.clone()],
+            _ => Vec::new(),
+        };
+        let bodies = BodyTerms {
+            names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
+            inverse: dynamics.inverse,
+            gravity: dynamics.gravity,
+            bias: dynamics.bias,
+            files,
+            trace: dynamics.trace,
+            tree: tree.bodies,
+            velocity_mass: dynamics.velocity_mass,
+            velocity_bias: dynamics.velocity_bias,
+        };
+        Lowered {
+            mass,
+            forces,
+            kinetic: None,
+            potential,
+            energies: None,
+            bodies: Some(bodies),
+            energy: Some(energy),
         }
     }
 
