@@ -77,7 +77,7 @@ pub fn derive(system: System, jacobians: bool) -> syn::Result<Equations> {
 /// Differentiates every constraint: velocity-level φ once, position-level φ
 /// twice (`ψ = D φ` or `ψ = D(D φ)`), and splits `ψ` into `A q̈ − b`; then
 /// decides how `M⁻¹` is applied and builds the tangent pieces and the
-/// momentum. The partition is left empty: [`derive`] measures it.
+/// momentum. The partition is left empty: [`derive()`] measures it.
 ///
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
 /// written, so that a user's scaling of φ shows up unchanged.
