@@ -1,4 +1,4 @@
-//! Stage 3, called by `derive::constraint_equations` once `A` and `b`
+//! Stage 3, called by `constraint_equations` (`super`) once `A` and `b`
 //! are built: the symbolic pieces of Gauss's principle (Udwadia & Kalaba,
 //! the generalized-inverse forms, eq. 24–26): `M q̈ = F + Aᵀ λ` with `S λ = r`,
 //! `S = A M⁻¹ Aᵀ`, `r = b − A a`, `a = M⁻¹ F`.

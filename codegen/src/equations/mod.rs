@@ -65,7 +65,7 @@ pub struct VelocityTerms {
     pub forces: Vec<Id>,
 }
 
-/// Stage 3: the constraint equations ([`constraint_equations`]), then the
+/// Stage 3: the constraint equations (`constraint_equations`), then the
 /// Gibbs–Appell partition measured on them; `Err` where `eliminate` or `M`
 /// cannot serve (spanned on it).
 pub fn derive(system: System, jacobians: bool) -> syn::Result<Equations> {
@@ -84,7 +84,7 @@ pub fn derive(system: System, jacobians: bool) -> syn::Result<Equations> {
 /// `M`, `F`, `A` and `b` have their common factors pulled out
 /// ([`crate::expr::common_factors`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
-pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
+fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();
     let mut factorer = Factorer::keeping(system.named.iter().map(|(_, id)| *id));
     let velocity = factored_dynamics(&mut system, &mut factorer);

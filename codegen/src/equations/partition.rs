@@ -1,5 +1,5 @@
-//! Stage 3, its last step (after `derive::constraint_equations`, in
-//! `analyse_with`): the Gibbs–Appell partition (Udwadia & Kalaba, the
+//! Stage 3, its last step (after `constraint_equations`, in
+//! `super::derive`): the Gibbs–Appell partition (Udwadia & Kalaba, the
 //! explicit Gibbs–Appell equation): the generic rank `r` of `A` and the `r` coordinates whose
 //! accelerations are eliminated.
 //!
