@@ -48,8 +48,8 @@ fn table() {
         ("sin nested 100 deep, as text".to_string(), nested(100)),
     ] {
         let tokens = input.parse().expect("valid tokens");
-        let (equations, partition) = analyse(tokens).expect("expands");
-        let text = derivation::text(&equations, &partition);
+        let equations = analyse(tokens).expect("expands");
+        let text = derivation::text(&equations, &equations.partition);
         if let Some(dir) = std::env::args().nth(1) {
             let file = format!("{dir}/{}.txt", name.replace([' ', ','], "_"));
             std::fs::write(file, &text).expect("writable");

@@ -59,9 +59,9 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
 
 /// [`expand`] with [`Options`].
 pub fn expand_with(input: TokenStream, options: Options) -> syn::Result<TokenStream> {
-    let (equations, partition) = analyse_with(input, options)?;
+    let equations = analyse_with(input, options)?;
     overflow_free(&equations)?;
-    Ok(emit::system(&equations, &partition))
+    Ok(emit::system(&equations))
 }
 
 /// A constant of the derivation that overflows `f64` (`x·1e155` in a
@@ -154,23 +154,16 @@ fn non_finite_error(sys: &model::System, found: &[expr::finite::NonFinite]) -> s
     syn::Error::new(sys.name.span(), message(found[0]))
 }
 
-/// Stages 1–3: the checked system, its derived equations and the
-/// Gibbs–Appell partition, before emission.
-pub fn analyse(
-    input: TokenStream,
-) -> syn::Result<(equations::Equations, equations::partition::Partition)> {
+/// Stages 1–3: the checked system and its derived equations, the
+/// Gibbs–Appell partition among them, before emission.
+pub fn analyse(input: TokenStream) -> syn::Result<equations::Equations> {
     analyse_with(input, Options::default())
 }
 
 /// [`analyse`] with [`Options`].
-pub fn analyse_with(
-    input: TokenStream,
-    options: Options,
-) -> syn::Result<(equations::Equations, equations::partition::Partition)> {
+pub fn analyse_with(input: TokenStream, options: Options) -> syn::Result<equations::Equations> {
     parse::nesting::check(&input)?;
     let input: parse::SystemInput = syn::parse2(input)?;
     let system = model::check(&input)?;
-    let equations = equations::constraint_equations(system, options.jacobians);
-    let partition = equations::partition::partition(&equations)?;
-    Ok((equations, partition))
+    equations::derive(system, options.jacobians)
 }

@@ -10,8 +10,9 @@ use constrained_codegen::{analyse, emit, emit::derivation};
 
 /// (DAG nodes, bytes of DERIVATION + SYMBOLIC) of one model.
 fn sizes(input: &str) -> (usize, usize) {
-    let (equations, partition) = analyse(input.parse().expect("tokens")).expect("expands");
-    let text = derivation::text(&equations, &partition).len() + emit::symbolic_text_len(&equations);
+    let equations = analyse(input.parse().expect("tokens")).expect("expands");
+    let text = derivation::text(&equations, &equations.partition).len()
+        + emit::symbolic_text_len(&equations);
     (equations.system.graph.len(), text)
 }
 
@@ -97,9 +98,8 @@ fn a_robots_derivation_has_a_part_per_body_growing_linearly() {
     use constrained_codegen::tools::fixtures::panda;
     let text = |joints: usize| {
         let source = panda(&format!("Panda{joints}"), joints);
-        let (equations, partition) =
-            analyse(source.parse().expect("tokens")).expect("the Panda expands");
-        derivation::text(&equations, &partition)
+        let equations = analyse(source.parse().expect("tokens")).expect("the Panda expands");
+        derivation::text(&equations, &equations.partition)
     };
     let mut per_body = Vec::new();
     for joints in [2, 4, 7] {

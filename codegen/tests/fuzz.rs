@@ -414,7 +414,7 @@ fn compile_a_sample(accepted: &[String], seed: u64) {
     let mut calls = String::new();
     let mut count = 0;
     for (i, text) in accepted.iter().step_by(step).take(48).enumerate() {
-        let Ok((eq, _)) = analyse(text.parse().expect("tokens")) else {
+        let Ok(eq) = analyse(text.parse().expect("tokens")) else {
             continue;
         };
         let (n, p) = (eq.system.dof(), eq.system.parameters.len());

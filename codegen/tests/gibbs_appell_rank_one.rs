@@ -45,8 +45,8 @@ fn runtime_rows<const N: usize, const I: usize>(
 fn symbolic_rows_equal_the_runtime() {
     let (mut checked, mut re_pivoted) = (0, 0);
     for model in common::model_invocations() {
-        let (eq, partition) = constrained_codegen::analyse(model.tokens).unwrap();
-        let Some(rank_one) = rank_one(&eq, &partition) else {
+        let eq = constrained_codegen::analyse(model.tokens).unwrap();
+        let Some(rank_one) = rank_one(&eq, &eq.partition) else {
             continue;
         };
         if eq.a.len() != 1 {
@@ -61,7 +61,7 @@ fn symbolic_rows_equal_the_runtime() {
             let mass: Vec<Id> = eq.system.mass.iter().flatten().copied().collect();
             let m = g.eval(&mass, &env(&state));
             let f = g.eval(&eq.system.forces, &env(&state));
-            let e = partition.eliminated[0];
+            let e = eq.partition.eliminated[0];
             // The runtime keeps the compile-time column only while it is well
             // conditioned (rank 1: a_e² against the largest a_j²), and the
             // written rows are those of that column.

@@ -29,7 +29,7 @@ fn quadruped() -> proc_macro2::TokenStream {
 
 #[test]
 fn the_auxiliary_mass_takes_the_norm_row_alone() {
-    let (eq, _) =
+    let eq =
         analyse_with(quadruped(), Options { jacobians: false }).expect("the quadruped is valid");
     let MassInverse::Auxiliary(f) = &eq.mass_inverse else {
         panic!("M is singular along the quaternion: the auxiliary solve");
@@ -95,7 +95,7 @@ fn each_leg_is_solved_through_its_foot() {
 /// another foot's except through the base's Schur complement).
 #[test]
 fn each_foot_is_eliminated_with_its_leg() {
-    let (eq, _) =
+    let eq =
         analyse_with(quadruped(), Options { jacobians: false }).expect("the quadruped is valid");
     let MassInverse::Auxiliary(f) = &eq.mass_inverse else {
         panic!("the auxiliary solve");
@@ -169,7 +169,7 @@ fn a_redundant_set_keeps_the_range_space_form() {
              + position(fr_lower, [0.0, -0.008, -0.16]).z == 0.0,",
         );
     let tokens: proc_macro2::TokenStream = text.parse().expect("tokens");
-    let (eq, _) = analyse_with(tokens, Options { jacobians: false }).expect("the twin is valid");
+    let eq = analyse_with(tokens, Options { jacobians: false }).expect("the twin is valid");
     let MassInverse::Auxiliary(f) = &eq.mass_inverse else {
         panic!("the auxiliary solve");
     };
@@ -184,9 +184,9 @@ fn a_redundant_set_keeps_the_range_space_form() {
 /// coordinates name `β₀…β₂` in place of the quaternion's `qx…qz`.
 #[test]
 fn the_derivation_describes_the_velocity_solve() {
-    let (eq, partition) =
+    let eq =
         analyse_with(quadruped(), Options { jacobians: false }).expect("the quadruped is valid");
-    let text = constrained_codegen::emit::derivation::text(&eq, &partition);
+    let text = constrained_codegen::emit::derivation::text(&eq, &eq.partition);
     let at = text
         .find("acceleration solves instead, in the quaternions' velocity coordinates")
         .expect("the velocity solve described");

@@ -23,7 +23,7 @@ fn expansions_and_derivations() {
         let expanded = constrained_codegen::expand(model.tokens.clone())
             .unwrap_or_else(|e| panic!("{} fails to expand: {e}", model.name));
         let file: syn::File = syn::parse2(expanded).expect("expansion is valid Rust");
-        let (equations, partition) = constrained_codegen::analyse(model.tokens).expect("analyses");
+        let equations = constrained_codegen::analyse(model.tokens).expect("analyses");
         let snapshots = [
             (
                 format!("{}_expansion", model.name),
@@ -31,7 +31,7 @@ fn expansions_and_derivations() {
             ),
             (
                 format!("{}_derivation", model.name),
-                constrained_codegen::emit::derivation::text(&equations, &partition),
+                constrained_codegen::emit::derivation::text(&equations, &equations.partition),
             ),
         ];
         for (name, text) in snapshots {

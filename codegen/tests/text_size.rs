@@ -12,10 +12,10 @@ fn text_grows_linearly_with_the_dag() {
         let tokens = joint_angle_pendulum("Pendulum", links)
             .parse()
             .expect("tokens");
-        let (eq, partition) = analyse(tokens).expect("expands");
+        let eq = analyse(tokens).expect("expands");
         let nodes = eq.system.graph.len();
-        let derivation = derivation::text(&eq, &partition).len();
-        let expansion = emit::system(&eq, &partition).to_string().len();
+        let derivation = derivation::text(&eq, &eq.partition).len();
+        let expansion = emit::system(&eq).to_string().len();
         let (per_node_text, per_node_all) = (derivation / nodes, expansion / nodes);
         println!(
             "N = {links}: {nodes} nodes, DERIVATION {derivation} bytes ({per_node_text}/node), \

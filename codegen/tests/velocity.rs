@@ -107,10 +107,10 @@ fn derivatives(eq: &mut constrained_codegen::equations::Equations) -> (Vec<Vec<I
 /// many quaternions it has.
 fn check(text: &str) -> usize {
     let tokens: proc_macro2::TokenStream = text.parse().expect("tokens");
-    let (mut eq, _) = analyse_with(tokens, Options { jacobians: false }).expect("valid");
+    let mut eq = analyse_with(tokens, Options { jacobians: false }).expect("valid");
     let bodies = eq.system.bodies.clone().expect("a tree");
-    let velocity_mass = bodies.velocity_mass.clone().expect("quaternion joints");
-    let velocity_forces = bodies.velocity_forces.clone().expect("quaternion joints");
+    let terms = eq.velocity.clone().expect("quaternion joints");
+    let (velocity_mass, velocity_forces) = (terms.mass, terms.forces);
     let (a, b) = derivatives(&mut eq);
     let (mass, forces) = (eq.system.mass.clone(), eq.system.forces.clone());
     let (n, k) = (forces.len(), a.len());

@@ -43,7 +43,6 @@ mod subproducts;
 mod tangent;
 mod tokens;
 
-use crate::equations::partition::Partition;
 use crate::equations::Equations;
 use crate::expr::print::{shared_subexpressions, Printer, Style};
 use crate::expr::Id;
@@ -60,48 +59,12 @@ use syn::Ident;
 pub const POWER_METHODS: &[&str] = &["sqrt", "powi", "powf"];
 
 /// Emits the struct, its constants and its functions.
-pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
+pub fn system(eq: &Equations) -> TokenStream {
+    let partition = &eq.partition;
     let ctx = Context::new(eq, partition.rank);
     let sys = &eq.system;
-    let (n, k) = (ctx.n, ctx.k);
     let name = &sys.name;
-    let mass = matrix_function(
-        &ctx,
-        quote!(mass_matrix),
-        " The mass matrix `M(q, t)` (symmetric positive definite).",
-        Inputs::Positions,
-        &sys.mass,
-        n,
-    );
-    let forces = quote!(forces);
-    let forces = vector_function(
-        &ctx,
-        forces,
-        " The impressed forces `F(q, q̇, t)`.",
-        &sys.forces,
-    );
-    let phi: Vec<Id> = sys.constraints.iter().map(|c| c.phi).collect();
-    let residual = vector_function(
-        &ctx,
-        quote!(constraint_residual),
-        " The constraint residuals `φ(q, q̇, t)`; zero on the constraint manifold.",
-        &phi,
-    );
-    let velocity_residual = vector_function(
-        &ctx,
-        quote!(constraint_velocity_residual),
-        " The constraints at velocity level: `φ̇` for a position-level `φ`, `φ` \
-         itself for a velocity-level one; zero on consistent states. Its \
-         Jacobian in `q̇` is `A` (used by stabilization and projection).",
-        &eq.velocity_constraints,
-    );
-    let matrices = constraint_matrices(&ctx);
-    let motion = motion::methods(&ctx);
-    let gibbs_appell = gibbs_appell::methods(&ctx, partition);
-    let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
-    let evaluation = dynamics::methods(&ctx);
-    let gaps = impact::methods(&ctx);
-    let friction = friction::methods(&ctx);
+    let methods = inherent_methods(&ctx);
     let friction_impl = friction::trait_impl(&ctx);
     // A model read from a file is rebuilt when the file changes.
     let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
@@ -112,7 +75,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let tangent_impl = eq.jacobians.then(|| jacobian::tangent_impl(&ctx));
     let generated_impl = forwards::generated_impl(&ctx);
     let derivation = derivation::text(eq, partition);
-    let definition = struct_definition(sys, n, k, &derivation_doc(&derivation));
+    let definition = struct_definition(sys, ctx.n, ctx.k, &derivation_doc(&derivation));
     let constants = constants(&ctx, &derivation);
 
     quote! {
@@ -122,17 +85,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         impl<T: ::constrained::nalgebra::RealField + Copy> #name<T> {
             #constants
 
-            #mass
-            #forces
-            #residual
-            #velocity_residual
-            #matrices
-            #motion
-            #gibbs_appell
-            #linearization
-            #evaluation
-            #gaps
-            #friction
+            #methods
         }
 
         #(#files)*
@@ -140,6 +93,73 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
         #generated_impl
         #tangent_impl
         #friction_impl
+    }
+}
+
+/// The inherent methods, in the order they are emitted: the model's own
+/// values, `A` and `b`, the solves, the Gibbs–Appell form, the
+/// linearization, the evaluations, the gaps' and friction's.
+fn inherent_methods(ctx: &Context) -> TokenStream {
+    let values = model_values(ctx);
+    let matrices = constraint_matrices(ctx);
+    let motion = motion::methods(ctx);
+    let partition = &ctx.eq.partition;
+    let gibbs_appell = gibbs_appell::methods(ctx, partition);
+    let linearization = ctx.eq.jacobians.then(|| jacobian::methods(ctx, partition));
+    let evaluation = dynamics::methods(ctx);
+    let gaps = impact::methods(ctx);
+    let friction = friction::methods(ctx);
+    quote! {
+        #values
+        #matrices
+        #motion
+        #gibbs_appell
+        #linearization
+        #evaluation
+        #gaps
+        #friction
+    }
+}
+
+/// `M`, `F`, `φ` and the constraints at velocity level, as written or
+/// derived.
+fn model_values(ctx: &Context) -> TokenStream {
+    let (eq, sys) = (ctx.eq, &ctx.eq.system);
+    let mass = matrix_function(
+        ctx,
+        quote!(mass_matrix),
+        " The mass matrix `M(q, t)` (symmetric positive definite).",
+        Inputs::Positions,
+        &sys.mass,
+        ctx.n,
+    );
+    let forces = quote!(forces);
+    let forces = vector_function(
+        ctx,
+        forces,
+        " The impressed forces `F(q, q̇, t)`.",
+        &sys.forces,
+    );
+    let phi: Vec<Id> = sys.constraints.iter().map(|c| c.phi).collect();
+    let residual = vector_function(
+        ctx,
+        quote!(constraint_residual),
+        " The constraint residuals `φ(q, q̇, t)`; zero on the constraint manifold.",
+        &phi,
+    );
+    let velocity_residual = vector_function(
+        ctx,
+        quote!(constraint_velocity_residual),
+        " The constraints at velocity level: `φ̇` for a position-level `φ`, `φ` \
+         itself for a velocity-level one; zero on consistent states. Its \
+         Jacobian in `q̇` is `A` (used by stabilization and projection).",
+        &eq.velocity_constraints,
+    );
+    quote! {
+        #mass
+        #forces
+        #residual
+        #velocity_residual
     }
 }
 
@@ -186,13 +206,7 @@ fn struct_definition(
     let name = &sys.name;
     let vis = &sys.vis;
     let attrs = &sys.attrs;
-    let modes = sys.modes();
-    let written = sys.parameters.iter().enumerate();
-    let params: Vec<&Ident> = written
-        .filter(|(i, _)| !modes.contains(i))
-        .map(|(_, p)| p)
-        .collect();
-    let hidden: Vec<&Ident> = sys.parameters[modes].iter().collect();
+    let (params, hidden) = struct_fields(sys);
     let plural =
         |count: usize, what: &str| format!("{count} {what}{}", if count == 1 { "" } else { "s" });
     let struct_doc = format!(
@@ -201,6 +215,42 @@ fn struct_definition(
         plural(n, "coordinate"),
         plural(k, "constraint"),
     );
+    let fields = field_declarations(sys, &params, &hidden);
+    let constructor = constructor(name, &params, &hidden);
+    quote! {
+        #(#attrs)*
+        #[doc = ""]
+        #[doc = #struct_doc]
+        #[doc = #derivation_doc]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        // The fields are the user's parameter names, often the literature's
+        // (`WFrad`, `Iwr11`): no naming lint on them, here or in `new`.
+        #[allow(non_snake_case)]
+        #vis struct #name<T = f64> { #fields }
+
+        #constructor
+    }
+}
+
+/// The struct's public fields (the parameters, then the inputs) and its
+/// hidden ones (the friction modes).
+fn struct_fields(sys: &crate::model::System) -> (Vec<&Ident>, Vec<&Ident>) {
+    let modes = sys.modes();
+    let written = sys.parameters.iter().enumerate();
+    let params: Vec<&Ident> = written
+        .filter(|(i, _)| !modes.contains(i))
+        .map(|(_, p)| p)
+        .collect();
+    let hidden: Vec<&Ident> = sys.parameters[modes].iter().collect();
+    (params, hidden)
+}
+
+/// The fields with their docs; a marker field where nothing else holds `T`.
+fn field_declarations(
+    sys: &crate::model::System,
+    params: &[&Ident],
+    hidden: &[&Ident],
+) -> TokenStream {
     let param_docs = params.iter().enumerate().map(|(i, p)| {
         if i < params.len() - sys.inputs {
             format!(" Parameter `{p}`.")
@@ -218,7 +268,7 @@ fn struct_definition(
             pub __scalar: ::core::marker::PhantomData<T>,
         }
     });
-    let fields = quote! {
+    quote! {
         #( #[doc = #param_docs] pub #params: T, )*
         #(
             /// A friction entry's mode as its sense `s`: `0` sticking, `±1`
@@ -227,7 +277,12 @@ fn struct_definition(
             pub #hidden: T,
         )*
         #marker
-    };
+    }
+}
+
+/// `new`, from the parameters then the inputs, and `Default` for a struct
+/// without them.
+fn constructor(name: &Ident, params: &[&Ident], hidden: &[&Ident]) -> TokenStream {
     let marker_value = params
         .is_empty()
         .then(|| quote! { __scalar: ::core::marker::PhantomData });
@@ -252,16 +307,6 @@ fn struct_definition(
         }
     });
     quote! {
-        #(#attrs)*
-        #[doc = ""]
-        #[doc = #struct_doc]
-        #[doc = #derivation_doc]
-        #[derive(Clone, Copy, Debug, PartialEq)]
-        // The fields are the user's parameter names, often the literature's
-        // (`WFrad`, `Iwr11`): no naming lint on them, here or in `new`.
-        #[allow(non_snake_case)]
-        #vis struct #name<T = f64> { #fields }
-
         impl<T #bound> #name<T> {
             /// Creates the system from its parameters, then its control
             /// inputs, in the order declared.
@@ -404,27 +449,7 @@ fn symbolic(eq: &Equations) -> TokenStream {
     let constraints = vector(&phi);
     let a = matrix(&eq.a);
     let b = vector(&eq.b);
-    let energies = match &sys.energies {
-        Some(e) => {
-            let kinetic = match e.kinetic {
-                Some(t) => {
-                    let t = p.print(t);
-                    quote!(::core::option::Option::Some(#t))
-                }
-                None => quote!(::core::option::Option::None),
-            };
-            let potential = e.potential.map_or_else(|| "0".to_string(), |v| p.print(v));
-            let applied = vector(&e.applied);
-            quote! {
-                ::core::option::Option::Some(::constrained::SymbolicEnergies {
-                    kinetic: #kinetic,
-                    potential: #potential,
-                    generalized_forces: #applied,
-                })
-            }
-        }
-        None => quote!(::core::option::Option::None),
-    };
+    let energies = sympy_energies(&p, sys.energies.as_ref());
     quote! {
         ::constrained::SymbolicSystem {
             name: #name,
@@ -439,5 +464,28 @@ fn symbolic(eq: &Equations) -> TokenStream {
             energies: #energies,
             definitions: &[#(#definitions),*],
         }
+    }
+}
+
+/// The `SymbolicEnergies` of a system given by energies, else `None`.
+fn sympy_energies(p: &Printer, energies: Option<&crate::model::Energies>) -> TokenStream {
+    let Some(e) = energies else {
+        return quote!(::core::option::Option::None);
+    };
+    let kinetic = match e.kinetic {
+        Some(t) => {
+            let t = p.print(t);
+            quote!(::core::option::Option::Some(#t))
+        }
+        None => quote!(::core::option::Option::None),
+    };
+    let potential = e.potential.map_or_else(|| "0".to_string(), |v| p.print(v));
+    let applied = e.applied.iter().map(|&i| p.print(i));
+    quote! {
+        ::core::option::Option::Some(::constrained::SymbolicEnergies {
+            kinetic: #kinetic,
+            potential: #potential,
+            generalized_forces: &[#(#applied),*],
+        })
     }
 }

@@ -50,16 +50,7 @@ pub(in crate::emit) fn checked_motion(
         Some(also) => quote!((#suspect) | #also),
         None => suspect,
     };
-    let (suspect_code, fast_code) = paths.unwrap_or_default();
     let checked = ctx.private(quote!(checked));
-    // Two shapes, each the faster where it is used (compared by
-    // scripts/compare_acceleration.sh). k ≥ 2: q̈ bound once and the check
-    // merging back into the fast path. k = 1: the suspect path complete in
-    // its own branch, with its own q̈ and return, so that nothing of the
-    // fast path lives across the runtime call and the fast path keeps no
-    // stack frame. Neither returns the runtime's answer through a generic
-    // call taking the force as a closure: the closure's captures would
-    // stay alive to the check and slow the fast path.
     // The runtime's check of `__acc`, returning its recomputation.
     let recheck = quote! {
         if let ::core::option::Option::Some(__recomputed) =
@@ -68,29 +59,83 @@ pub(in crate::emit) fn checked_motion(
             return __F::settle(self, q, qd, t, correction, __recomputed);
         }
     };
+    let checked = Checked {
+        acc,
+        force,
+        lambda,
+        suspect,
+        recheck,
+    };
+    // Two shapes, each the faster where it is used (compared by
+    // scripts/compare_acceleration.sh). Neither returns the runtime's
+    // answer through a generic call taking the force as a closure: the
+    // closure's captures would stay alive to the check and slow the fast
+    // path.
     if ctx.k > 1 {
-        // The closure decides again whether a row was dropped: only
-        // `Multiplied` calls it, and the fast path stays as it was.
-        let stands = match lambda {
-            Some(lambda) => quote! {
-                __F::stands_with(__acc, move || #force, move || {
-                    if #suspect {
-                        ::core::option::Option::None
-                    } else {
-                        ::core::option::Option::Some(#lambda)
-                    }
-                })
-            },
-            None => quote!(__F::stands(__acc, move || #force)),
-        };
-        return quote! {
-            let __acc = #acc;
-            if #suspect {
-                #recheck
-            }
-            #stands
-        };
+        merged(checked)
+    } else {
+        apart(checked, paths.unwrap_or_default())
     }
+}
+
+/// The pieces of a value whose rank decision is checked after the fact.
+struct Checked<'a> {
+    /// `q̈`.
+    acc: &'a TokenStream,
+    /// `Aᵀλ`.
+    force: &'a TokenStream,
+    /// Every row's λ, where the fast path keeps them all.
+    lambda: Option<TokenStream>,
+    /// Whether the rank decision is suspect.
+    suspect: TokenStream,
+    /// The runtime's check of `__acc`, returning its recomputation.
+    recheck: TokenStream,
+}
+
+/// k ≥ 2: `q̈` bound once and the check merging back into the fast path.
+fn merged(c: Checked) -> TokenStream {
+    let Checked {
+        acc,
+        force,
+        lambda,
+        suspect,
+        recheck,
+    } = c;
+    // The closure decides again whether a row was dropped: only
+    // `Multiplied` calls it, and the fast path stays as it was.
+    let stands = match lambda {
+        Some(lambda) => quote! {
+            __F::stands_with(__acc, move || #force, move || {
+                if #suspect {
+                    ::core::option::Option::None
+                } else {
+                    ::core::option::Option::Some(#lambda)
+                }
+            })
+        },
+        None => quote!(__F::stands(__acc, move || #force)),
+    };
+    quote! {
+        let __acc = #acc;
+        if #suspect {
+            #recheck
+        }
+        #stands
+    }
+}
+
+/// k = 1: the suspect path complete in its own branch, with its own `q̈`
+/// and return, so that nothing of the fast path lives across the runtime
+/// call and the fast path keeps no stack frame; `paths`, the code each
+/// path runs first.
+fn apart(c: Checked, (suspect_code, fast_code): PathCode) -> TokenStream {
+    let Checked {
+        acc,
+        force,
+        lambda,
+        suspect,
+        recheck,
+    } = c;
     let stands = match lambda {
         Some(lambda) => quote! {
             __F::stands_with(#acc, move || #force, move || ::core::option::Option::Some(#lambda))

@@ -72,15 +72,24 @@ pub fn rows(g: &mut Graph, constraints: &[Constraint], n: usize) -> Vec<InBaseRo
     out
 }
 
-fn triple_rows(
-    g: &mut Graph,
-    (d, at_rest): (&mut Differentiator, &mut AtRest),
-    base: crate::model::InBase,
-    rows: [usize; 3],
-    n: usize,
-) -> InBaseRows {
-    let q = free::coordinates(g, base.w);
-    let rates = [0, 1, 2, 3].map(|k| g.sym(Sym::Vel(base.w + k)));
+/// The base's attitude and angular velocity, from its quaternion.
+struct Turning {
+    /// The quaternion `q`.
+    q: [Id; 4],
+    /// `q̇`.
+    rates: [Id; 4],
+    /// `G(q)`.
+    big_g: [[Id; 4]; 3],
+    /// `k = 2/|q|²`.
+    k: Id,
+    /// `ω = k G q̇`, held.
+    omega: V3,
+}
+
+/// [`Turning`] of the base whose quaternion's `w` is `w`.
+fn turning(g: &mut Graph, w: usize) -> Turning {
+    let q = free::coordinates(g, w);
+    let rates = [0, 1, 2, 3].map(|k| g.sym(Sym::Vel(w + k)));
     let big_g = free::g_matrix(g, q);
     let k = free::twice_inverse_norm(g, q);
     let omega: V3 = big_g.map(|row| {
@@ -93,30 +102,36 @@ fn triple_rows(
         let w = g.mul2(k, sum);
         spatial::hold(g, w)
     });
-    let r = base.point;
-    let velocity: V3 = r.map(|e| at_rest.derivative(g, e));
-    let acceleration: V3 = velocity.map(|e| at_rest.derivative(g, e));
-    // `ṙ` held where it multiplies ω: its sums' contents would otherwise
-    // multiply every product.
-    let held_velocity = spatial::hold3(g, velocity);
-    let omega_r = spatial::cross(g, omega, r);
-    let centripetal = spatial::cross(g, omega, omega_r);
-    let transport = spatial::cross(g, omega, held_velocity);
-    let two = g.int(2);
-    let transport = spatial::scale(g, two, transport);
-    let dot: Vec<Id> = q.iter().zip(&rates).map(|(&a, &b)| g.mul2(a, b)).collect();
-    let dot = g.add(&dot);
-    let minus = g.int(-1);
-    let scale = g.mul(&[minus, k, dot]);
-    let norm_rate = spatial::scale(g, scale, omega_r);
-    let rotation = free::rotation(g, q);
-    let zero = g.int(0);
-    let one = g.int(1);
+    Turning {
+        q,
+        rates,
+        big_g,
+        k,
+        omega,
+    }
+}
+
+/// The three rows of one point: `R̂ᵀ A T` and `R̂ᵀ b` in the velocity
+/// form's unknowns, and the model's own rows in the same closed form. The
+/// nodes are made in one fixed order (`b`'s terms, `R̂`, `b`, `A`, then
+/// the model's rows), which the canonical order of terms follows.
+fn triple_rows(
+    g: &mut Graph,
+    (d, at_rest): (&mut Differentiator, &mut AtRest),
+    base: crate::model::InBase,
+    rows: [usize; 3],
+    n: usize,
+) -> InBaseRows {
+    let turning = turning(g, base.w);
+    let terms = bias_terms(g, at_rest, &turning, base.point);
+    let rotation = free::rotation(g, turning.q);
+    let (zero, one) = (g.int(0), g.int(1));
     let b = [0, 1, 2].map(|i| {
-        let sum = g.add(&[centripetal[i], transport[i], acceleration[i], norm_rate[i]]);
+        let sum = g.add(&terms.map(|t| t[i]));
         g.neg(sum)
     });
     let a = [0, 1, 2].map(|i| {
+        let r = base.point;
         let mut row: Vec<Id> = (0..n).map(|j| d.partial(g, r[i], Sym::Coord(j))).collect();
         for j in 0..3 {
             // R̂ᵀ p̈ = z: the position's accelerations in the base's axes.
@@ -128,11 +143,57 @@ fn triple_rows(
         row[base.w] = zero;
         row
     });
-    let turn = |g: &mut Graph, v: V3| spatial::mat_vec(g, &rotation, v);
-    let model_b = turn(g, b);
+    let model_b = spatial::mat_vec(g, &rotation, b);
+    let model_a = model_rows(g, (&rotation, &turning), base, &a);
+    InBaseRows {
+        rows,
+        a,
+        b,
+        base: base.x,
+        model_a,
+        model_b,
+    }
+}
+
+/// The terms of `−R̂ᵀ b` besides `z`, `β × r` and `J q̈`:
+/// `ω × (ω × r)`, `2 ω × ṙ`, `ä₀` and `−k (qᵀq̇) ω × r`.
+fn bias_terms(g: &mut Graph, at_rest: &mut AtRest, turning: &Turning, r: V3) -> [V3; 4] {
+    let omega = turning.omega;
+    let velocity: V3 = r.map(|e| at_rest.derivative(g, e));
+    let acceleration: V3 = velocity.map(|e| at_rest.derivative(g, e));
+    // `ṙ` held where it multiplies ω: its sums' contents would otherwise
+    // multiply every product.
+    let held_velocity = spatial::hold3(g, velocity);
+    let omega_r = spatial::cross(g, omega, r);
+    let centripetal = spatial::cross(g, omega, omega_r);
+    let transport = spatial::cross(g, omega, held_velocity);
+    let two = g.int(2);
+    let transport = spatial::scale(g, two, transport);
+    let dot: Vec<Id> = (turning.q.iter().zip(&turning.rates))
+        .map(|(&a, &b)| g.mul2(a, b))
+        .collect();
+    let dot = g.add(&dot);
+    let minus = g.int(-1);
+    let scale = g.mul(&[minus, turning.k, dot]);
+    let norm_rate = spatial::scale(g, scale, omega_r);
+    [centripetal, transport, acceleration, norm_rate]
+}
+
+/// The model's own rows of `A` (in `q̇`) in closed form, from the rows
+/// `a` in the base's axes: `I` for the position, `R̂ ((k Gₘ) × r)` for the
+/// quaternion's `q̇ₘ`, `R̂ J` for the joints between.
+fn model_rows(
+    g: &mut Graph,
+    (rotation, turning): (&spatial::M3, &Turning),
+    base: crate::model::InBase,
+    a: &[Vec<Id>; 3],
+) -> [Vec<Id>; 3] {
+    let n = a[0].len();
+    let (zero, one) = (g.int(0), g.int(1));
+    let turn = |g: &mut Graph, v: V3| spatial::mat_vec(g, rotation, v);
     // R̂ ((k Gₘ) × r) = (R̂ k Gₘ) × (R̂ r): the turned columns are the same
     // for every point of the base.
-    let world_r = turn(g, r);
+    let world_r = turn(g, base.point);
     let world_r = spatial::hold3(g, world_r);
     let mut model_a = [0, 1, 2].map(|_| vec![zero; n]);
     for j in 0..n {
@@ -142,7 +203,7 @@ fn triple_rows(
             unit
         } else if (base.w..base.w + 4).contains(&j) {
             let m = j - base.w;
-            let own: V3 = [0, 1, 2].map(|l| g.mul2(k, big_g[l][m]));
+            let own: V3 = [0, 1, 2].map(|l| g.mul2(turning.k, turning.big_g[l][m]));
             let own = turn(g, own);
             let own = spatial::hold3(g, own);
             spatial::cross(g, own, world_r)
@@ -157,12 +218,5 @@ fn triple_rows(
             row[j] = e;
         }
     }
-    InBaseRows {
-        rows,
-        a,
-        b,
-        base: base.x,
-        model_a,
-        model_b,
-    }
+    model_a
 }

@@ -1,4 +1,4 @@
-//! Stage 3, called by `derive::constraint_equations` once `A` and `b`
+//! Stage 3, called by `constraint_equations` (`super`) once `A` and `b`
 //! are built: the symbolic pieces of Gauss's principle (Udwadia & Kalaba,
 //! the generalized-inverse forms, eq. 24–26): `M q̈ = F + Aᵀ λ` with `S λ = r`,
 //! `S = A M⁻¹ Aᵀ`, `r = b − A a`, `a = M⁻¹ F`.
@@ -14,6 +14,9 @@
 //! `M + s A_RᵀA_R`, whose pattern is `M`'s and `A_RᵀA_R`'s, `A_R` the
 //! sparsest rows that complete `M`'s rank ([`Auxiliary`]).
 
+use super::auxiliary::singular_everywhere;
+pub use super::auxiliary::Auxiliary;
+use super::velocity::Bodies;
 use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
@@ -52,20 +55,6 @@ impl MassInverse {
     }
 }
 
-/// What the velocity form of a tree with quaternions is built from
-/// (`super::velocity`).
-#[derive(Clone, Copy)]
-pub struct Bodies<'a> {
-    /// `TᵀMT`.
-    pub mass: &'a [Vec<Id>],
-    /// `TᵀF`.
-    pub forces: &'a [Id],
-    /// The tree's bodies.
-    pub bodies: &'a [crate::bodies::Body],
-    /// The rows of points under a free base, in its axes.
-    pub in_base: &'a [super::in_base::InBaseRows],
-}
-
 /// The compile-time structure of Gauss's principle for a configuration-
 /// dependent `M` (only `M`'s lower triangle is read, as by a Cholesky
 /// factorization).
@@ -86,97 +75,6 @@ pub struct Factored {
     /// coordinates where that has a saddle-point form
     /// (`super::velocity`); it then replaces `saddle`.
     pub velocity: Option<super::velocity::Velocity>,
-}
-
-/// The terms of Udwadia & Schutte's auxiliary mass `M + s A_RᵀA_R` that
-/// are expressions; the scale `s = tr M / ‖A_R‖²_F` (the runtime's dense
-/// solve answers where either underflows) and `F + s A_Rᵀ(b + db)_R`
-/// (with `acceleration_corrected`'s correction `db`, so that the
-/// auxiliary multipliers are the actual system's) are formed in the
-/// generated code from the bound entries.
-pub struct Auxiliary {
-    /// The rows of `A` the auxiliary mass adds (`A_R`, in `A`'s order):
-    /// the sparsest that complete `M`'s rank (below).
-    pub rows: Vec<usize>,
-    /// `A_RᵀA_R`, n × n, symmetric (entry (j, i) is the node of (i, j));
-    /// each entry sums only the rows where both of `A`'s entries are
-    /// structurally nonzero (0 where none is), and `‖A_R‖²_F = tr A_RᵀA_R`.
-    pub normal: Vec<Vec<Id>>,
-}
-
-/// The rows of `A` whose squares complete `M`'s rank, sparsest first: a
-/// row is taken where it raises the rank of `[M; A_R]` at every sample
-/// point, until that is `n`; all rows where no subset reaches `n` there.
-/// For bodies on quaternion joints this is the norms' rows alone (`M`
-/// lacks just each quaternion's own direction, which its norm's gradient
-/// `2q` has), so `M + s A_RᵀA_R` keeps `M`'s tree pattern and the feet's
-/// rows do not enter it. Any subset gives the actual `q̈` wherever
-/// `M + s A_RᵀA_R` is positive definite (`A q̈ = b` makes the added terms
-/// vanish); the choice is one of speed only, since where the generated
-/// factorization meets a pivot that is not positive the runtime's dense
-/// solve, with all rows, answers instead.
-fn auxiliary_rows(g: &Graph, mass: &[Vec<Id>], a: &[Vec<Id>]) -> Vec<usize> {
-    let n = mass.len();
-    let mut order: Vec<usize> = (0..a.len()).collect();
-    order.sort_by_key(|&r| a[r].iter().filter(|&&e| !g.is_zero(e)).count());
-    let mut entries: Vec<Id> = mass.iter().flatten().copied().collect();
-    entries.extend(a.iter().flatten().copied());
-    let points: Vec<Vec<Vec<f64>>> = crate::numeric::rng::sample_points(0x5e11_d3f1)
-        .map(|point| {
-            let values = g.eval(&entries, &point);
-            values.chunks(n.max(1)).map(<[f64]>::to_vec).collect()
-        })
-        .collect();
-    let finite = points.iter().flatten().flatten().all(|v| v.is_finite());
-    let rank = |rows: &[usize], point: &[Vec<f64>]| {
-        let mut stacked: Vec<Vec<f64>> = point[..n].to_vec();
-        stacked.extend(rows.iter().map(|&r| point[n + r].clone()));
-        crate::numeric::linalg::independent_columns(&stacked, 1e-12).len()
-    };
-    let all: Vec<usize> = (0..a.len()).collect();
-    if !finite || n == 0 {
-        return all;
-    }
-    let mut chosen: Vec<usize> = Vec::new();
-    for r in order {
-        if points.iter().all(|p| rank(&chosen, p) == n) {
-            break;
-        }
-        let mut with = chosen.clone();
-        with.push(r);
-        if points.iter().all(|p| rank(&with, p) > rank(&chosen, p)) {
-            chosen = with;
-        }
-    }
-    if points.iter().all(|p| rank(&chosen, p) == n) {
-        chosen.sort_unstable();
-        chosen
-    } else {
-        all
-    }
-}
-
-impl Auxiliary {
-    fn new(g: &mut Graph, mass: &[Vec<Id>], a: &[Vec<Id>], n: usize) -> Self {
-        let rows = auxiliary_rows(g, mass, a);
-        let zero = g.int(0);
-        let mut normal = vec![vec![zero; n]; n];
-        for i in 0..n {
-            for j in 0..=i {
-                let pairs: Vec<(Id, Id)> = rows
-                    .iter()
-                    .map(|&r| &a[r])
-                    .filter(|row| !g.is_zero(row[i]) && !g.is_zero(row[j]))
-                    .map(|row| (row[i], row[j]))
-                    .collect();
-                let terms: Vec<Id> = pairs.into_iter().map(|(x, y)| g.mul2(x, y)).collect();
-                let e = g.add(&terms);
-                normal[i][j] = e;
-                normal[j][i] = e;
-            }
-        }
-        Auxiliary { rows, normal }
-    }
 }
 
 impl Factored {
@@ -291,22 +189,6 @@ pub struct Symbolic {
     pub structure: Structure,
 }
 
-/// Whether `M` is numerically singular at a few pseudo-random points (all
-/// of them; a point where it cannot be evaluated counts as regular).
-fn singular_everywhere(g: &Graph, mass: &[Vec<Id>]) -> bool {
-    let n = mass.len();
-    let entries: Vec<Id> = mass.iter().flatten().copied().collect();
-    crate::numeric::rng::sample_points(0x5e11_d3f1).all(|point| {
-        let values = g.eval(&entries, &point);
-        if values.iter().any(|v| !v.is_finite()) {
-            return false;
-        }
-        // n = 0 (no coordinate, refused by the checks): nothing is singular.
-        let m: Vec<Vec<f64>> = values.chunks(n.max(1)).map(<[f64]>::to_vec).collect();
-        crate::numeric::linalg::independent_columns(&m, 1e-12).len() < n
-    })
-}
-
 /// Builds the Gauss pieces for `mass`, `forces`, `a`, `b`.
 pub fn build(
     g: &mut Graph,
@@ -328,19 +210,25 @@ pub fn build(
         let f = Factored::new(g, (mass, tree), a, None);
         return MassInverse::Factored(Box::new(f));
     };
-    // Â = D A, b̂ = D b; the projection's M̃⁻¹ = μ M⁻¹ (the identity for a
-    // common mass μ).
-    let scale: Vec<Num> = a.iter().map(|row| row_scale(g, row)).collect();
-    let rows: Vec<Vec<Id>> = a
-        .iter()
-        .zip(&scale)
-        .map(|(row, &d)| row.iter().map(|&e| scaled(g, e, d)).collect())
-        .collect();
-    let b_hat: Vec<Id> = b
-        .iter()
-        .zip(&scale)
-        .map(|(&e, &d)| scaled(g, e, d))
-        .collect();
+    let known = (inverse, masses, known_positive, diagonal);
+    MassInverse::Symbolic(Box::new(symbolic(g, factorer, known, forces, a, b)))
+}
+
+/// Gauss's pieces as expressions where `M⁻¹` is known (`known`: as
+/// [`symbolic_inverse`] gives it, and whether `M` is diagonal): the rows
+/// scaled (`Â = D A`, `b̂ = D b`), then `a`, `W`, `S`, `r`, `q̈` and the
+/// force, with their common factors pulled out.
+fn symbolic(
+    g: &mut Graph,
+    factorer: &mut Factorer,
+    (inverse, masses, known_positive, diagonal): (Vec<Vec<Id>>, Vec<Id>, bool, bool),
+    forces: &[Id],
+    a: &[Vec<Id>],
+    b: &[Id],
+) -> Symbolic {
+    let (n, zero) = (inverse.len(), g.int(0));
+    let (scale, rows, b_hat) = scaled_rows(g, a, b);
+    // The projection's M̃⁻¹ = μ M⁻¹ (the identity for a common mass μ).
     let common_mass = (diagonal && n > 0 && masses.iter().all(|&m| m == masses[0]))
         .then(|| masses[0])
         .filter(|&m| !g.as_num(m).is_some_and(|v| v.is_one()));
@@ -377,7 +265,7 @@ pub fn build(
     let residual = factorer.factor_all(g, &residual);
     let acceleration = factorer.factor_all(g, &acceleration);
     let force = factorer.factor_all(g, &force);
-    MassInverse::Symbolic(Box::new(Symbolic {
+    Symbolic {
         masses,
         known_positive,
         diagonal,
@@ -392,7 +280,23 @@ pub fn build(
         acceleration,
         force,
         structure,
-    }))
+    }
+}
+
+/// `Â = D A` and `b̂ = D b`, with the row scales `D` ([`row_scale`]).
+fn scaled_rows(g: &mut Graph, a: &[Vec<Id>], b: &[Id]) -> (Vec<Num>, Vec<Vec<Id>>, Vec<Id>) {
+    let scale: Vec<Num> = a.iter().map(|row| row_scale(g, row)).collect();
+    let rows: Vec<Vec<Id>> = a
+        .iter()
+        .zip(&scale)
+        .map(|(row, &d)| row.iter().map(|&e| scaled(g, e, d)).collect())
+        .collect();
+    let b_hat: Vec<Id> = b
+        .iter()
+        .zip(&scale)
+        .map(|(&e, &d)| scaled(g, e, d))
+        .collect();
+    (scale, rows, b_hat)
 }
 
 /// `M⁻¹` as expressions, the diagonal masses and whether `M` is known

@@ -2,6 +2,7 @@
 //! `A q̈ = b` by the total-derivative rule; then Gauss's principle
 //! ([`mass_inverse`]) and the tangent pieces (`tangent`).
 
+mod auxiliary;
 pub mod gibbs_appell;
 pub mod in_base;
 pub mod mass_inverse;
@@ -15,13 +16,17 @@ use crate::expr::common_factors::Factorer;
 use crate::expr::diff::{AtRest, Differentiator};
 use crate::expr::Id;
 use crate::expr::Sym;
-use crate::model::{Level, System};
+use crate::model::{Constraint, Level, System};
 use mass_inverse::MassInverse;
+use partition::Partition;
 use tangent::{Pieces, Tangent};
 
-/// A system together with its derived constraint equations.
+/// A system together with its derived constraint equations: everything
+/// stage 3 builds is a field of its own, so that stage 2's [`System`] holds
+/// only what the input says.
 pub struct Equations {
-    /// The checked input.
+    /// The checked input (its `M` and `F` with their common factors pulled
+    /// out, as everything built from them carries them).
     pub system: System,
     /// `A`, k × n: `Aᵢⱼ = ∂ψᵢ/∂q̈ⱼ`.
     pub a: Vec<Vec<Id>>,
@@ -30,6 +35,9 @@ pub struct Equations {
     /// The constraints at velocity level: `φ̇` for position-level `φ`, `φ`
     /// itself otherwise. Zero on consistent states; its Jacobian in `q̇` is `A`.
     pub velocity_constraints: Vec<Id>,
+    /// With quaternion joints, `gauss`'s terms in their velocity
+    /// coordinates ([`velocity`]).
+    pub velocity: Option<VelocityTerms>,
     /// How Gauss's principle is solved (see [`mass_inverse`]).
     pub mass_inverse: MassInverse,
     /// The derivatives of `F`, `M`, `A`, `b` behind `acceleration_jacobian`
@@ -40,34 +48,136 @@ pub struct Equations {
     pub jacobians: bool,
     /// The generalized momentum `p = M(q, t) q̇`, n entries.
     pub momentum: Vec<Id>,
+    /// The Gibbs–Appell partition ([`partition`]), measured at consistent
+    /// states of the equations above, so found last.
+    pub partition: Partition,
+}
+
+/// `M` and `F` of a tree with quaternion joints in the quaternions'
+/// velocity coordinates, with their common factors pulled out as `M` and
+/// `F` are: what [`velocity::form`] is built from.
+#[derive(Clone, Debug)]
+pub struct VelocityTerms {
+    /// `TᵀMT` (the recursions' `velocity_mass`).
+    pub mass: Vec<Vec<Id>>,
+    /// `TᵀF`, from `F` and the recursions' `velocity_bias`
+    /// ([`velocity::forces`]).
+    pub forces: Vec<Id>,
+}
+
+/// Stage 3: the constraint equations (`constraint_equations`), then the
+/// Gibbs–Appell partition measured on them; `Err` where `eliminate` or `M`
+/// cannot serve (spanned on it).
+pub fn derive(system: System, jacobians: bool) -> syn::Result<Equations> {
+    let mut equations = constraint_equations(system, jacobians);
+    equations.partition = partition::partition(&equations)?;
+    Ok(equations)
 }
 
 /// Differentiates every constraint: velocity-level φ once, position-level φ
-/// twice (`ψ = D φ` or `ψ = D(D φ)`), and splits `ψ` into `A q̈ − b`.
+/// twice (`ψ = D φ` or `ψ = D(D φ)`), and splits `ψ` into `A q̈ − b`; then
+/// decides how `M⁻¹` is applied and builds the tangent pieces and the
+/// momentum. The partition is left empty: [`derive()`] measures it.
 ///
 /// Rows are not normalised: `A` and `b` are the derivatives of φ exactly as
 /// written, so that a user's scaling of φ shows up unchanged.
 /// `M`, `F`, `A` and `b` have their common factors pulled out
 /// ([`crate::expr::common_factors`]) before anything is built from them, so that the
 /// derivation and the code both carry the factored forms.
-pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
+fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let n = system.dof();
-    let mut d = Differentiator::new();
     let mut factorer = Factorer::keeping(system.named.iter().map(|(_, id)| *id));
+    let velocity = factored_dynamics(&mut system, &mut factorer);
     let g = &mut system.graph;
-    if let Some(b) = system.bodies.as_mut() {
-        b.velocity_forces = velocity::forces(g, b, &system.forces);
+    let in_base = in_base::rows(g, &system.constraints, n);
+    let dynamics = (&system.mass[..], &system.forces[..]);
+    let rows = constraint_rows(g, &mut factorer, dynamics, &system.constraints, &in_base);
+    let tree = system.bodies.as_ref().zip(velocity.as_ref());
+    let tree = tree.map(|(t, v)| velocity::Bodies {
+        mass: &v.mass,
+        forces: &v.forces,
+        bodies: &t.tree[..],
+        in_base: &in_base[..],
+    });
+    let mass_inverse = mass_inverse::build(
+        g,
+        &mut factorer,
+        (&system.mass, tree),
+        &system.forces,
+        &rows.a,
+        &rows.b,
+    );
+    let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
+    let pieces = Pieces {
+        mass: &system.mass,
+        forces: &system.forces,
+        a: &rows.a,
+        b: &rows.b,
+        velocity_constraints: &rows.velocity_constraints,
+    };
+    let tangent = if jacobians {
+        tangent::tangent(&mut system.graph, &pieces, &inputs)
+    } else {
+        Tangent::none()
+    };
+    let momentum = momentum(&mut system.graph, &system.mass);
+    Equations {
+        momentum,
+        jacobians,
+        system,
+        a: rows.a,
+        b: rows.b,
+        velocity_constraints: rows.velocity_constraints,
+        velocity,
+        mass_inverse,
+        tangent,
+        partition: Partition::default(),
     }
+}
+
+/// `M` and `F` with their common factors pulled out, and for quaternion
+/// joints the same two in their velocity coordinates. `TᵀF` is formed
+/// from `F` before it is factored, and each is factored in this order, so
+/// that the factors shared between them are named once.
+fn factored_dynamics(system: &mut System, factorer: &mut Factorer) -> Option<VelocityTerms> {
+    let g = &mut system.graph;
+    let bodies = system.bodies.as_ref();
+    let velocity_forces = bodies.and_then(|b| velocity::forces(g, b, &system.forces));
     system.mass = factorer.factor_rows(g, &system.mass);
     system.forces = factorer.factor_all(g, &system.forces);
-    if let Some(b) = system.bodies.as_mut() {
-        velocity::factor(g, &mut factorer, b);
-    }
-    let in_base = in_base::rows(g, &system.constraints, n);
-    let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
+    let velocity_mass = bodies.and_then(|b| b.velocity_mass.as_ref());
+    let mass = velocity_mass.map(|m| factorer.factor_rows(g, m));
+    let forces = velocity_forces.map(|f| factorer.factor_all(g, &f));
+    Some(VelocityTerms {
+        mass: mass?,
+        forces: forces?,
+    })
+}
+
+/// The rows of `A q̈ = b` and the velocity-level constraints.
+struct Rows {
+    a: Vec<Vec<Id>>,
+    b: Vec<Id>,
+    velocity_constraints: Vec<Id>,
+}
+
+/// Every constraint's row of `A` and `b`: each `b` the cheaper of its two
+/// derivations ([`cheaper_bias`]), then completed into squares where that
+/// pays; the rows of points under a free base in their closed form
+/// (`in_base`): the same values, without the quotient rule of `R̂`.
+fn constraint_rows(
+    g: &mut crate::expr::Graph,
+    factorer: &mut Factorer,
+    (mass, forces): (&[Vec<Id>], &[Id]),
+    constraints: &[Constraint],
+    in_base: &[in_base::InBaseRows],
+) -> Rows {
+    let n = forces.len();
+    let mut d = Differentiator::new();
     let mut at_rest = AtRest::default();
+    let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
     let mut structured = Vec::new();
-    for c in &system.constraints {
+    for c in constraints {
         let velocity_level = match c.level {
             Level::Velocity => c.phi,
             // φ has no q̇, so D φ = Σ ∂φ/∂qⱼ q̇ⱼ + ∂φ/∂t has no q̈ term.
@@ -86,65 +196,21 @@ pub fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         let rest = at_rest.derivative(g, velocity);
         structured.push(g.neg(rest));
     }
-    let b = cheaper_bias(
-        g,
-        &mut factorer,
-        (&system.mass, &system.forces, &a),
-        &b,
-        &structured,
-    );
+    let b = cheaper_bias(g, factorer, (mass, forces, &a), &b, &structured);
     // b = −(d/dt A)·q̇ is a quadratic form in q̇: written as a sum of
     // squares where that shortens the code, counted with everything else
     // that is computed beside it (crate::expr::squares).
-    let mut b = complete_squares(g, &mut factorer, &system.mass, &system.forces, &a, &b);
-    // The rows of points under a free base in their closed form
-    // (`in_base`): the same values, without the quotient rule of `R̂`.
-    for rows in &in_base {
+    let mut b = complete_squares(g, factorer, mass, forces, &a, &b);
+    for rows in in_base {
         for (i, &r) in rows.rows.iter().enumerate() {
             a[r] = factorer.factor_all(g, &rows.model_a[i]);
             b[r] = factorer.factor(g, rows.model_b[i]);
         }
     }
-    let g = &mut system.graph;
-    let tree = system.bodies.as_ref().and_then(|t| {
-        Some(mass_inverse::Bodies {
-            mass: t.velocity_mass.as_deref()?,
-            forces: t.velocity_forces.as_deref()?,
-            bodies: &t.tree[..],
-            in_base: &in_base[..],
-        })
-    });
-    let mass_inverse = mass_inverse::build(
-        g,
-        &mut factorer,
-        (&system.mass, tree),
-        &system.forces,
-        &a,
-        &b,
-    );
-    let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
-    let pieces = Pieces {
-        mass: &system.mass,
-        forces: &system.forces,
-        a: &a,
-        b: &b,
-        velocity_constraints: &velocity_constraints,
-    };
-    let tangent = if jacobians {
-        tangent::tangent(&mut system.graph, &pieces, &inputs)
-    } else {
-        Tangent::none()
-    };
-    let momentum = momentum(&mut system.graph, &system.mass);
-    Equations {
-        momentum,
-        jacobians,
-        system,
+    Rows {
         a,
         b,
         velocity_constraints,
-        mass_inverse,
-        tangent,
     }
 }
 

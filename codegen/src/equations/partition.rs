@@ -1,5 +1,5 @@
-//! Stage 3, its last step (after `derive::constraint_equations`, in
-//! `analyse_with`): the Gibbs–Appell partition (Udwadia & Kalaba, the
+//! Stage 3, its last step (after `constraint_equations`, in
+//! `super::derive`): the Gibbs–Appell partition (Udwadia & Kalaba, the
 //! explicit Gibbs–Appell equation): the generic rank `r` of `A` and the `r` coordinates whose
 //! accelerations are eliminated.
 //!
@@ -43,7 +43,7 @@ use crate::model::Level;
 use crate::numeric::linalg::independent_columns;
 
 /// The partition used by the Gibbs–Appell form.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Partition {
     /// The generic rank `r` of `A` (on the constraint surface when `on_surface`).
     pub rank: usize,

@@ -6,9 +6,7 @@ use crate::equations::surface::{branches, STATES};
 use crate::numeric::rng::SplitMix64;
 
 fn analyse(model: &str) -> Equations {
-    crate::analyse(model.parse().expect("tokens"))
-        .expect("expands")
-        .0
+    crate::analyse(model.parse().expect("tokens")).expect("expands")
 }
 
 /// A free brick with its attitude locked (to `attitude`) and `unused`

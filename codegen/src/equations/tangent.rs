@@ -195,7 +195,7 @@ mod tests {
     use crate::tools::fixtures::{joint_angle_pendulum, planar_chain};
 
     fn form(source: &str) -> (bool, usize) {
-        let (eq, _) = crate::analyse(source.parse().expect("tokens")).expect("expands");
+        let eq = crate::analyse(source.parse().expect("tokens")).expect("expands");
         let directional = matches!(eq.tangent.form, Form::Directional(_));
         (directional, eq.system.graph.len())
     }
@@ -217,7 +217,7 @@ mod tests {
     /// column's partial derivative, at random points.
     #[test]
     fn directional_derivative_is_the_partial_along_a_unit_seed() {
-        let (mut eq, _) =
+        let mut eq =
             crate::analyse(joint_angle_pendulum("P", 3).parse().expect("tokens")).expect("ok");
         let g = &mut eq.system.graph;
         let f = eq.system.forces.clone();

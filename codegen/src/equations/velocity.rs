@@ -49,6 +49,22 @@ pub struct Velocity {
     pub structure: Structure,
 }
 
+/// What the velocity form of a tree with quaternions is built from: the
+/// tree's own terms and the rows of its points under a free base. It lives
+/// here, beside the form that reads it, so that `mass_inverse` imports this
+/// module and not the other way round.
+#[derive(Clone, Copy)]
+pub struct Bodies<'a> {
+    /// `TᵀMT`.
+    pub mass: &'a [Vec<Id>],
+    /// `TᵀF`.
+    pub forces: &'a [Id],
+    /// The tree's bodies.
+    pub bodies: &'a [Body],
+    /// The rows of points under a free base, in its axes.
+    pub in_base: &'a [super::in_base::InBaseRows],
+}
+
 /// The quaternions' `w` coordinates of a tree.
 pub fn quaternions(tree: &[Body]) -> Vec<usize> {
     tree.iter()
@@ -81,12 +97,7 @@ pub struct Transformed {
 /// The velocity form of `gauss`'s system, where [`transformed`] finds it
 /// and the rest has a saddle-point order under three quarters of
 /// `range_cost`; `None` otherwise.
-pub fn form(
-    g: &mut Graph,
-    bodies: super::mass_inverse::Bodies,
-    a: &[Vec<Id>],
-    range_cost: usize,
-) -> Option<Velocity> {
+pub fn form(g: &mut Graph, bodies: Bodies, a: &[Vec<Id>], range_cost: usize) -> Option<Velocity> {
     let (velocity_mass, tree, forces) = (bodies.mass, bodies.bodies, bodies.forces);
     let mut system = transformed(g, (velocity_mass, tree), forces, a)?;
     // Only the triples under a base the tree's own form turns (both find
@@ -266,19 +277,4 @@ pub fn forces(g: &mut Graph, bodies: &crate::model::BodyTerms, f: &[Id]) -> Opti
             .map(|(&q, &c)| g.sub(q, c))
             .collect(),
     )
-}
-
-/// `TᵀMT` and `TᵀF` with their common factors pulled out, as `M` and `F`
-/// are ([`crate::expr::common_factors`]).
-pub fn factor(
-    g: &mut Graph,
-    factorer: &mut crate::expr::common_factors::Factorer,
-    b: &mut crate::model::BodyTerms,
-) {
-    if let Some(m) = b.velocity_mass.as_mut() {
-        *m = factorer.factor_rows(g, m);
-    }
-    if let Some(f) = b.velocity_forces.as_mut() {
-        *f = factorer.factor_all(g, f);
-    }
 }

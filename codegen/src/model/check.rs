@@ -1,23 +1,135 @@
-//! The rules of the input that need the lowered expressions, one function
-//! each (serde_derive's `check.rs`). The mass rules take the matrix and
-//! its written entries, to point at.
+//! Every rule of the input that needs the lowered expressions, one named
+//! function each, and the one [`check`] that applies them all to the
+//! lowered [`System`] (serde_derive's `check.rs`). Lowering records in
+//! [`Written`] what the rules read beside the system: where each part was
+//! written, and the [`Slot`] its errors go in.
 
-use super::ctxt::Errors;
+use super::ctxt::{Errors, Slot};
+use super::{Level, System};
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Sym};
 use crate::numeric::rng::sample_points;
 use proc_macro2::TokenStream;
 use quote::ToTokens;
+use syn::Ident;
+
+/// Applies every rule to the lowered system, each reporting at the slot of
+/// the part it checks (so that errors come in the order of the input):
+///
+/// - the struct: [`struct_name`], [`forwarded_attributes`];
+/// - `M`: [`mass_without_velocities`], [`mass_symmetric`],
+///   [`constant_mass_positive_semidefinite`] ([`mass_rules`]);
+/// - each constraint written: [`constraint_involves_state`],
+///   [`constraint_differentiable`] ([`constraint_rules`]);
+/// - the control inputs: [`inputs_in_forces_only`].
+///
+/// [`length`] is the one rule applied while lowering, as each list is
+/// read: lowering reads only the first `n` entries of a list.
+pub fn check(errors: &mut Errors, system: &System, written: &Written) {
+    errors.fill(written.header, |e| {
+        struct_name(e, &system.name);
+        forwarded_attributes(e, &system.attrs);
+    });
+    let g = &system.graph;
+    if let Some(mass) = &written.mass {
+        errors.fill(mass.slot, |e| mass_rules(e, g, &system.mass, mass));
+    }
+    for c in &written.constraints {
+        errors.fill(c.slot, |e| constraint_rules(e, g, c));
+    }
+    if let Some(inputs) = &written.inputs {
+        errors.fill(inputs.slot, |e| inputs_in_forces_only(e, system, inputs));
+    }
+}
+
+/// What the rules read beside the lowered [`System`], recorded while it is
+/// lowered. A part that lowered with an error holds a placeholder and is
+/// not checked further, so that one mistake gives one error.
+#[derive(Default)]
+pub struct Written {
+    /// Where the rules of the struct's name and attributes report: before
+    /// anything is lowered.
+    pub header: Slot,
+    /// `M`, written or derived from `T` (without error).
+    pub mass: Option<WrittenMass>,
+    /// The constraints written (each row of one) that lowered without
+    /// error, in order.
+    pub constraints: Vec<WrittenConstraint>,
+    /// Where the control inputs may not appear, when there are inputs.
+    pub inputs: Option<WrittenInputs>,
+}
+
+/// `M` as the rules of [`mass_rules`] read it.
+pub struct WrittenMass {
+    /// Where to point at `M` as a whole (`mass` or `kinetic_energy`).
+    pub keyword: Ident,
+    /// For a written `M`, its entries as lowered (before the upper
+    /// triangle serves both halves) and as written. A derived `M` needs no
+    /// such check: Lagrange's equations make it symmetric and free of
+    /// velocities.
+    pub entries: Option<(Vec<Vec<Id>>, MassSource)>,
+    /// Whether it lowered without error (missing or unreadable entries are
+    /// zeros).
+    pub clean: bool,
+    /// Where its errors go.
+    pub slot: Slot,
+}
+
+/// One constraint's `φ` as the rules of [`constraint_rules`] read it.
+pub struct WrittenConstraint {
+    /// `φ`.
+    pub phi: Id,
+    /// Its level, which says how often it is differentiated.
+    pub level: Level,
+    /// The constraint's tokens, to point at.
+    pub tokens: TokenStream,
+    /// Where its errors go.
+    pub slot: Slot,
+}
+
+/// What [`inputs_in_forces_only`] reads beside the system.
+pub struct WrittenInputs {
+    /// The index of the first input among the parameters (`Sym::Param`).
+    pub first: usize,
+    /// The keyword of `M`'s source and the source's name for messages.
+    pub source: Option<(Ident, &'static str)>,
+    /// `T` as written.
+    pub kinetic: Option<Id>,
+    /// `V` as written, with its keyword.
+    pub potential: Option<(Id, Ident)>,
+    /// Where its errors go: after everything else.
+    pub slot: Slot,
+}
 
 /// The entries of a mass matrix as written in `mass:` (`None` where an
-/// entry is missing), to point errors at. (A derived `M` needs no such
-/// check: Lagrange's equations and the bodies' recursion make it
-/// symmetric and free of velocities.)
-pub struct MassSource<'a>(pub Vec<Vec<Option<&'a syn::Expr>>>);
+/// entry is missing), to point errors at.
+pub struct MassSource(pub Vec<Vec<Option<TokenStream>>>);
 
-impl MassSource<'_> {
+impl MassSource {
     fn at(&self, i: usize, j: usize) -> Option<TokenStream> {
-        self.0.get(i)?.get(j)?.map(ToTokens::to_token_stream)
+        self.0.get(i)?.get(j)?.clone()
+    }
+}
+
+/// The rules of `M`: a written one's entries free of velocities and
+/// symmetric; a constant one positive semi-definite, where it lowered
+/// without error and the rules before found none.
+pub fn mass_rules(errors: &mut Errors, g: &Graph, m: &[Vec<Id>], written: &WrittenMass) {
+    if let Some((entries, source)) = &written.entries {
+        mass_without_velocities(errors, g, entries, source);
+        mass_symmetric(errors, g, entries, source);
+    }
+    if written.clean && errors.count() == 0 {
+        constant_mass_positive_semidefinite(errors, g, m, &written.keyword);
+    }
+}
+
+/// The rules of a constraint: it involves the state, and where it does, it
+/// is differentiable as often as its level asks.
+pub fn constraint_rules(errors: &mut Errors, g: &Graph, c: &WrittenConstraint) {
+    constraint_involves_state(errors, g, c.phi, &c.tokens);
+    if errors.count() == 0 {
+        constraint_differentiable(errors, g, c.phi, c.level, &c.tokens);
     }
 }
 
@@ -192,14 +304,13 @@ pub fn mass_without_velocities(errors: &mut Errors, g: &Graph, m: &[Vec<Id>], so
 }
 
 /// Rule: `M = Mᵀ` (compared as canonical forms, then numerically at random
-/// points for forms that differ but agree). Afterwards the upper triangle
-/// serves both halves, so generated code computes each entry once.
-#[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
-pub fn mass_symmetric(errors: &mut Errors, g: &Graph, m: &mut [Vec<Id>], source: &MassSource) {
-    let n = m.len();
-    for i in 0..n {
-        for j in i + 1..n {
-            let (upper, lower) = (m[i][j], m[j][i]);
+/// points for forms that differ but agree). The lowering then lets the
+/// upper triangle serve both halves, so generated code computes each entry
+/// once.
+pub fn mass_symmetric(errors: &mut Errors, g: &Graph, m: &[Vec<Id>], source: &MassSource) {
+    for (i, row) in m.iter().enumerate() {
+        for (j, &upper) in row.iter().enumerate().skip(i + 1) {
+            let lower = m.get(j).and_then(|r| r.get(i)).copied().unwrap_or(upper);
             if upper != lower && !numerically_equal(g, upper, lower) {
                 if let Some(at) = source.at(j, i) {
                     errors.spanned(
@@ -214,7 +325,6 @@ pub fn mass_symmetric(errors: &mut Errors, g: &Graph, m: &mut [Vec<Id>], source:
                     );
                 }
             }
-            m[j][i] = upper;
         }
     }
 }
@@ -262,12 +372,12 @@ pub fn constraint_differentiable(
     errors: &mut Errors,
     g: &Graph,
     phi: Id,
-    level: super::Level,
+    level: Level,
     at: impl ToTokens,
 ) {
     let times = match level {
-        super::Level::Position => 2,
-        super::Level::Velocity => 1,
+        Level::Position => 2,
+        Level::Velocity => 1,
     };
     let state = |s: Sym| matches!(s, Sym::Vel(_) | Sym::Coord(_) | Sym::Time);
     for id in g.reachable(&[phi]) {
@@ -283,8 +393,8 @@ pub fn constraint_differentiable(
                 _ => ("has a kink", "its second derivative is an impulse"),
             };
             let what = match level {
-                super::Level::Position => "a position-level constraint, differentiated twice",
-                super::Level::Velocity => "a velocity-level constraint, differentiated once",
+                Level::Position => "a position-level constraint, differentiated twice",
+                Level::Velocity => "a velocity-level constraint, differentiated once",
             };
             errors.spanned(
                 &at,
@@ -319,4 +429,27 @@ pub fn input_outside_forces(errors: &mut Errors, at: impl ToTokens, what: &str) 
              make it a parameter if it is not an input"
         ),
     );
+}
+
+/// Rule: control inputs appear in `forces` only (not in `M`, `T`, `V` or a
+/// constraint).
+pub fn inputs_in_forces_only(errors: &mut Errors, system: &System, written: &WrittenInputs) {
+    let g = &system.graph;
+    let is_input = |s: Sym| matches!(s, Sym::Param(i) if i >= written.first);
+    let mentions = |id: Id| g.mentions(id, is_input);
+    let mass_has_input =
+        system.mass.iter().flatten().any(|&m| mentions(m)) || written.kinetic.is_some_and(mentions);
+    if let (true, Some((keyword, what))) = (mass_has_input, &written.source) {
+        input_outside_forces(errors, keyword, what);
+    }
+    if let Some((v, keyword)) = &written.potential {
+        if mentions(*v) {
+            input_outside_forces(errors, keyword, "`potential_energy`");
+        }
+    }
+    for c in &system.constraints {
+        if mentions(c.phi) {
+            input_outside_forces(errors, &c.tokens, "a constraint");
+        }
+    }
 }

@@ -65,63 +65,24 @@ impl Lowerer<'_> {
         entries
     }
 
+    /// One entry, lowered and checked: its form, then its velocity and
+    /// coefficients ([`Lowerer::usable`]), then the velocity affine in `q̇`.
     fn friction_entry(
         &mut self,
         e: &Expr,
         first_input: usize,
         d: &mut Differentiator,
     ) -> Option<Entry> {
-        let args: Vec<&Expr> = match e {
-            Expr::Call(call) if matches!(&*call.func, Expr::Path(p) if p.path.is_ident("coulomb")) => {
-                call.args.iter().collect()
-            }
-            _ => {
-                self.errors.spanned(e, FORM);
-                return None;
-            }
-        };
-        let [v, normal, mu_static, mu_kinetic] = match args[..] {
-            [v, n, s, k] => [v, n, s, k],
-            [v, n, mu] => [v, n, mu, mu],
-            _ => {
-                let message = format!("{FORM}: this one has {} arguments", args.len());
-                self.errors.spanned(e, message);
-                return None;
-            }
-        };
+        let [v, normal, mu_static, mu_kinetic] = self.coulomb_arguments(e)?;
         let before = self.errors.count();
         let lowered = [v, normal, mu_static, mu_kinetic].map(|x| self.lower(x));
         if self.errors.count() != before {
             return None;
         }
         let [velocity, normal_id, s_id, k_id] = lowered;
-        let is_input = |s: Sym| matches!(s, Sym::Param(i) if i >= first_input);
-        let g = &*self.graph;
-        if !g.mentions(velocity, |s| matches!(s, Sym::Vel(_))) {
-            self.errors.spanned(
-                v,
-                "a friction entry's velocity must involve a velocity (`dot(..)`): \
-                 it is the sliding speed, held at zero while sticking",
-            );
+        let written = [(v, velocity), (mu_static, s_id), (mu_kinetic, k_id)];
+        if !self.usable(written, first_input) {
             return None;
-        }
-        if g.mentions(velocity, is_input) {
-            self.errors.spanned(
-                v,
-                "a friction entry's velocity may not depend on control inputs \
-                 (`inputs` appear in `forces` only)",
-            );
-            return None;
-        }
-        let constant = |s: Sym| matches!(s, Sym::Param(i) if i < first_input);
-        for (mu, id) in [(mu_static, s_id), (mu_kinetic, k_id)] {
-            if g.mentions(id, |s| !constant(s)) {
-                self.errors.spanned(
-                    mu,
-                    "a friction coefficient must be a constant: numbers and parameters",
-                );
-                return None;
-            }
         }
         let jacobian: Vec<Id> = (0..self.n)
             .map(|j| d.partial(self.graph, velocity, Sym::Vel(j)))
@@ -146,6 +107,66 @@ impl Lowerer<'_> {
             mu_kinetic: k_id,
             tokens: e.to_token_stream(),
         })
+    }
+
+    /// The four arguments of `coulomb(v, n, μs, μk)` (`μk = μs` where three
+    /// are given); `None`, with an error, for any other form.
+    fn coulomb_arguments<'e>(&mut self, e: &'e Expr) -> Option<[&'e Expr; 4]> {
+        let args: Vec<&Expr> = match e {
+            Expr::Call(call) if matches!(&*call.func, Expr::Path(p) if p.path.is_ident("coulomb")) => {
+                call.args.iter().collect()
+            }
+            _ => {
+                self.errors.spanned(e, FORM);
+                return None;
+            }
+        };
+        match args[..] {
+            [v, n, s, k] => Some([v, n, s, k]),
+            [v, n, mu] => Some([v, n, mu, mu]),
+            _ => {
+                let message = format!("{FORM}: this one has {} arguments", args.len());
+                self.errors.spanned(e, message);
+                None
+            }
+        }
+    }
+
+    /// Whether an entry's velocity involves a velocity and no input, and
+    /// its coefficients are constants (`written`: the velocity, then both
+    /// coefficients, as written and lowered); an error for the first that
+    /// is not.
+    fn usable(&mut self, written: [(&Expr, Id); 3], first_input: usize) -> bool {
+        let [(v, velocity), coefficients @ ..] = written;
+        let is_input = |s: Sym| matches!(s, Sym::Param(i) if i >= first_input);
+        let g = &*self.graph;
+        if !g.mentions(velocity, |s| matches!(s, Sym::Vel(_))) {
+            self.errors.spanned(
+                v,
+                "a friction entry's velocity must involve a velocity (`dot(..)`): \
+                 it is the sliding speed, held at zero while sticking",
+            );
+            return false;
+        }
+        if g.mentions(velocity, is_input) {
+            self.errors.spanned(
+                v,
+                "a friction entry's velocity may not depend on control inputs \
+                 (`inputs` appear in `forces` only)",
+            );
+            return false;
+        }
+        let constant = |s: Sym| matches!(s, Sym::Param(i) if i < first_input);
+        for (mu, id) in coefficients {
+            if g.mentions(id, |s| !constant(s)) {
+                self.errors.spanned(
+                    mu,
+                    "a friction coefficient must be a constant: numbers and parameters",
+                );
+                return false;
+            }
+        }
+        true
     }
 }
 

@@ -109,6 +109,8 @@ pub struct Lowerer<'a> {
     /// first coordinates of a free base on the world
     /// (`crate::bodies::free::free_base`).
     pub bases: Vec<Option<(usize, usize)>>,
+    /// What the rules read beside the lowered system (`check::check`).
+    pub written: check::Written,
 }
 
 impl<'a> Lowerer<'a> {
@@ -123,6 +125,7 @@ impl<'a> Lowerer<'a> {
             frames: Vec::new(),
             chain: Vec::new(),
             bases: Vec::new(),
+            written: check::Written::default(),
         }
     }
 

@@ -1,31 +1,38 @@
-//! Stage 2: [`SystemInput`] → [`System`]: names resolved, expressions lowered
-//! into the DAG, every rule of the DSL checked (serde_derive's `internals/`):
-//! - `ctxt`: the error collector, so that every mistake is reported at once;
-//! - [`lower`]: name resolution and lowering;
-//! - `check`: the rules on lowered expressions, one function each.
+//! Stage 2: `SystemInput` → [`System`]: names resolved, expressions lowered
+//! into the DAG, every rule of the DSL checked (serde_derive's `internals/`).
+//! This file is the data model, what the later stages read; the work is in
+//! - `build`: the driver ([`check`]): the sections read, every part lowered
+//!   in the input's order, then the rules;
+//! - [`lower`]: name resolution and the lowering of expressions; `source`:
+//!   where `M` comes from, and its lowering; `constraints`: the
+//!   constraints' (and `bodies`, `free`, `rotation`, `friction`,
+//!   `unilateral`, `urdf` each their section's);
+//! - `check`: the rules on lowered expressions, one function each, and the
+//!   one `check` that applies them all;
+//! - `ctxt`: the error collector, so that every mistake is reported at once.
 
 pub(crate) mod bodies;
 pub(crate) mod body_functions;
+mod build;
 pub(crate) mod check;
+mod constraints;
 pub(crate) mod ctxt;
 pub(crate) mod free;
 pub(crate) mod friction;
 pub mod lower;
 mod points;
 mod rotation;
+mod sections;
 mod source;
 pub(crate) mod unilateral;
 pub(crate) mod urdf;
 
+pub use build::check;
+
 use crate::expr::{Graph, Id, Sym};
-use crate::parse::{BodyInput, ConstraintInput, List, MassInput, Section, SystemInput};
-use check::MassSource;
-use ctxt::Errors;
-use lower::{Binding, Lowerer};
 use proc_macro2::Span;
-use source::{inputs_in_forces_only, source, Source};
 use std::ops::Range;
-use syn::{Attribute, Expr, Ident, Visibility};
+use syn::{Attribute, Ident, Visibility};
 
 /// Whether a constraint is differentiated twice or once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,9 +153,6 @@ pub struct BodyTerms {
     /// With quaternion joints, the bias forces in the same unknowns
     /// (`crate::bodies::Dynamics::velocity_bias`).
     pub velocity_bias: Option<Vec<Id>>,
-    /// With quaternion joints, `TᵀF`: `Tᵀ` of `F`'s applied part (`F + c`)
-    /// less the velocity bias; set by `crate::equations`.
-    pub velocity_forces: Option<Vec<Id>>,
 }
 
 /// The energies of a system given by energies or bodies, for the
@@ -193,391 +197,10 @@ impl System {
     }
 }
 
-/// The sections of one input, each at most once.
-#[derive(Default)]
-struct Sections<'a> {
-    coordinates: Option<&'a List<Ident>>,
-    parameters: Option<&'a List<Ident>>,
-    inputs: Option<&'a List<Ident>>,
-    mass: Option<(&'a Ident, &'a MassInput)>,
-    forces: Option<&'a List<Expr>>,
-    definitions: Option<&'a List<(Ident, Expr)>>,
-    constraints: Option<&'a List<ConstraintInput>>,
-    eliminate: Option<&'a List<Ident>>,
-    kinetic_energy: Option<(&'a Ident, &'a Expr)>,
-    potential_energy: Option<(&'a Ident, &'a Expr)>,
-    bodies: Option<(&'a Ident, &'a List<BodyInput>)>,
-    gravity: Option<&'a List<Expr>>,
-    urdf: Option<(&'a Ident, &'a syn::LitStr)>,
-    locked: Option<&'a List<Ident>>,
-    unilateral: Option<&'a List<Expr>>,
-    friction: Option<&'a List<Expr>>,
-}
-
-impl<'a> Sections<'a> {
-    fn collect(input: &'a SystemInput, errors: &mut Errors) -> Self {
-        let mut s = Sections::default();
-        for section in &input.sections {
-            let duplicate = match section {
-                Section::Coordinates(_, l) => s.coordinates.replace(l).is_some(),
-                Section::Parameters(_, l) => s.parameters.replace(l).is_some(),
-                Section::Inputs(_, l) => s.inputs.replace(l).is_some(),
-                Section::Mass(k, m) => s.mass.replace((k, m)).is_some(),
-                Section::Forces(_, l) => s.forces.replace(l).is_some(),
-                Section::Definitions(_, l) => s.definitions.replace(l).is_some(),
-                Section::Constraints(_, l) => s.constraints.replace(l).is_some(),
-                Section::Eliminate(_, l) => s.eliminate.replace(l).is_some(),
-                Section::KineticEnergy(k, e) => s.kinetic_energy.replace((k, e)).is_some(),
-                Section::PotentialEnergy(k, e) => s.potential_energy.replace((k, e)).is_some(),
-                Section::Bodies(k, l) => s.bodies.replace((k, l)).is_some(),
-                Section::Gravity(_, l) => s.gravity.replace(l).is_some(),
-                Section::Urdf(k, l) => s.urdf.replace((k, l)).is_some(),
-                Section::Locked(_, l) => s.locked.replace(l).is_some(),
-                Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
-                Section::Friction(_, l) => s.friction.replace(l).is_some(),
-            };
-            if duplicate {
-                let k = section.keyword();
-                errors.spanned(k, format!("duplicate section `{k}`"));
-            }
-        }
-        s
-    }
-}
-
-/// Checks the input and lowers it into a [`System`].
-pub fn check(input: &SystemInput) -> syn::Result<System> {
-    let mut errors = Errors::new();
-    let sections = Sections::collect(input, &mut errors);
-    check::struct_name(&mut errors, &input.name);
-    check::forwarded_attributes(&mut errors, &input.attrs);
-    let robot = sections.urdf.and_then(|(_, path)| {
-        urdf::Robot::read(path, sections.locked)
-            .map_err(|e| errors.push(e))
-            .ok()
-    });
-    let source = source(input, &sections, robot.as_ref(), &mut errors);
-    let coordinates: Vec<Ident> = match source {
-        Source::Bodies(_, list) => bodies::joint_coordinates(list),
-        Source::Urdf(_, robot) => robot.coordinates(),
-        _ => sections
-            .coordinates
-            .map_or_else(Vec::new, |l| l.items.clone()),
-    };
-    let coordinate_names = match source {
-        Source::Urdf(_, robot) => robot.coordinate_names(),
-        _ => coordinates.iter().map(ToString::to_string).collect(),
-    };
-    if let Some(list) = sections.coordinates.filter(|l| l.items.is_empty()) {
-        errors.at(list.span, "`coordinates` must name at least one coordinate");
-    }
-    let inputs: &[Ident] = sections.inputs.map_or(&[][..], |l| &l.items);
-    let (parameters, modes) = all_parameters(&sections, inputs);
-    let first_input = modes.end;
-    let n = coordinates.len();
-    let mut graph = new_graph(parameters.len(), n);
-    let mut lower = Lowerer::new(&mut graph, &mut errors, n);
-    for (i, c) in coordinates.iter().enumerate() {
-        lower.declare(c, Binding::Coordinate(i), &coordinates);
-    }
-    for (i, p) in parameters
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| !modes.contains(i))
-    {
-        lower.declare(p, Binding::Parameter(i), &coordinates);
-    }
-    // The bodies come before the definitions, so that every expression
-    // may name their points (`position(body, [x, y, z]).z`).
-    let described = lower.described(source, &coordinates);
-    for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
-        let id = lower.lower(value);
-        lower.declare(name, Binding::Definition(id), &coordinates);
-        lower.name_node(name.to_string(), id);
-    }
-    let mut dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    let mut constraints = lower.all_constraints(sections.constraints, source, &coordinates);
-    let unilateral = sections
-        .unilateral
-        .map_or_else(Vec::new, |l| lower.gaps(l, first_input));
-    let (forces, rows) = (&mut dynamics.forces, &mut constraints);
-    let friction = sections
-        .friction
-        .map_or_else(Vec::new, |l| lower.friction(l, &modes, forces, rows));
-    let eliminate = sections
-        .eliminate
-        .map(|list| (lower.eliminate(list), list.span));
-    if !inputs.is_empty() {
-        let is_input = |s: Sym| matches!(s, Sym::Param(i) if i >= first_input);
-        inputs_in_forces_only(
-            &mut lower,
-            &is_input,
-            source,
-            &sections,
-            &dynamics,
-            &constraints,
-        );
-    }
-    let named = std::mem::take(&mut lower.named);
-    let mass_span = source.keyword().map_or(input.name.span(), Ident::span);
-    errors.finish()?;
-    Ok(System {
-        attrs: input.attrs.clone(),
-        vis: input.vis.clone(),
-        name: input.name.clone(),
-        coordinates,
-        coordinate_names,
-        parameters,
-        inputs: inputs.len(),
-        graph,
-        mass: dynamics.mass,
-        forces: dynamics.forces,
-        constraints,
-        eliminate,
-        mass_span,
-        named,
-        energies: dynamics.energies,
-        bodies: dynamics.bodies,
-        energy: dynamics.energy,
-        unilateral,
-        friction,
-    })
-}
-
-/// The parameters, then the friction entries' modes (hidden fields), then
-/// the inputs: inputs are parameters to every stage but the checks and the
-/// Jacobian (fields after the parameters, `Sym::Param` after theirs). With
-/// the indices of the modes.
-fn all_parameters(sections: &Sections, inputs: &[Ident]) -> (Vec<Ident>, Range<usize>) {
-    let written = sections.parameters.map_or(&[][..], |l| &l.items);
-    let modes = sections.friction.map_or(0, |l| l.items.len());
-    let hidden = (0..modes).map(friction_mode);
-    let parameters = written
-        .iter()
-        .cloned()
-        .chain(hidden)
-        .chain(inputs.iter().cloned());
-    (parameters.collect(), written.len()..written.len() + modes)
-}
-
 /// The hidden field holding friction entry `i`'s mode.
 pub fn friction_mode(i: usize) -> Ident {
     Ident::new(
         &format!("{}friction{i}", crate::names::GENERATED_PREFIX),
         Span::call_site(),
     )
-}
-
-/// A graph with the variables interned first, in a fixed order, so that
-/// canonical term order (by node id) reads naturally: parameters before
-/// time before coordinates before velocities, each in declaration order
-/// (`α·ż`, `x + y`).
-fn new_graph(parameters: usize, n: usize) -> Graph {
-    let mut graph = Graph::new();
-    for i in 0..parameters {
-        graph.sym(Sym::Param(i));
-    }
-    graph.sym(Sym::Time);
-    for i in 0..n {
-        graph.sym(Sym::Coord(i));
-    }
-    for i in 0..n {
-        graph.sym(Sym::Vel(i));
-    }
-    graph
-}
-
-impl Lowerer<'_> {
-    fn mass(&mut self, keyword: &Ident, input: &MassInput, n: usize) -> Vec<Vec<Id>> {
-        let before = self.errors.count();
-        let zero = self.graph.int(0);
-        let mut m = vec![vec![zero; n]; n];
-        let mut sources: Vec<Vec<Option<&Expr>>> = vec![vec![None; n]; n];
-        match input {
-            MassInput::Diagonal(list) => {
-                check::length(self.errors, list.span, "`mass`", list.items.len(), n);
-                for (i, e) in list.items.iter().enumerate().take(n) {
-                    m[i][i] = self.lower(e);
-                    sources[i][i] = Some(e);
-                }
-            }
-            MassInput::Full(rows) => {
-                check::length(self.errors, rows.span, "`mass`", rows.items.len(), n);
-                for (i, row) in rows.items.iter().enumerate().take(n) {
-                    let what = format!("row {} of `mass`", i + 1);
-                    check::length(self.errors, row.span, &what, row.items.len(), n);
-                    for (j, e) in row.items.iter().enumerate().take(n) {
-                        m[i][j] = self.lower(e);
-                        sources[i][j] = Some(e);
-                    }
-                }
-            }
-        }
-        let source = MassSource(sources);
-        check::mass_without_velocities(self.errors, self.graph, &m, &source);
-        check::mass_symmetric(self.errors, self.graph, &mut m, &source);
-        // Missing or unreadable entries were filled with zeros.
-        if self.errors.count() == before {
-            check::constant_mass_positive_semidefinite(self.errors, self.graph, &m, keyword);
-        }
-        m
-    }
-
-    /// `V(q, t)`: no velocities (`dt(..)` of a position brings them in).
-    fn potential(&mut self, e: &Expr) -> Id {
-        let v = self.lower(e);
-        if self.graph.mentions(v, |s| matches!(s, Sym::Vel(_))) {
-            self.errors.spanned(
-                e,
-                "`potential_energy` may depend on coordinates, `t` and parameters, not on \
-                 velocities (`dot(..)`, or `dt(..)` of a position, brings them in)",
-            );
-        }
-        v
-    }
-
-    /// `M = ∂²T/∂q̇∂q̇ᵀ` from `T`, as derived, `T` itself, and whether both
-    /// came without error (when `T` is not a quadratic form an error is
-    /// reported and `M` is zero). The caller simplifies `M` with the forces,
-    /// then checks it like a written mass matrix
-    /// ([`check::constant_mass_positive_semidefinite`]).
-    fn kinetic(&mut self, e: &Expr, n: usize) -> (Vec<Vec<Id>>, Id, bool) {
-        let before = self.errors.count();
-        let t = self.lower(e);
-        let mut d = crate::expr::diff::Differentiator::new();
-        let m = match crate::expr::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) {
-            Ok(m) => m,
-            Err(why) => {
-                self.errors.spanned(
-                    e,
-                    format!(
-                        "`kinetic_energy` must be a polynomial of degree at most 2 in the velocities \
-                         (`dot(..)`), with coefficients of the coordinates, `t` and parameters only: {why}"
-                    ),
-                );
-                let zero = self.graph.int(0);
-                return (vec![vec![zero; n]; n], t, false);
-            }
-        };
-        (m, t, self.errors.count() == before)
-    }
-
-    /// The constraints written, then the norm of each quaternion joint's
-    /// quaternion (`free`, `spherical`, a URDF's `floating`).
-    fn all_constraints(
-        &mut self,
-        written: Option<&List<ConstraintInput>>,
-        source: Source,
-        coordinates: &[Ident],
-    ) -> Vec<Constraint> {
-        let mut constraints: Vec<Constraint> = written
-            .map_or(&[][..], |l| &l.items)
-            .iter()
-            .flat_map(|c| self.constraints(c))
-            .collect();
-        match source {
-            Source::Bodies(_, list) => {
-                constraints.extend(self.quaternion_norms(list, coordinates));
-            }
-            Source::Urdf(keyword, robot) => {
-                let tokens = quote::ToTokens::to_token_stream(keyword);
-                for w in robot.quaternions() {
-                    constraints.push(self.norm_row(w, tokens.clone()));
-                }
-            }
-            _ => {}
-        }
-        constraints
-    }
-
-    /// One constraint, or three where both sides are points
-    /// (`position(a, [..]) == position(b, [..])`, or `== [x, y, z]`).
-    fn constraints(&mut self, c: &ConstraintInput) -> Vec<Constraint> {
-        if let Some(rows) = self.orientation_rows(c) {
-            return rows
-                .into_iter()
-                .map(|(phi, branch)| Constraint {
-                    branch: Some(branch),
-                    ..self.constraint_of(phi, &c.tokens)
-                })
-                .collect();
-        }
-        let Some((rows, in_base)) = self.point_rows(c) else {
-            return vec![self.constraint(c)];
-        };
-        rows.into_iter()
-            .enumerate()
-            .map(|(component, phi)| Constraint {
-                in_base: in_base.map(|(w, x, point)| InBase {
-                    w,
-                    x,
-                    point,
-                    component,
-                }),
-                ..self.constraint_of(phi, &c.tokens)
-            })
-            .collect()
-    }
-
-    fn constraint(&mut self, c: &ConstraintInput) -> Constraint {
-        let before = self.errors.count();
-        let lhs = self.lower(&c.lhs);
-        let phi = match &c.rhs {
-            Some(rhs) => {
-                let rhs = self.lower(rhs);
-                self.graph.sub(lhs, rhs)
-            }
-            None => lhs,
-        };
-        if self.errors.count() != before {
-            return Constraint {
-                phi,
-                level: Level::Position,
-                tokens: c.tokens.clone(),
-                in_base: None,
-                branch: None,
-            };
-        }
-        self.constraint_of(phi, &c.tokens)
-    }
-
-    /// φ checked and classified by level.
-    fn constraint_of(&mut self, phi: Id, tokens: &proc_macro2::TokenStream) -> Constraint {
-        let before = self.errors.count();
-        check::constraint_involves_state(self.errors, self.graph, phi, tokens);
-        let velocity = self.graph.mentions(phi, |s| matches!(s, Sym::Vel(_)));
-        let level = if velocity {
-            Level::Velocity
-        } else {
-            Level::Position
-        };
-        if self.errors.count() == before {
-            check::constraint_differentiable(self.errors, self.graph, phi, level, tokens);
-        }
-        Constraint {
-            phi,
-            level,
-            tokens: tokens.clone(),
-            in_base: None,
-            branch: None,
-        }
-    }
-
-    fn eliminate(&mut self, list: &List<Ident>) -> Vec<usize> {
-        let mut indices = Vec::new();
-        for name in &list.items {
-            match self.names.get(&name.to_string()) {
-                Some(&Binding::Coordinate(i)) if indices.contains(&i) => {
-                    self.errors
-                        .spanned(name, format!("`{name}` is eliminated twice"));
-                }
-                Some(&Binding::Coordinate(i)) => indices.push(i),
-                _ => self.errors.spanned(
-                    name,
-                    format!("`eliminate` takes coordinates; `{name}` is not one"),
-                ),
-            }
-        }
-        indices
-    }
 }

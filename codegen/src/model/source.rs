@@ -4,12 +4,15 @@
 //! lowered once ([`Lowerer::dynamics`]), with the energies the generated
 //! `kinetic_energy`, `potential_energy` and `energy` evaluate.
 
-use super::check;
+use super::check::{self, MassSource, WrittenMass};
 use super::ctxt::Errors;
 use super::lower::Lowerer;
-use super::{urdf, BodyTerms, Constraint, Energies, EnergyTerms, Sections};
+use super::sections::Sections;
+use super::{urdf, BodyTerms, Energies, EnergyTerms};
 use crate::expr::{Graph, Id, Sym};
 use crate::parse::{BodyInput, List, MassInput, SystemInput};
+use proc_macro2::TokenStream;
+use quote::ToTokens;
 use syn::{Expr, Ident};
 
 /// Where `M` and the velocity-dependent forces come from: the one
@@ -131,8 +134,6 @@ pub(super) struct Lowered {
 }
 
 impl Lowerer<'_> {
-    /// `M` and `F` from the [`Source`], in the usual order of the input so
-    /// that errors come in source order.
     /// The bodies of a tree source, lowered, and their frames in the world
     /// recorded for `position(..)` and `velocity(..)`.
     pub(super) fn described(
@@ -162,6 +163,8 @@ impl Lowerer<'_> {
         described
     }
 
+    /// `M` and `F` from the [`Source`], in the usual order of the input so
+    /// that errors come in source order.
     pub(super) fn dynamics(
         &mut self,
         source: Source,
@@ -193,47 +196,8 @@ impl Lowerer<'_> {
             Some(list) => self.vector(list, "`forces`", n),
             None => vec![self.graph.int(0); n],
         };
-        let mut d = crate::expr::diff::Differentiator::new();
-        if let Some((tree, dynamics)) = tree {
-            // M q̈ = Q − ∂V/∂q − c(q, q̇).
-            let applied_less_v =
-                crate::expr::lagrange::forces(self.graph, &mut d, None, potential, &applied);
-            let applied_less_v = crate::expr::trig::simplify_all(self.graph, &applied_less_v);
-            let forces = applied_less_v
-                .iter()
-                .zip(&dynamics.bias)
-                .map(|(&f, &c)| self.graph.sub(f, c))
-                .collect();
-            let total_v = match potential {
-                Some(v) => self.graph.add2(dynamics.potential, v),
-                None => dynamics.potential,
-            };
-            let energy = self.energy_terms(dynamics.kinetic, total_v);
-            let files = match source {
-                Source::Urdf(_, robot) => vec![robot.path.clone()],
-                _ => Vec::new(),
-            };
-            let bodies = BodyTerms {
-                names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
-                inverse: dynamics.inverse,
-                gravity: dynamics.gravity,
-                bias: dynamics.bias,
-                files,
-                trace: dynamics.trace,
-                tree: tree.bodies,
-                velocity_mass: dynamics.velocity_mass,
-                velocity_bias: dynamics.velocity_bias,
-                velocity_forces: None,
-            };
-            return Lowered {
-                mass,
-                forces,
-                kinetic: None,
-                potential,
-                energies: None,
-                bodies: Some(bodies),
-                energy: Some(energy),
-            };
+        if let Some(tree) = tree {
+            return self.by_bodies(source, tree, mass, potential, &applied);
         }
         if kinetic.is_some() || potential.is_some() {
             return self.by_lagrange(mass, (kinetic, potential), applied, derived_mass);
@@ -249,9 +213,60 @@ impl Lowerer<'_> {
         }
     }
 
+    /// `F = Q − ∂V/∂q − c(q, q̇)` and the energies and terms of a tree of
+    /// bodies, from its recursions.
+    fn by_bodies(
+        &mut self,
+        source: Source,
+        (tree, dynamics): (crate::bodies::Tree, crate::bodies::Dynamics),
+        mass: Vec<Vec<Id>>,
+        potential: Option<Id>,
+        applied: &[Id],
+    ) -> Lowered {
+        let mut d = crate::expr::diff::Differentiator::new();
+        // M q̈ = Q − ∂V/∂q − c(q, q̇).
+        let applied_less_v =
+            crate::expr::lagrange::forces(self.graph, &mut d, None, potential, applied);
+        let applied_less_v = crate::expr::trig::simplify_all(self.graph, &applied_less_v);
+        let forces = applied_less_v
+            .iter()
+            .zip(&dynamics.bias)
+            .map(|(&f, &c)| self.graph.sub(f, c))
+            .collect();
+        let total_v = match potential {
+            Some(v) => self.graph.add2(dynamics.potential, v),
+            None => dynamics.potential,
+        };
+        let energy = self.energy_terms(dynamics.kinetic, total_v);
+        let files = match source {
+            Source::Urdf(_, robot) => vec![robot.path.clone()],
+            _ => Vec::new(),
+        };
+        let bodies = BodyTerms {
+            names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
+            inverse: dynamics.inverse,
+            gravity: dynamics.gravity,
+            bias: dynamics.bias,
+            files,
+            trace: dynamics.trace,
+            tree: tree.bodies,
+            velocity_mass: dynamics.velocity_mass,
+            velocity_bias: dynamics.velocity_bias,
+        };
+        Lowered {
+            mass,
+            forces,
+            kinetic: None,
+            potential,
+            energies: None,
+            bodies: Some(bodies),
+            energy: Some(energy),
+        }
+    }
+
     /// `F` from `T` (when given), `V` and `Q` by Lagrange's equations; `M`
     /// and `F` simplified (`M` with `F` when it comes from `T`), then a
-    /// derived `M` checked (`derived_mass`: its keyword).
+    /// derived `M` recorded for its rules (`derived_mass`: its keyword).
     fn by_lagrange(
         &mut self,
         mass: Vec<Vec<Id>>,
@@ -269,7 +284,12 @@ impl Lowerer<'_> {
             None => (mass, crate::expr::trig::simplify_all(self.graph, &forces)),
         };
         if let Some(keyword) = derived_mass {
-            check::constant_mass_positive_semidefinite(self.errors, self.graph, &mass, keyword);
+            self.written.mass = Some(WrittenMass {
+                keyword: keyword.clone(),
+                entries: None,
+                clean: true,
+                slot: self.errors.slot(),
+            });
         }
         let t = kinetic.unwrap_or_else(|| self.quadratic_form(&mass));
         let v = potential.unwrap_or_else(|| self.graph.int(0));
@@ -315,6 +335,19 @@ impl Lowerer<'_> {
     }
 }
 
+/// `M`'s upper triangle copied into its lower one: generated code then
+/// computes each entry once (that the two agree is a rule,
+/// [`check::mass_symmetric`]).
+#[allow(clippy::needless_range_loop)] // (i, j) and (j, i): indices read best
+fn upper_serves_both(m: &mut [Vec<Id>]) {
+    let n = m.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            m[j][i] = m[i][j];
+        }
+    }
+}
+
 /// `M` (derived from `T`) and `F` with the addition theorems applied where
 /// that makes the two together cheaper (`expr::trig::join_angle_sums`): a
 /// chain in joint angles reads `cos θ₂` where its Cartesian definitions
@@ -339,30 +372,84 @@ fn joined(g: &mut Graph, mut mass: Vec<Vec<Id>>, forces: Vec<Id>) -> (Vec<Vec<Id
     (mass, forces)
 }
 
-/// Control inputs may appear in `forces` only.
-pub(super) fn inputs_in_forces_only(
-    lower: &mut Lowerer,
-    is_input: &dyn Fn(Sym) -> bool,
-    source: Source,
-    sections: &Sections,
-    dynamics: &Lowered,
-    constraints: &[Constraint],
-) {
-    let g = &*lower.graph;
-    let mentions = |id: Id| g.mentions(id, is_input);
-    let mass_has_input = dynamics.mass.iter().flatten().any(|&m| mentions(m))
-        || dynamics.kinetic.is_some_and(&mentions);
-    if let (true, Some(keyword)) = (mass_has_input, source.keyword()) {
-        check::input_outside_forces(lower.errors, keyword, source.what());
-    }
-    if let (Some(v), Some((keyword, _))) = (dynamics.potential, sections.potential_energy) {
-        if mentions(v) {
-            check::input_outside_forces(lower.errors, keyword, "`potential_energy`");
+impl Lowerer<'_> {
+    /// A written `M`, its upper triangle serving both halves (so that
+    /// generated code computes each entry once); what the rules of `M`
+    /// read is recorded ([`check::mass_rules`]).
+    fn mass(&mut self, keyword: &Ident, input: &MassInput, n: usize) -> Vec<Vec<Id>> {
+        let before = self.errors.count();
+        let zero = self.graph.int(0);
+        let mut m = vec![vec![zero; n]; n];
+        let mut sources: Vec<Vec<Option<TokenStream>>> = vec![vec![None; n]; n];
+        let mut entry = |lower: &mut Self, (i, j): (usize, usize), e: &Expr| {
+            m[i][j] = lower.lower(e);
+            sources[i][j] = Some(e.to_token_stream());
+        };
+        match input {
+            MassInput::Diagonal(list) => {
+                check::length(self.errors, list.span, "`mass`", list.items.len(), n);
+                for (i, e) in list.items.iter().enumerate().take(n) {
+                    entry(self, (i, i), e);
+                }
+            }
+            MassInput::Full(rows) => {
+                check::length(self.errors, rows.span, "`mass`", rows.items.len(), n);
+                for (i, row) in rows.items.iter().enumerate().take(n) {
+                    let what = format!("row {} of `mass`", i + 1);
+                    check::length(self.errors, row.span, &what, row.items.len(), n);
+                    for (j, e) in row.items.iter().enumerate().take(n) {
+                        entry(self, (i, j), e);
+                    }
+                }
+            }
         }
+        let entries = m.clone();
+        upper_serves_both(&mut m);
+        self.written.mass = Some(WrittenMass {
+            keyword: keyword.clone(),
+            entries: Some((entries, MassSource(sources))),
+            clean: self.errors.count() == before,
+            slot: self.errors.slot(),
+        });
+        m
     }
-    for c in constraints {
-        if mentions(c.phi) {
-            check::input_outside_forces(lower.errors, &c.tokens, "a constraint");
+
+    /// `V(q, t)`: no velocities (`dt(..)` of a position brings them in).
+    fn potential(&mut self, e: &Expr) -> Id {
+        let v = self.lower(e);
+        if self.graph.mentions(v, |s| matches!(s, Sym::Vel(_))) {
+            self.errors.spanned(
+                e,
+                "`potential_energy` may depend on coordinates, `t` and parameters, not on \
+                 velocities (`dot(..)`, or `dt(..)` of a position, brings them in)",
+            );
         }
+        v
+    }
+
+    /// `M = ∂²T/∂q̇∂q̇ᵀ` from `T`, as derived, `T` itself, and whether both
+    /// came without error (when `T` is not a quadratic form an error is
+    /// reported and `M` is zero). The caller simplifies `M` with the forces,
+    /// then checks it like a written mass matrix
+    /// ([`check::mass_rules`]).
+    fn kinetic(&mut self, e: &Expr, n: usize) -> (Vec<Vec<Id>>, Id, bool) {
+        let before = self.errors.count();
+        let t = self.lower(e);
+        let mut d = crate::expr::diff::Differentiator::new();
+        let m = match crate::expr::lagrange::mass_from_kinetic_energy(self.graph, &mut d, t, n) {
+            Ok(m) => m,
+            Err(why) => {
+                self.errors.spanned(
+                    e,
+                    format!(
+                        "`kinetic_energy` must be a polynomial of degree at most 2 in the velocities \
+                         (`dot(..)`), with coefficients of the coordinates, `t` and parameters only: {why}"
+                    ),
+                );
+                let zero = self.graph.int(0);
+                return (vec![vec![zero; n]; n], t, false);
+            }
+        };
+        (m, t, self.errors.count() == before)
     }
 }
