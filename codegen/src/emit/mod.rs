@@ -29,6 +29,7 @@ mod derivation_bodies;
 mod derivation_saddle;
 mod dynamics;
 mod forwards;
+mod frames;
 mod friction;
 mod gibbs_appell;
 mod impact;
@@ -100,6 +101,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
     let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
     let evaluation = dynamics::methods(&ctx);
+    let kinematics = frames::methods(&ctx);
     let gaps = impact::methods(&ctx);
     let friction = friction::methods(&ctx);
     let friction_impl = friction::trait_impl(&ctx);
@@ -131,6 +133,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #gibbs_appell
             #linearization
             #evaluation
+            #kinematics
             #gaps
             #friction
         }

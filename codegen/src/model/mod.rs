@@ -7,6 +7,7 @@
 pub(crate) mod bodies;
 pub(crate) mod check;
 pub(crate) mod ctxt;
+pub(crate) mod frames;
 pub(crate) mod free;
 pub(crate) mod friction;
 pub mod lower;
@@ -147,6 +148,8 @@ pub struct BodyTerms {
     /// With quaternion joints, `TᵀF`: `Tᵀ` of `F`'s applied part (`F + c`)
     /// less the velocity bias; set by `crate::equations`.
     pub velocity_forces: Option<Vec<Id>>,
+    /// The named frames and the centre of mass, with a `frames` section.
+    pub kinematics: Option<crate::bodies::kinematics::Kinematics>,
 }
 
 /// The energies of a system given by energies or bodies, for the
@@ -210,6 +213,7 @@ struct Sections<'a> {
     locked: Option<&'a List<Ident>>,
     unilateral: Option<&'a List<Expr>>,
     friction: Option<&'a List<Expr>>,
+    frames: Option<&'a List<BodyInput>>,
 }
 
 impl<'a> Sections<'a> {
@@ -233,6 +237,7 @@ impl<'a> Sections<'a> {
                 Section::Locked(_, l) => s.locked.replace(l).is_some(),
                 Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
                 Section::Friction(_, l) => s.friction.replace(l).is_some(),
+                Section::Frames(_, l) => s.frames.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();
@@ -288,12 +293,16 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     // The bodies come before the definitions, so that every expression
     // may name their points (`position(body, [x, y, z]).z`).
     let described = lower.described(source, &coordinates);
+    let kinematics = sections.frames.map(|l| lower.kinematics(l, &described));
     for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
         let id = lower.lower(value);
         lower.declare(name, Binding::Definition(id), &coordinates);
         lower.name_node(name.to_string(), id);
     }
     let mut dynamics = lower.dynamics(source, &sections, &coordinates, described);
+    if let Some(bodies) = dynamics.bodies.as_mut() {
+        bodies.kinematics = kinematics;
+    }
     let mut constraints = lower.all_constraints(sections.constraints, source, &coordinates);
     let unilateral = sections
         .unilateral

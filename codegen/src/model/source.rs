@@ -109,6 +109,7 @@ pub(super) fn source<'a>(
         for (what, given) in [
             ("`gravity`", sections.gravity.map(|l| l.span)),
             ("`locked`", sections.locked.map(|l| l.span)),
+            ("`frames`", sections.frames.map(|l| l.span)),
         ] {
             if let Some(span) = given {
                 errors.at(span, format!("{what} applies to `bodies` or `urdf` only"));
@@ -224,6 +225,7 @@ impl Lowerer<'_> {
                 velocity_mass: dynamics.velocity_mass,
                 velocity_bias: dynamics.velocity_bias,
                 velocity_forces: None,
+                kinematics: None,
             };
             return Lowered {
                 mass,
