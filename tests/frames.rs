@@ -318,7 +318,10 @@ fn arm_jacobians_velocities_and_biases_agree_with_differences() {
     ];
     let (jac, vel, bias) = check_frames(frames, &states::<4>(11));
     println!("arm: J q̇ within {jac:.1e} of differences, velocity within {vel:.1e} of J q̇, J̇ q̇ within {bias:.1e}");
-    assert!(jac <= 1e-7 && vel <= 1e-14 && bias <= 1e-6, "{jac} {vel} {bias}");
+    assert!(
+        jac <= 1e-7 && vel <= 1e-14 && bias <= 1e-6,
+        "{jac} {vel} {bias}"
+    );
 }
 
 #[test]
@@ -380,7 +383,10 @@ fn floating_foot_agrees_with_differences_in_quaternion_rates() {
     // and its derivatives hold everywhere.
     let (jac, vel, bias) = check_frames(frames, &states::<8>(23));
     println!("floating leg: J q̇ within {jac:.1e} of differences, velocity within {vel:.1e}, J̇ q̇ within {bias:.1e}");
-    assert!(jac <= 1e-7 && vel <= 1e-14 && bias <= 1e-6, "{jac} {vel} {bias}");
+    assert!(
+        jac <= 1e-7 && vel <= 1e-14 && bias <= 1e-6,
+        "{jac} {vel} {bias}"
+    );
 }
 
 #[test]
@@ -397,14 +403,17 @@ fn floating_foot_velocity_is_the_twist_free_motion_writes() {
             angular: Vector3::from_fn(|_, _| next()),
         };
         let (mut q, mut qd) = (SVector::<f64, 8>::zeros(), SVector::<f64, 8>::zeros());
-        base.write(0, &mut q, &mut qd).expect("seven coordinates fit");
+        base.write(0, &mut q, &mut qd)
+            .expect("seven coordinates fit");
         (q[7], qd[7]) = (next(), next());
         let (r, p) = leg.foot_placement(&q, 0.0);
         let hinge = base.orientation * Vector3::y();
         // The leg turns about its hinge, carried by the trunk.
         let omega = base.angular + hinge * qd[7];
         let pivot = base.position + base.orientation * Vector3::new(0.2, 0.0, 0.1);
-        let v = base.linear + base.angular.cross(&(p - base.position)) + (hinge * qd[7]).cross(&(p - pivot));
+        let v = base.linear
+            + base.angular.cross(&(p - base.position))
+            + (hinge * qd[7]).cross(&(p - pivot));
         let twist = leg.foot_velocity(&q, &qd, 0.0);
         let expected = SVector::<f64, 6>::from_iterator(v.iter().chain(omega.iter()).copied());
         worst = worst.max(relative(&twist, &expected));
@@ -456,7 +465,9 @@ fn panda_tool_frame_equals_the_product_of_its_joint_transforms() {
         let (r, p) = panda.tool_placement(&q, 0.0);
         let t = panda_tool_by_hand(&q);
         let hand_r = t.rotation.to_rotation_matrix().into_inner();
-        worst = worst.max((p - t.translation.vector).norm()).max((r - hand_r).norm());
+        worst = worst
+            .max((p - t.translation.vector).norm())
+            .max((r - hand_r).norm());
     }
     println!("panda: tool placement within {worst:.1e} of the joint transforms' product");
     assert!(worst <= 1e-14, "{worst}");
@@ -475,5 +486,8 @@ fn panda_tool_jacobian_and_bias_agree_with_differences() {
     )];
     let (jac, vel, bias) = check_frames(frames, &states::<7>(37));
     println!("panda: J q̇ within {jac:.1e} of differences, velocity within {vel:.1e}, J̇ q̇ within {bias:.1e}");
-    assert!(jac <= 1e-7 && vel <= 1e-14 && bias <= 1e-6, "{jac} {vel} {bias}");
+    assert!(
+        jac <= 1e-7 && vel <= 1e-14 && bias <= 1e-6,
+        "{jac} {vel} {bias}"
+    );
 }

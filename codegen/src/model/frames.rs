@@ -19,19 +19,27 @@ use syn::{Expr, Ident};
 /// The fields of a frame, for messages.
 const FIELDS: &str = "`body`, `xyz`, `rpy`";
 
-/// Names the generated kinematics takes for itself: a frame of one of
-/// these names would generate a method twice.
-const RESERVED: &[&str] = &["center_of_mass"];
+/// Frame names whose methods (`{name}_jacobian`, ..) another generated
+/// method already has: `center_of_mass_jacobian`, `acceleration_jacobian`,
+/// `try_acceleration_jacobian`, `gap_jacobian`.
+const RESERVED: &[&str] = &["center_of_mass", "acceleration", "try_acceleration", "gap"];
 
 impl Lowerer<'_> {
     /// The frames of `list` and the centre of mass of `described`, whose
     /// world frames [`Lowerer::described`] recorded; errors recorded for
-    /// every frame that cannot be placed.
-    pub(super) fn kinematics(
+    /// every frame that cannot be placed. Without bodies there is nothing
+    /// to place (`super::source` says the section needs them).
+    pub(super) fn frames_section(
         &mut self,
         list: &List<BodyInput>,
         described: &[Described],
     ) -> Kinematics {
+        if described.is_empty() {
+            return Kinematics {
+                frames: Vec::new(),
+                center_of_mass: None,
+            };
+        }
         let mut frames = Vec::with_capacity(list.items.len());
         let mut seen: Vec<String> = Vec::new();
         for input in &list.items {

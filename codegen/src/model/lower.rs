@@ -109,6 +109,9 @@ pub struct Lowerer<'a> {
     /// first coordinates of a free base on the world
     /// (`crate::bodies::free::free_base`).
     pub bases: Vec<Option<(usize, usize)>>,
+    /// The kinematics of a `frames` section, until the bodies' terms take
+    /// them (`crate::bodies::kinematics`).
+    pub kinematics: Option<crate::bodies::kinematics::Kinematics>,
 }
 
 impl<'a> Lowerer<'a> {
@@ -123,6 +126,7 @@ impl<'a> Lowerer<'a> {
             frames: Vec::new(),
             chain: Vec::new(),
             bases: Vec::new(),
+            kinematics: None,
         }
     }
 

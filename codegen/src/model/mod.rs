@@ -293,16 +293,13 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     // The bodies come before the definitions, so that every expression
     // may name their points (`position(body, [x, y, z]).z`).
     let described = lower.described(source, &coordinates);
-    let kinematics = sections.frames.map(|l| lower.kinematics(l, &described));
+    lower.kinematics = sections.frames.map(|l| lower.frames_section(l, &described));
     for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
         let id = lower.lower(value);
         lower.declare(name, Binding::Definition(id), &coordinates);
         lower.name_node(name.to_string(), id);
     }
     let mut dynamics = lower.dynamics(source, &sections, &coordinates, described);
-    if let Some(bodies) = dynamics.bodies.as_mut() {
-        bodies.kinematics = kinematics;
-    }
     let mut constraints = lower.all_constraints(sections.constraints, source, &coordinates);
     let unilateral = sections
         .unilateral

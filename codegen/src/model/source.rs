@@ -225,7 +225,7 @@ impl Lowerer<'_> {
                 velocity_mass: dynamics.velocity_mass,
                 velocity_bias: dynamics.velocity_bias,
                 velocity_forces: None,
-                kinematics: None,
+                kinematics: self.kinematics.take(),
             };
             return Lowered {
                 mass,
