@@ -58,7 +58,7 @@ pub fn frame(g: &mut Graph, name: String, body: &Placement, offset: &Placement, 
     let rotation = placed.rotation.map(|row| spatial::hold3(g, row));
     let position = spatial::hold3(g, placed.translation);
     let mut partials = Differentiator::new();
-    let mut jacobian = vec![Vec::with_capacity(n); 6];
+    let mut jacobian: Vec<Vec<Id>> = (0..6).map(|_| Vec::with_capacity(n)).collect();
     for k in 0..n {
         let linear = position.map(|p| partials.partial(g, p, Sym::Coord(k)));
         let turned = rotation.map(|row| row.map(|r| partials.partial(g, r, Sym::Coord(k))));
