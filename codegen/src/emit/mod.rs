@@ -100,8 +100,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
     let motion = motion::methods(&ctx);
     let gibbs_appell = gibbs_appell::methods(&ctx, partition);
     let linearization = eq.jacobians.then(|| jacobian::methods(&ctx, partition));
-    let evaluation = dynamics::methods(&ctx);
-    let kinematics = frames::methods(&ctx);
+    let evaluation = [dynamics::methods(&ctx), frames::methods(&ctx)];
     let gaps = impact::methods(&ctx);
     let friction = friction::methods(&ctx);
     let friction_impl = friction::trait_impl(&ctx);
@@ -132,8 +131,7 @@ pub fn system(eq: &Equations, partition: &Partition) -> TokenStream {
             #motion
             #gibbs_appell
             #linearization
-            #evaluation
-            #kinematics
+            #(#evaluation)*
             #gaps
             #friction
         }

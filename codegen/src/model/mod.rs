@@ -292,8 +292,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     }
     // The bodies come before the definitions, so that every expression
     // may name their points (`position(body, [x, y, z]).z`).
-    let described = lower.described(source, &coordinates);
-    lower.kinematics = sections.frames.map(|l| lower.frames_section(l, &described));
+    let described = lower.described(source, &coordinates, sections.frames);
     for (name, value) in sections.definitions.map_or(&[][..], |l| &l.items) {
         let id = lower.lower(value);
         lower.declare(name, Binding::Definition(id), &coordinates);
