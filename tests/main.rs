@@ -23,6 +23,7 @@ mod events;
 mod fault_matrix;
 mod finite_differences;
 mod floating;
+mod frames;
 mod gauss;
 mod generated_multipliers;
 mod gibbs_appell;

@@ -4,7 +4,8 @@
 //! run of the standing quadruped (`examples/support/quadruped.rs`: a
 //! floating base, four feet on the ground) under a joint-space PD
 //! controller, with projection (tolerance 1e-12) keeping its feet within
-//! 1e-9 m of their places.
+//! 1e-9 m of their places. So do 10⁵ calls of a named frame's kinematics
+//! (`frames: [..]`).
 //! Runs without the test harness so that no other thread allocates
 //! meanwhile; prints a summary line the test runners understand.
 
@@ -21,6 +22,44 @@ use std::alloc::{GlobalAlloc, Layout, System};
 mod model;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+constrained::constrained_system! {
+    /// A two-link arm with a frame at its tip, for the kinematics' calls.
+    pub struct FramedArm {
+        bodies: [
+            upper { joint: revolute(q1, [0.0, 1.0, 0.0]), mass: 2.0, com: [0.25, 0.0, 0.0] },
+            fore {
+                parent: upper,
+                joint: revolute(q2, [0.0, 1.0, 0.0]),
+                xyz: [0.5, 0.0, 0.0],
+                mass: 1.0,
+                com: [0.2, 0.0, 0.0],
+            },
+        ],
+        frames: [tip { body: fore, xyz: [0.4, 0.0, 0.1], rpy: [0.1, 0.2, 0.3] }],
+    }
+}
+
+/// 10⁵ calls of the tip's placement, Jacobian, velocity and bias and of
+/// the centre of mass's Jacobian: their allocations and the call count.
+fn frame_calls() -> (usize, usize) {
+    let arm = FramedArm::<f64>::new();
+    count(|| {
+        let mut calls = 0;
+        for i in 0..20_000 {
+            let q = Vector2::new(0.3 + 1e-5 * f64::from(i), -0.6);
+            let qd = Vector2::new(1.0, 0.5);
+            let placed = arm.tip_placement(&q, 0.0);
+            let j = arm.tip_jacobian(&q, 0.0);
+            let v = arm.tip_velocity(&q, &qd, 0.0);
+            let b = arm.tip_acceleration_bias(&q, &qd, 0.0);
+            let c = arm.center_of_mass_jacobian(&q, 0.0);
+            std::hint::black_box((&placed, &j, &v, &b, &c));
+            calls += 5;
+        }
+        calls
+    })
+}
 
 struct Counting;
 
@@ -167,6 +206,8 @@ fn main() {
         calls + 1
     });
     results.push(("Jacobians, linearizations, LQR".to_string(), allocs, calls));
+    let (allocs, calls) = frame_calls();
+    results.push(("frame kinematics".to_string(), allocs, calls));
     let mut failed = usize::from(!quadruped_checked());
     for (name, allocs, steps) in &results {
         let ok = *allocs == 0 && *steps >= 100_000;

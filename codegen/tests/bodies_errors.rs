@@ -136,3 +136,80 @@ fn points_need_known_bodies_and_three_entries() {
         assert!(message.contains(expected), "{force}: {message}");
     }
 }
+
+/// The `frames` section's refusals, each pointing at its token: the
+/// message and the column where the error starts.
+#[test]
+fn frames_errors_point_at_their_tokens() {
+    let arm = "bodies: [a { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 1.0 }]";
+    let cases = [
+        (
+            "tip { body: b }",
+            "b }",
+            "unknown body `b`: expected one of `a`",
+        ),
+        (
+            "tip { body: a, colour: 1.0 }",
+            "colour",
+            "unknown field `colour` of a frame",
+        ),
+        (
+            "tip { xyz: [0.0, 0.0, 0.1] }",
+            "{",
+            "frame `tip` needs `body",
+        ),
+        (
+            "tip { body: a }, tip { body: a }",
+            "tip { body: a }",
+            "duplicate frame `tip`",
+        ),
+        (
+            "center_of_mass { body: a }",
+            "center_of_mass",
+            "the name of a generated method",
+        ),
+        (
+            "tip { body: a, xyz: [q1, 0.0, 0.0] }",
+            "q1",
+            "not coordinates, velocities or `t`",
+        ),
+        (
+            "tip { body: a, inertia: diag[1.0, 1.0, 1.0] }",
+            "inertia",
+            "a frame has no inertia",
+        ),
+        ("tip { body: a.b }", "a.b", "expected the name of a body"),
+    ];
+    for (frames, at, why) in cases {
+        let source = format!("struct R {{ {arm}, frames: [{frames}] }}");
+        let tokens: proc_macro2::TokenStream = source.parse().expect("tokens");
+        let Err(errors) = expand(tokens) else {
+            panic!("accepted: {frames}")
+        };
+        let hit = errors.into_iter().find(|e| e.to_string().contains(why));
+        let Some(e) = hit else {
+            panic!("no error saying {why:?} for {frames}")
+        };
+        // The duplicate is the second frame: its name's column.
+        let column = match why {
+            "duplicate frame `tip`" => source.rfind(at),
+            _ => source
+                .find(&format!("frames: [{frames}"))
+                .and_then(|f| source[f..].find(at).map(|i| f + i)),
+        };
+        assert_eq!(
+            Some(e.span().start().column),
+            column,
+            "{why}: spanned at the wrong token in {source}"
+        );
+    }
+    let source = "struct R { coordinates: [x], mass: diag[1.0], frames: [] }";
+    let message = expand(source.parse().expect("tokens"))
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(
+        message.contains("`frames` applies to `bodies` or `urdf` only"),
+        "{message}"
+    );
+}

@@ -4,7 +4,9 @@
 //! Body Dynamics Algorithms*, ch. 5–6; Pinocchio's `rnea.hxx`, `crba.hxx`):
 //! - [`spatial`]: 3-vectors, rotations, spatial vectors and inertias;
 //! - [`recursion`]: recursive Newton–Euler (bias forces, inverse dynamics,
-//!   gravity), the composite-rigid-body algorithm (`M`) and the energies.
+//!   gravity), the composite-rigid-body algorithm (`M`) and the energies;
+//! - [`kinematics`]: named frames' placements, Jacobians, velocities and
+//!   acceleration biases, and the centre of mass.
 //!
 //! Every quantity of a body is kept in the body's own frame, so a joint
 //! contributes its own rotation only and the constant placements, whose
@@ -14,6 +16,7 @@
 
 pub(crate) mod free;
 pub(crate) mod joint;
+pub(crate) mod kinematics;
 pub(crate) mod recursion;
 pub(crate) mod spatial;
 

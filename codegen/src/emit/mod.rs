@@ -29,6 +29,7 @@ mod derivation_bodies;
 mod derivation_saddle;
 mod dynamics;
 mod forwards;
+mod frames;
 mod friction;
 mod gibbs_appell;
 mod impact;
@@ -106,7 +107,7 @@ fn inherent_methods(ctx: &Context) -> TokenStream {
     let partition = &ctx.eq.partition;
     let gibbs_appell = gibbs_appell::methods(ctx, partition);
     let linearization = ctx.eq.jacobians.then(|| jacobian::methods(ctx, partition));
-    let evaluation = dynamics::methods(ctx);
+    let evaluation = [dynamics::methods(ctx), frames::methods(ctx)];
     let gaps = impact::methods(ctx);
     let friction = friction::methods(ctx);
     quote! {
@@ -115,7 +116,7 @@ fn inherent_methods(ctx: &Context) -> TokenStream {
         #motion
         #gibbs_appell
         #linearization
-        #evaluation
+        #(#evaluation)*
         #gaps
         #friction
     }

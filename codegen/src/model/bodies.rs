@@ -304,7 +304,7 @@ impl Lowerer<'_> {
             .unwrap_or(zero)
     }
 
-    fn placement(&mut self, body: &BodyInput) -> Placement {
+    pub(super) fn placement(&mut self, body: &BodyInput) -> Placement {
         let translation = self.optional_triple(body, "xyz");
         let angles = self.optional_triple(body, "rpy");
         Placement {

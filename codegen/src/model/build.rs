@@ -123,7 +123,7 @@ impl Lowerer<'_> {
     fn parts(&mut self, sections: &Sections, source: Source, names: &Names) -> Parts {
         let coordinates = &names.coordinates;
         self.declare_all(names);
-        let described = self.described(source, coordinates);
+        let described = self.described(source, coordinates, sections.frames);
         self.definitions(sections.definitions, coordinates);
         let mut dynamics = self.dynamics(source, sections, coordinates, described);
         let mut constraints = self.all_constraints(sections.constraints, source, coordinates);

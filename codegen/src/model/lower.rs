@@ -111,6 +111,9 @@ pub struct Lowerer<'a> {
     pub bases: Vec<Option<(usize, usize)>>,
     /// What the rules read beside the lowered system (`check::check`).
     pub written: check::Written,
+    /// The kinematics of a `frames` section, until the bodies' terms take
+    /// them (`crate::bodies::kinematics`).
+    pub kinematics: Option<crate::bodies::kinematics::Kinematics>,
 }
 
 impl<'a> Lowerer<'a> {
@@ -126,6 +129,7 @@ impl<'a> Lowerer<'a> {
             chain: Vec::new(),
             bases: Vec::new(),
             written: check::Written::default(),
+            kinematics: None,
         }
     }
 

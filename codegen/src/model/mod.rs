@@ -17,6 +17,7 @@ mod build;
 pub(crate) mod check;
 mod constraints;
 pub(crate) mod ctxt;
+pub(crate) mod frames;
 pub(crate) mod free;
 pub(crate) mod friction;
 pub mod lower;
@@ -153,6 +154,8 @@ pub struct BodyTerms {
     /// With quaternion joints, the bias forces in the same unknowns
     /// (`crate::bodies::Dynamics::velocity_bias`).
     pub velocity_bias: Option<Vec<Id>>,
+    /// The named frames and the centre of mass, with a `frames` section.
+    pub kinematics: Option<crate::bodies::kinematics::Kinematics>,
 }
 
 /// The energies of a system given by energies or bodies, for the

@@ -24,6 +24,7 @@ pub(super) struct Sections<'a> {
     pub(super) locked: Option<&'a List<Ident>>,
     pub(super) unilateral: Option<&'a List<Expr>>,
     pub(super) friction: Option<&'a List<Expr>>,
+    pub(super) frames: Option<&'a List<BodyInput>>,
 }
 
 impl<'a> Sections<'a> {
@@ -48,6 +49,7 @@ impl<'a> Sections<'a> {
                 Section::Locked(_, l) => s.locked.replace(l).is_some(),
                 Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
                 Section::Friction(_, l) => s.friction.replace(l).is_some(),
+                Section::Frames(_, l) => s.frames.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();

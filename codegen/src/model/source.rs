@@ -112,6 +112,8 @@ pub(super) fn source<'a>(
         for (what, given) in [
             ("`gravity`", sections.gravity.map(|l| l.span)),
             ("`locked`", sections.locked.map(|l| l.span)),
+            ("`frames`", sections.frames.map(|l| l.span)),
+            ("`frames`", sections.frames.map(|l| l.span)),
         ] {
             if let Some(span) = given {
                 errors.at(span, format!("{what} applies to `bodies` or `urdf` only"));
@@ -135,18 +137,20 @@ pub(super) struct Lowered {
 
 impl Lowerer<'_> {
     /// The bodies of a tree source, lowered, and their frames in the world
-    /// recorded for `position(..)` and `velocity(..)`.
+    /// recorded for `position(..)` and `velocity(..)`, and the kinematics
+    /// of a `frames` section, kept until the bodies' terms take them.
     pub(super) fn described(
         &mut self,
         source: Source,
         coordinates: &[Ident],
+        frames: Option<&List<BodyInput>>,
     ) -> Vec<crate::bodies::Described> {
         let described = match source {
             Source::Bodies(_, list) => self.bodies(list, coordinates),
             Source::Urdf(_, robot) => robot.described(self.graph),
             _ => return Vec::new(),
         };
-        let frames = crate::bodies::world_frames(self.graph, &described);
+        let world = crate::bodies::world_frames(self.graph, &described);
         let parents = crate::bodies::parent_frames(self.graph, &described);
         self.chain = described.iter().map(|d| d.parent).zip(parents).collect();
         self.bases = (0..described.len())
@@ -158,8 +162,9 @@ impl Lowerer<'_> {
         self.frames = described
             .iter()
             .map(|d| d.name.clone())
-            .zip(frames)
+            .zip(world)
             .collect();
+        self.kinematics = frames.map(|l| self.frames_section(l, &described));
         described
     }
 
@@ -252,6 +257,7 @@ impl Lowerer<'_> {
             tree: tree.bodies,
             velocity_mass: dynamics.velocity_mass,
             velocity_bias: dynamics.velocity_bias,
+            kinematics: self.kinematics.take(),
         };
         Lowered {
             mass,

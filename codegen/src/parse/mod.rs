@@ -31,6 +31,7 @@ pub mod kw {
     syn::custom_keyword!(inertia);
     syn::custom_keyword!(unilateral);
     syn::custom_keyword!(friction);
+    syn::custom_keyword!(frames);
 }
 
 /// ```text
@@ -72,6 +73,7 @@ pub struct List<T> {
 ///          | `locked`      `:` `[` Ident,* `]`
 ///          | `unilateral`  `:` `[` (expr `>=` expr | expr `<=` expr),* `]`
 ///          | `friction`    `:` `[` (`coulomb` `(` expr `,` expr `,` expr (`,` expr)? `)`),* `]`
+///          | `frames`      `:` `[` body,* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -107,6 +109,9 @@ pub enum Section {
     /// Coulomb friction entries `coulomb(v, N, μs, μk)`, checked by
     /// `crate::model`.
     Friction(Ident, List<Expr>),
+    /// Named frames fixed in bodies, `name { body: b, xyz: [..], rpy: [..] }`
+    /// (a body's syntax), checked by `crate::model`.
+    Frames(Ident, List<BodyInput>),
 }
 
 impl Section {
@@ -128,7 +133,8 @@ impl Section {
             | Section::Urdf(k, _)
             | Section::Locked(k, _)
             | Section::Unilateral(k, _)
-            | Section::Friction(k, _) => k,
+            | Section::Friction(k, _)
+            | Section::Frames(k, _) => k,
         }
     }
 }
@@ -240,6 +246,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::friction) {
             let k = keyword!(friction);
             Ok(Section::Friction(k, list(input, Expr::parse)?))
+        } else if lookahead.peek(kw::frames) {
+            let k = keyword!(frames);
+            Ok(Section::Frames(k, list(input, BodyInput::parse)?))
         } else {
             Err(lookahead.error())
         }

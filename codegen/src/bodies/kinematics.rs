@@ -1,0 +1,146 @@
+//! Kinematics of named frames and of the centre of mass, as expressions of
+//! `q` (and `q̇`): what a controller reads (task-space placements,
+//! Jacobians, velocities and acceleration biases), built from the world
+//! frames of [`super::world_frames`] and differentiated exactly by
+//! `crate::expr::diff`.
+//!
+//! Conventions are Pinocchio's `LOCAL_WORLD_ALIGNED`: a frame's velocity is
+//! `[v; ω]`, the velocity of its origin and its angular velocity, both in
+//! world axes, and `J` maps `q̇` to it. Where a joint is a quaternion the
+//! columns are by the quaternion's rates (`q̇`, as everywhere in this
+//! library), the rotation being `R(q/|q|)`, so a rate along `q` itself moves
+//! nothing.
+
+use super::spatial::{self, M3, V3};
+use super::{Described, Placement};
+use crate::expr::diff::{AtRest, Differentiator};
+use crate::expr::{Graph, Id, Sym};
+
+/// One named frame's expressions.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// The frame's name as written.
+    pub name: String,
+    /// `R`: the frame's axes in the world, as columns.
+    pub rotation: M3,
+    /// `p`: its origin in the world.
+    pub position: V3,
+    /// `J`, 6 × n, rows `[v; ω]` in world axes (`LOCAL_WORLD_ALIGNED`).
+    pub jacobian: Vec<Vec<Id>>,
+    /// `J q̇ = [ṗ; ω]`.
+    pub velocity: Vec<Id>,
+    /// `J̇ q̇ = [p̈; ω̇]` at `q̈ = 0`: the classical acceleration's bias.
+    pub bias: Vec<Id>,
+}
+
+/// The centre of mass of every body, and its Jacobian.
+#[derive(Clone, Debug)]
+pub struct CenterOfMass {
+    /// `c = Σ mᵢ cᵢ / Σ mᵢ`, world coordinates.
+    pub position: V3,
+    /// `∂c/∂q`, 3 × n.
+    pub jacobian: Vec<Vec<Id>>,
+}
+
+/// What the `frames` section asks for: each named frame, and the centre of
+/// mass that comes with the section.
+#[derive(Clone, Debug)]
+pub struct Kinematics {
+    /// The named frames, in the order written.
+    pub frames: Vec<Frame>,
+    /// The centre of mass; `None` where the bodies have no mass at all.
+    pub center_of_mass: Option<CenterOfMass>,
+}
+
+/// The frame placed by `offset` in a body whose world frame is `body`.
+pub fn frame(g: &mut Graph, name: String, body: &Placement, offset: &Placement, n: usize) -> Frame {
+    let placed = body.then(g, offset);
+    let rotation = placed.rotation.map(|row| spatial::hold3(g, row));
+    let position = spatial::hold3(g, placed.translation);
+    let mut partials = Differentiator::new();
+    let mut jacobian: Vec<Vec<Id>> = (0..6).map(|_| Vec::with_capacity(n)).collect();
+    for k in 0..n {
+        let linear = position.map(|p| partials.partial(g, p, Sym::Coord(k)));
+        let turned = rotation.map(|row| row.map(|r| partials.partial(g, r, Sym::Coord(k))));
+        let angular = spin(g, &turned, &rotation);
+        for (row, &e) in jacobian.iter_mut().zip(linear.iter().chain(&angular)) {
+            row.push(e);
+        }
+    }
+    let mut rate = AtRest::default();
+    let linear = position.map(|p| rate.derivative(g, p));
+    let turned = rotation.map(|row| row.map(|r| rate.derivative(g, r)));
+    let angular = spin(g, &turned, &rotation);
+    let velocity: Vec<Id> = linear
+        .iter()
+        .chain(&angular)
+        .map(|&v| spatial::hold(g, v))
+        .collect();
+    // `q̇` is held by `AtRest`: the derivative of `J(q) q̇` along the motion
+    // at `q̈ = 0` is `J̇ q̇`.
+    let bias = velocity.iter().map(|&v| rate.derivative(g, v)).collect();
+    Frame {
+        name,
+        rotation,
+        position,
+        jacobian,
+        velocity,
+        bias,
+    }
+}
+
+/// `vee(Ṙ Rᵀ)`, the angular velocity in world axes of a frame turned by
+/// `R` at the rate `Ṙ`, as the axial vector of `½ (Ṙ Rᵀ − R Ṙᵀ)`: `R` is
+/// orthogonal for every `q`, so `Ṙ Rᵀ` is skew and this is exact.
+fn spin(g: &mut Graph, rate: &M3, rotation: &M3) -> V3 {
+    let m = spatial::mat_mul(g, rate, &spatial::transpose(rotation));
+    let two = g.int(2);
+    let mut axial = |i: usize, j: usize| {
+        let d = g.sub(m[i][j], m[j][i]);
+        g.div(d, two)
+    };
+    [axial(2, 1), axial(0, 2), axial(1, 0)]
+}
+
+/// The centre of mass of the described bodies (fixed ones included) in
+/// the world, `Σ (mᵢ pᵢ + Rᵢ hᵢ) / Σ mᵢ` with `hᵢ = mᵢ cᵢ` in the body's
+/// axes, and its Jacobian `∂c/∂q`; `None` where the total mass is the
+/// constant zero.
+pub fn center_of_mass(
+    g: &mut Graph,
+    described: &[Described],
+    world: &[Placement],
+    n: usize,
+) -> Option<CenterOfMass> {
+    let mut masses = Vec::new();
+    let mut moments: Vec<V3> = Vec::new();
+    for (d, frame) in described.iter().zip(world) {
+        if g.is_zero(d.inertia.mass) {
+            continue;
+        }
+        let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);
+        let offset = spatial::mat_vec(g, &frame.rotation, d.inertia.first_moment);
+        moments.push(spatial::add(g, at_origin, offset));
+        masses.push(d.inertia.mass);
+    }
+    let total = g.add(&masses);
+    if g.is_zero(total) {
+        return None;
+    }
+    let position = [0, 1, 2].map(|i| {
+        let terms: Vec<Id> = moments.iter().map(|m| m[i]).collect();
+        let sum = g.add(&terms);
+        let c = g.div(sum, total);
+        spatial::hold(g, c)
+    });
+    let mut partials = Differentiator::new();
+    let jacobian = position
+        .iter()
+        .map(|&c| {
+            (0..n)
+                .map(|k| partials.partial(g, c, Sym::Coord(k)))
+                .collect()
+        })
+        .collect();
+    Some(CenterOfMass { position, jacobian })
+}
