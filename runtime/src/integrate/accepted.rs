@@ -56,21 +56,32 @@ impl<T: RealField + Copy, const N: usize, const S: usize> Work<T, N, S> {
     /// while the step is fresh, `self.start` once kept), with the slope
     /// `end_slope` at its end and the method's weights `dense`.
     #[inline(always)]
-    pub(super) fn span<'a>(
+    pub(super) fn interpolant<'a>(
         &'a self,
         start: &'a State<T, N>,
         end_slope: &'a Derivative<T, N>,
         dense: &'a [f64; S],
-    ) -> Span<'a, T, N, S> {
-        let interpolant = Interpolant {
+    ) -> Interpolant<'a, T, N, S> {
+        Interpolant {
             start,
             end: &self.solution,
             h: self.h,
             stages: &self.stages,
             end_slope,
             dense,
-        };
-        Span::new(interpolant, self.end())
+        }
+    }
+
+    /// [`interpolant`](Self::interpolant) as event location evaluates it:
+    /// its polynomial formed once, the accepted state at its end.
+    #[inline(always)]
+    pub(super) fn span<'a>(
+        &'a self,
+        start: &'a State<T, N>,
+        end_slope: &'a Derivative<T, N>,
+        dense: &'a [f64; S],
+    ) -> Span<'a, T, N, S> {
+        Span::new(self.interpolant(start, end_slope, dense), self.end())
     }
 
     /// The slope at the step's end for its extension: the last stage of a

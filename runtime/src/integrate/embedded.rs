@@ -1,11 +1,10 @@
 //! Adaptive steps for embedded Runge–Kutta pairs.
 
-use super::controller::PiController;
 use super::dense_output::Interpolant;
-use super::explicit::{error_estimate, fixed_tableau_steps, step, step_into, Step};
-use super::stepper::StepMethod;
+use super::explicit::ExplicitRungeKutta;
+use super::stepper::{advance, StepMethod};
 use super::tableau::{Embedded, Tableau};
-use super::{accept, c, derivative, span, Derivative, Settings, Stats};
+use super::{c, derivative, span, Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use core::marker::PhantomData;
 use nalgebra::RealField;
@@ -44,20 +43,6 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
         self
     }
 
-    /// Advances `state` to `t_end`, calling `observer` after every accepted step.
-    pub fn advance_with<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &mut State<T, N>,
-        t_end: T,
-        mut observer: impl FnMut(&State<T, N>),
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        self.run(system, state, t_end, |_, accepted| observer(accepted))
-    }
-
     /// Advances `state` to `t_end`, calling `observer` with the solution at
     /// each of `times` (nondecreasing, within `[state.t, t_end]`, else
     /// `InvalidParameter` before any step): dense output. The samples come
@@ -91,7 +76,7 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
             observer(state);
             next += 1;
         }
-        self.run(system, state, t_end, |step, accepted| {
+        let run = |step: &Interpolant<'_, T, N, S>, accepted: &State<T, N>| {
             while let Some(&t) = times.get(next) {
                 if t > accepted.t {
                     break;
@@ -103,90 +88,8 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
                 }
                 next += 1;
             }
-        })
-    }
-
-    /// The adaptive loop; `accepted` sees each accepted step (as an
-    /// interpolant) and the state it ends in.
-    fn run<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &mut State<T, N>,
-        t_end: T,
-        mut accepted: impl FnMut(&Interpolant<'_, T, N, S>, &State<T, N>),
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        self.validate()?;
-        let total = span(state, t_end)?;
-        let mut stats = Stats::default();
-        if total == T::zero() {
-            return Ok(stats);
-        }
-        let tableau: &Tableau<S> = &M::TABLEAU;
-        let settings = &self.settings;
-        let mut k1 = derivative(system, state, settings, &mut stats)?;
-        let mut h = self.initial_step(system, state, &k1, total, &mut stats)?;
-        let mut controller = PiController::<T>::new(tableau.error_order);
-        while state.t < t_end {
-            if stats.steps + stats.rejected >= settings.max_steps {
-                return Err(IntegrationError::TooManySteps {
-                    t: state.t,
-                    steps: settings.max_steps,
-                });
-            }
-            let resolution = c::<T>(16.0) * T::default_epsilon() * state.t.abs().max(t_end.abs());
-            if h <= resolution {
-                return Err(IntegrationError::StepSizeUnderflow {
-                    t: state.t,
-                    step: h,
-                });
-            }
-            let last = h >= t_end - state.t;
-            if last {
-                h = t_end - state.t;
-            }
-            let Step {
-                state: new,
-                last: fsal,
-                error,
-                stages,
-            } = step(tableau, system, state, &k1, h, settings, &mut stats)?;
-            let err = self.norm(&error, &(state.q, state.qd), &(new.q, new.qd));
-            if err <= T::one() {
-                let start = *state;
-                *state = new;
-                if last {
-                    state.t = t_end;
-                }
-                stats.steps += 1;
-                let projected = accept(system, state, settings)?;
-                k1 = match fsal {
-                    Some(k) if !projected => k,
-                    // Projection moved the state, or the method is not FSAL.
-                    _ => derivative(system, state, settings, &mut stats)?,
-                };
-                let end_slope = fsal.unwrap_or(k1);
-                let interpolant = Interpolant {
-                    start: &start,
-                    end: &new,
-                    h,
-                    stages: &stages,
-                    end_slope: &end_slope,
-                    dense: &M::DENSE,
-                };
-                accepted(&interpolant, state);
-                h = controller.accepted(h, err);
-            } else {
-                stats.rejected += 1;
-                h = controller.rejected(h, err);
-            }
-            if let Some(max) = self.max_step {
-                h = h.min(max);
-            }
-        }
-        Ok(stats)
+        };
+        advance(self.duplicate(), system, state, t_end, true, run)
     }
 
     /// Advances `state` to `t_end` in steps of `h` without error control:
@@ -202,7 +105,8 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        fixed_tableau_steps(&M::TABLEAU, system, state, t_end, h, &self.settings, |_| {})
+        let fixed = ExplicitRungeKutta::<T, M, S>::with_settings(h, self.settings);
+        fixed.advance(system, state, t_end)
     }
 
     /// `Err(InvalidParameter)` for settings that cannot work. `atol > 0`:
@@ -280,6 +184,7 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
 impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
     for EmbeddedRungeKutta<T, M, S>
 {
+    const TABLEAU: Tableau<S> = M::TABLEAU;
     const DENSE: [f64; S] = M::DENSE;
 
     fn duplicate(&self) -> Self {
@@ -295,20 +200,16 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
         &self.settings
     }
 
-    fn validate(&self) -> Result<(), IntegrationError<T>> {
-        EmbeddedRungeKutta::validate(self)
-    }
-
     fn fixed_step(&self) -> Option<T> {
         None
     }
 
-    fn max_step(&self) -> Option<T> {
-        self.max_step
+    fn validate(&self) -> Result<(), IntegrationError<T>> {
+        EmbeddedRungeKutta::validate(self)
     }
 
-    fn error_order(&self) -> u32 {
-        M::TABLEAU.error_order
+    fn max_step(&self) -> Option<T> {
+        self.max_step
     }
 
     fn initial_step<Sys, const N: usize, const K: usize>(
@@ -325,40 +226,13 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
         EmbeddedRungeKutta::initial_step(self, system, state, k1, total, stats)
     }
 
-    fn fsal(&self) -> bool {
-        M::TABLEAU.is_fsal()
-    }
-
-    // Always inlined: the stages are then built in the stepper's buffers.
-    #[inline(always)]
-    fn attempt<Sys, const N: usize, const K: usize>(
+    fn error_norm<const N: usize>(
         &self,
-        system: &Sys,
-        state: &State<T, N>,
-        k1: &Derivative<T, N>,
-        h: T,
-        stages: &mut [Derivative<T, N>; S],
-        solution: &mut State<T, N>,
-        stats: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        let tableau = &M::TABLEAU;
-        step_into(
-            tableau,
-            system,
-            state,
-            k1,
-            h,
-            &self.settings,
-            stats,
-            stages,
-            solution,
-        )?;
-        let error = error_estimate(tableau, stages, h);
-        // A NaN error fails `error <= 1`: rejected and shrunk, as in `run`.
-        Ok(self.norm(&error, &(state.q, state.qd), &(solution.q, solution.qd)))
+        error: &Derivative<T, N>,
+        start: &Derivative<T, N>,
+        end: &Derivative<T, N>,
+    ) -> T {
+        self.norm(error, start, end)
     }
 }
 

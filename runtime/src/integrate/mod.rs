@@ -17,9 +17,10 @@
 //! non-finite state, a step size that underflows, too many steps, a mass
 //! matrix that is not positive definite, a projection that does not converge.
 
-/// The settings every integrator shares (`with_stabilization`,
-/// `with_max_steps`) and `advance`, which is `advance_with` without an
-/// observer, and the single-step API (`stepper`, `advance_events`).
+/// What every integrator shares: its settings (`with_stabilization`,
+/// `with_max_steps`), its entry points on the one driver loop
+/// (`advance_with`, `advance`, which is `advance_with` without an
+/// observer, `advance_events`) and the single-step API (`stepper`).
 /// Arguments: the type with its generic parameters, its number of stages,
 /// then the bounds of its parameters besides `T`.
 macro_rules! shared_settings {
@@ -39,6 +40,28 @@ macro_rules! shared_settings {
             pub fn with_max_steps(mut self, max_steps: usize) -> Self {
                 self.settings.max_steps = max_steps;
                 self
+            }
+
+            /// Advances `state` to `t_end`, calling `observer` after every
+            /// accepted step.
+            pub fn advance_with<Sys, const N: usize, const K: usize>(
+                &self,
+                system: &Sys,
+                state: &mut State<T, N>,
+                t_end: T,
+                mut observer: impl FnMut(&State<T, N>),
+            ) -> Result<Stats, IntegrationError<T>>
+            where
+                Sys: ConstrainedSystem<T, N, K>,
+            {
+                let method = $crate::integrate::stepper::StepMethod::duplicate(self);
+                // The observer sees no step's inside: a fixed-step run
+                // leaves each end's derivative to the next step; an
+                // adaptive one evaluates it with its step, as `stepper`.
+                let extension = $crate::integrate::stepper::StepMethod::fixed_step(&method).is_none();
+                $crate::integrate::stepper::advance(method, system, state, t_end, extension, |_, end| {
+                    observer(end)
+                })
             }
 
             /// Advances `state` to `t_end`.
@@ -90,7 +113,7 @@ macro_rules! shared_settings {
                 D: $crate::integrate::events::Rates<T, N, E>,
             {
                 let stepper = self.stepper(*state, t_end)?;
-                $crate::integrate::stepper::drive(stepper, system, state, events, handler)
+                $crate::integrate::stepper::drive(stepper, system, state, events, |_, _| {}, handler)
             }
         }
     };
@@ -286,75 +309,6 @@ where
         }
         _ => Ok(false),
     }
-}
-
-/// The loop of every fixed-step method: steps of `step` (the last one
-/// shortened to land on `t_end`), each made by `one_step(state, h, k1,
-/// stats)` from the derivative `k1` at the state (evaluated here unless the
-/// previous step returned it, first same as last), then checked, stabilized
-/// and observed.
-#[inline]
-fn fixed_steps<T, S, const N: usize, const K: usize>(
-    system: &S,
-    state: &mut State<T, N>,
-    t_end: T,
-    step: T,
-    settings: &Settings<T>,
-    mut one_step: impl FnMut(
-        &mut State<T, N>,
-        T,
-        &Derivative<T, N>,
-        &mut Stats,
-    ) -> Result<Option<Derivative<T, N>>, IntegrationError<T>>,
-    mut observer: impl FnMut(&State<T, N>),
-) -> Result<Stats, IntegrationError<T>>
-where
-    T: RealField + Copy,
-    S: ConstrainedSystem<T, N, K>,
-{
-    if !(step > T::zero() && step.is_finite()) {
-        return Err(IntegrationError::InvalidParameter);
-    }
-    settings.validate()?;
-    let mut remaining = span(state, t_end)?;
-    let mut stats = Stats::default();
-    let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
-    // Time is `start + n·h`, not a running sum: in f32 with h = 1e-3 a sum
-    // drifts by ~1 % per step near t = 100 (the ulp of t), silently.
-    let start = state.t;
-    let mut carried: Option<Derivative<T, N>> = None;
-    while remaining > T::zero() {
-        if stats.steps == settings.max_steps {
-            return Err(IntegrationError::TooManySteps {
-                t: state.t,
-                steps: stats.steps,
-            });
-        }
-        let last = remaining <= step * slack;
-        let h = if last { remaining } else { step };
-        let t = state.t;
-        let k1 = match carried.take() {
-            Some(k1) => k1,
-            None => derivative(system, state, settings, &mut stats)?,
-        };
-        let next = if last {
-            t_end
-        } else {
-            start + step * c::<T>((stats.steps + 1) as f64)
-        };
-        if next <= t {
-            return Err(IntegrationError::TimeStalled { t, step: h });
-        }
-        carried = one_step(state, h, &k1, &mut stats)?;
-        state.t = next;
-        remaining = if last { T::zero() } else { t_end - state.t };
-        stats.steps += 1;
-        if accept(system, state, settings)? {
-            carried = None; // projection moved the state
-        }
-        observer(state);
-    }
-    Ok(stats)
 }
 
 /// Validates the starting state and the end time and returns the span to

@@ -84,7 +84,9 @@ where
             if next <= t {
                 return Err(IntegrationError::TimeStalled { t, step });
             }
-            return Ok((next - t, next, last));
+            // The step itself, not `next − t`: every step of a fixed-step
+            // run is the same size but the last, the time alone anchored.
+            return Ok((if last { remaining } else { step }, next, last));
         }
         let h = match self.h {
             Some(h) => h,
@@ -142,13 +144,19 @@ where
             return Err(IntegrationError::NonFiniteState { t: work.solution.t });
         };
         let fsal = self.integrator.fsal();
-        match work.stages.last() {
-            Some(k) if fsal && !work.projected => self.k1 = *k,
+        self.carried = match work.stages.last() {
+            Some(k) if fsal && !work.projected => {
+                self.k1 = *k;
+                true
+            }
             // Projection moved the state, or the method is not FSAL: the
             // next step's derivative, and the Hermite end slope.
-            _ => derivative_into(system, work.end(), settings, &mut self.stats, &mut self.k1)?,
-        }
-        self.carried = true;
+            _ if self.extension => {
+                derivative_into(system, work.end(), settings, &mut self.stats, &mut self.k1)?;
+                true
+            }
+            _ => false,
+        };
         if self.integrator.fixed_step().is_none() {
             let proposed = self.controller.accepted(h, error);
             self.h = Some(
