@@ -3,7 +3,6 @@
 //! step overwrites in place, and their continuous extension.
 
 use super::dense_output::Interpolant;
-use super::events::Span;
 use super::Derivative;
 use crate::State;
 use nalgebra::{RealField, SVector};
@@ -70,18 +69,6 @@ impl<T: RealField + Copy, const N: usize, const S: usize> Work<T, N, S> {
             end_slope,
             dense,
         }
-    }
-
-    /// [`interpolant`](Self::interpolant) as event location evaluates it:
-    /// its polynomial formed once, the accepted state at its end.
-    #[inline(always)]
-    pub(super) fn span<'a>(
-        &'a self,
-        start: &'a State<T, N>,
-        end_slope: &'a Derivative<T, N>,
-        dense: &'a [f64; S],
-    ) -> Span<'a, T, N, S> {
-        Span::new(self.interpolant(start, end_slope, dense), self.end())
     }
 
     /// The slope at the step's end for its extension: the last stage of a

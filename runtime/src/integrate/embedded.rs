@@ -1,10 +1,11 @@
 //! Adaptive steps for embedded Runge–Kutta pairs.
 
+use super::controller::Tolerances;
 use super::dense_output::Interpolant;
 use super::explicit::ExplicitRungeKutta;
-use super::stepper::{advance, StepMethod};
+use super::stepper::{advance, Configured, StepMethod};
 use super::tableau::{Embedded, Tableau};
-use super::{c, derivative, span, Derivative, Settings, Stats};
+use super::{span, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use core::marker::PhantomData;
 use nalgebra::RealField;
@@ -108,6 +109,17 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
         let fixed = ExplicitRungeKutta::<T, M, S>::with_settings(h, self.settings);
         fixed.advance(system, state, t_end)
     }
+}
+
+impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
+    for EmbeddedRungeKutta<T, M, S>
+{
+    const TABLEAU: Tableau<S> = M::TABLEAU;
+    const DENSE: [f64; S] = M::DENSE;
+
+    fn fixed_step(&self) -> Option<T> {
+        None
+    }
 
     /// `Err(InvalidParameter)` for settings that cannot work. `atol > 0`:
     /// with a zero one, a component passing through zero has a zero error
@@ -121,118 +133,17 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
         self.settings.validate()
     }
 
-    /// Hairer, Nørsett & Wanner's starting step (Solving ODE I, II.4).
-    fn initial_step<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &State<T, N>,
-        k1: &Derivative<T, N>,
-        total: T,
-        stats: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        let y = (state.q, state.qd);
-        let d0 = self.norm(&y, &y, &y);
-        let d1 = self.norm(k1, &y, &y);
-        let tiny = c::<T>(1e-5);
-        let h0 = if d0 < tiny || d1 < tiny {
-            c(1e-6)
-        } else {
-            d0 / d1 * c(0.01)
-        };
-        let h0 = h0.min(total);
-        let probe = State {
-            t: state.t + h0,
-            q: state.q + k1.0 * h0,
-            qd: state.qd + k1.1 * h0,
-        };
-        let k = derivative(system, &probe, &self.settings, stats)?;
-        let diff = (k.0 - k1.0, k.1 - k1.1);
-        let d2 = self.norm(&diff, &y, &y) / h0;
-        let d = d1.max(d2);
-        let order = c::<T>(f64::from(M::TABLEAU.order));
-        let h1 = if d <= c(1e-15) {
-            (h0 * c(1e-3)).max(c(1e-6))
-        } else {
-            (c::<T>(0.01) / d).powf(T::one() / order)
-        };
-        Ok((h0 * c(100.0)).min(h1).min(total))
-    }
-
-    /// RMS of `v / (atol + rtol·max(|y₀|, |y₁|))` over the 2N components.
-    fn norm<const N: usize>(
-        &self,
-        v: &Derivative<T, N>,
-        y0: &Derivative<T, N>,
-        y1: &Derivative<T, N>,
-    ) -> T {
-        let mut sum = T::zero();
-        let parts = [(&v.0, &y0.0, &y1.0), (&v.1, &y0.1, &y1.1)];
-        for (vi, a, b) in parts {
-            for i in 0..N {
-                let sc = self.atol + self.rtol * a[i].abs().max(b[i].abs());
-                let x = vi[i] / sc;
-                sum += x * x;
-            }
-        }
-        (sum / c::<T>(2.0 * N as f64)).sqrt()
-    }
-}
-
-impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
-    for EmbeddedRungeKutta<T, M, S>
-{
-    const TABLEAU: Tableau<S> = M::TABLEAU;
-    const DENSE: [f64; S] = M::DENSE;
-
-    fn duplicate(&self) -> Self {
-        EmbeddedRungeKutta {
-            method: PhantomData,
-            ..*self
-        }
-    }
-
-    // The trait is sealed (a private module): `Settings` stays private.
-    #[allow(private_interfaces)]
-    fn settings(&self) -> &Settings<T> {
-        &self.settings
-    }
-
-    fn fixed_step(&self) -> Option<T> {
-        None
-    }
-
-    fn validate(&self) -> Result<(), IntegrationError<T>> {
-        EmbeddedRungeKutta::validate(self)
-    }
-
     fn max_step(&self) -> Option<T> {
         self.max_step
     }
 
-    fn initial_step<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &State<T, N>,
-        k1: &Derivative<T, N>,
-        total: T,
-        stats: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        EmbeddedRungeKutta::initial_step(self, system, state, k1, total, stats)
-    }
-
-    fn error_norm<const N: usize>(
-        &self,
-        error: &Derivative<T, N>,
-        start: &Derivative<T, N>,
-        end: &Derivative<T, N>,
-    ) -> T {
-        self.norm(error, start, end)
+    // The trait is sealed (a private module): `Tolerances` stays private.
+    #[allow(private_interfaces)]
+    fn tolerances(&self) -> Option<Tolerances<T>> {
+        Some(Tolerances {
+            rtol: self.rtol,
+            atol: self.atol,
+        })
     }
 }
 

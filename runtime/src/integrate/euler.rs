@@ -30,16 +30,6 @@ impl<T: RealField + Copy> SemiImplicitEuler<T> {
 impl<T: RealField + Copy> StepMethod<T, 1> for SemiImplicitEuler<T> {
     const TABLEAU: Tableau<1> = STAGE;
 
-    fn duplicate(&self) -> Self {
-        *self
-    }
-
-    // The trait is sealed (a private module): `Settings` stays private.
-    #[allow(private_interfaces)]
-    fn settings(&self) -> &Settings<T> {
-        &self.settings
-    }
-
     fn fixed_step(&self) -> Option<T> {
         Some(self.step)
     }

@@ -129,19 +129,6 @@ impl<T: RealField + Copy, M: Method<S>, const S: usize> StepMethod<T, S>
 {
     const TABLEAU: Tableau<S> = M::TABLEAU;
 
-    fn duplicate(&self) -> Self {
-        ExplicitRungeKutta {
-            method: PhantomData,
-            ..*self
-        }
-    }
-
-    // The trait is sealed (a private module): `Settings` stays private.
-    #[allow(private_interfaces)]
-    fn settings(&self) -> &Settings<T> {
-        &self.settings
-    }
-
     fn fixed_step(&self) -> Option<T> {
         Some(self.step)
     }

@@ -18,13 +18,28 @@
 //! matrix that is not positive definite, a projection that does not converge.
 
 /// What every integrator shares: its settings (`with_stabilization`,
-/// `with_max_steps`), its entry points on the one driver loop
+/// `with_max_steps`, and for the stepper `Configured`), its entry points on the one driver loop
 /// (`advance_with`, `advance`, which is `advance_with` without an
 /// observer, `advance_events`) and the single-step API (`stepper`).
 /// Arguments: the type with its generic parameters, its number of stages,
 /// then the bounds of its parameters besides `T`.
 macro_rules! shared_settings {
     ($integrator:ident < T $(, $param:ident)* >, $stages:tt $(, $($bounds:tt)*)?) => {
+        impl<T: RealField + Copy $(, $($bounds)*)?> $crate::integrate::stepper::Configured<T>
+            for $integrator<T $(, $param)*>
+        {
+            fn duplicate(&self) -> Self {
+                // Field by field: each is `Copy` (a marker's `PhantomData`
+                // too), where the derived `Clone` asks the marker for it.
+                Self { ..*self }
+            }
+
+            #[allow(private_interfaces)]
+            fn settings(&self) -> &$crate::integrate::Settings<T> {
+                &self.settings
+            }
+        }
+
         impl<T: RealField + Copy $(, $($bounds)*)?> $integrator<T $(, $param)*> {
             /// The same with a stabilization against constraint drift.
             pub fn with_stabilization(
@@ -54,7 +69,7 @@ macro_rules! shared_settings {
             where
                 Sys: ConstrainedSystem<T, N, K>,
             {
-                let method = $crate::integrate::stepper::StepMethod::duplicate(self);
+                let method = $crate::integrate::stepper::Configured::duplicate(self);
                 // The observer sees no step's inside: a fixed-step run
                 // leaves each end's derivative to the next step; an
                 // adaptive one evaluates it with its step, as `stepper`.
@@ -86,7 +101,7 @@ macro_rules! shared_settings {
                 t_end: T,
             ) -> Result<$crate::integrate::Stepper<T, Self, N, $stages, E>, IntegrationError<T>> {
                 $crate::integrate::Stepper::new(
-                    $crate::integrate::stepper::StepMethod::duplicate(self),
+                    $crate::integrate::stepper::Configured::duplicate(self),
                     state,
                     t_end,
                 )
@@ -223,25 +238,9 @@ impl<T: RealField + Copy> Settings<T> {
 /// (`with_max_steps` raises it), so that no setting can loop for ever.
 const FIXED_STEP_BUDGET: usize = 10_000_000;
 
-/// `(q̇, q̈)` at a state, with the stabilization's correction of `b`.
-#[inline]
-fn derivative<T, S, const N: usize, const K: usize>(
-    system: &S,
-    state: &State<T, N>,
-    settings: &Settings<T>,
-    stats: &mut Stats,
-) -> Result<Derivative<T, N>, IntegrationError<T>>
-where
-    T: RealField + Copy,
-    S: ConstrainedSystem<T, N, K>,
-{
-    stats.evaluations += 1;
-    Ok((state.qd, stabilized_acceleration(system, state, settings)?))
-}
-
-/// [`derivative`] written to `out`: the stepper's buffers, where the
-/// value is needed, so that it is not returned through memory and moved
-/// there (per evaluation of a cheap system that move cost a fifth of the
+/// `(q̇, q̈)` at a state, with the stabilization's correction of `b`,
+/// written to `out`: the stepper's buffers, where the value is needed, so
+/// that it is not returned through memory and moved there (per evaluation of a cheap system that move cost a fifth of the
 /// evaluation). `out` is unchanged on `Err`.
 #[inline]
 fn derivative_into<T, S, const N: usize, const K: usize>(

@@ -4,14 +4,14 @@
 
 use super::accepted::Work;
 use super::controller::PiController;
-use super::events::{self, Action, Crossing, Direction, EventStats, Events, Rates};
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Rates, Span};
 use super::screening;
 use super::search::{self, Found};
 use super::{Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::{RealField, SVector};
 
-pub(super) use super::method::StepMethod;
+pub(super) use super::method::{Configured, StepMethod};
 
 mod drive;
 mod take;
@@ -181,10 +181,10 @@ where
             return None;
         }
         let work = &self.work;
-        let span = work.span(
-            &work.start,
-            work.end_slope(self.integrator.fsal(), &self.k1),
-            &I::DENSE,
+        let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
+        let span = Span::new(
+            work.interpolant(&work.start, end_slope, &I::DENSE),
+            work.end(),
         );
         (t >= work.start.t && t <= work.end().t).then(|| span.at(t))
     }
@@ -306,7 +306,7 @@ where
         }
         let start = if self.kept { &work.start } else { &self.state };
         let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-        let span = work.span(start, end_slope, &I::DENSE);
+        let span = Span::new(work.interpolant(start, end_slope, &I::DENSE), work.end());
         search::search(events, &span, refs, self.state.t, g_end, stats)
     }
 
@@ -371,7 +371,10 @@ where
             });
         };
         let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-        let span = work.span(&work.start, end_slope, &I::DENSE);
+        let span = Span::new(
+            work.interpolant(&work.start, end_slope, &I::DENSE),
+            work.end(),
+        );
         let instant = self.at_instant(&found, events.time_tolerance(&span))?;
         let state = span.at(found.left);
         let g = events::values(events, &state)?;

@@ -91,14 +91,19 @@ where
         let h = match self.h {
             Some(h) => h,
             None => {
-                let h = self.integrator.initial_step(
-                    system,
-                    &self.state,
-                    &self.k1,
-                    remaining,
-                    &mut self.stats,
-                )?;
-                self.integrator.max_step().map_or(h, |max| h.min(max))
+                let integrator = &self.integrator;
+                let h = match integrator.tolerances() {
+                    Some(tolerances) => tolerances.initial_step(
+                        I::TABLEAU.order,
+                        system,
+                        (&self.state, &self.k1),
+                        remaining,
+                        integrator.settings(),
+                        &mut self.stats,
+                    )?,
+                    None => remaining, // an adaptive method has tolerances
+                };
+                integrator.max_step().map_or(h, |max| h.min(max))
             }
         };
         let resolution = c::<T>(16.0) * T::default_epsilon() * t.abs().max(self.t_end.abs());
