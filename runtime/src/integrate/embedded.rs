@@ -14,7 +14,7 @@ use nalgebra::RealField;
 /// local error estimate, scaled by `atol + rtol·|y|` per component of
 /// `(q, q̇)` and measured in the RMS norm, is kept below one; steps that
 /// exceed it are rejected and retried smaller; the step size follows a
-/// [`PiController`]. [`DormandPrince45`](super::DormandPrince45) and
+/// [`PiController`](super::PiController). [`DormandPrince45`](super::DormandPrince45) and
 /// [`BogackiShampine32`](super::BogackiShampine32) are instances.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EmbeddedRungeKutta<T, M, const S: usize> {

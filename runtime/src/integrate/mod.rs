@@ -10,7 +10,11 @@
 //!   for loose tolerances. Both are [`EmbeddedRungeKutta`], whose step size
 //!   follows a [`PiController`].
 //! - [`SemiImplicitEuler`]: first order, one evaluation a step, for hard
-//!   real-time loops (its own one-line stepper on the shared fixed-step loop).
+//!   real-time loops (its own update, on the same driver).
+//!
+//! Every entry point (`advance`, `advance_with`, `advance_sampled`,
+//! `advance_events`) runs one loop of [`Stepper`] steps, and every
+//! Runge–Kutta step is one routine, whatever the tableau.
 //!
 //! Each takes an opt-in [`Stabilization`] against constraint drift, and
 //! reports failures as [`IntegrationError`] values, never panics: a
@@ -18,9 +22,10 @@
 //! matrix that is not positive definite, a projection that does not converge.
 
 /// What every integrator shares: its settings (`with_stabilization`,
-/// `with_max_steps`, and for the stepper `Configured`), its entry points on the one driver loop
-/// (`advance_with`, `advance`, which is `advance_with` without an
-/// observer, `advance_events`) and the single-step API (`stepper`).
+/// `with_max_steps`, and for the stepper `Configured`), its entry points
+/// on the one driver loop (`advance_with`, `advance`, which is
+/// `advance_with` without an observer, `advance_events`) and the
+/// single-step API (`stepper`).
 /// Arguments: the type with its generic parameters, its number of stages,
 /// then the bounds of its parameters besides `T`.
 macro_rules! shared_settings {
@@ -72,7 +77,9 @@ macro_rules! shared_settings {
                 let method = $crate::integrate::stepper::Configured::duplicate(self);
                 // The observer sees no step's inside: a fixed-step run
                 // leaves each end's derivative to the next step; an
-                // adaptive one evaluates it with its step, as `stepper`.
+                // adaptive one evaluates it with its step, as its stepper
+                // does, so that a run counts the same evaluations with
+                // events as without.
                 let extension = $crate::integrate::stepper::StepMethod::fixed_step(&method).is_none();
                 $crate::integrate::stepper::advance(method, system, state, t_end, extension, |_, end| {
                     observer(end)
