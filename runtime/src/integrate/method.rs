@@ -14,8 +14,8 @@ use nalgebra::RealField;
 /// What every integrator holds, written once for all of them by the
 /// `shared_settings!` macro.
 pub trait Configured<T> {
-    /// A copy (the method markers are not `Copy`, so neither is the
-    /// derived impl).
+    /// A copy: a method marker need not be `Clone`, so the derived
+    /// `Clone` of an integrator may not exist, but every field is `Copy`.
     fn duplicate(&self) -> Self;
     /// Stabilization and budget.
     #[allow(private_interfaces)]

@@ -35,7 +35,7 @@ macro_rules! shared_settings {
         {
             fn duplicate(&self) -> Self {
                 // Field by field: each is `Copy` (a marker's `PhantomData`
-                // too), where the derived `Clone` asks the marker for it.
+                // too), where the derived `Clone` asks it of the marker.
                 Self { ..*self }
             }
 

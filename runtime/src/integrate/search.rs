@@ -64,6 +64,11 @@ where
     let tolerance = events.time_tolerance(span);
     let intervals = events.samples.saturating_add(1);
     let mut rates = RateCache::new();
+    let grid = Grid {
+        events,
+        span,
+        tolerance,
+    };
     for k in 1..=intervals {
         let s = if k == intervals {
             end.t
@@ -79,8 +84,7 @@ where
             stats.samples += 1;
             values(events, &span.at(s))?
         };
-        let point = (s, &g);
-        if let Some(found) = earliest(events, span, refs, point, tolerance, &mut rates, stats)? {
+        if let Some(found) = grid.earliest(refs, (s, &g), &mut rates, stats)? {
             return Ok(Some(found));
         }
         for (r, &gi) in refs.iter_mut().zip(g.iter()) {
@@ -92,79 +96,68 @@ where
     Ok(None)
 }
 
-/// The earliest crossing of any function between its reference and the
-/// grid point `s`, where the functions' values are `g` (each bracket
-/// refined to `tolerance`), with the functions whose crossings there lie
-/// within the tolerance after it (`together`).
-fn earliest<T, F, D, const N: usize, const S: usize, const E: usize>(
-    events: &Events<T, F, E, D>,
-    span: &Span<'_, T, N, S>,
-    refs: &mut [(T, T); E],
-    (s, g): (T, &[T; E]),
+/// What the search of one step reads at each grid point: the functions,
+/// the step's extension and the time tolerance.
+struct Grid<'g, 'a, T, F, D, const N: usize, const S: usize, const E: usize> {
+    events: &'g Events<T, F, E, D>,
+    span: &'g Span<'a, T, N, S>,
     tolerance: T,
-    rates: &mut RateCache<T, E>,
-    stats: &mut EventStats,
-) -> Result<Option<Found<T, E>>, IntegrationError<T>>
-where
-    T: RealField + Copy,
-    F: Fn(&State<T, N>) -> [T; E],
-    D: Rates<T, N, E>,
-{
-    let mut best: Option<Found<T, E>> = None;
-    let mut lefts: [Option<T>; E] = [None; E];
-    let functions = events.kinds.iter().zip(refs.iter_mut()).zip(g.iter());
-    for (i, ((kind, reference), &gs)) in functions.enumerate() {
-        if reference.0 >= s {
-            continue;
-        }
-        let Some((bracket, rising)) =
-            bracket(events, span, i, (reference, (s, gs)), kind, rates, stats)?
-        else {
-            continue;
-        };
-        let found = refine(events, span, i, bracket, tolerance, stats)?;
-        if let Some(left) = lefts.get_mut(i) {
-            *left = Some(found.left);
-        }
-        if best.as_ref().is_none_or(|b| found.left < b.left) {
-            best = Some(Found { rising, ..found });
-        }
-    }
-    // Simultaneous: within the tolerance after the earliest (ties went to
-    // the lowest index, which is reported first).
-    Ok(best.map(|mut best| {
-        best.together =
-            core::array::from_fn(|j| lefts[j].is_some_and(|l| l - best.left <= tolerance));
-        best
-    }))
 }
 
-/// A bracket of the first counted crossing of function `i` between its
-/// `reference` (moved off an exact zero first: [`leave_zero`]) and the grid
-/// point `(s, g(s))`: a sign change, else, with known rates, a dip between
-/// them ([`dip`]).
-fn bracket<T, F, D, const N: usize, const S: usize, const E: usize>(
-    events: &Events<T, F, E, D>,
-    span: &Span<'_, T, N, S>,
-    i: usize,
-    (reference, (s, gs)): (&mut (T, T), (T, T)),
-    kind: &Event,
-    rates: &mut RateCache<T, E>,
-    stats: &mut EventStats,
-) -> Result<Option<Bracket<T>>, IntegrationError<T>>
+impl<T, F, D, const N: usize, const S: usize, const E: usize> Grid<'_, '_, T, F, D, N, S, E>
 where
     T: RealField + Copy,
     F: Fn(&State<T, N>) -> [T; E],
     D: Rates<T, N, E>,
 {
-    if reference.1 == T::zero() {
-        leave_zero(events, span, i, reference, s, stats)?;
-    }
-    let (tl, gl) = *reference;
-    match sign_change(gl, gs, kind.direction) {
-        Some(rising) => Ok(Some((((tl, gl), (s, gs)), rising))),
-        None if D::KNOWN => dip(events, span, i, ((tl, gl), (s, gs)), kind, rates, stats),
-        None => Ok(None),
+    /// The earliest crossing of any function between its reference and
+    /// the grid point `s`, where the functions' values are `g`: a sign
+    /// change, or with known rates a dip between them ([`dip`]), from a
+    /// reference moved off an exact zero ([`leave_zero`]), each bracket
+    /// refined to the tolerance; with the functions whose crossings there
+    /// lie within the tolerance after it (`together`).
+    fn earliest(
+        &self,
+        refs: &mut [(T, T); E],
+        (s, g): (T, &[T; E]),
+        rates: &mut RateCache<T, E>,
+        stats: &mut EventStats,
+    ) -> Result<Option<Found<T, E>>, IntegrationError<T>> {
+        let (events, span, tolerance) = (self.events, self.span, self.tolerance);
+        let mut best: Option<Found<T, E>> = None;
+        let mut lefts: [Option<T>; E] = [None; E];
+        let functions = events.kinds.iter().zip(refs.iter_mut()).zip(g.iter());
+        for (i, ((kind, reference), &gs)) in functions.enumerate() {
+            if reference.0 >= s {
+                continue;
+            }
+            if reference.1 == T::zero() {
+                leave_zero(events, span, i, reference, s, stats)?;
+            }
+            let (tl, gl) = *reference;
+            let bracket = match sign_change(gl, gs, kind.direction) {
+                Some(rising) => Some((((tl, gl), (s, gs)), rising)),
+                None if D::KNOWN => dip(events, span, i, ((tl, gl), (s, gs)), kind, rates, stats)?,
+                None => None,
+            };
+            let Some((bracket, rising)) = bracket else {
+                continue;
+            };
+            let found = refine(events, span, i, bracket, tolerance, stats)?;
+            if let Some(left) = lefts.get_mut(i) {
+                *left = Some(found.left);
+            }
+            if best.as_ref().is_none_or(|b| found.left < b.left) {
+                best = Some(Found { rising, ..found });
+            }
+        }
+        // Simultaneous: within the tolerance after the earliest (ties went to
+        // the lowest index, which is reported first).
+        Ok(best.map(|mut best| {
+            best.together =
+                core::array::from_fn(|j| lefts[j].is_some_and(|l| l - best.left <= tolerance));
+            best
+        }))
     }
 }
 

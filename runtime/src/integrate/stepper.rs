@@ -116,7 +116,9 @@ where
 {
     /// A stepper from `state` to `t_end`; `Err(InvalidParameter)` for
     /// settings that cannot work or a non-finite state or end time,
-    /// `EndBeforeStart` for an end before the state's time.
+    /// `EndBeforeStart` for an end before the state's time. Inlined: it
+    /// builds the stepper where the driver keeps it.
+    #[inline]
     pub(super) fn new(
         integrator: I,
         state: State<T, N>,

@@ -95,6 +95,7 @@ where
 /// there; a changed state restarts the stepper from it. `state` is left
 /// where the run ended: the end time, a stopping crossing, or on `Err` the
 /// last accepted state.
+#[inline]
 pub(in super::super) fn drive<
     T,
     I,
@@ -152,6 +153,7 @@ where
 /// uses the steps' continuous extensions (else a step's end slope is left
 /// to the next step, which evaluates it anyway: the last step's is never
 /// evaluated).
+#[inline]
 pub(in super::super) fn advance<T, I, Sys, const N: usize, const K: usize, const S: usize>(
     integrator: I,
     system: &Sys,
