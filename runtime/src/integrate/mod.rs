@@ -134,8 +134,8 @@ macro_rules! shared_settings {
                 F: Fn(&State<T, N>) -> [T; E],
                 D: $crate::integrate::events::Rates<T, N, E>,
             {
-                let stepper = self.stepper(*state, t_end)?;
-                $crate::integrate::stepper::drive(stepper, system, state, events, |_, _| {}, handler)
+                let mut stepper = self.stepper(*state, t_end)?;
+                $crate::integrate::stepper::drive(&mut stepper, system, state, events, |_, _| {}, handler)
             }
         }
     };

@@ -47,7 +47,9 @@ where
         F: Fn(&State<T, N>) -> [T; E],
         D: Rates<T, N, E>,
     {
-        if self.pending {
+        // Without event functions no step is ever pending: the test is then
+        // a constant, and a run without events keeps no call to `step`.
+        if E > 0 && self.pending {
             return self.step(system, events);
         }
         events.validate()?;
@@ -89,9 +91,10 @@ where
     }
 }
 
-/// The driver, on a stepper: `observer` sees every accepted step in which
-/// no crossing is found (every step, without event functions), and
-/// `handler(&crossing, &mut state)` runs at every crossing with the state
+/// The driver, on a stepper (borrowed, not moved: it is the size of a few
+/// states, and a run of one step would spend on copying it): `observer`
+/// sees every accepted step in which no crossing is found (every step,
+/// without event functions), and `handler(&crossing, &mut state)` runs at every crossing with the state
 /// there; a changed state restarts the stepper from it. `state` is left
 /// where the run ended: the end time, a stopping crossing, or on `Err` the
 /// last accepted state.
@@ -107,7 +110,7 @@ pub(in super::super) fn drive<
     const S: usize,
     const E: usize,
 >(
-    mut stepper: Stepper<T, I, N, S, E>,
+    stepper: &mut Stepper<T, I, N, S, E>,
     system: &Sys,
     state: &mut State<T, N>,
     events: &Events<T, F, E, D>,
@@ -170,5 +173,5 @@ where
     let mut stepper = Stepper::<T, I, N, S, 0>::new(integrator, *state, t_end)?;
     stepper.extension = extension;
     let none = Events::none();
-    drive(stepper, system, state, &none, observer, |_, _| {}).map(|run| run.stats)
+    drive(&mut stepper, system, state, &none, observer, |_, _| {}).map(|run| run.stats)
 }
