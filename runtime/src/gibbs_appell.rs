@@ -108,9 +108,32 @@ pub fn acceleration<
     preferred: &[usize; R],
     mass_coupled: bool,
 ) -> Result<SVector<T, N>, GibbsAppellError> {
-    // Each row of A q̈ = b scaled to unit largest entry: the same equations
-    // and null space, but A_eᵀA_e neither overflows nor underflows for
-    // coordinates far from 1 (1e154 or 1e-154 in f64).
+    let (a_scaled, b_scaled) = scaled_rows(a, b)?;
+    let (a, b) = (&a_scaled, &b_scaled);
+    let p = partition::<T, N, K, R, I>(a, b, m, f, preferred, mass_coupled)?;
+    let qdd_i = reduced_solve(&p)?;
+    let square = SMatrix::<T, R, R>::from_fn(|i, j| a[(p.rows[i], p.eliminated[j])]);
+    let top = SVector::<T, R>::from_fn(|i, _| b[p.rows[i]] - (p.a_i.row(p.rows[i]) * qdd_i)[0]);
+    let qdd_e = solve_square(square, top).ok_or(GibbsAppellError::RankDeficient)?;
+    let mut qdd = SVector::<T, N>::zeros();
+    for (j, &col) in p.eliminated.iter().enumerate() {
+        qdd[col] = qdd_e[j];
+    }
+    for (j, &col) in p.independent.iter().enumerate() {
+        qdd[col] = qdd_i[j];
+    }
+    check_rows(a, b, &p.rows, &qdd)?;
+    Ok(qdd)
+}
+
+/// Each row of `A q̈ = b` scaled to unit largest entry: the same equations
+/// and null space, but `A_eᵀA_e` neither overflows nor underflows for
+/// coordinates far from 1 (1e154 or 1e-154 in f64). `Err(Underflow)` for a
+/// row whose largest entry is below the smallest normal value.
+fn scaled_rows<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+) -> Result<(SMatrix<T, K, N>, SVector<T, K>), GibbsAppellError> {
     let (mut a_scaled, mut b_scaled) = (*a, *b);
     // 2^-126 in f32, 2^-1022 in f64 (4 over the largest value); NaN, so
     // never above, for a `T` without one.
@@ -130,8 +153,20 @@ pub fn acceleration<
             b_scaled[i] /= largest;
         }
     }
-    let (a, b) = (&a_scaled, &b_scaled);
-    let p = partition::<T, N, K, R, I>(a, b, m, f, preferred, mass_coupled)?;
+    Ok((a_scaled, b_scaled))
+}
+
+/// `q̈_I` from the reduced (positive definite) block by Cholesky, refused
+/// (`IllConditioned`) where its conditioning cannot give it to `√ε`.
+fn reduced_solve<
+    T: RealField + Copy,
+    const N: usize,
+    const K: usize,
+    const R: usize,
+    const I: usize,
+>(
+    p: &Partitioned<T, N, K, R, I>,
+) -> Result<SVector<T, I>, GibbsAppellError> {
     let cholesky = nalgebra::linalg::Cholesky::new(p.reduced_mass)
         .ok_or(GibbsAppellError::MassNotPositiveDefinite)?;
     // (max Lᵢᵢ / min Lᵢᵢ)² bounds cond(B) from below: beyond 1/√ε the
@@ -146,21 +181,22 @@ pub fn acceleration<
     if underflow || !positive || (largest / smallest) * (largest / smallest) > limit {
         return Err(GibbsAppellError::IllConditioned);
     }
-    let qdd_i = cholesky.solve(&p.reduced_force);
-    let square = SMatrix::<T, R, R>::from_fn(|i, j| a[(p.rows[i], p.eliminated[j])]);
-    let top = SVector::<T, R>::from_fn(|i, _| b[p.rows[i]] - (p.a_i.row(p.rows[i]) * qdd_i)[0]);
-    let qdd_e = solve_square(square, top).ok_or(GibbsAppellError::RankDeficient)?;
-    let mut qdd = SVector::<T, N>::zeros();
-    for (j, &col) in p.eliminated.iter().enumerate() {
-        qdd[col] = qdd_e[j];
-    }
-    for (j, &col) in p.independent.iter().enumerate() {
-        qdd[col] = qdd_i[j];
-    }
+    Ok(cholesky.solve(&p.reduced_force))
+}
+
+/// The check after the fact: the `R` chosen `rows` of `A q̈ = b` must hold
+/// to `√ε` (relative; else `IllConditioned`, or `NonFinite`), and so must
+/// every other row (else `Inconsistent`).
+fn check_rows<T: RealField + Copy, const N: usize, const K: usize, const R: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+    rows: &[usize; R],
+    qdd: &SVector<T, N>,
+) -> Result<(), GibbsAppellError> {
     // The r chosen rows of A q̈ = b must hold (to √ε, the form's accuracy).
-    let chosen_a = SMatrix::<T, R, N>::from_fn(|i, j| a[(p.rows[i], j)]);
-    let chosen_b = SVector::<T, R>::from_fn(|i, _| b[p.rows[i]]);
-    let residual = crate::rank::relative_residual(&chosen_a, &chosen_b, &qdd);
+    let chosen_a = SMatrix::<T, R, N>::from_fn(|i, j| a[(rows[i], j)]);
+    let chosen_b = SVector::<T, R>::from_fn(|i, _| b[rows[i]]);
+    let residual = crate::rank::relative_residual(&chosen_a, &chosen_b, qdd);
     let accurate = residual.partial_cmp(&T::default_epsilon().sqrt())
         != Some(core::cmp::Ordering::Greater)
         && residual.is_finite();
@@ -175,10 +211,10 @@ pub fn acceleration<
     // the partition's rows imply only where the rest depend on them (a
     // redundant model on its surface). Off it the left-out row is violated
     // (the redundant double pendulum at 1e-8 scale: relative 1.01).
-    if K > R && crate::rank::relative_residual(a, b, &qdd) > T::default_epsilon().sqrt() {
+    if K > R && crate::rank::relative_residual(a, b, qdd) > T::default_epsilon().sqrt() {
         return Err(GibbsAppellError::Inconsistent);
     }
-    Ok(qdd)
+    Ok(())
 }
 
 fn partition<

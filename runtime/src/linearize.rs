@@ -235,9 +235,34 @@ where
     }
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
+    let solve = |f_c: &SVector<T, N>, b_c: &SVector<T, K>| {
+        let unconstrained = mass.solve(f_c);
+        let mu = ldlt.solve_unchecked(&(b_c - a * unconstrained));
+        Some(unconstrained + w * mu)
+    };
+    tangent_columns::<T, S, N, K, NU, D>(system, (q, qd, t), (&qdd, &lam), (&a, s), solve)
+        .ok_or(DynamicsError::NonFinite)
+}
+
+/// The Jacobians column by column: the right-hand sides `F̃`, `b̃` of the
+/// tangent systems at `(q, q̇, t)` with `q̈` and `λ` (for a semi-definite
+/// `M`, the auxiliary system's `F̃ + s Aᵀ b̃` with `a`, `s`), each column
+/// solved by `solve(f, b)` for its column of `∂q̈` (`None` if one fails).
+#[allow(clippy::type_complexity)]
+fn tangent_columns<T, S, const N: usize, const K: usize, const NU: usize, const D: usize>(
+    system: &S,
+    (q, qd, t): (&SVector<T, N>, &SVector<T, N>, T),
+    (qdd, lam): (&SVector<T, N>, &SVector<T, K>),
+    (a, s): (&SMatrix<T, K, N>, T),
+    mut solve: impl FnMut(&SVector<T, N>, &SVector<T, K>) -> Option<SVector<T, N>>,
+) -> Option<Jacobians<T, N, NU>>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K> + Tangent<T, N, K, D>,
+{
     let mut f_tilde = SMatrix::<T, N, D>::zeros();
     let mut b_tilde = SMatrix::<T, K, D>::zeros();
-    system.tangent_rhs(q, qd, t, &qdd, &lam, &mut f_tilde, &mut b_tilde);
+    system.tangent_rhs(q, qd, t, qdd, lam, &mut f_tilde, &mut b_tilde);
     let mut jac = Jacobians::<T, N, NU>::zeros();
     for c in 0..D {
         let b_c: SVector<T, K> = b_tilde.column(c).into_owned();
@@ -245,9 +270,7 @@ where
         if S::SEMIDEFINITE_MASS {
             f_c += a.transpose() * (b_c * s);
         }
-        let unconstrained = mass.solve(&f_c);
-        let mu = ldlt.solve_unchecked(&(b_c - a * unconstrained));
-        let dqdd = unconstrained + w * mu;
+        let dqdd = solve(&f_c, &b_c)?;
         if c < N {
             jac.dq.set_column(c, &dqdd);
         } else if c < 2 * N {
@@ -256,7 +279,7 @@ where
             jac.du.set_column(c - 2 * N, &dqdd);
         }
     }
-    Ok(jac)
+    Some(jac)
 }
 
 /// The Jacobians where `acceleration`'s fast solve dropped more rows than
@@ -344,29 +367,15 @@ where
     let rhs = l.solve_lower_triangular(&force).ok_or(non_finite)?;
     let nu = transposed.solve(&rhs, cut).ok_or(non_finite)?;
     let lam = nu.component_div(&largest);
-    let mut f_tilde = SMatrix::<T, N, D>::zeros();
-    let mut b_tilde = SMatrix::<T, K, D>::zeros();
-    system.tangent_rhs(q, qd, t, &qdd, &lam, &mut f_tilde, &mut b_tilde);
-    let mut jac = Jacobians::<T, N, NU>::zeros();
-    for c in 0..D {
-        let b_c: SVector<T, K> = b_tilde.column(c).into_owned();
-        let mut f_c: SVector<T, N> = f_tilde.column(c).into_owned();
-        if S::SEMIDEFINITE_MASS {
-            f_c += a.transpose() * (b_c * s);
-        }
-        let u = chol.solve(&f_c);
+    let solve = |f_c: &SVector<T, N>, b_c: &SVector<T, K>| {
+        let u = chol.solve(f_c);
         let r = (b_c - a * u).component_div(&largest);
-        let y = svd.solve(&r, cut).ok_or(non_finite)?;
-        let z = l.transpose().solve_upper_triangular(&y).ok_or(non_finite)?;
-        let dqdd = u + z;
-        if c < N {
-            jac.dq.set_column(c, &dqdd);
-        } else if c < 2 * N {
-            jac.dqd.set_column(c - N, &dqdd);
-        } else {
-            jac.du.set_column(c - 2 * N, &dqdd);
-        }
-    }
+        let y = svd.solve(&r, cut)?;
+        let z = l.transpose().solve_upper_triangular(&y)?;
+        Some(u + z)
+    };
+    let jac = tangent_columns::<T, S, N, K, NU, D>(system, (q, qd, t), (&qdd, &lam), (a, s), solve)
+        .ok_or(non_finite)?;
     if jac.is_finite() {
         Ok(jac)
     } else {

@@ -261,16 +261,7 @@ where
         .solve_lower_triangular(&scaled_a.transpose())
         .ok_or(DynamicsError::MassNotPositiveDefinite)?;
     let svd = JacobiSvd::new(&xt.transpose()).ok_or(DynamicsError::NonFinite)?;
-    let sigma = svd.singular_values();
-    let mut cut = relative_cut * sigma.max();
-    if max_rank < K {
-        // The (max_rank + 1)-th largest singular value, and all below it, go.
-        let mut sorted = sigma;
-        sorted
-            .as_mut_slice()
-            .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
-        cut = cut.max(sorted[max_rank]);
-    }
+    let cut = singular_value_cut(svd.singular_values(), relative_cut, max_rank);
     let y = svd.solve(&scaled_r, cut).ok_or(DynamicsError::NonFinite)?;
     let z = l
         .transpose()
@@ -284,6 +275,28 @@ where
     };
     let size = acc.amax().max(z.amax()).max(qdd.amax());
     Ok(((qdd, force), size))
+}
+
+/// The threshold at or below which the singular values `sigma` count as
+/// zero: `relative_cut` times the largest, raised so that at most
+/// `max_rank` of them stay (the `(max_rank + 1)`-th largest and all below
+/// it go).
+fn singular_value_cut<T: RealField + Copy, const K: usize>(
+    sigma: SVector<T, K>,
+    relative_cut: T,
+    max_rank: usize,
+) -> T {
+    let mut cut = relative_cut * sigma.max();
+    if max_rank < K {
+        let mut sorted = sigma;
+        sorted
+            .as_mut_slice()
+            .sort_unstable_by(|x, y| y.partial_cmp(x).unwrap_or(core::cmp::Ordering::Equal));
+        if let Some(&next) = sorted.get(max_rank) {
+            cut = cut.max(next);
+        }
+    }
+    cut
 }
 
 /// The Moore–Penrose form of eq. 24 (`acceleration_moore_penrose`):

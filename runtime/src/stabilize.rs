@@ -129,40 +129,7 @@ where
 {
     let position = |i: usize| S::CONSTRAINT_LEVELS[i] == ConstraintLevel::Position;
     let all_position = (0..K).all(position);
-    // The metric of the dense steps, factored when first needed: M, or
-    // where M is only positive semi-definite (a rigid body in quaternions;
-    // or M fails to factor) the auxiliary M + s AᵀA, positive definite
-    // wherever [M; A] has full column rank. A semi-definite M is never
-    // factored itself: its Cholesky factorization can succeed by rounding,
-    // with a pivot at rounding level along the singular direction, and
-    // the steps in that metric are noise there (a Newton iteration that
-    // stalls above the tolerance).
-    let mut metric: Option<nalgebra::linalg::Cholesky<T, nalgebra::Const<N>>> = None;
-    let mut dense = |s: &State<T, N>, r: &SVector<T, K>, j: &SMatrix<T, K, N>| {
-        if metric.is_none() {
-            let m = system.mass_matrix(s);
-            let own = if S::SEMIDEFINITE_MASS {
-                None
-            } else {
-                nalgebra::linalg::Cholesky::new(m)
-            };
-            metric = match own {
-                Some(chol) => Some(chol),
-                None => {
-                    let (a, _) = system.constraint_matrices(s);
-                    nalgebra::linalg::Cholesky::new(crate::generated::auxiliary_mass(&m, &a).0)
-                }
-            };
-        }
-        let chol = metric.as_ref().ok_or(IntegrationError::Dynamics {
-            t: s.t,
-            error: DynamicsError::MassNotPositiveDefinite,
-        })?;
-        let minv_jt = chol.solve(&j.transpose());
-        let ldlt = PivotedLdlt::factor(&(j * minv_jt));
-        let kept: [bool; K] = core::array::from_fn(|i| ldlt.is_kept(i));
-        Ok((minv_jt * ldlt.solve_unchecked(r), kept))
-    };
+    let mut metric = DenseMetric { cholesky: None };
     // Positions: Newton on the position-level rows only.
     let position_rows = |s: &State<T, N>| {
         let (a, _) = system.constraint_matrices(s);
@@ -188,7 +155,7 @@ where
             };
             match generated {
                 Some(step) => Ok(step),
-                None => dense(s, r, &position_rows(s)),
+                None => metric.step(system, s, r, &position_rows(s)),
             }
         },
         |s| s.q,
@@ -205,11 +172,64 @@ where
         all_rows,
         |s, r| match system.constraint_step(s, r) {
             Some(step) => Ok(step),
-            None => dense(s, r, &all_rows(s)),
+            None => metric.step(system, s, r, &all_rows(s)),
         },
         |s| s.qd,
         |s, dx| s.qd -= dx,
     )
+}
+
+/// The metric of the dense steps, factored when first needed: `M`, or
+/// where `M` is only positive semi-definite (a rigid body in quaternions;
+/// or `M` fails to factor) the auxiliary `M + s AᵀA`, positive definite
+/// wherever `[M; A]` has full column rank. A semi-definite `M` is never
+/// factored itself: its Cholesky factorization can succeed by rounding,
+/// with a pivot at rounding level along the singular direction, and the
+/// steps in that metric are noise there (a Newton iteration that stalls
+/// above the tolerance). One for both phases of a projection (positions,
+/// velocities), each of whose dense steps solves in it.
+struct DenseMetric<T: RealField, const N: usize> {
+    cholesky: Option<nalgebra::linalg::Cholesky<T, nalgebra::Const<N>>>,
+}
+
+impl<T: RealField + Copy, const N: usize> DenseMetric<T, N> {
+    /// The dense Newton step `M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁺ r` at `s` for the rows `j`,
+    /// and the rows the rank rule kept (the metric factored at `s` if this
+    /// is the first).
+    fn step<S, const K: usize>(
+        &mut self,
+        system: &S,
+        s: &State<T, N>,
+        r: &SVector<T, K>,
+        j: &SMatrix<T, K, N>,
+    ) -> Result<(SVector<T, N>, [bool; K]), IntegrationError<T>>
+    where
+        S: ConstrainedSystem<T, N, K>,
+    {
+        if self.cholesky.is_none() {
+            let m = system.mass_matrix(s);
+            let own = if S::SEMIDEFINITE_MASS {
+                None
+            } else {
+                nalgebra::linalg::Cholesky::new(m)
+            };
+            self.cholesky = match own {
+                Some(chol) => Some(chol),
+                None => {
+                    let (a, _) = system.constraint_matrices(s);
+                    nalgebra::linalg::Cholesky::new(crate::generated::auxiliary_mass(&m, &a).0)
+                }
+            };
+        }
+        let chol = self.cholesky.as_ref().ok_or(IntegrationError::Dynamics {
+            t: s.t,
+            error: DynamicsError::MassNotPositiveDefinite,
+        })?;
+        let minv_jt = chol.solve(&j.transpose());
+        let ldlt = PivotedLdlt::factor(&(j * minv_jt));
+        let kept: [bool; K] = core::array::from_fn(|i| ldlt.is_kept(i));
+        Ok((minv_jt * ldlt.solve_unchecked(r), kept))
+    }
 }
 
 /// Newton with `M`-weighted minimum-norm steps on `residual(state) = 0`:

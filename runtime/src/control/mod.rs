@@ -154,52 +154,7 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     let (ad, w, w_exponent) = if largest == T::zero() {
         (identity, identity, 0)
     } else {
-        let (x, s) = scaled_step(a, largest, h);
-        let (mut f, mut w) = taylor(&x);
-        // Doubling: e^{2Aτ} − I = 2F + F², φ₁(2Aτ) = (I + F/2) φ₁(Aτ). W is
-        // kept as 2^e W with |W| near 1, so that it does not underflow
-        // where h W does not.
-        let mut e = 0i32;
-        // Once every mode has decayed (‖I + F‖ < ½), e^{Aτ} itself is
-        // carried and squared: I + F would keep a decayed e^{λτ} only to ε
-        // absolutely (all of A_d to nothing where every mode has decayed),
-        // E = e^{Aτ} keeps it relatively.
-        let mut decayed = false;
-        for doubling in 1..=s {
-            if decayed {
-                w = (w + f * w) * c::<T>(0.5);
-                f = f * f;
-            } else {
-                w += f * w * c::<T>(0.5);
-                f = f * c::<T>(2.0) + f * f;
-            }
-            if triangular {
-                exact_diagonal(&x, doubling, e, decayed, &mut f, &mut w);
-            }
-            if !decayed && norm1(&(identity + f)) < c(0.5) {
-                f += identity;
-                decayed = true;
-            }
-            let size = w.amax();
-            if size < pow2::<T>(-60) && size > T::zero() {
-                w *= pow2::<T>(60);
-                e -= 60;
-            } else if size > pow2::<T>(60) {
-                w *= pow2::<T>(-60);
-                e += 60;
-            }
-            if !f.iter().all(|v| v.is_finite()) {
-                return Err(ControlError::NonFinite);
-            }
-        }
-        let mut ad = if decayed { f } else { identity + f };
-        if triangular {
-            // 1 + (e^{λh} − 1) keeps e^{λh} only to ε absolutely.
-            for i in 0..NX {
-                ad[(i, i)] = ldexp(x[(i, i)], s).exp();
-            }
-        }
-        (ad, w, e)
+        scaled_and_squared(a, largest, h, triangular)?
     };
     // Γ = h W 2^e, with h split into its power of two so that h·W cannot
     // overflow where Γ does not.
@@ -212,6 +167,67 @@ pub fn discretize<T: RealField + Copy, const NX: usize, const NU: usize>(
     } else {
         Err(ControlError::NonFinite)
     }
+}
+
+/// `(e^{Ah}, W, e)` with `2^e W = φ₁(Ah) = ∫₀¹ e^{Ahs} ds` and `|W|` near 1,
+/// for `A ≠ 0` (`largest` its largest entry in magnitude): the Taylor
+/// series at `X = A h 2⁻ˢ`, then `s` doublings; for a `triangular` `A` the
+/// diagonals set exactly at each. `Err(NonFinite)` when `e^{Aτ}` leaves
+/// `T`'s range on the way.
+#[allow(clippy::type_complexity)]
+fn scaled_and_squared<T: RealField + Copy, const NX: usize>(
+    a: &SMatrix<T, NX, NX>,
+    largest: T,
+    h: T,
+    triangular: bool,
+) -> Result<(SMatrix<T, NX, NX>, SMatrix<T, NX, NX>, i32), ControlError> {
+    let identity = SMatrix::<T, NX, NX>::identity();
+    let (x, s) = scaled_step(a, largest, h);
+    let (mut f, mut w) = taylor(&x);
+    // Doubling: e^{2Aτ} − I = 2F + F², φ₁(2Aτ) = (I + F/2) φ₁(Aτ). W is
+    // kept as 2^e W with |W| near 1, so that it does not underflow where
+    // h W does not.
+    let mut e = 0i32;
+    // Once every mode has decayed (‖I + F‖ < ½), e^{Aτ} itself is carried
+    // and squared: I + F would keep a decayed e^{λτ} only to ε absolutely
+    // (all of A_d to nothing where every mode has decayed), E = e^{Aτ}
+    // keeps it relatively.
+    let mut decayed = false;
+    for doubling in 1..=s {
+        if decayed {
+            w = (w + f * w) * c::<T>(0.5);
+            f = f * f;
+        } else {
+            w += f * w * c::<T>(0.5);
+            f = f * c::<T>(2.0) + f * f;
+        }
+        if triangular {
+            exact_diagonal(&x, doubling, e, decayed, &mut f, &mut w);
+        }
+        if !decayed && norm1(&(identity + f)) < c(0.5) {
+            f += identity;
+            decayed = true;
+        }
+        let size = w.amax();
+        if size < pow2::<T>(-60) && size > T::zero() {
+            w *= pow2::<T>(60);
+            e -= 60;
+        } else if size > pow2::<T>(60) {
+            w *= pow2::<T>(-60);
+            e += 60;
+        }
+        if !f.iter().all(|v| v.is_finite()) {
+            return Err(ControlError::NonFinite);
+        }
+    }
+    let mut ad = if decayed { f } else { identity + f };
+    if triangular {
+        // 1 + (e^{λh} − 1) keeps e^{λh} only to ε absolutely.
+        for i in 0..NX {
+            ad[(i, i)] = ldexp(x[(i, i)], s).exp();
+        }
+    }
+    Ok((ad, w, e))
 }
 
 /// `(X, s)` with `X = A h 2⁻ˢ`, `‖X‖₁ ≤ ½`, for `A ≠ 0` (`largest` its

@@ -3,7 +3,6 @@
 //! step overwrites in place, and their continuous extension.
 
 use super::dense_output::Interpolant;
-use super::events::Span;
 use super::Derivative;
 use crate::State;
 use nalgebra::{RealField, SVector};
@@ -56,21 +55,20 @@ impl<T: RealField + Copy, const N: usize, const S: usize> Work<T, N, S> {
     /// while the step is fresh, `self.start` once kept), with the slope
     /// `end_slope` at its end and the method's weights `dense`.
     #[inline(always)]
-    pub(super) fn span<'a>(
+    pub(super) fn interpolant<'a>(
         &'a self,
         start: &'a State<T, N>,
         end_slope: &'a Derivative<T, N>,
         dense: &'a [f64; S],
-    ) -> Span<'a, T, N, S> {
-        let interpolant = Interpolant {
+    ) -> Interpolant<'a, T, N, S> {
+        Interpolant {
             start,
             end: &self.solution,
             h: self.h,
             stages: &self.stages,
             end_slope,
             dense,
-        };
-        Span::new(interpolant, self.end())
+        }
     }
 
     /// The slope at the step's end for its extension: the last stage of a

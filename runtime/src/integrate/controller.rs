@@ -1,7 +1,83 @@
-//! The step-size controller of the adaptive methods.
+//! The step size of the adaptive methods: the error norm their
+//! tolerances define, the starting step, and the controller of the steps
+//! after it.
 
-use super::c;
+use super::{c, derivative_into, Derivative, Settings, Stats};
+use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
+
+/// An adaptive method's relative and absolute tolerances.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Tolerances<T> {
+    pub rtol: T,
+    pub atol: T,
+}
+
+impl<T: RealField + Copy> Tolerances<T> {
+    /// RMS of `v / (atol + rtol·max(|y₀|, |y₁|))` over the 2N components.
+    pub(super) fn norm<const N: usize>(
+        &self,
+        v: &Derivative<T, N>,
+        y0: &Derivative<T, N>,
+        y1: &Derivative<T, N>,
+    ) -> T {
+        let mut sum = T::zero();
+        let parts = [(&v.0, &y0.0, &y1.0), (&v.1, &y0.1, &y1.1)];
+        for (vi, a, b) in parts {
+            for i in 0..N {
+                let sc = self.atol + self.rtol * a[i].abs().max(b[i].abs());
+                let x = vi[i] / sc;
+                sum += x * x;
+            }
+        }
+        (sum / c::<T>(2.0 * N as f64)).sqrt()
+    }
+
+    /// Hairer, Nørsett & Wanner's starting step (Solving ODE I, II.4) for
+    /// a method of order `order` from `state`, whose derivative is `k1`,
+    /// over `total`: one evaluation, at an explicit Euler probe.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn initial_step<Sys, const N: usize, const K: usize>(
+        &self,
+        order: u32,
+        system: &Sys,
+        (state, k1): (&State<T, N>, &Derivative<T, N>),
+        total: T,
+        settings: &Settings<T>,
+        stats: &mut Stats,
+    ) -> Result<T, IntegrationError<T>>
+    where
+        Sys: ConstrainedSystem<T, N, K>,
+    {
+        let y = (state.q, state.qd);
+        let d0 = self.norm(&y, &y, &y);
+        let d1 = self.norm(k1, &y, &y);
+        let tiny = c::<T>(1e-5);
+        let h0 = if d0 < tiny || d1 < tiny {
+            c(1e-6)
+        } else {
+            d0 / d1 * c(0.01)
+        };
+        let h0 = h0.min(total);
+        let probe = State {
+            t: state.t + h0,
+            q: state.q + k1.0 * h0,
+            qd: state.qd + k1.1 * h0,
+        };
+        let mut k = *k1;
+        derivative_into(system, &probe, settings, stats, &mut k)?;
+        let diff = (k.0 - k1.0, k.1 - k1.1);
+        let d2 = self.norm(&diff, &y, &y) / h0;
+        let d = d1.max(d2);
+        let order = c::<T>(f64::from(order));
+        let h1 = if d <= c(1e-15) {
+            (h0 * c(1e-3)).max(c(1e-6))
+        } else {
+            (c::<T>(0.01) / d).powf(T::one() / order)
+        };
+        Ok((h0 * c(100.0)).min(h1).min(total))
+    }
+}
 
 /// The PI step-size controller of Hairer's DOPRI5 (Gustafsson's stabilised
 /// control; Hairer & Wanner, *Solving Ordinary Differential Equations II*,

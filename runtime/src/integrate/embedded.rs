@@ -1,11 +1,11 @@
 //! Adaptive steps for embedded Runge–Kutta pairs.
 
-use super::controller::PiController;
+use super::controller::Tolerances;
 use super::dense_output::Interpolant;
-use super::explicit::{error_estimate, fixed_tableau_steps, step, step_into, Step};
-use super::stepper::StepMethod;
+use super::explicit::ExplicitRungeKutta;
+use super::stepper::{advance, Configured, StepMethod};
 use super::tableau::{Embedded, Tableau};
-use super::{accept, c, derivative, span, Derivative, Settings, Stats};
+use super::{span, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use core::marker::PhantomData;
 use nalgebra::RealField;
@@ -14,7 +14,7 @@ use nalgebra::RealField;
 /// local error estimate, scaled by `atol + rtol·|y|` per component of
 /// `(q, q̇)` and measured in the RMS norm, is kept below one; steps that
 /// exceed it are rejected and retried smaller; the step size follows a
-/// [`PiController`]. [`DormandPrince45`](super::DormandPrince45) and
+/// [`PiController`](super::PiController). [`DormandPrince45`](super::DormandPrince45) and
 /// [`BogackiShampine32`](super::BogackiShampine32) are instances.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EmbeddedRungeKutta<T, M, const S: usize> {
@@ -42,20 +42,6 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     pub fn with_max_step(mut self, max_step: T) -> Self {
         self.max_step = Some(max_step);
         self
-    }
-
-    /// Advances `state` to `t_end`, calling `observer` after every accepted step.
-    pub fn advance_with<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &mut State<T, N>,
-        t_end: T,
-        mut observer: impl FnMut(&State<T, N>),
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        self.run(system, state, t_end, |_, accepted| observer(accepted))
     }
 
     /// Advances `state` to `t_end`, calling `observer` with the solution at
@@ -91,7 +77,7 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
             observer(state);
             next += 1;
         }
-        self.run(system, state, t_end, |step, accepted| {
+        let run = |step: &Interpolant<'_, T, N, S>, accepted: &State<T, N>| {
             while let Some(&t) = times.get(next) {
                 if t > accepted.t {
                     break;
@@ -103,90 +89,8 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
                 }
                 next += 1;
             }
-        })
-    }
-
-    /// The adaptive loop; `accepted` sees each accepted step (as an
-    /// interpolant) and the state it ends in.
-    fn run<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &mut State<T, N>,
-        t_end: T,
-        mut accepted: impl FnMut(&Interpolant<'_, T, N, S>, &State<T, N>),
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        self.validate()?;
-        let total = span(state, t_end)?;
-        let mut stats = Stats::default();
-        if total == T::zero() {
-            return Ok(stats);
-        }
-        let tableau: &Tableau<S> = &M::TABLEAU;
-        let settings = &self.settings;
-        let mut k1 = derivative(system, state, settings, &mut stats)?;
-        let mut h = self.initial_step(system, state, &k1, total, &mut stats)?;
-        let mut controller = PiController::<T>::new(tableau.error_order);
-        while state.t < t_end {
-            if stats.steps + stats.rejected >= settings.max_steps {
-                return Err(IntegrationError::TooManySteps {
-                    t: state.t,
-                    steps: settings.max_steps,
-                });
-            }
-            let resolution = c::<T>(16.0) * T::default_epsilon() * state.t.abs().max(t_end.abs());
-            if h <= resolution {
-                return Err(IntegrationError::StepSizeUnderflow {
-                    t: state.t,
-                    step: h,
-                });
-            }
-            let last = h >= t_end - state.t;
-            if last {
-                h = t_end - state.t;
-            }
-            let Step {
-                state: new,
-                last: fsal,
-                error,
-                stages,
-            } = step(tableau, system, state, &k1, h, settings, &mut stats)?;
-            let err = self.norm(&error, &(state.q, state.qd), &(new.q, new.qd));
-            if err <= T::one() {
-                let start = *state;
-                *state = new;
-                if last {
-                    state.t = t_end;
-                }
-                stats.steps += 1;
-                let projected = accept(system, state, settings)?;
-                k1 = match fsal {
-                    Some(k) if !projected => k,
-                    // Projection moved the state, or the method is not FSAL.
-                    _ => derivative(system, state, settings, &mut stats)?,
-                };
-                let end_slope = fsal.unwrap_or(k1);
-                let interpolant = Interpolant {
-                    start: &start,
-                    end: &new,
-                    h,
-                    stages: &stages,
-                    end_slope: &end_slope,
-                    dense: &M::DENSE,
-                };
-                accepted(&interpolant, state);
-                h = controller.accepted(h, err);
-            } else {
-                stats.rejected += 1;
-                h = controller.rejected(h, err);
-            }
-            if let Some(max) = self.max_step {
-                h = h.min(max);
-            }
-        }
-        Ok(stats)
+        };
+        advance(self.duplicate(), system, state, t_end, true, run)
     }
 
     /// Advances `state` to `t_end` in steps of `h` without error control:
@@ -202,7 +106,19 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
     where
         Sys: ConstrainedSystem<T, N, K>,
     {
-        fixed_tableau_steps(&M::TABLEAU, system, state, t_end, h, &self.settings, |_| {})
+        let fixed = ExplicitRungeKutta::<T, M, S>::with_settings(h, self.settings);
+        fixed.advance(system, state, t_end)
+    }
+}
+
+impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
+    for EmbeddedRungeKutta<T, M, S>
+{
+    const TABLEAU: Tableau<S> = M::TABLEAU;
+    const DENSE: [f64; S] = M::DENSE;
+
+    fn fixed_step(&self) -> Option<T> {
+        None
     }
 
     /// `Err(InvalidParameter)` for settings that cannot work. `atol > 0`:
@@ -217,148 +133,17 @@ impl<T: RealField + Copy, M: Embedded<S>, const S: usize> EmbeddedRungeKutta<T, 
         self.settings.validate()
     }
 
-    /// Hairer, Nørsett & Wanner's starting step (Solving ODE I, II.4).
-    fn initial_step<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &State<T, N>,
-        k1: &Derivative<T, N>,
-        total: T,
-        stats: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        let y = (state.q, state.qd);
-        let d0 = self.norm(&y, &y, &y);
-        let d1 = self.norm(k1, &y, &y);
-        let tiny = c::<T>(1e-5);
-        let h0 = if d0 < tiny || d1 < tiny {
-            c(1e-6)
-        } else {
-            d0 / d1 * c(0.01)
-        };
-        let h0 = h0.min(total);
-        let probe = State {
-            t: state.t + h0,
-            q: state.q + k1.0 * h0,
-            qd: state.qd + k1.1 * h0,
-        };
-        let k = derivative(system, &probe, &self.settings, stats)?;
-        let diff = (k.0 - k1.0, k.1 - k1.1);
-        let d2 = self.norm(&diff, &y, &y) / h0;
-        let d = d1.max(d2);
-        let order = c::<T>(f64::from(M::TABLEAU.order));
-        let h1 = if d <= c(1e-15) {
-            (h0 * c(1e-3)).max(c(1e-6))
-        } else {
-            (c::<T>(0.01) / d).powf(T::one() / order)
-        };
-        Ok((h0 * c(100.0)).min(h1).min(total))
-    }
-
-    /// RMS of `v / (atol + rtol·max(|y₀|, |y₁|))` over the 2N components.
-    fn norm<const N: usize>(
-        &self,
-        v: &Derivative<T, N>,
-        y0: &Derivative<T, N>,
-        y1: &Derivative<T, N>,
-    ) -> T {
-        let mut sum = T::zero();
-        let parts = [(&v.0, &y0.0, &y1.0), (&v.1, &y0.1, &y1.1)];
-        for (vi, a, b) in parts {
-            for i in 0..N {
-                let sc = self.atol + self.rtol * a[i].abs().max(b[i].abs());
-                let x = vi[i] / sc;
-                sum += x * x;
-            }
-        }
-        (sum / c::<T>(2.0 * N as f64)).sqrt()
-    }
-}
-
-impl<T: RealField + Copy, M: Embedded<S>, const S: usize> StepMethod<T, S>
-    for EmbeddedRungeKutta<T, M, S>
-{
-    const DENSE: [f64; S] = M::DENSE;
-
-    fn duplicate(&self) -> Self {
-        EmbeddedRungeKutta {
-            method: PhantomData,
-            ..*self
-        }
-    }
-
-    // The trait is sealed (a private module): `Settings` stays private.
-    #[allow(private_interfaces)]
-    fn settings(&self) -> &Settings<T> {
-        &self.settings
-    }
-
-    fn validate(&self) -> Result<(), IntegrationError<T>> {
-        EmbeddedRungeKutta::validate(self)
-    }
-
-    fn fixed_step(&self) -> Option<T> {
-        None
-    }
-
     fn max_step(&self) -> Option<T> {
         self.max_step
     }
 
-    fn error_order(&self) -> u32 {
-        M::TABLEAU.error_order
-    }
-
-    fn initial_step<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &State<T, N>,
-        k1: &Derivative<T, N>,
-        total: T,
-        stats: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        EmbeddedRungeKutta::initial_step(self, system, state, k1, total, stats)
-    }
-
-    fn fsal(&self) -> bool {
-        M::TABLEAU.is_fsal()
-    }
-
-    // Always inlined: the stages are then built in the stepper's buffers.
-    #[inline(always)]
-    fn attempt<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &State<T, N>,
-        k1: &Derivative<T, N>,
-        h: T,
-        stages: &mut [Derivative<T, N>; S],
-        solution: &mut State<T, N>,
-        stats: &mut Stats,
-    ) -> Result<T, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        let tableau = &M::TABLEAU;
-        step_into(
-            tableau,
-            system,
-            state,
-            k1,
-            h,
-            &self.settings,
-            stats,
-            stages,
-            solution,
-        )?;
-        let error = error_estimate(tableau, stages, h);
-        // A NaN error fails `error <= 1`: rejected and shrunk, as in `run`.
-        Ok(self.norm(&error, &(state.q, state.qd), &(solution.q, solution.qd)))
+    // The trait is sealed (a private module): `Tolerances` stays private.
+    #[allow(private_interfaces)]
+    fn tolerances(&self) -> Option<Tolerances<T>> {
+        Some(Tolerances {
+            rtol: self.rtol,
+            atol: self.atol,
+        })
     }
 }
 

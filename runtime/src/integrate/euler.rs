@@ -1,6 +1,6 @@
-use super::explicit::fixed_step_valid;
 use super::stepper::StepMethod;
-use super::{fixed_steps, Derivative, Settings, Stats};
+use super::tableau::Tableau;
+use super::{Derivative, Settings, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::RealField;
 
@@ -9,7 +9,7 @@ use nalgebra::RealField;
 /// evaluation a step and bounded energy error for conservative systems:
 /// the choice for hard real-time loops where the step is fixed by the loop.
 /// Not a Runge–Kutta method of the state `(q, q̇)` (it uses the new `q̇`),
-/// so it has its own one-line stepper on the shared fixed-step loop.
+/// so it has its own update (its stepper `attempt`) on the one driver.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SemiImplicitEuler<T> {
     step: T,
@@ -25,62 +25,17 @@ impl<T: RealField + Copy> SemiImplicitEuler<T> {
             settings: Settings::new(super::FIXED_STEP_BUDGET),
         }
     }
-
-    /// Advances `state` to `t_end`, calling `observer` after every step.
-    pub fn advance_with<Sys, const N: usize, const K: usize>(
-        &self,
-        system: &Sys,
-        state: &mut State<T, N>,
-        t_end: T,
-        observer: impl FnMut(&State<T, N>),
-    ) -> Result<Stats, IntegrationError<T>>
-    where
-        Sys: ConstrainedSystem<T, N, K>,
-    {
-        let one_step = |state: &mut State<T, N>, h: T, k1: &Derivative<T, N>, _: &mut Stats| {
-            state.qd += k1.1 * h;
-            state.q += state.qd * h;
-            Ok(None)
-        };
-        fixed_steps(
-            system,
-            state,
-            t_end,
-            self.step,
-            &self.settings,
-            one_step,
-            observer,
-        )
-    }
 }
 
 impl<T: RealField + Copy> StepMethod<T, 1> for SemiImplicitEuler<T> {
-    /// Cubic Hermite.
-    const DENSE: [f64; 1] = [0.0];
-
-    fn duplicate(&self) -> Self {
-        *self
-    }
-
-    // The trait is sealed (a private module): `Settings` stays private.
-    #[allow(private_interfaces)]
-    fn settings(&self) -> &Settings<T> {
-        &self.settings
-    }
-
-    fn validate(&self) -> Result<(), IntegrationError<T>> {
-        fixed_step_valid(self.step)?;
-        self.settings.validate()
-    }
+    const TABLEAU: Tableau<1> = STAGE;
 
     fn fixed_step(&self) -> Option<T> {
         Some(self.step)
     }
 
-    fn error_order(&self) -> u32 {
-        0
-    }
-
+    /// The semi-implicit update, not the tableau's: `q` moves with the new
+    /// `q̇`.
     #[inline]
     fn attempt<Sys, const N: usize, const K: usize>(
         &self,
@@ -103,5 +58,17 @@ impl<T: RealField + Copy> StepMethod<T, 1> for SemiImplicitEuler<T> {
         Ok(T::zero())
     }
 }
+
+/// Semi-implicit Euler's one stage, the derivative at the step's start:
+/// first order, no error estimate, not first-same-as-last (what the
+/// stepper asks of the tableau; `b` is explicit Euler's, never combined).
+const STAGE: Tableau<1> = Tableau {
+    c: [0.0],
+    a: [[0.0]],
+    b: [1.0],
+    e: [0.0],
+    order: 1,
+    error_order: 0,
+};
 
 shared_settings!(SemiImplicitEuler<T>, 1);

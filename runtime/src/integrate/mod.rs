@@ -10,20 +10,41 @@
 //!   for loose tolerances. Both are [`EmbeddedRungeKutta`], whose step size
 //!   follows a [`PiController`].
 //! - [`SemiImplicitEuler`]: first order, one evaluation a step, for hard
-//!   real-time loops (its own one-line stepper on the shared fixed-step loop).
+//!   real-time loops (its own update, on the same driver).
+//!
+//! Every entry point (`advance`, `advance_with`, `advance_sampled`,
+//! `advance_events`) runs one loop of [`Stepper`] steps, and every
+//! Runge–Kutta step is one routine, whatever the tableau.
 //!
 //! Each takes an opt-in [`Stabilization`] against constraint drift, and
 //! reports failures as [`IntegrationError`] values, never panics: a
 //! non-finite state, a step size that underflows, too many steps, a mass
 //! matrix that is not positive definite, a projection that does not converge.
 
-/// The settings every integrator shares (`with_stabilization`,
-/// `with_max_steps`) and `advance`, which is `advance_with` without an
-/// observer, and the single-step API (`stepper`, `advance_events`).
+/// What every integrator shares: its settings (`with_stabilization`,
+/// `with_max_steps`, and for the stepper `Configured`), its entry points
+/// on the one driver loop (`advance_with`, `advance`, which is
+/// `advance_with` without an observer, `advance_events`) and the
+/// single-step API (`stepper`).
 /// Arguments: the type with its generic parameters, its number of stages,
 /// then the bounds of its parameters besides `T`.
 macro_rules! shared_settings {
     ($integrator:ident < T $(, $param:ident)* >, $stages:tt $(, $($bounds:tt)*)?) => {
+        impl<T: RealField + Copy $(, $($bounds)*)?> $crate::integrate::stepper::Configured<T>
+            for $integrator<T $(, $param)*>
+        {
+            fn duplicate(&self) -> Self {
+                // Field by field: each is `Copy` (a marker's `PhantomData`
+                // too), where the derived `Clone` asks it of the marker.
+                Self { ..*self }
+            }
+
+            #[allow(private_interfaces)]
+            fn settings(&self) -> &$crate::integrate::Settings<T> {
+                &self.settings
+            }
+        }
+
         impl<T: RealField + Copy $(, $($bounds)*)?> $integrator<T $(, $param)*> {
             /// The same with a stabilization against constraint drift.
             pub fn with_stabilization(
@@ -39,6 +60,30 @@ macro_rules! shared_settings {
             pub fn with_max_steps(mut self, max_steps: usize) -> Self {
                 self.settings.max_steps = max_steps;
                 self
+            }
+
+            /// Advances `state` to `t_end`, calling `observer` after every
+            /// accepted step.
+            pub fn advance_with<Sys, const N: usize, const K: usize>(
+                &self,
+                system: &Sys,
+                state: &mut State<T, N>,
+                t_end: T,
+                mut observer: impl FnMut(&State<T, N>),
+            ) -> Result<Stats, IntegrationError<T>>
+            where
+                Sys: ConstrainedSystem<T, N, K>,
+            {
+                let method = $crate::integrate::stepper::Configured::duplicate(self);
+                // The observer sees no step's inside: a fixed-step run
+                // leaves each end's derivative to the next step; an
+                // adaptive one evaluates it with its step, as its stepper
+                // does, so that a run counts the same evaluations with
+                // events as without.
+                let extension = $crate::integrate::stepper::StepMethod::fixed_step(&method).is_none();
+                $crate::integrate::stepper::advance(method, system, state, t_end, extension, |_, end| {
+                    observer(end)
+                })
             }
 
             /// Advances `state` to `t_end`.
@@ -63,7 +108,7 @@ macro_rules! shared_settings {
                 t_end: T,
             ) -> Result<$crate::integrate::Stepper<T, Self, N, $stages, E>, IntegrationError<T>> {
                 $crate::integrate::Stepper::new(
-                    $crate::integrate::stepper::StepMethod::duplicate(self),
+                    $crate::integrate::stepper::Configured::duplicate(self),
                     state,
                     t_end,
                 )
@@ -89,8 +134,8 @@ macro_rules! shared_settings {
                 F: Fn(&State<T, N>) -> [T; E],
                 D: $crate::integrate::events::Rates<T, N, E>,
             {
-                let stepper = self.stepper(*state, t_end)?;
-                $crate::integrate::stepper::drive(stepper, system, state, events, handler)
+                let mut stepper = self.stepper(*state, t_end)?;
+                $crate::integrate::stepper::drive(&mut stepper, system, state, events, |_, _| {}, handler)
             }
         }
     };
@@ -200,25 +245,9 @@ impl<T: RealField + Copy> Settings<T> {
 /// (`with_max_steps` raises it), so that no setting can loop for ever.
 const FIXED_STEP_BUDGET: usize = 10_000_000;
 
-/// `(q̇, q̈)` at a state, with the stabilization's correction of `b`.
-#[inline]
-fn derivative<T, S, const N: usize, const K: usize>(
-    system: &S,
-    state: &State<T, N>,
-    settings: &Settings<T>,
-    stats: &mut Stats,
-) -> Result<Derivative<T, N>, IntegrationError<T>>
-where
-    T: RealField + Copy,
-    S: ConstrainedSystem<T, N, K>,
-{
-    stats.evaluations += 1;
-    Ok((state.qd, stabilized_acceleration(system, state, settings)?))
-}
-
-/// [`derivative`] written to `out`: the stepper's buffers, where the
-/// value is needed, so that it is not returned through memory and moved
-/// there (per evaluation of a cheap system that move cost a fifth of the
+/// `(q̇, q̈)` at a state, with the stabilization's correction of `b`,
+/// written to `out`: the stepper's buffers, where the value is needed, so
+/// that it is not returned through memory and moved there (per evaluation of a cheap system that move cost a fifth of the
 /// evaluation). `out` is unchanged on `Err`.
 #[inline]
 fn derivative_into<T, S, const N: usize, const K: usize>(
@@ -286,75 +315,6 @@ where
         }
         _ => Ok(false),
     }
-}
-
-/// The loop of every fixed-step method: steps of `step` (the last one
-/// shortened to land on `t_end`), each made by `one_step(state, h, k1,
-/// stats)` from the derivative `k1` at the state (evaluated here unless the
-/// previous step returned it, first same as last), then checked, stabilized
-/// and observed.
-#[inline]
-fn fixed_steps<T, S, const N: usize, const K: usize>(
-    system: &S,
-    state: &mut State<T, N>,
-    t_end: T,
-    step: T,
-    settings: &Settings<T>,
-    mut one_step: impl FnMut(
-        &mut State<T, N>,
-        T,
-        &Derivative<T, N>,
-        &mut Stats,
-    ) -> Result<Option<Derivative<T, N>>, IntegrationError<T>>,
-    mut observer: impl FnMut(&State<T, N>),
-) -> Result<Stats, IntegrationError<T>>
-where
-    T: RealField + Copy,
-    S: ConstrainedSystem<T, N, K>,
-{
-    if !(step > T::zero() && step.is_finite()) {
-        return Err(IntegrationError::InvalidParameter);
-    }
-    settings.validate()?;
-    let mut remaining = span(state, t_end)?;
-    let mut stats = Stats::default();
-    let slack = T::one() + c::<T>(64.0) * T::default_epsilon();
-    // Time is `start + n·h`, not a running sum: in f32 with h = 1e-3 a sum
-    // drifts by ~1 % per step near t = 100 (the ulp of t), silently.
-    let start = state.t;
-    let mut carried: Option<Derivative<T, N>> = None;
-    while remaining > T::zero() {
-        if stats.steps == settings.max_steps {
-            return Err(IntegrationError::TooManySteps {
-                t: state.t,
-                steps: stats.steps,
-            });
-        }
-        let last = remaining <= step * slack;
-        let h = if last { remaining } else { step };
-        let t = state.t;
-        let k1 = match carried.take() {
-            Some(k1) => k1,
-            None => derivative(system, state, settings, &mut stats)?,
-        };
-        let next = if last {
-            t_end
-        } else {
-            start + step * c::<T>((stats.steps + 1) as f64)
-        };
-        if next <= t {
-            return Err(IntegrationError::TimeStalled { t, step: h });
-        }
-        carried = one_step(state, h, &k1, &mut stats)?;
-        state.t = next;
-        remaining = if last { T::zero() } else { t_end - state.t };
-        stats.steps += 1;
-        if accept(system, state, settings)? {
-            carried = None; // projection moved the state
-        }
-        observer(state);
-    }
-    Ok(stats)
 }
 
 /// Validates the starting state and the end time and returns the span to

@@ -64,6 +64,11 @@ where
     let tolerance = events.time_tolerance(span);
     let intervals = events.samples.saturating_add(1);
     let mut rates = RateCache::new();
+    let grid = Grid {
+        events,
+        span,
+        tolerance,
+    };
     for k in 1..=intervals {
         let s = if k == intervals {
             end.t
@@ -79,6 +84,46 @@ where
             stats.samples += 1;
             values(events, &span.at(s))?
         };
+        if let Some(found) = grid.earliest(refs, (s, &g), &mut rates, stats)? {
+            return Ok(Some(found));
+        }
+        for (r, &gi) in refs.iter_mut().zip(g.iter()) {
+            if r.0 < s {
+                *r = (s, gi);
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// What the search of one step reads at each grid point: the functions,
+/// the step's extension and the time tolerance.
+struct Grid<'g, 'a, T, F, D, const N: usize, const S: usize, const E: usize> {
+    events: &'g Events<T, F, E, D>,
+    span: &'g Span<'a, T, N, S>,
+    tolerance: T,
+}
+
+impl<T, F, D, const N: usize, const S: usize, const E: usize> Grid<'_, '_, T, F, D, N, S, E>
+where
+    T: RealField + Copy,
+    F: Fn(&State<T, N>) -> [T; E],
+    D: Rates<T, N, E>,
+{
+    /// The earliest crossing of any function between its reference and
+    /// the grid point `s`, where the functions' values are `g`: a sign
+    /// change, or with known rates a dip between them ([`dip`]), from a
+    /// reference moved off an exact zero ([`leave_zero`]), each bracket
+    /// refined to the tolerance; with the functions whose crossings there
+    /// lie within the tolerance after it (`together`).
+    fn earliest(
+        &self,
+        refs: &mut [(T, T); E],
+        (s, g): (T, &[T; E]),
+        rates: &mut RateCache<T, E>,
+        stats: &mut EventStats,
+    ) -> Result<Option<Found<T, E>>, IntegrationError<T>> {
+        let (events, span, tolerance) = (self.events, self.span, self.tolerance);
         let mut best: Option<Found<T, E>> = None;
         let mut lefts: [Option<T>; E] = [None; E];
         let functions = events.kinds.iter().zip(refs.iter_mut()).zip(g.iter());
@@ -92,15 +137,7 @@ where
             let (tl, gl) = *reference;
             let bracket = match sign_change(gl, gs, kind.direction) {
                 Some(rising) => Some((((tl, gl), (s, gs)), rising)),
-                None if D::KNOWN => dip(
-                    events,
-                    span,
-                    i,
-                    ((tl, gl), (s, gs)),
-                    kind,
-                    &mut rates,
-                    stats,
-                )?,
+                None if D::KNOWN => dip(events, span, i, ((tl, gl), (s, gs)), kind, rates, stats)?,
                 None => None,
             };
             let Some((bracket, rising)) = bracket else {
@@ -114,20 +151,14 @@ where
                 best = Some(Found { rising, ..found });
             }
         }
-        if let Some(mut best) = best {
-            // Simultaneous: within the tolerance after the earliest (ties
-            // went to the lowest index, which is reported first).
+        // Simultaneous: within the tolerance after the earliest (ties went to
+        // the lowest index, which is reported first).
+        Ok(best.map(|mut best| {
             best.together =
                 core::array::from_fn(|j| lefts[j].is_some_and(|l| l - best.left <= tolerance));
-            return Ok(Some(best));
-        }
-        for (r, &gi) in refs.iter_mut().zip(g.iter()) {
-            if r.0 < s {
-                *r = (s, gi);
-            }
-        }
+            best
+        }))
     }
-    Ok(None)
 }
 
 /// Where, as fractions of the way to the next grid point, a function

@@ -4,16 +4,20 @@
 
 use super::accepted::Work;
 use super::controller::PiController;
-use super::events::{self, Action, Crossing, Direction, EventStats, Events, Rates};
+use super::events::{self, Action, Crossing, Direction, EventStats, Events, Rates, Span};
 use super::screening;
 use super::search::{self, Found};
 use super::{Derivative, Stats};
 use crate::{ConstrainedSystem, IntegrationError, State};
 use nalgebra::{RealField, SVector};
 
-pub(super) use super::method::StepMethod;
+pub(super) use super::method::{Configured, StepMethod};
 
+mod drive;
 mod take;
+
+pub use drive::EventRun;
+pub(super) use drive::{advance, drive};
 
 /// What one call of [`Stepper::step`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,6 +87,12 @@ pub struct Stepper<T, I, const N: usize, const S: usize, const E: usize> {
     kept: bool,
     /// Whether `step` still has crossings to search after `state.t`.
     pending: bool,
+    /// Whether an accepted step whose last stage is not the derivative at
+    /// its end evaluates that derivative at once, for the step's continuous
+    /// extension (the stepper's API, events, sampled output); otherwise
+    /// the next step evaluates it, and a run that never looks inside its
+    /// steps does not pay for the last one.
+    extension: bool,
     /// Per event function, the time and value its next crossing is sought
     /// from (`None`: evaluate at `state`).
     refs: Option<[(T, T); E]>,
@@ -106,7 +116,9 @@ where
 {
     /// A stepper from `state` to `t_end`; `Err(InvalidParameter)` for
     /// settings that cannot work or a non-finite state or end time,
-    /// `EndBeforeStart` for an end before the state's time.
+    /// `EndBeforeStart` for an end before the state's time. Inlined: it
+    /// builds the stepper where the driver keeps it.
+    #[inline]
     pub(super) fn new(
         integrator: I,
         state: State<T, N>,
@@ -129,6 +141,7 @@ where
             work: Work::new(&state),
             kept: false,
             pending: false,
+            extension: true,
             refs: None,
             before: None,
             anchor: (state.t, 0),
@@ -170,10 +183,10 @@ where
             return None;
         }
         let work = &self.work;
-        let span = work.span(
-            &work.start,
-            work.end_slope(self.integrator.fsal(), &self.k1),
-            &I::DENSE,
+        let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
+        let span = Span::new(
+            work.interpolant(&work.start, end_slope, &I::DENSE),
+            work.end(),
         );
         (t >= work.start.t && t <= work.end().t).then(|| span.at(t))
     }
@@ -257,29 +270,8 @@ where
         }
         let before = if fresh { self.before.take() } else { None };
         self.before = None;
-        // Without event functions, no continuous extension is formed.
-        let found = if self.kept && E > 0 {
-            let work = &self.work;
-            let (g_end, screened) = screening::screen(
-                events,
-                &mut refs,
-                before.as_ref(),
-                work.end(),
-                &mut self.event_stats,
-            )?;
-            if screened {
-                None
-            } else {
-                let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-                search::search(
-                    events,
-                    &work.span(&work.start, end_slope, &I::DENSE),
-                    &mut refs,
-                    self.state.t,
-                    g_end,
-                    &mut self.event_stats,
-                )?
-            }
+        let found = if self.kept {
+            self.search_step(events, &mut refs, before.as_ref())?
         } else {
             None
         };
@@ -289,68 +281,35 @@ where
         self.report(found, refs, events)
     }
 
-    /// The driver's step: accepted steps until one shows a crossing
-    /// (reported as [`step`](Self::step) reports it) or the end. A step
-    /// without a crossing is searched where the method wrote it and its
-    /// start is not kept: the run with events that never trigger copies
-    /// nothing more than the run without events (`at` has no step after
-    /// it).
+    /// The step in `work` screened, then, unless screening cleared it,
+    /// searched for its first crossing after the stepper's time (with its
+    /// extension from `work.start` once kept, else from the stepper's
+    /// state, still the step's start). Without event functions, nothing is
+    /// evaluated and no extension is formed.
     #[inline(always)]
-    fn next_event<Sys, F, D, const K: usize>(
+    fn search_step<F, D>(
         &mut self,
-        system: &Sys,
         events: &Events<T, F, E, D>,
-    ) -> Result<StepOutcome<T, N>, IntegrationError<T>>
+        refs: &mut [(T, T); E],
+        before: Option<&[(T, T); E]>,
+    ) -> Result<Option<Found<T, E>>, IntegrationError<T>>
     where
-        Sys: ConstrainedSystem<T, N, K>,
         F: Fn(&State<T, N>) -> [T; E],
         D: Rates<T, N, E>,
     {
-        if self.pending {
-            return self.step(system, events);
+        if E == 0 {
+            return Ok(None);
         }
-        events.validate()?;
-        let mut refs = self.references(events)?;
-        self.kept = false;
-        loop {
-            if self.state.t >= self.t_end {
-                self.refs = Some(refs);
-                return Ok(StepOutcome::Finished);
-            }
-            self.take_step(system)?;
-            let start = refs;
-            let work = &self.work;
-            let (g_end, screened) = screening::screen(
-                events,
-                &mut refs,
-                self.before.as_ref(),
-                work.end(),
-                &mut self.event_stats,
-            )?;
-            let found = if screened {
-                None
-            } else {
-                let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-                search::search(
-                    events,
-                    &work.span(&self.state, end_slope, &I::DENSE),
-                    &mut refs,
-                    self.state.t,
-                    g_end,
-                    &mut self.event_stats,
-                )?
-            };
-            if found.is_some() {
-                self.before = None;
-                self.work.start = self.state;
-                self.kept = true;
-                self.pending = true;
-                return self.report(found, refs, events);
-            }
-            self.before = Some(start);
-            self.state = *self.work.end();
-            self.reported = None;
+        let work = &self.work;
+        let stats = &mut self.event_stats;
+        let (g_end, screened) = screening::screen(events, refs, before, work.end(), stats)?;
+        if screened {
+            return Ok(None);
         }
+        let start = if self.kept { &work.start } else { &self.state };
+        let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
+        let span = Span::new(work.interpolant(start, end_slope, &I::DENSE), work.end());
+        search::search(events, &span, refs, self.state.t, g_end, stats)
     }
 
     /// Per event function, the time and value its next crossing is sought
@@ -414,7 +373,10 @@ where
             });
         };
         let end_slope = work.end_slope(self.integrator.fsal(), &self.k1);
-        let span = work.span(&work.start, end_slope, &I::DENSE);
+        let span = Span::new(
+            work.interpolant(&work.start, end_slope, &I::DENSE),
+            work.end(),
+        );
         let instant = self.at_instant(&found, events.time_tolerance(&span))?;
         let state = span.at(found.left);
         let g = events::values(events, &state)?;
@@ -498,70 +460,4 @@ where
             _ => [false; E],
         }
     }
-}
-
-/// What [`advance_events`](crate::DormandPrince45::advance_events) did.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EventRun<T, const N: usize> {
-    /// Steps and evaluations.
-    pub stats: Stats,
-    /// What event location cost.
-    pub event_stats: EventStats,
-    /// The crossing with [`Action::Stop`] the run stopped at, if any (the
-    /// state is then the one the handler left there).
-    pub stopped: Option<Crossing<T, N>>,
-}
-
-/// The driver with events, on a stepper: `handler(&crossing, &mut state)`
-/// runs at every crossing with the state there, and a changed state
-/// restarts the stepper from it.
-pub(super) fn drive<
-    T,
-    I,
-    Sys,
-    F,
-    D,
-    const N: usize,
-    const K: usize,
-    const S: usize,
-    const E: usize,
->(
-    mut stepper: Stepper<T, I, N, S, E>,
-    system: &Sys,
-    state: &mut State<T, N>,
-    events: &Events<T, F, E, D>,
-    mut handler: impl FnMut(&Crossing<T, N>, &mut State<T, N>),
-) -> Result<EventRun<T, N>, IntegrationError<T>>
-where
-    T: RealField + Copy,
-    I: StepMethod<T, S>,
-    Sys: ConstrainedSystem<T, N, K>,
-    F: Fn(&State<T, N>) -> [T; E],
-    D: Rates<T, N, E>,
-{
-    let result = loop {
-        match stepper.next_event(system, events) {
-            Ok(StepOutcome::Step) => {}
-            Ok(StepOutcome::Finished) => break Ok(None),
-            Ok(StepOutcome::Event(crossing)) => {
-                let mut changed = crossing.state;
-                handler(&crossing, &mut changed);
-                if changed != crossing.state {
-                    if let Err(error) = stepper.set_state(changed) {
-                        break Err(error);
-                    }
-                }
-                if crossing.action == Action::Stop {
-                    break Ok(Some(crossing));
-                }
-            }
-            Err(error) => break Err(error),
-        }
-    };
-    *state = stepper.state;
-    result.map(|stopped| EventRun {
-        stats: stepper.stats,
-        event_stats: stepper.event_stats,
-        stopped,
-    })
 }

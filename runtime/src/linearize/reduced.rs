@@ -190,16 +190,7 @@ where
     if !(a.iter().chain(psi_q.iter()).all(|x| x.is_finite()) && jac.is_finite()) {
         return Err(crate::DynamicsError::NonFinite);
     }
-    // The dependent coordinates: RH fixed by the position-level rows,
-    // extended to R by all rows.
-    let mut a_h = a;
-    for (r, level) in S::CONSTRAINT_LEVELS.iter().enumerate() {
-        if *level != crate::ConstraintLevel::Position {
-            a_h.row_mut(r).fill(T::zero());
-        }
-    }
-    let fixed: [usize; RH] = extend_independent(&a_h, &[]).ok_or(singular)?;
-    let eliminated: [usize; R] = extend_independent(&a, &fixed).ok_or(singular)?;
+    let (a_h, fixed, eliminated) = dependents::<T, S, N, K, R, RH>(&a).ok_or(singular)?;
     // Speeds: A_D q̇[D] = −A_I q̇[I] − ψ_q δq, so δq̇ = T_v δq̇[I] + W δq.
     let speeds: [usize; NV] = complement::<N, NV>(&eliminated);
     let t_v = tangent_basis(&a, &eliminated, &speeds).ok_or(singular)?;
@@ -216,6 +207,54 @@ where
     let wt = w * t_q;
     let lower_q = (jac.dq + jac.dqd * w) * t_q;
     let lower_v = jac.dqd * t_v;
+    Ok(assemble(
+        (coordinates, speeds),
+        (&wt, &t_v),
+        (&lower_q, &lower_v),
+        &jac.du,
+    ))
+}
+
+/// The dependent coordinates at `a`: `RH` fixed by the position-level rows
+/// (`a_h`, the other rows zeroed, returned too), extended to `R` by all
+/// rows; `None` where the rows do not have that rank.
+#[allow(clippy::type_complexity)]
+fn dependents<T, S, const N: usize, const K: usize, const R: usize, const RH: usize>(
+    a: &SMatrix<T, K, N>,
+) -> Option<(SMatrix<T, K, N>, [usize; RH], [usize; R])>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    let mut a_h = *a;
+    for (r, level) in S::CONSTRAINT_LEVELS.iter().enumerate() {
+        if *level != crate::ConstraintLevel::Position {
+            a_h.row_mut(r).fill(T::zero());
+        }
+    }
+    let fixed: [usize; RH] = extend_independent(&a_h, &[])?;
+    let eliminated: [usize; R] = extend_independent(a, &fixed)?;
+    Some((a_h, fixed, eliminated))
+}
+
+/// The reduced matrices from their blocks, rows of the full `N`: `a`'s
+/// upper rows are the `coordinates`' rows of `[W T_q, T_v]`, its lower
+/// rows the `speeds`' of `[(J_q + J_q̇ W) T_q, J_q̇ T_v]`, and `b`'s lower
+/// rows the speeds' of `J_u` (its upper rows zero).
+#[allow(clippy::type_complexity)]
+fn assemble<
+    T: RealField + Copy,
+    const N: usize,
+    const NX: usize,
+    const NU: usize,
+    const NQ: usize,
+    const NV: usize,
+>(
+    (coordinates, speeds): ([usize; NQ], [usize; NV]),
+    upper: (&SMatrix<T, N, NQ>, &SMatrix<T, N, NV>),
+    lower: (&SMatrix<T, N, NQ>, &SMatrix<T, N, NV>),
+    du: &SMatrix<T, N, NU>,
+) -> Reduced<T, NX, NU, NQ, NV> {
     let mut out = Reduced {
         a: SMatrix::<T, NX, NX>::zeros(),
         b: SMatrix::<T, NX, NU>::zeros(),
@@ -224,22 +263,22 @@ where
     };
     for (row, &c) in coordinates.iter().enumerate() {
         for j in 0..NQ {
-            out.a[(row, j)] = wt[(c, j)];
+            out.a[(row, j)] = upper.0[(c, j)];
         }
         for j in 0..NV {
-            out.a[(row, NQ + j)] = t_v[(c, j)];
+            out.a[(row, NQ + j)] = upper.1[(c, j)];
         }
     }
     for (row, &c) in speeds.iter().enumerate() {
         for j in 0..NQ {
-            out.a[(NQ + row, j)] = lower_q[(c, j)];
+            out.a[(NQ + row, j)] = lower.0[(c, j)];
         }
         for j in 0..NV {
-            out.a[(NQ + row, NQ + j)] = lower_v[(c, j)];
+            out.a[(NQ + row, NQ + j)] = lower.1[(c, j)];
         }
         for j in 0..NU {
-            out.b[(NQ + row, j)] = jac.du[(c, j)];
+            out.b[(NQ + row, j)] = du[(c, j)];
         }
     }
-    Ok(out)
+    out
 }

@@ -84,19 +84,26 @@ where
             if next <= t {
                 return Err(IntegrationError::TimeStalled { t, step });
             }
-            return Ok((next - t, next, last));
+            // The step itself, not `next − t`: every step of a fixed-step
+            // run is the same size but the last, the time alone anchored.
+            return Ok((if last { remaining } else { step }, next, last));
         }
         let h = match self.h {
             Some(h) => h,
             None => {
-                let h = self.integrator.initial_step(
-                    system,
-                    &self.state,
-                    &self.k1,
-                    remaining,
-                    &mut self.stats,
-                )?;
-                self.integrator.max_step().map_or(h, |max| h.min(max))
+                let integrator = &self.integrator;
+                let h = match integrator.tolerances() {
+                    Some(tolerances) => tolerances.initial_step(
+                        I::TABLEAU.order,
+                        system,
+                        (&self.state, &self.k1),
+                        remaining,
+                        integrator.settings(),
+                        &mut self.stats,
+                    )?,
+                    None => remaining, // an adaptive method has tolerances
+                };
+                integrator.max_step().map_or(h, |max| h.min(max))
             }
         };
         let resolution = c::<T>(16.0) * T::default_epsilon() * t.abs().max(self.t_end.abs());
@@ -142,13 +149,19 @@ where
             return Err(IntegrationError::NonFiniteState { t: work.solution.t });
         };
         let fsal = self.integrator.fsal();
-        match work.stages.last() {
-            Some(k) if fsal && !work.projected => self.k1 = *k,
+        self.carried = match work.stages.last() {
+            Some(k) if fsal && !work.projected => {
+                self.k1 = *k;
+                true
+            }
             // Projection moved the state, or the method is not FSAL: the
             // next step's derivative, and the Hermite end slope.
-            _ => derivative_into(system, work.end(), settings, &mut self.stats, &mut self.k1)?,
-        }
-        self.carried = true;
+            _ if self.extension => {
+                derivative_into(system, work.end(), settings, &mut self.stats, &mut self.k1)?;
+                true
+            }
+            _ => false,
+        };
         if self.integrator.fixed_step().is_none() {
             let proposed = self.controller.accepted(h, error);
             self.h = Some(

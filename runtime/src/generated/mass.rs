@@ -1,0 +1,47 @@
+//! The effective mass of a positive semi-definite `M` (Udwadia & Schutte
+//! 2010): the mass Gauss's principle is solved with, for the generated
+//! solves' dense reference and for the runtime's own solves.
+
+use super::equations::Generated;
+use nalgebra::{RealField, SMatrix, SVector};
+
+/// The mass matrix and forces Gauss's principle is solved with: `(M, F)`
+/// itself, or for a positive semi-definite `M` Udwadia & Schutte's
+/// auxiliary system `(M + s AᵀA, F + s Aᵀb)`. Adding `s Aᵀ(A q̈ − b) = 0` to
+/// `M q̈ = F + Fᶜ` changes nothing on the solutions, and makes the mass
+/// positive definite exactly where `[M; A]` has full column rank (elsewhere
+/// the Cholesky factorization fails: `Err(MassNotPositiveDefinite)`, never
+/// NaN). `s = tr M / ‖A‖²_F` puts the added term on the scale of `M`.
+#[inline]
+pub fn effective_mass<T, S, const N: usize, const K: usize>(
+    m: &SMatrix<T, N, N>,
+    f: &SVector<T, N>,
+    a: &SMatrix<T, K, N>,
+    b: &SVector<T, K>,
+) -> (SMatrix<T, N, N>, SVector<T, N>)
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K>,
+{
+    if !S::SEMIDEFINITE_MASS {
+        return (*m, *f);
+    }
+    let (m_aux, s) = auxiliary_mass(m, a);
+    (m_aux, f + a.transpose() * (b * s))
+}
+
+/// `(M + s AᵀA, s)` with `s = tr M / ‖A‖²_F` (1 where either vanishes): the
+/// auxiliary mass of Udwadia & Schutte, positive definite wherever `[M; A]`
+/// has full column rank.
+pub(crate) fn auxiliary_mass<T: RealField + Copy, const N: usize, const K: usize>(
+    m: &SMatrix<T, N, N>,
+    a: &SMatrix<T, K, N>,
+) -> (SMatrix<T, N, N>, T) {
+    let norm = a.norm_squared();
+    let s = if norm > T::zero() && m.trace() > T::zero() {
+        m.trace() / norm
+    } else {
+        T::one()
+    };
+    (m + a.transpose() * a * s, s)
+}

@@ -1,0 +1,61 @@
+//! The scalar functions generated code calls: literals as `T`, the
+//! branch-free finiteness bound, and the DSL's `signum` and unit step.
+
+use nalgebra::RealField;
+
+/// Converts a compile-time `f64` literal of generated code into the scalar `T`.
+///
+/// Generated code writes every literal through this function so that the same
+/// code serves `f32` and `f64`; the conversion is a constant the optimiser folds.
+#[inline(always)]
+pub fn lit<T: RealField + Copy>(value: f64) -> T {
+    nalgebra::convert::<f64, T>(value)
+}
+
+/// The largest magnitude a row of the scaled constraints `D (b − A a)`
+/// (row scale `d < 1`) may have for the model's own row, that value over
+/// `d`, to stay finite: `T`'s largest finite value times `d`. Generated code
+/// compares against it branch-free, so that a row that is finite only
+/// because it was scaled sends the solve to the runtime's check.
+#[inline(always)]
+pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
+    largest::<T>() * lit::<T>(d)
+}
+
+/// `T`'s largest finite value (NaN for a `T` without one, so that a
+/// comparison with it fails and sends the solve to the runtime's check).
+/// `s <= largest()` is a finiteness test in one floating-point comparison,
+/// where `is_finite` moves the bits to an integer register and back.
+#[inline(always)]
+pub fn largest<T: RealField + Copy>() -> T {
+    match T::max_value() {
+        Some(max) => max,
+        None => T::zero() / T::zero(),
+    }
+}
+
+/// The sign of `x` with `signum(0) = 0` (the DSL's `signum`; `f64::signum`
+/// returns 1 at +0). NaN stays NaN.
+#[inline(always)]
+pub fn signum<T: RealField + Copy>(x: T) -> T {
+    if x > T::zero() {
+        T::one()
+    } else if x < T::zero() {
+        -T::one()
+    } else {
+        x * T::zero()
+    }
+}
+
+/// The unit step, `1` for `x ≥ 0` and `0` below, as derivatives of `min`,
+/// `max` and `abs` use it. NaN stays NaN.
+#[inline(always)]
+pub fn step<T: RealField + Copy>(x: T) -> T {
+    if x >= T::zero() {
+        T::one()
+    } else if x < T::zero() {
+        T::zero()
+    } else {
+        x
+    }
+}
