@@ -11,7 +11,10 @@
 //! relative to the `robots` directory, the locked joints and whether
 //! `<mimic>` is read, which `benches/peers/robots.cpp` reads back from the
 //! reference file to build Pinocchio's model of the same joints) and
-//! `robots`, which visits them in this order.
+//! `robots`, which visits them in this order. The implementation's
+//! methods are forced inline: a wrapper left as a call of its own added
+//! measurably to `mass_matrix`'s time, which must be the generated
+//! method's alone.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -218,12 +221,12 @@ fn main() {
              const LOCKED: &'static [&'static str] = &{locked_list:?};\n    \
              const MIMIC: bool = {mimic};\n    \
              fn names() -> [&'static str; {n}] {{\n        Self::COORDINATES\n    }}\n    \
-             fn with_torques(t: &Vector<{n}>) -> Self {{\n        Self::new({arguments})\n    }}\n    \
-             fn qdd(&self, q: &Vector<{n}>, v: &Vector<{n}>) -> Vector<{n}> {{\n        \
+             #[inline(always)]\n    fn with_torques(t: &Vector<{n}>) -> Self {{\n        Self::new({arguments})\n    }}\n    \
+             #[inline(always)]\n    fn qdd(&self, q: &Vector<{n}>, v: &Vector<{n}>) -> Vector<{n}> {{\n        \
              self.acceleration(q, v, 0.0).value()\n    }}\n    \
-             fn mass(&self, q: &Vector<{n}>) -> Matrix<{n}> {{\n        \
+             #[inline(always)]\n    fn mass(&self, q: &Vector<{n}>) -> Matrix<{n}> {{\n        \
              self.mass_matrix(q, 0.0).value()\n    }}\n    \
-             fn tau(&self, q: &Vector<{n}>, v: &Vector<{n}>, a: &Vector<{n}>) -> Vector<{n}> {{\n        \
+             #[inline(always)]\n    fn tau(&self, q: &Vector<{n}>, v: &Vector<{n}>, a: &Vector<{n}>) -> Vector<{n}> {{\n        \
              self.inverse_dynamics(q, v, a, 0.0).value()\n    }}\n}}\n",
             what = r.what,
             file = r.file,

@@ -68,12 +68,14 @@ trait Value<T> {
 }
 
 impl<T, E: std::fmt::Debug> Value<T> for Result<T, E> {
+    #[inline(always)]
     fn value(self) -> T {
         self.expect("the generated answer")
     }
 }
 
 impl<const R: usize, const C: usize> Value<SMatrix<f64, R, C>> for SMatrix<f64, R, C> {
+    #[inline(always)]
     fn value(self) -> Self {
         self
     }
