@@ -6,8 +6,9 @@
 # Lagrange's equations from energies (the N-link pendulum in joint angles)
 # against sympy's LagrangesMethod; RK4 steps with projection; the M(q)
 # models against a dense KKT solve; the Jacobian of q̈; Pinocchio and
-# MuJoCo on the chain and the four-bar, and the Panda and the UR5 from
-# URDF against Pinocchio's aba, crba and rnea (benches/peers/run.sh;
+# MuJoCo on the chain and the four-bar, and robots read from URDF as
+# written (the Panda, the UR5, TALOS, the xArm7, the Kinova Jaco 2, the
+# Unitree G1) against Pinocchio's aba, crba and rnea (benches/peers/run.sh;
 # event location: runs with events that never trigger against runs without,
 # and the evaluations per located crossing (benches/events.rs); the impact
 # maps per impact (benches/impact.rs);

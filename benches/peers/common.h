@@ -2,10 +2,10 @@
  * by chains/examples/peer_reference.rs) and timing a call.
  *
  * The reference file is a sequence of records; a record starts with a
- * header line (`chain N g h` or `four_bar m jm l d g`; `panda 7` or `ur5 6`
- * in the robots' file, benches/peers/robots; `quadruped 18` or `five_bar 4`
- * in the contacts' file, benches/peers/robots/src/bin/contacts.rs) followed by named vector lines
- * (`q 0.1 0.2 …`). */
+ * header line (`chain N g h` or `four_bar m jm l d g`; `quadruped 18` or
+ * `five_bar 4` in the contacts' file, benches/peers/robots/src/bin/contacts.rs)
+ * followed by named vector lines (`q 0.1 0.2 …`). The robots' file, whose
+ * lines are longer than these records hold, is read by robots.cpp. */
 #ifndef PEERS_COMMON_H
 #define PEERS_COMMON_H
 
@@ -24,7 +24,7 @@ typedef struct {
 } peer_vector;
 
 typedef struct {
-  char kind[16];    /* "chain", "four_bar", "panda", "ur5", "quadruped" or "five_bar" */
+  char kind[16];    /* "chain", "four_bar", "quadruped" or "five_bar" */
   double head[8];   /* the numbers on the header line */
   int nhead;
   peer_vector vec[12];
@@ -43,8 +43,8 @@ static int peer_read(const char *path, peer_record *out, int max) {
   while (fgets(line, sizeof line, f)) {
     char *tok = strtok(line, " \n");
     if (!tok) continue;
-    if (!strcmp(tok, "chain") || !strcmp(tok, "four_bar") || !strcmp(tok, "panda") ||
-        !strcmp(tok, "ur5") || !strcmp(tok, "quadruped") || !strcmp(tok, "five_bar")) {
+    if (!strcmp(tok, "chain") || !strcmp(tok, "four_bar") || !strcmp(tok, "quadruped") ||
+        !strcmp(tok, "five_bar")) {
       if (++n >= max) break;
       memset(&out[n], 0, sizeof out[n]);
       snprintf(out[n].kind, sizeof out[n].kind, "%s", tok);

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The peers' rows of BENCHMARKS.md: Pinocchio (C++) and MuJoCo (C), compiled
 # against the headers and libraries of their Python wheels, on the same
-# systems and states as the generated code; and the Robots rows, the Panda
-# and the UR5 from example-robot-data's URDFs (benches/peers/robots, our
-# side and its times; benches/peers/robots.cpp, Pinocchio's); and the
+# systems and states as the generated code; and the Robots rows, robots
+# read from example-robot-data's URDFs as written (the Panda, the UR5,
+# TALOS, the xArm7, the Kinova Jaco 2, the Unitree G1; the table is
+# benches/peers/robots/build.rs; benches/peers/robots, our side and its
+# times; benches/peers/robots.cpp, Pinocchio's, matched by joint name); and the
 # Contacts rows, the quadruped and the five-bar against Pinocchio's
 # constraintDynamics and lcaba (benches/peers/robots/src/bin/contacts.rs,
 # benches/peers/contacts.cpp). Each program checks its answer
@@ -29,9 +31,7 @@ fi
 site=$("$here/.venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 prefix="$site/cmeel.prefix"
 mujoco="$site/mujoco"
-robots="$prefix/share/example-robot-data/robots"
-panda_urdf="$robots/panda_description/urdf/panda.urdf"
-ur5_urdf="$robots/ur_description/urdf/ur5_robot.urdf"
+robot_data="$prefix/share/example-robot-data/robots"
 
 # The same optimisation as the Rust side's release profile (-O3, no
 # -march=native: neither side is built for this particular CPU). Pinocchio's
@@ -80,7 +80,7 @@ fi
 cargo run --quiet --release -p constrained-chains --example peer_reference -- "$out/reference.txt"
 # The robots' crate (outside the workspace) reads the URDFs at compile
 # time; built here, unpinned, and run pinned below.
-export EXAMPLE_ROBOT_DATA="$robots"
+export EXAMPLE_ROBOT_DATA="$robot_data"
 cargo build --quiet --release --manifest-path "$here/robots/Cargo.toml" || { robots_ok=0; contacts_ok=0; }
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
@@ -101,7 +101,7 @@ if [ "$robots_ok" = 1 ]; then
     "${robots[@]}" write "$out/robots.txt" || status=1
     for round in 1 2 3; do
       "${pin[@]}" "${robots[@]}" time "$round" || status=1
-      "${pin[@]}" "$out/robots" "$panda_urdf" "$ur5_urdf" "$out/robots.txt" "$round" || status=1
+      "${pin[@]}" "$out/robots" "$robot_data" "$out/robots.txt" "$round" || status=1
     done
   } > "$target/benchmarks/robots.json"
   cat "$target/benchmarks/robots.json"

@@ -4,9 +4,126 @@
 //! `example-robot-data` wheel): the directory's name carries the Python
 //! version, so it is found here rather than written in the source.
 //! `EXAMPLE_ROBOT_DATA` may name the `robots` directory instead.
+//!
+//! Every robot is read from the wheel's file as written: no copy is
+//! adjusted. `ROBOTS` is the one table of the robots: besides each
+//! invocation this writes its `Urdf` implementation (the file's path
+//! relative to the `robots` directory, the locked joints and whether
+//! `<mimic>` is read, which `benches/peers/robots.cpp` reads back from the
+//! reference file to build Pinocchio's model of the same joints) and
+//! `robots`, which visits them in this order. The implementation's
+//! methods are forced inline: a wrapper left as a call of its own added
+//! measurably to `mass_matrix`'s time, which must be the generated
+//! method's alone.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+/// A robot: its struct, its short name (the reference file's), its file
+/// under `robots`, its locked joints, whether it is timed and what it is.
+struct Robot {
+    name: &'static str,
+    short: &'static str,
+    file: &'static str,
+    locked: &'static [&'static str],
+    /// Pinocchio's `aba` refuses a model with mimic joints: such a robot's
+    /// answers are compared, not timed.
+    mimic: bool,
+    what: &'static str,
+}
+
+/// The G1's arms: shoulder, elbow and wrist joints of both sides.
+const G1_ARMS: &[&str] = &[
+    "left_shoulder_pitch_joint",
+    "left_shoulder_roll_joint",
+    "left_shoulder_yaw_joint",
+    "left_elbow_joint",
+    "left_wrist_roll_joint",
+    "left_wrist_pitch_joint",
+    "left_wrist_yaw_joint",
+    "right_shoulder_pitch_joint",
+    "right_shoulder_roll_joint",
+    "right_shoulder_yaw_joint",
+    "right_elbow_joint",
+    "right_wrist_roll_joint",
+    "right_wrist_pitch_joint",
+    "right_wrist_yaw_joint",
+];
+
+const ROBOTS: &[Robot] = &[
+    Robot {
+        name: "PandaUrdf",
+        short: "panda",
+        file: "panda_description/urdf/panda.urdf",
+        locked: &["panda_finger_joint1", "panda_finger_joint2"],
+        mimic: false,
+        what: "The Franka Emika Panda, its fingers held closed",
+    },
+    Robot {
+        name: "Ur5Urdf",
+        short: "ur5",
+        file: "ur_description/urdf/ur5_robot.urdf",
+        locked: &[],
+        mimic: false,
+        what: "The Universal Robots UR5",
+    },
+    // The grippers need no lock: in this file each gripper's fingers
+    // carry `<mimic>` on fixed joints (which neither reader moves), and
+    // the one revolute joint of each gripper is a coordinate on both sides.
+    Robot {
+        name: "TalosUrdf",
+        short: "talos",
+        file: "talos_data/robots/talos_reduced.urdf",
+        locked: &[],
+        mimic: false,
+        what: "PAL Robotics' TALOS (talos_reduced), fixed base",
+    },
+    Robot {
+        name: "Xarm7Urdf",
+        short: "xarm7",
+        file: "xarm_description/urdf/xarm7.urdf",
+        locked: &[],
+        mimic: false,
+        what: "The UFactory xArm7",
+    },
+    // Kinova's Jaco 2 (j2s6s200); three of its joints are `continuous`,
+    // an angle here and (cos, sin) in Pinocchio's q.
+    Robot {
+        name: "KinovaUrdf",
+        short: "kinova",
+        file: "kinova_description/robots/kinova.urdf",
+        locked: &[],
+        mimic: false,
+        what: "The Kinova Jaco 2 j2s6s200",
+    },
+    // The G1's `floating_base_joint` is commented out in this file (its
+    // own note: for MuJoCo), so as written the pelvis is fixed to the world
+    // on both sides: no copy and no lock of a floating joint is needed.
+    Robot {
+        name: "G1ArmsLockedUrdf",
+        short: "g1_arms_locked",
+        file: "g1_description/urdf/g1_29dof_rev_1_0.urdf",
+        locked: G1_ARMS,
+        mimic: false,
+        what: "The Unitree G1 (29 joints), fixed base, its 14 arm joints held at zero",
+    },
+    Robot {
+        name: "G1Urdf",
+        short: "g1",
+        file: "g1_description/urdf/g1_29dof_rev_1_0.urdf",
+        locked: &[],
+        mimic: false,
+        what: "The Unitree G1 (29 joints), fixed base",
+    },
+    Robot {
+        name: "PandaMimicUrdf",
+        short: "panda_mimic",
+        file: "panda_description/urdf/panda.urdf",
+        locked: &[],
+        mimic: true,
+        what: "The Franka Emika Panda with its second finger following the first (`<mimic>`)",
+    },
+];
 
 /// `example-robot-data`'s `robots` directory in the peers' environment.
 fn robots_directory() -> PathBuf {
@@ -32,44 +149,99 @@ fn robots_directory() -> PathBuf {
         .unwrap_or_else(|| panic!("no example-robot-data under {}", lib.display()))
 }
 
+/// The number of moving joints of `file` once `locked` are held and mimic
+/// joints (if read) follow: the system's `N`, needed before the macro runs
+/// to write the torques and the impl. Counts `revolute`, `continuous` and
+/// `prismatic` joints, the only kinds these robots move with. A miscount
+/// does not compile: `names` returns `COORDINATES`, an array of `DOF`.
+fn joints(file: &str, locked: &[&str], mimic: bool) -> usize {
+    let written = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{file}: {e}"));
+    // Without comments (the G1's commented-out floating joint).
+    let mut text = String::new();
+    let mut rest = written.as_str();
+    while let Some(start) = rest.find("<!--") {
+        text.push_str(&rest[..start]);
+        let end = rest[start..].find("-->").expect("a closed comment");
+        rest = &rest[start + end + 3..];
+    }
+    text.push_str(rest);
+    // Each `<joint ...>` element with its body up to `</joint>` (joint
+    // elements inside `<transmission>` have no `type`).
+    let mut n = 0;
+    for element in text.split("<joint").skip(1) {
+        let head = &element[..element.find('>').expect("a closed tag")];
+        let attribute = |key: &str| {
+            let at = head.find(&format!("{key}=\""))? + key.len() + 2;
+            Some(&head[at..at + head[at..].find('"')?])
+        };
+        let (Some(name), Some(kind)) = (attribute("name"), attribute("type")) else {
+            continue;
+        };
+        let body = &element[..element.find("</joint>").unwrap_or(element.len())];
+        let moves = matches!(kind, "revolute" | "continuous" | "prismatic");
+        let follows = mimic && body.contains("<mimic");
+        if moves && !follows && !locked.contains(&name) {
+            n += 1;
+        }
+    }
+    n
+}
+
 fn main() {
     let robots = robots_directory();
-    let panda = robots.join("panda_description/urdf/panda.urdf");
-    let ur5 = robots.join("ur_description/urdf/ur5_robot.urdf");
     let mut out = String::new();
-    let torques = |n: usize| {
-        (1..=n)
-            .map(|k| format!("tau{k}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    for (name, path, locked, joints, what) in [
-        (
-            "PandaUrdf",
-            &panda,
-            "locked: [panda_finger_joint1, panda_finger_joint2],",
-            7,
-            "The Franka Emika Panda from example-robot-data's URDF, its fingers held closed",
-        ),
-        (
-            "Ur5Urdf",
-            &ur5,
-            "",
-            6,
-            "The Universal Robots UR5 from example-robot-data's URDF",
-        ),
-    ] {
+    let mut visit = String::new();
+    for r in ROBOTS {
+        let path = robots.join(r.file);
         assert!(path.is_file(), "{} is missing", path.display());
         println!("cargo::rerun-if-changed={}", path.display());
+        let path = path.display().to_string();
+        let n = joints(&path, r.locked, r.mimic);
+        let torques = (1..=n)
+            .map(|k| format!("tau{k}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let locked = if r.locked.is_empty() {
+            String::new()
+        } else {
+            format!("locked: [{}],", r.locked.join(", "))
+        };
+        let arguments = (0..n)
+            .map(|k| format!("t[{k}]"))
+            .collect::<Vec<_>>()
+            .join(", ");
         let _ = writeln!(
             out,
-            "constrained::constrained_system! {{\n    /// {what}; a motor torque per joint.\n    \
-             pub struct {name} {{\n        inputs: [{tau}],\n        urdf: {path:?},\n        \
-             {locked}\n        forces: [{tau}],\n    }}\n}}\n",
-            tau = torques(joints),
-            path = path.display().to_string(),
+            "constrained::constrained_system! {{\n    /// {what}, from example-robot-data's \
+             `{file}`; a motor torque per joint.\n    pub struct {name} {{\n        \
+             inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        \
+             forces: [{torques}],\n    }}\n}}\n\n\
+             impl Urdf<{n}> for {name} {{\n    const NAME: &'static str = {short:?};\n    \
+             const FILE: &'static str = {file:?};\n    \
+             const LOCKED: &'static [&'static str] = &{locked_list:?};\n    \
+             const MIMIC: bool = {mimic};\n    \
+             fn names() -> [&'static str; {n}] {{\n        Self::COORDINATES\n    }}\n    \
+             #[inline(always)]\n    fn with_torques(t: &Vector<{n}>) -> Self {{\n        Self::new({arguments})\n    }}\n    \
+             #[inline(always)]\n    fn qdd(&self, q: &Vector<{n}>, v: &Vector<{n}>) -> Vector<{n}> {{\n        \
+             self.acceleration(q, v, 0.0).value()\n    }}\n    \
+             #[inline(always)]\n    fn mass(&self, q: &Vector<{n}>) -> Matrix<{n}> {{\n        \
+             self.mass_matrix(q, 0.0).value()\n    }}\n    \
+             #[inline(always)]\n    fn tau(&self, q: &Vector<{n}>, v: &Vector<{n}>, a: &Vector<{n}>) -> Vector<{n}> {{\n        \
+             self.inverse_dynamics(q, v, a, 0.0).value()\n    }}\n}}\n",
+            what = r.what,
+            file = r.file,
+            name = r.name,
+            short = r.short,
+            locked_list = r.locked,
+            mimic = r.mimic,
         );
+        let _ = writeln!(visit, "    visit.robot::<{}, {n}>();", r.name);
     }
+    let _ = writeln!(
+        out,
+        "/// Visits every robot, in the order of build.rs's table.\n\
+         fn robots(visit: &mut impl Visit) {{\n{visit}}}"
+    );
     let file = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("robots.rs");
     std::fs::write(file, out).expect("OUT_DIR is writable");
     println!("cargo::rerun-if-changed=build.rs");

@@ -1,25 +1,29 @@
-//! The Robots rows of BENCHMARKS.md: the Franka Emika Panda (fingers
-//! locked) and the UR5, read from `example-robot-data`'s URDFs by
-//! `constrained_system!` (build.rs finds the files in the peers' virtual
-//! environment), against Pinocchio's `aba`, `crba` and `rnea` on the same
-//! files (`benches/peers/robots.cpp`).
+//! The Robots rows of BENCHMARKS.md: robots read from `example-robot-data`'s
+//! URDFs as written by `constrained_system!` (build.rs's table: the Panda
+//! with its fingers locked, the UR5, TALOS, the xArm7, the Kinova Jaco 2,
+//! the Unitree G1 with its arms locked and whole, and the Panda with its
+//! finger `<mimic>`), against Pinocchio's `aba`, `crba` and `rnea` on the
+//! same files (`benches/peers/robots.cpp`).
 //!
 //! ```text
 //! constrained-robots write REFERENCE_FILE
 //! constrained-robots time ROUND
 //! ```
 //!
-//! `write` writes 20 pseudo-random states per robot and the generated
-//! answers in the format of `benches/peers/common.h`, one record per state:
-//! a header `panda 7` or `ur5 6`, then the lines `q`, `v`, `tau` (the joint
-//! torques, the system's inputs), `qdd` (`acceleration`), `M`
-//! (`mass_matrix`, row by row), `a` (an acceleration) and `tau_id`
-//! (`inverse_dynamics(q, v, a)`). `time` times `acceleration`,
-//! `mass_matrix` and `inverse_dynamics` over the same states with
-//! `common.h`'s statistic on the thread's CPU clock (the median of 31
-//! batches of about 5 ms, per state) and prints one JSON line per result,
-//! tagged with its round. `benches/peers/run.sh` runs three rounds, each
-//! followed by Pinocchio's, pinned to the core the peers use.
+//! `write` writes, per robot, a header (`robot NAME N MIMIC`, then `urdf`
+//! with the file under example-robot-data's `robots` directory, `locked`
+//! with the joints held at zero and `names` with `COORDINATES`, the order of
+//! every vector below) and 20 pseudo-random states, each `state` followed
+//! by the lines `q`, `v`, `tau` (the joint torques, the system's inputs),
+//! `qdd` (`acceleration`), `M` (`mass_matrix`, row by row), `a` (an
+//! acceleration) and `tau_id` (`inverse_dynamics(q, v, a)`). `time` times
+//! `acceleration`, `mass_matrix` and `inverse_dynamics` over the same
+//! states with `common.h`'s statistic on the thread's CPU clock (the median
+//! of 31 batches of about 5 ms, per state) and prints one JSON line per
+//! result, tagged with its round; a robot with mimic joints is not timed
+//! (Pinocchio's `aba` refuses it, so there is nothing to set against ours).
+//! `benches/peers/run.sh` runs three rounds, each followed by Pinocchio's,
+//! pinned to the core the peers use.
 
 use constrained::nalgebra::{SMatrix, SVector};
 use std::fmt::Write as _;
@@ -28,6 +32,54 @@ use std::hint::black_box;
 mod clock;
 
 use clock::median_ns;
+
+type Vector<const N: usize> = SVector<f64, N>;
+type Matrix<const N: usize> = SMatrix<f64, N, N>;
+
+/// A robot read from URDF: build.rs writes the implementation of each,
+/// from its table, next to its `constrained_system!`.
+trait Urdf<const N: usize>: Sized {
+    /// The reference file's name of the robot.
+    const NAME: &'static str;
+    /// Its file under example-robot-data's `robots` directory.
+    const FILE: &'static str;
+    /// The joints held at zero (`locked:`).
+    const LOCKED: &'static [&'static str];
+    /// Whether the model has mimic joints (read as Pinocchio's
+    /// `buildModel(.., mimic=True)`).
+    const MIMIC: bool;
+    /// `COORDINATES`: the joints' names, in the order of `q`.
+    fn names() -> [&'static str; N];
+    /// The system with one torque per joint.
+    fn with_torques(tau: &Vector<N>) -> Self;
+    fn qdd(&self, q: &Vector<N>, v: &Vector<N>) -> Vector<N>;
+    fn mass(&self, q: &Vector<N>) -> Matrix<N>;
+    fn tau(&self, q: &Vector<N>, v: &Vector<N>, a: &Vector<N>) -> Vector<N>;
+}
+
+/// Something done to every robot (`robots`, which build.rs writes).
+trait Visit {
+    fn robot<R: Urdf<N>, const N: usize>(&mut self);
+}
+
+/// A generated method's answer, plain or `Result`.
+trait Value<T> {
+    fn value(self) -> T;
+}
+
+impl<T, E: std::fmt::Debug> Value<T> for Result<T, E> {
+    #[inline(always)]
+    fn value(self) -> T {
+        self.expect("the generated answer")
+    }
+}
+
+impl<const R: usize, const C: usize> Value<SMatrix<f64, R, C>> for SMatrix<f64, R, C> {
+    #[inline(always)]
+    fn value(self) -> Self {
+        self
+    }
+}
 
 include!(concat!(env!("OUT_DIR"), "/robots.rs"));
 
@@ -55,116 +107,14 @@ impl Rng {
 
 /// One state: joint angles, rates, torques and an acceleration.
 struct Sample<const N: usize> {
-    q: SVector<f64, N>,
-    v: SVector<f64, N>,
-    tau: SVector<f64, N>,
-    a: SVector<f64, N>,
+    q: Vector<N>,
+    v: Vector<N>,
+    tau: Vector<N>,
+    a: Vector<N>,
 }
 
-/// A robot's generated methods, as closures over its struct (whose `new`
-/// takes one torque per joint).
-struct Robot<S, const N: usize, New, Acc, Mass, Inv> {
-    name: &'static str,
-    new: New,
-    acceleration: Acc,
-    mass_matrix: Mass,
-    inverse_dynamics: Inv,
-    _system: std::marker::PhantomData<S>,
-}
-
-type Vector<const N: usize> = SVector<f64, N>;
-
-impl<S, const N: usize, New, Acc, Mass, Inv> Robot<S, N, New, Acc, Mass, Inv>
-where
-    New: Fn(&Vector<N>) -> S,
-    Acc: Fn(&S, &Vector<N>, &Vector<N>) -> Vector<N>,
-    Mass: Fn(&S, &Vector<N>) -> SMatrix<f64, N, N>,
-    Inv: Fn(&S, &Vector<N>, &Vector<N>, &Vector<N>) -> Vector<N>,
-{
-    /// Writes the records of `samples` and checks the answers against each
-    /// other: `inverse_dynamics` at the generated `q̈` gives back `τ`, and
-    /// `M a + c = τ_id` with `c = inverse_dynamics(q, v, 0)`.
-    fn reference(&self, out: &mut String, samples: &[Sample<N>]) {
-        for s in samples {
-            let system = (self.new)(&s.tau);
-            let qdd = (self.acceleration)(&system, &s.q, &s.v);
-            let m = (self.mass_matrix)(&system, &s.q);
-            let tau_id = (self.inverse_dynamics)(&system, &s.q, &s.v, &s.a);
-            let back = (self.inverse_dynamics)(&system, &s.q, &s.v, &qdd);
-            let c = (self.inverse_dynamics)(&system, &s.q, &s.v, &Vector::<N>::zeros());
-            let worst = ((back - s.tau).amax() / s.tau.amax())
-                .max((m * s.a + c - tau_id).amax() / tau_id.amax());
-            assert!(
-                worst < 1e-10,
-                "{}: the generated answers disagree by {worst:e}",
-                self.name
-            );
-            let _ = writeln!(out, "{} {N}", self.name);
-            line(out, "q", s.q.iter());
-            line(out, "v", s.v.iter());
-            line(out, "tau", s.tau.iter());
-            line(out, "qdd", qdd.iter());
-            line(out, "M", m.transpose().iter());
-            line(out, "a", s.a.iter());
-            line(out, "tau_id", tau_id.iter());
-        }
-    }
-
-    /// Times the three methods over `samples`; one JSON line each, of
-    /// round `round`.
-    fn time(&self, samples: &[Sample<N>], round: &str) {
-        let systems: Vec<S> = samples.iter().map(|s| (self.new)(&s.tau)).collect();
-        let per_state = |ns: f64| ns / samples.len() as f64;
-        let acceleration = median_ns(|| {
-            for (system, s) in systems.iter().zip(samples) {
-                black_box((self.acceleration)(
-                    black_box(system),
-                    black_box(&s.q),
-                    black_box(&s.v),
-                ));
-            }
-        });
-        let mass_matrix = median_ns(|| {
-            for (system, s) in systems.iter().zip(samples) {
-                black_box((self.mass_matrix)(black_box(system), black_box(&s.q)));
-            }
-        });
-        let inverse_dynamics = median_ns(|| {
-            for (system, s) in systems.iter().zip(samples) {
-                black_box((self.inverse_dynamics)(
-                    black_box(system),
-                    black_box(&s.q),
-                    black_box(&s.v),
-                    black_box(&s.a),
-                ));
-            }
-        });
-        for (what, ns) in [
-            ("acceleration", acceleration),
-            ("mass_matrix", mass_matrix),
-            ("inverse_dynamics", inverse_dynamics),
-        ] {
-            println!(
-                "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{}\", \"n\": {N}, \
-                 \"ns\": {:.3}, \"states\": {}, \"round\": {round}, \"ok\": true}}",
-                self.name,
-                per_state(ns),
-                samples.len()
-            );
-        }
-    }
-}
-
-fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>) {
-    let _ = write!(out, "{name}");
-    for v in values {
-        let _ = write!(out, " {v:.17e}");
-    }
-    out.push('\n');
-}
-
-/// Angles and rates within ±1 (rad, rad/s), torques within ±10 N m,
-/// accelerations within ±2 rad/s².
+/// Angles and rates within ±1 (rad, rad/s; m and m/s for a prismatic
+/// joint), torques within ±10 N m, accelerations within ±2 rad/s².
 fn samples<const N: usize>(rng: &mut Rng) -> Vec<Sample<N>> {
     (0..STATES)
         .map(|_| Sample {
@@ -176,45 +126,120 @@ fn samples<const N: usize>(rng: &mut Rng) -> Vec<Sample<N>> {
         .collect()
 }
 
+fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>) {
+    let _ = write!(out, "{name}");
+    for v in values {
+        let _ = write!(out, " {v:.17e}");
+    }
+    out.push('\n');
+}
+
+/// `write`: the records of every robot, its answers checked against each
+/// other first: `inverse_dynamics` at the generated `q̈` gives back `τ`,
+/// and `M a + c = τ_id` with `c = inverse_dynamics(q, v, 0)`.
+struct Write {
+    rng: Rng,
+    out: String,
+}
+
+impl Visit for Write {
+    fn robot<R: Urdf<N>, const N: usize>(&mut self) {
+        let samples = samples::<N>(&mut self.rng);
+        let out = &mut self.out;
+        let _ = writeln!(out, "robot {} {N} {}", R::NAME, u8::from(R::MIMIC));
+        let _ = writeln!(out, "urdf {}", R::FILE);
+        let _ = writeln!(out, "locked {}", R::LOCKED.join(" "));
+        let _ = writeln!(out, "names {}", R::names().join(" "));
+        for s in &samples {
+            let system = R::with_torques(&s.tau);
+            let qdd = system.qdd(&s.q, &s.v);
+            let m = system.mass(&s.q);
+            let tau_id = system.tau(&s.q, &s.v, &s.a);
+            let back = system.tau(&s.q, &s.v, &qdd);
+            let c = system.tau(&s.q, &s.v, &Vector::<N>::zeros());
+            let worst = ((back - s.tau).amax() / s.tau.amax())
+                .max((m * s.a + c - tau_id).amax() / tau_id.amax());
+            assert!(
+                worst < 1e-10,
+                "{}: the generated answers disagree by {worst:e}",
+                R::NAME
+            );
+            out.push_str("state\n");
+            line(out, "q", s.q.iter());
+            line(out, "v", s.v.iter());
+            line(out, "tau", s.tau.iter());
+            line(out, "qdd", qdd.iter());
+            line(out, "M", m.transpose().iter());
+            line(out, "a", s.a.iter());
+            line(out, "tau_id", tau_id.iter());
+        }
+    }
+}
+
+/// `time`: the three methods over each robot's states; one JSON line each,
+/// of round `round`.
+struct Time {
+    rng: Rng,
+    round: String,
+}
+
+impl Visit for Time {
+    fn robot<R: Urdf<N>, const N: usize>(&mut self) {
+        // Drawn whether timed or not: every robot keeps its states.
+        let samples = samples::<N>(&mut self.rng);
+        if R::MIMIC {
+            return;
+        }
+        let systems: Vec<R> = samples.iter().map(|s| R::with_torques(&s.tau)).collect();
+        let per_state = |ns: f64| ns / samples.len() as f64;
+        let acceleration = median_ns(|| {
+            for (system, s) in systems.iter().zip(&samples) {
+                black_box(black_box(system).qdd(black_box(&s.q), black_box(&s.v)));
+            }
+        });
+        let mass_matrix = median_ns(|| {
+            for (system, s) in systems.iter().zip(&samples) {
+                black_box(black_box(system).mass(black_box(&s.q)));
+            }
+        });
+        let inverse_dynamics = median_ns(|| {
+            for (system, s) in systems.iter().zip(&samples) {
+                black_box(black_box(system).tau(black_box(&s.q), black_box(&s.v), black_box(&s.a)));
+            }
+        });
+        for (what, ns) in [
+            ("acceleration", acceleration),
+            ("mass_matrix", mass_matrix),
+            ("inverse_dynamics", inverse_dynamics),
+        ] {
+            println!(
+                "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{}\", \"n\": {N}, \
+                 \"ns\": {:.3}, \"states\": {}, \"round\": {}, \"ok\": true}}",
+                R::NAME,
+                per_state(ns),
+                samples.len(),
+                self.round
+            );
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let panda = Robot {
-        name: "panda",
-        new: |t: &Vector<7>| PandaUrdf::new(t[0], t[1], t[2], t[3], t[4], t[5], t[6]),
-        acceleration: |s: &PandaUrdf, q: &Vector<7>, v: &Vector<7>| {
-            s.acceleration(q, v, 0.0).expect("the Panda's q̈")
-        },
-        mass_matrix: |s: &PandaUrdf, q: &Vector<7>| s.mass_matrix(q, 0.0),
-        inverse_dynamics: |s: &PandaUrdf, q: &Vector<7>, v: &Vector<7>, a: &Vector<7>| {
-            s.inverse_dynamics(q, v, a, 0.0).expect("the Panda's τ")
-        },
-        _system: std::marker::PhantomData,
-    };
-    let ur5 = Robot {
-        name: "ur5",
-        new: |t: &Vector<6>| Ur5Urdf::new(t[0], t[1], t[2], t[3], t[4], t[5]),
-        acceleration: |s: &Ur5Urdf, q: &Vector<6>, v: &Vector<6>| {
-            s.acceleration(q, v, 0.0).expect("the UR5's q̈")
-        },
-        mass_matrix: |s: &Ur5Urdf, q: &Vector<6>| s.mass_matrix(q, 0.0),
-        inverse_dynamics: |s: &Ur5Urdf, q: &Vector<6>, v: &Vector<6>, a: &Vector<6>| {
-            s.inverse_dynamics(q, v, a, 0.0).expect("the UR5's τ")
-        },
-        _system: std::marker::PhantomData,
-    };
-    let mut rng = Rng(26);
-    let (panda_states, ur5_states) = (samples::<7>(&mut rng), samples::<6>(&mut rng));
+    let seed = 26;
     match (args.get(1).map(String::as_str), args.get(2)) {
         (Some("write"), Some(path)) => {
-            let mut out = String::new();
-            panda.reference(&mut out, &panda_states);
-            ur5.reference(&mut out, &ur5_states);
-            std::fs::write(path, out).expect("writes the reference file");
+            let mut write = Write {
+                rng: Rng(seed),
+                out: String::new(),
+            };
+            robots(&mut write);
+            std::fs::write(path, write.out).expect("writes the reference file");
         }
-        (Some("time"), Some(round)) => {
-            panda.time(&panda_states, round);
-            ur5.time(&ur5_states, round);
-        }
+        (Some("time"), Some(round)) => robots(&mut Time {
+            rng: Rng(seed),
+            round: round.clone(),
+        }),
         _ => {
             eprintln!(
                 "usage: constrained-robots write REFERENCE_FILE | constrained-robots time ROUND"
