@@ -119,6 +119,8 @@ struct JointSpec {
     axis: [String; 3],
     /// `Some`: the joint follows another's coordinate and has none itself.
     mimic: Option<MimicSpec>,
+    /// Where the file writes it, for messages.
+    line: u32,
 }
 
 impl JointSpec {
@@ -243,6 +245,7 @@ impl Reader<'_> {
             rpy,
             axis,
             mimic,
+            line: self.doc.text_pos_at(joint.range().start).row,
         })
     }
 
@@ -349,6 +352,7 @@ impl Robot {
             span: path.span(),
         };
         robot.check_mimics(&file)?;
+        robot.check_inertia(&file)?;
         Ok(robot)
     }
 

@@ -123,4 +123,69 @@ impl Robot {
         }
         Ok(())
     }
+
+    /// A joint with coordinates of its own must carry inertia: if every
+    /// link it moves (its child and all below) is massless, exactly (no
+    /// `<inertial>`, or a mass and an inertia of zero as written), its
+    /// column of `M` is zero and no acceleration of it is determined.
+    /// Refused here, at the joint, rather than later as a rank deficiency
+    /// of `M` with no element named. Pinocchio loads such a file and its
+    /// `crba` gives the same zero column.
+    pub(super) fn check_inertia(&self, file: &str) -> syn::Result<()> {
+        let mut massive: Vec<bool> = self
+            .links
+            .iter()
+            .map(|l| l.inertial.as_ref().is_some_and(Inertial::is_nonzero))
+            .collect();
+        for i in (0..self.links.len()).rev() {
+            if let Some(p) = self.links[i].parent.filter(|_| massive[i]) {
+                massive[p] = true;
+            }
+        }
+        // A mimic joint's links move with the joint it follows.
+        let followed_by_mass = |name: &str| {
+            self.links.iter().zip(&massive).any(|(l, &m)| {
+                m && l
+                    .joint
+                    .as_ref()
+                    .and_then(|j| j.mimic.as_ref())
+                    .is_some_and(|mimic| mimic.joint == name)
+            })
+        };
+        let empty = self.links.iter().zip(&massive).find(|(l, &m)| {
+            !m && l
+                .joint
+                .as_ref()
+                .is_some_and(|j| j.own().is_some() && !followed_by_mass(&j.name))
+        });
+        let Some((link, _)) = empty else {
+            return Ok(());
+        };
+        let Some(joint) = link.joint.as_ref() else {
+            return Ok(());
+        };
+        Err(syn::Error::new(
+            self.span,
+            format!(
+                "{file}:{}: joint `{}` moves only massless links (from `{}` down: no \
+                 <inertial>, or mass and inertia zero), so its column of the mass matrix \
+                 is zero and its acceleration is not determined; give a link it moves an \
+                 <inertial>, or hold the joint with `locked: [{}]`",
+                joint.line,
+                joint.name,
+                link.name,
+                identifier(&joint.name),
+            ),
+        ))
+    }
+}
+
+impl Inertial {
+    /// Whether the mass or any entry of the inertia is written as a
+    /// nonzero number (each was checked to be a finite decimal on reading).
+    fn is_nonzero(&self) -> bool {
+        std::iter::once(&self.mass)
+            .chain(&self.inertia)
+            .any(|v| Num::parse_decimal(v).is_some_and(|n| !n.is_zero()))
+    }
 }

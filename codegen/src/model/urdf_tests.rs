@@ -112,3 +112,46 @@ fn mimic_on_a_fixed_joint_is_ignored() {
     let robot = read_text(&text, &[]).expect("a fixed mimic joint is read");
     assert_eq!(robot.coordinate_names(), ["shoulder"]);
 }
+
+/// An arm and a gripper joint moving a link without `<inertial>` (as
+/// romeo_laas_small.urdf's grippers are written).
+const MASSLESS: &str = r#"<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+  <link name="jaw"><inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0.0"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+  <joint name="gripper" type="revolute"><parent link="arm"/><child link="jaw"/><axis xyz="0 1 0"/></joint>
+</robot>"#;
+
+#[test]
+fn a_joint_that_moves_only_massless_links_is_refused_at_its_line() {
+    let message = read_text(MASSLESS, &[])
+        .err()
+        .expect("a joint without inertia below it is refused")
+        .to_string();
+    assert!(
+        message.contains(".urdf:6: joint `gripper` moves only massless links (from `jaw` down"),
+        "{message}"
+    );
+    assert!(message.contains("locked: [gripper]"), "{message}");
+    // Locked, it moves nothing.
+    let robot = read_text(MASSLESS, &["gripper"]).expect("the locked gripper is read");
+    assert_eq!(robot.coordinate_names(), ["shoulder"]);
+    // Mass anywhere below the joint gives its column inertia.
+    let below = MASSLESS.replace(
+        "</robot>",
+        r#"<link name="pad"><inertial><mass value="0.1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial></link>
+  <joint name="pad_joint" type="fixed"><parent link="jaw"/><child link="pad"/></joint>
+</robot>"#,
+    );
+    read_text(&below, &[]).expect("a massive link below the jaw");
+    // As does a massive link moved by a mimic of the joint.
+    let mimic = MASSLESS.replace(
+        "</robot>",
+        r#"<link name="other"><inertial><mass value="0.1"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
+  <joint name="other_jaw" type="revolute"><parent link="arm"/><child link="other"/><axis xyz="0 1 0"/><mimic joint="gripper" multiplier="-1"/></joint>
+</robot>"#,
+    );
+    let robot = read_text(&mimic, &[]).expect("the jaw's mimic moves a mass");
+    assert_eq!(robot.coordinate_names(), ["shoulder", "gripper"]);
+}
