@@ -489,26 +489,14 @@ fn right_angle(text: &str) -> Option<i128> {
 }
 
 impl Reader<'_> {
-    /// The links in depth-first order from the single root.
-    fn tree(&self, locked: &[String]) -> syn::Result<Vec<Link>> {
-        let robot = self.doc.root_element();
-        if !robot.has_tag_name("robot") {
-            return Err(self.error(robot, "the root element must be <robot>"));
-        }
-        let link_nodes: Vec<Node> = robot
-            .children()
-            .filter(|c| c.has_tag_name("link"))
-            .collect();
-        let joint_nodes: Vec<Node> = robot
-            .children()
-            .filter(|c| c.has_tag_name("joint"))
-            .collect();
-        let names: Vec<String> = link_nodes
-            .iter()
-            .map(|l| self.attribute(*l, "name"))
-            .collect::<syn::Result<_>>()?;
+    /// Each link's parent link and the joint between them, as written.
+    fn parents<'n>(
+        &self,
+        names: &[String],
+        joint_nodes: &[Node<'n, 'n>],
+    ) -> syn::Result<Vec<Option<(usize, Node<'n, 'n>)>>> {
         let mut parent_of: Vec<Option<(usize, Node)>> = vec![None; names.len()];
-        for &j in &joint_nodes {
+        for &j in joint_nodes {
             let link_of = |tag: &str| -> syn::Result<usize> {
                 let node = Self::child(j, tag)
                     .ok_or_else(|| self.error(j, format!("<joint> needs <{tag} link=..>")))?;
@@ -527,6 +515,28 @@ impl Reader<'_> {
             }
             parent_of[child] = Some((parent, j));
         }
+        Ok(parent_of)
+    }
+
+    /// The links in depth-first order from the single root.
+    fn tree(&self, locked: &[String]) -> syn::Result<Vec<Link>> {
+        let robot = self.doc.root_element();
+        if !robot.has_tag_name("robot") {
+            return Err(self.error(robot, "the root element must be <robot>"));
+        }
+        let link_nodes: Vec<Node> = robot
+            .children()
+            .filter(|c| c.has_tag_name("link"))
+            .collect();
+        let joint_nodes: Vec<Node> = robot
+            .children()
+            .filter(|c| c.has_tag_name("joint"))
+            .collect();
+        let names: Vec<String> = link_nodes
+            .iter()
+            .map(|l| self.attribute(*l, "name"))
+            .collect::<syn::Result<_>>()?;
+        let parent_of = self.parents(&names, &joint_nodes)?;
         let roots: Vec<usize> = (0..names.len())
             .filter(|&i| parent_of[i].is_none())
             .collect();
