@@ -36,7 +36,8 @@ def section(rows):
         "## Every URDF of example-robot-data, against Pinocchio (`scripts/urdf_sweep.sh`)",
         "",
         "Each URDF file of the `example-robot-data` wheel, with a fixed base, read as written",
-        "by Pinocchio (`buildModelFromUrdf`) and by `constrained_system! { urdf: .. }`. For each",
+        "by Pinocchio (`buildModelFromUrdf(.., mimic=True)`: a `<mimic>` joint follows the joint it",
+        "names) and by `constrained_system! { urdf: .. }`. For each",
         "file that expands, a crate of its own is built in release mode and its `acceleration`",
         "(τ = 0), `mass_matrix`, `inverse_dynamics` and `gravity_forces` at 5 pseudo-random",
         "states are compared with `aba`, `crba`, `rnea` and `computeGeneralizedGravity`, by",
@@ -55,7 +56,8 @@ def section(rows):
     ]
     for r in rows:
         if not r["pinocchio"]:
-            lines.append(f"| `{r['file']}` | – | not loaded by Pinocchio | | | | |")
+            why = f": {r['refusal']}" if r.get("refusal") else ""
+            lines.append(f"| `{r['file']}` | – | not loaded by Pinocchio{why} | | | | |")
         elif not r.get("ok"):
             lines.append(f"| `{r['file']}` | {r['n']} | refused: {r['error']} | | | | |")
         elif worst(r) is None:

@@ -212,7 +212,7 @@ def main():
         label = str(path.relative_to(robots))
         model = pinocchio_model(path)
         if isinstance(model, Exception):
-            rows.append({"file": label, "pinocchio": False})
+            rows.append({"file": label, "pinocchio": False, "refusal": str(model).strip().splitlines()[0].replace(str(robots) + "/", "")})
             continue
         run = subprocess.run([str(tool), str(path)], capture_output=True, text=True, timeout=900)
         if run.returncode != 0 or not run.stdout.strip():
