@@ -1,7 +1,7 @@
 //! URDF files read as Pinocchio reads them, against hand derivations:
 //! sibling joints numbered by name (not file order), a joint name that is
 //! not an identifier kept in `COORDINATES`, and `1.5708` read as 1.5708,
-//! not as π/2.
+//! not as π/2 (unless `right_angles_within` asks for it).
 
 use constrained::constrained_system;
 use constrained::nalgebra::{Vector1, Vector3};
@@ -18,6 +18,22 @@ constrained_system! {
     /// A pendulum whose joint frame is turned by 1.5708 rad.
     pub struct NearRightAngle {
         urdf: "data/near_right_angle.urdf",
+    }
+}
+
+constrained_system! {
+    /// The same pendulum, its angles read as right angles within 1e-5 rad.
+    pub struct NearRightAngleSnapped {
+        urdf: "data/near_right_angle.urdf",
+        right_angles_within: 1e-5,
+    }
+}
+
+constrained_system! {
+    /// The same pendulum with a tolerance too small to reach 1.5708.
+    pub struct NearRightAngleNotSnapped {
+        urdf: "data/near_right_angle.urdf",
+        right_angles_within: 1e-6,
     }
 }
 
@@ -77,4 +93,31 @@ fn a_decimal_near_a_right_angle_is_read_as_written() {
         assert!(gravity.abs() > 3e-6 * 2.0 * G * 0.5 * q.cos().abs() * 0.99);
     }
     assert_eq!(NearRightAngle::<f64>::COORDINATES, ["hinge"]);
+}
+
+#[test]
+fn right_angles_within_a_tolerance_are_right_angles_when_asked() {
+    // 1.5708 is 3.7e-6 rad from π/2: within 1e-5 it is π/2, so the joint
+    // axis is horizontal and gravity gives its coordinate no force at all;
+    // within 1e-6 it is read as written.
+    #[allow(clippy::approx_constant)] // the file's 1.5708, which is not π/2
+    let a: f64 = 1.5708;
+    let (snapped, written) = (
+        NearRightAngleSnapped::<f64>::new(),
+        NearRightAngleNotSnapped::<f64>::new(),
+    );
+    for q in [0.0, 0.4, -1.3, 2.9] {
+        let q1 = Vector1::new(q);
+        assert_eq!(snapped.gravity_forces(&q1, 0.0)[0], 0.0);
+        let expected = -2.0 * G * 0.5 * q.cos() * a.cos();
+        let gravity = written.gravity_forces(&q1, 0.0)[0];
+        assert!(
+            (gravity - expected).abs() <= 1e-9 * expected.abs(),
+            "{gravity} vs {expected}"
+        );
+        // The inertia about the axis does not depend on the turn.
+        let (m, m_written) = (snapped.mass_matrix(&q1, 0.0), written.mass_matrix(&q1, 0.0));
+        assert!((m[(0, 0)] - (0.02 + 2.0 * 0.25)).abs() <= 1e-15, "{m}");
+        assert!((m_written[(0, 0)] - m[(0, 0)]).abs() <= 1e-15);
+    }
 }

@@ -213,3 +213,26 @@ fn frames_errors_point_at_their_tokens() {
         "{message}"
     );
 }
+
+#[test]
+fn right_angles_within_needs_urdf_and_a_small_tolerance() {
+    let message_of = |source: &str| {
+        expand(source.parse().expect("tokens"))
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    };
+    let source = "struct R { parameters: [m], bodies: [b { joint: revolute(q, [0.0, 0.0, 1.0]), mass: m }], right_angles_within: 1e-6 }";
+    let message = message_of(source);
+    assert!(
+        message.contains("`right_angles_within` applies to `urdf` only"),
+        "{message}"
+    );
+    // The tolerance is checked before the file is read.
+    let source = r#"struct R { urdf: "no/such/file.urdf", right_angles_within: 0.5 }"#;
+    let message = message_of(source);
+    assert!(
+        message.contains("`right_angles_within` is a tolerance in radians in (0, 0.01], not 0.5"),
+        "{message}"
+    );
+}

@@ -4,7 +4,9 @@
 //! wall time, the coordinates' count, the operations of `q̈` (generated
 //! `acceleration`), the number of sines and cosines of constants left in
 //! the generated code (none are expected), or the error's message, which
-//! names the file and line of the element refused.
+//! names the file and line of the element refused. With
+//! `RIGHT_ANGLES_WITHIN=<radians>` set, each file is expanded with
+//! `right_angles_within: <radians>` (what snapping near-right angles saves).
 
 use std::time::Instant;
 
@@ -16,7 +18,10 @@ fn main() {
 
 /// One file's JSON line.
 fn expand(path: &str) -> String {
-    let source = format!("struct Robot {{ urdf: {path:?}, }}");
+    let snap = std::env::var("RIGHT_ANGLES_WITHIN")
+        .map(|t| format!("right_angles_within: {t},"))
+        .unwrap_or_default();
+    let source = format!("struct Robot {{ urdf: {path:?}, {snap} }}");
     let tokens: proc_macro2::TokenStream = match source.parse() {
         Ok(tokens) => tokens,
         Err(e) => return line(path, &format!("\"error\": {:?}", e.to_string())),

@@ -24,7 +24,8 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     let sections = Sections::collect(input, &mut errors);
     let header = errors.slot();
     let robot = sections.urdf.and_then(|(_, path)| {
-        urdf::Robot::read(path, sections.locked)
+        let snap = sections.right_angles.map(|(_, tolerance)| tolerance);
+        urdf::Robot::read(path, sections.locked, snap)
             .map_err(|e| errors.push(e))
             .ok()
     });

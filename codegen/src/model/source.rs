@@ -108,11 +108,13 @@ pub(super) fn source<'a>(
         ),
         _ => {}
     }
+    if let (Some((k, _)), None) = (sections.right_angles, sections.urdf) {
+        errors.spanned(k, "`right_angles_within` applies to `urdf` only");
+    }
     if !tree {
         for (what, given) in [
             ("`gravity`", sections.gravity.map(|l| l.span)),
             ("`locked`", sections.locked.map(|l| l.span)),
-            ("`frames`", sections.frames.map(|l| l.span)),
             ("`frames`", sections.frames.map(|l| l.span)),
         ] {
             if let Some(span) = given {

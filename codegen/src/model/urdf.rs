@@ -52,7 +52,7 @@ use crate::expr::num::Num;
 use crate::expr::Graph;
 use crate::parse::List;
 use proc_macro2::Span;
-use syn::{Ident, LitStr};
+use syn::{Ident, LitFloat, LitStr};
 
 /// A URDF tree, its numbers as written.
 pub struct Robot {
@@ -60,6 +60,10 @@ pub struct Robot {
     pub path: String,
     links: Vec<Link>,
     span: Span,
+    /// `right_angles_within`: the tolerance, in radians, within which an
+    /// angle is read as the multiple of π/2 it is near (`None`: only a
+    /// decimal that is that multiple to double precision).
+    snap: Option<f64>,
 }
 
 /// One link in depth-first order; the joint that carries it, if any.
@@ -302,7 +306,12 @@ fn identifier(name: &str) -> String {
 impl Robot {
     /// Reads the file named by `path`, relative to the directory of the
     /// crate being compiled (`CARGO_MANIFEST_DIR`).
-    pub fn read(path: &LitStr, locked: Option<&List<Ident>>) -> syn::Result<Robot> {
+    pub fn read(
+        path: &LitStr,
+        locked: Option<&List<Ident>>,
+        snap: Option<&LitFloat>,
+    ) -> syn::Result<Robot> {
+        let snap = snap.map(tolerance).transpose()?;
         let base = std::env::var("CARGO_MANIFEST_DIR").unwrap_or_else(|_| ".".into());
         let full = std::path::Path::new(&base).join(path.value());
         // Messages name the file as written (relative to the manifest).
@@ -350,6 +359,7 @@ impl Robot {
             path: full.display().to_string(),
             links,
             span: path.span(),
+            snap,
         };
         robot.check_mimics(&file)?;
         robot.check_inertia(&file)?;
@@ -423,7 +433,7 @@ fn described(
 }
 
 /// A link's inertia about its frame's origin, from its `<inertial>`.
-fn inertia(g: &mut Graph, inertial: Option<&Inertial>) -> Inertia {
+fn inertia(g: &mut Graph, inertial: Option<&Inertial>, snap: Option<f64>) -> Inertia {
     let Some(Inertial {
         xyz,
         rpy,
@@ -433,7 +443,7 @@ fn inertia(g: &mut Graph, inertial: Option<&Inertial>) -> Inertia {
     else {
         return Inertia::zero(g);
     };
-    let a = angles(g, rpy);
+    let a = angles(g, rpy, snap);
     let r = spatial::rpy(g, a);
     let [xx, xy, xz, yy, yz, zz] = i.clone().map(|v| number(g, &v));
     let local = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
@@ -458,9 +468,10 @@ fn numbers(g: &mut Graph, texts: &[String; 3]) -> V3 {
 }
 
 /// Angles as written, but for a multiple of π/2 to double precision
-/// (see [`right_angle`]), which is that multiple exactly.
-fn angles(g: &mut Graph, texts: &[String; 3]) -> V3 {
-    [0, 1, 2].map(|i| match right_angle(&texts[i]) {
+/// (see [`right_angle`]), or within `snap` of one, which is that multiple
+/// exactly.
+fn angles(g: &mut Graph, texts: &[String; 3], snap: Option<f64>) -> V3 {
+    [0, 1, 2].map(|i| match right_angle(&texts[i], snap) {
         Some(k) => {
             let pi = g.num(Num::Float(std::f64::consts::PI));
             let half = g.num(Num::ratio(k, 2)); // reduced: k may be even
@@ -476,8 +487,9 @@ fn angles(g: &mut Graph, texts: &[String; 3]) -> V3 {
 /// right angle keeps its exact zeros, and no answer moves by more than
 /// rounding. Any other decimal is read as written: `1.5708` and
 /// `1.57079632679` are not π/2, as they are not to Pinocchio, MuJoCo or
-/// Drake.
-fn right_angle(text: &str) -> Option<i128> {
+/// Drake — unless the user asked for `right_angles_within: snap`, which
+/// reads every angle within `snap` radians of `k π/2` as that multiple.
+fn right_angle(text: &str, snap: Option<f64>) -> Option<i128> {
     let value: f64 = text.trim().parse().ok()?;
     let quarter = std::f64::consts::FRAC_PI_2;
     let k = (value / quarter).round();
@@ -485,7 +497,23 @@ fn right_angle(text: &str) -> Option<i128> {
         return None;
     }
     let nearest = k * quarter;
-    ((value - nearest).abs() <= 4.0 * f64::EPSILON * nearest.abs()).then_some(k as i128)
+    let within = snap.unwrap_or(0.0).max(4.0 * f64::EPSILON * nearest.abs());
+    ((value - nearest).abs() <= within).then_some(k as i128)
+}
+
+/// The tolerance of `right_angles_within`: a finite number of radians in
+/// (0, 0.01]. Anything wider would turn frames a user can see are not at
+/// right angles (0.01 rad is over half a degree).
+fn tolerance(literal: &LitFloat) -> syn::Result<f64> {
+    let value: f64 = literal.base10_parse()?;
+    if value.is_finite() && value > 0.0 && value <= 0.01 {
+        Ok(value)
+    } else {
+        Err(syn::Error::new(
+            literal.span(),
+            format!("`right_angles_within` is a tolerance in radians in (0, 0.01], not {value}"),
+        ))
+    }
 }
 
 impl Reader<'_> {

@@ -14,14 +14,14 @@ impl Robot {
         let mut index: Vec<usize> = Vec::with_capacity(self.links.len());
         for (link, &coordinate) in self.links.iter().zip(&first) {
             let parent = link.parent.and_then(|p| index.get(p).copied());
-            let inertia = inertia(g, link.inertial.as_ref());
+            let inertia = inertia(g, link.inertial.as_ref(), self.snap);
             let Some(j) = &link.joint else {
                 let placement = Placement::identity(g);
                 out.push(described(link, parent, placement, None, inertia));
                 index.push(out.len() - 1);
                 continue;
             };
-            let a = angles(g, &j.rpy);
+            let a = angles(g, &j.rpy, self.snap);
             let translation = numbers(g, &j.xyz);
             let placement = Placement {
                 rotation: spatial::rpy(g, a),

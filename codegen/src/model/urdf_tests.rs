@@ -33,7 +33,7 @@ fn read_text(text: &str, locked: &[&str]) -> syn::Result<Robot> {
             .collect(),
         span: Span::call_site(),
     };
-    let robot = Robot::read(&literal, Some(&list));
+    let robot = Robot::read(&literal, Some(&list), None);
     let _ = std::fs::remove_file(&path);
     robot
 }
@@ -101,7 +101,37 @@ fn a_decimal_is_a_right_angle_only_to_double_precision() {
         ("1e300", None),
     ];
     for (text, expected) in cases {
-        assert_eq!(right_angle(text), expected, "{text}");
+        assert_eq!(right_angle(text, None), expected, "{text}");
+    }
+}
+
+#[test]
+fn right_angles_within_a_tolerance_only_when_asked() {
+    // The UR5's `1.570796325` is 1.8e-9 from π/2; the xArm7's `1.5708`
+    // 3.7e-6.
+    let cases = [
+        ("1.570796325", 1e-9, None),
+        ("1.570796325", 1e-8, Some(1)),
+        ("-1.570796325", 1e-8, Some(-1)),
+        ("1.5708", 1e-6, None),
+        ("1.5708", 1e-5, Some(1)),
+        ("3.1416", 1e-4, Some(2)),
+        ("0.5", 1e-2, None),
+        // The double-precision rule still holds under a smaller tolerance.
+        ("1.5707963267948966", 1e-20, Some(1)),
+    ];
+    for (text, snap, expected) in cases {
+        assert_eq!(
+            right_angle(text, Some(snap)),
+            expected,
+            "{text} within {snap}"
+        );
+    }
+    let literal = |t: &str| LitFloat::new(t, Span::call_site());
+    assert_eq!(tolerance(&literal("1e-6")).ok(), Some(1e-6));
+    for bad in ["0.0", "0.5", "1e400"] {
+        let message = tolerance(&literal(bad)).err().map(|e| e.to_string());
+        assert!(message.is_some_and(|m| m.contains("in (0, 0.01]")), "{bad}");
     }
 }
 

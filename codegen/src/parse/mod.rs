@@ -27,6 +27,7 @@ pub mod kw {
     syn::custom_keyword!(bodies);
     syn::custom_keyword!(gravity);
     syn::custom_keyword!(urdf);
+    syn::custom_keyword!(right_angles_within);
     syn::custom_keyword!(locked);
     syn::custom_keyword!(inertia);
     syn::custom_keyword!(unilateral);
@@ -70,6 +71,7 @@ pub struct List<T> {
 ///          | `bodies`      `:` `[` body,* `]`
 ///          | `gravity`     `:` `[` expr `,` expr `,` expr `]`
 ///          | `urdf`        `:` LitStr
+///          | `right_angles_within` `:` LitFloat
 ///          | `locked`      `:` `[` Ident,* `]`
 ///          | `unilateral`  `:` `[` (expr `>=` expr | expr `<=` expr),* `]`
 ///          | `friction`    `:` `[` (`coulomb` `(` expr `,` expr `,` expr (`,` expr)? `)`),* `]`
@@ -102,6 +104,9 @@ pub enum Section {
     Gravity(Ident, List<Expr>),
     /// A URDF file, relative to the user's crate manifest.
     Urdf(Ident, syn::LitStr),
+    /// The tolerance, in radians, within which a URDF angle is read as the
+    /// multiple of π/2 it is near (`crate::model::urdf`).
+    RightAnglesWithin(Ident, syn::LitFloat),
     /// URDF joints held fixed (their names as coordinates would be).
     Locked(Ident, List<Ident>),
     /// Gaps `g(q) ≥ 0` (unilateral constraints), checked by `crate::model`.
@@ -131,6 +136,7 @@ impl Section {
             | Section::Bodies(k, _)
             | Section::Gravity(k, _)
             | Section::Urdf(k, _)
+            | Section::RightAnglesWithin(k, _)
             | Section::Locked(k, _)
             | Section::Unilateral(k, _)
             | Section::Friction(k, _)
@@ -237,6 +243,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::urdf) {
             let k = keyword!(urdf);
             Ok(Section::Urdf(k, input.parse()?))
+        } else if lookahead.peek(kw::right_angles_within) {
+            let k = keyword!(right_angles_within);
+            Ok(Section::RightAnglesWithin(k, input.parse()?))
         } else if lookahead.peek(kw::locked) {
             let k = keyword!(locked);
             Ok(Section::Locked(k, list(input, Ident::parse)?))
