@@ -22,91 +22,15 @@
 //!
 //! `cargo run --release --example panda [-- --duration 4 --progress]`
 
+#[path = "support/panda.rs"]
+mod panda;
 #[path = "support/mod.rs"]
 mod support;
 
-use constrained::constrained_system;
-use constrained::nalgebra::{SMatrix, SVector, Vector3};
+use constrained::nalgebra::{SVector, Vector3};
 use constrained::{DormandPrince45, State};
+use panda::{task_torques, Panda, TaskGains};
 use support::{plot, Options, Panel, Series};
-
-constrained_system! {
-    /// The Franka Emika Panda's seven links, a motor torque at each joint.
-    pub struct Panda {
-        inputs: [tau1, tau2, tau3, tau4, tau5, tau6, tau7],
-        gravity: [0.0, 0.0, -9.81],
-        bodies: [
-            link1 {
-                parent: world,
-                joint: revolute(q1, [0.0, 0.0, 1.0]),
-                xyz: [0.0, 0.0, 0.333],
-                rpy: [0.0, 0.0, 0.0],
-                mass: 4.9707,
-                com: [0.0193 / 4.9707, 0.0103 / 4.9707, -0.4654 / 4.9707], // first moments m·c over m
-                inertia: [[0.7470, -0.0002, 0.0086], [-0.0002, 0.7503, 0.0201], [0.0086, 0.0201, 0.0092]],
-            },
-            link2 {
-                parent: link1,
-                joint: revolute(q2, [0.0, 0.0, 1.0]),
-                xyz: [0.0, 0.0, 0.0],
-                rpy: [-PI / 2.0, 0.0, 0.0],
-                mass: 0.6469,
-                com: [-0.0020 / 0.6469, -0.0186 / 0.6469, 0.0023 / 0.6469], // first moments m·c over m
-                inertia: [[0.0085, -0.0040, 0.0103], [-0.0040, 0.0281, 0.0008], [0.0103, 0.0008, 0.0265]],
-            },
-            link3 {
-                parent: link2,
-                joint: revolute(q3, [0.0, 0.0, 1.0]),
-                xyz: [0.0, -0.316, 0.0],
-                rpy: [PI / 2.0, 0.0, 0.0],
-                mass: 3.2286,
-                com: [0.0888 / 3.2286, 0.1267 / 3.2286, -0.2147 / 3.2286], // first moments m·c over m
-                inertia: [[0.0565, -0.0082, -0.0055], [-0.0082, 0.0529, -0.0044], [-0.0055, -0.0044, 0.0182]],
-            },
-            link4 {
-                parent: link3,
-                joint: revolute(q4, [0.0, 0.0, 1.0]),
-                xyz: [0.0825, 0.0, 0.0],
-                rpy: [PI / 2.0, 0.0, 0.0],
-                mass: 3.5879,
-                com: [-0.1908 / 3.5879, 0.3746 / 3.5879, 0.0985 / 3.5879], // first moments m·c over m
-                inertia: [[0.0677, 0.0277, 0.0039], [0.0277, 0.0324, -0.0016], [0.0039, -0.0016, 0.0776]],
-            },
-            link5 {
-                parent: link4,
-                joint: revolute(q5, [0.0, 0.0, 1.0]),
-                xyz: [-0.0825, 0.384, 0.0],
-                rpy: [-PI / 2.0, 0.0, 0.0],
-                mass: 1.2259,
-                com: [-0.0147 / 1.2259, 0.0503 / 1.2259, -0.0471 / 1.2259], // first moments m·c over m
-                inertia: [[0.0394, -0.0015, -0.0046], [-0.0015, 0.0315, 0.0022], [-0.0046, 0.0022, 0.0109]],
-            },
-            link6 {
-                parent: link5,
-                joint: revolute(q6, [0.0, 0.0, 1.0]),
-                xyz: [0.0, 0.0, 0.0],
-                rpy: [PI / 2.0, 0.0, 0.0],
-                mass: 1.6666,
-                com: [0.1002 / 1.6666, -0.0235 / 1.6666, -0.0175 / 1.6666], // first moments m·c over m
-                inertia: [[0.0025, 0.0015, -0.0001], [0.0015, 0.0106, 0.0001], [-0.0001, 0.0001, 0.0118]],
-            },
-            link7 {
-                parent: link6,
-                joint: revolute(q7, [0.0, 0.0, 1.0]),
-                xyz: [0.088, 0.0, 0.0],
-                rpy: [PI / 2.0, 0.0, 0.0],
-                mass: 1.4655,
-                com: [0.0004 / 1.4655, -0.0031 / 1.4655, 0.1453 / 1.4655], // first moments m·c over m
-                inertia: [[0.0308, 0.0004, -0.0007], [0.0004, 0.0284, -0.0005], [-0.0007, -0.0005, 0.0067]],
-            },
-
-        ],
-        forces: [tau1, tau2, tau3, tau4, tau5, tau6, tau7],
-        // The tool point between the fingers: the flange 0.107 m along the
-        // last axis, the hand's fingertip centre 0.1034 m beyond it.
-        frames: [tool { body: link7, xyz: [0.0, 0.0, 0.2104], rpy: [0.0, 0.0, -PI / 4.0] }],
-    }
-}
 
 type Vector7 = SVector<f64, 7>;
 
@@ -140,31 +64,6 @@ fn circle(start: &Vector3<f64>, t: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<
         r * w * Vector3::new(0.0, c, s),
         r * w * w * Vector3::new(0.0, -s, c),
     )
-}
-
-/// Task-space inverse dynamics: the joint accelerations that give the tool
-/// point the acceleration `task` (`J q̈ + J̇ q̇ = task` through the
-/// Jacobian's pseudo-inverse) and move the redundant joint toward `posture`
-/// in the Jacobian's null space.
-fn task_acceleration(
-    arm: &Panda<f64>,
-    state: &State<f64, 7>,
-    task: &Vector3<f64>,
-    posture: &Vector7,
-) -> Result<Vector7, Box<dyn std::error::Error>> {
-    let (q, qd) = (&state.q, &state.qd);
-    let jacobian = arm.tool_jacobian(q, state.t);
-    let j = jacobian.fixed_rows::<3>(0).into_owned();
-    let bias = arm
-        .tool_acceleration_bias(q, qd, state.t)
-        .fixed_rows::<3>(0)
-        .into_owned();
-    let gram = (j * j.transpose())
-        .try_inverse()
-        .ok_or("the tool's Jacobian lost rank (a singular pose)")?;
-    let pseudo_inverse = j.transpose() * gram;
-    let null = SMatrix::<f64, 7, 7>::identity() - pseudo_inverse * j;
-    Ok(pseudo_inverse * (task - bias) + null * posture)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -212,7 +111,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // 3. Operational space: the tool follows a circle from rest at the ready
     // pose; the elbow's redundancy is held near that pose in the null space.
-    let (task_kp, task_kd) = (400.0, 40.0); // a double pole at −20 /s
+    let gains = TaskGains {
+        kp: 400.0, // ë + 40 ė + 400 e = 0: a double pole at −20 /s
+        kd: 40.0,
+        posture_kp: 25.0,
+        posture_kd: 10.0,
+    };
     let mut state = State::new(0.0, start, Vector7::zeros());
     let centre = arm.tool_placement(&start, 0.0).1;
     let (mut task_error, mut path) = (Vec::new(), Vec::new());
@@ -220,13 +124,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let t = state.t;
         let (x_d, xd_d, xdd_d) = circle(&centre, t);
         let x = arm.tool_placement(&state.q, t).1;
-        let xd = (arm.tool_jacobian(&state.q, t) * state.qd)
-            .fixed_rows::<3>(0)
-            .into_owned();
-        let task = xdd_d + task_kd * (xd_d - xd) + task_kp * (x_d - x);
-        let posture = 25.0 * (start - state.q) - 10.0 * state.qd;
-        let qdd = task_acceleration(&arm, &state, &task, &posture)?;
-        let tau = arm.inverse_dynamics(&state.q, &state.qd, &qdd, t)?;
+        let tau = task_torques(&arm, &state, (&x_d, &xd_d, &xdd_d), &start, &gains)
+            .map_err(|e| format!("operational space: {e:?}"))?;
         apply(&mut arm, &tau);
         task_error.push((t, (x_d - x).norm().max(1e-300)));
         path.push((t, x[1], x_d[1], x[2], x_d[2]));

@@ -47,7 +47,7 @@ for line in sys.stdin:
     if m.get("reason") == "compiler-artifact" and m.get("executable"):
         print(m["executable"])' | tail -n 1)
 [ -n "$elf" ] || { echo "the firmware did not build" >&2; exit 1; }
-echo "== Cortex-M4F (QEMU mps2-an386), f32: Appell's particle and a double pendulum (RK4, 5 s); the cart-pole's LQR designed on the device from the generated linearization, then its closed loop (6 s); a ball's 10 impacts located by events (DP45); the rimless wheel's 4 heel strikes (events and the impact map)"
+echo "== Cortex-M4F (QEMU mps2-an386), f32: Appell's particle and a double pendulum (RK4, 5 s); the cart-pole's LQR designed on the device from the generated linearization, then its closed loop (6 s); a ball's 10 impacts located by events (DP45); the rimless wheel's 4 heel strikes (events and the impact map); the Panda's tool on a circle under operational-space control (1 s at 1 kHz)"
 target_out=$(timeout 600 cargo run --quiet --release --target thumbv7em-none-eabihf)
 echo "$target_out"
 echo "== host (x86_64), the same code (and, on standard error, the cart-pole's loop in f64 against it)"
@@ -110,11 +110,25 @@ rolled = t["wheel_strike_count"][0] == len(before) and ratio_error <= 1e-4 and e
 print(f"== on the device: {int(t['wheel_strike_count'][0])} heel strikes of the rimless wheel (f32), "
       f"ω⁺/ω⁻ against McGeer's η = {eta:.7f}: largest relative error {ratio_error:.2e} (bound 1e-4); "
       f"ω² gained per stride against k = {k:.6f}: {energy_error:.2e} (bound 1e-4): {'ok' if rolled else 'FAILED'}")
-sys.exit(0 if worst <= tolerance and balanced and bounced and rolled else 1)
+# The Panda's tool, from rest where the circle starts at v0 = 0.1 π m/s:
+# with the task's error obeying ë + 40 ė + 400 e = 0 its error is
+# v0 t e^(−20 t), peaking at v0/(20 e) = 5.78e-3 m; after 1 s what remains
+# is the zero-order hold's (6.8e-6 m in f64 after 4 s): bound 1e-4 m.
+peak, last = t["tool_error_peak"][0], t["tool_error_last"][0]
+predicted = 0.1 * math.pi / (20.0 * math.e)
+tracked = abs(peak - predicted) <= 0.05 * predicted and last <= 1e-4
+print(f"== on the device: the Panda's tool error peaks at {peak:.3e} m (predicted {predicted:.3e}) "
+      f"and ends at {last:.2e} m (bound 1e-4): {'ok' if tracked else 'FAILED'}")
+sys.exit(0 if worst <= tolerance and balanced and bounced and rolled and tracked else 1)
 PY
 
 # Lines read "[Nr] Name Type Addr Off Size …"; drop the index, whose
 # brackets may hold a space, then the size is the fifth field.
 text_hex=$(readelf -SW "$elf" | sed 's/^ *\[ *[0-9]*\] *//' | awk '$1 == ".text" { print $5 }')
 text=$((16#$text_hex))
-echo "== firmware .text: ${text} bytes (opt-level s, LTO; cortex-m-rt, semihosting, four systems, RK4, DP45 with events, impact map, Baumgarte, Jacobians, LQR)"
+echo "== firmware .text: ${text} bytes (opt-level s, LTO; cortex-m-rt, semihosting, five systems, RK4, DP45 with events, impact map, Baumgarte, Jacobians, LQR, frame kinematics and inverse dynamics)"
+# The controller's step: its own function and the task-space solve it
+# calls, into which the generated tool placement, Jacobian, J̇ q̇ and
+# inverse dynamics are inlined.
+step=$(readelf -sW -C "$elf" | awk '$4 == "FUNC" && ($8 ~ /tool_controller_step$/ || $8 ~ /panda::task_torques$/) { total += $3 } END { print total + 0 }')
+echo "== the Panda's operational-space controller step: ${step} bytes of .text (tool_controller_step and task_torques)"

@@ -30,6 +30,11 @@ pub const OFFSET: f32 = 0.3;
 /// Simulated time of the closed loop, s.
 pub const LOOP_DURATION: f32 = 6.0;
 
+#[path = "../../examples/support/panda.rs"]
+mod panda;
+mod tool;
+pub use tool::{tool_controller_step, track_circle, ToolTrack, TOOL_DURATION};
+
 #[path = "../../examples/support/rimless_wheel.rs"]
 mod rimless_wheel;
 pub use rimless_wheel::RimlessWheel;
@@ -61,6 +66,8 @@ pub enum Failure<T = f32> {
     Dynamics(DynamicsError),
     /// The LQR design failed.
     Control(ControlError),
+    /// The Panda's tool Jacobian lost rank.
+    Singular,
 }
 
 impl<T> From<IntegrationError<T>> for Failure<T> {
@@ -108,6 +115,8 @@ pub struct Report {
     pub bounce_count: usize,
     /// The rimless wheel's heel strikes (see [`roll_wheel`]).
     pub wheel: Strikes,
+    /// The Panda's tool on its circle (see [`track_circle`]).
+    pub tool: ToolTrack,
 }
 
 /// The rimless wheel's rate `θ̇` just before and just after each of its
@@ -156,6 +165,7 @@ pub fn simulate() -> Result<Report, Failure> {
     let balanced = balance::<f32>()?;
     let (bounces, bounce_count) = bounce()?;
     let wheel = roll_wheel()?;
+    let tool = track_circle()?;
     Ok(Report {
         appell,
         appell_residual,
@@ -168,6 +178,7 @@ pub fn simulate() -> Result<Report, Failure> {
         bounces,
         bounce_count,
         wheel,
+        tool,
     })
 }
 
@@ -370,5 +381,7 @@ pub fn write_report(out: &mut impl core::fmt::Write, report: &Report) -> core::f
     line("ball_bounce_count", &[report.bounce_count as f32])?;
     line("wheel_rate_before", &report.wheel.before)?;
     line("wheel_rate_after", &report.wheel.after)?;
-    line("wheel_strike_count", &[report.wheel.count as f32])
+    line("wheel_strike_count", &[report.wheel.count as f32])?;
+    line("tool_error_peak", &[report.tool.peak])?;
+    line("tool_error_last", &[report.tool.last])
 }
