@@ -56,6 +56,7 @@ pub fn text(eq: &Equations, partition: &Partition) -> String {
 
     if sys.constraints.is_empty() {
         let _ = writeln!(w, "No constraints: q̈ = M⁻¹ F.");
+        let _ = writeln!(w, "  acceleration's {}", eq.strategy().describe());
         gaps_text(w, eq, g, &p, &coordinates);
         return out;
     }
@@ -513,17 +514,20 @@ fn generalized_inverse(
         w,
         "Generalized-inverse equation (eq. 26)  M q̈ = F + Aᵀ λ,  S λ = r,  S = A M⁻¹ Aᵀ,  r = b − A a,  a = M⁻¹ F:"
     );
+    // The strategy `acceleration` carries out, in the words of its `gauss`.
+    let strategy = eq.strategy();
+    let _ = writeln!(w, "  acceleration's {}", strategy.describe());
     let d = match &eq.mass_inverse {
         MassInverse::Symbolic(d) => d,
         MassInverse::Factored(f) => {
             factored(w, f, coordinates, rank);
-            super::derivation_saddle::text(w, f, coordinates, (rank, k));
+            super::derivation_saddle::text(w, f, coordinates, strategy);
             return;
         }
         MassInverse::Auxiliary(f) => {
             auxiliary_text(w, f);
             factored(w, f, coordinates, rank);
-            super::derivation_saddle::text(w, f, coordinates, (rank, k));
+            super::derivation_saddle::text(w, f, coordinates, strategy);
             return;
         }
     };

@@ -5,7 +5,9 @@
 //! describes: what `acceleration` computes, in its compile-time order.
 //! Also the elimination orders every part of the derivation prints.
 
+use crate::equations::legs::Legs;
 use crate::equations::mass_inverse::Factored;
+use crate::equations::strategy::Strategy;
 use crate::equations::velocity::Velocity;
 use crate::numeric::sparsity::Structure;
 use std::fmt::Write;
@@ -20,24 +22,21 @@ pub(super) fn order(structure: &Structure, name: impl Fn(usize) -> String) -> St
         .join(", ")
 }
 
-/// The lines for `f`'s saddle-point solve, where `gauss` takes it (every
-/// row independent: `rank` is `k`); nothing otherwise.
-pub(super) fn text(
-    w: &mut String,
-    f: &Factored,
-    coordinates: &[String],
-    (rank, k): (usize, usize),
-) {
-    if rank != k {
-        return;
-    }
+/// The lines for `f`'s saddle-point solve, where the strategy is one of
+/// them; nothing otherwise.
+pub(super) fn text(w: &mut String, f: &Factored, coordinates: &[String], strategy: Strategy) {
     let pivots = "a coordinate's pivot must be positive and a row's negative, \
                   away from 0, else the runtime's dense solve answers";
-    if let Some(v) = &f.velocity {
+    if let (Strategy::Legs, Some(v), Some(legs)) = (strategy, &f.velocity, &f.legs) {
+        velocity_text(w, v, coordinates, pivots);
+        legs_text(w, v, legs, coordinates);
+        return;
+    }
+    if let (Strategy::VelocitySaddle, Some(v)) = (strategy, &f.velocity) {
         velocity_text(w, v, coordinates, pivots);
         return;
     }
-    if let Some(s) = &f.saddle {
+    if let (Strategy::Saddle, Some(s)) = (strategy, &f.saddle) {
         let n = f.mass.len();
         let name = |i: usize| {
             if i < n {
@@ -95,5 +94,41 @@ fn velocity_text(w: &mut String, v: &Velocity, coordinates: &[String], pivots: &
         nr,
         v.rows.len(),
         order(&v.structure, name),
+    );
+}
+
+/// The lines for the legs' elimination, which replaces the factorization
+/// of the saddle-point system's rest: each leg's joints and its foot's rows
+/// by name, the base's six unknowns, and the closed form
+/// (`emit/mass_inverse/factored/legs.rs`).
+fn legs_text(w: &mut String, v: &Velocity, legs: &Legs, coordinates: &[String]) {
+    let joint = |p: usize| match v.coordinates.get(p) {
+        Some(&c) => coordinates.get(c).cloned().unwrap_or_default(),
+        None => String::new(),
+    };
+    let row = |r: usize| v.rows.get(r).map_or_else(String::new, |r| format!("μ{r}"));
+    let each: Vec<String> = legs
+        .legs
+        .iter()
+        .map(|(joints, rows)| {
+            format!(
+                "({}; {})",
+                joints.map(joint).join(", "),
+                rows.map(row).join(", ")
+            )
+        })
+        .collect();
+    let _ = writeln!(
+        w,
+        "  in place of that factorization, a floating base on {} legs, each (joints; foot's rows):\n  \
+         {}\n  \
+         eliminated through its foot's rows E u + J θ̈ = b in closed form (u = (z, β), the base's {}):\n  \
+         θ̈ = c − N u, c = J⁻¹ b, N = J⁻¹ E; S u = r, S = M_bb − Σ (M_lbᵀ N + Nᵀ M_lb − Nᵀ M_ll N),\n  \
+         r = f_b − Σ (M_lbᵀ c + Nᵀ (f_l − M_ll c)); μ = J⁻ᵀ (f_l − M_lb u − M_ll θ̈)\n  \
+         (a leg with |det J| below 10⁻³ times its rows' lengths, or a pivot of S that is not positive,\n  \
+         hands the solve to the runtime's dense one)",
+        legs.legs.len(),
+        each.join(", "),
+        legs.base.map(joint).join(", "),
     );
 }

@@ -75,6 +75,10 @@ pub struct Factored {
     /// coordinates where that has a saddle-point form
     /// (`super::velocity`); it then replaces `saddle`.
     pub velocity: Option<super::velocity::Velocity>,
+    /// For a floating base standing on legs, the legs of `velocity`'s
+    /// saddle-point system, each eliminated through its foot's rows
+    /// (`super::legs`); the velocity form is then solved leg by leg.
+    pub legs: Option<super::legs::Legs>,
 }
 
 impl Factored {
@@ -130,6 +134,7 @@ impl Factored {
             range_cost,
         );
         let velocity = tree.and_then(|t| super::velocity::form(g, t, a, range_cost));
+        let legs = velocity.as_ref().and_then(super::legs::find);
         Factored {
             mass,
             weighted,
@@ -137,6 +142,7 @@ impl Factored {
             auxiliary,
             saddle,
             velocity,
+            legs,
         }
     }
 }

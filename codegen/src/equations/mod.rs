@@ -5,9 +5,11 @@
 mod auxiliary;
 pub mod gibbs_appell;
 pub mod in_base;
+pub mod legs;
 pub mod mass_inverse;
 pub mod partition;
 pub mod saddle_point;
+pub mod strategy;
 mod surface;
 pub(crate) mod tangent;
 pub mod velocity;

@@ -1,5 +1,6 @@
 //! The URDF reader's unit tests: mimic refusals and the right-angle rule.
 
+use super::numbers::right_angle;
 use super::*;
 
 /// A revolute joint and a finger on a prismatic joint that mimics it

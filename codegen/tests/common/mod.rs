@@ -29,6 +29,13 @@ pub fn gap_model_invocations() -> Vec<Invocation> {
     invocations_in(["rimless_wheel.rs", "compass_gait.rs"].map(|f| dir.join(f)))
 }
 
+/// The invocations in the given files under `examples/`.
+#[allow(dead_code)] // used by the strategy test only
+pub fn example_invocations(files: &[&str]) -> Vec<Invocation> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
+    invocations_in(files.iter().map(|f| dir.join(f)))
+}
+
 /// The `constrained_system!` invocations at the top level of `paths`.
 fn invocations_in(paths: impl IntoIterator<Item = std::path::PathBuf>) -> Vec<Invocation> {
     let mut out = Vec::new();

@@ -12,7 +12,9 @@
 //!   are the runtime's dense ones, whose tangent systems are those of the
 //!   actual `M`).
 //!
-//! This module is the only `match` on the strategy in `emit`; `step` holds
+//! This module is the only `match` on how `M⁻¹` is applied in `emit`; which
+//! solve `gauss` performs was decided in stage 3
+//! (`crate::equations::strategy`) and is carried out in `factored`. `step` holds
 //! what the strategies' steps share. Below: `super::solve` (the checked
 //! value of `gauss`), the emission helpers.
 

@@ -38,6 +38,7 @@ use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
 use crate::emit::tokens::{concat, let_statement};
 use crate::equations::mass_inverse::Factored;
+use crate::equations::strategy::Strategy;
 use crate::expr::Id;
 use gram_form::gram_form;
 use proc_macro2::TokenStream;
@@ -517,11 +518,15 @@ fn constraint_force(ctx: &Context, multipliers: &[Ident]) -> Vec<TokenStream> {
 
 /// `gauss` for a configuration-dependent `M`.
 pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
-    if let Some(v) = f.velocity.as_ref().filter(|_| ctx.generic_rank == ctx.k) {
-        return velocity::solver(ctx, v);
-    }
-    if let Some(structure) = f.saddle.as_ref().filter(|_| ctx.generic_rank == ctx.k) {
-        return saddle::solver(ctx, f, structure);
+    // The strategy was decided in stage 3; this carries it out.
+    let strategy = ctx.eq.strategy();
+    match (strategy, &f.velocity, &f.saddle) {
+        (Strategy::Legs | Strategy::VelocitySaddle, Some(v), _) => {
+            let legs = f.legs.as_ref().filter(|_| strategy == Strategy::Legs);
+            return velocity::solver(ctx, v, legs);
+        }
+        (Strategy::Saddle, _, Some(structure)) => return saddle::solver(ctx, f, structure),
+        _ => {}
     }
     let gauss = FactoredSolve::new(ctx, f, true);
     let acc = ctx.vector_value(gauss.acceleration.iter().cloned());
@@ -544,10 +549,14 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     // A robot's solve is thousands of `let`s: nested no deeper than a block.
     let to_multipliers = bounded(gauss.to_multipliers.clone(), &value);
     let signature = ctx.gauss_signature();
+    let doc = format!(
+        " `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,\n \
+         `constraint_force` and `acceleration_corrected` (`b + correction`),\n \
+         as `__F` makes it; {}",
+        strategy.describe()
+    );
     quote! {
-        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
-        /// as `__F` makes it.
+        #[doc = #doc]
         #[inline(always)]
         #signature {
             #to_multipliers

@@ -22,6 +22,7 @@ use crate::emit::ldlt::{Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
 use crate::emit::tokens::concat;
 use crate::equations::mass_inverse::Factored;
+use crate::equations::strategy::Strategy;
 use crate::numeric::sparsity::Structure;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -52,7 +53,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored, saddle: &Structure) -> TokenSt
         ctx,
         (acceleration, &values[n..]),
         body,
-        "the saddle-point system, factored once.",
+        Strategy::Saddle.describe(),
     )
 }
 
@@ -81,7 +82,7 @@ pub(super) fn function(
     let doc = format!(
         " `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,\n \
          `constraint_force` and `acceleration_corrected` (`b + correction`),\n \
-         as `__F` makes it: {how}"
+         as `__F` makes it; {how}"
     );
     quote! {
         #[doc = #doc]

@@ -18,6 +18,8 @@ use crate::emit::literal::literal;
 use crate::emit::solve::{corrected, corrected_by, correction_locals};
 use crate::emit::tokens::concat;
 use crate::equations::in_base::InBaseRows;
+use crate::equations::legs::Legs;
+use crate::equations::strategy::Strategy;
 use crate::equations::velocity::Velocity;
 use crate::expr::num::Num;
 use crate::expr::Id;
@@ -26,7 +28,7 @@ use quote::quote;
 use syn::Ident;
 
 /// The function `gauss`.
-pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
+pub(super) fn solver(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let dense = auxiliary::dense_answer(ctx);
     let ldlt = StructuredLdlt::saddle(&v.structure, v.coordinates.len(), dense.clone());
     let bail = |error: TokenStream| ctx.gauss_error(error);
@@ -55,21 +57,17 @@ pub(super) fn solver(ctx: &Context, v: &Velocity) -> TokenStream {
         let name = Context::local("bv", rr);
         Some(quote!(#name))
     }));
-    let ((solve, values), how) = match super::legs::find(v) {
+    let ((solve, values), how) = match legs {
         Some(legs) => {
             let entry = |i: usize, j: usize| v.structure.nonzero[i][j].then(|| ldlt.entry(i, j));
-            let solved = super::legs::solve(&legs, (nr, kr), &entry, &rhs, &dense);
-            (
-                solved,
-                "in the quaternions' velocity coordinates, each leg through its foot's rows \
-                 and the base's inertia with the feet held factored once.",
-            )
+            let solved = super::legs::solve(legs, (nr, kr), &entry, &rhs, &dense);
+            (solved, Strategy::Legs.describe())
         }
         None => {
             let (solve, values) = solved(&ldlt, &rhs, (nr, kr));
             (
                 (concat([ldlt.factor(), solve]), values),
-                "in the quaternions' velocity coordinates, the saddle-point system factored once.",
+                Strategy::VelocitySaddle.describe(),
             )
         }
     };

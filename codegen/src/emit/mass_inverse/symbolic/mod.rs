@@ -209,10 +209,14 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         also,
         paths,
     );
+    let doc = format!(
+        " `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,\n \
+         `constraint_force` and `acceleration_corrected` (`b + correction`),\n \
+         as `__F` makes it; {}",
+        ctx.eq.strategy().describe()
+    );
     quote! {
-        /// `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,
-        /// `constraint_force` and `acceleration_corrected` (`b + correction`),
-        /// as `__F` makes it.
+        #[doc = #doc]
         #[inline(always)]
         #signature {
             #to_multipliers
