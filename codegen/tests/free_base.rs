@@ -134,8 +134,7 @@ fn a_base_placed_by_a_fixed_body_takes_the_general_solve() {
 
 /// The Unitree Go1 of example-robot-data, read with a `floating` joint
 /// from a `world` link (`tests/data/go1_floating.urdf`), on its four feet:
-/// each leg through its foot, at the operations of the legs' solve (8,945
-/// per `q̈` where the base was not found).
+/// each leg through its foot, at the operations of the legs' solve.
 #[test]
 fn the_go1_from_its_urdf_stands_on_its_legs() {
     let source = "struct Go1 {
