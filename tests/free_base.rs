@@ -6,9 +6,9 @@
 //! 1e-14 (`codegen/tests/free_base.rs`: the same generated solve, the leg
 //! eliminated through its foot). Under a fixed body that lifts the base's
 //! frame the general solve answers, with the same accelerations at the
-//! lifted state. The Unitree Go1 read from its URDF with a `floating` root
-//! (`tests/data/go1_floating.urdf`) on its four feet: the legs' solve
-//! agrees with the runtime's dense solve to 1e-12.
+//! lifted state. The Unitree Go1 from example-robot-data's URDF is checked
+//! against Pinocchio's `constraintDynamics` in the peers' harness
+//! (`benches/peers`), which reads the file from the package index.
 
 use crate::auxiliary::{against_dense, assert_close};
 use constrained::floating::FreeMotion;
@@ -94,23 +94,6 @@ constrained::constrained_system! {
         urdf: "data/one_leg.urdf",
         forces: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, t1, t2, t3],
         constraints: [position(lower, [0.0, 0.008, -0.16]) == [px, py, 0.0]],
-    }
-}
-
-constrained::constrained_system! {
-    /// The Unitree Go1 of example-robot-data on its four feet (the feet's
-    /// links' origins), a motor torque per joint.
-    pub struct Go1 {
-        parameters: [fl_x, fl_y, fr_x, fr_y, rl_x, rl_y, rr_x, rr_y],
-        inputs: [t1, t2, t3, t4, t5, t6, t7, t8, t9, t10, t11, t12],
-        urdf: "data/go1_floating.urdf",
-        forces: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, t1, t2, t3, t4, t5, t6, t7, t8, t9, t10, t11, t12],
-        constraints: [
-            position(FL_foot, [0.0, 0.0, 0.0]) == [fl_x, fl_y, 0.0],
-            position(FR_foot, [0.0, 0.0, 0.0]) == [fr_x, fr_y, 0.0],
-            position(RL_foot, [0.0, 0.0, 0.0]) == [rl_x, rl_y, 0.0],
-            position(RR_foot, [0.0, 0.0, 0.0]) == [rr_x, rr_y, 0.0],
-        ],
     }
 }
 
@@ -210,29 +193,4 @@ fn a_lifted_base_takes_the_general_solve_with_the_same_answers() {
     println!("lifted base vs on the world: q̈ {worst:.1e}");
     assert!(worst <= 1e-12, "{worst:e}");
     assert_close("Lifted one leg", &against_dense::<_, 10, 4>(&lifted, &at));
-}
-
-#[test]
-fn the_go1_from_its_urdf_agrees_with_the_dense_solve() {
-    let mut x = 3u64;
-    let states: Vec<State<f64, 19>> = (0..16)
-        .map(|_| state::<19>(&mut x, 0.3, [0.0, 0.8, -1.5]))
-        .collect();
-    // Each foot under its hip (FL, FR, RL, RR), as (x, y).
-    let feet = [0.1881, 0.13, 0.1881, -0.13, -0.1881, 0.13, -0.1881, -0.13];
-    let [a, b, c, d, e, f, g, h] = feet;
-    let mut t = [0.0; 12];
-    for v in &mut t {
-        *v = 5.0 * uniform(&mut x);
-    }
-    let go1 = Go1::new(
-        a, b, c, d, e, f, g, h, t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], t[9], t[10],
-        t[11],
-    );
-    let gaps = against_dense::<_, 19, 13>(&go1, &states);
-    assert_close("Go1 from its URDF", &gaps);
-    // The legs' solve answered (a state handed to the dense solve would
-    // be bit for bit the dense answer).
-    assert!(gaps.own > 0, "{gaps:?}");
-    assert_eq!(Go1::<f64>::COORDINATES[0], "root_joint_x");
 }
