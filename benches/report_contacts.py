@@ -1,5 +1,6 @@
-"""The Contacts section of BENCHMARKS.md and its targets: the quadruped on
-four feet and the five-bar loop against Pinocchio's `constraintDynamics`
+"""The Contacts section of BENCHMARKS.md and its targets: the quadruped and
+the Unitree Go1 (from its URDF, on a floating root) on four feet and the
+five-bar loop against Pinocchio's `constraintDynamics`
 and `lcaba` (benches/peers/run.sh writes <target>/benchmarks/contacts.json:
 our times and Pinocchio's, in alternating rounds). Standard library only."""
 
@@ -7,7 +8,12 @@ import json
 from pathlib import Path
 
 SYSTEMS = (("quadruped", 19, 18, "quadruped, 4 feet (19 coordinates, 13 rows; Pinocchio: nv 18, 12 rows)"),
+           ("go1", 19, 18, "Unitree Go1 from its URDF, 4 feet (19 coordinates, 13 rows; Pinocchio: nv 18, 12 rows)"),
            ("five_bar", 4, 4, "five-bar loop (4 joints, 2 rows; Pinocchio: one 3D loop contact)"))
+# The wanted ratio to `constraintDynamics` of each system's method: issue
+# 27's q̈ ≥ 5×; issue 48's for the Go1 read from its URDF.
+TARGETS = {("quadruped", "acceleration"): 5, ("five_bar", "acceleration"): 5,
+           ("go1", "acceleration"): 6, ("go1", "acceleration_and_multipliers"): 5}
 PEERS = ("constraintDynamics", "lcaba")
 OURS = ("acceleration", "acceleration_and_multipliers")
 
@@ -40,13 +46,15 @@ def ratios(rows, system, ours, theirs):
 
 
 def targets(rows):
-    """Issue 27's targets: our q̈ ≥ 5 × faster than `constraintDynamics`."""
+    """Each of `TARGETS`: our method ≥ its ratio × faster than `constraintDynamics`."""
     out = []
-    for system, _, _, _ in SYSTEMS:
-        r = ratios(rows, system, "acceleration", "constraintDynamics")
+    for (system, ours), wanted in TARGETS.items():
+        r = ratios(rows, system, ours, "constraintDynamics")
         if r:
-            out.append((f"Contacts: {system.replace('_', '-')} q̈ ≥ 5 × faster than Pinocchio's `constraintDynamics` "
-                        f"(median of {len(r)} alternating rounds)", _median(r), "≥ 5", lambda x: x >= 5, "{:.2f}×"))
+            what = "q̈" if ours == "acceleration" else "q̈ and λ"
+            out.append((f"Contacts: {system.replace('_', '-')} {what} ≥ {wanted} × faster than Pinocchio's "
+                        f"`constraintDynamics` (median of {len(r)} alternating rounds)", _median(r), f"≥ {wanted}",
+                        lambda x, w=wanted: x >= w, "{:.2f}×"))
     return out
 
 
@@ -112,21 +120,25 @@ def section(rows, ns):
         ]
     return [
         "",
-        "## Contacts and loops: the quadruped and the five-bar, against Pinocchio",
+        "## Contacts and loops: the quadruped, the Go1 and the five-bar, against Pinocchio",
         "",
         "Pinocchio's constrained dynamics (`constraintDynamics`, and `lcaba` where it runs) in",
         "C++ (`benches/peers/contacts.cpp`) on models built from the same figures as ours",
         "(`examples/support/quadruped.rs`: a free flyer, 12 revolute joints, each foot a 3D",
-        "point contact with the world in world-aligned axes; the five-bar of",
+        "point contact with the world in world-aligned axes; the Unitree Go1 of",
+        "example-robot-data's `go1.urdf` read by both sides, ours with a `floating` root",
+        "joint from a `world` link, Pinocchio's with `JointModelFreeFlyer`, its joints",
+        "matched by name and its four foot links' origins 3D point contacts; the five-bar of",
         "`examples/five_bar.rs` closed by one 3D contact between the distal tips, whose",
         "`y` row is identically zero — ours writes the two rows `x`, `z`), at 20 consistent",
         "states each (`benches/peers/robots/src/bin/contacts.rs`: the legs placed by",
-        "inverse kinematics with the base moving, the five-bar by projection; `A q̈ = b`",
+        "inverse kinematics with the base moving (the Go1's by Newton's method), the",
+        "five-bar by projection; `A q̈ = b`",
         "checked to 1e-12 at every state). Our `q̈` is turned into Pinocchio's free-flyer",
         "acceleration (the base's spatial acceleration in its own axes) and our `λ` (the",
         "force on each foot, world axes, `Q_c = Aᵀλ`) compared with `lambda_c`. Each peer",
         "ran with the smallest damping `mu` (0, then 1e-14, 1e-12, …) whose answers agree",
-        "with ours (to 1e-9; `lcaba` to 1e-8, as close as it comes at any damping), and",
+        "with ours (to 1e-12; `lcaba` to 1e-8, as close as it comes at any damping), and",
         "was timed only then:",
         "",
     ] + notes + [

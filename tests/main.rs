@@ -24,6 +24,7 @@ mod fault_matrix;
 mod finite_differences;
 mod floating;
 mod frames;
+mod free_base;
 mod gauss;
 mod generated_multipliers;
 mod gibbs_appell;

@@ -1,12 +1,21 @@
 // Pinocchio's constrained dynamics (C++, from the `pin` wheel) on the
 // Contacts rows of BENCHMARKS.md: the quadruped of
-// examples/support/quadruped.rs on its four feet and the planar five-bar
-// closed by one loop (benches/peers/robots/src/bin/contacts.rs writes their
-// states, our q̈ and λ). The models are built here from the same figures as
-// the `constrained_system!` invocations (a free flyer and revolute joints
-// about x and y, the same placements, masses, centres of mass and inertias
-// about them); the agreement of every answer below is what shows they are
-// the same.
+// examples/support/quadruped.rs on its four feet, the Unitree Go1 on its
+// four feet and the planar five-bar closed by one loop
+// (benches/peers/robots/src/bin/contacts.rs writes their states, our q̈ and
+// λ). The quadruped's and the five-bar's models are built here from the
+// same figures as the `constrained_system!` invocations (a free flyer and
+// revolute joints about x and y, the same placements, masses, centres of
+// mass and inertias about them); the Go1's is read by Pinocchio's URDF
+// parser from example-robot-data's go1.urdf with a free-flyer root (our
+// side reads the same file with a floating root joint), its joints placed
+// by name (the reference file's `names go1` line). The agreement of every
+// answer below is what shows the models are the same.
+//
+// The Go1's feet are the foot links' frames (FL_foot, FR_foot, RL_foot,
+// RR_foot: their parent joint and placement in it, Pinocchio's), each a 3D
+// point contact held at the place the record gives (LOCAL_WORLD_ALIGNED),
+// the same in every state.
 //
 // The quadruped's feet are 3D point contacts of the lower legs' foot points
 // with the world (LOCAL_WORLD_ALIGNED: the force on the foot in world axes,
@@ -18,18 +27,22 @@
 // for each system the tightest damping `mu` that converges within
 // `max_iter` iterations to `accuracy` (the first of a descending list whose
 // answers agree with ours), stated in the JSON line with the iterations it
-// took. `lcaba` (which requires mu > 0) the same way; only its q̈ is
-// compared, to 1e-8 (its own convergence, see `run`). Only answers within
+// took, its q̈ and λ checked to 1e-12 relative. `lcaba` (which requires
+// mu > 0) the same way; only its q̈ is compared, to 1e-8 (its own
+// convergence, see `run`). Only answers within
 // the tolerance are timed: per state, the median of common.h's batches, on
 // the thread's CPU clock (`peer_cpu_time`).
 //
-// Usage: contacts REFERENCE_FILE ROUND
+// Usage: contacts REFERENCE_FILE ROUND GO1_URDF
 #include "common.h"
 
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
 #include <pinocchio/algorithm/loop-constrained-aba.hpp>
 #include <pinocchio/multibody.hpp>
+#include <pinocchio/parsers/urdf.hpp>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -118,6 +131,72 @@ static Constraints five_bar(pin::Model &model) {
   return out;
 }
 
+// The words after `names KIND` on the reference file's line for KIND.
+static std::vector<std::string> names_of(const char *path, const std::string &kind) {
+  std::ifstream file(path);
+  std::string text;
+  while (std::getline(file, text)) {
+    std::istringstream in(text);
+    std::string key, which, w;
+    if (!(in >> key >> which) || key != "names" || which != kind) continue;
+    std::vector<std::string> out;
+    while (in >> w) out.push_back(w);
+    return out;
+  }
+  fprintf(stderr, "%s: no `names %s` line\n", path, kind.c_str());
+  exit(2);
+}
+
+// The Go1 from its URDF on a free flyer; each of our joints (`names`, after
+// the base) as its index in Pinocchio's q and v.
+static void go1(pin::Model &model, const char *urdf, const std::vector<std::string> &names,
+                std::vector<int> &iq, std::vector<int> &iv) {
+  pin::urdf::buildModel(urdf, pin::JointModelFreeFlyer(), model);
+  if (model.names[1] != "root_joint" || model.joints[1].idx_v() != 0) {
+    fprintf(stderr, "go1: Pinocchio's first joint is %s, not the free flyer\n", model.names[1].c_str());
+    exit(2);
+  }
+  for (const std::string &name : names) {
+    if (!model.existJointName(name)) {
+      fprintf(stderr, "go1: Pinocchio's model has no joint %s\n", name.c_str());
+      exit(2);
+    }
+    const auto &j = model.joints[model.getJointId(name)];
+    if (j.nq() != 1 || j.nv() != 1) {
+      fprintf(stderr, "go1: %s is not one coordinate in Pinocchio's model\n", name.c_str());
+      exit(2);
+    }
+    iq.push_back(j.idx_q());
+    iv.push_back(j.idx_v());
+  }
+  if ((int)names.size() + 6 != model.nv) {
+    fprintf(stderr, "go1: Pinocchio's model has nv %d, ours %zu joints and a base\n", model.nv, names.size());
+    exit(2);
+  }
+}
+
+// The Go1's four feet held at `places` ((x, y, z) each: FL, FR, RL, RR).
+static Constraints go1_feet(const pin::Model &model, const VectorXd &places) {
+  Constraints out;
+  const char *feet[4] = {"FL_foot", "FR_foot", "RL_foot", "RR_foot"};
+  for (int k = 0; k < 4; k++) {
+    const pin::Frame &f = model.frames[model.getFrameId(feet[k])];
+    out.push_back(Constraint(pin::CONTACT_3D, model, f.parentJoint, f.placement, 0,
+                             at(places[3 * k], places[3 * k + 1], places[3 * k + 2]),
+                             pin::LOCAL_WORLD_ALIGNED));
+  }
+  return out;
+}
+
+// A record's vector in our joints' order turned into Pinocchio's: the base's
+// `base` entries first as they are, then each joint at `index`.
+static VectorXd placed(const VectorXd &ours, int base, const std::vector<int> &index, int size) {
+  VectorXd out = VectorXd::Zero(size);
+  out.head(base) = ours.head(base);
+  for (size_t k = 0; k < index.size(); k++) out[index[k]] = ours[base + k];
+  return out;
+}
+
 struct Problem {
   const char *system;
   pin::Model model;
@@ -187,7 +266,7 @@ static void run(Problem &p, bool lcaba, const char *round) {
   // (five-bar) at any damping (mu 1e-6, its proximal loop stopping after 3
   // iterations; smaller mu agree less): its own convergence, so it is
   // checked to 1e-8 and reported as such.
-  const double tolerance = lcaba ? 1e-8 : 1e-9, accuracy = 1e-14;
+  const double tolerance = lcaba ? 1e-8 : 1e-12, accuracy = 1e-14;
   const int max_iter = 100;
   // Undamped first (constraintDynamics only: lcaba needs mu > 0), then
   // ever larger damping: the first that agrees is timed.
@@ -222,33 +301,55 @@ static void run(Problem &p, bool lcaba, const char *round) {
 }
 
 int main(int argc, char **argv) {
-  if (argc != 3) {
-    fprintf(stderr, "usage: %s REFERENCE_FILE ROUND\n", argv[0]);
+  if (argc != 4) {
+    fprintf(stderr, "usage: %s REFERENCE_FILE ROUND GO1_URDF\n", argv[0]);
     return 2;
   }
-  static peer_record records[64];
-  const int n = peer_read(argv[1], records, 64);
-  Problem legs{"quadruped"}, loop{"five_bar"};
+  static peer_record records[96];
+  const int n = peer_read(argv[1], records, 96);
+  Problem legs{"quadruped"}, dog{"go1"}, loop{"five_bar"};
   const std::vector<pin::JointIndex> lower = quadruped(legs.model);
+  std::vector<int> iq, iv;
+  go1(dog.model, argv[3], names_of(argv[1], "go1"), iq, iv);
   loop.constraints = five_bar(loop.model);
   for (int i = 0; i < 12; i++) legs.rows.push_back(i);
+  dog.rows = legs.rows;
   loop.rows = {0, -1, 1};
   for (int i = 0; i < n; i++) {
     const peer_record &r = records[i];
     State s{vec(r, "q"), vec(r, "v"), vec(r, "tau"), vec(r, "a"), vec(r, "lambda")};
-    Problem &p = strcmp(r.kind, "quadruped") ? loop : legs;
+    Problem &p = !strcmp(r.kind, "quadruped") ? legs : !strcmp(r.kind, "go1") ? dog : loop;
     if (&p == &legs && legs.constraints.empty()) legs.constraints = feet(legs.model, lower, vec(r, "feet"));
+    if (&p == &dog) {
+      // One model holds the feet at one place: every state's must be it.
+      const VectorXd places = vec(r, "feet");
+      if (dog.constraints.empty()) dog.constraints = go1_feet(dog.model, places);
+      else
+        for (int k = 0; k < 4; k++)
+          if ((dog.constraints[k].joint2_placement.translation() - places.segment<3>(3 * k)).norm() != 0) {
+            fprintf(stderr, "go1: the feet's places differ between states\n");
+            return 2;
+          }
+      if (s.q.size() != dog.model.nq || s.v.size() != dog.model.nv) {
+        fprintf(stderr, "go1: the record's sizes differ from Pinocchio's model\n");
+        return 2;
+      }
+      s.q = placed(s.q, 7, iq, dog.model.nq);
+      s.v = placed(s.v, 6, iv, dog.model.nv);
+      s.tau = placed(s.tau, 6, iv, dog.model.nv);
+      s.a = placed(s.a, 6, iv, dog.model.nv);
+    }
     if (s.q.size() != p.model.nq || s.v.size() != p.model.nv || s.a.size() != p.model.nv) {
       fprintf(stderr, "%s: the record's sizes differ from Pinocchio's model\n", p.system);
       return 2;
     }
     p.states.push_back(s);
   }
-  if (legs.states.empty() || loop.states.empty()) {
-    fprintf(stderr, "the reference lacks quadruped or five-bar states\n");
+  if (legs.states.empty() || dog.states.empty() || loop.states.empty()) {
+    fprintf(stderr, "the reference lacks quadruped, Go1 or five-bar states\n");
     return 2;
   }
-  for (Problem *p : {&legs, &loop})
+  for (Problem *p : {&legs, &dog, &loop})
     for (bool lcaba : {false, true}) run(*p, lcaba, argv[2]);
   return peer_failures ? 1 : 0;
 }

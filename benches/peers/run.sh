@@ -6,8 +6,8 @@
 # TALOS, the xArm7, the Kinova Jaco 2, the Unitree G1; the table is
 # benches/peers/robots/build.rs; benches/peers/robots, our side and its
 # times; benches/peers/robots.cpp, Pinocchio's, matched by joint name); and the
-# Contacts rows, the quadruped and the five-bar against Pinocchio's
-# constraintDynamics and lcaba (benches/peers/robots/src/bin/contacts.rs,
+# Contacts rows, the quadruped, the Unitree Go1 (its URDF on a floating
+# root) and the five-bar against Pinocchio's constraintDynamics and lcaba (benches/peers/robots/src/bin/contacts.rs,
 # benches/peers/contacts.cpp). Each program checks its answer
 # against the generated code's (chains/examples/peer_reference.rs) before it
 # times anything, and exits with 1 if one disagrees.
@@ -58,7 +58,7 @@ if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$her
     -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/robots.cpp" -o "$out/robots" \
     -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || robots_ok=0
 fi
-# The Contacts rows (the quadruped on four feet, the five-bar loop) against
+# The Contacts rows (the quadruped and the Go1 on four feet, the five-bar loop) against
 # Pinocchio's constrained dynamics; optional like the robots'.
 contacts_ok=1
 if [ ! -x "$out/contacts" ] || [ "$here/contacts.cpp" -nt "$out/contacts" ] || [ "$here/common.h" -nt "$out/contacts" ]; then
@@ -68,8 +68,8 @@ if [ ! -x "$out/contacts" ] || [ "$here/contacts.cpp" -nt "$out/contacts" ] || [
     -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION -DBOOST_MPL_LIMIT_LIST_SIZE=30 \
     -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS \
     -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
-    -I"$prefix/include" -I"$prefix/include/eigen3" "$here/contacts.cpp" -o "$out/contacts" \
-    -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_default || contacts_ok=0
+    -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/contacts.cpp" -o "$out/contacts" \
+    -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || contacts_ok=0
 fi
 if [ ! -x "$out/mujoco" ] || [ "$here/mujoco.c" -nt "$out/mujoco" ] || [ "$here/common.h" -nt "$out/mujoco" ]; then
   library=$(cd "$mujoco" && ls libmujoco.so.* | head -1)
@@ -115,7 +115,7 @@ if [ "$contacts_ok" = 1 ]; then
     "${contacts[@]}" write "$out/contacts.txt" || status=1
     for round in 1 2 3; do
       "${pin[@]}" "${contacts[@]}" time "$round" || status=1
-      "${pin[@]}" "$out/contacts" "$out/contacts.txt" "$round" || status=1
+      "${pin[@]}" "$out/contacts" "$out/contacts.txt" "$round" "$robot_data/go1_description/urdf/go1.urdf" || status=1
     done
   } > "$target/benchmarks/contacts.json"
   cat "$target/benchmarks/contacts.json"

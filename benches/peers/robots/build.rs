@@ -5,8 +5,10 @@
 //! version, so it is found here rather than written in the source.
 //! `EXAMPLE_ROBOT_DATA` may name the `robots` directory instead.
 //!
-//! Every robot is read from the wheel's file as written: no copy is
-//! adjusted. `ROBOTS` is the one table of the robots: besides each
+//! Every robot of the Robots rows is read from the wheel's file as
+//! written: no copy is adjusted. The Contacts rows' Go1 (`go1.rs`, for
+//! `src/bin/contacts.rs`) is the wheel's file with a floating root joint
+//! added, the one change a floating base needs (see [`go1`]). `ROBOTS` is the one table of the robots: besides each
 //! invocation this writes its `Urdf` implementation (the file's path
 //! relative to the `robots` directory, the locked joints and whether
 //! `<mimic>` is read, which `benches/peers/robots.cpp` reads back from the
@@ -187,8 +189,66 @@ fn joints(file: &str, locked: &[&str], mimic: bool) -> usize {
     n
 }
 
+/// The Unitree Go1 of the Contacts rows: the wheel's `go1.urdf` as
+/// written, its root link `base` on a `floating` joint `root_joint` from a
+/// `world` link (the file has none: its base is fixed to the world as
+/// written), which is what Pinocchio's `buildModel(file,
+/// JointModelFreeFlyer())` adds on its side. Writes the copy and the
+/// invocation (`go1.rs`) into `out`: the four feet are the foot links'
+/// origins held where the state puts them, a motor torque per joint.
+fn go1(robots: &Path, out: &Path) {
+    let path = robots.join("go1_description/urdf/go1.urdf");
+    println!("cargo::rerun-if-changed={}", path.display());
+    let written =
+        std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let robot = "<robot name=\"go1\">";
+    assert!(
+        written.contains(robot),
+        "{} names another robot",
+        path.display()
+    );
+    let root = "\n  <link name=\"world\"/>\n  <joint name=\"root_joint\" type=\"floating\">\n    \
+                <parent link=\"world\"/>\n    <child link=\"base\"/>\n  </joint>";
+    let floating = written.replacen(robot, &format!("{robot}{root}"), 1);
+    let copy = out.join("go1_floating.urdf");
+    std::fs::write(&copy, floating).expect("OUT_DIR is writable");
+    let torques = (1..=12)
+        .map(|k| format!("t{k}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let feet = ["FL", "FR", "RL", "RR"];
+    let places = feet
+        .iter()
+        .map(|f| {
+            let f = f.to_lowercase();
+            format!("{f}_x, {f}_y, {f}_z")
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let rows = feet
+        .iter()
+        .map(|f| {
+            let l = f.to_lowercase();
+            format!("position({f}_foot, [0.0, 0.0, 0.0]) == [{l}_x, {l}_y, {l}_z],")
+        })
+        .collect::<Vec<_>>()
+        .join("\n            ");
+    let invocation = format!(
+        "constrained::constrained_system! {{\n    /// The Unitree Go1 of example-robot-data's \
+         `go1_description/urdf/go1.urdf` on a floating root joint, standing on its\n    \
+         /// four feet (the foot links' origins held at `(x, y, z)` each), a motor torque per joint.\n    \
+         pub struct Go1 {{\n        parameters: [{places}],\n        inputs: [{torques}],\n        \
+         urdf: {copy:?},\n        forces: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, {torques}],\n        \
+         constraints: [\n            {rows}\n        ],\n    }}\n}}\n",
+        copy = copy.display().to_string(),
+    );
+    std::fs::write(out.join("go1.rs"), invocation).expect("OUT_DIR is writable");
+}
+
 fn main() {
     let robots = robots_directory();
+    let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    go1(&robots, &out_dir);
     let mut out = String::new();
     let mut visit = String::new();
     for r in ROBOTS {
@@ -242,7 +302,7 @@ fn main() {
         "/// Visits every robot, in the order of build.rs's table.\n\
          fn robots(visit: &mut impl Visit) {{\n{visit}}}"
     );
-    let file = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("robots.rs");
+    let file = out_dir.join("robots.rs");
     std::fs::write(file, out).expect("OUT_DIR is writable");
     println!("cargo::rerun-if-changed=build.rs");
 }

@@ -99,14 +99,21 @@ pub fn spherical(
 /// slides along the world's `x`, `y`, `z`, at its origin. Its position's
 /// accelerations are then solved in the base's axes, and its rows
 /// `position(body, r) == c` with them (`crate::equations::velocity`).
+/// The world is the world up to the bodies fixed to it at its own frame
+/// ([`super::grounded`]), which the tree merges into it: a URDF's
+/// `floating` joint from a `world` link, or `free(..)` under a body on
+/// `fixed`, is the same base as `free(..)` on the world, and
+/// [`free_base_in_tree`] finds it in the tree.
 pub fn free_base(g: &Graph, described: &[Described], i: usize) -> Option<usize> {
     free_base_by(g, i, |k| {
         let d = described.get(k)?;
-        Some((d.parent, &d.placement, d.joint, &d.inertia))
+        let parent = super::grounded(g, described, d.parent);
+        Some((parent, &d.placement, d.joint, &d.inertia))
     })
 }
 
-/// [`free_base`] among a tree's movable bodies.
+/// [`free_base`] among a tree's movable bodies, where a parent `None` is
+/// the world with every body fixed to it merged in ([`super::Tree::new`]).
 pub fn free_base_in_tree(g: &Graph, bodies: &[super::Body], i: usize) -> Option<usize> {
     free_base_by(g, i, |k| {
         let b = bodies.get(k)?;

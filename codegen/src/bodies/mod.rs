@@ -100,6 +100,28 @@ pub struct Body {
     pub inertia: Inertia,
 }
 
+/// What `parent` stands for once the bodies fixed to the world at its own
+/// frame are merged into it, as [`Tree::new`] merges them: `None` (the
+/// world) for the world itself or a body on no joint placed at the
+/// identity in a parent that is the world in this sense (a URDF's `world`
+/// link, a `bodies` body on `fixed` between the world and a base), else
+/// `parent`. Such a body's mass is the world's, which nothing moves. A
+/// fixed body placed elsewhere is not the world: what hangs from it is
+/// placed in another frame.
+pub fn grounded(g: &Graph, described: &[Described], parent: Option<usize>) -> Option<usize> {
+    let mut at = parent;
+    // Each step moves to a parent, whose index is lower: at most
+    // `described.len()` steps.
+    for _ in 0..=described.len() {
+        let d = described.get(at?)?;
+        if d.joint.is_some() || !d.placement.is_identity(g) {
+            return at;
+        }
+        at = d.parent;
+    }
+    at
+}
+
 /// A kinematic tree with only movable joints, parents before children.
 #[derive(Clone, Debug)]
 pub struct Tree {

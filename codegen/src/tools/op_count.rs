@@ -68,20 +68,41 @@ const FREE: &[&str] = &[
     "from_array_storage",
     "ArrayStorage",
     "clone",
+    "Some",
 ];
 
 /// The operations of the `acceleration` of one expanded system: `None` when
 /// the expansion has no straight-line solver `gauss` (or uses something the
 /// counter does not know, which it refuses rather than under-counts).
 pub fn acceleration(expanded: &syn::File) -> Option<OpCount> {
+    solved(expanded, false)
+}
+
+/// The operations of `acceleration_and_multipliers`: `q̈` and the
+/// multipliers `λ` the solve returns beside it (the last argument of the
+/// fast path's `__F::stands_with`), what both need counted once. `None`
+/// as for [`acceleration`], and where the solve gives no `λ` of its own.
+pub fn acceleration_and_multipliers(expanded: &syn::File) -> Option<OpCount> {
+    solved(expanded, true)
+}
+
+/// The operations of the fast path's `q̈`, and with `multipliers` of its `λ`.
+fn solved(expanded: &syn::File, multipliers: bool) -> Option<OpCount> {
     let gauss = find_method(expanded, "gauss")?;
     let mut bindings = Vec::new();
     let mut result = None;
     collect(&gauss.block.stmts, &mut bindings, &mut result)?;
-    let (root, at) = result?;
+    let (call, at) = result?;
     let mut ops = OpCount::default();
     let mut uses = Vec::new();
-    walk(root, &mut ops, &mut uses)?;
+    walk(call.args.first()?, &mut ops, &mut uses)?;
+    if multipliers {
+        let is_with = call.args.len() == 3;
+        let Some(Expr::Closure(lambda)) = call.args.last().filter(|_| is_with) else {
+            return None;
+        };
+        walk(&lambda.body, &mut ops, &mut uses)?;
+    }
     needed(&bindings, uses, at, &mut ops);
     Some(ops)
 }
@@ -165,7 +186,7 @@ fn find_method<'a>(file: &'a syn::File, name: &str) -> Option<&'a syn::ImplItemF
 fn collect<'a>(
     stmts: &'a [Stmt],
     bindings: &mut Vec<Binding>,
-    result: &mut Option<(&'a Expr, usize)>,
+    result: &mut Option<(&'a syn::ExprCall, usize)>,
 ) -> Option<()> {
     for stmt in stmts {
         match stmt {
@@ -186,8 +207,8 @@ fn collect<'a>(
             }
             Stmt::Expr(Expr::Block(block), _) => collect(&block.block.stmts, bindings, result)?,
             Stmt::Expr(expr, _) => {
-                if let Some(acc) = returned_acceleration(expr) {
-                    *result = Some((acc, bindings.len()));
+                if let Some(call) = returned(expr) {
+                    *result = Some((call, bindings.len()));
                 }
             }
             Stmt::Item(_) | Stmt::Macro(_) => return None,
@@ -233,17 +254,14 @@ fn exported_block(local: &syn::Local) -> Option<&[Stmt]> {
 }
 
 /// The fast path's value `__F::stands(q̈, move || Fᶜ)` (or
-/// `__F::stands_with(q̈, move || Fᶜ, move || λ)`) → `q̈`.
-fn returned_acceleration(expr: &Expr) -> Option<&Expr> {
+/// `__F::stands_with(q̈, move || Fᶜ, move || λ)`).
+fn returned(expr: &Expr) -> Option<&syn::ExprCall> {
     let Expr::Call(call) = expr else { return None };
     let Expr::Path(path) = &*call.func else {
         return None;
     };
     let last = &path.path.segments.last()?.ident;
-    if last != "stands" && last != "stands_with" {
-        return None;
-    }
-    call.args.first()
+    (last == "stands" || last == "stands_with").then_some(call)
 }
 
 fn pattern_names(pat: &Pat, names: &mut Vec<String>) -> Option<()> {
@@ -477,6 +495,28 @@ mod tests {
         )
         .expect("straight-line");
         assert_eq!(grouped.total(), 6);
+    }
+
+    #[test]
+    fn the_multipliers_add_what_they_alone_need() {
+        let file: syn::File = syn::parse_str(
+            "impl<T> S<T> { fn gauss(&self, q: Q, qd: Q, t: T, correction: C) -> R {
+                 let [[x, y]] = q.data.0;
+                 let __a = x * y;
+                 let __m = __a - y;
+                 let __n = __m / x;
+                 __F::stands_with(
+                     V::from_array_storage(ArrayStorage([[__a, __m]])),
+                     move || x * x,
+                     move || ::core::option::Option::Some([-__m, __n + __a]),
+                 )
+             } }",
+        )
+        .expect("test source parses");
+        // q̈: x·y, −. λ adds its own /, −, + and shares __m, __a.
+        assert_eq!(acceleration(&file).map(|o| o.total()), Some(2));
+        let both = acceleration_and_multipliers(&file).expect("straight-line");
+        assert_eq!((both.total(), both.div, both.neg), (5, 1, 1));
     }
 
     #[test]

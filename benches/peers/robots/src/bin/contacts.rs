@@ -1,8 +1,11 @@
 //! The Contacts rows of BENCHMARKS.md: the quadruped of
 //! `examples/support/quadruped.rs` standing on its four feet (19
-//! coordinates, 13 rows) and a planar five-bar closed by one loop (4
-//! joints, 2 rows), against Pinocchio's `constraintDynamics` (and `lcaba`)
-//! on the same models and states (`benches/peers/contacts.cpp`).
+//! coordinates, 13 rows), the Unitree Go1 read from example-robot-data's
+//! URDF with a floating root joint standing on its four feet (19
+//! coordinates, 13 rows; `build.rs` writes it) and a planar five-bar closed
+//! by one loop (4 joints, 2 rows), against Pinocchio's `constraintDynamics`
+//! (and `lcaba`) on the same models and states
+//! (`benches/peers/contacts.cpp`).
 //!
 //! ```text
 //! contacts write REFERENCE_FILE   # the states and the generated answers
@@ -10,15 +13,18 @@
 //! ```
 //!
 //! The states are consistent (the quadruped's legs placed by inverse
-//! kinematics, the five-bar's by `project`, both on the constraints at
-//! position and velocity level to 1e-13), so that both sides solve the
-//! same problem whatever their formulation of the contact acceleration. The
-//! record gives them in Pinocchio's coordinates: the base's configuration
+//! kinematics, the Go1's by Newton's method on its feet's rows, the
+//! five-bar's by `project`, all on the constraints at position and
+//! velocity level to 1e-13), so that both sides solve the same problem
+//! whatever their formulation of the contact acceleration. The record gives
+//! them in Pinocchio's coordinates: the base's configuration
 //! `(x, y, z, qx, qy, qz, qw)` and its twist in the base's own axes; our
 //! `q̈` is turned into Pinocchio's `a` (the base's spatial acceleration in
 //! its own axes: `Rᵀ p̈ − ω × v` and `2 (q̄ ⊗ q̈)_vec`), and the feet's `λ`
 //! (world axes, the force on the foot: `Q_c = Aᵀ λ`) are written as they
-//! are. Every state's `q̈` is checked against `A q̈ = b` (1e-12) first.
+//! are. The Go1's joints follow the base in our order, and the file's first
+//! line (`names go1 …`) names them, for Pinocchio's side to place each by
+//! its name. Every state's `q̈` is checked against `A q̈ = b` (1e-12) first.
 
 #[path = "../clock.rs"]
 mod clock;
@@ -34,6 +40,8 @@ use constrained::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector
 use constrained::stabilize::project;
 use constrained::{ConstrainedSystem, State};
 use model::{Quadruped, FOOT_OFFSET, HIPS, N};
+
+include!(concat!(env!("OUT_DIR"), "/go1.rs"));
 use std::fmt::Write as _;
 use std::hint::black_box;
 
@@ -203,6 +211,94 @@ fn quadruped_state(rng: &mut Rng) -> (Quadruped<f64>, State<f64, N>) {
     (system, state)
 }
 
+/// The Go1 with its feet at `feet` (`(x, y, z)` each: FL, FR, RL, RR) and
+/// joint torques `tau`.
+fn go1(feet: &[f64; 12], tau: &[f64; 12]) -> Go1<f64> {
+    let (p, t) = (feet, tau);
+    Go1::new(
+        p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], t[0], t[1], t[2],
+        t[3], t[4], t[5], t[6], t[7], t[8], t[9], t[10], t[11],
+    )
+}
+
+/// The Go1's standing pose: each leg's hip, thigh and calf.
+const GO1_POSE: [f64; 3] = [0.0, 0.8, -1.5];
+
+/// Where the Go1's feet stand: under the base at `(0, 0, 0.3)`, level, its
+/// legs in [`GO1_POSE`] (the rows' residual with the feet at the origin is
+/// each foot's place).
+fn go1_feet() -> [f64; 12] {
+    let base = FreeMotion::at_rest(Vector3::new(0.0, 0.0, 0.3), UnitQuaternion::identity());
+    let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
+    for j in 7..N {
+        q[j] = GO1_POSE[(j - 7) % 3];
+    }
+    let placed = ConstrainedSystem::constraint_residual(
+        &go1(&[0.0; 12], &[0.0; 12]),
+        &State::new(0.0, q, qd),
+    );
+    std::array::from_fn(|i| placed[i])
+}
+
+/// A Go1 state near standing: the base moved, turned and moving, the legs
+/// placed by Newton's method on the feet's rows (from [`GO1_POSE`]) with
+/// the feet at [`go1_feet`], the joints' rates from the feet's velocity
+/// rows; random joint torques. Its joints are `Go1::COORDINATES[7..]`, in
+/// Pinocchio's order of the same file's joints (`constrained_system!`'s
+/// `urdf`).
+fn go1_state(rng: &mut Rng) -> (Go1<f64>, State<f64, N>) {
+    let base = FreeMotion {
+        position: Vector3::new(
+            rng.uniform(0.02),
+            rng.uniform(0.02),
+            0.3 + rng.uniform(0.02),
+        ),
+        orientation: UnitQuaternion::from_euler_angles(
+            rng.uniform(0.1),
+            rng.uniform(0.1),
+            rng.uniform(0.2),
+        ),
+        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
+        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
+    };
+    let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
+    for j in 7..N {
+        q[j] = GO1_POSE[(j - 7) % 3];
+    }
+    let tau: [f64; 12] = std::array::from_fn(|_| rng.uniform(2.0));
+    let system = go1(&go1_feet(), &tau);
+    for _ in 0..20 {
+        let s = State::new(0.0, q, qd);
+        let (a, _) = ConstrainedSystem::constraint_matrices(&system, &s);
+        let r = ConstrainedSystem::constraint_residual(&system, &s);
+        let legs = SMatrix::<f64, 12, 12>::from_fn(|i, j| a[(i, 7 + j)]);
+        let step = legs
+            .lu()
+            .solve(&r.fixed_rows::<12>(0).into_owned())
+            .expect("the legs are not singular");
+        for j in 0..12 {
+            q[7 + j] -= step[j];
+        }
+    }
+    let (a, _) = ConstrainedSystem::constraint_matrices(&system, &State::new(0.0, q, qd));
+    let legs = SMatrix::<f64, 12, 12>::from_fn(|i, j| a[(i, 7 + j)]);
+    let driven = -(a.fixed_view::<12, 7>(0, 0) * qd.fixed_rows::<7>(0));
+    let rates = legs.lu().solve(&driven).expect("the legs are not singular");
+    qd.fixed_rows_mut::<12>(7).copy_from(&rates);
+    let state = State::new(0.0, q, qd);
+    let position = ConstrainedSystem::constraint_residual(&system, &state).amax();
+    let velocity = ConstrainedSystem::constraint_velocity_residual(&system, &state).amax();
+    assert!(
+        position < 1e-14 && velocity < 1e-13,
+        "{position:e} {velocity:e}"
+    );
+    (system, state)
+}
+
 /// A five-bar state: the motors' angles about the example's pose, the
 /// passive ones by the closure, random rates projected onto it.
 fn five_bar_state(rng: &mut Rng) -> (FiveBarLoop<f64>, State<f64, 4>) {
@@ -232,8 +328,8 @@ fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>)
     out.push('\n');
 }
 
-/// Pinocchio's configuration, velocity and acceleration of a quadruped
-/// state and its `q̈` (module docs).
+/// Pinocchio's configuration, velocity and acceleration of a floating
+/// base's state and its `q̈` (module docs), the joints in our order.
 fn pinocchio_coordinates(
     s: &State<f64, N>,
     qdd: &SVector<f64, N>,
@@ -270,6 +366,9 @@ fn write(path: &str) {
     let mut out = String::new();
     let mut rng = Rng(27);
     let mut worst: f64 = 0.0;
+    let names = Go1::<f64>::COORDINATES;
+    assert_eq!(names[0], "root_joint_x", "the Go1's base comes first");
+    let _ = writeln!(out, "names go1 {}", names[7..].join(" "));
     for _ in 0..STATES {
         let (system, s) = quadruped_state(&mut rng);
         let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
@@ -300,6 +399,41 @@ fn write(path: &str) {
         line(&mut out, "a", acceleration.iter());
         line(&mut out, "lambda", lambda.iter().take(12));
         line(&mut out, "feet", feet().iter());
+    }
+    // The Go1's states from a generator of their own: the others' states
+    // stay those they were.
+    let mut own = Rng(48);
+    for _ in 0..STATES {
+        let (system, s) = go1_state(&mut own);
+        let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
+        let (a, b) = ConstrainedSystem::constraint_matrices(&system, &s);
+        worst = worst.max(residual(&a, &b, &qdd));
+        let (config, velocity, acceleration) = pinocchio_coordinates(&s, &qdd);
+        let tau = [0.0; 6].into_iter().chain([
+            system.t1, system.t2, system.t3, system.t4, system.t5, system.t6, system.t7, system.t8,
+            system.t9, system.t10, system.t11, system.t12,
+        ]);
+        let feet = [
+            system.fl_x,
+            system.fl_y,
+            system.fl_z,
+            system.fr_x,
+            system.fr_y,
+            system.fr_z,
+            system.rl_x,
+            system.rl_y,
+            system.rl_z,
+            system.rr_x,
+            system.rr_y,
+            system.rr_z,
+        ];
+        let _ = writeln!(out, "go1 18");
+        line(&mut out, "q", config.iter());
+        line(&mut out, "v", velocity.iter());
+        line(&mut out, "tau", tau.collect::<Vec<_>>().iter());
+        line(&mut out, "a", acceleration.iter());
+        line(&mut out, "lambda", lambda.iter().take(12));
+        line(&mut out, "feet", feet.iter());
     }
     for _ in 0..STATES {
         let (system, s) = five_bar_state(&mut rng);
@@ -386,8 +520,11 @@ fn main() {
         (Some("time"), Some(round)) => {
             let mut rng = Rng(27);
             let quadrupeds: Vec<_> = (0..STATES).map(|_| quadruped_state(&mut rng)).collect();
+            let mut own = Rng(48);
+            let go1s: Vec<_> = (0..STATES).map(|_| go1_state(&mut own)).collect();
             let five_bars: Vec<_> = (0..STATES).map(|_| five_bar_state(&mut rng)).collect();
             time::<_, N, 13>("quadruped", round, &quadrupeds);
+            time::<_, N, 13>("go1", round, &go1s);
             time::<_, 4, 2>("five_bar", round, &five_bars);
         }
         _ => {
