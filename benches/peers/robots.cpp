@@ -5,7 +5,8 @@
 // with its finger mimic). Each robot's record names its URDF (under
 // example-robot-data's `robots` directory), the joints it holds at zero
 // and whether it reads `<mimic>`; this builds Pinocchio's model of the same
-// file with `pinocchio::urdf::buildModel` (fixed base: no root joint),
+// file with `pinocchio::urdf::buildModel` (robots.h, which kinematics.cpp
+// shares; fixed base: no root joint),
 // `buildReducedModel` for the locked joints (held at zero) and `mimic` as
 // the record says, then matches the two models' joints by NAME (every one
 // of ours must be a one-degree-of-freedom joint of Pinocchio's, and
