@@ -12,6 +12,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import report_contacts
+import report_kinematics
 import report_urdf_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -569,6 +570,8 @@ def main():
                         mq["pendulum_angles_8/acceleration"] / pin8, "≤ 3", lambda r: r <= 3, "{:.2f}×"))
     robots = report_contacts.load(TARGET, "robots.json")
     targets += robot_targets(robots)
+    kinematics = report_kinematics.load(TARGET)
+    targets += report_kinematics.targets(kinematics)
     contacts = report_contacts.load(TARGET)
     targets += report_contacts.targets(contacts)
     jac = {(model, way): get(f"jacobian/{model}/{way}") for model in ("cart_pole", "chain_8", "chain_32")
@@ -774,6 +777,7 @@ def main():
     lines += robot_section(robots)
     # Present where scripts/urdf_sweep.sh has been run.
     lines += report_urdf_sweep.section(report_urdf_sweep.load(TARGET / "benchmarks" / "urdf_sweep.json"))
+    lines += report_kinematics.section(kinematics, ns)
     lines += report_contacts.section(contacts, ns)
     lines.append("")
     (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))
@@ -783,4 +787,5 @@ def main():
         print("note: not every target is met on this run (see ✗ above)")
 
 
-main()
+if __name__ == "__main__":
+    main()

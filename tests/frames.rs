@@ -140,6 +140,32 @@ constrained_system! {
     }
 }
 
+constrained_system! {
+    /// A link turning on a pedestal welded to the world: the pedestal,
+    /// Pinocchio's universe, is not part of the centre of mass.
+    pub struct OnPedestal {
+        gravity: [0.0, 0.0, -9.81],
+        bodies: [
+            pedestal {
+                joint: fixed,
+                xyz: [0.0, 0.0, 0.3],
+                mass: 5.0,
+                com: [0.1, 0.0, 0.0],
+                inertia: diag[0.1, 0.1, 0.1],
+            },
+            link {
+                parent: pedestal,
+                joint: revolute(q1, [0.0, 0.0, 1.0]),
+                xyz: [0.0, 0.0, 0.2],
+                mass: 2.0,
+                com: [0.3, 0.0, 0.0],
+                inertia: diag[0.01, 0.02, 0.02],
+            },
+        ],
+        frames: [],
+    }
+}
+
 /// Fixed pseudo-random numbers in [-1.5, 1.5): a linear congruential
 /// sequence.
 fn numbers(seed: u64) -> impl FnMut() -> f64 {
@@ -350,6 +376,18 @@ fn arm_center_of_mass_jacobian_agrees_with_differences() {
     }
     println!("arm: centre of mass J q̇ within {worst:.1e} of differences");
     assert!(worst <= 1e-7, "{worst}");
+}
+
+#[test]
+fn a_body_welded_to_the_world_is_not_part_of_the_center_of_mass() {
+    let system = OnPedestal::<f64>::new();
+    for (q, _) in states::<1>(23) {
+        let (s, c) = q[0].sin_cos();
+        let com = Vector3::new(0.3 * c, 0.3 * s, 0.5);
+        let jacobian = Vector3::new(-0.3 * s, 0.3 * c, 0.0);
+        assert!((system.center_of_mass(&q, 0.0) - com).norm() <= 1e-15);
+        assert!((system.center_of_mass_jacobian(&q, 0.0).column(0) - jacobian).norm() <= 1e-15);
+    }
 }
 
 #[test]

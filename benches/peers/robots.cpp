@@ -5,7 +5,8 @@
 // with its finger mimic). Each robot's record names its URDF (under
 // example-robot-data's `robots` directory), the joints it holds at zero
 // and whether it reads `<mimic>`; this builds Pinocchio's model of the same
-// file with `pinocchio::urdf::buildModel` (fixed base: no root joint),
+// file with `pinocchio::urdf::buildModel` (robots.h, which kinematics.cpp
+// shares; fixed base: no root joint),
 // `buildReducedModel` for the locked joints (held at zero) and `mimic` as
 // the record says, then matches the two models' joints by NAME (every one
 // of ours must be a one-degree-of-freedom joint of Pinocchio's, and
@@ -33,14 +34,11 @@
 //
 // Usage: robots ROBOTS_DIR REFERENCE_FILE ROUND
 #include "common.h"
+#include "robots.h"
 
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/crba.hpp>
-#include <pinocchio/algorithm/joint-configuration.hpp>
-#include <pinocchio/algorithm/model.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
-#include <pinocchio/multibody.hpp>
-#include <pinocchio/parsers/urdf.hpp>
 
 #include <fstream>
 #include <map>
@@ -48,7 +46,6 @@
 #include <string>
 #include <vector>
 
-namespace pin = pinocchio;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
@@ -138,107 +135,14 @@ static std::vector<Record> read(const char *path) {
   return out;
 }
 
-// The model of a URDF as written (fixed base), with the joints named in
-// `locked` held at zero, mimic joints following theirs if `mimic`.
-static pin::Model load(const std::string &path, const std::vector<std::string> &locked,
-                       bool mimic) {
-  pin::Model full;
-  pin::urdf::buildModel(path, full, false, mimic);
-  std::vector<pin::JointIndex> ids;
-  for (const std::string &name : locked) {
-    if (!full.existJointName(name)) {
-      fprintf(stderr, "%s has no joint %s\n", path.c_str(), name.c_str());
-      exit(2);
-    }
-    ids.push_back(full.getJointId(name));
-  }
-  if (ids.empty()) return full;
-  VectorXd zero = pin::neutral(full);
-  for (pin::JointIndex id : ids) {
-    const auto &j = full.joints[id];
-    if (j.nq() != 1) {
-      fprintf(stderr, "%s: locked joint %s has %d coordinates\n", path.c_str(),
-              full.names[id].c_str(), j.nq());
-      exit(2);
-    }
-    zero[j.idx_q()] = 0;
-  }
-  return pin::buildReducedModel(full, ids, zero);
-}
-
-static bool is_mimic(const pin::Model &model, pin::JointIndex id) {
-  return model.joints[id].shortname() == "JointModelMimic";
-}
-
-// Where each of our coordinates is in Pinocchio's q and v, by name.
-struct Map {
-  std::vector<int> iq, nq, iv;
-};
-
-static Map match(const pin::Model &model, const Record &r) {
-  Map map;
-  for (const std::string &name : r.names) {
-    if (!model.existJointName(name)) {
-      fprintf(stderr, "%s: Pinocchio's model has no joint %s\n", r.name.c_str(), name.c_str());
-      exit(2);
-    }
-    const pin::JointIndex id = model.getJointId(name);
-    const auto &j = model.joints[id];
-    if (is_mimic(model, id) || j.nv() != 1 || (j.nq() != 1 && j.nq() != 2)) {
-      fprintf(stderr, "%s: %s is not one coordinate in Pinocchio's model (%s, nq %d, nv %d)\n",
-              r.name.c_str(), name.c_str(), j.shortname().c_str(), j.nq(), j.nv());
-      exit(2);
-    }
-    map.iq.push_back(j.idx_q());
-    map.nq.push_back(j.nq());
-    map.iv.push_back(j.idx_v());
-  }
-  int moving = 0;
-  for (pin::JointIndex id = 1; id < (pin::JointIndex)model.njoints; id++)
-    if (!is_mimic(model, id)) moving++;
-  if (moving != (int)r.names.size() || model.nv != r.n) {
-    fprintf(stderr, "%s: Pinocchio's model moves %d joints (nv %d), ours %zu\n", r.name.c_str(),
-            moving, model.nv, r.names.size());
-    exit(2);
-  }
-  return map;
-}
-
 // A state in Pinocchio's order (q in its coordinates).
 struct PinState {
   VectorXd q, v, tau, a;
 };
 
 static PinState to_pinocchio(const pin::Model &model, const Map &map, const State &s) {
-  PinState p{VectorXd::Zero(model.nq), VectorXd::Zero(model.nv), VectorXd::Zero(model.nv),
-             VectorXd::Zero(model.nv)};
-  for (size_t i = 0; i < map.iq.size(); i++) {
-    if (map.nq[i] == 2) {
-      p.q[map.iq[i]] = cos(s.q[i]);
-      p.q[map.iq[i] + 1] = sin(s.q[i]);
-    } else {
-      p.q[map.iq[i]] = s.q[i];
-    }
-    p.v[map.iv[i]] = s.v[i];
-    p.tau[map.iv[i]] = s.tau[i];
-    p.a[map.iv[i]] = s.a[i];
-  }
-  return p;
-}
-
-// Pinocchio's vector / matrix in our order.
-static VectorXd ours(const Map &map, const VectorXd &x) {
-  VectorXd out(map.iv.size());
-  for (size_t i = 0; i < map.iv.size(); i++) out[i] = x[map.iv[i]];
-  return out;
-}
-
-static MatrixXd ours(const Map &map, const MatrixXd &x) {
-  const int n = map.iv.size();
-  MatrixXd out(n, n);
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j < n; j++) out(i, j) = x(map.iv[i], map.iv[j]);
-  return out;
+  return PinState{pinocchio_q(model, map, s.q), pinocchio_v(model, map, s.v),
+                  pinocchio_v(model, map, s.tau), pinocchio_v(model, map, s.a)};
 }
 
 struct Timed {
@@ -269,10 +173,6 @@ static void call_rnea(void *p) {
     pin::rnea(*c->model, *c->data, s.q, s.v, s.a);
     PEER_KEEP(c->data->tau.data());
   }
-}
-
-static double relative(const MatrixXd &pinocchio, const MatrixXd &generated) {
-  return (pinocchio - generated).lpNorm<Eigen::Infinity>() / generated.lpNorm<Eigen::Infinity>();
 }
 
 static MatrixXd symmetric_crba(const pin::Model &model, pin::Data &data, const VectorXd &q) {
@@ -312,7 +212,7 @@ static void robot(const std::string &dir, const Record &r, const char *round) {
   }
   const pin::Model model = load(dir + "/" + r.urdf, r.locked, r.mimic);
   pin::Data data(model);
-  const Map map = match(model, r);
+  const Map map = match(model, r.name, r.names, r.n);
   std::vector<PinState> states;
   for (const State &s : r.states) states.push_back(to_pinocchio(model, map, s));
   double worst[3];

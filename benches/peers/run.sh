@@ -7,13 +7,19 @@
 # benches/peers/robots/build.rs; benches/peers/robots, our side and its
 # times; benches/peers/robots.cpp, Pinocchio's, matched by joint name); and the
 # Contacts rows, the quadruped, the Unitree Go1 (its URDF on a floating
-# root) and the five-bar against Pinocchio's constraintDynamics and lcaba (benches/peers/robots/src/bin/contacts.rs,
-# benches/peers/contacts.cpp). Each program checks its answer
+# root) and the five-bar against Pinocchio's constraintDynamics and lcaba
+# (benches/peers/robots/src/bin/contacts.rs, benches/peers/contacts.cpp); and
+# the Kinematics and derivatives rows, the Panda, the G1 and the Go1 with
+# named frames against Pinocchio's frame placements, Jacobians and classical
+# accelerations, centre of mass and ABA derivatives
+# (benches/peers/robots/src/bin/kinematics.rs, benches/peers/kinematics.cpp).
+# Each program checks its answer
 # against the generated code's (chains/examples/peer_reference.rs) before it
 # times anything, and exits with 1 if one disagrees.
 #
 # Sets up its own virtual environment (benches/peers/.venv); writes
-# <target>/benchmarks/peers.json and contacts.json (one JSON object per line). Called by
+# <target>/benchmarks/peers.json, robots.json, kinematics.json and
+# contacts.json (one JSON object per line). Called by
 # scripts/benchmarks.sh; not part of the test command. Pins the peers to one
 # core (taskset, where there is one), as the script pins criterion.
 set -euo pipefail
@@ -48,7 +54,7 @@ fi
 # The robots' rows are optional: a failure to build them leaves them out
 # (and the script's status 1) without losing the rows above.
 robots_ok=1
-if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$here/common.h" -nt "$out/robots" ]; then
+if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$here/common.h" -nt "$out/robots" ] || [ "$here/robots.h" -nt "$out/robots" ]; then
   echo "   compiling Pinocchio's robots (its URDF parser's templates too: minutes)"
   rm -f "$out/robots"
   g++ -std=c++17 -O3 -DNDEBUG -w \
@@ -57,6 +63,21 @@ if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$her
     -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
     -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/robots.cpp" -o "$out/robots" \
     -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || robots_ok=0
+fi
+# The Kinematics and derivatives rows (frames, the centre of mass, ∂q̈ of
+# the Panda, the G1 and the Go1 from their URDFs) against Pinocchio's
+# frame algorithms, jacobianCenterOfMass and computeABADerivatives;
+# optional like the robots'.
+kinematics_ok=1
+if [ ! -x "$out/kinematics" ] || [ "$here/kinematics.cpp" -nt "$out/kinematics" ] || [ "$here/common.h" -nt "$out/kinematics" ] || [ "$here/robots.h" -nt "$out/kinematics" ]; then
+  echo "   compiling Pinocchio's kinematics and ABA derivatives (its templates: minutes)"
+  rm -f "$out/kinematics"
+  g++ -std=c++17 -O3 -DNDEBUG -w \
+    -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION -DBOOST_MPL_LIMIT_LIST_SIZE=30 \
+    -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS \
+    -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
+    -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/kinematics.cpp" -o "$out/kinematics" \
+    -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || kinematics_ok=0
 fi
 # The Contacts rows (the quadruped and the Go1 on four feet, the five-bar loop) against
 # Pinocchio's constrained dynamics; optional like the robots'.
@@ -81,7 +102,7 @@ cargo run --quiet --release -p constrained-chains --example peer_reference -- "$
 # The robots' crate (outside the workspace) reads the URDFs at compile
 # time; built here, unpinned, and run pinned below.
 export EXAMPLE_ROBOT_DATA="$robot_data"
-cargo build --quiet --release --manifest-path "$here/robots/Cargo.toml" || { robots_ok=0; contacts_ok=0; }
+cargo build --quiet --release --manifest-path "$here/robots/Cargo.toml" || { robots_ok=0; contacts_ok=0; kinematics_ok=0; }
 pin=()
 if command -v taskset > /dev/null; then pin=(taskset -c 1); fi
 status=$((1 - robots_ok))
@@ -105,6 +126,23 @@ if [ "$robots_ok" = 1 ]; then
     done
   } > "$target/benchmarks/robots.json"
   cat "$target/benchmarks/robots.json"
+fi
+# The kinematics: ours writes the states and answers (checking J q̇ against
+# the frame's velocity and ∂q̈/∂τ against M⁻¹), then three alternating
+# rounds as the robots' (Pinocchio checks every quantity against ours in
+# every round before timing it).
+if [ "$kinematics_ok" = 1 ]; then
+  kinematics=(cargo run --quiet --release --manifest-path "$here/robots/Cargo.toml" --bin kinematics --)
+  {
+    "${kinematics[@]}" write "$out/kinematics.txt" || status=1
+    for round in 1 2 3; do
+      "${pin[@]}" "${kinematics[@]}" time "$round" || status=1
+      "${pin[@]}" "$out/kinematics" "$robot_data" "$out/kinematics.txt" "$round" || status=1
+    done
+  } > "$target/benchmarks/kinematics.json"
+  cat "$target/benchmarks/kinematics.json"
+else
+  status=1
 fi
 # The contacts: ours writes the states and answers (checking A q̈ = b), then
 # three alternating rounds of our times and Pinocchio's (which checks its

@@ -127,6 +127,97 @@ const ROBOTS: &[Robot] = &[
     },
 ];
 
+/// A named frame of the Kinematics rows: fixed in the URDF link `body`, at
+/// `xyz` turned by `rpy` in that link's frame (`frames:` of the DSL;
+/// Pinocchio's `OP_FRAME` on the link's `BODY` frame in `kinematics.cpp`).
+struct Frame {
+    name: &'static str,
+    body: &'static str,
+    xyz: [f64; 3],
+    rpy: [f64; 3],
+}
+
+/// A robot of the Kinematics rows (`src/bin/kinematics.rs`): a robot as
+/// above with its frames; the first frame is the one timed.
+struct Framed {
+    name: &'static str,
+    short: &'static str,
+    file: &'static str,
+    locked: &'static [&'static str],
+    frames: &'static [Frame],
+    what: &'static str,
+}
+
+/// A foot of the Go1 (each `*_foot` link, merged into its calf by a
+/// fixed joint), at the bottom of its 0.02 m sphere.
+const fn go1_sole(name: &'static str, body: &'static str) -> Frame {
+    Frame {
+        name,
+        body,
+        xyz: [0.0, 0.0, -0.02],
+        rpy: [0.0, 0.0, 0.0],
+    }
+}
+
+/// The robots of the Kinematics and derivatives rows. Each frame is on a
+/// link merged into its parent by fixed joints (the Panda's `panda_hand`
+/// behind two, turned −π/4; the G1's `right_rubber_hand`; the Go1's feet)
+/// but the G1's sole, on the ankle's own link; the Panda's tool point is
+/// turned every way so that no placement is trivial.
+const FRAMED: &[Framed] = &[
+    Framed {
+        name: "PandaFrames",
+        short: "panda",
+        file: "panda_description/urdf/panda.urdf",
+        locked: &["panda_finger_joint1", "panda_finger_joint2"],
+        frames: &[Frame {
+            name: "tool",
+            body: "panda_hand",
+            xyz: [0.01, -0.02, 0.1034],
+            rpy: [0.1, -0.2, 0.3],
+        }],
+        what: "The Franka Emika Panda, its fingers held closed, a tool point on its hand",
+    },
+    // The sole: midway between the ankle link's four contact spheres
+    // (x −0.05 and 0.12, z −0.03, radius 0.005).
+    Framed {
+        name: "G1Frames",
+        short: "g1",
+        file: "g1_description/urdf/g1_29dof_rev_1_0.urdf",
+        locked: &[],
+        frames: &[
+            Frame {
+                name: "left_sole",
+                body: "left_ankle_roll_link",
+                xyz: [0.035, 0.0, -0.035],
+                rpy: [0.0, 0.0, 0.0],
+            },
+            Frame {
+                name: "right_palm",
+                body: "right_rubber_hand",
+                xyz: [0.05, -0.01, 0.0],
+                rpy: [0.0, 0.4, -0.3],
+            },
+        ],
+        what: "The Unitree G1 (29 joints), fixed base, frames at a sole and a palm",
+    },
+    // The file's `floating_base` joint is `fixed`: as written the trunk is
+    // fixed to the world on both sides.
+    Framed {
+        name: "Go1Frames",
+        short: "go1",
+        file: "go1_description/urdf/go1.urdf",
+        locked: &[],
+        frames: &[
+            go1_sole("fl_sole", "FL_foot"),
+            go1_sole("fr_sole", "FR_foot"),
+            go1_sole("rl_sole", "RL_foot"),
+            go1_sole("rr_sole", "RR_foot"),
+        ],
+        what: "The Unitree Go1 (12 joints), fixed trunk, a frame under each foot",
+    },
+];
+
 /// `example-robot-data`'s `robots` directory in the peers' environment.
 fn robots_directory() -> PathBuf {
     println!("cargo::rerun-if-env-changed=EXAMPLE_ROBOT_DATA");
@@ -245,6 +336,105 @@ fn go1(robots: &Path, out: &Path) {
     std::fs::write(out.join("go1.rs"), invocation).expect("OUT_DIR is writable");
 }
 
+/// The Kinematics rows' systems and their `Framed` implementations
+/// (`src/bin/kinematics.rs`), and `framed`, which visits them in the
+/// table's order.
+fn kinematics(robots: &Path) -> String {
+    let mut out = String::new();
+    let mut visit = String::new();
+    for r in FRAMED {
+        let path = robots.join(r.file);
+        assert!(path.is_file(), "{} is missing", path.display());
+        println!("cargo::rerun-if-changed={}", path.display());
+        let path = path.display().to_string();
+        let n = joints(&path, r.locked, false);
+        let torques = (1..=n)
+            .map(|k| format!("tau{k}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let locked = if r.locked.is_empty() {
+            String::new()
+        } else {
+            format!("locked: [{}],", r.locked.join(", "))
+        };
+        let frames = r
+            .frames
+            .iter()
+            .map(|f| {
+                format!(
+                    "{} {{ body: {}, xyz: {:?}, rpy: {:?} }}",
+                    f.name, f.body, f.xyz, f.rpy
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(",\n            ");
+        let table = r
+            .frames
+            .iter()
+            .map(|f| {
+                format!(
+                    "Frame {{ name: {:?}, body: {:?}, xyz: {:?}, rpy: {:?} }}",
+                    f.name, f.body, f.xyz, f.rpy
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        // Per method, the frame's generated method by index: called with a
+        // constant index, the match folds away.
+        let by_frame = |method: &str, args: &str| {
+            let arms: String = r
+                .frames
+                .iter()
+                .enumerate()
+                .map(|(k, f)| format!("            {k} => self.{}_{method}({args}),\n", f.name))
+                .collect();
+            format!("match frame {{\n{arms}            _ => panic!(\"no frame {{frame}}\"),\n        }}")
+        };
+        let arguments = (0..n)
+            .map(|k| format!("t[{k}]"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let _ = writeln!(
+            out,
+            "constrained::constrained_system! {{\n    /// {what}, from example-robot-data's \
+             `{file}`; a motor torque per joint.\n    pub struct {name} {{\n        \
+             inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        \
+             forces: [{torques}],\n        frames: [\n            {frames}\n        ],\n    }}\n}}\n\n\
+             impl Framed<{n}> for {name} {{\n    const NAME: &'static str = {short:?};\n    \
+             const FILE: &'static str = {file:?};\n    \
+             const LOCKED: &'static [&'static str] = &{locked_list:?};\n    \
+             const FRAMES: &'static [Frame] = &[{table}];\n    \
+             fn names() -> [&'static str; {n}] {{\n        Self::COORDINATES\n    }}\n    \
+             #[inline(always)]\n    fn with_torques(t: &Vector<{n}>) -> Self {{\n        Self::new({arguments})\n    }}\n    \
+             #[inline(always)]\n    fn placement(&self, frame: usize, q: &Vector<{n}>) -> (Matrix3<f64>, Vector3<f64>) {{\n        {placement}\n    }}\n    \
+             #[inline(always)]\n    fn jacobian(&self, frame: usize, q: &Vector<{n}>) -> SMatrix<f64, 6, {n}> {{\n        {jacobian}\n    }}\n    \
+             #[inline(always)]\n    fn velocity(&self, frame: usize, q: &Vector<{n}>, v: &Vector<{n}>) -> SVector<f64, 6> {{\n        {velocity}\n    }}\n    \
+             #[inline(always)]\n    fn bias(&self, frame: usize, q: &Vector<{n}>, v: &Vector<{n}>) -> SVector<f64, 6> {{\n        {bias}\n    }}\n    \
+             #[inline(always)]\n    fn com(&self, q: &Vector<{n}>) -> Vector3<f64> {{\n        self.center_of_mass(q, 0.0)\n    }}\n    \
+             #[inline(always)]\n    fn com_jacobian(&self, q: &Vector<{n}>) -> SMatrix<f64, 3, {n}> {{\n        self.center_of_mass_jacobian(q, 0.0)\n    }}\n    \
+             #[inline(always)]\n    fn mass(&self, q: &Vector<{n}>) -> Matrix<{n}> {{\n        self.mass_matrix(q, 0.0).value()\n    }}\n    \
+             #[inline(always)]\n    fn derivatives(&self, q: &Vector<{n}>, v: &Vector<{n}>) -> Jacobians<f64, {n}, {n}> {{\n        \
+             self.acceleration_jacobian(q, v, 0.0).value()\n    }}\n}}\n",
+            what = r.what,
+            file = r.file,
+            name = r.name,
+            short = r.short,
+            locked_list = r.locked,
+            placement = by_frame("placement", "q, 0.0"),
+            jacobian = by_frame("jacobian", "q, 0.0"),
+            velocity = by_frame("velocity", "q, v, 0.0"),
+            bias = by_frame("acceleration_bias", "q, v, 0.0"),
+        );
+        let _ = writeln!(visit, "    visit.robot::<{}, {n}>();", r.name);
+    }
+    let _ = writeln!(
+        out,
+        "/// Visits every robot with frames, in the order of build.rs's table.\n\
+         fn framed(visit: &mut impl Visit) {{\n{visit}}}"
+    );
+    out
+}
+
 fn main() {
     let robots = robots_directory();
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
@@ -304,5 +494,8 @@ fn main() {
     );
     let file = out_dir.join("robots.rs");
     std::fs::write(file, out).expect("OUT_DIR is writable");
+    let file =
+        Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("kinematics.rs");
+    std::fs::write(file, kinematics(&robots)).expect("OUT_DIR is writable");
     println!("cargo::rerun-if-changed=build.rs");
 }

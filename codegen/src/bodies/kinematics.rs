@@ -102,10 +102,28 @@ fn spin(g: &mut Graph, rate: &M3, rotation: &M3) -> V3 {
     [axial(2, 1), axial(0, 2), axial(1, 0)]
 }
 
-/// The centre of mass of the described bodies (fixed ones included) in
-/// the world, `Σ (mᵢ pᵢ + Rᵢ hᵢ) / Σ mᵢ` with `hᵢ = mᵢ cᵢ` in the body's
-/// axes, and its Jacobian `∂c/∂q`; `None` where the total mass is the
-/// constant zero.
+/// Whether body `i` is welded to the world: no joint moves it (each body
+/// from it to the root fixed to its parent).
+fn welded(described: &[Described], i: usize) -> bool {
+    let mut at = Some(i);
+    // A tree: at most one step per body.
+    for _ in 0..=described.len() {
+        match at {
+            None => return true,
+            Some(k) if described[k].joint.is_some() => return false,
+            Some(k) => at = described[k].parent,
+        }
+    }
+    false
+}
+
+/// The centre of mass of the described bodies that move with some joint
+/// (fixed ones included, those welded to the world not) in the world,
+/// `Σ (mᵢ pᵢ + Rᵢ hᵢ) / Σ mᵢ` with `hᵢ = mᵢ cᵢ` in the body's axes, and its
+/// Jacobian `∂c/∂q`; `None` where that mass is the constant zero. The
+/// bodies welded to the world are Pinocchio's universe, whose inertia its
+/// `centerOfMass` leaves out: a fixed-base robot's base link is not part
+/// of its centre of mass (a floating one's is, on its free joint).
 pub fn center_of_mass(
     g: &mut Graph,
     described: &[Described],
@@ -114,8 +132,8 @@ pub fn center_of_mass(
 ) -> Option<CenterOfMass> {
     let mut masses = Vec::new();
     let mut moments: Vec<V3> = Vec::new();
-    for (d, frame) in described.iter().zip(world) {
-        if g.is_zero(d.inertia.mass) {
+    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
+        if g.is_zero(d.inertia.mass) || welded(described, i) {
             continue;
         }
         let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);

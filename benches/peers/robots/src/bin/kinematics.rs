@@ -1,0 +1,328 @@
+//! The Kinematics and derivatives rows of BENCHMARKS.md: what a robot
+//! controller calls, generated from example-robot-data's URDFs as written
+//! with a `frames:` section (build.rs's `FRAMED` table: the Panda with a
+//! tool point on its hand, the Unitree G1 with a sole and a palm, the
+//! Unitree Go1 with a frame under each foot; all fixed base), against
+//! Pinocchio on the same files (`benches/peers/kinematics.cpp`).
+//!
+//! ```text
+//! kinematics write REFERENCE_FILE
+//! kinematics time ROUND
+//! ```
+//!
+//! `write` writes, per robot, a header (`robot NAME N`, then `urdf` with
+//! the file under example-robot-data's `robots` directory, `locked` with
+//! the joints held at zero, `names` with `COORDINATES`, the order of every
+//! vector and of every matrix's columns below, and one `frame NAME BODY x y
+//! z roll pitch yaw` per frame: the frame's link and its place there, as
+//! the `frames:` section writes it) and 20 pseudo-random states, each
+//! `state` followed by the lines `q`, `v`, `tau` (the joint torques, the
+//! system's inputs), and per frame `k` `placement:k` (`R` row by row, then
+//! `p`), `jacobian:k` (6 × n, row by row), `velocity:k` and `bias:k` (the
+//! classical acceleration at `q̈ = 0`); then `com`, `com_jacobian` (3 × n),
+//! and `dq`, `dv`, `dtau` (`acceleration_jacobian`'s `∂q̈/∂q`, `∂q̈/∂q̇`,
+//! `∂q̈/∂τ`, n × n each, row by row). The answers are checked against each
+//! other first: `J q̇` is the velocity, `∂q̈/∂τ` is `M⁻¹`.
+//!
+//! `time` times, over the same states and with the statistic of the other
+//! rows (`clock.rs`: the median of 31 batches of about 5 ms, per state, on
+//! the thread's CPU clock), the first frame's placement, Jacobian and
+//! acceleration bias, the centre of mass with its Jacobian, and `∂q̈`; one
+//! JSON line each, tagged with its round. A quantity is one entry of
+//! `Time::robot`'s list here and one of `kinematics.cpp`'s `QUANTITIES`.
+
+#[path = "../clock.rs"]
+mod clock;
+
+use clock::median_ns;
+use constrained::linearize::Jacobians;
+use constrained::nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use std::fmt::Write as _;
+use std::hint::black_box;
+
+type Vector<const N: usize> = SVector<f64, N>;
+type Matrix<const N: usize> = SMatrix<f64, N, N>;
+
+/// A frame of the `frames:` section, as build.rs's table writes it.
+struct Frame {
+    name: &'static str,
+    body: &'static str,
+    xyz: [f64; 3],
+    rpy: [f64; 3],
+}
+
+/// A robot read from URDF with frames: build.rs writes the implementation
+/// of each, from its table, next to its `constrained_system!`.
+trait Framed<const N: usize>: Sized {
+    /// The reference file's name of the robot.
+    const NAME: &'static str;
+    /// Its file under example-robot-data's `robots` directory.
+    const FILE: &'static str;
+    /// The joints held at zero (`locked:`).
+    const LOCKED: &'static [&'static str];
+    /// The `frames:` section.
+    const FRAMES: &'static [Frame];
+    /// `COORDINATES`: the joints' names, in the order of `q`.
+    fn names() -> [&'static str; N];
+    /// The system with one torque per joint.
+    fn with_torques(tau: &Vector<N>) -> Self;
+    /// `{frame}_placement` of `FRAMES[frame]`, and so on.
+    fn placement(&self, frame: usize, q: &Vector<N>) -> (Matrix3<f64>, Vector3<f64>);
+    fn jacobian(&self, frame: usize, q: &Vector<N>) -> SMatrix<f64, 6, N>;
+    fn velocity(&self, frame: usize, q: &Vector<N>, v: &Vector<N>) -> SVector<f64, 6>;
+    fn bias(&self, frame: usize, q: &Vector<N>, v: &Vector<N>) -> SVector<f64, 6>;
+    fn com(&self, q: &Vector<N>) -> Vector3<f64>;
+    fn com_jacobian(&self, q: &Vector<N>) -> SMatrix<f64, 3, N>;
+    fn mass(&self, q: &Vector<N>) -> Matrix<N>;
+    /// `acceleration_jacobian`, `∂q̈/∂u` being `∂q̈/∂τ`.
+    fn derivatives(&self, q: &Vector<N>, v: &Vector<N>) -> Jacobians<f64, N, N>;
+}
+
+/// Something done to every robot (`framed`, which build.rs writes).
+trait Visit {
+    fn robot<R: Framed<N>, const N: usize>(&mut self);
+}
+
+/// A generated method's answer, plain or `Result`.
+trait Value<T> {
+    fn value(self) -> T;
+}
+
+impl<T, E: std::fmt::Debug> Value<T> for Result<T, E> {
+    #[inline(always)]
+    fn value(self) -> T {
+        self.expect("the generated answer")
+    }
+}
+
+impl<const R: usize, const C: usize> Value<SMatrix<f64, R, C>> for SMatrix<f64, R, C> {
+    #[inline(always)]
+    fn value(self) -> Self {
+        self
+    }
+}
+
+impl<const N: usize> Value<Jacobians<f64, N, N>> for Jacobians<f64, N, N> {
+    #[inline(always)]
+    fn value(self) -> Self {
+        self
+    }
+}
+
+include!(concat!(env!("OUT_DIR"), "/kinematics.rs"));
+
+/// States per robot.
+const STATES: usize = 20;
+
+/// splitmix64: reproducible states without a dependency.
+struct Rng(u64);
+
+impl Rng {
+    /// Uniform in `[-scale, scale)`.
+    fn uniform(&mut self, scale: f64) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        scale * (2.0 * (z >> 11) as f64 / (1u64 << 53) as f64 - 1.0)
+    }
+
+    fn vector<const N: usize>(&mut self, scale: f64) -> SVector<f64, N> {
+        SVector::from_fn(|_, _| self.uniform(scale))
+    }
+}
+
+/// One state: joint angles, rates and torques.
+struct Sample<const N: usize> {
+    q: Vector<N>,
+    v: Vector<N>,
+    tau: Vector<N>,
+}
+
+/// Angles and rates within ±1 (rad, rad/s), torques within ±10 N m.
+fn samples<const N: usize>(rng: &mut Rng) -> Vec<Sample<N>> {
+    (0..STATES)
+        .map(|_| Sample {
+            q: rng.vector(1.0),
+            v: rng.vector(1.0),
+            tau: rng.vector(10.0),
+        })
+        .collect()
+}
+
+fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>) {
+    let _ = write!(out, "{name}");
+    for v in values {
+        let _ = write!(out, " {v:.17e}");
+    }
+    out.push('\n');
+}
+
+/// A matrix row by row (nalgebra iterates column by column).
+fn rows<const R: usize, const C: usize>(out: &mut String, name: &str, m: &SMatrix<f64, R, C>) {
+    line(out, name, m.transpose().iter());
+}
+
+/// `write`: the records of every robot, its answers checked against each
+/// other first.
+struct Write {
+    rng: Rng,
+    out: String,
+}
+
+impl Write {
+    /// The lines of one state.
+    fn state<R: Framed<N>, const N: usize>(&mut self, s: &Sample<N>) {
+        let system = R::with_torques(&s.tau);
+        let out = &mut self.out;
+        out.push_str("state\n");
+        line(out, "q", s.q.iter());
+        line(out, "v", s.v.iter());
+        line(out, "tau", s.tau.iter());
+        for k in 0..R::FRAMES.len() {
+            let (r, p) = system.placement(k, &s.q);
+            let j = system.jacobian(k, &s.q);
+            let twist = system.velocity(k, &s.q, &s.v);
+            let worst = (j * s.v - twist).amax() / twist.amax();
+            assert!(
+                worst < 1e-12,
+                "{}: J q̇ is not the velocity ({worst:e})",
+                R::NAME
+            );
+            line(
+                out,
+                &format!("placement:{k}"),
+                r.transpose().iter().chain(p.iter()),
+            );
+            rows(out, &format!("jacobian:{k}"), &j);
+            line(out, &format!("velocity:{k}"), twist.iter());
+            line(out, &format!("bias:{k}"), system.bias(k, &s.q, &s.v).iter());
+        }
+        line(out, "com", system.com(&s.q).iter());
+        rows(out, "com_jacobian", &system.com_jacobian(&s.q));
+        let d = system.derivatives(&s.q, &s.v);
+        let worst = (d.du * system.mass(&s.q) - Matrix::<N>::identity()).amax();
+        assert!(worst < 1e-10, "{}: ∂q̈/∂τ is not M⁻¹ ({worst:e})", R::NAME);
+        rows(out, "dq", &d.dq);
+        rows(out, "dv", &d.dqd);
+        rows(out, "dtau", &d.du);
+    }
+}
+
+impl Visit for Write {
+    fn robot<R: Framed<N>, const N: usize>(&mut self) {
+        let samples = samples::<N>(&mut self.rng);
+        let out = &mut self.out;
+        let _ = writeln!(out, "robot {} {N}", R::NAME);
+        let _ = writeln!(out, "urdf {}", R::FILE);
+        let _ = writeln!(out, "locked {}", R::LOCKED.join(" "));
+        let _ = writeln!(out, "names {}", R::names().join(" "));
+        for f in R::FRAMES {
+            let _ = write!(out, "frame {} {}", f.name, f.body);
+            for x in f.xyz.iter().chain(&f.rpy) {
+                let _ = write!(out, " {x:.17e}");
+            }
+            out.push('\n');
+        }
+        for s in &samples {
+            self.state::<R, N>(s);
+        }
+    }
+}
+
+/// The time of `call` per state over `samples` (its system each).
+fn per_state<R, const N: usize>(
+    systems: &[R],
+    samples: &[Sample<N>],
+    call: impl Fn(&R, &Sample<N>),
+) -> f64 {
+    median_ns(|| {
+        for (system, s) in systems.iter().zip(samples) {
+            call(black_box(system), s);
+        }
+    }) / samples.len() as f64
+}
+
+/// `time`: each quantity over each robot's states; one JSON line each, of
+/// round `round`.
+struct Time {
+    rng: Rng,
+    round: String,
+}
+
+impl Visit for Time {
+    fn robot<R: Framed<N>, const N: usize>(&mut self) {
+        let samples = samples::<N>(&mut self.rng);
+        let systems: Vec<R> = samples.iter().map(|s| R::with_torques(&s.tau)).collect();
+        // One entry per row; `kinematics.cpp`'s QUANTITIES holds
+        // Pinocchio's counterpart of each under the same name. The first
+        // frame's methods are timed.
+        let times = [
+            (
+                "frame_placement",
+                per_state(&systems, &samples, |r, s| {
+                    black_box(r.placement(0, black_box(&s.q)));
+                }),
+            ),
+            (
+                "frame_jacobian",
+                per_state(&systems, &samples, |r, s| {
+                    black_box(r.jacobian(0, black_box(&s.q)));
+                }),
+            ),
+            (
+                "frame_acceleration_bias",
+                per_state(&systems, &samples, |r, s| {
+                    black_box(r.bias(0, black_box(&s.q), black_box(&s.v)));
+                }),
+            ),
+            (
+                "center_of_mass_and_jacobian",
+                per_state(&systems, &samples, |r, s| {
+                    black_box(r.com(black_box(&s.q)));
+                    black_box(r.com_jacobian(black_box(&s.q)));
+                }),
+            ),
+            (
+                "acceleration_jacobian",
+                per_state(&systems, &samples, |r, s| {
+                    black_box(&r.derivatives(black_box(&s.q), black_box(&s.v)));
+                }),
+            ),
+        ];
+        for (what, ns) in times {
+            println!(
+                "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{}\", \"n\": {N}, \
+                 \"frame\": \"{}\", \"ns\": {ns:.3}, \"states\": {}, \"round\": {}, \"ok\": true}}",
+                R::NAME,
+                R::FRAMES[0].name,
+                samples.len(),
+                self.round
+            );
+        }
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let seed = 49;
+    match (args.get(1).map(String::as_str), args.get(2)) {
+        (Some("write"), Some(path)) => {
+            let mut write = Write {
+                rng: Rng(seed),
+                out: String::new(),
+            };
+            framed(&mut write);
+            std::fs::write(path, write.out).expect("writes the reference file");
+        }
+        (Some("time"), Some(round)) => framed(&mut Time {
+            rng: Rng(seed),
+            round: round.clone(),
+        }),
+        _ => {
+            eprintln!("usage: kinematics write REFERENCE_FILE | kinematics time ROUND");
+            std::process::exit(2);
+        }
+    }
+}
