@@ -142,7 +142,7 @@ constrained_system! {
 
 /// Fixed pseudo-random numbers in [-1.5, 1.5): a linear congruential
 /// sequence.
-fn numbers(seed: u64) -> impl FnMut() -> f64 {
+pub(crate) fn numbers(seed: u64) -> impl FnMut() -> f64 {
     let mut x = seed;
     move || {
         x = x
@@ -152,7 +152,7 @@ fn numbers(seed: u64) -> impl FnMut() -> f64 {
     }
 }
 
-fn states<const N: usize>(seed: u64) -> Vec<(SVector<f64, N>, SVector<f64, N>)> {
+pub(crate) fn states<const N: usize>(seed: u64) -> Vec<(SVector<f64, N>, SVector<f64, N>)> {
     let mut next = numbers(seed);
     (0..10)
         .map(|_| {
@@ -189,7 +189,10 @@ fn differenced<const N: usize>(
 }
 
 /// `|a − b| / max(|b|, 1)`.
-fn relative<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+pub(crate) fn relative<const R: usize, const C: usize>(
+    a: &SMatrix<f64, R, C>,
+    b: &SMatrix<f64, R, C>,
+) -> f64 {
     (a - b).norm() / b.norm().max(1.0)
 }
 

@@ -33,13 +33,21 @@ pub struct Frame {
     pub bias: Vec<Id>,
 }
 
-/// The centre of mass of every body, and its Jacobian.
+/// The centre of mass of every body, its Jacobian and velocity, and the
+/// centroidal momentum.
 #[derive(Clone, Debug)]
 pub struct CenterOfMass {
     /// `c = Σ mᵢ cᵢ / Σ mᵢ`, world coordinates.
     pub position: V3,
     /// `∂c/∂q`, 3 × n.
     pub jacobian: Vec<Vec<Id>>,
+    /// `ċ = (∂c/∂q) q̇`.
+    pub velocity: V3,
+    /// `A_G = ∂h_G/∂q̇`, 6 × n: the centroidal momentum matrix, rows
+    /// `[linear; angular about c]` in world axes.
+    pub centroidal_map: Vec<Vec<Id>>,
+    /// `Ȧ_G q̇`: the rate of `h_G = A_G q̇` at `q̈ = 0`.
+    pub centroidal_bias: Vec<Id>,
 }
 
 /// What the `frames` section asks for: each named frame, and the centre of
@@ -104,8 +112,8 @@ fn spin(g: &mut Graph, rate: &M3, rotation: &M3) -> V3 {
 
 /// The centre of mass of the described bodies (fixed ones included) in
 /// the world, `Σ (mᵢ pᵢ + Rᵢ hᵢ) / Σ mᵢ` with `hᵢ = mᵢ cᵢ` in the body's
-/// axes, and its Jacobian `∂c/∂q`; `None` where the total mass is the
-/// constant zero.
+/// axes, its Jacobian `∂c/∂q`, its velocity and the centroidal momentum
+/// ([`centroidal`]); `None` where the total mass is the constant zero.
 pub fn center_of_mass(
     g: &mut Graph,
     described: &[Described],
@@ -142,5 +150,98 @@ pub fn center_of_mass(
                 .collect()
         })
         .collect();
-    Some(CenterOfMass { position, jacobian })
+    let mut rate = AtRest::default();
+    let velocity = position.map(|c| {
+        let v = rate.derivative(g, c);
+        spatial::hold(g, v)
+    });
+    let momentum = centroidal(g, described, world, &position, &mut rate);
+    let centroidal_map = (0..6).map(|_| Vec::with_capacity(n)).collect();
+    let centroidal_map = (0..n).fold(centroidal_map, |mut rows: Vec<Vec<Id>>, k| {
+        for (row, &h) in rows.iter_mut().zip(&momentum) {
+            row.push(partials.partial(g, h, Sym::Vel(k)));
+        }
+        rows
+    });
+    // `h_G` is `A_G(q) q̇`: its rate at `q̈ = 0` is `Ȧ_G q̇`.
+    let centroidal_bias = momentum.iter().map(|&h| rate.derivative(g, h)).collect();
+    Some(CenterOfMass {
+        position,
+        jacobian,
+        velocity,
+        centroidal_map,
+        centroidal_bias,
+    })
+}
+
+/// The centroidal momentum `h_G = [P; L_G]` in world axes: the total
+/// linear momentum and the angular momentum about the centre of mass `c`,
+/// linear in `q̇`. Each movable body (those on fixed joints merged into it,
+/// as [`super::Tree::new`] merges them) contributes its spatial momentum
+/// `I v`, its twist `v = [vee(Rᵀ Ṙ); Rᵀ ṗ]` in its own axes at its origin
+/// from the rates of its world frame `(R, p)`, carried to the world's
+/// origin (`f = R f_b`, `n = R n_b + p × f`); then `L_G = L_O − c × P`.
+/// Bodies fixed to the world move with nothing and are left out.
+fn centroidal(
+    g: &mut Graph,
+    described: &[Described],
+    world: &[Placement],
+    c: &V3,
+    rate: &mut AtRest,
+) -> [Id; 6] {
+    let z = spatial::zero(g);
+    let tree = super::Tree::new(g, described, z);
+    let movable = described
+        .iter()
+        .zip(world)
+        .filter(|(d, _)| d.joint.is_some());
+    let (mut linear, mut angular) = (Vec::new(), Vec::new());
+    for (body, (_, frame)) in tree.bodies.iter().zip(movable) {
+        if body.inertia.is_zero(g) {
+            continue;
+        }
+        let r = &frame.rotation;
+        let p_rate = frame.translation.map(|p| rate.derivative(g, p));
+        let r_rate = r.map(|row| row.map(|e| rate.derivative(g, e)));
+        let twist = spatial::Spatial {
+            angular: body_spin(g, &r_rate, r),
+            linear: spatial::mat_t_vec(g, r, p_rate),
+        };
+        let own = body.inertia.apply(g, twist);
+        let f = spatial::mat_vec(g, r, own.linear);
+        let turned = spatial::mat_vec(g, r, own.angular);
+        let moment = spatial::cross(g, frame.translation, f);
+        linear.push(f);
+        angular.push(spatial::add(g, turned, moment));
+    }
+    let p = sum(g, &linear);
+    let about_origin = sum(g, &angular);
+    let shift = spatial::cross(g, *c, p);
+    let l = spatial::sub(g, about_origin, shift);
+    let l = spatial::hold3(g, l);
+    [p[0], p[1], p[2], l[0], l[1], l[2]]
+}
+
+/// `Σ vᵢ`, each entry held.
+fn sum(g: &mut Graph, parts: &[V3]) -> V3 {
+    [0, 1, 2].map(|i| {
+        let terms: Vec<Id> = parts.iter().map(|v| v[i]).collect();
+        let s = g.add(&terms);
+        spatial::hold(g, s)
+    })
+}
+
+/// `vee(Rᵀ Ṙ)`, the angular velocity in the body's own axes of a frame
+/// turned by `R` at the rate `Ṙ`, as the axial vector of
+/// `½ (Rᵀ Ṙ − Ṙᵀ R)` (exact as in [`spin`]).
+fn body_spin(g: &mut Graph, rate: &M3, rotation: &M3) -> V3 {
+    let (r, d) = (spatial::transpose(rotation), spatial::transpose(rate));
+    let two = g.int(2);
+    let mut axial = |i: usize, j: usize| {
+        let a = spatial::dot(g, r[i], d[j]);
+        let b = spatial::dot(g, d[i], r[j]);
+        let diff = g.sub(a, b);
+        g.div(diff, two)
+    };
+    [axial(2, 1), axial(0, 2), axial(1, 0)]
 }
