@@ -11,7 +11,8 @@
 //! library), the rotation being `R(q/|q|)`, so a rate along `q` itself moves
 //! nothing.
 
-use super::spatial::{self, M3, V3};
+use super::joint::JointState;
+use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Described, Placement};
 use crate::expr::diff::{AtRest, Differentiator};
 use crate::expr::{Graph, Id, Sym};
@@ -155,16 +156,7 @@ pub fn center_of_mass(
         let v = rate.derivative(g, c);
         spatial::hold(g, v)
     });
-    let momentum = centroidal(g, described, world, &position, &mut rate);
-    let centroidal_map = (0..6).map(|_| Vec::with_capacity(n)).collect();
-    let centroidal_map = (0..n).fold(centroidal_map, |mut rows: Vec<Vec<Id>>, k| {
-        for (row, &h) in rows.iter_mut().zip(&momentum) {
-            row.push(partials.partial(g, h, Sym::Vel(k)));
-        }
-        rows
-    });
-    // `h_G` is `A_G(q) q̇`: its rate at `q̈ = 0` is `Ȧ_G q̇`.
-    let centroidal_bias = momentum.iter().map(|&h| rate.derivative(g, h)).collect();
+    let (centroidal_map, centroidal_bias) = centroidal(g, described, world, &position, n);
     Some(CenterOfMass {
         position,
         jacobian,
@@ -174,74 +166,72 @@ pub fn center_of_mass(
     })
 }
 
-/// The centroidal momentum `h_G = [P; L_G]` in world axes: the total
-/// linear momentum and the angular momentum about the centre of mass `c`,
-/// linear in `q̇`. Each movable body (those on fixed joints merged into it,
-/// as [`super::Tree::new`] merges them) contributes its spatial momentum
-/// `I v`, its twist `v = [vee(Rᵀ Ṙ); Rᵀ ṗ]` in its own axes at its origin
-/// from the rates of its world frame `(R, p)`, carried to the world's
-/// origin (`f = R f_b`, `n = R n_b + p × f`); then `L_G = L_O − c × P`.
-/// Bodies fixed to the world move with nothing and are left out.
+/// The centroidal map `A_G` and its bias `Ȧ_G q̇`, rows `[P; L_G]` in
+/// world axes: the total linear momentum and the angular momentum about
+/// the centre of mass `c`. With the bodies as the tree merges them (fixed
+/// ones into the movable body they hang from), each body's composite
+/// inertia `Iᶜ` (its own and its descendants') about the world's origin in
+/// world axes, from their world frames; the column of a coordinate is
+/// `Iᶜ S` for its joint's motion `S` carried to the world (Pinocchio's
+/// `ccrba`), `[f; n − c × f]`. The bias is the rate of the momentum about
+/// the world's origin at `q̈ = 0` without gravity, the force recursive
+/// Newton–Euler passes to the world ([`super::recursion::momentum_rate`]),
+/// moved to `c` the same way (`ċ × P = m ċ × ċ` vanishes).
 fn centroidal(
     g: &mut Graph,
     described: &[Described],
     world: &[Placement],
     c: &V3,
-    rate: &mut AtRest,
-) -> [Id; 6] {
+    n: usize,
+) -> (Vec<Vec<Id>>, Vec<Id>) {
     let z = spatial::zero(g);
     let tree = super::Tree::new(g, described, z);
-    let movable = described
+    let frames: Vec<Placement> = described
         .iter()
         .zip(world)
-        .filter(|(d, _)| d.joint.is_some());
-    let (mut linear, mut angular) = (Vec::new(), Vec::new());
-    for (body, (_, frame)) in tree.bodies.iter().zip(movable) {
-        if body.inertia.is_zero(g) {
-            continue;
+        .filter(|(d, _)| d.joint.is_some())
+        .map(|(_, w)| *w)
+        .collect();
+    let mut composite: Vec<Inertia> = tree
+        .bodies
+        .iter()
+        .zip(&frames)
+        .map(|(b, f)| b.inertia.to_parent(g, &f.rotation, f.translation).held(g))
+        .collect();
+    for (i, body) in tree.bodies.iter().enumerate().rev() {
+        if let Some(p) = body.parent {
+            composite[p] = composite[p].add(g, &composite[i]).held(g);
         }
-        let r = &frame.rotation;
-        let p_rate = frame.translation.map(|p| rate.derivative(g, p));
-        let r_rate = r.map(|row| row.map(|e| rate.derivative(g, e)));
-        let twist = spatial::Spatial {
-            angular: body_spin(g, &r_rate, r),
-            linear: spatial::mat_t_vec(g, r, p_rate),
-        };
-        let own = body.inertia.apply(g, twist);
-        let f = spatial::mat_vec(g, r, own.linear);
-        let turned = spatial::mat_vec(g, r, own.angular);
-        let moment = spatial::cross(g, frame.translation, f);
-        linear.push(f);
-        angular.push(spatial::add(g, turned, moment));
     }
-    let p = sum(g, &linear);
-    let about_origin = sum(g, &angular);
-    let shift = spatial::cross(g, *c, p);
-    let l = spatial::sub(g, about_origin, shift);
-    let l = spatial::hold3(g, l);
-    [p[0], p[1], p[2], l[0], l[1], l[2]]
+    let zero = g.int(0);
+    let mut map = vec![vec![zero; n]; 6];
+    for ((body, frame), inertia) in tree.bodies.iter().zip(&frames).zip(&composite) {
+        let js = JointState::new(g, body.joint);
+        for (k, s) in js.columns(g) {
+            let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
+            let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
+            let shift = spatial::cross(g, frame.translation, angular);
+            let linear = spatial::add(g, linear, shift);
+            let momentum = inertia.apply(g, Spatial { angular, linear });
+            let column = about_center(g, momentum, c);
+            for (row, e) in map.iter_mut().zip(column) {
+                row[k] = if g.is_zero(row[k]) {
+                    e
+                } else {
+                    g.add2(row[k], e)
+                };
+            }
+        }
+    }
+    let rate = super::recursion::momentum_rate(g, &tree, n);
+    (map, about_center(g, rate, c).to_vec())
 }
 
-/// `Σ vᵢ`, each entry held.
-fn sum(g: &mut Graph, parts: &[V3]) -> V3 {
-    [0, 1, 2].map(|i| {
-        let terms: Vec<Id> = parts.iter().map(|v| v[i]).collect();
-        let s = g.add(&terms);
-        spatial::hold(g, s)
-    })
-}
-
-/// `vee(Rᵀ Ṙ)`, the angular velocity in the body's own axes of a frame
-/// turned by `R` at the rate `Ṙ`, as the axial vector of
-/// `½ (Rᵀ Ṙ − Ṙᵀ R)` (exact as in [`spin`]).
-fn body_spin(g: &mut Graph, rate: &M3, rotation: &M3) -> V3 {
-    let (r, d) = (spatial::transpose(rotation), spatial::transpose(rate));
-    let two = g.int(2);
-    let mut axial = |i: usize, j: usize| {
-        let a = spatial::dot(g, r[i], d[j]);
-        let b = spatial::dot(g, d[i], r[j]);
-        let diff = g.sub(a, b);
-        g.div(diff, two)
-    };
-    [axial(2, 1), axial(0, 2), axial(1, 0)]
+/// `[f; n − c × f]`: a force (or momentum) `[n; f]` about the world's
+/// origin, as linear and angular parts about `c`.
+fn about_center(g: &mut Graph, at_origin: Spatial, c: &V3) -> [Id; 6] {
+    let f = at_origin.linear;
+    let shift = spatial::cross(g, *c, f);
+    let l = spatial::sub(g, at_origin.angular, shift);
+    [f[0], f[1], f[2], l[0], l[1], l[2]]
 }
