@@ -92,6 +92,7 @@ constrained_system! {
                 inertia: diag[0.005, 0.03, 0.05],
             },
         ],
+        derivatives: [inverse_dynamics],
     }
 }
 

@@ -63,6 +63,7 @@ constrained_system! {
             elbow { body: fore },
             hand { body: slider, xyz: [0.05, 0.02, -0.01], rpy: [0.2, -0.4, 0.7] },
         ],
+        derivatives: [inverse_dynamics],
     }
 }
 
@@ -127,6 +128,7 @@ constrained_system! {
             },
         ],
         frames: [foot { body: leg, xyz: [0.0, 0.0, -0.4] }],
+        derivatives: [inverse_dynamics],
     }
 }
 
@@ -137,6 +139,7 @@ constrained_system! {
         urdf: "data/panda_published.urdf",
         locked: [finger_joint1, finger_joint2],
         frames: [tool { body: hand, xyz: [0.0, 0.0, 0.1034] }],
+        derivatives: [inverse_dynamics],
     }
 }
 

@@ -25,7 +25,8 @@ mod model;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 constrained::constrained_system! {
-    /// A two-link arm with a frame at its tip, for the kinematics' calls.
+    /// A two-link arm with a frame at its tip, for the kinematics' calls,
+    /// and the derivatives of its inverse dynamics.
     pub struct FramedArm {
         bodies: [
             upper { joint: revolute(q1, [0.0, 1.0, 0.0]), mass: 2.0, com: [0.25, 0.0, 0.0] },
@@ -38,6 +39,7 @@ constrained::constrained_system! {
             },
         ],
         frames: [tip { body: fore, xyz: [0.4, 0.0, 0.1], rpy: [0.1, 0.2, 0.3] }],
+        derivatives: [inverse_dynamics],
     }
 }
 

@@ -1,6 +1,7 @@
 //! What the controller's methods cost on the Franka Panda written as
 //! bodies (`fixtures::panda`): the expansion time and lines with and
-//! without the `jacobians` feature and a `frames` section, and the
+//! without the `jacobians` feature, a `frames` section and a
+//! `derivatives` section, and the
 //! operations of each kinematics method, of inverse dynamics and of its
 //! derivatives (`op_count::method` on the expansion).
 //!
@@ -44,10 +45,24 @@ fn main() {
         "        forces: [",
         "        frames: [tool { body: link7, xyz: [0.0, 0.0, 0.107] }],\n        forces: [",
     );
-    println!("| Panda | `jacobians` | expansion (s) | lines |");
+    let derived = plain.replace(
+        "        forces: [",
+        "        derivatives: [inverse_dynamics],\n        forces: [",
+    );
+    let both = framed.replace(
+        "        forces: [",
+        "        derivatives: [inverse_dynamics],\n        forces: [",
+    );
+    println!("| Panda with | `jacobians` | expansion (s) | lines |");
     println!("|---|---|---|---|");
     let mut counted = None;
-    for (name, source) in [("no frames", &plain), ("frames: [tool]", &framed)] {
+    let sources = [
+        ("neither", &plain),
+        ("frames: [tool]", &framed),
+        ("derivatives: [inverse_dynamics]", &derived),
+        ("both", &both),
+    ];
+    for (name, source) in sources {
         for jacobians in [false, true] {
             let (seconds, file) = expand_timed(source, Options { jacobians });
             let lines = prettyplease::unparse(&file).lines().count();
@@ -55,7 +70,7 @@ fn main() {
             counted = Some(file);
         }
     }
-    let file = counted.expect("four expansions");
+    let file = counted.expect("eight expansions");
     println!("\n| method | operations |\n|---|---|");
     for m in METHODS {
         if let Some(ops) = op_count::method(&file, m) {

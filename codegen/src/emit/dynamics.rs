@@ -162,7 +162,8 @@ pub const EVALUATIONS: &[Evaluation] = &[
               expressions; Pinocchio's `computeRNEADerivatives`, whose third, \
               `∂τ/∂q̈`, is `mass_matrix`). Columns of a quaternion joint are by \
               its four coordinates and their rates, the rotation being \
-              `R(q/|q|)`. Generated with the `jacobians` feature.",
+              `R(q/|q|)`. Generated where `derivatives: [inverse_dynamics]` \
+              asks for it.",
         value: |eq| Some(Value::Matrices(eq.inverse_jacobian.clone()?)),
     },
     Evaluation {

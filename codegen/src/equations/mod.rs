@@ -49,7 +49,8 @@ pub struct Equations {
     /// The generalized momentum `p = M(q, t) q̇`, n entries.
     pub momentum: Vec<Id>,
     /// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics, n × n each
-    /// (`inverse_dynamics_jacobian`); with bodies and `jacobians` only.
+    /// (`inverse_dynamics_jacobian`); where `derivatives:
+    /// [inverse_dynamics]` asks for them only.
     pub inverse_jacobian: Option<[Vec<Vec<Id>>; 2]>,
     /// The Gibbs–Appell partition ([`partition`]), measured at consistent
     /// states of the equations above, so found last.
@@ -125,7 +126,7 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     };
     let momentum = momentum(&mut system.graph, &system.mass);
     let inverse_jacobian = match &system.bodies {
-        Some(b) if jacobians => Some(inverse_jacobian(&mut system.graph, &b.inverse)),
+        Some(b) if b.inverse_derivatives => Some(inverse_jacobian(&mut system.graph, &b.inverse)),
         _ => None,
     };
     Equations {

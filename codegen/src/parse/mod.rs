@@ -32,6 +32,7 @@ pub mod kw {
     syn::custom_keyword!(unilateral);
     syn::custom_keyword!(friction);
     syn::custom_keyword!(frames);
+    syn::custom_keyword!(derivatives);
 }
 
 /// ```text
@@ -74,6 +75,7 @@ pub struct List<T> {
 ///          | `unilateral`  `:` `[` (expr `>=` expr | expr `<=` expr),* `]`
 ///          | `friction`    `:` `[` (`coulomb` `(` expr `,` expr `,` expr (`,` expr)? `)`),* `]`
 ///          | `frames`      `:` `[` body,* `]`
+///          | `derivatives` `:` `[` Ident,* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -112,6 +114,9 @@ pub enum Section {
     /// Named frames fixed in bodies, `name { body: b, xyz: [..], rpy: [..] }`
     /// (a body's syntax), checked by `crate::model`.
     Frames(Ident, List<BodyInput>),
+    /// The methods whose derivatives are generated (`inverse_dynamics`),
+    /// checked by `crate::model`.
+    Derivatives(Ident, List<Ident>),
 }
 
 impl Section {
@@ -134,7 +139,8 @@ impl Section {
             | Section::Locked(k, _)
             | Section::Unilateral(k, _)
             | Section::Friction(k, _)
-            | Section::Frames(k, _) => k,
+            | Section::Frames(k, _)
+            | Section::Derivatives(k, _) => k,
         }
     }
 }
@@ -249,6 +255,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::frames) {
             let k = keyword!(frames);
             Ok(Section::Frames(k, list(input, BodyInput::parse)?))
+        } else if lookahead.peek(kw::derivatives) {
+            let k = keyword!(derivatives);
+            Ok(Section::Derivatives(k, list(input, Ident::parse)?))
         } else {
             Err(lookahead.error())
         }
