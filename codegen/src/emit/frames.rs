@@ -167,7 +167,7 @@ fn centroidal(ctx: &Context, c: &CenterOfMass) -> TokenStream {
          `ḣ_G = A_G q̈ + Ȧ_G q̇` (Pinocchio's `computeCentroidalMapTimeVariation`, \
          `dAg · v`), world axes, rows [linear; angular about the centre of mass].",
         Inputs::States,
-        &[c.centroidal_bias.clone()],
+        std::slice::from_ref(&c.centroidal_bias),
         Shape::Vector,
     ));
     out
