@@ -44,27 +44,7 @@ fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value
     let preamble = body.preamble();
     let scalar = matches!(value, Value::Scalar(_));
     let pair = matches!(value, Value::Matrices(_));
-    let (value, ok) = match value {
-        Value::Scalar(e) => (body.expr(*e), quote!(T)),
-        Value::Vector(entries) => (
-            ctx.vector_value(entries.iter().map(|&e| body.expr(e))),
-            ctx.vector(entries.len()),
-        ),
-        Value::Matrices(pair) => {
-            let [a, b] = pair.each_ref().map(|rows| {
-                let cols = rows.first().map_or(0, Vec::len);
-                let columns = (0..cols)
-                    .map(|c| rows.iter().map(|row| body.expr(row[c])).collect())
-                    .collect();
-                (
-                    ctx.matrix_value(rows.len(), columns),
-                    ctx.matrix(rows.len(), cols),
-                )
-            });
-            let ((va, ta), (vb, tb)) = (a, b);
-            (quote!((#va, #vb)), quote!((#ta, #tb)))
-        }
-    };
+    let (value, ok) = tokens(ctx, &body, value);
     let params = params(ctx, args);
     if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
@@ -102,6 +82,31 @@ fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value
                 #preamble
                 #value
             }
+        }
+    }
+}
+
+/// The value's expression and its type.
+fn tokens(ctx: &Context, body: &Body, value: &Value) -> (TokenStream, TokenStream) {
+    match value {
+        Value::Scalar(e) => (body.expr(*e), quote!(T)),
+        Value::Vector(entries) => (
+            ctx.vector_value(entries.iter().map(|&e| body.expr(e))),
+            ctx.vector(entries.len()),
+        ),
+        Value::Matrices(pair) => {
+            let [a, b] = pair.each_ref().map(|rows| {
+                let cols = rows.first().map_or(0, Vec::len);
+                let columns = (0..cols)
+                    .map(|c| rows.iter().map(|row| body.expr(row[c])).collect())
+                    .collect();
+                (
+                    ctx.matrix_value(rows.len(), columns),
+                    ctx.matrix(rows.len(), cols),
+                )
+            });
+            let ((va, ta), (vb, tb)) = (a, b);
+            (quote!((#va, #vb)), quote!((#ta, #tb)))
         }
     }
 }
