@@ -116,8 +116,7 @@ fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
         // A held sum's derivative is held too where it is a sum: what keeps
         // the recursions' expressions O(n) (`crate::bodies::spatial::hold`)
         // keeps their derivatives so, rather than copying the terms of each
-        // derivative into every product that scales it (half the
-        // operations of the Panda's `∂τ`).
+        // derivative into every product that scales it.
         Node::Func(Func::Hold, args) => {
             let inner = d.of(g, args.as_slice()[0]);
             let parts = match g.node(inner) {
