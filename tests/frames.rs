@@ -63,6 +63,7 @@ constrained_system! {
             elbow { body: fore },
             hand { body: slider, xyz: [0.05, 0.02, -0.01], rpy: [0.2, -0.4, 0.7] },
         ],
+        derivatives: [inverse_dynamics],
     }
 }
 
@@ -127,6 +128,7 @@ constrained_system! {
             },
         ],
         frames: [foot { body: leg, xyz: [0.0, 0.0, -0.4] }],
+        derivatives: [inverse_dynamics],
     }
 }
 
@@ -137,6 +139,7 @@ constrained_system! {
         urdf: "data/panda_published.urdf",
         locked: [finger_joint1, finger_joint2],
         frames: [tool { body: hand, xyz: [0.0, 0.0, 0.1034] }],
+        derivatives: [inverse_dynamics],
     }
 }
 
@@ -168,7 +171,7 @@ constrained_system! {
 
 /// Fixed pseudo-random numbers in [-1.5, 1.5): a linear congruential
 /// sequence.
-fn numbers(seed: u64) -> impl FnMut() -> f64 {
+pub(crate) fn numbers(seed: u64) -> impl FnMut() -> f64 {
     let mut x = seed;
     move || {
         x = x
@@ -178,7 +181,7 @@ fn numbers(seed: u64) -> impl FnMut() -> f64 {
     }
 }
 
-fn states<const N: usize>(seed: u64) -> Vec<(SVector<f64, N>, SVector<f64, N>)> {
+pub(crate) fn states<const N: usize>(seed: u64) -> Vec<(SVector<f64, N>, SVector<f64, N>)> {
     let mut next = numbers(seed);
     (0..10)
         .map(|_| {
@@ -215,7 +218,10 @@ fn differenced<const N: usize>(
 }
 
 /// `|a − b| / max(|b|, 1)`.
-fn relative<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+pub(crate) fn relative<const R: usize, const C: usize>(
+    a: &SMatrix<f64, R, C>,
+    b: &SMatrix<f64, R, C>,
+) -> f64 {
     (a - b).norm() / b.norm().max(1.0)
 }
 

@@ -236,3 +236,60 @@ fn right_angles_within_needs_urdf_and_a_small_tolerance() {
         "{message}"
     );
 }
+
+/// The `derivatives` section's refusals: a method without generated
+/// derivatives and a repeated name, each at its name, and the section
+/// without bodies.
+#[test]
+fn derivatives_errors_point_at_their_names() {
+    let arm = "bodies: [a { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 1.0 }]";
+    let cases = [
+        (
+            "acceleration",
+            "acceleration",
+            "no derivatives of `acceleration` are generated: expected one of `inverse_dynamics`",
+        ),
+        (
+            "inverse_dynamics, inverse_dynamics",
+            "inverse_dynamics]",
+            "`inverse_dynamics` is named twice",
+        ),
+    ];
+    for (names, at, why) in cases {
+        let source = format!("struct R {{ {arm}, derivatives: [{names}] }}");
+        let tokens: proc_macro2::TokenStream = source.parse().expect("tokens");
+        let Err(errors) = expand(tokens) else {
+            panic!("accepted: {names}")
+        };
+        let hit = errors.into_iter().find(|e| e.to_string().contains(why));
+        let Some(e) = hit else {
+            panic!("no error saying {why:?} for {names}")
+        };
+        assert_eq!(
+            Some(e.span().start().column),
+            source.rfind(at),
+            "{why}: spanned at the wrong token in {source}"
+        );
+    }
+    let source = "struct R { coordinates: [x], mass: diag[1.0], derivatives: [inverse_dynamics] }";
+    let message = expand(source.parse().expect("tokens"))
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(
+        message.contains("`derivatives` applies to `bodies` or `urdf` only"),
+        "{message}"
+    );
+    // Asked for, the method is generated; not asked for, it is not.
+    let arm =
+        "bodies: [a { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 1.0, com: [0.3, 0.0, 0.0] }]";
+    let with = format!("struct R {{ {arm}, derivatives: [inverse_dynamics] }}");
+    let without = format!("struct R {{ {arm} }}");
+    let has = |s: &str| {
+        let expanded = expand(s.parse().expect("tokens")).expect("expands");
+        expanded
+            .to_string()
+            .contains("fn inverse_dynamics_jacobian")
+    };
+    assert!(has(&with) && !has(&without));
+}

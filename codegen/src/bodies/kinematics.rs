@@ -11,7 +11,8 @@
 //! library), the rotation being `R(q/|q|)`, so a rate along `q` itself moves
 //! nothing.
 
-use super::spatial::{self, M3, V3};
+use super::joint::JointState;
+use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Described, Placement};
 use crate::expr::diff::{AtRest, Differentiator};
 use crate::expr::{Graph, Id, Sym};
@@ -33,13 +34,21 @@ pub struct Frame {
     pub bias: Vec<Id>,
 }
 
-/// The centre of mass of every body, and its Jacobian.
+/// The centre of mass of every body, its Jacobian and velocity, and the
+/// centroidal momentum.
 #[derive(Clone, Debug)]
 pub struct CenterOfMass {
     /// `c = Σ mᵢ cᵢ / Σ mᵢ`, world coordinates.
     pub position: V3,
     /// `∂c/∂q`, 3 × n.
     pub jacobian: Vec<Vec<Id>>,
+    /// `ċ = (∂c/∂q) q̇`.
+    pub velocity: V3,
+    /// `A_G = ∂h_G/∂q̇`, 6 × n: the centroidal momentum matrix, rows
+    /// `[linear; angular about c]` in world axes.
+    pub centroidal_map: Vec<Vec<Id>>,
+    /// `Ȧ_G q̇`: the rate of `h_G = A_G q̇` at `q̈ = 0`.
+    pub centroidal_bias: Vec<Id>,
 }
 
 /// What the `frames` section asks for: each named frame, and the centre of
@@ -119,8 +128,9 @@ fn welded(described: &[Described], i: usize) -> bool {
 
 /// The centre of mass of the described bodies that move with some joint
 /// (fixed ones included, those welded to the world not) in the world,
-/// `Σ (mᵢ pᵢ + Rᵢ hᵢ) / Σ mᵢ` with `hᵢ = mᵢ cᵢ` in the body's axes, and its
-/// Jacobian `∂c/∂q`; `None` where that mass is the constant zero. The
+/// `Σ (mᵢ pᵢ + Rᵢ hᵢ) / Σ mᵢ` with `hᵢ = mᵢ cᵢ` in the body's axes, its
+/// Jacobian `∂c/∂q`, its velocity and the centroidal momentum about it
+/// ([`centroidal`]); `None` where that mass is the constant zero. The
 /// bodies welded to the world are Pinocchio's universe, whose inertia its
 /// `centerOfMass` leaves out: a fixed-base robot's base link is not part
 /// of its centre of mass (a floating one's is, on its free joint).
@@ -160,5 +170,87 @@ pub fn center_of_mass(
                 .collect()
         })
         .collect();
-    Some(CenterOfMass { position, jacobian })
+    let mut rate = AtRest::default();
+    let velocity = position.map(|c| {
+        let v = rate.derivative(g, c);
+        spatial::hold(g, v)
+    });
+    let (centroidal_map, centroidal_bias) = centroidal(g, described, world, &position, n);
+    Some(CenterOfMass {
+        position,
+        jacobian,
+        velocity,
+        centroidal_map,
+        centroidal_bias,
+    })
+}
+
+/// The centroidal map `A_G` and its bias `Ȧ_G q̇`, rows `[P; L_G]` in
+/// world axes: the total linear momentum and the angular momentum about
+/// the centre of mass `c`. With the bodies as the tree merges them (fixed
+/// ones into the movable body they hang from), each body's composite
+/// inertia `Iᶜ` (its own and its descendants') about the world's origin in
+/// world axes, from their world frames; the column of a coordinate is
+/// `Iᶜ S` for its joint's motion `S` carried to the world (Pinocchio's
+/// `ccrba`), `[f; n − c × f]`. The bias is the rate of the momentum about
+/// the world's origin at `q̈ = 0` without gravity, the force recursive
+/// Newton–Euler passes to the world ([`super::recursion::momentum_rate`]),
+/// moved to `c` the same way (`ċ × P = m ċ × ċ` vanishes).
+fn centroidal(
+    g: &mut Graph,
+    described: &[Described],
+    world: &[Placement],
+    c: &V3,
+    n: usize,
+) -> (Vec<Vec<Id>>, Vec<Id>) {
+    let z = spatial::zero(g);
+    let tree = super::Tree::new(g, described, z);
+    let frames: Vec<Placement> = described
+        .iter()
+        .zip(world)
+        .filter(|(d, _)| d.joint.is_some())
+        .map(|(_, w)| *w)
+        .collect();
+    let mut composite: Vec<Inertia> = tree
+        .bodies
+        .iter()
+        .zip(&frames)
+        .map(|(b, f)| b.inertia.to_parent(g, &f.rotation, f.translation).held(g))
+        .collect();
+    for (i, body) in tree.bodies.iter().enumerate().rev() {
+        if let Some(p) = body.parent {
+            composite[p] = composite[p].add(g, &composite[i]).held(g);
+        }
+    }
+    let zero = g.int(0);
+    let mut map = vec![vec![zero; n]; 6];
+    for ((body, frame), inertia) in tree.bodies.iter().zip(&frames).zip(&composite) {
+        let js = JointState::new(g, body.joint);
+        for (k, s) in js.columns(g) {
+            let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
+            let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
+            let shift = spatial::cross(g, frame.translation, angular);
+            let linear = spatial::add(g, linear, shift);
+            let momentum = inertia.apply(g, Spatial { angular, linear });
+            let column = about_center(g, momentum, c);
+            for (row, e) in map.iter_mut().zip(column) {
+                row[k] = if g.is_zero(row[k]) {
+                    e
+                } else {
+                    g.add2(row[k], e)
+                };
+            }
+        }
+    }
+    let rate = super::recursion::momentum_rate(g, &tree, n);
+    (map, about_center(g, rate, c).to_vec())
+}
+
+/// `[f; n − c × f]`: a force (or momentum) `[n; f]` about the world's
+/// origin, as linear and angular parts about `c`.
+fn about_center(g: &mut Graph, at_origin: Spatial, c: &V3) -> [Id; 6] {
+    let f = at_origin.linear;
+    let shift = spatial::cross(g, *c, f);
+    let l = spatial::sub(g, at_origin.angular, shift);
+    [f[0], f[1], f[2], l[0], l[1], l[2]]
 }

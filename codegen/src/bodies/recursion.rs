@@ -173,6 +173,28 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
     Pass { tau, v, a, f }
 }
 
+/// The rate of the bodies' total momentum about the world's origin, in
+/// world axes (`[n; f]`), at `q̈ = 0` without gravity: the force each root
+/// passes to the world in recursive Newton–Euler, summed. `Ȧ q̇` of the
+/// momentum `A q̇` (`super::kinematics`).
+pub fn momentum_rate(g: &mut Graph, tree: &Tree, n: usize) -> Spatial {
+    let terms = Terms {
+        velocities: true,
+        accelerations: false,
+        gravity: false,
+    };
+    let pass = newton_euler(g, tree, n, terms);
+    let mut total = Spatial::zero(g);
+    for (i, body) in tree.bodies.iter().enumerate() {
+        if body.parent.is_none() {
+            let js = joint_state(g, body);
+            let out = force_to_parent(g, body, js, pass.f[i]);
+            total = total.add(g, out);
+        }
+    }
+    total.held(g)
+}
+
 /// The inertia of a body about its parent's origin, in its parent's axes.
 fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inertia) -> Inertia {
     let turned = js.turn_inertia(g, inertia);

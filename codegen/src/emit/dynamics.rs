@@ -32,32 +32,31 @@ fn params(ctx: &Context, args: Args) -> TokenStream {
     }
 }
 
-/// One method returning `entries` as a vector, or `entries[0]` as a
-/// scalar when `scalar`.
-fn method(
-    ctx: &Context,
-    name: TokenStream,
-    doc: &str,
-    args: Args,
-    entries: &[Id],
-    scalar: bool,
-) -> TokenStream {
-    let body = Body::new(ctx.eq, entries);
-    let preamble = body.preamble();
-    let (value, ok) = if scalar {
-        (body.expr(entries[0]), quote!(T))
-    } else {
-        (
-            ctx.vector_value(entries.iter().map(|&e| body.expr(e))),
-            ctx.vector(entries.len()),
-        )
+/// One method returning `value`: a vector, a scalar, or a pair of n × n
+/// matrices.
+fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value) -> TokenStream {
+    let entries: Vec<Id> = match value {
+        Value::Vector(entries) => entries.clone(),
+        Value::Scalar(e) => vec![*e],
+        Value::Matrices(pair) => pair.iter().flatten().flatten().copied().collect(),
     };
+    let body = Body::new(ctx.eq, &entries);
+    let preamble = body.preamble();
+    let scalar = matches!(value, Value::Scalar(_));
+    let pair = matches!(value, Value::Matrices(_));
+    let (value, ok) = tokens(ctx, &body, value);
     let params = params(ctx, args);
     if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         let finite = if scalar {
             quote!(__value.is_finite())
+        } else if pair {
+            quote!(__value
+                .0
+                .iter()
+                .chain(__value.1.iter())
+                .all(|__x| __x.is_finite()))
         } else {
             quote!(__value.iter().all(|__x| __x.is_finite()))
         };
@@ -83,6 +82,31 @@ fn method(
                 #preamble
                 #value
             }
+        }
+    }
+}
+
+/// The value's expression and its type.
+fn tokens(ctx: &Context, body: &Body, value: &Value) -> (TokenStream, TokenStream) {
+    match value {
+        Value::Scalar(e) => (body.expr(*e), quote!(T)),
+        Value::Vector(entries) => (
+            ctx.vector_value(entries.iter().map(|&e| body.expr(e))),
+            ctx.vector(entries.len()),
+        ),
+        Value::Matrices(pair) => {
+            let [a, b] = pair.each_ref().map(|rows| {
+                let cols = rows.first().map_or(0, Vec::len);
+                let columns = (0..cols)
+                    .map(|c| rows.iter().map(|row| body.expr(row[c])).collect())
+                    .collect();
+                (
+                    ctx.matrix_value(rows.len(), columns),
+                    ctx.matrix(rows.len(), cols),
+                )
+            });
+            let ((va, ta), (vb, tb)) = (a, b);
+            (quote!((#va, #vb)), quote!((#ta, #tb)))
         }
     }
 }
@@ -113,6 +137,8 @@ enum Value {
     Vector(Vec<Id>),
     /// `T`.
     Scalar(Id),
+    /// `(SMatrix<T, n, n>, SMatrix<T, n, n>)`, each row by row.
+    Matrices([Vec<Vec<Id>>; 2]),
 }
 
 /// The generated methods that evaluate the model rather than solve it,
@@ -131,6 +157,19 @@ pub const EVALUATIONS: &[Evaluation] = &[
               `forces: [u1, ..]` as the joints' torques, `u = τ` gives `q̈ = qdd` \
               where no constraint acts.",
         value: |eq| Some(Value::Vector(eq.system.bodies.as_ref()?.inverse.clone())),
+    },
+    Evaluation {
+        name: "inverse_dynamics_jacobian",
+        args: Args::Accelerations,
+        forwarded: false,
+        doc: " The derivatives of inverse dynamics, `(∂τ/∂q, ∂τ/∂q̇)`, n × n each, \
+              exact (differentiated at compile time from the recursion's own \
+              expressions; Pinocchio's `computeRNEADerivatives`, whose third, \
+              `∂τ/∂q̈`, is `mass_matrix`). Columns of a quaternion joint are by \
+              its four coordinates and their rates, the rotation being \
+              `R(q/|q|)`. Generated where `derivatives: [inverse_dynamics]` \
+              asks for it.",
+        value: |eq| Some(Value::Matrices(eq.inverse_jacobian.clone()?)),
     },
     Evaluation {
         name: "gravity_forces",
@@ -179,6 +218,10 @@ pub(super) fn value_type(ctx: &Context, name: &str) -> Option<TokenStream> {
     match (row.value)(ctx.eq)? {
         Value::Vector(entries) => Some(ctx.vector(entries.len())),
         Value::Scalar(_) => Some(quote!(T)),
+        Value::Matrices(pair) => {
+            let [a, b] = pair.each_ref().map(|m| ctx.matrix(m.len(), m.len()));
+            Some(quote!((#a, #b)))
+        }
     }
 }
 
@@ -187,14 +230,8 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
     let mut out = TokenStream::new();
     for e in EVALUATIONS {
         let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());
-        match (e.value)(ctx.eq) {
-            Some(Value::Vector(entries)) => {
-                out.extend(method(ctx, quote!(#name), e.doc, e.args, &entries, false));
-            }
-            Some(Value::Scalar(entry)) => {
-                out.extend(method(ctx, quote!(#name), e.doc, e.args, &[entry], true));
-            }
-            None => {}
+        if let Some(value) = (e.value)(ctx.eq) {
+            out.extend(method(ctx, quote!(#name), e.doc, e.args, &value));
         }
     }
     out

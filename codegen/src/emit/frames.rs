@@ -1,7 +1,8 @@
 //! The kinematics methods of a system with a `frames` section: per named
 //! frame `f`, `f_placement`, `f_jacobian`, `f_velocity` and
-//! `f_acceleration_bias`, and `center_of_mass` and
-//! `center_of_mass_jacobian` (the expressions of
+//! `f_acceleration_bias`, and `center_of_mass`, `center_of_mass_jacobian`,
+//! `center_of_mass_velocity`, `centroidal_map` and `centroidal_map_bias`
+//! (the expressions of
 //! `crate::bodies::kinematics`). One method per frame and quantity, each
 //! its own straight-line body, so that a binary compiles only those it
 //! calls. A new one is also a row of the test's `METHODS` and of the table
@@ -131,6 +132,44 @@ fn center_of_mass(ctx: &Context, c: &CenterOfMass) -> TokenStream {
         &c.jacobian,
         Shape::Matrix,
     ));
+    out.extend(emit(
+        ctx,
+        quote!(center_of_mass_velocity),
+        " The velocity of the centre of mass, `ċ = J q̇` in world axes (Pinocchio's \
+         `data.vcom[0]`).",
+        Inputs::States,
+        &[c.velocity.to_vec()],
+        Shape::Vector,
+    ));
+    out.extend(centroidal(ctx, c));
+    out
+}
+
+/// `centroidal_map` and `centroidal_map_bias`.
+fn centroidal(ctx: &Context, c: &CenterOfMass) -> TokenStream {
+    let mut out = emit(
+        ctx,
+        quote!(centroidal_map),
+        " The centroidal momentum matrix `A_G`, 6 × n: the momentum of every body \
+         about the centre of mass is `h_G = A_G q̇ = [P; L_G]`, the total linear \
+         momentum and the angular momentum about the centre of mass, both in world \
+         axes (Pinocchio's `computeCentroidalMap`, rows [linear; angular]). Columns \
+         of a quaternion joint are by the quaternion's rates `q̇`, as in every \
+         Jacobian here: `A_G` maps this system's `q̇`, not Pinocchio's `v`.",
+        Inputs::Positions,
+        &c.centroidal_map,
+        Shape::Matrix,
+    );
+    out.extend(emit(
+        ctx,
+        quote!(centroidal_map_bias),
+        " The bias of the centroidal momentum, `Ȧ_G q̇`: its rate is \
+         `ḣ_G = A_G q̈ + Ȧ_G q̇` (Pinocchio's `computeCentroidalMapTimeVariation`, \
+         `dAg · v`), world axes, rows [linear; angular about the centre of mass].",
+        Inputs::States,
+        std::slice::from_ref(&c.centroidal_bias),
+        Shape::Vector,
+    ));
     out
 }
 
@@ -220,6 +259,18 @@ mod tests {
         Method {
             name: "center_of_mass_jacobian",
             args: "q, t",
+        },
+        Method {
+            name: "center_of_mass_velocity",
+            args: "q, qd, t",
+        },
+        Method {
+            name: "centroidal_map",
+            args: "q, t",
+        },
+        Method {
+            name: "centroidal_map_bias",
+            args: "q, qd, t",
         },
     ];
 

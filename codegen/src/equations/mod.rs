@@ -50,6 +50,10 @@ pub struct Equations {
     pub jacobians: bool,
     /// The generalized momentum `p = M(q, t) q̇`, n entries.
     pub momentum: Vec<Id>,
+    /// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics, n × n each
+    /// (`inverse_dynamics_jacobian`); where `derivatives:
+    /// [inverse_dynamics]` asks for them only.
+    pub inverse_jacobian: Option<[Vec<Vec<Id>>; 2]>,
     /// The Gibbs–Appell partition ([`partition`]), measured at consistent
     /// states of the equations above, so found last.
     pub partition: Partition,
@@ -123,8 +127,13 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         Tangent::none()
     };
     let momentum = momentum(&mut system.graph, &system.mass);
+    let inverse_jacobian = match &system.bodies {
+        Some(b) if b.inverse_derivatives => Some(inverse_jacobian(&mut system.graph, &b.inverse)),
+        _ => None,
+    };
     Equations {
         momentum,
+        inverse_jacobian,
         jacobians,
         system,
         a: rows.a,
@@ -231,6 +240,19 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
             g.add(&terms)
         })
         .collect()
+}
+
+/// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of
+/// the recursion's own expressions, which memoised share each body's
+/// derivatives among the coordinates' rows.
+fn inverse_jacobian(g: &mut crate::expr::Graph, tau: &[Id]) -> [Vec<Vec<Id>>; 2] {
+    let mut d = Differentiator::new();
+    let n = tau.len();
+    [Sym::Coord as fn(usize) -> Sym, Sym::Vel].map(|by| {
+        tau.iter()
+            .map(|&t| (0..n).map(|k| d.partial(g, t, by(k))).collect())
+            .collect()
+    })
 }
 
 /// The entries of `M`, `A` and `F`: what the code computes beside `b`.

@@ -113,6 +113,22 @@ fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
         // ∂f(a₁, …) = Σᵢ ∂f/∂aᵢ · ∂aᵢ. Where every ∂aᵢ is zero the result
         // is zero even where f′ is singular (`asin(1)`), so the partials
         // are not even built.
+        // A held sum's derivative is held too where it is a sum: what keeps
+        // the recursions' expressions O(n) (`crate::bodies::spatial::hold`)
+        // keeps their derivatives so, rather than copying the terms of each
+        // derivative into every product that scales it.
+        Node::Func(Func::Hold, args) => {
+            let inner = d.of(g, args.as_slice()[0]);
+            let parts = match g.node(inner) {
+                Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
+                _ => 0,
+            };
+            if parts >= 2 {
+                g.func(Func::Hold, inner)
+            } else {
+                inner
+            }
+        }
         Node::Func(f, args) => {
             let inner: Vec<Id> = args.as_slice().iter().map(|&a| d.of(g, a)).collect();
             if inner.iter().all(|&d| g.is_zero(d)) {
@@ -278,6 +294,30 @@ mod tests {
             let v = g.eval(&partials, &|s| if s == Sym::Coord(0) { x0 } else { y0 });
             assert_eq!(v, expected, "at ({x0}, {y0})");
         }
+    }
+
+    /// The derivative of a held sum is the held sum of the derivatives,
+    /// with the value of the sum's derivative; a derivative that is one
+    /// term is not held.
+    #[test]
+    fn held_sums_differentiate_into_held_sums() {
+        let mut g = Graph::new();
+        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let (xx, xy) = (g.mul2(x, x), g.mul2(x, y));
+        let sum = g.add(&[xx, xy]);
+        let held = g.func(Func::Hold, sum);
+        let mut d = Differentiator::new();
+        let (dx, dy) = (
+            d.partial(&mut g, held, Sym::Coord(0)),
+            d.partial(&mut g, held, Sym::Coord(1)),
+        );
+        assert!(
+            matches!(g.node(dx), Node::Func(Func::Hold, _)),
+            "2x + y is held"
+        );
+        assert_eq!(dy, x, "∂(x² + xy)/∂y is x alone");
+        let v = g.eval(&[dx], &|s| if s == Sym::Coord(0) { 0.7 } else { -1.3 });
+        assert!((v[0] - (2.0 * 0.7 - 1.3)).abs() < 1e-15, "{v:?}");
     }
 
     #[test]

@@ -17,6 +17,7 @@ mod build;
 pub(crate) mod check;
 mod constraints;
 pub(crate) mod ctxt;
+mod derivatives;
 pub(crate) mod frames;
 pub(crate) mod free;
 pub(crate) mod friction;
@@ -156,6 +157,9 @@ pub struct BodyTerms {
     pub velocity_bias: Option<Vec<Id>>,
     /// The named frames and the centre of mass, with a `frames` section.
     pub kinematics: Option<crate::bodies::kinematics::Kinematics>,
+    /// Whether `derivatives: [inverse_dynamics]` asks for
+    /// `inverse_dynamics_jacobian`.
+    pub inverse_derivatives: bool,
 }
 
 /// The energies of a system given by energies or bodies, for the

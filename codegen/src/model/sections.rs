@@ -26,6 +26,7 @@ pub(super) struct Sections<'a> {
     pub(super) unilateral: Option<&'a List<Expr>>,
     pub(super) friction: Option<&'a List<Expr>>,
     pub(super) frames: Option<&'a List<BodyInput>>,
+    pub(super) derivatives: Option<&'a List<Ident>>,
 }
 
 impl<'a> Sections<'a> {
@@ -52,6 +53,7 @@ impl<'a> Sections<'a> {
                 Section::Unilateral(_, l) => s.unilateral.replace(l).is_some(),
                 Section::Friction(_, l) => s.friction.replace(l).is_some(),
                 Section::Frames(_, l) => s.frames.replace(l).is_some(),
+                Section::Derivatives(_, l) => s.derivatives.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();

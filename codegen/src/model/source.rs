@@ -116,6 +116,7 @@ pub(super) fn source<'a>(
             ("`gravity`", sections.gravity.map(|l| l.span)),
             ("`locked`", sections.locked.map(|l| l.span)),
             ("`frames`", sections.frames.map(|l| l.span)),
+            ("`derivatives`", sections.derivatives.map(|l| l.span)),
         ] {
             if let Some(span) = given {
                 errors.at(span, format!("{what} applies to `bodies` or `urdf` only"));
@@ -204,7 +205,12 @@ impl Lowerer<'_> {
             None => vec![self.graph.int(0); n],
         };
         if let Some(tree) = tree {
-            return self.by_bodies(source, tree, mass, potential, &applied);
+            let mut lowered = self.by_bodies(source, tree, mass, potential, &applied);
+            let asked = sections.derivatives.map(|l| self.derivatives_section(l));
+            if let Some(b) = lowered.bodies.as_mut() {
+                b.inverse_derivatives = asked.unwrap_or(false);
+            }
+            return lowered;
         }
         if kinetic.is_some() || potential.is_some() {
             return self.by_lagrange(mass, (kinetic, potential), applied, derived_mass);
@@ -260,6 +266,7 @@ impl Lowerer<'_> {
             velocity_mass: dynamics.velocity_mass,
             velocity_bias: dynamics.velocity_bias,
             kinematics: self.kinematics.take(),
+            inverse_derivatives: false,
         };
         Lowered {
             mass,

@@ -33,6 +33,7 @@ pub mod kw {
     syn::custom_keyword!(unilateral);
     syn::custom_keyword!(friction);
     syn::custom_keyword!(frames);
+    syn::custom_keyword!(derivatives);
 }
 
 /// ```text
@@ -76,6 +77,7 @@ pub struct List<T> {
 ///          | `unilateral`  `:` `[` (expr `>=` expr | expr `<=` expr),* `]`
 ///          | `friction`    `:` `[` (`coulomb` `(` expr `,` expr `,` expr (`,` expr)? `)`),* `]`
 ///          | `frames`      `:` `[` body,* `]`
+///          | `derivatives` `:` `[` Ident,* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -117,6 +119,9 @@ pub enum Section {
     /// Named frames fixed in bodies, `name { body: b, xyz: [..], rpy: [..] }`
     /// (a body's syntax), checked by `crate::model`.
     Frames(Ident, List<BodyInput>),
+    /// The methods whose derivatives are generated (`inverse_dynamics`),
+    /// checked by `crate::model`.
+    Derivatives(Ident, List<Ident>),
 }
 
 impl Section {
@@ -140,7 +145,8 @@ impl Section {
             | Section::Locked(k, _)
             | Section::Unilateral(k, _)
             | Section::Friction(k, _)
-            | Section::Frames(k, _) => k,
+            | Section::Frames(k, _)
+            | Section::Derivatives(k, _) => k,
         }
     }
 }
@@ -258,6 +264,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::frames) {
             let k = keyword!(frames);
             Ok(Section::Frames(k, list(input, BodyInput::parse)?))
+        } else if lookahead.peek(kw::derivatives) {
+            let k = keyword!(derivatives);
+            Ok(Section::Derivatives(k, list(input, Ident::parse)?))
         } else {
             Err(lookahead.error())
         }
