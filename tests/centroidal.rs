@@ -12,55 +12,14 @@
 //! central differences of `inverse_dynamics`, and on a planar two-link arm
 //! against its Coriolis, centrifugal and gravity terms written by hand.
 
-use crate::frames::{numbers, relative, states, FloatingLeg, FramedArm, PandaTool};
+use crate::frames::{numbers, relative, states, three_link_arm, FloatingLeg, FramedArm, PandaTool};
 use constrained::constrained_system;
 use constrained::nalgebra::{Matrix3, Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 
-constrained_system! {
+three_link_arm! {
     /// The arm of `frames.rs` with a frame at each body's origin, so that
     /// each body's momentum can be written from its frame's twist.
-    pub struct MomentumArm {
-        gravity: [0.0, 0.0, -9.81],
-        bodies: [
-            base {
-                joint: revolute(q1, [0.0, 0.0, 1.0]),
-                mass: 2.0,
-                com: [0.0, 0.0, 0.2],
-                inertia: diag[0.05, 0.06, 0.03],
-            },
-            upper {
-                parent: base,
-                joint: revolute(q2, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.0, 0.4],
-                mass: 1.5,
-                com: [0.25, 0.0, 0.0],
-                inertia: diag[0.01, 0.04, 0.045],
-            },
-            fore {
-                parent: upper,
-                joint: revolute(q3, [0.0, 1.0, 0.0]),
-                xyz: [0.5, 0.0, 0.0],
-                mass: 1.0,
-                com: [0.2, 0.0, 0.0],
-                inertia: diag[0.005, 0.02, 0.021],
-            },
-            tool {
-                parent: fore,
-                joint: fixed,
-                xyz: [0.0, 0.1, 0.0],
-                rpy: [PI / 2.0, 0.0, 0.0],
-                mass: 0.2,
-                com: [0.0, 0.0, 0.05],
-                inertia: diag[0.001, 0.002, 0.003],
-            },
-            slider {
-                parent: fore,
-                joint: prismatic(s, [1.0, 0.0, 0.0]),
-                xyz: [0.3, 0.0, 0.0],
-                mass: 0.5,
-                inertia: diag[0.0004, 0.0005, 0.0006],
-            },
-        ],
+    MomentumArm {
         frames: [
             at_base { body: base },
             at_upper { body: upper },

@@ -13,51 +13,66 @@ use constrained::nalgebra::{
     Isometry3, Matrix3, Rotation3, SMatrix, SVector, Translation3, UnitQuaternion, Vector3,
 };
 
-constrained_system! {
+/// The three-link arm of these tests (a fixed tool, a slider on the
+/// forearm) with the sections given after its bodies: `frames.rs` and
+/// `centroidal.rs` name different frames on the same arm.
+macro_rules! three_link_arm {
+    ($(#[$attr:meta])* $name:ident { $($rest:tt)* }) => {
+        constrained::constrained_system! {
+            $(#[$attr])*
+            pub struct $name {
+                gravity: [0.0, 0.0, -9.81],
+                bodies: [
+                    base {
+                        joint: revolute(q1, [0.0, 0.0, 1.0]),
+                        mass: 2.0,
+                        com: [0.0, 0.0, 0.2],
+                        inertia: diag[0.05, 0.06, 0.03],
+                    },
+                    upper {
+                        parent: base,
+                        joint: revolute(q2, [0.0, 1.0, 0.0]),
+                        xyz: [0.0, 0.0, 0.4],
+                        mass: 1.5,
+                        com: [0.25, 0.0, 0.0],
+                        inertia: diag[0.01, 0.04, 0.045],
+                    },
+                    fore {
+                        parent: upper,
+                        joint: revolute(q3, [0.0, 1.0, 0.0]),
+                        xyz: [0.5, 0.0, 0.0],
+                        mass: 1.0,
+                        com: [0.2, 0.0, 0.0],
+                        inertia: diag[0.005, 0.02, 0.021],
+                    },
+                    tool {
+                        parent: fore,
+                        joint: fixed,
+                        xyz: [0.0, 0.1, 0.0],
+                        rpy: [PI / 2.0, 0.0, 0.0],
+                        mass: 0.2,
+                        com: [0.0, 0.0, 0.05],
+                        inertia: diag[0.001, 0.002, 0.003],
+                    },
+                    slider {
+                        parent: fore,
+                        joint: prismatic(s, [1.0, 0.0, 0.0]),
+                        xyz: [0.3, 0.0, 0.0],
+                        mass: 0.5,
+                        inertia: diag[0.0004, 0.0005, 0.0006],
+                    },
+                ],
+                $($rest)*
+            }
+        }
+    };
+}
+pub(crate) use three_link_arm;
+
+three_link_arm! {
     /// The arm with three named frames: one on a body merged by a fixed
     /// joint, one a body's own frame, one turned every way.
-    pub struct FramedArm {
-        gravity: [0.0, 0.0, -9.81],
-        bodies: [
-            base {
-                joint: revolute(q1, [0.0, 0.0, 1.0]),
-                mass: 2.0,
-                com: [0.0, 0.0, 0.2],
-                inertia: diag[0.05, 0.06, 0.03],
-            },
-            upper {
-                parent: base,
-                joint: revolute(q2, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.0, 0.4],
-                mass: 1.5,
-                com: [0.25, 0.0, 0.0],
-                inertia: diag[0.01, 0.04, 0.045],
-            },
-            fore {
-                parent: upper,
-                joint: revolute(q3, [0.0, 1.0, 0.0]),
-                xyz: [0.5, 0.0, 0.0],
-                mass: 1.0,
-                com: [0.2, 0.0, 0.0],
-                inertia: diag[0.005, 0.02, 0.021],
-            },
-            tool {
-                parent: fore,
-                joint: fixed,
-                xyz: [0.0, 0.1, 0.0],
-                rpy: [PI / 2.0, 0.0, 0.0],
-                mass: 0.2,
-                com: [0.0, 0.0, 0.05],
-                inertia: diag[0.001, 0.002, 0.003],
-            },
-            slider {
-                parent: fore,
-                joint: prismatic(s, [1.0, 0.0, 0.0]),
-                xyz: [0.3, 0.0, 0.0],
-                mass: 0.5,
-                inertia: diag[0.0004, 0.0005, 0.0006],
-            },
-        ],
+    FramedArm {
         frames: [
             tip { body: tool, xyz: [0.0, 0.0, 0.1], rpy: [0.0, 0.0, 0.3] },
             elbow { body: fore },
