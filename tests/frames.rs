@@ -82,42 +82,10 @@ three_link_arm! {
     }
 }
 
-constrained_system! {
+three_link_arm! {
     /// The same arm without frames, the velocity of `hand`'s origin written
     /// as a point of `slider` (the constraint's residual is that velocity).
-    pub struct ArmPointVelocity {
-        gravity: [0.0, 0.0, -9.81],
-        bodies: [
-            base {
-                joint: revolute(q1, [0.0, 0.0, 1.0]),
-                mass: 2.0,
-                com: [0.0, 0.0, 0.2],
-                inertia: diag[0.05, 0.06, 0.03],
-            },
-            upper {
-                parent: base,
-                joint: revolute(q2, [0.0, 1.0, 0.0]),
-                xyz: [0.0, 0.0, 0.4],
-                mass: 1.5,
-                com: [0.25, 0.0, 0.0],
-                inertia: diag[0.01, 0.04, 0.045],
-            },
-            fore {
-                parent: upper,
-                joint: revolute(q3, [0.0, 1.0, 0.0]),
-                xyz: [0.5, 0.0, 0.0],
-                mass: 1.0,
-                com: [0.2, 0.0, 0.0],
-                inertia: diag[0.005, 0.02, 0.021],
-            },
-            slider {
-                parent: fore,
-                joint: prismatic(s, [1.0, 0.0, 0.0]),
-                xyz: [0.3, 0.0, 0.0],
-                mass: 0.5,
-                inertia: diag[0.0004, 0.0005, 0.0006],
-            },
-        ],
+    ArmPointVelocity {
         constraints: [velocity(slider, [0.05, 0.02, -0.01]) == [0.0, 0.0, 0.0]],
     }
 }
