@@ -1,8 +1,11 @@
 //! Kinematics of named frames and of the centre of mass, as expressions of
 //! `q` (and `q̇`): what a controller reads (task-space placements,
 //! Jacobians, velocities and acceleration biases), built from the world
-//! frames of [`super::world_frames`] and differentiated exactly by
-//! `crate::expr::diff`.
+//! frames of [`super::world_frames`]: Jacobians column by column from the
+//! joints' motion subspaces carried to the world (as Pinocchio builds them,
+//! not by differentiating placements, which costs several times more),
+//! velocities as `J q̇`, and the biases `J̇ q̇` differentiated exactly along
+//! the motion by `crate::expr::diff`.
 //!
 //! Conventions are Pinocchio's `LOCAL_WORLD_ALIGNED`: a frame's velocity is
 //! `[v; ω]`, the velocity of its origin and its angular velocity, both in
@@ -14,7 +17,7 @@
 use super::joint::JointState;
 use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Described, Placement};
-use crate::expr::diff::{AtRest, Differentiator};
+use crate::expr::diff::AtRest;
 use crate::expr::{Graph, Id, Sym};
 
 /// One named frame's expressions.
@@ -61,32 +64,24 @@ pub struct Kinematics {
     pub center_of_mass: Option<CenterOfMass>,
 }
 
-/// The frame placed by `offset` in a body whose world frame is `body`.
-pub fn frame(g: &mut Graph, name: String, body: &Placement, offset: &Placement, n: usize) -> Frame {
-    let placed = body.then(g, offset);
+/// The frame placed by `offset` in the described body `body`, whose world
+/// frame is `world[body]`.
+pub fn frame(
+    g: &mut Graph,
+    name: String,
+    (described, world): (&[Described], &[Placement]),
+    body: usize,
+    offset: &Placement,
+    n: usize,
+) -> Frame {
+    let placed = world[body].then(g, offset);
     let rotation = placed.rotation.map(|row| spatial::hold3(g, row));
     let position = spatial::hold3(g, placed.translation);
-    let mut partials = Differentiator::new();
-    let mut jacobian: Vec<Vec<Id>> = (0..6).map(|_| Vec::with_capacity(n)).collect();
-    for k in 0..n {
-        let linear = position.map(|p| partials.partial(g, p, Sym::Coord(k)));
-        let turned = rotation.map(|row| row.map(|r| partials.partial(g, r, Sym::Coord(k))));
-        let angular = spin(g, &turned, &rotation);
-        for (row, &e) in jacobian.iter_mut().zip(linear.iter().chain(&angular)) {
-            row.push(e);
-        }
-    }
-    let mut rate = AtRest::default();
-    let linear = position.map(|p| rate.derivative(g, p));
-    let turned = rotation.map(|row| row.map(|r| rate.derivative(g, r)));
-    let angular = spin(g, &turned, &rotation);
-    let velocity: Vec<Id> = linear
-        .iter()
-        .chain(&angular)
-        .map(|&v| spatial::hold(g, v))
-        .collect();
+    let jacobian = point_jacobian(g, (described, world), body, position, n);
+    let velocity = times_rates(g, &jacobian);
     // `q̇` is held by `AtRest`: the derivative of `J(q) q̇` along the motion
     // at `q̈ = 0` is `J̇ q̇`.
+    let mut rate = AtRest::default();
     let bias = velocity.iter().map(|&v| rate.derivative(g, v)).collect();
     Frame {
         name,
@@ -98,17 +93,80 @@ pub fn frame(g: &mut Graph, name: String, body: &Placement, offset: &Placement, 
     }
 }
 
-/// `vee(Ṙ Rᵀ)`, the angular velocity in world axes of a frame turned by
-/// `R` at the rate `Ṙ`, as the axial vector of `½ (Ṙ Rᵀ − R Ṙᵀ)`: `R` is
-/// orthogonal for every `q`, so `Ṙ Rᵀ` is skew and this is exact.
-fn spin(g: &mut Graph, rate: &M3, rotation: &M3) -> V3 {
-    let m = spatial::mat_mul(g, rate, &spatial::transpose(rotation));
-    let two = g.int(2);
-    let mut axial = |i: usize, j: usize| {
-        let d = g.sub(m[i][j], m[j][i]);
-        g.div(d, two)
-    };
-    [axial(2, 1), axial(0, 2), axial(1, 0)]
+/// `J q̇` over `J`'s structural nonzeros, each entry held.
+fn times_rates(g: &mut Graph, jacobian: &[Vec<Id>]) -> Vec<Id> {
+    jacobian
+        .iter()
+        .map(|row| {
+            let mut terms = Vec::with_capacity(row.len());
+            for (k, &e) in row.iter().enumerate() {
+                if !g.is_zero(e) {
+                    let rate = g.sym(Sym::Vel(k));
+                    terms.push(g.mul2(e, rate));
+                }
+            }
+            let sum = g.add(&terms);
+            spatial::hold(g, sum)
+        })
+        .collect()
+}
+
+/// `J` of the point `p` fixed in the described body `body`, by the motion
+/// subspaces of the joints from it to the root (Pinocchio's
+/// `computeJointJacobians`): each coordinate's column `S` carried to world
+/// axes at its body's origin, `ω = R s_ω`, and moved to `p`,
+/// `v = R s_v + ω × (p − o)`. Columns of coordinates off that path are
+/// zero; a mimic's adds to the column of the joint it follows.
+fn point_jacobian(
+    g: &mut Graph,
+    (described, world): (&[Described], &[Placement]),
+    body: usize,
+    p: V3,
+    n: usize,
+) -> Vec<Vec<Id>> {
+    let zero = g.int(0);
+    let mut jacobian = vec![vec![zero; n]; 6];
+    for (joint, frame) in path(described, body).map(|i| (described[i].joint, &world[i])) {
+        let Some(joint) = joint else { continue };
+        let arm = spatial::sub(g, p, frame.translation);
+        for (k, s) in JointState::new(g, joint).columns(g) {
+            let (linear, angular) = world_column(g, frame, s);
+            let turn = spatial::cross(g, angular, arm);
+            let linear = spatial::add(g, linear, turn);
+            accumulate(g, &mut jacobian, k, linear.iter().chain(&angular));
+        }
+    }
+    jacobian
+}
+
+/// The described bodies from `body` to the root, `body` first (a tree: at
+/// most one step per body).
+fn path(described: &[Described], body: usize) -> impl Iterator<Item = usize> + '_ {
+    std::iter::successors(Some(body), |&i| described[i].parent).take(described.len())
+}
+
+/// A motion subspace column `s` of a body's joint (in its axes, at its
+/// origin) in world axes: `(R s_v, R s_ω)`.
+fn world_column(g: &mut Graph, frame: &Placement, s: Spatial) -> (V3, V3) {
+    let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
+    let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
+    (linear, angular)
+}
+
+/// Adds `values` to column `k` of `rows`, row by row.
+fn accumulate<'v>(
+    g: &mut Graph,
+    rows: &mut [Vec<Id>],
+    k: usize,
+    values: impl Iterator<Item = &'v Id>,
+) {
+    for (row, &e) in rows.iter_mut().zip(values) {
+        row[k] = if g.is_zero(row[k]) {
+            e
+        } else {
+            g.add2(row[k], e)
+        };
+    }
 }
 
 /// Whether body `i` is welded to the world: no joint moves it (each body
@@ -161,20 +219,9 @@ pub fn center_of_mass(
         let c = g.div(sum, total);
         spatial::hold(g, c)
     });
-    let mut partials = Differentiator::new();
-    let jacobian = position
-        .iter()
-        .map(|&c| {
-            (0..n)
-                .map(|k| partials.partial(g, c, Sym::Coord(k)))
-                .collect()
-        })
-        .collect();
-    let mut rate = AtRest::default();
-    let velocity = position.map(|c| {
-        let v = rate.derivative(g, c);
-        spatial::hold(g, v)
-    });
+    let jacobian = center_of_mass_jacobian(g, (described, world), total, n);
+    let velocity = times_rates(g, &jacobian);
+    let velocity = [velocity[0], velocity[1], velocity[2]];
     let (centroidal_map, centroidal_bias) = centroidal(g, described, world, &position, n);
     Some(CenterOfMass {
         position,
@@ -183,6 +230,62 @@ pub fn center_of_mass(
         centroidal_map,
         centroidal_bias,
     })
+}
+
+/// `∂c/∂q` by subtrees (Pinocchio's `jacobianCenterOfMass`): a coordinate
+/// of the joint of body `j` moves the bodies of `j`'s subtree rigidly, so
+/// its column is `(m_j v + ω × (h_j − m_j o_j)) / m` with `(v, ω)` its
+/// motion column in world axes at `j`'s origin `o_j`, `m_j` the subtree's
+/// mass and `h_j = Σ (mᵢ pᵢ + Rᵢ hᵢ)` its first moment about the world's
+/// origin. Bodies welded to the world are in no subtree of a joint.
+fn center_of_mass_jacobian(
+    g: &mut Graph,
+    (described, world): (&[Described], &[Placement]),
+    total: Id,
+    n: usize,
+) -> Vec<Vec<Id>> {
+    let zero = g.int(0);
+    let mut mass = vec![zero; described.len()];
+    let mut moment = vec![[zero; 3]; described.len()];
+    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
+        if g.is_zero(d.inertia.mass) {
+            continue;
+        }
+        let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);
+        let offset = spatial::mat_vec(g, &frame.rotation, d.inertia.first_moment);
+        mass[i] = d.inertia.mass;
+        moment[i] = spatial::add(g, at_origin, offset);
+    }
+    // Parents come before their children: one backward pass sums subtrees.
+    for i in (0..described.len()).rev() {
+        if let Some(p) = described[i].parent {
+            mass[p] = g.add2(mass[p], mass[i]);
+            moment[p] = spatial::add(g, moment[p], moment[i]);
+            mass[p] = spatial::hold(g, mass[p]);
+            moment[p] = spatial::hold3(g, moment[p]);
+        }
+    }
+    let one = g.int(1);
+    let inverse = g.div(one, total);
+    let inverse = spatial::hold(g, inverse);
+    let mut jacobian = vec![vec![zero; n]; 3];
+    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
+        let Some(joint) = d.joint else { continue };
+        if g.is_zero(mass[i]) {
+            continue;
+        }
+        let about = spatial::scale(g, mass[i], frame.translation);
+        let lever = spatial::sub(g, moment[i], about);
+        for (k, s) in JointState::new(g, joint).columns(g) {
+            let (linear, angular) = world_column(g, frame, s);
+            let carried = spatial::scale(g, mass[i], linear);
+            let turned = spatial::cross(g, angular, lever);
+            let column = spatial::add(g, carried, turned);
+            let column = spatial::scale(g, inverse, column);
+            accumulate(g, &mut jacobian, k, column.iter());
+        }
+    }
+    jacobian
 }
 
 /// The centroidal map `A_G` and its bias `Ȧ_G q̇`, rows `[P; L_G]` in

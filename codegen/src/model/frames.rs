@@ -54,7 +54,7 @@ impl Lowerer<'_> {
                 );
             }
             seen.push(name.clone());
-            if let Some(frame) = self.frame(input, name) {
+            if let Some(frame) = self.frame(input, name, described) {
                 frames.push(frame);
             }
         }
@@ -67,7 +67,12 @@ impl Lowerer<'_> {
     }
 
     /// One frame, or `None` with its errors recorded.
-    fn frame(&mut self, input: &BodyInput, name: String) -> Option<kinematics::Frame> {
+    fn frame(
+        &mut self,
+        input: &BodyInput,
+        name: String,
+        described: &[Described],
+    ) -> Option<kinematics::Frame> {
         let before = self.errors.count();
         check_fields(self, input);
         let body = match input.fields.iter().find(|(k, _)| k == "body") {
@@ -81,9 +86,12 @@ impl Lowerer<'_> {
             }
         };
         let offset = self.placement(input);
-        let world = self.frames.get(body?)?.1;
-        (self.errors.count() == before)
-            .then(|| kinematics::frame(self.graph, name, &world, &offset, self.n))
+        let body = body.filter(|&b| b < self.frames.len())?;
+        let world: Vec<crate::bodies::Placement> = self.frames.iter().map(|(_, p)| *p).collect();
+        (self.errors.count() == before).then(|| {
+            let bodies = (described, &world[..]);
+            kinematics::frame(self.graph, name, bodies, body, &offset, self.n)
+        })
     }
 
     /// The index among the described bodies of the body `e` names.
