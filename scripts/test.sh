@@ -125,7 +125,7 @@ sympy_then_embedded() {
 # exits non-zero unless both forms of the cart-pole balance and their gains
 # agree. Run from the build above.
 run_examples() {
-    for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda quadruped five_bar rimless_wheel pendulum_wall compass_gait; do
+    for example in appell spherical_pendulum double_pendulum bead_on_hoop chaplygin_sleigh slider_crank two_link_arm crane spinning_top panda quadruped quadruped_balance five_bar rimless_wheel pendulum_wall compass_gait; do
         echo "-- $example"
         # `|| return`: set -e does not stop a function run as an `if`'s
         # condition (stage's), and a failing example went unnoticed.
@@ -141,7 +141,7 @@ host_stages() {
     # dev-dependencies would enable std for it).
     stage "std feature: a user's crate outside the workspace" "$logs/std-feature.log" \
         cargo test --locked --manifest-path tests/std-feature/Cargo.toml
-    stage "examples: 16, plots in $target/plots" "$logs/examples.log" run_examples
+    stage "examples: 17, plots in $target/plots" "$logs/examples.log" run_examples
 }
 embedded_stage() {
     CARGO_TARGET_DIR="$target/firmware" stage "embedded: firmware under QEMU against the host" "$logs/embedded.log" \

@@ -7,9 +7,10 @@
 //! abduction `haa` about x, hip and knee flexion `hfe`, `kfe` about y — with
 //! a motor torque each, and the four feet fixed on the ground at
 //! `(·_x, ·_y, 0)` (three rows each) plus the base quaternion's norm:
-//! `K = 13` rows on `N = 19` coordinates. Included by the example
-//! `quadruped` and the tests of `tests/quadruped.rs` (which add the twin
-//! with a fifth, dependent row).
+//! `K = 13` rows on `N = 19` coordinates. Included by the examples
+//! `quadruped` and `quadruped_balance` (whose controller's twin adds the
+//! frames it reads, `support/balance.rs`) and the tests of
+//! `tests/quadruped.rs` (which add the twin with a fifth, dependent row).
 
 /// The coordinates: the base's position and quaternion, then each leg's
 /// `haa, hfe, kfe` in the order front-left, front-right, hind-left,
@@ -31,10 +32,12 @@ pub const SEGMENT: f64 = 0.16;
 pub const MASS: f64 = 1.16 + 4.0 * (0.149 + 0.149 + 0.031);
 
 /// The quadruped's `constrained_system!` as `$name`, with `$extra` rows
-/// after the four feet's: the model is written once for the example and for
-/// the tests' twin with a dependent fifth row.
+/// after the four feet's and, optionally, a `frames` section (the balance
+/// controller's kinematics, which the other users need not expand): the
+/// model is written once for the examples and for the tests' twin with a
+/// dependent fifth row.
 macro_rules! quadruped_system {
-    ($(#[$attr:meta])* $name:ident, [$($extra:tt)*]) => {
+    ($(#[$attr:meta])* $name:ident, [$($extra:tt)*] $(, frames: [$($frame:tt)*])?) => {
 constrained::constrained_system! {
     $(#[$attr])*
     pub struct $name {
@@ -155,6 +158,7 @@ constrained::constrained_system! {
             position(hr_lower, [0.0, -0.008, -0.16]) == [hr_x, hr_y, 0.0],
             $($extra)*
         ],
+        $(frames: [$($frame)*],)?
     }
 }
     };

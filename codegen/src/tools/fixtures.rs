@@ -239,8 +239,9 @@ pub fn panda(name: &str, joints: usize) -> String {
 /// floating base, twelve joints, four feet fixed: 19 coordinates, 13 rows)
 /// as `constrained_system!` input, read from that file in the workspace:
 /// the file writes the system inside a `macro_rules!` (for the tests' twin
-/// with a fifth row), and this is its plain instance, `Quadruped`. `None`
-/// outside the workspace (the file is not packaged).
+/// with a fifth row and the balance example's frames), and this is its
+/// plain instance, `Quadruped`. `None` outside the workspace (the file is
+/// not packaged).
 pub fn quadruped() -> Option<String> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -250,6 +251,7 @@ pub fn quadruped() -> Option<String> {
         .ok()?
         .replace("$(#[$attr])*", "")
         .replace("$($extra)*", "")
+        .replace("$(frames: [$($frame)*],)?", "")
         .replace("$name", "Quadruped");
     let start = text.find("constrained_system! {")? + "constrained_system!".len();
     let body = &text[start..];
