@@ -15,7 +15,7 @@
 //! nothing.
 
 use super::joint::JointState;
-use super::spatial::{self, Inertia, Spatial, M3, V3};
+use super::spatial::{self, Spatial, M3, V3};
 use super::{Described, Placement};
 use crate::expr::diff::AtRest;
 use crate::expr::{Graph, Id, Sym};
@@ -292,10 +292,12 @@ fn center_of_mass_jacobian(
 /// world axes: the total linear momentum and the angular momentum about
 /// the centre of mass `c`. With the bodies as the tree merges them (fixed
 /// ones into the movable body they hang from), each body's composite
-/// inertia `Iᶜ` (its own and its descendants') about the world's origin in
-/// world axes, from their world frames; the column of a coordinate is
-/// `Iᶜ S` for its joint's motion `S` carried to the world (Pinocchio's
-/// `ccrba`), `[f; n − c × f]`. The bias is the rate of the momentum about
+/// inertia `Iᶜ` (its own and its descendants') in its own frame, from the
+/// composite-rigid-body pass through the joints' sparse transforms; the
+/// column of a coordinate is the momentum `[n; f] = Iᶜ S` of its joint's
+/// motion `S`, carried to world axes and about `c`: `[R f; R n + (o − c) ×
+/// R f]` with `(R, o)` the body's world frame (Pinocchio's `ccrba` forms
+/// `Iᶜ` in world axes instead: a dense rotation per body). The bias is the rate of the momentum about
 /// the world's origin at `q̈ = 0` without gravity, the force recursive
 /// Newton–Euler passes to the world ([`super::recursion::momentum_rate`]),
 /// moved to `c` the same way (`ċ × P = m ċ × ċ` vanishes).
@@ -314,35 +316,20 @@ fn centroidal(
         .filter(|(d, _)| d.joint.is_some())
         .map(|(_, w)| *w)
         .collect();
-    let mut composite: Vec<Inertia> = tree
-        .bodies
-        .iter()
-        .zip(&frames)
-        .map(|(b, f)| b.inertia.to_parent(g, &f.rotation, f.translation).held(g))
-        .collect();
-    for (i, body) in tree.bodies.iter().enumerate().rev() {
-        if let Some(p) = body.parent {
-            composite[p] = composite[p].add(g, &composite[i]).held(g);
-        }
-    }
     let zero = g.int(0);
     let mut map = vec![vec![zero; n]; 6];
-    for ((body, frame), inertia) in tree.bodies.iter().zip(&frames).zip(&composite) {
-        let js = JointState::new(g, body.joint);
-        for (k, s) in js.columns(g) {
-            let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
-            let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
-            let shift = spatial::cross(g, frame.translation, angular);
-            let linear = spatial::add(g, linear, shift);
-            let momentum = inertia.apply(g, Spatial { angular, linear });
-            let column = about_center(g, momentum, c);
-            for (row, e) in map.iter_mut().zip(column) {
-                row[k] = if g.is_zero(row[k]) {
-                    e
-                } else {
-                    g.add2(row[k], e)
-                };
-            }
+    let bodies = super::recursion::composite_columns(g, &tree);
+    for ((inertia, columns), frame) in bodies.iter().zip(&frames) {
+        let lever = spatial::sub(g, frame.translation, *c);
+        for &(k, s) in columns {
+            // The subtree's momentum in the body's frame, then in world
+            // axes with its moment taken about `c`.
+            let momentum = inertia.apply(g, s);
+            let linear = spatial::mat_vec(g, &frame.rotation, momentum.linear);
+            let moment = spatial::mat_vec(g, &frame.rotation, momentum.angular);
+            let shift = spatial::cross(g, lever, linear);
+            let angular = spatial::add(g, moment, shift);
+            accumulate(g, &mut map, k, linear.iter().chain(&angular));
         }
     }
     let rate = super::recursion::momentum_rate(g, &tree, n);

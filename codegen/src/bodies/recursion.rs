@@ -209,6 +209,33 @@ fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inert
     in_joint.to_parent(g, &p.rotation, p.translation)
 }
 
+/// Each body's composite inertia (its own and its descendants'), about
+/// its origin in its axes: the backward pass of the composite-rigid-body
+/// algorithm, through the joints' own transforms.
+fn composites(g: &mut Graph, tree: &Tree, states: &[JointState]) -> Vec<Inertia> {
+    let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
+    for (i, body) in tree.bodies.iter().enumerate().rev() {
+        if let Some(p) = body.parent {
+            let moved = inertia_to_parent(g, body, states[i], &composite[i]);
+            composite[p] = composite[p].add(g, &moved).held(g);
+        }
+    }
+    composite
+}
+
+/// Each body's composite inertia in its own frame, and its joint's motion
+/// columns there: what the centroidal map (`super::kinematics`) carries to
+/// the world.
+pub fn composite_columns(g: &mut Graph, tree: &Tree) -> Vec<(Inertia, Vec<(usize, Spatial)>)> {
+    let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
+    let composite = composites(g, tree, &states);
+    composite
+        .into_iter()
+        .zip(&states)
+        .map(|(c, &js)| (c, subspace(g, js)))
+        .collect()
+}
+
 /// The composite-rigid-body algorithm: `M(q)`, n × n, and each body's
 /// composite inertia. With `velocity`, each quaternion joint's columns are
 /// those of [`super::free::velocity_subspace`], and the matrix is
@@ -220,13 +247,7 @@ fn composite_rigid_body(
     velocity: bool,
 ) -> (Vec<Vec<Id>>, Vec<Inertia>) {
     let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
-    let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
-    for (i, body) in tree.bodies.iter().enumerate().rev() {
-        if let Some(p) = body.parent {
-            let moved = inertia_to_parent(g, body, states[i], &composite[i]);
-            composite[p] = composite[p].add(g, &moved).held(g);
-        }
-    }
+    let composite = composites(g, tree, &states);
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
     let columns: Vec<Vec<(usize, Spatial)>> = if velocity {
