@@ -113,22 +113,7 @@ fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
         // ∂f(a₁, …) = Σᵢ ∂f/∂aᵢ · ∂aᵢ. Where every ∂aᵢ is zero the result
         // is zero even where f′ is singular (`asin(1)`), so the partials
         // are not even built.
-        // A held sum's derivative is held too where it is a sum: what keeps
-        // the recursions' expressions O(n) (`crate::bodies::spatial::hold`)
-        // keeps their derivatives so, rather than copying the terms of each
-        // derivative into every product that scales it.
-        Node::Func(Func::Hold, args) => {
-            let inner = d.of(g, args.as_slice()[0]);
-            let parts = match g.node(inner) {
-                Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
-                _ => 0,
-            };
-            if parts >= 2 {
-                g.func(Func::Hold, inner)
-            } else {
-                inner
-            }
-        }
+        Node::Func(Func::Hold, args) => held(d, g, args.as_slice()[0]),
         Node::Func(f, args) => {
             let inner: Vec<Id> = args.as_slice().iter().map(|&a| d.of(g, a)).collect();
             if inner.iter().all(|&d| g.is_zero(d)) {
@@ -143,6 +128,23 @@ fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
             }
             g.linear_combination(terms)
         }
+    }
+}
+
+/// The derivative of `hold(x)`. A held sum's derivative is held too where
+/// it is a sum: what keeps the recursions' expressions O(n)
+/// (`crate::bodies::spatial::hold`) keeps their derivatives so, rather than
+/// copying the terms of each derivative into every product that scales it.
+fn held(d: &mut impl Rule, g: &mut Graph, x: Id) -> Id {
+    let inner = d.of(g, x);
+    let parts = match g.node(inner) {
+        Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
+        _ => 0,
+    };
+    if parts >= 2 {
+        g.func(Func::Hold, inner)
+    } else {
+        inner
     }
 }
 

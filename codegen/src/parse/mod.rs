@@ -7,7 +7,7 @@
 pub(crate) mod nesting;
 
 use proc_macro2::Span;
-use syn::parse::{Parse, ParseStream};
+use syn::parse::{Lookahead1, Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{braced, bracketed, Attribute, Expr, Ident, Token, Visibility};
 
@@ -197,80 +197,105 @@ fn list<T>(input: ParseStream, item: fn(ParseStream) -> syn::Result<T>) -> syn::
     })
 }
 
+/// A section's keyword and its colon, as the keyword's identifier.
+macro_rules! keyword {
+    ($input:ident, $kw:ident) => {{
+        let k: kw::$kw = $input.parse()?;
+        $input.parse::<Token![:]>()?;
+        Ident::new(stringify!($kw), k.span)
+    }};
+}
+
 impl Parse for Section {
     fn parse(input: ParseStream) -> syn::Result<Self> {
+        // Peeked in the order the messages list the sections.
         let lookahead = input.lookahead1();
-        macro_rules! keyword {
-            ($kw:ident) => {{
-                let k: kw::$kw = input.parse()?;
-                input.parse::<Token![:]>()?;
-                Ident::new(stringify!($kw), k.span)
-            }};
+        if let Some(section) = equation_section(input, &lookahead)? {
+            return Ok(section);
         }
-        if lookahead.peek(kw::coordinates) {
-            let k = keyword!(coordinates);
-            Ok(Section::Coordinates(k, list(input, Ident::parse)?))
-        } else if lookahead.peek(kw::parameters) {
-            let k = keyword!(parameters);
-            Ok(Section::Parameters(k, list(input, Ident::parse)?))
-        } else if lookahead.peek(kw::inputs) {
-            let k = keyword!(inputs);
-            Ok(Section::Inputs(k, list(input, Ident::parse)?))
-        } else if lookahead.peek(kw::mass) {
-            let k = keyword!(mass);
-            Ok(Section::Mass(k, input.parse()?))
-        } else if lookahead.peek(kw::forces) {
-            let k = keyword!(forces);
-            Ok(Section::Forces(k, list(input, Expr::parse)?))
-        } else if lookahead.peek(kw::definitions) {
-            let k = keyword!(definitions);
-            Ok(Section::Definitions(k, list(input, parse_definition)?))
-        } else if lookahead.peek(kw::constraints) {
-            let k = keyword!(constraints);
-            Ok(Section::Constraints(
-                k,
-                list(input, ConstraintInput::parse)?,
-            ))
-        } else if lookahead.peek(kw::eliminate) {
-            let k = keyword!(eliminate);
-            Ok(Section::Eliminate(k, list(input, Ident::parse)?))
-        } else if lookahead.peek(kw::kinetic_energy) {
-            let k = keyword!(kinetic_energy);
-            Ok(Section::KineticEnergy(k, input.parse()?))
-        } else if lookahead.peek(kw::potential_energy) {
-            let k = keyword!(potential_energy);
-            Ok(Section::PotentialEnergy(k, input.parse()?))
-        } else if lookahead.peek(kw::bodies) {
-            let k = keyword!(bodies);
-            Ok(Section::Bodies(k, list(input, BodyInput::parse)?))
-        } else if lookahead.peek(kw::gravity) {
-            let k = keyword!(gravity);
-            Ok(Section::Gravity(k, list(input, Expr::parse)?))
-        } else if lookahead.peek(kw::urdf) {
-            let k = keyword!(urdf);
-            Ok(Section::Urdf(k, input.parse()?))
-        } else if lookahead.peek(kw::right_angles_within) {
-            let k = keyword!(right_angles_within);
-            Ok(Section::RightAnglesWithin(k, input.parse()?))
-        } else if lookahead.peek(kw::locked) {
-            let k = keyword!(locked);
-            Ok(Section::Locked(k, list(input, Ident::parse)?))
-        } else if lookahead.peek(kw::unilateral) {
-            let k = keyword!(unilateral);
+        if let Some(section) = robot_section(input, &lookahead)? {
+            return Ok(section);
+        }
+        if lookahead.peek(kw::unilateral) {
+            let k = keyword!(input, unilateral);
             Ok(Section::Unilateral(k, list(input, Expr::parse)?))
         } else if lookahead.peek(kw::friction) {
-            let k = keyword!(friction);
+            let k = keyword!(input, friction);
             Ok(Section::Friction(k, list(input, Expr::parse)?))
         } else if lookahead.peek(kw::frames) {
-            let k = keyword!(frames);
+            let k = keyword!(input, frames);
             Ok(Section::Frames(k, list(input, BodyInput::parse)?))
         } else if lookahead.peek(kw::derivatives) {
-            let k = keyword!(derivatives);
+            let k = keyword!(input, derivatives);
             Ok(Section::Derivatives(k, list(input, Ident::parse)?))
         } else {
             Err(lookahead.error())
         }
     }
+}
+
+/// The sections of equations written out (`coordinates` to
+/// `potential_energy`), or `None` where the next keyword is another's.
+fn equation_section(input: ParseStream, lookahead: &Lookahead1) -> syn::Result<Option<Section>> {
+    let section = if lookahead.peek(kw::coordinates) {
+        let k = keyword!(input, coordinates);
+        Section::Coordinates(k, list(input, Ident::parse)?)
+    } else if lookahead.peek(kw::parameters) {
+        let k = keyword!(input, parameters);
+        Section::Parameters(k, list(input, Ident::parse)?)
+    } else if lookahead.peek(kw::inputs) {
+        let k = keyword!(input, inputs);
+        Section::Inputs(k, list(input, Ident::parse)?)
+    } else if lookahead.peek(kw::mass) {
+        let k = keyword!(input, mass);
+        Section::Mass(k, input.parse()?)
+    } else if lookahead.peek(kw::forces) {
+        let k = keyword!(input, forces);
+        Section::Forces(k, list(input, Expr::parse)?)
+    } else if lookahead.peek(kw::definitions) {
+        let k = keyword!(input, definitions);
+        Section::Definitions(k, list(input, parse_definition)?)
+    } else if lookahead.peek(kw::constraints) {
+        let k = keyword!(input, constraints);
+        Section::Constraints(k, list(input, ConstraintInput::parse)?)
+    } else if lookahead.peek(kw::eliminate) {
+        let k = keyword!(input, eliminate);
+        Section::Eliminate(k, list(input, Ident::parse)?)
+    } else if lookahead.peek(kw::kinetic_energy) {
+        let k = keyword!(input, kinetic_energy);
+        Section::KineticEnergy(k, input.parse()?)
+    } else if lookahead.peek(kw::potential_energy) {
+        let k = keyword!(input, potential_energy);
+        Section::PotentialEnergy(k, input.parse()?)
+    } else {
+        return Ok(None);
+    };
+    Ok(Some(section))
+}
+
+/// The sections of a tree of bodies (`bodies`, `gravity`, `urdf`,
+/// `right_angles_within`, `locked`), or `None` where the next keyword is
+/// another's.
+fn robot_section(input: ParseStream, lookahead: &Lookahead1) -> syn::Result<Option<Section>> {
+    let section = if lookahead.peek(kw::bodies) {
+        let k = keyword!(input, bodies);
+        Section::Bodies(k, list(input, BodyInput::parse)?)
+    } else if lookahead.peek(kw::gravity) {
+        let k = keyword!(input, gravity);
+        Section::Gravity(k, list(input, Expr::parse)?)
+    } else if lookahead.peek(kw::urdf) {
+        let k = keyword!(input, urdf);
+        Section::Urdf(k, input.parse()?)
+    } else if lookahead.peek(kw::right_angles_within) {
+        let k = keyword!(input, right_angles_within);
+        Section::RightAnglesWithin(k, input.parse()?)
+    } else if lookahead.peek(kw::locked) {
+        let k = keyword!(input, locked);
+        Section::Locked(k, list(input, Ident::parse)?)
+    } else {
+        return Ok(None);
+    };
+    Ok(Some(section))
 }
 
 impl Parse for MassInput {
