@@ -1,8 +1,8 @@
 """The Kinematics and derivatives section of BENCHMARKS.md and its targets
 (issue 49): the Panda, the Unitree G1 and the Unitree Go1 read from
 example-robot-data's URDFs with named frames, the generated placements,
-frame Jacobians, classical accelerations, centre of mass and ∂q̈ against
-Pinocchio's (benches/peers/run.sh writes <target>/benchmarks/kinematics.json:
+frame Jacobians, classical accelerations, centre of mass, centroidal
+momentum, ∂τ and ∂q̈ against Pinocchio's (benches/peers/run.sh writes <target>/benchmarks/kinematics.json:
 our times and Pinocchio's, in alternating rounds, Pinocchio's lines with its
 agreement with ours). Standard library only.
 
@@ -25,17 +25,25 @@ SYSTEMS = (
     ("go1", "Go1 (12 joints, fixed trunk), `fl_sole` on `FL_foot`",
      {"frame_jacobian": 3, "center_of_mass_and_jacobian": 3}),
 )
-# Our method (the JSON's `what`, the same on both sides) and what it is.
+# A row: Pinocchio's line (the JSON's `what`), our method it is timed
+# against (ours' `what`; the same name but for a second counterpart of one
+# of ours) and what it is.
 QUANTITIES = (
-    ("frame_placement", "placement `(R, p)`"),
-    ("frame_jacobian", "frame Jacobian (6 × n)"),
-    ("frame_velocity", "frame velocity `J q̇`"),
-    ("frame_acceleration_bias", "acceleration bias `J̇ q̇`"),
-    ("center_of_mass_and_jacobian", "centre of mass and its Jacobian"),
-    ("acceleration_jacobian", "`∂q̈/∂q`, `∂q̈/∂q̇`, `∂q̈/∂τ`"),
+    ("frame_placement", "frame_placement", "placement `(R, p)`"),
+    ("frame_jacobian", "frame_jacobian", "frame Jacobian (6 × n)"),
+    ("frame_velocity", "frame_velocity", "frame velocity `J q̇`"),
+    ("frame_acceleration_bias", "frame_acceleration_bias", "acceleration bias `J̇ q̇`"),
+    ("center_of_mass_and_jacobian", "center_of_mass_and_jacobian", "centre of mass and its Jacobian"),
+    ("center_of_mass_velocity", "center_of_mass_velocity", "centre of mass velocity `ċ`"),
+    ("centroidal_map", "centroidal_map", "centroidal map `A_G` (6 × n)"),
+    ("centroidal_map_bias", "centroidal_map_bias", "centroidal bias `Ȧ_G q̇`"),
+    ("centroidal_momentum_time_variation", "centroidal_map_bias", "centroidal bias `Ȧ_G q̇`"),
+    ("inverse_dynamics_jacobian", "inverse_dynamics_jacobian", "`∂τ/∂q`, `∂τ/∂q̇`"),
+    ("acceleration_jacobian", "acceleration_jacobian", "`∂q̈/∂q`, `∂q̈/∂q̇`, `∂q̈/∂τ`"),
 )
 AGREEMENT = 1e-12
-HEADING = "## Kinematics and derivatives: frames, centre of mass and ∂q̈, against Pinocchio"
+HEADING = ("## Kinematics and derivatives: frames, centre of mass, centroidal momentum, ∂τ and ∂q̈, "
+           "against Pinocchio")
 TARGET_PREFIX = "Kinematics: "
 
 
@@ -75,14 +83,14 @@ def section(rows, ns):
     median = report_contacts._median
     table = []
     for system, label, _ in SYSTEMS:
-        for what, name in QUANTITIES:
+        for what, ours, name in QUANTITIES:
             peer = _theirs(rows, system, what)
             if not peer:
                 continue
             worst = max(x["difference"] for x in peer)
-            mine = rows.get(("constrained", what, system), [])
+            mine = rows.get(("constrained", ours, system), [])
             timed = [x["ns"] for x in peer if x["ok"] and x["ns"]]
-            r = report_contacts.ratios(rows, system, what, what)
+            r = report_contacts.ratios(rows, system, ours, what)
             if not timed or not mine:
                 why = "disagreed" if not all(x["ok"] for x in peer) else "answers only"
                 table.append(f"| {label} | {name} | `{peer[0]['pinocchio']}` | – | – | {why} | {worst:.1e} |")
@@ -111,9 +119,16 @@ def section(rows, ns):
         "after `forwardKinematics` + `updateFramePlacements` (rotation and translation);",
         "`computeFrameJacobian` and `getFrameJacobian`, `getFrameVelocity` and",
         "`getFrameClassicalAcceleration` at `a = 0` against our `J̇ q̇`, all",
-        "`LOCAL_WORLD_ALIGNED`; `centerOfMass` and `jacobianCenterOfMass`; and",
+        "`LOCAL_WORLD_ALIGNED`; `centerOfMass` and `jacobianCenterOfMass`; `centerOfMass(q, v)`'s",
+        "`vcom[0]` against `center_of_mass_velocity`; `computeCentroidalMap`'s `Ag` against",
+        "`centroidal_map` (rows `[P; L_G]`, world axes, about the centre of mass);",
+        "`dccrba`'s `dAg · v` (and its `Ag`), `computeCentroidalMapTimeVariation`'s `dAg · v`",
+        "right after it and `computeCentroidalMomentumTimeVariation(q, v, 0)`'s `dhg` against",
+        "`centroidal_map_bias`;",
+        "`computeRNEADerivatives` at a random `q̈` against `inverse_dynamics_jacobian`; and",
         "`computeABADerivatives` (its `M⁻¹` symmetrised) against `acceleration_jacobian`",
-        "(`v` is `q̇` on these revolute joints). The first frame is timed, each side's call",
+        "(`v` is `q̇` on these revolute joints, so a column per rate is a column per `v`:",
+        "no quaternion to map). The first frame is timed, each side's call",
         "over the same 20 states (per state: the median of 31 batches), pinned to one",
         "core, on the thread's CPU clock, in 3 alternating rounds (ours, then Pinocchio's);",
         "each side's time is the median of its rounds, the ratio the median of the rounds'",
@@ -123,12 +138,23 @@ def section(rows, ns):
         "`forwardKinematics` over every joint (its way to one frame's placement or",
         "classical acceleration), `computeFrameJacobian` over the frame's chain only, and",
         "`jacobianCenterOfMass` (without the subtrees' centres) computes both the centre",
-        "and its Jacobian in one pass. Our `acceleration_jacobian` is the generated tangent",
+        "and its Jacobian in one pass, as `centerOfMass(q, v)` does the centre and its",
+        "velocity. `centroidal_map_bias` has two rows: `dccrba` (which forms `Ag`, `dAg`, `hg`",
+        "and `vcom`, then `dAg · v`) and `computeCentroidalMomentumTimeVariation` at `a = 0` (a",
+        "Newton–Euler pass straight to `dhg = dAg · v`, Pinocchio's cheaper way to the same",
+        "vector). `computeCentroidalMapTimeVariation`, the same pass as `dccrba`, is not timed:",
+        "in Pinocchio 4.1 it reads `data.vcom[0]` without computing it, which adds",
+        "`(m ċ) × vcom[0]` to `dAg · v`; after another state's `centerOfMass(q, v)` on the same",
+        "`Data` it was off by 4e-2 (Go1) to 0.39 (Panda) of the largest entry, and it agrees",
+        "once `vcom[0]` is the state's `ċ`, as `dccrba` leaves it. `computeRNEADerivatives`",
+        "forms `∂τ/∂q̈ = M` as well as the two of ours. Our `acceleration_jacobian` is the generated tangent",
         "right-hand sides (`tangent_rhs`: the exact derivatives of `M(q) q̈` and `F`) and the",
         "runtime's dense solves, one per column; on the G1 the tangent right-hand sides",
-        "compile to 1.2 MB of straight-line x86-64 code (the Panda's whole",
-        "`acceleration_jacobian`, 0.26 MB; `nm --size-sort`), which is where the G1's time",
-        "goes (`perf`).",
+        "compile to 0.67 MB of straight-line x86-64 code (the Panda's whole",
+        "`acceleration_jacobian`, 0.17 MB; `nm --size-sort`), which is where the G1's time",
+        "goes (`perf`, on an earlier run). Our `inverse_dynamics_jacobian` is straight-line",
+        "code too: 0.90 MB on the G1, 0.14 MB on the Panda, 0.06 MB on the Go1, against",
+        "Pinocchio's one recursion over the joints.",
         "",
         "| robot, frame | quantity | Pinocchio | ours | Pinocchio's | Pinocchio / ours | worst relative difference |",
         "|---|---|---|---|---|---|---|",
@@ -154,7 +180,7 @@ def splice(path, rows, ns, when):
     start = text.find(HEADING)
     if start >= 0:
         end = text.find("\n## ", start + len(HEADING))
-        text = text[:start] + body + (text[end + 1:] if end >= 0 else "")
+        text = text[:start] + body + (text[end:] if end >= 0 else "")
     else:
         at = text.find("\n## Contacts and loops")
         at = at + 1 if at >= 0 else len(text)

@@ -22,18 +22,33 @@
 //   frame_acceleration_bias  getFrameClassicalAcceleration, LOCAL_WORLD_ALIGNED,
 //                            after forwardKinematics(q, v, a = 0)
 //   center_of_mass_and_jacobian  centerOfMass and jacobianCenterOfMass
+//   center_of_mass_velocity  centerOfMass(q, v): vcom[0] (and com[0])
+//   centroidal_map           computeCentroidalMap: Ag, rows [linear; angular]
+//                            about the centre of mass, world axes
+//   centroidal_map_bias      dccrba: dAg v (and Ag), and
+//                            computeCentroidalMapTimeVariation's dAg v after it
+//   centroidal_momentum_time_variation  computeCentroidalMomentumTimeVariation
+//                            at a = 0: dhg, our centroidal_map_bias again,
+//                            Pinocchio's cheaper way to the same vector
+//   inverse_dynamics_jacobian  computeRNEADerivatives at the record's a:
+//                            ∂τ/∂q, ∂τ/∂v
 //   acceleration_jacobian    computeABADerivatives: ∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ
-//                            (its M⁻¹, symmetrised), rows and columns by
-//                            joint name (v is q̇ on these revolute joints)
-// and only if all of a robot's states agree does it time each against ours
-// over the same states (the first frame; common.h's statistic on the
-// thread's CPU clock, per state): forwardKinematics + updateFramePlacement,
+//                            (its M⁻¹, symmetrised)
+// with rows and columns by joint name (v is q̇ on these revolute joints, so
+// a column per q̇ rate is a column per v: no free base here), and only if
+// all of a robot's states agree does it time each against ours over the
+// same states (the first frame; common.h's statistic on the thread's CPU
+// clock, per state): forwardKinematics + updateFramePlacement,
 // computeFrameJacobian, forwardKinematics(q, v, 0) +
 // getFrameClassicalAcceleration, jacobianCenterOfMass (which computes the
-// centre of mass too; without the subtrees' centres), computeABADerivatives.
-// One JSON line per result, tagged with ROUND (run.sh alternates three
-// rounds with ours). Adding a quantity (the centroidal map, ∂τ) is one
-// entry of QUANTITIES here and one of `Time::robot`'s list in
+// centre of mass too; without the subtrees' centres), centerOfMass(q, v)
+// (without them too), computeCentroidalMap, dccrba (which computes Ag, hg
+// and vcom as well) + dAg v,
+// computeCentroidalMomentumTimeVariation(q, v, 0), computeRNEADerivatives
+// (which computes ∂τ/∂a = M as well), computeABADerivatives. One JSON line
+// per result, tagged with ROUND (run.sh alternates three rounds with ours).
+// Adding a quantity is one entry of QUANTITIES here and one of
+// `frame_times` or `whole_times` in
 // benches/peers/robots/src/bin/kinematics.rs, with the lines its check
 // reads written by `Write::state` there.
 //
@@ -43,9 +58,11 @@
 
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
+#include <pinocchio/algorithm/centroidal.hpp>
 #include <pinocchio/algorithm/frames.hpp>
 #include <pinocchio/algorithm/jacobian.hpp>
 #include <pinocchio/algorithm/kinematics.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/math.hpp>
 
 #include <fstream>
@@ -167,7 +184,7 @@ struct Robot {
   pin::Model model;
   pin::Data *data;
   Map map;
-  std::vector<VectorXd> q, v, tau;
+  std::vector<VectorXd> q, v, tau, a;
   std::vector<pin::FrameIndex> frames;
   MatrixXd j, dq, dv, dtau;
   VectorXd zero;
@@ -260,6 +277,79 @@ static double check_aba_derivatives(Robot &c) {
   return worst;
 }
 
+// centerOfMass(q, v): vcom[0] against `com_velocity` (and com[0]).
+static double check_com_velocity(Robot &c) {
+  double worst = 0;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    const State &s = c.record->states[k];
+    pin::centerOfMass(c.model, *c.data, c.q[k], c.v[k], false);
+    worst = fmax(worst, relative(c.data->com[0], get(*c.record, s, "com", 3)));
+    worst = fmax(worst, relative(c.data->vcom[0], get(*c.record, s, "com_velocity", 3)));
+  }
+  return worst;
+}
+
+static double check_centroidal_map(Robot &c) {
+  double worst = 0;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    const MatrixXd ours = get(*c.record, c.record->states[k], "centroidal_map", 6, c.record->n);
+    pin::computeCentroidalMap(c.model, *c.data, c.q[k]);
+    worst = fmax(worst, relative(our_columns(c.map, c.data->Ag), ours));
+  }
+  return worst;
+}
+
+// dccrba: its Ag against ours, dAg v against `centroidal_bias`; then
+// computeCentroidalMapTimeVariation's dAg v too. The latter (Pinocchio
+// 4.1's centroidal.hxx) reads data.vcom[0] without computing it, adding
+// (m ċ) × vcom[0] to dAg v: right only when vcom[0] is this state's ċ (as
+// dccrba, the same pass, has just left it) or zero. Called after another
+// state's centerOfMass(q, v), it was off by 4e-2 to 4e-1 of the largest
+// entry; hence dccrba is the row's counterpart.
+static double check_centroidal_bias(Robot &c) {
+  double worst = 0;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    const State &s = c.record->states[k];
+    const MatrixXd ours = get(*c.record, s, "centroidal_bias", 6);
+    pin::dccrba(c.model, *c.data, c.q[k], c.v[k]);
+    worst = fmax(worst, relative(our_columns(c.map, c.data->Ag),
+                                 get(*c.record, s, "centroidal_map", 6, c.record->n)));
+    worst = fmax(worst, relative(c.data->dAg * c.v[k], ours));
+    pin::computeCentroidalMapTimeVariation(c.model, *c.data, c.q[k], c.v[k]);
+    worst = fmax(worst, relative(c.data->dAg * c.v[k], ours));
+  }
+  return worst;
+}
+
+// computeCentroidalMomentumTimeVariation at a = 0: dhg = dAg v, by a
+// Newton–Euler pass rather than the matrix.
+static double check_centroidal_rate(Robot &c) {
+  double worst = 0;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    const State &s = c.record->states[k];
+    pin::computeCentroidalMomentumTimeVariation(c.model, *c.data, c.q[k], c.v[k], c.zero);
+    worst = fmax(worst, relative(c.data->dhg.toVector(), get(*c.record, s, "centroidal_bias", 6)));
+  }
+  return worst;
+}
+
+// computeRNEADerivatives at the record's (q, v, a): ∂τ/∂q and ∂τ/∂v
+// (∂τ/∂a, the upper half of M, it computes too) by joint name.
+static double check_rnea_derivatives(Robot &c) {
+  double worst = 0;
+  const int n = c.record->n;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    const State &s = c.record->states[k];
+    c.dq.setZero();
+    c.dv.setZero();
+    c.dtau.setZero();
+    pin::computeRNEADerivatives(c.model, *c.data, c.q[k], c.v[k], c.a[k], c.dq, c.dv, c.dtau);
+    worst = fmax(worst, relative(ours(c.map, MatrixXd(c.dq)), get(*c.record, s, "dtau_dq", n, n)));
+    worst = fmax(worst, relative(ours(c.map, MatrixXd(c.dv)), get(*c.record, s, "dtau_dv", n, n)));
+  }
+  return worst;
+}
+
 // The timed calls: the first frame, every state.
 static void time_placement(void *p) {
   Robot &c = *(Robot *)p;
@@ -306,25 +396,80 @@ static void time_aba_derivatives(void *p) {
   }
 }
 
-// A row: our method's name (the JSON's `what`, as kinematics.rs names
-// it), Pinocchio's counterpart, its check and its timed call (none: the
-// answers only).
+static void time_com_velocity(void *p) {
+  Robot &c = *(Robot *)p;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    pin::centerOfMass(c.model, *c.data, c.q[k], c.v[k], false);
+    PEER_KEEP(c.data->vcom[0].data());
+  }
+}
+
+static void time_centroidal_map(void *p) {
+  Robot &c = *(Robot *)p;
+  for (const VectorXd &q : c.q) PEER_KEEP(pin::computeCentroidalMap(c.model, *c.data, q).data());
+}
+
+static void time_centroidal_bias(void *p) {
+  Robot &c = *(Robot *)p;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    pin::dccrba(c.model, *c.data, c.q[k], c.v[k]);
+    const Eigen::Matrix<double, 6, 1> bias = c.data->dAg * c.v[k];
+    PEER_KEEP(bias.data());
+  }
+}
+
+static void time_centroidal_rate(void *p) {
+  Robot &c = *(Robot *)p;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    const pin::Force &rate =
+        pin::computeCentroidalMomentumTimeVariation(c.model, *c.data, c.q[k], c.v[k], c.zero);
+    PEER_KEEP(rate.linear().data());
+    PEER_KEEP(rate.angular().data());
+  }
+}
+
+static void time_rnea_derivatives(void *p) {
+  Robot &c = *(Robot *)p;
+  for (size_t k = 0; k < c.q.size(); k++) {
+    pin::computeRNEADerivatives(c.model, *c.data, c.q[k], c.v[k], c.a[k], c.dq, c.dv, c.dtau);
+    PEER_KEEP(c.dq.data());
+    PEER_KEEP(c.dv.data());
+    PEER_KEEP(c.dtau.data());
+  }
+}
+
+// A row: its name (the JSON's `what`), the method of ours it is checked
+// and timed against (`ours`, as kinematics.rs names it: the same as `what`
+// but for a second counterpart of one of ours), Pinocchio's counterpart,
+// its check and its timed call (none: the answers only).
 struct Quantity {
-  const char *what, *pinocchio;
+  const char *what, *ours, *pinocchio;
   double (*check)(Robot &);
   void (*time)(void *);
 };
 
 static const Quantity QUANTITIES[] = {
-    {"frame_placement", "forwardKinematics + updateFramePlacement", check_placement,
-     time_placement},
-    {"frame_jacobian", "computeFrameJacobian", check_jacobian, time_jacobian},
-    {"frame_velocity", "getFrameVelocity", check_velocity, nullptr},
-    {"frame_acceleration_bias", "forwardKinematics(q, v, 0) + getFrameClassicalAcceleration",
-     check_bias, time_bias},
-    {"center_of_mass_and_jacobian", "jacobianCenterOfMass", check_com, time_com},
-    {"acceleration_jacobian", "computeABADerivatives", check_aba_derivatives,
-     time_aba_derivatives},
+    {"frame_placement", "frame_placement", "forwardKinematics + updateFramePlacement",
+     check_placement, time_placement},
+    {"frame_jacobian", "frame_jacobian", "computeFrameJacobian", check_jacobian, time_jacobian},
+    {"frame_velocity", "frame_velocity", "getFrameVelocity", check_velocity, nullptr},
+    {"frame_acceleration_bias", "frame_acceleration_bias",
+     "forwardKinematics(q, v, 0) + getFrameClassicalAcceleration", check_bias, time_bias},
+    {"center_of_mass_and_jacobian", "center_of_mass_and_jacobian", "jacobianCenterOfMass",
+     check_com, time_com},
+    {"center_of_mass_velocity", "center_of_mass_velocity", "centerOfMass(q, v)",
+     check_com_velocity, time_com_velocity},
+    {"centroidal_map", "centroidal_map", "computeCentroidalMap", check_centroidal_map,
+     time_centroidal_map},
+    {"centroidal_map_bias", "centroidal_map_bias", "dccrba + dAg v",
+     check_centroidal_bias, time_centroidal_bias},
+    {"centroidal_momentum_time_variation", "centroidal_map_bias",
+     "computeCentroidalMomentumTimeVariation(q, v, 0)", check_centroidal_rate,
+     time_centroidal_rate},
+    {"inverse_dynamics_jacobian", "inverse_dynamics_jacobian", "computeRNEADerivatives",
+     check_rnea_derivatives, time_rnea_derivatives},
+    {"acceleration_jacobian", "acceleration_jacobian", "computeABADerivatives",
+     check_aba_derivatives, time_aba_derivatives},
 };
 
 static void robot(const std::string &dir, const Record &r, const char *round) {
@@ -352,6 +497,7 @@ static void robot(const std::string &dir, const Record &r, const char *round) {
     c.q.push_back(pinocchio_q(c.model, c.map, get(r, s, "q", r.n)));
     c.v.push_back(pinocchio_v(c.model, c.map, get(r, s, "v", r.n)));
     c.tau.push_back(pinocchio_v(c.model, c.map, get(r, s, "tau", r.n)));
+    c.a.push_back(pinocchio_v(c.model, c.map, get(r, s, "a", r.n)));
   }
   const int nv = c.model.nv;
   c.j = MatrixXd::Zero(6, nv);
@@ -364,11 +510,12 @@ static void robot(const std::string &dir, const Record &r, const char *round) {
     char time[32] = "null";
     if (ok && quantity.time)
       snprintf(time, sizeof time, "%.3f", peer_cpu_time(quantity.time, &c) / c.q.size());
-    printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"pinocchio\": \"%s\", \"system\": \"%s\", "
-           "\"n\": %d, \"frame\": \"%s\", \"ns\": %s, \"states\": %zu, \"round\": %s, "
-           "\"difference\": %.3e, \"tolerance\": %.1e, \"ok\": %s}\n",
-           quantity.what, quantity.pinocchio, r.name.c_str(), r.n, r.frames[0].name.c_str(), time,
-           c.q.size(), round, worst, tolerance, ok ? "true" : "false");
+    printf("{\"peer\": \"pinocchio\", \"what\": \"%s\", \"ours\": \"%s\", \"pinocchio\": \"%s\", "
+           "\"system\": \"%s\", \"n\": %d, \"frame\": \"%s\", \"ns\": %s, \"states\": %zu, "
+           "\"round\": %s, \"difference\": %.3e, \"tolerance\": %.1e, \"ok\": %s}\n",
+           quantity.what, quantity.ours, quantity.pinocchio, r.name.c_str(), r.n,
+           r.frames[0].name.c_str(), time, c.q.size(), round, worst, tolerance,
+           ok ? "true" : "false");
     fflush(stdout);
     if (!ok) {
       peer_failures++;

@@ -11,7 +11,8 @@
 # (benches/peers/robots/src/bin/contacts.rs, benches/peers/contacts.cpp); and
 # the Kinematics and derivatives rows, the Panda, the G1 and the Go1 with
 # named frames against Pinocchio's frame placements, Jacobians and classical
-# accelerations, centre of mass and ABA derivatives
+# accelerations, centre of mass and its velocity, centroidal map and its
+# time variation, RNEA and ABA derivatives
 # (benches/peers/robots/src/bin/kinematics.rs, benches/peers/kinematics.cpp).
 # Each program checks its answer
 # against the generated code's (chains/examples/peer_reference.rs) before it
@@ -64,9 +65,10 @@ if [ ! -x "$out/robots" ] || [ "$here/robots.cpp" -nt "$out/robots" ] || [ "$her
     -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" "$here/robots.cpp" -o "$out/robots" \
     -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model || robots_ok=0
 fi
-# The Kinematics and derivatives rows (frames, the centre of mass, ∂q̈ of
-# the Panda, the G1 and the Go1 from their URDFs) against Pinocchio's
-# frame algorithms, jacobianCenterOfMass and computeABADerivatives;
+# The Kinematics and derivatives rows (frames, the centre of mass, the
+# centroidal momentum, ∂τ and ∂q̈ of the Panda, the G1 and the Go1 from
+# their URDFs) against Pinocchio's frame algorithms, centre of mass,
+# centroidal algorithms, computeRNEADerivatives and computeABADerivatives;
 # optional like the robots'.
 kinematics_ok=1
 if [ ! -x "$out/kinematics" ] || [ "$here/kinematics.cpp" -nt "$out/kinematics" ] || [ "$here/common.h" -nt "$out/kinematics" ] || [ "$here/robots.h" -nt "$out/kinematics" ]; then
@@ -128,7 +130,8 @@ if [ "$robots_ok" = 1 ]; then
   cat "$target/benchmarks/robots.json"
 fi
 # The kinematics: ours writes the states and answers (checking J q̇ against
-# the frame's velocity and ∂q̈/∂τ against M⁻¹), then three alternating
+# the frame's velocity, ∂q̈/∂τ against M⁻¹, A_G's linear rows against
+# m J_c, Ȧ_G q̇ and ∂τ against differences), then three alternating
 # rounds as the robots' (Pinocchio checks every quantity against ours in
 # every round before timing it).
 if [ "$kinematics_ok" = 1 ]; then

@@ -336,9 +336,170 @@ fn go1(robots: &Path, out: &Path) {
     std::fs::write(out.join("go1.rs"), invocation).expect("OUT_DIR is writable");
 }
 
+/// The methods of `Framed` that do not depend on a frame: name,
+/// arguments, type and body, `N` standing for the number of joints.
+const WHOLE: &[(&str, &str, &str, &str)] = &[
+    (
+        "com",
+        "q: &Vector<N>",
+        "Vector3<f64>",
+        "self.center_of_mass(q, 0.0)",
+    ),
+    (
+        "com_jacobian",
+        "q: &Vector<N>",
+        "SMatrix<f64, 3, N>",
+        "self.center_of_mass_jacobian(q, 0.0)",
+    ),
+    (
+        "com_velocity",
+        "q: &Vector<N>, v: &Vector<N>",
+        "Vector3<f64>",
+        "self.center_of_mass_velocity(q, v, 0.0)",
+    ),
+    (
+        "centroidal",
+        "q: &Vector<N>",
+        "SMatrix<f64, 6, N>",
+        "self.centroidal_map(q, 0.0)",
+    ),
+    (
+        "centroidal_bias",
+        "q: &Vector<N>, v: &Vector<N>",
+        "SVector<f64, 6>",
+        "self.centroidal_map_bias(q, v, 0.0)",
+    ),
+    (
+        "tau",
+        "q: &Vector<N>, v: &Vector<N>, a: &Vector<N>",
+        "Vector<N>",
+        "self.inverse_dynamics(q, v, a, 0.0).value()",
+    ),
+    (
+        "tau_jacobian",
+        "q: &Vector<N>, v: &Vector<N>, a: &Vector<N>",
+        "(Matrix<N>, Matrix<N>)",
+        "self.inverse_dynamics_jacobian(q, v, a, 0.0).value()",
+    ),
+    (
+        "mass",
+        "q: &Vector<N>",
+        "Matrix<N>",
+        "self.mass_matrix(q, 0.0).value()",
+    ),
+    (
+        "derivatives",
+        "q: &Vector<N>, v: &Vector<N>",
+        "Jacobians<f64, N, N>",
+        "self.acceleration_jacobian(q, v, 0.0).value()",
+    ),
+];
+
+/// `WHOLE`'s methods for a robot of `n` joints.
+fn whole_methods(n: usize) -> String {
+    let n = n.to_string();
+    WHOLE
+        .iter()
+        .map(|(name, args, ty, body)| {
+            format!(
+                "    #[inline(always)]\n    fn {name}(&self, {}) -> {} {{\n        {body}\n    }}\n",
+                args.replace('N', &n),
+                ty.replace('N', &n)
+            )
+        })
+        .collect()
+}
+
+/// A robot's frames as its `frames:` section and as its `FRAMES` table.
+fn frame_lists(r: &Framed) -> (String, String) {
+    let frames = r
+        .frames
+        .iter()
+        .map(|f| {
+            format!(
+                "{} {{ body: {}, xyz: {:?}, rpy: {:?} }}",
+                f.name, f.body, f.xyz, f.rpy
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(",\n            ");
+    let table = r
+        .frames
+        .iter()
+        .map(|f| {
+            format!(
+                "Frame {{ name: {:?}, body: {:?}, xyz: {:?}, rpy: {:?} }}",
+                f.name, f.body, f.xyz, f.rpy
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    (frames, table)
+}
+
+/// One robot of the Kinematics rows: its `constrained_system!` (`path`,
+/// its URDF; `n` joints) and its `Framed` implementation.
+fn framed_system(r: &Framed, path: &str, n: usize) -> String {
+    let torques = (1..=n)
+        .map(|k| format!("tau{k}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let locked = if r.locked.is_empty() {
+        String::new()
+    } else {
+        format!("locked: [{}],", r.locked.join(", "))
+    };
+    let (frames, table) = frame_lists(r);
+    // Per method, the frame's generated method by index: called with a
+    // constant index, the match folds away.
+    let by_frame = |method: &str, args: &str| {
+        let arms: String = r
+            .frames
+            .iter()
+            .enumerate()
+            .map(|(k, f)| format!("            {k} => self.{}_{method}({args}),\n", f.name))
+            .collect();
+        format!(
+            "match frame {{\n{arms}            _ => panic!(\"no frame {{frame}}\"),\n        }}"
+        )
+    };
+    let arguments = (0..n)
+        .map(|k| format!("t[{k}]"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    format!(
+        "constrained::constrained_system! {{\n    /// {what}, from example-robot-data's \
+         `{file}`; a motor torque per joint.\n    pub struct {name} {{\n        \
+         inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        \
+         forces: [{torques}],\n        frames: [\n            {frames}\n        ],\n        \
+         derivatives: [inverse_dynamics],\n    }}\n}}\n\n\
+         impl Framed<{n}> for {name} {{\n    const NAME: &'static str = {short:?};\n    \
+         const FILE: &'static str = {file:?};\n    \
+         const LOCKED: &'static [&'static str] = &{locked_list:?};\n    \
+         const FRAMES: &'static [Frame] = &[{table}];\n    \
+         fn names() -> [&'static str; {n}] {{\n        Self::COORDINATES\n    }}\n    \
+         #[inline(always)]\n    fn with_torques(t: &Vector<{n}>) -> Self {{\n        Self::new({arguments})\n    }}\n    \
+         #[inline(always)]\n    fn placement(&self, frame: usize, q: &Vector<{n}>) -> (Matrix3<f64>, Vector3<f64>) {{\n        {placement}\n    }}\n    \
+         #[inline(always)]\n    fn jacobian(&self, frame: usize, q: &Vector<{n}>) -> SMatrix<f64, 6, {n}> {{\n        {jacobian}\n    }}\n    \
+         #[inline(always)]\n    fn velocity(&self, frame: usize, q: &Vector<{n}>, v: &Vector<{n}>) -> SVector<f64, 6> {{\n        {velocity}\n    }}\n    \
+         #[inline(always)]\n    fn bias(&self, frame: usize, q: &Vector<{n}>, v: &Vector<{n}>) -> SVector<f64, 6> {{\n        {bias}\n    }}\n\
+         {whole}}}\n\n",
+        what = r.what,
+        file = r.file,
+        name = r.name,
+        short = r.short,
+        locked_list = r.locked,
+        placement = by_frame("placement", "q, 0.0"),
+        jacobian = by_frame("jacobian", "q, 0.0"),
+        velocity = by_frame("velocity", "q, v, 0.0"),
+        bias = by_frame("acceleration_bias", "q, v, 0.0"),
+        whole = whole_methods(n),
+    )
+}
+
 /// The Kinematics rows' systems and their `Framed` implementations
-/// (`src/bin/kinematics.rs`), and `framed`, which visits them in the
-/// table's order.
+/// (`src/bin/kinematics.rs`; each asks for `inverse_dynamics_jacobian`
+/// too), and `framed`, which visits them in the table's order.
 fn kinematics(robots: &Path) -> String {
     let mut out = String::new();
     let mut visit = String::new();
@@ -348,83 +509,7 @@ fn kinematics(robots: &Path) -> String {
         println!("cargo::rerun-if-changed={}", path.display());
         let path = path.display().to_string();
         let n = joints(&path, r.locked, false);
-        let torques = (1..=n)
-            .map(|k| format!("tau{k}"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let locked = if r.locked.is_empty() {
-            String::new()
-        } else {
-            format!("locked: [{}],", r.locked.join(", "))
-        };
-        let frames = r
-            .frames
-            .iter()
-            .map(|f| {
-                format!(
-                    "{} {{ body: {}, xyz: {:?}, rpy: {:?} }}",
-                    f.name, f.body, f.xyz, f.rpy
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(",\n            ");
-        let table = r
-            .frames
-            .iter()
-            .map(|f| {
-                format!(
-                    "Frame {{ name: {:?}, body: {:?}, xyz: {:?}, rpy: {:?} }}",
-                    f.name, f.body, f.xyz, f.rpy
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(", ");
-        // Per method, the frame's generated method by index: called with a
-        // constant index, the match folds away.
-        let by_frame = |method: &str, args: &str| {
-            let arms: String = r
-                .frames
-                .iter()
-                .enumerate()
-                .map(|(k, f)| format!("            {k} => self.{}_{method}({args}),\n", f.name))
-                .collect();
-            format!("match frame {{\n{arms}            _ => panic!(\"no frame {{frame}}\"),\n        }}")
-        };
-        let arguments = (0..n)
-            .map(|k| format!("t[{k}]"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let _ = writeln!(
-            out,
-            "constrained::constrained_system! {{\n    /// {what}, from example-robot-data's \
-             `{file}`; a motor torque per joint.\n    pub struct {name} {{\n        \
-             inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        \
-             forces: [{torques}],\n        frames: [\n            {frames}\n        ],\n    }}\n}}\n\n\
-             impl Framed<{n}> for {name} {{\n    const NAME: &'static str = {short:?};\n    \
-             const FILE: &'static str = {file:?};\n    \
-             const LOCKED: &'static [&'static str] = &{locked_list:?};\n    \
-             const FRAMES: &'static [Frame] = &[{table}];\n    \
-             fn names() -> [&'static str; {n}] {{\n        Self::COORDINATES\n    }}\n    \
-             #[inline(always)]\n    fn with_torques(t: &Vector<{n}>) -> Self {{\n        Self::new({arguments})\n    }}\n    \
-             #[inline(always)]\n    fn placement(&self, frame: usize, q: &Vector<{n}>) -> (Matrix3<f64>, Vector3<f64>) {{\n        {placement}\n    }}\n    \
-             #[inline(always)]\n    fn jacobian(&self, frame: usize, q: &Vector<{n}>) -> SMatrix<f64, 6, {n}> {{\n        {jacobian}\n    }}\n    \
-             #[inline(always)]\n    fn velocity(&self, frame: usize, q: &Vector<{n}>, v: &Vector<{n}>) -> SVector<f64, 6> {{\n        {velocity}\n    }}\n    \
-             #[inline(always)]\n    fn bias(&self, frame: usize, q: &Vector<{n}>, v: &Vector<{n}>) -> SVector<f64, 6> {{\n        {bias}\n    }}\n    \
-             #[inline(always)]\n    fn com(&self, q: &Vector<{n}>) -> Vector3<f64> {{\n        self.center_of_mass(q, 0.0)\n    }}\n    \
-             #[inline(always)]\n    fn com_jacobian(&self, q: &Vector<{n}>) -> SMatrix<f64, 3, {n}> {{\n        self.center_of_mass_jacobian(q, 0.0)\n    }}\n    \
-             #[inline(always)]\n    fn mass(&self, q: &Vector<{n}>) -> Matrix<{n}> {{\n        self.mass_matrix(q, 0.0).value()\n    }}\n    \
-             #[inline(always)]\n    fn derivatives(&self, q: &Vector<{n}>, v: &Vector<{n}>) -> Jacobians<f64, {n}, {n}> {{\n        \
-             self.acceleration_jacobian(q, v, 0.0).value()\n    }}\n}}\n",
-            what = r.what,
-            file = r.file,
-            name = r.name,
-            short = r.short,
-            locked_list = r.locked,
-            placement = by_frame("placement", "q, 0.0"),
-            jacobian = by_frame("jacobian", "q, 0.0"),
-            velocity = by_frame("velocity", "q, v, 0.0"),
-            bias = by_frame("acceleration_bias", "q, v, 0.0"),
-        );
+        out.push_str(&framed_system(r, &path, n));
         let _ = writeln!(visit, "    visit.robot::<{}, {n}>();", r.name);
     }
     let _ = writeln!(

@@ -20,16 +20,21 @@
 //! system's inputs), and per frame `k` `placement:k` (`R` row by row, then
 //! `p`), `jacobian:k` (6 × n, row by row), `velocity:k` and `bias:k` (the
 //! classical acceleration at `q̈ = 0`); then `com`, `com_jacobian` (3 × n),
-//! and `dq`, `dv`, `dtau` (`acceleration_jacobian`'s `∂q̈/∂q`, `∂q̈/∂q̇`,
-//! `∂q̈/∂τ`, n × n each, row by row). The answers are checked against each
-//! other first: `J q̇` is the velocity, `∂q̈/∂τ` is `M⁻¹`.
+//! `dq`, `dv`, `dtau` (`acceleration_jacobian`'s `∂q̈/∂q`, `∂q̈/∂q̇`,
+//! `∂q̈/∂τ`, n × n each, row by row), `com_velocity`, `centroidal_map`
+//! (6 × n), `centroidal_bias` (`Ȧ_G q̇`), and `a`, `dtau_dq`, `dtau_dv`
+//! (`inverse_dynamics_jacobian` at `(q, q̇, a)`, n × n each). The answers
+//! are checked against each other first: `J q̇` is the velocity, `∂q̈/∂τ`
+//! is `M⁻¹`, `ċ` is `J_c q̇`, `A_G`'s linear rows are `m J_c`, and `Ȧ_G q̇`
+//! and `∂τ` are their central differences.
 //!
 //! `time` times, over the same states and with the statistic of the other
 //! rows (`clock.rs`: the median of 31 batches of about 5 ms, per state, on
 //! the thread's CPU clock), the first frame's placement, Jacobian and
-//! acceleration bias, the centre of mass with its Jacobian, and `∂q̈`; one
-//! JSON line each, tagged with its round. A quantity is one entry of
-//! `Time::robot`'s list here and one of `kinematics.cpp`'s `QUANTITIES`.
+//! acceleration bias, the centre of mass with its Jacobian, its velocity,
+//! the centroidal map and its bias, `∂τ` and `∂q̈`; one JSON line each,
+//! tagged with its round. A quantity is one entry of `frame_times` or
+//! `whole_times` here and one of `kinematics.cpp`'s `QUANTITIES`.
 
 #[path = "../clock.rs"]
 mod clock;
@@ -73,6 +78,13 @@ trait Framed<const N: usize>: Sized {
     fn bias(&self, frame: usize, q: &Vector<N>, v: &Vector<N>) -> SVector<f64, 6>;
     fn com(&self, q: &Vector<N>) -> Vector3<f64>;
     fn com_jacobian(&self, q: &Vector<N>) -> SMatrix<f64, 3, N>;
+    /// `center_of_mass_velocity`, `centroidal_map`, `centroidal_map_bias`.
+    fn com_velocity(&self, q: &Vector<N>, v: &Vector<N>) -> Vector3<f64>;
+    fn centroidal(&self, q: &Vector<N>) -> SMatrix<f64, 6, N>;
+    fn centroidal_bias(&self, q: &Vector<N>, v: &Vector<N>) -> SVector<f64, 6>;
+    /// `inverse_dynamics` and `inverse_dynamics_jacobian`.
+    fn tau(&self, q: &Vector<N>, v: &Vector<N>, a: &Vector<N>) -> Vector<N>;
+    fn tau_jacobian(&self, q: &Vector<N>, v: &Vector<N>, a: &Vector<N>) -> (Matrix<N>, Matrix<N>);
     fn mass(&self, q: &Vector<N>) -> Matrix<N>;
     /// `acceleration_jacobian`, `∂q̈/∂u` being `∂q̈/∂τ`.
     fn derivatives(&self, q: &Vector<N>, v: &Vector<N>) -> Jacobians<f64, N, N>;
@@ -133,20 +145,24 @@ impl Rng {
     }
 }
 
-/// One state: joint angles, rates and torques.
+/// One state: joint angles, rates, torques and the accelerations at
+/// which inverse dynamics is differentiated.
 struct Sample<const N: usize> {
     q: Vector<N>,
     v: Vector<N>,
     tau: Vector<N>,
+    a: Vector<N>,
 }
 
-/// Angles and rates within ±1 (rad, rad/s), torques within ±10 N m.
+/// Angles, rates and accelerations within ±1 (rad, rad/s, rad/s²),
+/// torques within ±10 N m.
 fn samples<const N: usize>(rng: &mut Rng) -> Vec<Sample<N>> {
     (0..STATES)
         .map(|_| Sample {
             q: rng.vector(1.0),
             v: rng.vector(1.0),
             tau: rng.vector(10.0),
+            a: rng.vector(1.0),
         })
         .collect()
 }
@@ -207,7 +223,73 @@ impl Write {
         rows(out, "dq", &d.dq);
         rows(out, "dv", &d.dqd);
         rows(out, "dtau", &d.du);
+        centroidal(out, &system, s);
+        inverse(out, &system, s);
     }
+}
+
+/// The relative difference of `a` from `b`, by their largest entries.
+fn relative<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+    (a - b).amax() / b.amax()
+}
+
+/// The centre of mass's velocity and the centroidal momentum of one state
+/// (`com_velocity`, `centroidal_map` 6 × n, `centroidal_bias`), checked
+/// first: `ċ = J_c q̇`; the linear rows of `A_G` are `m J_c`, `m` the
+/// total mass (fitted); `Ȧ_G q̇` is `A_G`'s central difference along `q̇`
+/// times `q̇`.
+fn centroidal<R: Framed<N>, const N: usize>(out: &mut String, system: &R, s: &Sample<N>) {
+    let (q, v) = (&s.q, &s.v);
+    let jc = system.com_jacobian(q);
+    let cd = system.com_velocity(q, v);
+    let worst = relative(&(jc * v), &cd);
+    assert!(worst < 1e-12, "{}: ċ is not J_c q̇ ({worst:e})", R::NAME);
+    let ag = system.centroidal(q);
+    let linear: SMatrix<f64, 3, N> = ag.fixed_rows::<3>(0).into_owned();
+    let mass = linear.dot(&jc) / jc.dot(&jc);
+    let worst = relative(&linear, &(jc * mass));
+    assert!(
+        worst < 1e-12,
+        "{}: A_G's linear rows are not m J_c ({worst:e})",
+        R::NAME
+    );
+    let bias = system.centroidal_bias(q, v);
+    let h = 1e-6;
+    let rate = (system.centroidal(&(q + v * h)) - system.centroidal(&(q - v * h))) / (2.0 * h);
+    let worst = relative(&(rate * v), &bias);
+    assert!(
+        worst < 1e-6,
+        "{}: Ȧ_G q̇ is not Ȧ_G's difference ({worst:e})",
+        R::NAME
+    );
+    line(out, "com_velocity", cd.iter());
+    rows(out, "centroidal_map", &ag);
+    line(out, "centroidal_bias", bias.iter());
+}
+
+/// `inverse_dynamics_jacobian` at one state's `(q, q̇, a)` (`a`,
+/// `dtau_dq`, `dtau_dv`: n × n), checked first against central
+/// differences of `inverse_dynamics`.
+fn inverse<R: Framed<N>, const N: usize>(out: &mut String, system: &R, s: &Sample<N>) {
+    let (q, v, a) = (&s.q, &s.v, &s.a);
+    let (dq, dv) = system.tau_jacobian(q, v, a);
+    let h = 1e-6;
+    let step = |k: usize| Vector::<N>::from_fn(|i, _| if i == k { h } else { 0.0 });
+    let fq = Matrix::<N>::from_fn(|i, k| {
+        (system.tau(&(q + step(k)), v, a) - system.tau(&(q - step(k)), v, a))[i] / (2.0 * h)
+    });
+    let fv = Matrix::<N>::from_fn(|i, k| {
+        (system.tau(q, &(v + step(k)), a) - system.tau(q, &(v - step(k)), a))[i] / (2.0 * h)
+    });
+    let worst = relative(&fq, &dq).max(relative(&fv, &dv));
+    assert!(
+        worst < 1e-6,
+        "{}: ∂τ is not τ's difference ({worst:e})",
+        R::NAME
+    );
+    line(out, "a", a.iter());
+    rows(out, "dtau_dq", &dq);
+    rows(out, "dtau_dv", &dv);
 }
 
 impl Visit for Write {
@@ -251,46 +333,88 @@ struct Time {
     round: String,
 }
 
+/// The times of the first frame's methods and the centre of mass's: one
+/// entry per row, `kinematics.cpp`'s QUANTITIES holding Pinocchio's
+/// counterpart of each under the same name.
+fn frame_times<R: Framed<N>, const N: usize>(
+    systems: &[R],
+    samples: &[Sample<N>],
+) -> [(&'static str, f64); 4] {
+    [
+        (
+            "frame_placement",
+            per_state(systems, samples, |r, s| {
+                black_box(r.placement(0, black_box(&s.q)));
+            }),
+        ),
+        (
+            "frame_jacobian",
+            per_state(systems, samples, |r, s| {
+                black_box(r.jacobian(0, black_box(&s.q)));
+            }),
+        ),
+        (
+            "frame_acceleration_bias",
+            per_state(systems, samples, |r, s| {
+                black_box(r.bias(0, black_box(&s.q), black_box(&s.v)));
+            }),
+        ),
+        (
+            "center_of_mass_and_jacobian",
+            per_state(systems, samples, |r, s| {
+                black_box(r.com(black_box(&s.q)));
+                black_box(r.com_jacobian(black_box(&s.q)));
+            }),
+        ),
+    ]
+}
+
+/// The times of the whole robot's quantities, as `frame_times`.
+fn whole_times<R: Framed<N>, const N: usize>(
+    systems: &[R],
+    samples: &[Sample<N>],
+) -> [(&'static str, f64); 5] {
+    [
+        (
+            "center_of_mass_velocity",
+            per_state(systems, samples, |r, s| {
+                black_box(r.com_velocity(black_box(&s.q), black_box(&s.v)));
+            }),
+        ),
+        (
+            "centroidal_map",
+            per_state(systems, samples, |r, s| {
+                black_box(r.centroidal(black_box(&s.q)));
+            }),
+        ),
+        (
+            "centroidal_map_bias",
+            per_state(systems, samples, |r, s| {
+                black_box(r.centroidal_bias(black_box(&s.q), black_box(&s.v)));
+            }),
+        ),
+        (
+            "inverse_dynamics_jacobian",
+            per_state(systems, samples, |r, s| {
+                black_box(&r.tau_jacobian(black_box(&s.q), black_box(&s.v), black_box(&s.a)));
+            }),
+        ),
+        (
+            "acceleration_jacobian",
+            per_state(systems, samples, |r, s| {
+                black_box(&r.derivatives(black_box(&s.q), black_box(&s.v)));
+            }),
+        ),
+    ]
+}
+
 impl Visit for Time {
     fn robot<R: Framed<N>, const N: usize>(&mut self) {
         let samples = samples::<N>(&mut self.rng);
         let systems: Vec<R> = samples.iter().map(|s| R::with_torques(&s.tau)).collect();
-        // One entry per row; `kinematics.cpp`'s QUANTITIES holds
-        // Pinocchio's counterpart of each under the same name. The first
-        // frame's methods are timed.
-        let times = [
-            (
-                "frame_placement",
-                per_state(&systems, &samples, |r, s| {
-                    black_box(r.placement(0, black_box(&s.q)));
-                }),
-            ),
-            (
-                "frame_jacobian",
-                per_state(&systems, &samples, |r, s| {
-                    black_box(r.jacobian(0, black_box(&s.q)));
-                }),
-            ),
-            (
-                "frame_acceleration_bias",
-                per_state(&systems, &samples, |r, s| {
-                    black_box(r.bias(0, black_box(&s.q), black_box(&s.v)));
-                }),
-            ),
-            (
-                "center_of_mass_and_jacobian",
-                per_state(&systems, &samples, |r, s| {
-                    black_box(r.com(black_box(&s.q)));
-                    black_box(r.com_jacobian(black_box(&s.q)));
-                }),
-            ),
-            (
-                "acceleration_jacobian",
-                per_state(&systems, &samples, |r, s| {
-                    black_box(&r.derivatives(black_box(&s.q), black_box(&s.v)));
-                }),
-            ),
-        ];
+        let times = frame_times(&systems, &samples)
+            .into_iter()
+            .chain(whole_times(&systems, &samples));
         for (what, ns) in times {
             println!(
                 "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"{}\", \"n\": {N}, \
