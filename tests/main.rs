@@ -12,6 +12,7 @@ mod appell_eq30;
 mod appell_eq32;
 mod auxiliary;
 mod bodies;
+mod body_jacobians;
 mod centroidal;
 mod contacts;
 mod dense_output;
