@@ -1,16 +1,27 @@
-//! The Jacobian of `q̈` of trees of bodies, whose tangent systems contract
-//! the derivatives of `M q̈` written by recursive Newton–Euler (O(n)) where
-//! other systems contract `∂M` entry by entry: against dual numbers through
-//! the same generated `acceleration` (to 1e-12) and central differences (to
-//! 1e-6), on an arm of revolute, prismatic and fixed joints, the Panda from
-//! its URDF, a floating base (a quaternion, solved through its auxiliary
-//! mass) and a trunk on one leg whose foot is held (the legs' solve).
+//! The Jacobian of `q̈` of trees of bodies: against dual numbers through
+//! the same generated `acceleration` (to 1e-12) and central differences
+//! (to 1e-6), on an arm of revolute, prismatic and fixed joints (alone, and
+//! driven with a frame and `inverse_dynamics`' derivatives, as the peers'
+//! robots are written), the Panda from its URDF, a floating base (a
+//! quaternion, solved through its auxiliary mass) and a trunk on one leg
+//! whose foot is held (the legs' solve).
 
-use crate::frames::{numbers, FloatingLeg, FramedArm, PandaTool};
+use crate::frames::{numbers, three_link_arm, FloatingLeg, FramedArm, PandaTool};
 use crate::free_base::OnWorld;
 use constrained::nalgebra::{SMatrix, SVector};
 use constrained::{ConstrainedSystem, State};
 use num_dual::Dual64;
+
+three_link_arm! {
+    /// The arm driven at its shoulder and slider, with a frame and
+    /// `inverse_dynamics`' derivatives, as the peers' robots are written.
+    DrivenArm {
+        inputs: [u1, u2],
+        forces: [u1, 0.0, 0.0, u2],
+        frames: [hand { body: slider }],
+        derivatives: [inverse_dynamics],
+    }
+}
 
 /// `‖a − b‖∞` against the scale of `b` (at least 1).
 fn relative<const N: usize>(a: &SMatrix<f64, N, N>, b: &SMatrix<f64, N, N>) -> f64 {
@@ -102,6 +113,15 @@ macro_rules! agrees {
 
 #[test]
 fn tree_jacobians_agree_with_dual_numbers_and_differences() {
+    let d = Dual64::from;
+    agrees!(
+        "driven arm",
+        DrivenArm::<f64>::new(0.7, -0.4),
+        DrivenArm::<Dual64>::new(d(0.7), d(-0.4)),
+        4,
+        0,
+        13
+    );
     agrees!(
         "arm",
         FramedArm::<f64>::new(),
@@ -126,7 +146,6 @@ fn tree_jacobians_agree_with_dual_numbers_and_differences() {
         1,
         7
     );
-    let d = Dual64::from;
     agrees!(
         "one leg, foot held",
         OnWorld::<f64>::new(0.19, 0.15, 0.4, -0.3, 0.2),

@@ -114,17 +114,8 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.b,
     );
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
-    // Bodies whose `M` depends on `q` differentiate `M q̈` (O(n) from the
-    // recursions) rather than `M`'s n² entries. Trees with quaternion
-    // joints keep `∂M`: the products are checked against dual numbers on
-    // trees without them (`tests/body_jacobians.rs`).
-    let mass_times = match (&system.bodies, &mass_inverse) {
-        (Some(b), MassInverse::Factored(_)) if b.velocity_mass.is_none() => Some(&b.mass_times[..]),
-        _ => None,
-    };
     let pieces = Pieces {
         mass: &system.mass,
-        mass_times,
         forces: &system.forces,
         a: &rows.a,
         b: &rows.b,
