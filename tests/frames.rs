@@ -353,6 +353,19 @@ fn arm_frame_velocity_equals_the_velocity_of_the_same_point_of_the_body() {
 }
 
 #[test]
+fn center_of_mass_and_jacobian_are_the_two_methods_at_once() {
+    let arm = FramedArm::<f64>::new();
+    let mut worst: f64 = 0.0;
+    for (q, _) in states::<4>(19) {
+        let (c, j) = arm.center_of_mass_and_jacobian(&q, 0.0);
+        worst = worst.max(relative(&c, &arm.center_of_mass(&q, 0.0)));
+        worst = worst.max(relative(&j, &arm.center_of_mass_jacobian(&q, 0.0)));
+    }
+    println!("arm: centre of mass and Jacobian at once within {worst:.1e} of each alone");
+    assert!(worst <= 1e-15, "{worst}");
+}
+
+#[test]
 fn arm_center_of_mass_jacobian_agrees_with_differences() {
     let arm = FramedArm::<f64>::new();
     let mut worst: f64 = 0.0;

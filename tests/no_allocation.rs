@@ -63,8 +63,9 @@ fn frame_calls() -> (usize, usize) {
             let ag = arm.centroidal_map(&q, 0.0);
             let dag = arm.centroidal_map_bias(&q, &qd, 0.0);
             let dtau = arm.inverse_dynamics_jacobian(&q, &qd, &qd, 0.0);
-            std::hint::black_box((&placed, &j, &v, &b, &c, &cd, &ag, &dag, &dtau));
-            calls += 9;
+            let both = arm.center_of_mass_and_jacobian(&q, 0.0);
+            std::hint::black_box((&placed, &j, &v, &b, &c, &cd, &ag, &dag, &dtau, &both));
+            calls += 10;
         }
         calls
     })

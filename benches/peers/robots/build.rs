@@ -352,6 +352,12 @@ const WHOLE: &[(&str, &str, &str, &str)] = &[
         "self.center_of_mass_jacobian(q, 0.0)",
     ),
     (
+        "com_and_jacobian",
+        "q: &Vector<N>",
+        "(Vector3<f64>, SMatrix<f64, 3, N>)",
+        "self.center_of_mass_and_jacobian(q, 0.0)",
+    ),
+    (
         "com_velocity",
         "q: &Vector<N>, v: &Vector<N>",
         "Vector3<f64>",

@@ -1,7 +1,8 @@
 //! The kinematics methods of a system with a `frames` section: per named
 //! frame `f`, `f_placement`, `f_jacobian`, `f_velocity` and
 //! `f_acceleration_bias`, and `center_of_mass`, `center_of_mass_jacobian`,
-//! `center_of_mass_velocity`, `centroidal_map` and `centroidal_map_bias`
+//! `center_of_mass_and_jacobian`, `center_of_mass_velocity`,
+//! `centroidal_map` and `centroidal_map_bias`
 //! (the expressions of
 //! `crate::bodies::kinematics`). One method per frame and quantity, each
 //! its own straight-line body, so that a binary compiles only those it
@@ -28,6 +29,9 @@ enum Shape {
     Vector,
     /// `SMatrix<T, rows, n>`, row by row.
     Matrix,
+    /// `(SVector<T, 3>, SMatrix<T, 3, n>)`: a point, then its Jacobian row
+    /// by row.
+    PointAndJacobian,
 }
 
 /// The kinematics methods the system has: none without a `frames` section.
@@ -132,6 +136,18 @@ fn center_of_mass(ctx: &Context, c: &CenterOfMass) -> TokenStream {
         &c.jacobian,
         Shape::Matrix,
     ));
+    let mut both = vec![c.position.to_vec()];
+    both.extend(c.jacobian.iter().cloned());
+    out.extend(emit(
+        ctx,
+        quote!(center_of_mass_and_jacobian),
+        " The centre of mass and its Jacobian together, `(c, ∂c/∂q)`, sharing the \
+         bodies' placements (Pinocchio's `jacobianCenterOfMass`, which fills \
+         `data.com[0]` and returns `Jcom`).",
+        Inputs::Positions,
+        &both,
+        Shape::PointAndJacobian,
+    ));
     out.extend(emit(
         ctx,
         quote!(center_of_mass_velocity),
@@ -196,18 +212,14 @@ fn emit(
             (quote!((#rotation, #position)), quote!((#r, #p)))
         }
         Shape::Vector => (ctx.vector_value(entries), ctx.vector(roots.len())),
-        Shape::Matrix => {
-            let cols = rows.first().map_or(0, Vec::len);
-            let columns = (0..cols)
-                .map(|c| {
-                    (0..rows.len())
-                        .map(|r| entries[r * cols + c].clone())
-                        .collect()
-                })
-                .collect();
+        Shape::Matrix => matrix(ctx, rows, &entries),
+        Shape::PointAndJacobian => {
+            let point = ctx.vector_value(entries[..3].iter().cloned());
+            let (jacobian, matrix_type) = matrix(ctx, &rows[1..], &entries[3..]);
+            let vector_type = ctx.vector(3);
             (
-                ctx.matrix_value(rows.len(), columns),
-                ctx.matrix(rows.len(), cols),
+                quote!((#point, #jacobian)),
+                quote!((#vector_type, #matrix_type)),
             )
         }
     };
@@ -220,6 +232,23 @@ fn emit(
             #value
         }
     }
+}
+
+/// The value and type of the matrix of `rows`, whose entries are
+/// `entries` row by row.
+fn matrix(ctx: &Context, rows: &[Vec<Id>], entries: &[TokenStream]) -> (TokenStream, TokenStream) {
+    let cols = rows.first().map_or(0, Vec::len);
+    let columns = (0..cols)
+        .map(|c| {
+            (0..rows.len())
+                .map(|r| entries[r * cols + c].clone())
+                .collect()
+        })
+        .collect();
+    (
+        ctx.matrix_value(rows.len(), columns),
+        ctx.matrix(rows.len(), cols),
+    )
 }
 
 #[cfg(test)]
@@ -258,6 +287,10 @@ mod tests {
         },
         Method {
             name: "center_of_mass_jacobian",
+            args: "q, t",
+        },
+        Method {
+            name: "center_of_mass_and_jacobian",
             args: "q, t",
         },
         Method {

@@ -21,8 +21,15 @@ const FIELDS: &str = "`body`, `xyz`, `rpy`";
 
 /// Frame names whose methods (`{name}_jacobian`, ..) another generated
 /// method already has: `center_of_mass_jacobian`, `acceleration_jacobian`,
-/// `try_acceleration_jacobian`, `gap_jacobian`.
-const RESERVED: &[&str] = &["center_of_mass", "acceleration", "try_acceleration", "gap"];
+/// `try_acceleration_jacobian`, `gap_jacobian`,
+/// `center_of_mass_and_jacobian`.
+const RESERVED: &[&str] = &[
+    "center_of_mass",
+    "center_of_mass_and",
+    "acceleration",
+    "try_acceleration",
+    "gap",
+];
 
 impl Lowerer<'_> {
     /// The frames of `list` and the centre of mass of `described`, whose
