@@ -1,4 +1,6 @@
-//! The Jacobian of `q̈` of trees of bodies: against dual numbers through
+//! The Jacobian of `q̈` of trees of bodies, whose tangent systems contract
+//! the derivatives of the recursions' `M q̈` rather than `∂M` entry by
+//! entry, in both forms (per column and directional): against dual numbers through
 //! the same generated `acceleration` (to 1e-12) and central differences
 //! (to 1e-6), on an arm of revolute, prismatic and fixed joints (alone, and
 //! driven with a frame and `inverse_dynamics`' derivatives, as the peers'
@@ -20,6 +22,81 @@ three_link_arm! {
         forces: [u1, 0.0, 0.0, u2],
         frames: [hand { body: slider }],
         derivatives: [inverse_dynamics],
+    }
+}
+
+constrained::constrained_system! {
+    /// Seven joints on axes and frames turned every way, driven at each:
+    /// `M`'s entries are dense in `q`, so its tangents take the directional
+    /// form (the per-column derivatives exceed their budget), as the Panda
+    /// of example-robot-data's do.
+    pub struct TwistedArm {
+        inputs: [u1, u2, u3, u4, u5, u6, u7],
+        bodies: [
+            l0 {
+                joint: revolute(q1, [0.0, 0.0, 1.0]),
+                xyz: [0.05, -0.03, 0.10],
+                rpy: [0.0, 0.0, 0.0],
+                mass: 1.50,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l1 {
+                parent: l0,
+                joint: revolute(q2, [0.0, 1.0, 0.0]),
+                xyz: [0.05, -0.03, 0.15],
+                rpy: [0.3, -0.2, 0.1],
+                mass: 1.35,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l2 {
+                parent: l1,
+                joint: revolute(q3, [0.6, 0.0, 0.8]),
+                xyz: [0.05, -0.03, 0.20],
+                rpy: [-0.4, 0.25, 0.2],
+                mass: 1.20,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l3 {
+                parent: l2,
+                joint: revolute(q4, [0.0, 0.8, 0.6]),
+                xyz: [0.05, -0.03, 0.25],
+                rpy: [0.15, 0.35, -0.3],
+                mass: 1.05,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l4 {
+                parent: l3,
+                joint: revolute(q5, [1.0, 0.0, 0.0]),
+                xyz: [0.05, -0.03, 0.30],
+                rpy: [0.2, -0.1, 0.45],
+                mass: 0.90,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l5 {
+                parent: l4,
+                joint: revolute(q6, [0.0, 0.6, 0.8]),
+                xyz: [0.05, -0.03, 0.35],
+                rpy: [-0.3, 0.2, 0.1],
+                mass: 0.75,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l6 {
+                parent: l5,
+                joint: revolute(q7, [0.8, 0.6, 0.0]),
+                xyz: [0.05, -0.03, 0.40],
+                rpy: [0.1, 0.3, -0.2],
+                mass: 0.60,
+                com: [0.02, 0.01, 0.08],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+        ],
+        forces: [u1, u2, u3, u4, u5, u6, u7],
     }
 }
 
@@ -114,6 +191,23 @@ macro_rules! agrees {
 #[test]
 fn tree_jacobians_agree_with_dual_numbers_and_differences() {
     let d = Dual64::from;
+    let u = [0.7, -0.4, 0.3, 0.2, -0.1, 0.5, -0.6];
+    agrees!(
+        "twisted arm (directional)",
+        TwistedArm::<f64>::new(u[0], u[1], u[2], u[3], u[4], u[5], u[6]),
+        TwistedArm::<Dual64>::new(
+            d(u[0]),
+            d(u[1]),
+            d(u[2]),
+            d(u[3]),
+            d(u[4]),
+            d(u[5]),
+            d(u[6])
+        ),
+        7,
+        0,
+        23
+    );
     agrees!(
         "driven arm",
         DrivenArm::<f64>::new(0.7, -0.4),

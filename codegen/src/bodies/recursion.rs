@@ -443,8 +443,20 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
         },
     )
     .tau;
+    let mass_times = newton_euler(
+        g,
+        tree,
+        n,
+        Terms {
+            velocities: false,
+            accelerations: true,
+            gravity: false,
+        },
+    )
+    .tau;
     let (kinetic, potential) = energies(g, tree);
     Dynamics {
+        mass_times,
         mass,
         velocity_mass,
         velocity_bias,

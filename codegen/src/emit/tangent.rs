@@ -112,6 +112,7 @@ fn roots(ctx: &Context, sets: &[&Derivatives]) -> Vec<Id> {
     for d in sets {
         roots.extend(d.forces.iter().filter(|&&e| !g.is_zero(e)));
         roots.extend(d.mass.iter().map(|&(_, _, e)| e));
+        roots.extend(d.mass_times.iter().filter(|&&e| !g.is_zero(e)));
         roots.extend(d.a.iter().map(|&(_, _, e)| e));
         roots.extend(d.b.iter().filter(|&&e| !g.is_zero(e)));
     }
@@ -159,6 +160,14 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
         for &(i, j, e) in &d.mass {
             f[i].push(times(e, &qdd[j], true));
         }
+        for (i, &e) in d.mass_times.iter().enumerate() {
+            if !g.is_zero(e) {
+                // Subtracted whole: a written sum must not lose its sign
+                // after its first term.
+                let e = expr(e);
+                f[i].push((true, quote!((#e))));
+            }
+        }
         let mut b = own(&d.b);
         for &(r, i, e) in &d.a {
             f[i].push(times(e, &lam[r], false));
@@ -177,6 +186,9 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
 pub(super) struct NamedTerms {
     /// The derivatives to bind, each under its name.
     pub named: Vec<(syn::Ident, Id)>,
+    /// The derivatives that read `q̈` (`∂(M q̈)/∂v`, as `Sym::Accel`), to
+    /// bind once `q̈` is known, each under its name.
+    pub after: Vec<(syn::Ident, Id)>,
     /// `forces[c][i]`: `F̃` of column `c`, row `i`.
     pub forces: Vec<Vec<Option<TokenStream>>>,
     /// `rhs[c][r]`: `b̃` of column `c`, constraint `r`.
@@ -191,12 +203,21 @@ impl NamedTerms {
         }
         let g = &ctx.eq.system.graph;
         let mut names: std::collections::HashMap<Id, syn::Ident> = Default::default();
-        let mut named = Vec::new();
+        let (mut named, mut after) = (Vec::new(), Vec::new());
+        let reads_qdd: std::collections::HashSet<Id> = sets
+            .iter()
+            .flat_map(|d| d.mass_times.iter().copied())
+            .collect();
         for e in roots(ctx, &sets) {
             if g.as_num(e).is_none() && !names.contains_key(&e) {
-                let name = Context::local("tg", named.len());
+                let name = Context::local("tg", names.len());
                 names.insert(e, name.clone());
-                named.push((name, e));
+                let list = if reads_qdd.contains(&e) {
+                    &mut after
+                } else {
+                    &mut named
+                };
+                list.push((name, e));
             }
         }
         let expr = |e: Id| match (g.as_num(e), names.get(&e)) {
@@ -205,7 +226,12 @@ impl NamedTerms {
             (None, None) => unreachable!("every derivative the terms read is named"),
         };
         let (forces, rhs) = terms(ctx, &sets, &expr);
-        Some(NamedTerms { named, forces, rhs })
+        Some(NamedTerms {
+            named,
+            after,
+            forces,
+            rhs,
+        })
     }
 }
 

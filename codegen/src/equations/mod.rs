@@ -114,8 +114,15 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.b,
     );
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
+    // Bodies whose `M` depends on `q` differentiate `M q̈` (O(n) from the
+    // recursions) rather than `M`'s n² entries.
+    let mass_times = match (&system.bodies, &mass_inverse) {
+        (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_)) => Some(&b.mass_times[..]),
+        _ => None,
+    };
     let pieces = Pieces {
         mass: &system.mass,
+        mass_times,
         forces: &system.forces,
         a: &rows.a,
         b: &rows.b,

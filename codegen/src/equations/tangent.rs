@@ -11,7 +11,9 @@
 //! so one factorization serves `q̈` and all its tangents. Here the
 //! derivatives of `F`, `M`, `A`, `b` are taken symbolically (exact, and
 //! zero where structurally zero); the generated code contracts them with
-//! `q̈` and `λ` at run time. Two forms:
+//! `q̈` and `λ` at run time. For a tree of bodies `(∂M/∂v) q̈` is instead
+//! `∂(M q̈)/∂v` of the recursions' `M q̈` (O(n) expressions where `M` has
+//! n² entries), read with the solved `q̈` bound. Two forms:
 //!
 //! - [`Form::Columns`]: one set of derivatives per column variable. Where
 //!   each variable touches a few entries (a chain), this is sparse and the
@@ -39,8 +41,12 @@ pub const COLUMN_ALLOWANCE: usize = 4_000;
 pub struct Derivatives {
     /// `∂Fᵢ`, per row.
     pub forces: Vec<Id>,
-    /// The nonzero `∂Mᵢⱼ` as `(i, j, id)`.
+    /// The nonzero `∂Mᵢⱼ` as `(i, j, id)`; empty where `mass_times` is
+    /// given instead.
     pub mass: Vec<(usize, usize, Id)>,
+    /// `∂(M q̈)ᵢ` per row with `q̈` as `Sym::Accel` (bodies, whose `M q̈`
+    /// recursive Newton–Euler writes in O(n)); empty where `mass` is used.
+    pub mass_times: Vec<Id>,
     /// The nonzero `∂Aᵣᵢ` as `(r, i, id)`.
     pub a: Vec<(usize, usize, Id)>,
     /// `∂bᵣ`, per row.
@@ -84,6 +90,9 @@ impl Tangent {
 pub struct Pieces<'a> {
     /// `M`.
     pub mass: &'a [Vec<Id>],
+    /// `M q̈` with `q̈` as `Sym::Accel`, where the bodies' recursions give it
+    /// (and `M` depends on `q`): differentiated instead of `M`'s entries.
+    pub mass_times: Option<&'a [Id]>,
     /// `F`.
     pub forces: &'a [Id],
     /// `A`.
@@ -102,7 +111,16 @@ fn derivatives(
 ) -> Derivatives {
     let forces = p.forces.iter().map(|&f| derivative(g, f)).collect();
     let mut mass = Vec::new();
-    for (i, row) in p.mass.iter().enumerate() {
+    let mass_times = match p.mass_times {
+        Some(products) => products.iter().map(|&e| derivative(g, e)).collect(),
+        None => Vec::new(),
+    };
+    let entries = if p.mass_times.is_some() {
+        &[][..]
+    } else {
+        p.mass
+    };
+    for (i, row) in entries.iter().enumerate() {
         for (j, &m) in row.iter().enumerate() {
             let dm = derivative(g, m);
             if !g.is_zero(dm) {
@@ -120,7 +138,13 @@ fn derivatives(
         }
     }
     let b = p.b.iter().map(|&e| derivative(g, e)).collect();
-    Derivatives { forces, mass, a, b }
+    Derivatives {
+        forces,
+        mass,
+        mass_times,
+        a,
+        b,
+    }
 }
 
 /// Differentiates `F`, `M`, `A`, `b` by every column variable (`q₁ … qₙ`,
@@ -137,7 +161,10 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
     // that the memoised recursions are one level deep however deep the
     // expressions are.
     let mut roots: Vec<Id> = p.forces.to_vec();
-    roots.extend(p.mass.iter().flatten());
+    match p.mass_times {
+        Some(products) => roots.extend(products),
+        None => roots.extend(p.mass.iter().flatten()),
+    }
     roots.extend(p.a.iter().flatten());
     roots.extend(p.b);
     let order = g.reachable(&roots);
