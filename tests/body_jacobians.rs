@@ -1,6 +1,6 @@
-//! The Jacobian of `q̈` of trees of bodies, whose tangent systems contract
-//! the derivatives of the recursions' `M q̈` rather than `∂M` entry by
-//! entry, in both forms (per column and directional): against dual numbers through
+//! The Jacobian of `q̈` of trees of bodies (a long one, whose tangent
+//! systems contract the derivatives of the recursions' `M q̈` rather than
+//! `∂M` entry by entry, in the directional form): against dual numbers through
 //! the same generated `acceleration` (to 1e-12) and central differences
 //! (to 1e-6), on an arm of revolute, prismatic and fixed joints (alone, and
 //! driven with a frame and `inverse_dynamics`' derivatives, as the peers'
@@ -26,77 +26,157 @@ three_link_arm! {
 }
 
 constrained::constrained_system! {
-    /// Seven joints on axes and frames turned every way, driven at each:
-    /// `M`'s entries are dense in `q`, so its tangents take the directional
-    /// form (the per-column derivatives exceed their budget), as the Panda
-    /// of example-robot-data's do.
-    pub struct TwistedArm {
-        inputs: [u1, u2, u3, u4, u5, u6, u7],
+    /// Sixteen joints on axes and frames turned every way, driven at each:
+    /// long enough for the tangents to differentiate the recursions' `M q̈`
+    /// (`PRODUCTS_FROM`), and dense enough in `q` for the directional form.
+    pub struct TwistedChain {
+        inputs: [u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, u16],
         bodies: [
             l0 {
                 joint: revolute(q1, [0.0, 0.0, 1.0]),
                 xyz: [0.05, -0.03, 0.10],
                 rpy: [0.0, 0.0, 0.0],
-                mass: 1.50,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.60,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
             l1 {
                 parent: l0,
                 joint: revolute(q2, [0.0, 1.0, 0.0]),
-                xyz: [0.05, -0.03, 0.15],
+                xyz: [0.05, -0.03, 0.11],
                 rpy: [0.3, -0.2, 0.1],
-                mass: 1.35,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.55,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
             l2 {
                 parent: l1,
                 joint: revolute(q3, [0.6, 0.0, 0.8]),
-                xyz: [0.05, -0.03, 0.20],
+                xyz: [0.05, -0.03, 0.12],
                 rpy: [-0.4, 0.25, 0.2],
-                mass: 1.20,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.50,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
             l3 {
                 parent: l2,
                 joint: revolute(q4, [0.0, 0.8, 0.6]),
-                xyz: [0.05, -0.03, 0.25],
+                xyz: [0.05, -0.03, 0.13],
                 rpy: [0.15, 0.35, -0.3],
-                mass: 1.05,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.45,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
             l4 {
                 parent: l3,
                 joint: revolute(q5, [1.0, 0.0, 0.0]),
-                xyz: [0.05, -0.03, 0.30],
+                xyz: [0.05, -0.03, 0.14],
                 rpy: [0.2, -0.1, 0.45],
-                mass: 0.90,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.40,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
             l5 {
                 parent: l4,
                 joint: revolute(q6, [0.0, 0.6, 0.8]),
-                xyz: [0.05, -0.03, 0.35],
+                xyz: [0.05, -0.03, 0.15],
                 rpy: [-0.3, 0.2, 0.1],
-                mass: 0.75,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.35,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
             l6 {
                 parent: l5,
                 joint: revolute(q7, [0.8, 0.6, 0.0]),
-                xyz: [0.05, -0.03, 0.40],
+                xyz: [0.05, -0.03, 0.16],
                 rpy: [0.1, 0.3, -0.2],
-                mass: 0.60,
-                com: [0.02, 0.01, 0.08],
+                mass: 1.30,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l7 {
+                parent: l6,
+                joint: revolute(q8, [0.0, 0.0, 1.0]),
+                xyz: [0.05, -0.03, 0.17],
+                rpy: [0.25, -0.15, 0.05],
+                mass: 1.25,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l8 {
+                parent: l7,
+                joint: revolute(q9, [0.0, 0.0, 1.0]),
+                xyz: [0.05, -0.03, 0.18],
+                rpy: [0.0, 0.0, 0.0],
+                mass: 1.20,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l9 {
+                parent: l8,
+                joint: revolute(q10, [0.0, 1.0, 0.0]),
+                xyz: [0.05, -0.03, 0.19],
+                rpy: [0.3, -0.2, 0.1],
+                mass: 1.15,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l10 {
+                parent: l9,
+                joint: revolute(q11, [0.6, 0.0, 0.8]),
+                xyz: [0.05, -0.03, 0.20],
+                rpy: [-0.4, 0.25, 0.2],
+                mass: 1.10,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l11 {
+                parent: l10,
+                joint: revolute(q12, [0.0, 0.8, 0.6]),
+                xyz: [0.05, -0.03, 0.21],
+                rpy: [0.15, 0.35, -0.3],
+                mass: 1.05,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l12 {
+                parent: l11,
+                joint: revolute(q13, [1.0, 0.0, 0.0]),
+                xyz: [0.05, -0.03, 0.22],
+                rpy: [0.2, -0.1, 0.45],
+                mass: 1.00,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l13 {
+                parent: l12,
+                joint: revolute(q14, [0.0, 0.6, 0.8]),
+                xyz: [0.05, -0.03, 0.23],
+                rpy: [-0.3, 0.2, 0.1],
+                mass: 0.95,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l14 {
+                parent: l13,
+                joint: revolute(q15, [0.8, 0.6, 0.0]),
+                xyz: [0.05, -0.03, 0.24],
+                rpy: [0.1, 0.3, -0.2],
+                mass: 0.90,
+                com: [0.02, 0.01, 0.05],
+                inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
+            },
+            l15 {
+                parent: l14,
+                joint: revolute(q16, [0.0, 0.0, 1.0]),
+                xyz: [0.05, -0.03, 0.25],
+                rpy: [0.25, -0.15, 0.05],
+                mass: 0.85,
+                com: [0.02, 0.01, 0.05],
                 inertia: [[0.02, 0.001, -0.002], [0.001, 0.025, 0.0015], [-0.002, 0.0015, 0.015]],
             },
         ],
-        forces: [u1, u2, u3, u4, u5, u6, u7],
+        forces: [u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, u16],
     }
 }
 
@@ -191,20 +271,32 @@ macro_rules! agrees {
 #[test]
 fn tree_jacobians_agree_with_dual_numbers_and_differences() {
     let d = Dual64::from;
-    let u = [0.7, -0.4, 0.3, 0.2, -0.1, 0.5, -0.6];
+    let u: [f64; 16] = std::array::from_fn(|k| 0.1 * (k as f64) - 0.7);
     agrees!(
-        "twisted arm (directional)",
-        TwistedArm::<f64>::new(u[0], u[1], u[2], u[3], u[4], u[5], u[6]),
-        TwistedArm::<Dual64>::new(
+        "twisted chain (products, directional)",
+        TwistedChain::<f64>::new(
+            u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
+            u[14], u[15]
+        ),
+        TwistedChain::<Dual64>::new(
             d(u[0]),
             d(u[1]),
             d(u[2]),
             d(u[3]),
             d(u[4]),
             d(u[5]),
-            d(u[6])
+            d(u[6]),
+            d(u[7]),
+            d(u[8]),
+            d(u[9]),
+            d(u[10]),
+            d(u[11]),
+            d(u[12]),
+            d(u[13]),
+            d(u[14]),
+            d(u[15])
         ),
-        7,
+        16,
         0,
         23
     );

@@ -114,10 +114,14 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.b,
     );
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
-    // Bodies whose `M` depends on `q` differentiate `M q̈` (O(n) from the
-    // recursions) rather than `M`'s n² entries.
+    // Long trees whose `M` depends on `q` differentiate `M q̈` (O(n) from
+    // the recursions) rather than `M`'s n² entries (see `PRODUCTS_FROM`).
     let mass_times = match (&system.bodies, &mass_inverse) {
-        (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_)) => Some(&b.mass_times[..]),
+        (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_))
+            if n >= tangent::PRODUCTS_FROM =>
+        {
+            Some(&b.mass_times[..])
+        }
         _ => None,
     };
     let pieces = Pieces {

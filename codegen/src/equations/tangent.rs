@@ -36,6 +36,14 @@ pub const COLUMN_BUDGET: usize = 6;
 /// Nodes the per-column form may always take: small systems keep it.
 pub const COLUMN_ALLOWANCE: usize = 4_000;
 
+/// The number of coordinates from which a tree's tangents differentiate
+/// the recursions' `M q̈` rather than `M`'s entries. Against Pinocchio's
+/// `computeABADerivatives` (BENCHMARKS.md, Kinematics) the products win on
+/// the 29-joint G1 and lose on the 7-joint Panda and the 12-joint Go1: in
+/// the directional form the seed-free parts of `∂M` leave the loop over the
+/// columns, where the products' derivatives stay in it.
+pub const PRODUCTS_FROM: usize = 16;
+
 /// The derivatives of `F`, `M`, `A` and `b` by one variable or along one
 /// direction.
 pub struct Derivatives {
