@@ -1,6 +1,7 @@
-//! The Jacobian of `q̈` of trees of bodies (a long one, whose tangent
+//! The Jacobian of `q̈` of trees of bodies (two long ones, whose tangent
 //! systems contract the derivatives of the recursions' `M q̈` rather than
-//! `∂M` entry by entry, in the directional form): against dual numbers through
+//! `∂M` entry by entry, in the directional and the per-column form):
+//! against dual numbers through
 //! the same generated `acceleration` (to 1e-12) and central differences
 //! (to 1e-6), on an arm of revolute, prismatic and fixed joints (alone, and
 //! driven with a frame and `inverse_dynamics`' derivatives, as the peers'
@@ -180,6 +181,32 @@ constrained::constrained_system! {
     }
 }
 
+constrained::constrained_system! {
+    /// Four arms of four joints on a fixed base, axes along the body's
+    /// own: sixteen coordinates, so the tangents differentiate the
+    /// recursions' `M q̈`, and sparse, so they take the per-column form.
+    pub struct FourArms {
+        bodies: [
+            a0l0 { joint: revolute(q1, [0.0, 0.0, 1.0]), xyz: [0.2, 0.0, 0.0], mass: 0.8, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a0l1 { parent: a0l0, joint: revolute(q2, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.7, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a0l2 { parent: a0l1, joint: revolute(q3, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.6, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a0l3 { parent: a0l2, joint: revolute(q4, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.5, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a1l0 { joint: revolute(q5, [0.0, 0.0, 1.0]), xyz: [-0.2, 0.0, 0.0], mass: 0.8, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a1l1 { parent: a1l0, joint: revolute(q6, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.7, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a1l2 { parent: a1l1, joint: revolute(q7, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.6, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a1l3 { parent: a1l2, joint: revolute(q8, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.5, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a2l0 { joint: revolute(q9, [0.0, 0.0, 1.0]), xyz: [0.0, 0.2, 0.0], mass: 0.8, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a2l1 { parent: a2l0, joint: revolute(q10, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.7, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a2l2 { parent: a2l1, joint: revolute(q11, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.6, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a2l3 { parent: a2l2, joint: revolute(q12, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.5, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a3l0 { joint: revolute(q13, [0.0, 0.0, 1.0]), xyz: [0.0, -0.2, 0.0], mass: 0.8, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a3l1 { parent: a3l0, joint: revolute(q14, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.7, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a3l2 { parent: a3l1, joint: revolute(q15, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.6, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+            a3l3 { parent: a3l2, joint: revolute(q16, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.5, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
+        ],
+    }
+}
+
 /// `‖a − b‖∞` against the scale of `b` (at least 1).
 fn relative<const N: usize>(a: &SMatrix<f64, N, N>, b: &SMatrix<f64, N, N>) -> f64 {
     (a - b).amax() / b.amax().max(1.0)
@@ -299,6 +326,14 @@ fn tree_jacobians_agree_with_dual_numbers_and_differences() {
         16,
         0,
         23
+    );
+    agrees!(
+        "four arms (products, per column)",
+        FourArms::<f64>::new(),
+        FourArms::<Dual64>::new(),
+        16,
+        0,
+        29
     );
     agrees!(
         "driven arm",

@@ -169,19 +169,32 @@ fn accumulate<'v>(
     }
 }
 
+/// Each described body's mass `mᵢ` and first moment about the world's
+/// origin `mᵢ pᵢ + Rᵢ hᵢ` in world axes (zeros for a massless one).
+fn first_moments(
+    g: &mut Graph,
+    described: &[Described],
+    world: &[Placement],
+) -> (Vec<Id>, Vec<V3>) {
+    let zero = g.int(0);
+    let mut mass = vec![zero; described.len()];
+    let mut moment = vec![[zero; 3]; described.len()];
+    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
+        if g.is_zero(d.inertia.mass) {
+            continue;
+        }
+        let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);
+        let offset = spatial::mat_vec(g, &frame.rotation, d.inertia.first_moment);
+        mass[i] = d.inertia.mass;
+        moment[i] = spatial::add(g, at_origin, offset);
+    }
+    (mass, moment)
+}
+
 /// Whether body `i` is welded to the world: no joint moves it (each body
 /// from it to the root fixed to its parent).
 fn welded(described: &[Described], i: usize) -> bool {
-    let mut at = Some(i);
-    // A tree: at most one step per body.
-    for _ in 0..=described.len() {
-        match at {
-            None => return true,
-            Some(k) if described[k].joint.is_some() => return false,
-            Some(k) => at = described[k].parent,
-        }
-    }
-    false
+    path(described, i).all(|k| described[k].joint.is_none())
 }
 
 /// The centre of mass of the described bodies that move with some joint
@@ -198,28 +211,22 @@ pub fn center_of_mass(
     world: &[Placement],
     n: usize,
 ) -> Option<CenterOfMass> {
-    let mut masses = Vec::new();
-    let mut moments: Vec<V3> = Vec::new();
-    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
-        if g.is_zero(d.inertia.mass) || welded(described, i) {
-            continue;
-        }
-        let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);
-        let offset = spatial::mat_vec(g, &frame.rotation, d.inertia.first_moment);
-        moments.push(spatial::add(g, at_origin, offset));
-        masses.push(d.inertia.mass);
-    }
+    let (mass, moment) = first_moments(g, described, world);
+    let moving: Vec<usize> = (0..described.len())
+        .filter(|&i| !g.is_zero(mass[i]) && !welded(described, i))
+        .collect();
+    let masses: Vec<Id> = moving.iter().map(|&i| mass[i]).collect();
     let total = g.add(&masses);
     if g.is_zero(total) {
         return None;
     }
-    let position = [0, 1, 2].map(|i| {
-        let terms: Vec<Id> = moments.iter().map(|m| m[i]).collect();
+    let position = [0, 1, 2].map(|r| {
+        let terms: Vec<Id> = moving.iter().map(|&i| moment[i][r]).collect();
         let sum = g.add(&terms);
         let c = g.div(sum, total);
         spatial::hold(g, c)
     });
-    let jacobian = center_of_mass_jacobian(g, (described, world), total, n);
+    let jacobian = center_of_mass_jacobian(g, (described, world), (mass, moment), total, n);
     let velocity = times_rates(g, &jacobian);
     let velocity = [velocity[0], velocity[1], velocity[2]];
     let (centroidal_map, centroidal_bias) = centroidal(g, described, world, &position, n);
@@ -241,21 +248,11 @@ pub fn center_of_mass(
 fn center_of_mass_jacobian(
     g: &mut Graph,
     (described, world): (&[Described], &[Placement]),
+    (mut mass, mut moment): (Vec<Id>, Vec<V3>),
     total: Id,
     n: usize,
 ) -> Vec<Vec<Id>> {
     let zero = g.int(0);
-    let mut mass = vec![zero; described.len()];
-    let mut moment = vec![[zero; 3]; described.len()];
-    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
-        if g.is_zero(d.inertia.mass) {
-            continue;
-        }
-        let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);
-        let offset = spatial::mat_vec(g, &frame.rotation, d.inertia.first_moment);
-        mass[i] = d.inertia.mass;
-        moment[i] = spatial::add(g, at_origin, offset);
-    }
     // Parents come before their children: one backward pass sums subtrees.
     for i in (0..described.len()).rev() {
         if let Some(p) = described[i].parent {

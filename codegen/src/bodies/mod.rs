@@ -189,10 +189,6 @@ pub struct Dynamics {
     /// `τ = M(q) q̈ + c(q, q̇)` by recursive Newton–Euler with `q̈` as
     /// `Sym::Accel`.
     pub inverse: Vec<Id>,
-    /// `M(q) q̈` by recursive Newton–Euler without velocities or gravity,
-    /// `q̈` as `Sym::Accel`: O(n) where `M`'s entries are O(n²), so its
-    /// derivatives are what the Jacobian of `q̈` contracts instead of `∂M`.
-    pub mass_times: Vec<Id>,
     /// The generalized gravity `g(q)`: the torques that hold the tree still.
     pub gravity: Vec<Id>,
     /// The kinetic energy `T = Σ ½ vᵢᵀ Iᵢ vᵢ`.

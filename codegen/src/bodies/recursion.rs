@@ -173,6 +173,24 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
     Pass { tau, v, a, f }
 }
 
+/// `M(q) q̈` by recursive Newton–Euler without velocities or gravity, `q̈`
+/// as `Sym::Accel`: O(n) expressions where `M`'s entries are O(n²), whose
+/// derivatives the Jacobian of `q̈` contracts instead of `∂M`
+/// (`crate::equations::tangent`).
+pub fn mass_times(g: &mut Graph, bodies: &[Body], n: usize) -> Vec<Id> {
+    let zero = spatial::zero(g);
+    let tree = Tree {
+        bodies: bodies.to_vec(),
+        gravity: zero,
+    };
+    let terms = Terms {
+        velocities: false,
+        accelerations: true,
+        gravity: false,
+    };
+    newton_euler(g, &tree, n, terms).tau
+}
+
 /// The rate of the bodies' total momentum about the world's origin, in
 /// world axes (`[n; f]`), at `q̈ = 0` without gravity: the force each root
 /// passes to the world in recursive Newton–Euler, summed. `Ȧ q̇` of the
@@ -443,20 +461,8 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
         },
     )
     .tau;
-    let mass_times = newton_euler(
-        g,
-        tree,
-        n,
-        Terms {
-            velocities: false,
-            accelerations: true,
-            gravity: false,
-        },
-    )
-    .tau;
     let (kinetic, potential) = energies(g, tree);
     Dynamics {
-        mass_times,
         mass,
         velocity_mass,
         velocity_bias,

@@ -186,9 +186,6 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
 pub(super) struct NamedTerms {
     /// The derivatives to bind, each under its name.
     pub named: Vec<(syn::Ident, Id)>,
-    /// The derivatives that read `q̈` (`∂(M q̈)/∂v`, as `Sym::Accel`), to
-    /// bind once `q̈` is known, each under its name.
-    pub after: Vec<(syn::Ident, Id)>,
     /// `forces[c][i]`: `F̃` of column `c`, row `i`.
     pub forces: Vec<Vec<Option<TokenStream>>>,
     /// `rhs[c][r]`: `b̃` of column `c`, constraint `r`.
@@ -198,26 +195,19 @@ pub(super) struct NamedTerms {
 impl NamedTerms {
     pub(super) fn new(ctx: &Context) -> Option<NamedTerms> {
         let (sets, directional) = sets(ctx);
-        if directional {
+        // The derivatives of `M q̈` read `q̈`, which the body these names are
+        // bound in has not solved yet: those systems take `tangent_rhs`.
+        if directional || sets.iter().any(|d| !d.mass_times.is_empty()) {
             return None;
         }
         let g = &ctx.eq.system.graph;
         let mut names: std::collections::HashMap<Id, syn::Ident> = Default::default();
-        let (mut named, mut after) = (Vec::new(), Vec::new());
-        let reads_qdd: std::collections::HashSet<Id> = sets
-            .iter()
-            .flat_map(|d| d.mass_times.iter().copied())
-            .collect();
+        let mut named = Vec::new();
         for e in roots(ctx, &sets) {
             if g.as_num(e).is_none() && !names.contains_key(&e) {
-                let name = Context::local("tg", names.len());
+                let name = Context::local("tg", named.len());
                 names.insert(e, name.clone());
-                let list = if reads_qdd.contains(&e) {
-                    &mut after
-                } else {
-                    &mut named
-                };
-                list.push((name, e));
+                named.push((name, e));
             }
         }
         let expr = |e: Id| match (g.as_num(e), names.get(&e)) {
@@ -226,12 +216,7 @@ impl NamedTerms {
             (None, None) => unreachable!("every derivative the terms read is named"),
         };
         let (forces, rhs) = terms(ctx, &sets, &expr);
-        Some(NamedTerms {
-            named,
-            after,
-            forces,
-            rhs,
-        })
+        Some(NamedTerms { named, forces, rhs })
     }
 }
 

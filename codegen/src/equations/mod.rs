@@ -118,15 +118,19 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     // the recursions) rather than `M`'s n² entries (see `PRODUCTS_FROM`).
     let mass_times = match (&system.bodies, &mass_inverse) {
         (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_))
-            if n >= tangent::PRODUCTS_FROM =>
+            if jacobians && n >= tangent::PRODUCTS_FROM =>
         {
-            Some(&b.mass_times[..])
+            Some(crate::bodies::recursion::mass_times(
+                &mut system.graph,
+                &b.tree,
+                n,
+            ))
         }
         _ => None,
     };
     let pieces = Pieces {
         mass: &system.mass,
-        mass_times,
+        mass_times: mass_times.as_deref(),
         forces: &system.forces,
         a: &rows.a,
         b: &rows.b,

@@ -137,9 +137,6 @@ pub struct BodyTerms {
     pub names: Vec<String>,
     /// `τ = M q̈ + c(q, q̇)`, with `q̈` as `Sym::Accel`.
     pub inverse: Vec<Id>,
-    /// `M q̈` by recursive Newton–Euler, `q̈` as `Sym::Accel` (its
-    /// derivatives serve the Jacobian of `q̈`: `equations::tangent`).
-    pub mass_times: Vec<Id>,
     /// The generalized gravity `g(q)`.
     pub gravity: Vec<Id>,
     /// The bias forces `c(q, q̇)`.

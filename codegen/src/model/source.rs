@@ -258,7 +258,6 @@ impl Lowerer<'_> {
         let bodies = BodyTerms {
             names: tree.bodies.iter().map(|b| b.name.clone()).collect(),
             inverse: dynamics.inverse,
-            mass_times: dynamics.mass_times,
             gravity: dynamics.gravity,
             bias: dynamics.bias,
             files,

@@ -12,7 +12,6 @@
 //! calls too), which grows with `n + k` rather than with the columns.
 
 use super::{accelerations, residual_code, FactoredSolve};
-use crate::emit::body::Body;
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
@@ -38,11 +37,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     });
     let qdd: TokenStream = qdd.collect();
     let columns = match &named {
-        Some(terms) => {
-            let after = bind_after_qdd(ctx, &terms.after);
-            let columns = straight_line(ctx, f, &gauss, terms);
-            quote!(#after #columns)
-        }
+        Some(terms) => straight_line(ctx, f, &gauss, terms),
         None => looped(ctx, f, &gauss),
     };
     debug_assert!(
@@ -75,33 +70,6 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     quote! {
         #to_multipliers
         #tail
-    }
-}
-
-/// The derivatives that read `q̈` (`∂(M q̈)/∂v`), bound under their names
-/// once the locals `__qdd{i}` hold `q̈`: in a body of their own, whose
-/// preamble reads `q̈` from `qdd` as `inverse_dynamics` does.
-fn bind_after_qdd(ctx: &Context, after: &[(Ident, crate::expr::Id)]) -> TokenStream {
-    if after.is_empty() {
-        return TokenStream::new();
-    }
-    let roots: Vec<crate::expr::Id> = after.iter().map(|&(_, e)| e).collect();
-    let body = Body::new(ctx.eq, &roots);
-    let preamble = body.preamble();
-    let binds = after.iter().map(|(name, e)| {
-        let value = body.expr(*e);
-        quote!(let #name = #value;)
-    });
-    let qdd = vector(ctx, "qdd", ctx.n);
-    let names: Vec<&Ident> = after.iter().map(|(name, _)| name).collect();
-    // The body's temporaries stay in its block; only the names leave it.
-    quote! {
-        let (#(#names),*,) = {
-            let qdd = #qdd;
-            #preamble
-            #(#binds)*
-            (#(#names),*,)
-        };
     }
 }
 
