@@ -6,7 +6,9 @@
 //! - [`recursion`]: recursive Newton–Euler (bias forces, inverse dynamics,
 //!   gravity), the composite-rigid-body algorithm (`M`) and the energies;
 //! - [`kinematics`]: named frames' placements, Jacobians, velocities and
-//!   acceleration biases, and the centre of mass.
+//!   acceleration biases, and the centre of mass;
+//! - [`derivatives`]: `∂τ/∂q` and `∂τ/∂q̇` of inverse dynamics by recursions
+//!   in world axes.
 //!
 //! Every quantity of a body is kept in the body's own frame, so a joint
 //! contributes its own rotation only and the constant placements, whose
@@ -14,6 +16,7 @@
 //! for the bias forces and O(n²) for `M`, against the n^3.5 of
 //! differentiating the kinetic energy twice.
 
+pub(crate) mod derivatives;
 pub(crate) mod free;
 pub(crate) mod joint;
 pub(crate) mod kinematics;

@@ -10,6 +10,7 @@
 //! sharing the sines and cosines of `M`, `F`, `A` and `b`).
 
 use super::body::{literal, Body};
+use super::chunks::bounded;
 use super::context::{Context, Inputs};
 use super::tokens::{braced, concat, signed_sum};
 use crate::equations::tangent::{Derivatives, Form};
@@ -69,8 +70,11 @@ impl<'a> TangentTerms<'a> {
             out
         };
         if !self.directional {
-            let all = (0..self.forces.len()).map(|c| writes(&index(c).to_token_stream(), c));
-            return braced(concat(std::iter::once(preamble).chain(all)));
+            let all =
+                concat((0..self.forces.len()).map(|c| writes(&index(c).to_token_stream(), c)));
+            // Nested no deeper than a block (`super::chunks`).
+            let preamble = bounded(preamble, &all);
+            return braced(concat([preamble, all]));
         }
         let seeds = (0..columns)
             .filter(|&c| self.body.uses(Sym::Seed(c)))
@@ -84,9 +88,10 @@ impl<'a> TangentTerms<'a> {
         let mut each = seeds.collect::<TokenStream>();
         each.extend(after);
         each.extend(column);
-        let mut block = preamble;
-        block.extend(quote! { for __c in 0..#columns });
-        block.extend(braced(each));
+        let mut looped = quote! { for __c in 0..#columns };
+        looped.extend(braced(each));
+        let mut block = bounded(preamble, &looped);
+        block.extend(looped);
         braced(block)
     }
 }

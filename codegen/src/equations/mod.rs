@@ -18,7 +18,7 @@ use crate::expr::common_factors::Factorer;
 use crate::expr::diff::{AtRest, Differentiator};
 use crate::expr::Id;
 use crate::expr::Sym;
-use crate::model::{Constraint, Level, System};
+use crate::model::{BodyTerms, Constraint, Level, System};
 use mass_inverse::MassInverse;
 use partition::Partition;
 use tangent::{Pieces, Tangent};
@@ -114,11 +114,26 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.b,
     );
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
-    // Long trees whose `M` depends on `q` differentiate `M q̈` (O(n) from
-    // the recursions) rather than `M`'s n² entries (see `PRODUCTS_FROM`).
+    // `∂τ/∂q`, `∂τ/∂q̇` by the recursions, for `inverse_dynamics_jacobian`
+    // and for the tangents of a tree whose `M` is factored.
+    let recursions = system
+        .bodies
+        .as_ref()
+        .filter(|b| jacobians || b.inverse_derivatives)
+        .and_then(|b| recursions_jacobian(&mut system.graph, b));
+    let by_recursions = match (&system.bodies, &recursions, &mass_inverse) {
+        (Some(b), Some(jacobian), MassInverse::Factored(_)) => Some(tangent::ByRecursions {
+            applied: &b.applied,
+            jacobian,
+        }),
+        _ => None,
+    };
+    // Long trees whose `M` depends on `q` and that the recursions do not
+    // serve differentiate `M q̈` (O(n) from the recursions) rather than
+    // `M`'s n² entries (see `PRODUCTS_FROM`).
     let mass_times = match (&system.bodies, &mass_inverse) {
         (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_))
-            if jacobians && n >= tangent::PRODUCTS_FROM =>
+            if jacobians && by_recursions.is_none() && n >= tangent::PRODUCTS_FROM =>
         {
             Some(crate::bodies::recursion::mass_times(
                 &mut system.graph,
@@ -131,6 +146,7 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let pieces = Pieces {
         mass: &system.mass,
         mass_times: mass_times.as_deref(),
+        by_recursions,
         forces: &system.forces,
         a: &rows.a,
         b: &rows.b,
@@ -142,8 +158,9 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         Tangent::none()
     };
     let momentum = momentum(&mut system.graph, &system.mass);
-    let inverse_jacobian = match &system.bodies {
-        Some(b) if b.inverse_derivatives => Some(inverse_jacobian(&mut system.graph, &b.inverse)),
+    let inverse_jacobian = match (&system.bodies, recursions) {
+        (Some(b), Some(by_recursions)) if b.inverse_derivatives => Some(by_recursions),
+        (Some(b), None) if b.inverse_derivatives => Some(inverse_jacobian(&mut system.graph, b)),
         _ => None,
     };
     Equations {
@@ -257,12 +274,28 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
         .collect()
 }
 
-/// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of
-/// the recursion's own expressions, which memoised share each body's
-/// derivatives among the coordinates' rows.
-fn inverse_jacobian(g: &mut crate::expr::Graph, tau: &[Id]) -> [Vec<Vec<Id>>; 2] {
-    let mut d = Differentiator::new();
+/// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics by the recursions
+/// of `crate::bodies::derivatives`, where every joint's column is constant
+/// in its body's axes (`None` with a quaternion joint).
+fn recursions_jacobian(
+    g: &mut crate::expr::Graph,
+    bodies: &BodyTerms,
+) -> Option<[Vec<Vec<Id>>; 2]> {
+    let tree = crate::bodies::Tree {
+        bodies: bodies.tree.clone(),
+        gravity: bodies.gravity_vector,
+    };
+    crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, bodies.inverse.len())
+}
+
+/// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)` where the recursions do not serve
+/// (quaternion joints), row by row: exact partials of the recursion's own
+/// expressions, which memoised share each body's derivatives among the
+/// coordinates' rows.
+fn inverse_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
+    let tau = &bodies.inverse;
     let n = tau.len();
+    let mut d = Differentiator::new();
     [Sym::Coord as fn(usize) -> Sym, Sym::Vel].map(|by| {
         tau.iter()
             .map(|&t| (0..n).map(|k| d.partial(g, t, by(k))).collect())

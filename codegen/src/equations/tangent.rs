@@ -94,13 +94,30 @@ impl Tangent {
     }
 }
 
+/// Inverse dynamics' derivatives by the recursions
+/// (`crate::bodies::derivatives`), for a tree whose `M` is factored: with
+/// `τ = M q̈ + c` and `F = Q − ∂V/∂q − c`, the tangents' `∂F/∂v − (∂M/∂v) q̈`
+/// is `∂(Q − ∂V/∂q)/∂v − ∂τ/∂v` at the solved `q̈`, so that neither `M`'s
+/// entries nor `c`'s expressions are differentiated.
+#[derive(Clone, Copy)]
+pub struct ByRecursions<'a> {
+    /// `Q − ∂V/∂q`.
+    pub applied: &'a [Id],
+    /// `(∂τ/∂q, ∂τ/∂q̇)` with `q̈` as `Sym::Accel`.
+    pub jacobian: &'a [Vec<Vec<Id>>; 2],
+}
+
 /// What is differentiated: the pieces of the derived equations.
+#[derive(Clone, Copy)]
 pub struct Pieces<'a> {
     /// `M`.
     pub mass: &'a [Vec<Id>],
     /// `M q̈` with `q̈` as `Sym::Accel`, where the bodies' recursions give it
     /// (and `M` depends on `q`): differentiated instead of `M`'s entries.
     pub mass_times: Option<&'a [Id]>,
+    /// Inverse dynamics' derivatives by the recursions, which replace
+    /// those of `M` and `F` where the per-column form serves.
+    pub by_recursions: Option<ByRecursions<'a>>,
     /// `F`.
     pub forces: &'a [Id],
     /// `A`.
@@ -165,43 +182,12 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
         .chain((0..n).map(Sym::Vel))
         .chain(inputs.iter().copied())
         .collect();
-    // Differentiate every node below the roots in arena order first, so
-    // that the memoised recursions are one level deep however deep the
-    // expressions are.
-    let mut roots: Vec<Id> = p.forces.to_vec();
-    match p.mass_times {
-        Some(products) => roots.extend(products),
-        None => roots.extend(p.mass.iter().flatten()),
-    }
-    roots.extend(p.a.iter().flatten());
-    roots.extend(p.b);
-    let order = g.reachable(&roots);
-    let before = g.len();
-    let mut directional = Directional::new(&columns);
-    for &id in &order {
-        directional.derivative(g, id);
-    }
-    let along = derivatives(g, p, |g, e| directional.derivative(g, e));
-    let budget = COLUMN_BUDGET * (g.len() - before) + COLUMN_ALLOWANCE;
-    let mut d = Differentiator::new();
-    let start = g.len();
-    let mut per_column = Vec::with_capacity(columns.len());
-    for (c, &v) in columns.iter().enumerate() {
-        for &id in &order {
-            d.partial(g, id, v);
-        }
-        // Stop as soon as the columns so far, extrapolated to all of
-        // them, exceed the budget: the attempt itself must stay cheap.
-        if (g.len() - start) * columns.len() > budget * (c + 1) {
-            break;
-        }
-        per_column.push(derivatives(g, p, |g, e| d.partial(g, e, v)));
-    }
-    let form = if per_column.len() == columns.len() {
-        Form::Columns(per_column)
-    } else {
-        Form::Directional(along)
+    let form = match p.by_recursions {
+        Some(r) => recursions_form(g, p, r, &columns),
+        None => None,
     };
+    let form = form.unwrap_or_else(|| form_of(g, p, &columns));
+    let mut d = Differentiator::new();
     let velocity_constraints = p
         .velocity_constraints
         .iter()
@@ -221,6 +207,72 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
         columns,
         form,
         velocity_constraints,
+    }
+}
+
+/// The per-column form with inverse dynamics' derivatives by the
+/// recursions: `Q − ∂V/∂q`, `A` and `b` differentiated per column, `∂τ`'s
+/// column as `mass_times`; `None` where those columns would exceed the
+/// budget (then [`form_of`] decides on `F` and `M`).
+fn recursions_form(g: &mut Graph, p: &Pieces, r: ByRecursions, columns: &[Sym]) -> Option<Form> {
+    let n = p.forces.len();
+    let plain = Pieces {
+        mass: &[],
+        mass_times: None,
+        by_recursions: None,
+        forces: r.applied,
+        ..*p
+    };
+    let Form::Columns(mut per_column) = form_of(g, &plain, columns) else {
+        return None;
+    };
+    for (c, d) in per_column.iter_mut().enumerate().take(2 * n) {
+        let by = &r.jacobian[c / n];
+        d.mass_times = (0..n).map(|i| by[i][c % n]).collect();
+    }
+    Some(Form::Columns(per_column))
+}
+
+/// The derivatives per column where they stay within [`COLUMN_BUDGET`] of
+/// the directional form's nodes (plus [`COLUMN_ALLOWANCE`]), else along
+/// the seeds.
+fn form_of(g: &mut Graph, p: &Pieces, columns: &[Sym]) -> Form {
+    // Differentiate every node below the roots in arena order first, so
+    // that the memoised recursions are one level deep however deep the
+    // expressions are.
+    let mut roots: Vec<Id> = p.forces.to_vec();
+    match p.mass_times {
+        Some(products) => roots.extend(products),
+        None => roots.extend(p.mass.iter().flatten()),
+    }
+    roots.extend(p.a.iter().flatten());
+    roots.extend(p.b);
+    let order = g.reachable(&roots);
+    let before = g.len();
+    let mut directional = Directional::new(columns);
+    for &id in &order {
+        directional.derivative(g, id);
+    }
+    let along = derivatives(g, p, |g, e| directional.derivative(g, e));
+    let budget = COLUMN_BUDGET * (g.len() - before) + COLUMN_ALLOWANCE;
+    let mut d = Differentiator::new();
+    let start = g.len();
+    let mut per_column = Vec::with_capacity(columns.len());
+    for (c, &v) in columns.iter().enumerate() {
+        for &id in &order {
+            d.partial(g, id, v);
+        }
+        // Stop as soon as the columns so far, extrapolated to all of
+        // them, exceed the budget: the attempt itself must stay cheap.
+        if (g.len() - start) * columns.len() > budget * (c + 1) {
+            break;
+        }
+        per_column.push(derivatives(g, p, |g, e| d.partial(g, e, v)));
+    }
+    if per_column.len() == columns.len() {
+        Form::Columns(per_column)
+    } else {
+        Form::Directional(along)
     }
 }
 

@@ -141,12 +141,17 @@ pub struct BodyTerms {
     pub gravity: Vec<Id>,
     /// The bias forces `c(q, q̇)`.
     pub bias: Vec<Id>,
+    /// `F`'s other part, `Q − ∂V/∂q` (`F = Q − ∂V/∂q − c`): what the
+    /// tangents differentiate beside inverse dynamics.
+    pub applied: Vec<Id>,
     /// Files the model was read from (a URDF), so that the build is redone
     /// when they change.
     pub files: Vec<String>,
     /// The tree's movable bodies (fixed links merged in), for the
     /// derivation's part per body.
     pub tree: Vec<crate::bodies::Body>,
+    /// The acceleration of gravity in world coordinates.
+    pub gravity_vector: crate::bodies::spatial::V3,
     /// Each body's intermediates of the recursions, named in the derivation.
     pub trace: Vec<crate::bodies::Trace>,
     /// With quaternion joints, `M` in their velocity coordinates

@@ -1,0 +1,480 @@
+//! `∂τ/∂q` and `∂τ/∂q̇` of inverse dynamics by recursions over the tree
+//! (Carpentier & Mansard, *Analytical Derivatives of Rigid Body Dynamics
+//! Algorithms*, RSS 2018; Pinocchio's `computeRNEADerivatives`), instead of
+//! differentiating `τ`'s expressions coordinate by coordinate: O(n) spatial
+//! quantities per body, then one product of two of them per entry of the
+//! matrices that can be nonzero (a joint and one of its ancestors).
+//!
+//! Every quantity is in world axes about the world's origin, where a
+//! coordinate `qᵢ` moves the bodies beyond its joint rigidly about the
+//! joint's column `Sᵢ` (`∂X/∂qᵢ = Sᵢ × X` for each of their motion vectors,
+//! `Sᵢ ×*` for forces). What does not move rigidly are the velocity and
+//! acceleration the parent `λ` passes on, so that per joint
+//!
+//! - `∂vᵢ/∂qᵢ = v_λ × Sᵢ`, `∂aᵢ/∂qᵢ = a_λ × Sᵢ + v_λ × (v_λ × Sᵢ)`,
+//!   `∂aᵢ/∂q̇ᵢ = vᵢ × Sᵢ + v_λ × Sᵢ` (gravity as `a₀ = −g`),
+//!
+//! and per body the rate of its force along a change `δv` of velocity that
+//! is the same for all bodies beyond, `Bᵢ δv = vᵢ ×* Iᵢ δv − Iᵢ (vᵢ × δv) +
+//! δv ×* kᵢ` (`kᵢ = Iᵢ vᵢ`; Pinocchio's `doYcrb`). In the 3 × 3 blocks of
+//! `[ω; v]`, `B = [Σ − k̃ₙ, 0; −2 k̃_f, 0]` with the symmetric
+//! `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` (`Ī`, `h` the inertia's
+//! rotational part and first moment about the origin): it reads the
+//! angular part of `δv` only. With the composites over each subtree (`Iᶜ`,
+//! `Bᶜ`, `fᶜ`), for `k` beyond `i`:
+//!
+//! - `∂τₖ/∂qᵢ = (Iᶜₖ Sₖ)ᵀ ∂aᵢ/∂qᵢ + (Bᶜₖᵀ Sₖ)ᵀ ∂vᵢ/∂qᵢ`, and `∂τₖ/∂q̇ᵢ` the
+//!   same with `∂aᵢ/∂q̇ᵢ` and `Sᵢ`;
+//! - `∂τᵢ/∂qₖ = Sᵢᵀ (Bᶜₖ ∂vₖ/∂qₖ + Iᶜₖ ∂aₖ/∂qₖ + Sₖ ×* fᶜₖ)`, and
+//!   `∂τᵢ/∂q̇ₖ = Sᵢᵀ (Bᶜₖ Sₖ + Iᶜₖ ∂aₖ/∂q̇ₖ)`; for `i = k` the same without
+//!   the last term (`Sᵢᵀ (Sᵢ ×* f) = 0`).
+//!
+//! Joints whose columns are constant in their body's axes qualify
+//! (revolute, prismatic, helical, and mimics of them, whose columns carry
+//! the multiplier and add to the coordinate they follow); a quaternion's
+//! columns vary with `q`, and a tree with one is differentiated
+//! symbolically instead (`None` here).
+
+use super::joint::{JointKind, JointState};
+use super::spatial::{self, Inertia, Spatial, M3, V3};
+use super::{Body, Placement, Tree};
+use crate::expr::{Graph, Id, Sym};
+
+/// A body's quantities from the outward pass, in world axes about the
+/// world's origin.
+struct Outward {
+    /// The coordinate its joint moves.
+    coordinate: usize,
+    /// `Sᵢ`.
+    column: Spatial,
+    /// `∂vᵢ/∂qᵢ = v_λ × Sᵢ`.
+    velocity_by_q: Spatial,
+    /// `∂aᵢ/∂qᵢ`.
+    acceleration_by_q: Spatial,
+    /// `∂aᵢ/∂q̇ᵢ`.
+    acceleration_by_rate: Spatial,
+    /// `Iᵢ`.
+    inertia: Inertia,
+    /// `Σᵢ`, the symmetric block of `Bᵢ`.
+    symmetric: M3,
+    /// `kᵢ = Iᵢ vᵢ`.
+    momentum: Spatial,
+    /// `fᵢ = Iᵢ aᵢ + vᵢ ×* kᵢ`.
+    force: Spatial,
+}
+
+/// A body's products from the inward pass, with the composites of its
+/// subtree: what the entries of its ancestors read.
+struct Inward {
+    /// `Iᶜₖ Sₖ`.
+    inertia_column: Spatial,
+    /// The angular part of `Bᶜₖᵀ Sₖ` (its linear part is zero).
+    rate_column: V3,
+    /// `Bᶜₖ ∂vₖ/∂qₖ + Iᶜₖ ∂aₖ/∂qₖ + Sₖ ×* fᶜₖ`.
+    force_by_q: Spatial,
+    /// `Bᶜₖ Sₖ + Iᶜₖ ∂aₖ/∂q̇ₖ`.
+    force_by_rate: Spatial,
+}
+
+/// The composites of a subtree, summed inward.
+#[derive(Clone, Copy)]
+struct Composite {
+    inertia: Inertia,
+    symmetric: M3,
+    momentum: Spatial,
+    force: Spatial,
+}
+
+/// `(∂τ/∂q, ∂τ/∂q̇)` of the tree's inverse dynamics, n × n each, with `q̈`
+/// as `Sym::Accel`; `None` for a tree with a quaternion joint.
+pub fn inverse_dynamics_jacobian(
+    g: &mut Graph,
+    tree: &Tree,
+    n: usize,
+) -> Option<[Vec<Vec<Id>>; 2]> {
+    if tree
+        .bodies
+        .iter()
+        .any(|b| b.joint.kind == JointKind::Quaternion)
+    {
+        return None;
+    }
+    let outward = outward(g, tree)?;
+    let zero = g.int(0);
+    let mut by_q = vec![vec![zero; n]; n];
+    let mut by_rate = vec![vec![zero; n]; n];
+    let mut composite: Vec<Composite> = outward
+        .iter()
+        .map(|o| Composite {
+            inertia: o.inertia,
+            symmetric: o.symmetric,
+            momentum: o.momentum,
+            force: o.force,
+        })
+        .collect();
+    let mut inward: Vec<Option<Inward>> = (0..tree.bodies.len()).map(|_| None).collect();
+    for i in (0..tree.bodies.len()).rev() {
+        let c = held(g, composite[i]);
+        let o = &outward[i];
+        let (s, ci) = (o.column, o.coordinate);
+        let inertia_column = c.inertia.apply(g, s).held(g);
+        let rate_column = transposed_rate(g, &c, s);
+        let rate_column = spatial::hold3(g, rate_column);
+        let by_velocity = rate(g, &c, o.velocity_by_q);
+        let by_acceleration = c.inertia.apply(g, o.acceleration_by_q);
+        let force_by_q = by_velocity.add(g, by_acceleration).held(g);
+        let own = rate(g, &c, s);
+        let by_acceleration = c.inertia.apply(g, o.acceleration_by_rate);
+        let force_by_rate = own.add(g, by_acceleration).held(g);
+        // The body's own entry, then those of the bodies beyond it.
+        let own_q = s.dot(g, force_by_q);
+        accumulate(g, &mut by_q[ci][ci], own_q);
+        let own_rate = s.dot(g, force_by_rate);
+        accumulate(g, &mut by_rate[ci][ci], own_rate);
+        for k in beyond(&tree.bodies, i) {
+            let (Some(w), ck) = (&inward[k], outward[k].coordinate) else {
+                continue;
+            };
+            let entries = [
+                pair(g, w, o.acceleration_by_q, o.velocity_by_q.angular),
+                pair(g, w, o.acceleration_by_rate, s.angular),
+                s.dot(g, w.force_by_q),
+                s.dot(g, w.force_by_rate),
+            ];
+            accumulate(g, &mut by_q[ck][ci], entries[0]);
+            accumulate(g, &mut by_rate[ck][ci], entries[1]);
+            accumulate(g, &mut by_q[ci][ck], entries[2]);
+            accumulate(g, &mut by_rate[ci][ck], entries[3]);
+        }
+        let turned = s.cross_force(g, c.force);
+        inward[i] = Some(Inward {
+            inertia_column,
+            rate_column,
+            force_by_q: force_by_q.add(g, turned).held(g),
+            force_by_rate,
+        });
+        if let Some(p) = tree.bodies[i].parent {
+            composite[p] = sum(g, &composite[p], &c);
+        }
+    }
+    Some([by_q, by_rate])
+}
+
+/// Every body's [`Outward`] quantities, parents first; `None` where a
+/// joint has other than one column.
+fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
+    let zero = spatial::zero(g);
+    let gravity = Spatial {
+        angular: zero,
+        linear: spatial::neg(g, tree.gravity),
+    };
+    let rest = Spatial::zero(g);
+    let mut frames: Vec<Placement> = Vec::with_capacity(tree.bodies.len());
+    let mut motion: Vec<(Spatial, Spatial)> = Vec::with_capacity(tree.bodies.len());
+    let mut out = Vec::with_capacity(tree.bodies.len());
+    for body in &tree.bodies {
+        let (parent_frame, (vp, ap)) = match body.parent {
+            Some(p) => (frames[p], motion[p]),
+            None => (Placement::identity(g), (rest, gravity)),
+        };
+        let js = JointState::new(g, body.joint);
+        let joint = js.placement(g);
+        let placed = parent_frame.then(g, &body.placement).then(g, &joint);
+        let frame = Placement {
+            rotation: placed.rotation.map(|row| spatial::hold3(g, row)),
+            translation: spatial::hold3(g, placed.translation),
+        };
+        let &[(coordinate, local)] = &js.columns(g)[..] else {
+            return None;
+        };
+        let column = to_world(g, &frame, local).held(g);
+        let rate = g.sym(Sym::Vel(coordinate));
+        let accel = g.sym(Sym::Accel(coordinate));
+        let sq = column.scale(g, rate);
+        let v = vp.add(g, sq).held(g);
+        let velocity_by_q = vp.cross_motion(g, column).held(g);
+        let coriolis = vp.cross_motion(g, sq);
+        let sa = column.scale(g, accel);
+        let a = ap.add(g, sa).add(g, coriolis).held(g);
+        let turned = ap.cross_motion(g, column);
+        let twice = vp.cross_motion(g, velocity_by_q);
+        let acceleration_by_q = turned.add(g, twice).held(g);
+        let own = v.cross_motion(g, column);
+        let acceleration_by_rate = own.add(g, velocity_by_q).held(g);
+        let inertia = world_inertia(g, &body.inertia, &frame);
+        let momentum = inertia.apply(g, v).held(g);
+        let ia = inertia.apply(g, a);
+        let gyroscopic = v.cross_force(g, momentum);
+        let force = ia.add(g, gyroscopic).held(g);
+        let symmetric = symmetric_rate(g, &inertia, v);
+        out.push(Outward {
+            coordinate,
+            column,
+            velocity_by_q,
+            acceleration_by_q,
+            acceleration_by_rate,
+            inertia,
+            symmetric,
+            momentum,
+            force,
+        });
+        frames.push(frame);
+        motion.push((v, a));
+    }
+    Some(out)
+}
+
+/// A motion vector of a body's axes at its origin in world axes about the
+/// world's origin: `ω = R s_ω`, `v = R s_v + p × ω`.
+fn to_world(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
+    let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
+    let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
+    let moved = spatial::cross(g, frame.translation, angular);
+    Spatial {
+        angular,
+        linear: spatial::add(g, linear, moved),
+    }
+}
+
+/// A body's inertia in world axes about the world's origin, each
+/// parameter held.
+fn world_inertia(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia {
+    inertia
+        .to_parent(g, &frame.rotation, frame.translation)
+        .held(g)
+}
+
+/// `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` for the velocity `[ω; v]`:
+/// `X + Xᵀ` with `X = ω̃ Ī`, less the symmetric `ṽ h̃ + h̃ ṽ`.
+fn symmetric_rate(g: &mut Graph, inertia: &Inertia, velocity: Spatial) -> M3 {
+    let (w, v, h) = (velocity.angular, velocity.linear, inertia.first_moment);
+    let w = spatial::skew(g, w);
+    let turned = spatial::mat_mul(g, &w, &inertia.rotational);
+    let vh = spatial::dot(g, v, h);
+    let two = g.int(2);
+    let twice = g.mul2(two, vh);
+    [0, 1, 2].map(|r| {
+        [0, 1, 2].map(|c| {
+            let hv = g.mul2(h[r], v[c]);
+            let vh = g.mul2(v[r], h[c]);
+            let mut e = g.add(&[turned[r][c], turned[c][r]]);
+            e = g.sub(e, hv);
+            e = g.sub(e, vh);
+            if r == c {
+                e = g.add2(e, twice);
+            }
+            spatial::hold(g, e)
+        })
+    })
+}
+
+/// `Bᶜ m = [Σᶜ ω − kₙ × ω; −2 k_f × ω]` for `m = [ω; v]`.
+fn rate(g: &mut Graph, c: &Composite, m: Spatial) -> Spatial {
+    let w = m.angular;
+    let sw = spatial::mat_vec(g, &c.symmetric, w);
+    let kw = spatial::cross(g, c.momentum.angular, w);
+    let fw = spatial::cross(g, c.momentum.linear, w);
+    let minus_two = g.int(-2);
+    Spatial {
+        angular: spatial::sub(g, sw, kw),
+        linear: spatial::scale(g, minus_two, fw),
+    }
+}
+
+/// The angular part of `Bᶜᵀ s = [Σᶜ s_ω + kₙ × s_ω + 2 k_f × s_v; 0]`.
+fn transposed_rate(g: &mut Graph, c: &Composite, s: Spatial) -> V3 {
+    let sw = spatial::mat_vec(g, &c.symmetric, s.angular);
+    let kw = spatial::cross(g, c.momentum.angular, s.angular);
+    let fv = spatial::cross(g, c.momentum.linear, s.linear);
+    let two = g.int(2);
+    let fv = spatial::scale(g, two, fv);
+    let sum = spatial::add(g, sw, kw);
+    spatial::add(g, sum, fv)
+}
+
+/// `(Iᶜₖ Sₖ)ᵀ a + (Bᶜₖᵀ Sₖ)ᵀ [w; ·]`: an entry of a body beyond the
+/// joint whose `∂a` is `a` and whose `∂v` has angular part `w`.
+fn pair(g: &mut Graph, w: &Inward, a: Spatial, angular: V3) -> Id {
+    let by_a = w.inertia_column.dot(g, a);
+    let by_v = spatial::dot(g, w.rate_column, angular);
+    g.add2(by_a, by_v)
+}
+
+/// The bodies strictly beyond body `i` (its descendants).
+fn beyond(bodies: &[Body], i: usize) -> Vec<usize> {
+    (i + 1..bodies.len())
+        .filter(|&k| {
+            std::iter::successors(bodies[k].parent, |&p| bodies[p].parent)
+                .take(bodies.len())
+                .any(|p| p == i)
+        })
+        .collect()
+}
+
+/// Each part of a composite held, as the recursions hold theirs.
+fn held(g: &mut Graph, c: Composite) -> Composite {
+    Composite {
+        inertia: c.inertia.held(g),
+        symmetric: c.symmetric.map(|row| spatial::hold3(g, row)),
+        momentum: c.momentum.held(g),
+        force: c.force.held(g),
+    }
+}
+
+/// `a + b`, part by part.
+fn sum(g: &mut Graph, a: &Composite, b: &Composite) -> Composite {
+    Composite {
+        inertia: a.inertia.add(g, &b.inertia),
+        symmetric: spatial::mat_add(g, &a.symmetric, &b.symmetric),
+        momentum: a.momentum.add(g, b.momentum),
+        force: a.force.add(g, b.force),
+    }
+}
+
+/// `x ← x + y`, where `x` starts at 0: mimics add to the coordinate they
+/// follow.
+fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
+    *x = if g.is_zero(*x) { y } else { g.add2(*x, y) };
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::bodies::Tree;
+    use crate::expr::diff::Differentiator;
+    use crate::expr::Sym;
+
+    /// A branched tree: a turned revolute base, a prismatic and a helical
+    /// joint on one branch, a revolute pair on turned axes on the other,
+    /// full inertias off their origins, gravity off every axis.
+    const BRANCHED: &str = "pub struct Branched {
+        gravity: [0.3, -1.2, -9.7],
+        bodies: [
+            base {
+                joint: revolute(q1, [0.0, 0.6, 0.8]),
+                xyz: [0.1, -0.2, 0.3],
+                rpy: [0.3, -0.2, 0.1],
+                mass: 2.0,
+                com: [0.05, 0.02, 0.2],
+                inertia: [[0.05, 0.001, -0.002], [0.001, 0.06, 0.003], [-0.002, 0.003, 0.03]],
+            },
+            slide {
+                parent: base,
+                joint: prismatic(s, [1.0, 0.0, 0.0]),
+                xyz: [0.0, 0.1, 0.4],
+                mass: 0.7,
+                com: [0.1, 0.0, -0.05],
+                inertia: diag[0.004, 0.005, 0.006],
+            },
+            screw {
+                parent: slide,
+                joint: helical(h, [0.0, 0.0, 1.0], 0.02),
+                xyz: [0.2, 0.0, 0.0],
+                rpy: [0.0, 0.4, 0.0],
+                mass: 0.4,
+                com: [0.0, 0.03, 0.01],
+                inertia: diag[0.001, 0.002, 0.0015],
+            },
+            upper {
+                parent: base,
+                joint: revolute(q2, [0.0, 1.0, 0.0]),
+                xyz: [0.0, -0.1, 0.4],
+                rpy: [-0.5, 0.0, 0.2],
+                mass: 1.5,
+                com: [0.25, 0.01, 0.0],
+                inertia: diag[0.01, 0.04, 0.045],
+            },
+            fore {
+                parent: upper,
+                joint: revolute(q3, [0.36, 0.48, 0.8]),
+                xyz: [0.5, 0.0, 0.0],
+                mass: 1.0,
+                com: [0.2, 0.0, 0.02],
+                inertia: diag[0.005, 0.02, 0.021],
+            },
+        ],
+    }";
+
+    /// A revolute arm and a finger on a prismatic joint that follows the
+    /// elbow (a URDF `<mimic>` with a multiplier and an offset), and a
+    /// second finger that follows it the other way.
+    const MIMIC: &str = r#"<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.1 0 0.2"/><mass value="1.2"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.01"/></inertial></link>
+  <link name="fore"><inertial><origin xyz="0.2 0.01 0"/><mass value="0.8"/><inertia ixx="0.01" ixy="0.001" ixz="0" iyy="0.02" iyz="0" izz="0.015"/></inertial></link>
+  <link name="left"><inertial><origin xyz="0 0.02 0"/><mass value="0.1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+  <link name="right"><inertial><origin xyz="0 -0.02 0"/><mass value="0.1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="arm"/><child link="fore"/><origin xyz="0 0 0.4" rpy="0.2 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="left_joint" type="prismatic"><parent link="fore"/><child link="left"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+<mimic joint="elbow" multiplier="0.5" offset="0.01"/>
+  </joint>
+  <joint name="right_joint" type="prismatic"><parent link="fore"/><child link="right"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+<mimic joint="elbow" multiplier="-0.5"/>
+  </joint>
+</robot>"#;
+
+    /// The recursions' `∂τ/∂q`, `∂τ/∂q̇` against the exact partials of
+    /// `τ`'s own expressions, at random points: the largest difference
+    /// relative to the largest entry.
+    fn against_partials(model: &str) -> f64 {
+        let mut eq = crate::analyse(model.parse().expect("tokens")).expect("expands");
+        let bodies = eq.system.bodies.clone().expect("bodies");
+        let g = &mut eq.system.graph;
+        let tau = &bodies.inverse;
+        let n = tau.len();
+        let tree = Tree {
+            bodies: bodies.tree.clone(),
+            gravity: bodies.gravity_vector,
+        };
+        let recursions = super::inverse_dynamics_jacobian(g, &tree, n).expect("no quaternions");
+        let mut d = Differentiator::new();
+        let mut worst: f64 = 0.0;
+        for (m, by) in recursions
+            .iter()
+            .zip([Sym::Coord as fn(usize) -> Sym, Sym::Vel])
+        {
+            let mut ours = Vec::new();
+            let mut truth = Vec::new();
+            for (i, row) in m.iter().enumerate() {
+                for (k, &e) in row.iter().enumerate() {
+                    ours.push(e);
+                    truth.push(d.partial(g, tau[i], by(k)));
+                }
+            }
+            for point in crate::numeric::rng::sample_points(7) {
+                let a = g.eval(&ours, &point);
+                let b = g.eval(&truth, &point);
+                let scale = b.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
+                for (x, y) in a.iter().zip(&b) {
+                    worst = worst.max((x - y).abs() / scale);
+                }
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn recursions_agree_with_the_partials_of_tau() {
+        let panda = crate::tools::fixtures::panda("Panda", 7);
+        let path = std::env::temp_dir().join(format!(
+            "constrained-mimic-rnea-{}.urdf",
+            std::process::id()
+        ));
+        std::fs::write(&path, MIMIC).expect("the temporary directory is writable");
+        let mimic = format!(
+            "pub struct Mimic {{ gravity: [0.0, 0.0, -9.81], urdf: \"{}\", }}",
+            path.display()
+        );
+        let cases = [
+            ("branched", BRANCHED.to_string()),
+            ("panda", panda),
+            ("mimic", mimic),
+        ];
+        for (name, model) in cases {
+            let worst = against_partials(&model);
+            println!("{name}: within {worst:.1e}");
+            assert!(worst <= 1e-12, "{name}: {worst:e}");
+        }
+        let _ = std::fs::remove_file(&path);
+    }
+}
