@@ -12,7 +12,7 @@
 //! acceleration the parent `λ` passes on, so that per joint
 //!
 //! - `∂vᵢ/∂qᵢ = v_λ × Sᵢ`, `∂aᵢ/∂qᵢ = a_λ × Sᵢ + v_λ × (v_λ × Sᵢ)`,
-//!   `∂aᵢ/∂q̇ᵢ = vᵢ × Sᵢ + v_λ × Sᵢ` (gravity as `a₀ = −g`),
+//!   `∂aᵢ/∂q̇ᵢ = vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ` (gravity as `a₀ = −g`),
 //!
 //! and per body the rate of its force along a change `δv` of velocity that
 //! is the same for all bodies beyond, `Bᵢ δv = vᵢ ×* Iᵢ δv − Iᵢ (vᵢ × δv) +
@@ -193,14 +193,16 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
         let sq = column.scale(g, rate);
         let v = vp.add(g, sq).held(g);
         let velocity_by_q = vp.cross_motion(g, column).held(g);
-        let coriolis = vp.cross_motion(g, sq);
+        // `vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ` (`Sᵢ × Sᵢ = 0`).
+        let coriolis = velocity_by_q.scale(g, rate);
         let sa = column.scale(g, accel);
         let a = ap.add(g, sa).add(g, coriolis).held(g);
         let turned = ap.cross_motion(g, column);
         let twice = vp.cross_motion(g, velocity_by_q);
         let acceleration_by_q = turned.add(g, twice).held(g);
-        let own = v.cross_motion(g, column);
-        let acceleration_by_rate = own.add(g, velocity_by_q).held(g);
+        // `vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ`, likewise.
+        let two = g.int(2);
+        let acceleration_by_rate = velocity_by_q.scale(g, two).held(g);
         let inertia = world_inertia(g, &body.inertia, &frame);
         let momentum = inertia.apply(g, v).held(g);
         let ia = inertia.apply(g, a);
@@ -237,11 +239,43 @@ fn to_world(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
 }
 
 /// A body's inertia in world axes about the world's origin, each
-/// parameter held.
+/// parameter held: `h' = R h + m p` and, with `s = R h + (m/2) p`,
+/// `Ī' = R Ī Rᵀ − (p sᵀ + s pᵀ) + 2 (p·s) 1` (the shift `−(h̃'p̃ + p̃h̃') −
+/// m p̃p̃` written by `ã b̃ = b aᵀ − (a·b) 1`), each symmetric entry once.
 fn world_inertia(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia {
-    inertia
-        .to_parent(g, &frame.rotation, frame.translation)
-        .held(g)
+    let (r, p, m) = (&frame.rotation, frame.translation, inertia.mass);
+    let rh = spatial::mat_vec(g, r, inertia.first_moment);
+    let half = g.num(crate::expr::num::Num::Rational(1, 2));
+    let half_m = g.mul2(half, m);
+    let mp = spatial::scale(g, m, p);
+    let s = spatial::scale(g, half_m, p);
+    let s = spatial::add(g, rh, s);
+    let turned = spatial::mat_mul(g, r, &inertia.rotational);
+    let ps = spatial::dot(g, p, s);
+    let two = g.int(2);
+    let diagonal = g.mul2(two, ps);
+    let mut rotational = [[g.int(0); 3]; 3];
+    for row in 0..3 {
+        for col in row..3 {
+            let rir = spatial::dot(g, turned[row], r[col]);
+            let a = g.mul2(p[row], s[col]);
+            let b = g.mul2(s[row], p[col]);
+            let mut e = g.sub(rir, a);
+            e = g.sub(e, b);
+            if row == col {
+                e = g.add2(e, diagonal);
+            }
+            let e = spatial::hold(g, e);
+            rotational[row][col] = e;
+            rotational[col][row] = e;
+        }
+    }
+    let h = spatial::add(g, rh, mp);
+    Inertia {
+        mass: m,
+        first_moment: spatial::hold3(g, h),
+        rotational,
+    }
 }
 
 /// `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` for the velocity `[ω; v]`:

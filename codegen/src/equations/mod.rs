@@ -114,26 +114,26 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.b,
     );
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
-    // `∂τ/∂q`, `∂τ/∂q̇` by the recursions, for `inverse_dynamics_jacobian`
-    // and for the tangents of a tree whose `M` is factored.
-    let recursions = system
+    // `∂τ/∂q`, `∂τ/∂q̇`, for `inverse_dynamics_jacobian` and for the
+    // tangents of a tree whose `M` is factored.
+    let inverse_dynamics = system
         .bodies
         .as_ref()
         .filter(|b| jacobians || b.inverse_derivatives)
-        .and_then(|b| recursions_jacobian(&mut system.graph, b));
-    let by_recursions = match (&system.bodies, &recursions, &mass_inverse) {
-        (Some(b), Some(jacobian), MassInverse::Factored(_)) => Some(tangent::ByRecursions {
+        .and_then(|b| inverse_dynamics_jacobian(&mut system.graph, b));
+    let through_inverse = match (&system.bodies, &inverse_dynamics, &mass_inverse) {
+        (Some(b), Some(jacobian), MassInverse::Factored(_)) => Some(tangent::ThroughInverse {
             applied: &b.applied,
             jacobian,
         }),
         _ => None,
     };
-    // Long trees whose `M` depends on `q` and that the recursions do not
-    // serve differentiate `M q̈` (O(n) from the recursions) rather than
-    // `M`'s n² entries (see `PRODUCTS_FROM`).
+    // Long trees whose `M` is not factored as it is (a quaternion's
+    // auxiliary mass) differentiate `M q̈` (O(n) from the recursions) rather
+    // than `M`'s n² entries (see `PRODUCTS_FROM`).
     let mass_times = match (&system.bodies, &mass_inverse) {
         (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_))
-            if jacobians && by_recursions.is_none() && n >= tangent::PRODUCTS_FROM =>
+            if jacobians && through_inverse.is_none() && n >= tangent::PRODUCTS_FROM =>
         {
             Some(crate::bodies::recursion::mass_times(
                 &mut system.graph,
@@ -146,7 +146,7 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     let pieces = Pieces {
         mass: &system.mass,
         mass_times: mass_times.as_deref(),
-        by_recursions,
+        through_inverse,
         forces: &system.forces,
         a: &rows.a,
         b: &rows.b,
@@ -158,9 +158,8 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         Tangent::none()
     };
     let momentum = momentum(&mut system.graph, &system.mass);
-    let inverse_jacobian = match (&system.bodies, recursions) {
-        (Some(b), Some(by_recursions)) if b.inverse_derivatives => Some(by_recursions),
-        (Some(b), None) if b.inverse_derivatives => Some(inverse_jacobian(&mut system.graph, b)),
+    let inverse_jacobian = match (&system.bodies, inverse_dynamics) {
+        (Some(b), Some(jacobian)) if b.inverse_derivatives => Some(jacobian),
         _ => None,
     };
     Equations {
@@ -274,25 +273,37 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
         .collect()
 }
 
-/// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics by the recursions
-/// of `crate::bodies::derivatives`, where every joint's column is constant
-/// in its body's axes (`None` with a quaternion joint).
-fn recursions_jacobian(
-    g: &mut crate::expr::Graph,
-    bodies: &BodyTerms,
-) -> Option<[Vec<Vec<Id>>; 2]> {
+/// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics: by the recursions
+/// of `crate::bodies::derivatives` where every joint's column is constant
+/// in its body's axes and they cost fewer operations than the partials of
+/// `τ`'s expressions ([`partials_of_tau`]), else those partials. Both are
+/// exact; which is cheaper depends on the tree: the partials of a short
+/// leg touch three bodies each, where the recursions carry every body's
+/// inertia to the world (the Go1's twelve joints: 5.0× Pinocchio's
+/// `computeRNEADerivatives` by the partials, 2.3× by the recursions; the
+/// Panda's seven in one chain: 0.9× and 1.5×).
+fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> Option<[Vec<Vec<Id>>; 2]> {
     let tree = crate::bodies::Tree {
         bodies: bodies.tree.clone(),
         gravity: bodies.gravity_vector,
     };
-    crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, bodies.inverse.len())
+    let n = bodies.inverse.len();
+    let partials = partials_of_tau(g, bodies);
+    let recursions = crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n);
+    let cost = |g: &crate::expr::Graph, m: &[Vec<Vec<Id>>; 2]| {
+        let roots: Vec<Id> = m.iter().flatten().flatten().copied().collect();
+        crate::expr::squares::operations(g, &roots)
+    };
+    Some(match recursions {
+        Some(r) if cost(g, &r) <= cost(g, &partials) => r,
+        _ => partials,
+    })
 }
 
-/// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)` where the recursions do not serve
-/// (quaternion joints), row by row: exact partials of the recursion's own
+/// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own
 /// expressions, which memoised share each body's derivatives among the
 /// coordinates' rows.
-fn inverse_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
+fn partials_of_tau(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
     let tau = &bodies.inverse;
     let n = tau.len();
     let mut d = Differentiator::new();

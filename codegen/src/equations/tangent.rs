@@ -11,9 +11,14 @@
 //! so one factorization serves `q̈` and all its tangents. Here the
 //! derivatives of `F`, `M`, `A`, `b` are taken symbolically (exact, and
 //! zero where structurally zero); the generated code contracts them with
-//! `q̈` and `λ` at run time. For a tree of bodies `(∂M/∂v) q̈` is instead
+//! `q̈` and `λ` at run time. For a tree of bodies whose `M` is factored,
+//! `∂F/∂v − (∂M/∂v) q̈` is instead `∂(Q − ∂V/∂q)/∂v − ∂τ/∂v` (`τ = M q̈ + c`
+//! inverse dynamics, `F = Q − ∂V/∂q − c`), `∂τ` by the recursions of
+//! `crate::bodies::derivatives` (as Pinocchio's `computeABADerivatives`
+//! does), read with the solved `q̈` bound ([`ThroughInverse`]); for a tree
+//! of 16 or more coordinates on an auxiliary mass, `(∂M/∂v) q̈` is
 //! `∂(M q̈)/∂v` of the recursions' `M q̈` (O(n) expressions where `M` has
-//! n² entries), read with the solved `q̈` bound. Two forms:
+//! n² entries). Two forms:
 //!
 //! - [`Form::Columns`]: one set of derivatives per column variable. Where
 //!   each variable touches a few entries (a chain), this is sparse and the
@@ -36,12 +41,13 @@ pub const COLUMN_BUDGET: usize = 6;
 /// Nodes the per-column form may always take: small systems keep it.
 pub const COLUMN_ALLOWANCE: usize = 4_000;
 
-/// The number of coordinates from which a tree's tangents differentiate
-/// the recursions' `M q̈` rather than `M`'s entries. Against Pinocchio's
-/// `computeABADerivatives` (BENCHMARKS.md, Kinematics) the products win on
-/// the 29-joint G1 and lose on the 7-joint Panda and the 12-joint Go1: in
-/// the directional form the seed-free parts of `∂M` leave the loop over the
-/// columns, where the products' derivatives stay in it.
+/// The number of coordinates from which the tangents of a tree on an
+/// auxiliary mass (not [`ThroughInverse`]) differentiate the recursions'
+/// `M q̈` rather than `M`'s entries: on the fixed-base robots, before
+/// [`ThroughInverse`], the products won on the 29-joint G1 and lost on
+/// the 7-joint Panda and the 12-joint Go1 (in the directional form the
+/// seed-free parts of `∂M` leave the loop over the columns, where the
+/// products' derivatives stay in it).
 pub const PRODUCTS_FROM: usize = 16;
 
 /// The derivatives of `F`, `M`, `A` and `b` by one variable or along one
@@ -53,7 +59,9 @@ pub struct Derivatives {
     /// given instead.
     pub mass: Vec<(usize, usize, Id)>,
     /// `∂(M q̈)ᵢ` per row with `q̈` as `Sym::Accel` (bodies, whose `M q̈`
-    /// recursive Newton–Euler writes in O(n)); empty where `mass` is used.
+    /// recursive Newton–Euler writes in O(n)), or through inverse dynamics
+    /// `∂τᵢ` (then `forces` holds `∂(Q − ∂V/∂q)ᵢ`); empty where `mass` is
+    /// used.
     pub mass_times: Vec<Id>,
     /// The nonzero `∂Aᵣᵢ` as `(r, i, id)`.
     pub a: Vec<(usize, usize, Id)>,
@@ -94,13 +102,14 @@ impl Tangent {
     }
 }
 
-/// Inverse dynamics' derivatives by the recursions
-/// (`crate::bodies::derivatives`), for a tree whose `M` is factored: with
+/// Inverse dynamics' derivatives (by the recursions of
+/// `crate::bodies::derivatives` or the partials of `τ`, whichever is
+/// cheaper), for a tree whose `M` is factored: with
 /// `τ = M q̈ + c` and `F = Q − ∂V/∂q − c`, the tangents' `∂F/∂v − (∂M/∂v) q̈`
 /// is `∂(Q − ∂V/∂q)/∂v − ∂τ/∂v` at the solved `q̈`, so that neither `M`'s
 /// entries nor `c`'s expressions are differentiated.
 #[derive(Clone, Copy)]
-pub struct ByRecursions<'a> {
+pub struct ThroughInverse<'a> {
     /// `Q − ∂V/∂q`.
     pub applied: &'a [Id],
     /// `(∂τ/∂q, ∂τ/∂q̇)` with `q̈` as `Sym::Accel`.
@@ -115,9 +124,9 @@ pub struct Pieces<'a> {
     /// `M q̈` with `q̈` as `Sym::Accel`, where the bodies' recursions give it
     /// (and `M` depends on `q`): differentiated instead of `M`'s entries.
     pub mass_times: Option<&'a [Id]>,
-    /// Inverse dynamics' derivatives by the recursions, which replace
-    /// those of `M` and `F` where the per-column form serves.
-    pub by_recursions: Option<ByRecursions<'a>>,
+    /// Inverse dynamics' derivatives, which replace those of `M` and `F`
+    /// where the per-column form serves.
+    pub through_inverse: Option<ThroughInverse<'a>>,
     /// `F`.
     pub forces: &'a [Id],
     /// `A`.
@@ -182,8 +191,8 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
         .chain((0..n).map(Sym::Vel))
         .chain(inputs.iter().copied())
         .collect();
-    let form = match p.by_recursions {
-        Some(r) => recursions_form(g, p, r, &columns),
+    let form = match p.through_inverse {
+        Some(r) => through_inverse_form(g, p, r, &columns),
         None => None,
     };
     let form = form.unwrap_or_else(|| form_of(g, p, &columns));
@@ -210,16 +219,16 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
     }
 }
 
-/// The per-column form with inverse dynamics' derivatives by the
-/// recursions: `Q − ∂V/∂q`, `A` and `b` differentiated per column, `∂τ`'s
+/// The per-column form through inverse dynamics' derivatives:
+/// `Q − ∂V/∂q`, `A` and `b` differentiated per column, `∂τ`'s
 /// column as `mass_times`; `None` where those columns would exceed the
 /// budget (then [`form_of`] decides on `F` and `M`).
-fn recursions_form(g: &mut Graph, p: &Pieces, r: ByRecursions, columns: &[Sym]) -> Option<Form> {
+fn through_inverse_form(g: &mut Graph, p: &Pieces, r: ThroughInverse, columns: &[Sym]) -> Option<Form> {
     let n = p.forces.len();
     let plain = Pieces {
         mass: &[],
         mass_times: None,
-        by_recursions: None,
+        through_inverse: None,
         forces: r.applied,
         ..*p
     };
