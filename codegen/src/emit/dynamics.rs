@@ -163,9 +163,10 @@ pub const EVALUATIONS: &[Evaluation] = &[
         args: Args::Accelerations,
         forwarded: false,
         doc: " The derivatives of inverse dynamics, `(∂τ/∂q, ∂τ/∂q̇)`, n × n each, \
-              exact (differentiated at compile time from the recursion's own \
-              expressions; Pinocchio's `computeRNEADerivatives`, whose third, \
-              `∂τ/∂q̈`, is `mass_matrix`). Columns of a quaternion joint are by \
+              exact (built at compile time by the recursions of Pinocchio's \
+              `computeRNEADerivatives`, or as the partials of the recursion's \
+              own expressions where those cost fewer operations; \
+              `∂τ/∂q̈` is `mass_matrix`). Columns of a quaternion joint are by \
               its four coordinates and their rates, the rotation being \
               `R(q/|q|)`. Generated where `derivatives: [inverse_dynamics]` \
               asks for it.",

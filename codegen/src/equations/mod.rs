@@ -120,7 +120,7 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         .bodies
         .as_ref()
         .filter(|b| jacobians || b.inverse_derivatives)
-        .and_then(|b| inverse_dynamics_jacobian(&mut system.graph, b));
+        .map(|b| inverse_dynamics_jacobian(&mut system.graph, b));
     let through_inverse = match (&system.bodies, &inverse_dynamics, &mass_inverse) {
         (Some(b), Some(jacobian), MassInverse::Factored(_)) => Some(tangent::ThroughInverse {
             applied: &b.applied,
@@ -282,7 +282,7 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
 /// inertia to the world (the Go1's twelve joints: 5.0× Pinocchio's
 /// `computeRNEADerivatives` by the partials, 2.3× by the recursions; the
 /// Panda's seven in one chain: 0.9× and 1.5×).
-fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> Option<[Vec<Vec<Id>>; 2]> {
+fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
     let tree = crate::bodies::Tree {
         bodies: bodies.tree.clone(),
         gravity: bodies.gravity_vector,
@@ -294,10 +294,10 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
         let roots: Vec<Id> = m.iter().flatten().flatten().copied().collect();
         crate::expr::squares::operations(g, &roots)
     };
-    Some(match recursions {
+    match recursions {
         Some(r) if cost(g, &r) <= cost(g, &partials) => r,
         _ => partials,
-    })
+    }
 }
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own

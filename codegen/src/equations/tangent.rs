@@ -223,7 +223,12 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
 /// `Q − ∂V/∂q`, `A` and `b` differentiated per column, `∂τ`'s
 /// column as `mass_times`; `None` where those columns would exceed the
 /// budget (then [`form_of`] decides on `F` and `M`).
-fn through_inverse_form(g: &mut Graph, p: &Pieces, r: ThroughInverse, columns: &[Sym]) -> Option<Form> {
+fn through_inverse_form(
+    g: &mut Graph,
+    p: &Pieces,
+    r: ThroughInverse,
+    columns: &[Sym],
+) -> Option<Form> {
     let n = p.forces.len();
     let plain = Pieces {
         mass: &[],
