@@ -38,6 +38,7 @@ mod joints;
 mod linearize;
 mod lock_rank;
 mod momentum;
+mod multiplier_jacobian;
 mod nonsmooth;
 mod projection;
 mod quadruped;

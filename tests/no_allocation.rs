@@ -184,7 +184,8 @@ fn main() {
     results.push(("Rk4, Stepper with state changes".to_string(), allocs, steps));
     // Linearization and control: 10⁵ Jacobians through the generated
     // structured solve (constant M) and through the runtime's dense one
-    // (the cart-pole's M(q)), reduced linearizations, and the LQR design.
+    // (the cart-pole's M(q)), the multipliers' Jacobians, reduced
+    // linearizations, and the LQR design.
     let (allocs, calls) = count(|| {
         let mut calls = 0;
         for i in 0..25_000 {
@@ -194,7 +195,10 @@ fn main() {
                 .acceleration_jacobian(&s.q, &s.qd, s.t)
                 .expect("jacobian");
             let r = system.linearize_reduced(&s.q, &s.qd, s.t).expect("reduced");
-            std::hint::black_box((&j, &r));
+            let dl = system
+                .multiplier_jacobian(&s.q, &s.qd, s.t)
+                .expect("multiplier jacobian");
+            std::hint::black_box((&j, &r, &dl));
             let cart_pole = CartPole::new(1.0, 0.3, 0.8, 9.81, 0.1 * f64::from(i % 5));
             let q = Vector2::new(0.1, 2.9);
             let j = cart_pole

@@ -254,8 +254,36 @@ fn tangent_columns<T, S, const N: usize, const K: usize, const NU: usize, const 
     (q, qd, t): (&SVector<T, N>, &SVector<T, N>, T),
     (qdd, lam): (&SVector<T, N>, &SVector<T, K>),
     (a, s): (&SMatrix<T, K, N>, T),
-    mut solve: impl FnMut(&SVector<T, N>, &SVector<T, K>) -> Option<SVector<T, N>>,
+    solve: impl FnMut(&SVector<T, N>, &SVector<T, K>) -> Option<SVector<T, N>>,
 ) -> Option<Jacobians<T, N, NU>>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K> + Tangent<T, N, K, D>,
+{
+    let (dq, dqd, du) =
+        tangent_solutions::<T, S, N, K, NU, D, N>(system, (q, qd, t), (qdd, lam), (a, s), solve)?;
+    Some(Jacobians { dq, dqd, du })
+}
+
+/// The tangent systems' solutions column by column, `R` entries each (`q̈ᵥ`
+/// or `λᵥ`), as `(by q, by q̇, by u)`: the right-hand sides of
+/// [`tangent_columns`], each solved by `solve(f, b)` (`None` if one fails).
+#[allow(clippy::type_complexity)]
+pub(crate) fn tangent_solutions<
+    T,
+    S,
+    const N: usize,
+    const K: usize,
+    const NU: usize,
+    const D: usize,
+    const R: usize,
+>(
+    system: &S,
+    (q, qd, t): (&SVector<T, N>, &SVector<T, N>, T),
+    (qdd, lam): (&SVector<T, N>, &SVector<T, K>),
+    (a, s): (&SMatrix<T, K, N>, T),
+    mut solve: impl FnMut(&SVector<T, N>, &SVector<T, K>) -> Option<SVector<T, R>>,
+) -> Option<(SMatrix<T, R, N>, SMatrix<T, R, N>, SMatrix<T, R, NU>)>
 where
     T: RealField + Copy,
     S: Generated<T, N, K> + Tangent<T, N, K, D>,
@@ -263,23 +291,25 @@ where
     let mut f_tilde = SMatrix::<T, N, D>::zeros();
     let mut b_tilde = SMatrix::<T, K, D>::zeros();
     system.tangent_rhs(q, qd, t, qdd, lam, &mut f_tilde, &mut b_tilde);
-    let mut jac = Jacobians::<T, N, NU>::zeros();
+    let mut dq = SMatrix::<T, R, N>::zeros();
+    let mut dqd = SMatrix::<T, R, N>::zeros();
+    let mut du = SMatrix::<T, R, NU>::zeros();
     for c in 0..D {
         let b_c: SVector<T, K> = b_tilde.column(c).into_owned();
         let mut f_c: SVector<T, N> = f_tilde.column(c).into_owned();
         if S::SEMIDEFINITE_MASS {
             f_c += a.transpose() * (b_c * s);
         }
-        let dqdd = solve(&f_c, &b_c)?;
+        let x = solve(&f_c, &b_c)?;
         if c < N {
-            jac.dq.set_column(c, &dqdd);
+            dq.set_column(c, &x);
         } else if c < 2 * N {
-            jac.dqd.set_column(c - N, &dqdd);
+            dqd.set_column(c - N, &x);
         } else {
-            jac.du.set_column(c - 2 * N, &dqdd);
+            du.set_column(c - 2 * N, &x);
         }
     }
-    Some(jac)
+    Some((dq, dqd, du))
 }
 
 /// The Jacobians where `acceleration`'s fast solve dropped more rows than
@@ -431,5 +461,7 @@ pub fn linearization<T: RealField + Copy, const N: usize, const NU: usize, const
     (a, b)
 }
 
+mod multipliers;
 mod reduced;
+pub use multipliers::{try_multiplier_jacobian, MultiplierJacobians};
 pub use reduced::{reduced, Reduced};

@@ -74,10 +74,47 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     };
     let reduced = reduced(ctx, partition);
     let (jacobian_methods, linearize_methods) = parts.methods(&Docs::new(fallible), fallible);
+    let multipliers = multiplier_jacobian(ctx, &parts, &motion);
     quote! {
         #reduced
         #jacobian_methods
         #linearize_methods
+        #multipliers
+    }
+}
+
+/// `multiplier_jacobian`, for a system with constraint rows: `∂λ/∂q`,
+/// `∂λ/∂q̇`, `∂λ/∂u` by the runtime's solve of the same tangent systems
+/// (`linearize::try_multiplier_jacobian`), after `gauss`'s motion.
+fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> TokenStream {
+    if ctx.k == 0 {
+        return TokenStream::new();
+    }
+    let (n, nu) = (ctx.n, ctx.eq.system.inputs);
+    let (n_lit, k_lit, nu_lit, d_lit) = (
+        Context::dim(n),
+        Context::dim(ctx.k),
+        Context::dim(nu),
+        Context::dim(2 * n + nu),
+    );
+    let jacobians = ctx.path(quote!(linearize::MultiplierJacobians<T, #n_lit, #k_lit, #nu_lit>));
+    let solve = ctx.path(quote!(linearize::try_multiplier_jacobian));
+    let error = ctx.path(quote!(DynamicsError));
+    let result = quote!(::core::result::Result<#jacobians, #error>);
+    let (params, args) = (&parts.params, &parts.args);
+    quote! {
+        /// The Jacobians of the constraint multipliers `λ(q, q̇, u)` that
+        /// `constraint_multipliers` returns: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u`
+        /// (`K` rows each), exact, from the same tangent systems as
+        /// `acceleration_jacobian` (their multipliers), solved densely.
+        /// `Err(NotDifferentiable)` where the rows are not independent
+        /// (`λ` is then not unique); `Err` where `acceleration` is, or an
+        /// entry is not finite.
+        #[inline]
+        pub fn multiplier_jacobian(&self, #params) -> #result {
+            let __motion = #motion;
+            #solve::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+        }
     }
 }
 

@@ -1,0 +1,122 @@
+//! The Jacobians of the constraint multipliers `λ(q, q̇, u)`
+//! (`constraint_multipliers`): the tangent systems of the parent module
+//! give them beside those of `q̈`. Differentiating `M q̈ = F + Aᵀλ`,
+//! `A q̈ = b` by one variable `v`,
+//!
+//! ```text
+//! M q̈ᵥ = F̃ᵥ + Aᵀλᵥ,   A q̈ᵥ = b̃ᵥ,
+//! ```
+//!
+//! so `λᵥ = S⁻¹ (b̃ᵥ − A M⁻¹ F̃ᵥ)`, `S = A M⁻¹ Aᵀ`: the tangent system's own
+//! multipliers. They are `λ`'s derivative where the rows are independent,
+//! and `λ` is unique (what `constraint_multipliers` returns there). For a
+//! dependent set only `Aᵀλ` is physical: the minimum-norm `λ` that
+//! `constraint_multipliers` returns is one choice among many, and its
+//! derivative is not given (`Err(NotDifferentiable)`). A semi-definite `M`
+//! is solved through its auxiliary mass `M + s AᵀA`, whose multipliers
+//! are the same: `s AᵀA q̈ = s Aᵀ b` holds on both sides.
+
+use super::{tangent_solutions, MassSolve, Tangent};
+use crate::generated::{auxiliary_mass, Generated, Motion};
+use crate::inverse::PivotedLdlt;
+use crate::rank::safe_minimum;
+use crate::DynamicsError;
+use nalgebra::{RealField, SMatrix};
+
+/// The Jacobians of `λ(q, q̇, u)`, `K` rows each: `dq = ∂λ/∂q`,
+/// `dqd = ∂λ/∂q̇`, `du = ∂λ/∂u`, column `j` the derivative by the `j`-th
+/// coordinate, velocity or input (the sign convention of
+/// [`crate::multipliers`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MultiplierJacobians<T, const N: usize, const K: usize, const NU: usize> {
+    /// `∂λ/∂q`.
+    pub dq: SMatrix<T, K, N>,
+    /// `∂λ/∂q̇`.
+    pub dqd: SMatrix<T, K, N>,
+    /// `∂λ/∂u`.
+    pub du: SMatrix<T, K, NU>,
+}
+
+impl<T: RealField + Copy, const N: usize, const K: usize, const NU: usize>
+    MultiplierJacobians<T, N, K, NU>
+{
+    /// Whether every entry is finite.
+    #[must_use]
+    pub fn is_finite(&self) -> bool {
+        let finite = |m: &[T]| m.iter().fold(true, |ok, x| ok & x.is_finite());
+        finite(self.dq.as_slice()) & finite(self.dqd.as_slice()) & finite(self.du.as_slice())
+    }
+}
+
+/// The Jacobians of `λ` at `(q, q̇, t)`, given the motion `(q̈, Fᶜ)` the
+/// system's solver returned there: `M` factored (Cholesky, or the
+/// rank-revealing `LDLᵀ` where it is not numerically positive definite),
+/// `S = A M⁻¹ Aᵀ` by the pivoted `LDLᵀ` once, then one solve per column.
+/// Called by the generated `multiplier_jacobian`; `D = 2N + NU` columns.
+///
+/// `Err(NotDifferentiable)` where the rows are not independent to the
+/// rank rule of `acceleration` (a redundant set, or a state where a row
+/// has lost rank): `λ` is then not unique (module docs). `Err(NonFinite)`
+/// where `M` or `A` is not finite or has lost its digits to underflow, or
+/// an entry of the result overflows.
+#[allow(clippy::many_single_char_names)]
+pub fn try_multiplier_jacobian<
+    T,
+    S,
+    const N: usize,
+    const K: usize,
+    const NU: usize,
+    const D: usize,
+>(
+    system: &S,
+    q: &nalgebra::SVector<T, N>,
+    qd: &nalgebra::SVector<T, N>,
+    t: T,
+    motion: Motion<T, N>,
+) -> Result<MultiplierJacobians<T, N, K, NU>, DynamicsError>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K> + Tangent<T, N, K, D>,
+{
+    const { assert!(D == 2 * N + NU, "D = 2N + NU columns") };
+    let (qdd, force) = motion;
+    let (a, _) = system.constraint_matrices(q, qd, t);
+    let m = system.mass_matrix(q, t);
+    if !m.iter().chain(a.iter()).all(|x| x.is_finite()) {
+        return Err(DynamicsError::NonFinite);
+    }
+    let (m, s) = if S::SEMIDEFINITE_MASS {
+        auxiliary_mass(&m, &a)
+    } else {
+        (m, T::one())
+    };
+    if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
+        return Err(DynamicsError::NonFinite);
+    }
+    let mass = MassSolve::new(m);
+    let mut w = SMatrix::<T, N, K>::zeros();
+    for r in 0..K {
+        w.set_column(r, &mass.solve(&a.row(r).transpose()));
+    }
+    let gram = a * w;
+    let ldlt = PivotedLdlt::factor(&gram);
+    let underflow = gram.diagonal().iter().any(|&x| x < safe_minimum());
+    if underflow || ldlt.rank() < K {
+        return Err(DynamicsError::NotDifferentiable);
+    }
+    // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
+    let lam = ldlt.solve_unchecked(&(w.transpose() * force));
+    let solve = |f_c: &nalgebra::SVector<T, N>, b_c: &nalgebra::SVector<T, K>| {
+        let unconstrained = mass.solve(f_c);
+        Some(ldlt.solve_unchecked(&(b_c - a * unconstrained)))
+    };
+    let (dq, dqd, du) =
+        tangent_solutions::<T, S, N, K, NU, D, K>(system, (q, qd, t), (&qdd, &lam), (&a, s), solve)
+            .ok_or(DynamicsError::NonFinite)?;
+    let jac = MultiplierJacobians { dq, dqd, du };
+    if jac.is_finite() {
+        Ok(jac)
+    } else {
+        Err(DynamicsError::NonFinite)
+    }
+}
