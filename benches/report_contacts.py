@@ -5,6 +5,8 @@ and `lcaba` (benches/peers/run.sh writes <target>/benchmarks/contacts.json:
 our times and Pinocchio's, in alternating rounds). Standard library only."""
 
 import json
+import os
+import sys
 from pathlib import Path
 
 SYSTEMS = (("quadruped", 19, 18, "quadruped, 4 feet (19 coordinates, 13 rows; Pinocchio: nv 18, 12 rows)"),
@@ -16,6 +18,11 @@ TARGETS = {("quadruped", "acceleration"): 5, ("five_bar", "acceleration"): 5,
            ("go1", "acceleration"): 6, ("go1", "acceleration_and_multipliers"): 5}
 PEERS = ("constraintDynamics", "lcaba")
 OURS = ("acceleration", "acceleration_and_multipliers")
+# Issue 49's derivatives on contacts: our Jacobians of q̈ and λ
+# (`acceleration_jacobian` and `multiplier_jacobian`, timed together)
+# against `computeConstraintDynamicsDerivatives` (after the
+# `constraintDynamics` it needs), and the ratio wanted.
+DERIVATIVES = ("go1", "acceleration_and_multiplier_jacobians", "constraint_dynamics_derivatives", 3)
 
 
 def _median(values):
@@ -55,6 +62,17 @@ def targets(rows):
             out.append((f"Contacts: {system.replace('_', '-')} {what} ≥ {wanted} × faster than Pinocchio's "
                         f"`constraintDynamics` (median of {len(r)} alternating rounds)", _median(r), f"≥ {wanted}",
                         lambda x, w=wanted: x >= w, "{:.2f}×"))
+    system, ours, theirs, wanted = DERIVATIVES
+    r = ratios(rows, system, ours, theirs)
+    if r:
+        out.append((f"Contacts: {system} ∂q̈ and ∂λ ≥ {wanted} × faster than Pinocchio's "
+                    f"`computeConstraintDynamicsDerivatives` (median of {len(r)} alternating rounds)", _median(r),
+                    f"≥ {wanted}", lambda x, w=wanted: x >= w, "{:.2f}×"))
+    peer = rows.get(("pinocchio", theirs, system), [])
+    if peer:
+        out.append((f"Contacts: {system} ∂q̈ and ∂λ agree with `computeConstraintDynamicsDerivatives` at 20 states "
+                    "(worst relative difference)", max(p["difference"] for p in peer), "≤ 1e-12",
+                    lambda x: x <= 1e-12, "{:.1e}"))
     return out
 
 
@@ -84,6 +102,23 @@ def section(rows, ns):
                 ratio = f"{_median(r):.2f}× ({min(r):.2f}–{max(r):.2f})" if r else "–"
                 their = ns(theirs_ns) if theirs_ns else "disagreed"
                 table.append(f"| {name} | `{ours}` / `{theirs}` | {ns(ours_ns)} | {their} | {ratio} |")
+    system, ours, theirs, _ = DERIVATIVES
+    peer = rows.get(("pinocchio", theirs, system), [])
+    mine = rows.get(("constrained", ours, system), [])
+    if peer and mine:
+        p = peer[0]
+        notes.append(f"- {system}, `computeConstraintDynamicsDerivatives` (after `constraintDynamics`, same settings): "
+                     f"agreement with ours: {max(x['difference'] for x in peer):.1e} (each of ∂a/∂q, ∂a/∂v, ∂a/∂τ, "
+                     "∂λ/∂q, ∂λ/∂v, ∂λ/∂τ relative to its largest entry; checked to "
+                     f"{p['tolerance']:.0e})" + ("" if all(x["ok"] for x in peer) else " — disagreed, not timed"))
+        timed = [x["ns"] for x in peer if x["ok"] and x["ns"]]
+        r = ratios(rows, system, ours, theirs)
+        ratio = f"{_median(r):.2f}× ({min(r):.2f}–{max(r):.2f})" if r else "–"
+        name = dict((x[0], x[3]) for x in SYSTEMS)[system]
+        table.append(f"| {name} | `acceleration_jacobian` + `multiplier_jacobian` / "
+                     f"`constraintDynamics` + `computeConstraintDynamicsDerivatives` | "
+                     f"{ns(_median([x['ns'] for x in mine]))} | {ns(_median(timed)) if timed else 'disagreed'} | "
+                     f"{ratio} |")
     parts = {what: _median([r["ns"] for r in rows.get(("constrained", what, "quadruped"), [])] or [0.0])
              for what in ("acceleration", "mass_matrix", "forces", "constraint_matrices")}
     profile = []
@@ -116,7 +151,11 @@ def section(rows, ns):
             "streams from L2 at every call (cachegrind with a 64 KB I1: 969 misses a call",
             "against 401).",
             "On a loaded machine both sides' times grow, not in proportion: compare the",
-            "ratios of one run's rounds, and their range.",
+            "ratios of one run's rounds, and their range. The same binary's quadruped",
+            "`acceleration` also moves between runs, 0.93 to 1.11 µs on one afternoon",
+            "(`gauss_acceleration` is 67.4 KB of code, byte for byte the same in",
+            "binaries built from commits whose generated code is the same, at the same",
+            "address; the runs differ in where the rest lands).",
         ]
     return [
         "",
@@ -139,7 +178,13 @@ def section(rows, ns):
         "force on each foot, world axes, `Q_c = Aᵀλ`) compared with `lambda_c`. Each peer",
         "ran with the smallest damping `mu` (0, then 1e-14, 1e-12, …) whose answers agree",
         "with ours (to 1e-12; `lcaba` to 1e-8, as close as it comes at any damping), and",
-        "was timed only then:",
+        "was timed only then. The Go1's derivatives: our `acceleration_jacobian` and",
+        "`multiplier_jacobian` (by `q` and `q̇`, the quaternion's four coordinates and",
+        "rates) are turned into Pinocchio's (a displacement `q ⊕ δ` with the base's",
+        "velocity in its own axes held; `benches/peers/robots/src/go1_derivatives.rs`),",
+        "checked against central differences of our `q̈` and `λ` so turned (to 1e-6), and",
+        "compared with `computeConstraintDynamicsDerivatives`; the conversion is not",
+        "timed:",
         "",
     ] + notes + [
         "",
@@ -153,3 +198,46 @@ def section(rows, ns):
         "| system | what | ours | Pinocchio | Pinocchio / ours |",
         "|---|---|---|---|---|",
     ] + table + profile
+
+
+HEADING = "## Contacts and loops: the quadruped, the Go1 and the five-bar, against Pinocchio"
+TARGET_PREFIX = "Contacts: "
+
+
+def _machine():
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            return f"{line.split(':', 1)[1].strip()}, {os.cpu_count()} cores"
+    return "unknown CPU"
+
+
+def splice(path, rows, ns, when):
+    """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md),
+    leaving the rest as the last full run wrote it."""
+    text = path.read_text()
+    lines = section(rows, ns)
+    if not lines:
+        sys.exit("no contacts.json: run benches/peers/run.sh")
+    lines[3:3] = [f"From the peers' run of {when} on {_machine()} (this section alone:",
+                  "`python3 benches/report_contacts.py`).", ""]
+    body = "\n".join(lines[1:]) + "\n"
+    start = text.find(HEADING)
+    end = text.find("\n## ", start + len(HEADING)) if start >= 0 else -1
+    text = (text[:start] + body + (text[end:] if end >= 0 else "")) if start >= 0 else text + "\n" + body
+    kept = [line for line in text.split("\n") if not line.startswith(f"| {TARGET_PREFIX}")]
+    end = next(i for i, line in enumerate(kept) if line.startswith("## Targets"))
+    end = next(i for i in range(end + 4, len(kept)) if not kept[i].startswith("|"))
+    new = [f"| {name} | {fmt.format(value)} | {wanted} | {'✓' if check(value) else '✗'} |"
+           for name, value, wanted, check, fmt in targets(rows)]
+    path.write_text("\n".join(kept[:end] + new + kept[end:]))
+
+
+if __name__ == "__main__":
+    from datetime import datetime, timezone
+
+    import report
+
+    run = report.TARGET / "benchmarks" / "contacts.json"
+    when = datetime.fromtimestamp(run.stat().st_mtime, timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    splice(report.ROOT / "BENCHMARKS.md", load(report.TARGET), report.ns, when)
+    print(f"wrote the contacts section of {report.ROOT / 'BENCHMARKS.md'}")

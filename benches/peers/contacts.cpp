@@ -33,9 +33,17 @@
 // the tolerance are timed: per state, the median of common.h's batches, on
 // the thread's CPU clock (`peer_cpu_time`).
 //
+// The Go1's derivatives: after `constraintDynamics` agrees, its
+// computeConstraintDynamicsDerivatives (∂a/∂q, ∂a/∂v, ∂a/∂τ, ∂λ/∂q, ∂λ/∂v,
+// ∂λ/∂τ) is compared with ours (REFERENCE_FILE.derivatives: our Jacobians
+// turned into Pinocchio's conventions by contacts.rs), each matrix relative
+// to its largest entry, to 1e-12, and timed with the constraintDynamics it
+// needs.
+//
 // Usage: contacts REFERENCE_FILE ROUND GO1_URDF
 #include "common.h"
 
+#include <pinocchio/algorithm/constrained-dynamics-derivatives.hpp>
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
 #include <pinocchio/algorithm/loop-constrained-aba.hpp>
 #include <pinocchio/multibody.hpp>
@@ -48,6 +56,7 @@
 
 namespace pin = pinocchio;
 using Eigen::Matrix3d;
+using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 typedef pin::RigidConstraintModel Constraint;
@@ -55,8 +64,17 @@ typedef pin::RigidConstraintData ConstraintData;
 typedef std::vector<Constraint, Eigen::aligned_allocator<Constraint>> Constraints;
 typedef std::vector<ConstraintData, Eigen::aligned_allocator<ConstraintData>> ConstraintDatas;
 
+// Our Jacobians of q̈ and λ in Pinocchio's conventions and order (the Go1's
+// only): ∂a/∂q, ∂a/∂v, ∂a/∂τ and ∂λ/∂q, ∂λ/∂v, ∂λ/∂τ, the τ columns of the
+// joints only (the base has no torque of ours).
+struct Jacobians {
+  MatrixXd da_dq, da_dv, da_dtau, dl_dq, dl_dv, dl_dtau;
+  std::vector<int> tau_columns;
+};
+
 struct State {
   VectorXd q, v, tau, a, lambda;
+  Jacobians jacobians;
 };
 
 static VectorXd vec(const peer_record &r, const char *name) {
@@ -221,6 +239,65 @@ static void call_constraint_dynamics(void *c) {
   }
 }
 
+static void call_derivatives(void *c) {
+  Timed *t = (Timed *)c;
+  const int nv = t->p->model.nv, rows = (int)t->p->rows.size();
+  MatrixXd a_q(nv, nv), a_v(nv, nv), a_tau(nv, nv), l_q(rows, nv), l_v(rows, nv), l_tau(rows, nv);
+  for (const State &s : t->p->states) {
+    pin::constraintDynamics(t->p->model, *t->data, s.q, s.v, s.tau, t->p->constraints, *t->datas, t->settings);
+    pin::computeConstraintDynamicsDerivatives(t->p->model, *t->data, t->p->constraints, *t->datas, t->settings,
+                                              a_q, a_v, a_tau, l_q, l_v, l_tau);
+    PEER_KEEP(a_q.data());
+    PEER_KEEP(l_q.data());
+  }
+}
+
+// The largest difference of Pinocchio's Jacobians from ours over the states,
+// each matrix's relative to its largest entry (its τ columns: the joints').
+static double check_derivatives(Timed &t) {
+  const int nv = t.p->model.nv, rows = (int)t.p->rows.size();
+  MatrixXd a_q(nv, nv), a_v(nv, nv), a_tau(nv, nv), l_q(rows, nv), l_v(rows, nv), l_tau(rows, nv);
+  double worst = 0;
+  auto relative = [](const MatrixXd &peer, const MatrixXd &ours) {
+    const double d = (peer - ours).lpNorm<Eigen::Infinity>() / ours.lpNorm<Eigen::Infinity>();
+    return std::isfinite(d) ? d : INFINITY;
+  };
+  for (const State &s : t.p->states) {
+    const Jacobians &j = s.jacobians;
+    pin::constraintDynamics(t.p->model, *t.data, s.q, s.v, s.tau, t.p->constraints, *t.datas, t.settings);
+    pin::computeConstraintDynamicsDerivatives(t.p->model, *t.data, t.p->constraints, *t.datas, t.settings, a_q,
+                                              a_v, a_tau, l_q, l_v, l_tau);
+    MatrixXd a_joints(nv, j.tau_columns.size()), l_joints(rows, j.tau_columns.size());
+    for (size_t k = 0; k < j.tau_columns.size(); k++) {
+      a_joints.col(k) = a_tau.col(j.tau_columns[k]);
+      l_joints.col(k) = l_tau.col(j.tau_columns[k]);
+    }
+    for (double d : {relative(a_q, j.da_dq), relative(a_v, j.da_dv), relative(a_joints, j.da_dtau),
+                     relative(l_q, j.dl_dq), relative(l_v, j.dl_dv), relative(l_joints, j.dl_dtau)})
+      worst = fmax(worst, d);
+  }
+  return worst;
+}
+
+// Times computeConstraintDynamicsDerivatives (after the constraintDynamics it
+// needs) where its answers agree with ours; one JSON line.
+static void run_derivatives(Timed &t, const char *round) {
+  const double tolerance = 1e-12, difference = check_derivatives(t);
+  const int ok = difference <= tolerance;
+  char time[32] = "null";
+  if (ok) snprintf(time, sizeof time, "%.3f", peer_cpu_time(call_derivatives, &t) / t.p->states.size());
+  printf("{\"peer\": \"pinocchio\", \"what\": \"constraint_dynamics_derivatives\", \"system\": \"%s\", "
+         "\"n\": %d, \"ns\": %s, \"states\": %zu, \"round\": %s, \"difference\": %.3e, \"tolerance\": %.0e, "
+         "\"ok\": %s}\n",
+         t.p->system, t.p->model.nv, time, t.p->states.size(), round, difference, tolerance, ok ? "true" : "false");
+  fflush(stdout);
+  if (!ok) {
+    peer_failures++;
+    fprintf(stderr, "pinocchio computeConstraintDynamicsDerivatives %s: differs by %.3e (> %.0e)\n", t.p->system,
+            difference, tolerance);
+  }
+}
+
 static void call_lcaba(void *c) {
   Timed *t = (Timed *)c;
   for (const State &s : t->p->states) {
@@ -298,6 +375,48 @@ static void run(Problem &p, bool lcaba, const char *round) {
     fprintf(stderr, "pinocchio %s %s: q̈ differs by %.3e, λ by %.3e (> %.0e)\n",
             lcaba ? "lcaba" : "constraintDynamics", p.system, qdd, lambda, tolerance);
   }
+  if (ok && !lcaba && !p.states.empty() && p.states[0].jacobians.da_dq.size() > 0) run_derivatives(t, round);
+}
+
+// Our Jacobians of the Go1's states (`REFERENCE_FILE.derivatives`: lines
+// `go1 STATE NAME ROWS COLUMNS` and the entries row by row, in our joints'
+// order), placed in Pinocchio's: tangent index k < 6 stays, 6 + j goes to
+// `iv[j]`.
+static void read_derivatives(const char *reference, Problem &dog, const std::vector<int> &iv) {
+  const std::string path = std::string(reference) + ".derivatives";
+  std::ifstream file(path);
+  if (!file) {
+    fprintf(stderr, "cannot open %s\n", path.c_str());
+    exit(2);
+  }
+  const int nv = dog.model.nv;
+  auto tangent = [&](int k) { return k < 6 ? k : iv[k - 6]; };
+  std::string text;
+  while (std::getline(file, text)) {
+    std::istringstream in(text);
+    std::string kind, name;
+    size_t state;
+    int rows, columns;
+    if (!(in >> kind >> state >> name >> rows >> columns) || kind != "go1" || state >= dog.states.size()) {
+      fprintf(stderr, "%s: a malformed line\n", path.c_str());
+      exit(2);
+    }
+    MatrixXd ours(rows, columns);
+    for (int i = 0; i < rows; i++)
+      for (int j = 0; j < columns; j++) in >> ours(i, j);
+    Jacobians &j = dog.states[state].jacobians;
+    const bool by_tangent = columns == nv, of_a = name[1] == 'a';
+    MatrixXd placed = MatrixXd::Zero(rows, columns);
+    for (int r = 0; r < rows; r++)
+      for (int c = 0; c < columns; c++) placed(of_a ? tangent(r) : r, by_tangent ? tangent(c) : c) = ours(r, c);
+    if (name == "dadq") j.da_dq = placed;
+    else if (name == "dadv") j.da_dv = placed;
+    else if (name == "dadtau") j.da_dtau = placed;
+    else if (name == "dldq") j.dl_dq = placed;
+    else if (name == "dldv") j.dl_dv = placed;
+    else if (name == "dldtau") j.dl_dtau = placed;
+    j.tau_columns = iv;
+  }
 }
 
 int main(int argc, char **argv) {
@@ -349,6 +468,7 @@ int main(int argc, char **argv) {
     fprintf(stderr, "the reference lacks quadruped, Go1 or five-bar states\n");
     return 2;
   }
+  read_derivatives(argv[1], dog, iv);
   for (Problem *p : {&legs, &dog, &loop})
     for (bool lcaba : {false, true}) run(*p, lcaba, argv[2]);
   return peer_failures ? 1 : 0;

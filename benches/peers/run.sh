@@ -8,7 +8,8 @@
 # times; benches/peers/robots.cpp, Pinocchio's, matched by joint name); and the
 # Contacts rows, the quadruped, the Unitree Go1 (its URDF on a floating
 # root) and the five-bar against Pinocchio's constraintDynamics and lcaba
-# (benches/peers/robots/src/bin/contacts.rs, benches/peers/contacts.cpp); and
+# (benches/peers/robots/src/bin/contacts.rs, benches/peers/contacts.cpp), the
+# Go1's ∂q̈ and ∂λ against computeConstraintDynamicsDerivatives too; and
 # the Kinematics and derivatives rows, the Panda, the G1 and the Go1 with
 # named frames against Pinocchio's frame placements, Jacobians and classical
 # accelerations, centre of mass and its velocity, centroidal map and its

@@ -25,9 +25,17 @@
 //! are. The Go1's joints follow the base in our order, and the file's first
 //! line (`names go1 …`) names them, for Pinocchio's side to place each by
 //! its name. Every state's `q̈` is checked against `A q̈ = b` (1e-12) first.
+//!
+//! For the Go1, `REFERENCE_FILE.derivatives` holds our `acceleration_jacobian`
+//! and `multiplier_jacobian` turned into Pinocchio's conventions
+//! (`go1_derivatives.rs`), one matrix a line, after they are checked against
+//! central differences of our `q̈` and `λ` turned the same way (to 1e-6), for
+//! Pinocchio's side to compare with `computeConstraintDynamicsDerivatives`.
 
 #[path = "../clock.rs"]
 mod clock;
+#[path = "../go1_derivatives.rs"]
+mod go1_derivatives;
 #[path = "../../../../../examples/support/quadruped.rs"]
 #[allow(dead_code)]
 #[macro_use]
@@ -361,6 +369,102 @@ fn pinocchio_coordinates(
     (config, velocity, acceleration)
 }
 
+/// A column-major matrix's entries (`rows` to a column) row by row.
+fn transposed(m: &[f64], rows: usize) -> Vec<f64> {
+    let columns = m.len() / rows;
+    (0..rows)
+        .flat_map(|i| (0..columns).map(move |j| m[j * rows + i]))
+        .collect()
+}
+
+/// The Go1's `acceleration_jacobian` and `multiplier_jacobian` at `s`
+/// (whose `q̈` is `qdd`), in Pinocchio's conventions.
+fn go1_jacobians(
+    system: &Go1<f64>,
+    s: &State<f64, N>,
+    qdd: &SVector<f64, N>,
+) -> go1_derivatives::Derivatives {
+    let j = system
+        .acceleration_jacobian(&s.q, &s.qd, s.t)
+        .expect("the Go1's Jacobian of q̈");
+    let l = system
+        .multiplier_jacobian(&s.q, &s.qd, s.t)
+        .expect("the Go1's Jacobian of λ");
+    go1_derivatives::pinocchio_derivatives(
+        (&s.q, &s.qd, qdd),
+        (&j.dq, &j.dqd, &j.du),
+        (&l.dq, &l.dqd, &l.du),
+    )
+}
+
+/// The largest difference, relative to each matrix's largest entry, of
+/// `d` from central differences of our `q̈` and `λ` turned into
+/// Pinocchio's `a` and feet's forces, along each displacement of `q`, each
+/// entry of `v` and each joint torque.
+fn go1_differences(system: &Go1<f64>, s: &State<f64, N>, d: &go1_derivatives::Derivatives) -> f64 {
+    let h = 1e-6;
+    let answer = |sys: &Go1<f64>, q: SVector<f64, N>, qd: SVector<f64, N>| {
+        let (qdd, lambda) = sys
+            .acceleration_and_multipliers(&State::new(s.t, q, qd))
+            .expect("q̈ and λ");
+        (
+            go1_derivatives::acceleration(&q, &qd, &qdd),
+            lambda.fixed_rows::<12>(0).into_owned(),
+        )
+    };
+    let relative = |ours: &[f64], theirs: &[f64]| {
+        let scale = theirs.iter().fold(1e-300f64, |m, x| m.max(x.abs()));
+        ours.iter()
+            .zip(theirs)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale
+    };
+    let mut worst: f64 = 0.0;
+    for dv in [false, true] {
+        let (mut da, mut dl) = (
+            SMatrix::<f64, 18, 18>::zeros(),
+            SMatrix::<f64, 12, 18>::zeros(),
+        );
+        for c in 0..18 {
+            let (qp, qdp) = go1_derivatives::displaced(&s.q, &s.qd, c, h, dv);
+            let (qm, qdm) = go1_derivatives::displaced(&s.q, &s.qd, c, -h, dv);
+            let (ap, lp) = answer(system, qp, qdp);
+            let (am, lm) = answer(system, qm, qdm);
+            da.set_column(c, &((ap - am) / (2.0 * h)));
+            dl.set_column(c, &((lp - lm) / (2.0 * h)));
+        }
+        let (ours_a, ours_l) = if dv {
+            (&d.da_dv, &d.dl_dv)
+        } else {
+            (&d.da_dq, &d.dl_dq)
+        };
+        worst = worst
+            .max(relative(ours_a.as_slice(), da.as_slice()))
+            .max(relative(ours_l.as_slice(), dl.as_slice()));
+    }
+    let (mut da, mut dl) = (
+        SMatrix::<f64, 18, 12>::zeros(),
+        SMatrix::<f64, 12, 12>::zeros(),
+    );
+    for c in 0..12 {
+        let torques = |sign: f64| {
+            let mut t = [
+                system.t1, system.t2, system.t3, system.t4, system.t5, system.t6, system.t7,
+                system.t8, system.t9, system.t10, system.t11, system.t12,
+            ];
+            t[c] += sign * h;
+            go1(&go1_feet(), &t)
+        };
+        let (ap, lp) = answer(&torques(1.0), s.q, s.qd);
+        let (am, lm) = answer(&torques(-1.0), s.q, s.qd);
+        da.set_column(c, &((ap - am) / (2.0 * h)));
+        dl.set_column(c, &((lp - lm) / (2.0 * h)));
+    }
+    worst
+        .max(relative(d.da_dtau.as_slice(), da.as_slice()))
+        .max(relative(d.dl_dtau.as_slice(), dl.as_slice()))
+}
+
 /// The records of both systems, checking `A q̈ = b` at every state.
 fn write(path: &str) {
     let mut out = String::new();
@@ -403,6 +507,12 @@ fn write(path: &str) {
     // The Go1's states from a generator of their own: the others' states
     // stay those they were.
     let mut own = Rng(48);
+    let mut worst_derivative: f64 = 0.0;
+    // The Go1's Jacobians in Pinocchio's conventions, one matrix a line
+    // (`go1 STATE NAME ROWS COLUMNS` and its entries row by row), in a file
+    // of their own beside the reference.
+    let mut derivatives = String::new();
+    let mut go1_index = 0;
     for _ in 0..STATES {
         let (system, s) = go1_state(&mut own);
         let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
@@ -434,7 +544,31 @@ fn write(path: &str) {
         line(&mut out, "a", acceleration.iter());
         line(&mut out, "lambda", lambda.iter().take(12));
         line(&mut out, "feet", feet.iter());
+        let d = go1_jacobians(&system, &s, &qdd);
+        worst_derivative = worst_derivative.max(go1_differences(&system, &s, &d));
+        let matrices = [
+            ("dadq", 18, d.da_dq.as_slice()),
+            ("dadv", 18, d.da_dv.as_slice()),
+            ("dadtau", 18, d.da_dtau.as_slice()),
+            ("dldq", 12, d.dl_dq.as_slice()),
+            ("dldv", 12, d.dl_dv.as_slice()),
+            ("dldtau", 12, d.dl_dtau.as_slice()),
+        ];
+        for (name, rows, m) in matrices {
+            let _ = write!(
+                derivatives,
+                "go1 {go1_index} {name} {rows} {}",
+                m.len() / rows
+            );
+            line(&mut derivatives, "", transposed(m, rows).iter());
+        }
+        go1_index += 1;
     }
+    assert!(
+        worst_derivative < 1e-6,
+        "the Go1's Jacobians in Pinocchio's conventions differ from central differences by {worst_derivative:e}"
+    );
+    eprintln!("contacts: the Go1's Jacobians within {worst_derivative:.1e} of central differences");
     for _ in 0..STATES {
         let (system, s) = five_bar_state(&mut rng);
         let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
@@ -451,6 +585,8 @@ fn write(path: &str) {
     assert!(worst < 1e-12, "A q̈ = b only to {worst:e}");
     eprintln!("contacts: A q̈ = b to {worst:.1e} at every state");
     std::fs::write(path, out).expect("writes the reference file");
+    std::fs::write(format!("{path}.derivatives"), derivatives)
+        .expect("writes the derivatives beside the reference file");
 }
 
 /// Times `acceleration` and `acceleration_and_multipliers` over `cases`
@@ -513,6 +649,28 @@ where
     }
 }
 
+/// Times the Go1's `acceleration_jacobian` and `multiplier_jacobian`
+/// together (per state; in our coordinates, the conversion to Pinocchio's
+/// not included), against `computeConstraintDynamicsDerivatives`; one JSON
+/// line.
+fn time_go1_derivatives(round: &str, cases: &[(Go1<f64>, State<f64, N>)]) {
+    let both = median_ns(|| {
+        for (system, s) in cases {
+            let system = black_box(system);
+            let j = system.acceleration_jacobian(black_box(&s.q), black_box(&s.qd), s.t);
+            let l = system.multiplier_jacobian(black_box(&s.q), black_box(&s.qd), s.t);
+            let _ = black_box((j, l));
+        }
+    });
+    println!(
+        "{{\"peer\": \"constrained\", \"what\": \"acceleration_and_multiplier_jacobians\", \
+         \"system\": \"go1\", \"n\": {N}, \"rows\": 13, \"ns\": {:.3}, \"states\": {}, \
+         \"round\": {round}, \"ok\": true}}",
+        both / cases.len() as f64,
+        cases.len()
+    );
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     match (args.get(1).map(String::as_str), args.get(2)) {
@@ -525,6 +683,7 @@ fn main() {
             let five_bars: Vec<_> = (0..STATES).map(|_| five_bar_state(&mut rng)).collect();
             time::<_, N, 13>("quadruped", round, &quadrupeds);
             time::<_, N, 13>("go1", round, &go1s);
+            time_go1_derivatives(round, &go1s);
             time::<_, 4, 2>("five_bar", round, &five_bars);
         }
         _ => {
