@@ -19,7 +19,7 @@ TARGETS = {("quadruped", "acceleration"): 5, ("five_bar", "acceleration"): 5,
 PEERS = ("constraintDynamics", "lcaba")
 OURS = ("acceleration", "acceleration_and_multipliers")
 # Issue 49's derivatives on contacts: our Jacobians of q̈ and λ
-# (`acceleration_jacobian` and `multiplier_jacobian`, timed together)
+# (`acceleration_and_multiplier_jacobians`)
 # against `computeConstraintDynamicsDerivatives` (after the
 # `constraintDynamics` it needs), and the ratio wanted.
 DERIVATIVES = ("go1", "acceleration_and_multiplier_jacobians", "constraint_dynamics_derivatives", 3)
@@ -115,7 +115,7 @@ def section(rows, ns):
         r = ratios(rows, system, ours, theirs)
         ratio = f"{_median(r):.2f}× ({min(r):.2f}–{max(r):.2f})" if r else "–"
         name = dict((x[0], x[3]) for x in SYSTEMS)[system]
-        table.append(f"| {name} | `acceleration_jacobian` + `multiplier_jacobian` / "
+        table.append(f"| {name} | `acceleration_and_multiplier_jacobians` / "
                      f"`constraintDynamics` + `computeConstraintDynamicsDerivatives` | "
                      f"{ns(_median([x['ns'] for x in mine]))} | {ns(_median(timed)) if timed else 'disagreed'} | "
                      f"{ratio} |")
@@ -178,8 +178,8 @@ def section(rows, ns):
         "force on each foot, world axes, `Q_c = Aᵀλ`) compared with `lambda_c`. Each peer",
         "ran with the smallest damping `mu` (0, then 1e-14, 1e-12, …) whose answers agree",
         "with ours (to 1e-12; `lcaba` to 1e-8, as close as it comes at any damping), and",
-        "was timed only then. The Go1's derivatives: our `acceleration_jacobian` and",
-        "`multiplier_jacobian` (by `q` and `q̇`, the quaternion's four coordinates and",
+        "was timed only then. The Go1's derivatives: our",
+        "`acceleration_and_multiplier_jacobians` (by `q` and `q̇`, the quaternion's four coordinates and",
         "rates) are turned into Pinocchio's (a displacement `q ⊕ δ` with the base's",
         "velocity in its own axes held; `benches/peers/robots/src/go1_derivatives.rs`),",
         "checked against central differences of our `q̈` and `λ` so turned (to 1e-6), and",

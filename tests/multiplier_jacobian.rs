@@ -6,7 +6,8 @@
 //! reference model whose rows are independent, and of a free body pinned
 //! at a point (quaternion coordinates, a semi-definite `M`). A redundant
 //! set, whose minimum-norm `λ` is one choice among many, answers
-//! `Err(NotDifferentiable)`.
+//! `Err(NotDifferentiable)`. `acceleration_and_multiplier_jacobians` gives
+//! the same `∂λ` and the `∂q̈` of `acceleration_jacobian` (to 1e-12).
 
 // The macro's input counter is incremented after the last input too.
 #![allow(unused_assignments, clippy::reversed_empty_ranges)]
@@ -16,8 +17,26 @@ use crate::linearize::consistent;
 use constrained::models::*;
 use constrained::multipliers::Multipliers;
 use constrained::nalgebra::{SMatrix, SVector};
-use constrained::{DynamicsError, State};
+use constrained::{DynamicsError, Jacobians, State};
 use num_dual::Dual64;
+
+/// `acceleration_jacobian` is plain or a `Result` as `acceleration` is for
+/// the model: one shape for the test.
+trait Answer<V> {
+    fn answer(self) -> Result<V, DynamicsError>;
+}
+
+impl<V> Answer<V> for Result<V, DynamicsError> {
+    fn answer(self) -> Result<V, DynamicsError> {
+        self
+    }
+}
+
+impl<const N: usize, const NU: usize> Answer<Jacobians<f64, N, NU>> for Jacobians<f64, N, NU> {
+    fn answer(self) -> Result<Jacobians<f64, N, NU>, DynamicsError> {
+        Ok(self)
+    }
+}
 
 /// The largest entry of `a − b` against the scale of `b` (at least 1).
 fn error<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
@@ -55,6 +74,13 @@ macro_rules! check_multipliers {
             let (q, qd, t) = (x.q, x.qd, x.t);
             let jac = system.multiplier_jacobian(&q, &qd, t)
                 .expect(concat!(stringify!($model), ": multiplier_jacobian"));
+            let (both_q, both_l) = system.acceleration_and_multiplier_jacobians(&q, &qd, t)
+                .expect(concat!(stringify!($model), ": both Jacobians"));
+            assert_eq!(both_l, jac, "{}: the same ∂λ", stringify!($model));
+            let alone = system.acceleration_jacobian(&q, &qd, t).answer()
+                .expect(concat!(stringify!($model), ": acceleration_jacobian"));
+            let same = error(&both_q.dq, &alone.dq).max(error(&both_q.dqd, &alone.dqd)).max(error(&both_q.du, &alone.du));
+            assert!(same < 1e-12, "{}: ∂q̈ {same:e} from acceleration_jacobian's", stringify!($model));
             const NU: usize = $model::<f64>::INPUTS;
             let mut dq = SMatrix::<f64, $k, $n>::zeros();
             let mut dqd = SMatrix::<f64, $k, $n>::zeros();

@@ -463,5 +463,7 @@ pub fn linearization<T: RealField + Copy, const N: usize, const NU: usize, const
 
 mod multipliers;
 mod reduced;
-pub use multipliers::{try_multiplier_jacobian, MultiplierJacobians};
+pub use multipliers::{
+    try_acceleration_and_multiplier_jacobians, try_multiplier_jacobian, MultiplierJacobians,
+};
 pub use reduced::{reduced, Reduced};

@@ -83,9 +83,11 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     }
 }
 
-/// `multiplier_jacobian`, for a system with constraint rows: `∂λ/∂q`,
-/// `∂λ/∂q̇`, `∂λ/∂u` by the runtime's solve of the same tangent systems
-/// (`linearize::try_multiplier_jacobian`), after `gauss`'s motion.
+/// `multiplier_jacobian` and `acceleration_and_multiplier_jacobians`, for
+/// a system with constraint rows: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u` (with those of
+/// `q̈`) by the runtime's solve of the same tangent systems
+/// (`linearize::try_acceleration_and_multiplier_jacobians`), after `gauss`'s
+/// motion.
 fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> TokenStream {
     if ctx.k == 0 {
         return TokenStream::new();
@@ -97,10 +99,11 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
         Context::dim(nu),
         Context::dim(2 * n + nu),
     );
-    let jacobians = ctx.path(quote!(linearize::MultiplierJacobians<T, #n_lit, #k_lit, #nu_lit>));
-    let solve = ctx.path(quote!(linearize::try_multiplier_jacobian));
+    let multipliers = ctx.path(quote!(linearize::MultiplierJacobians<T, #n_lit, #k_lit, #nu_lit>));
+    let accelerations = ctx.path(quote!(Jacobians<T, #n_lit, #nu_lit>));
+    let only = ctx.path(quote!(linearize::try_multiplier_jacobian));
+    let both = ctx.path(quote!(linearize::try_acceleration_and_multiplier_jacobians));
     let error = ctx.path(quote!(DynamicsError));
-    let result = quote!(::core::result::Result<#jacobians, #error>);
     let (params, args) = (&parts.params, &parts.args);
     quote! {
         /// The Jacobians of the constraint multipliers `λ(q, q̇, u)` that
@@ -111,9 +114,25 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
         /// (`λ` is then not unique); `Err` where `acceleration` is, or an
         /// entry is not finite.
         #[inline]
-        pub fn multiplier_jacobian(&self, #params) -> #result {
+        pub fn multiplier_jacobian(
+            &self,
+            #params
+        ) -> ::core::result::Result<#multipliers, #error> {
             let __motion = #motion;
-            #solve::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+            #only::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+        }
+        /// The Jacobians of `q̈` and of the multipliers `λ` from one
+        /// evaluation of the tangent systems, solved densely: what
+        /// `acceleration_jacobian` and `multiplier_jacobian` return, for
+        /// about the cost of the second alone. `Err` as
+        /// `multiplier_jacobian`.
+        #[inline]
+        pub fn acceleration_and_multiplier_jacobians(
+            &self,
+            #params
+        ) -> ::core::result::Result<(#accelerations, #multipliers), #error> {
+            let __motion = #motion;
+            #both::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
         }
     }
 }

@@ -16,12 +16,12 @@
 //! is solved through its auxiliary mass `M + s AᵀA`, whose multipliers
 //! are the same: `s AᵀA q̈ = s Aᵀ b` holds on both sides.
 
-use super::{tangent_solutions, MassSolve, Tangent};
+use super::{tangent_solutions, Jacobians, MassSolve, Tangent};
 use crate::generated::{auxiliary_mass, Generated, Motion};
 use crate::inverse::PivotedLdlt;
 use crate::rank::safe_minimum;
 use crate::DynamicsError;
-use nalgebra::{RealField, SMatrix};
+use nalgebra::{RealField, SMatrix, SVector};
 
 /// The Jacobians of `λ(q, q̇, u)`, `K` rows each: `dq = ∂λ/∂q`,
 /// `dqd = ∂λ/∂q̇`, `du = ∂λ/∂u`, column `j` the derivative by the `j`-th
@@ -49,17 +49,12 @@ impl<T: RealField + Copy, const N: usize, const K: usize, const NU: usize>
 }
 
 /// The Jacobians of `λ` at `(q, q̇, t)`, given the motion `(q̈, Fᶜ)` the
-/// system's solver returned there: `M` factored (Cholesky, or the
-/// rank-revealing `LDLᵀ` where it is not numerically positive definite),
-/// `S = A M⁻¹ Aᵀ` by the pivoted `LDLᵀ` once, then one solve per column.
-/// Called by the generated `multiplier_jacobian`; `D = 2N + NU` columns.
+/// system's solver returned there: [`try_acceleration_and_multiplier_jacobians`]'s
+/// second. Called by the generated `multiplier_jacobian`.
 ///
-/// `Err(NotDifferentiable)` where the rows are not independent to the
-/// rank rule of `acceleration` (a redundant set, or a state where a row
-/// has lost rank): `λ` is then not unique (module docs). `Err(NonFinite)`
-/// where `M` or `A` is not finite or has lost its digits to underflow, or
-/// an entry of the result overflows.
-#[allow(clippy::many_single_char_names)]
+/// # Errors
+///
+/// As [`try_acceleration_and_multiplier_jacobians`].
 pub fn try_multiplier_jacobian<
     T,
     S,
@@ -69,11 +64,50 @@ pub fn try_multiplier_jacobian<
     const D: usize,
 >(
     system: &S,
-    q: &nalgebra::SVector<T, N>,
-    qd: &nalgebra::SVector<T, N>,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
     t: T,
     motion: Motion<T, N>,
 ) -> Result<MultiplierJacobians<T, N, K, NU>, DynamicsError>
+where
+    T: RealField + Copy,
+    S: Generated<T, N, K> + Tangent<T, N, K, D>,
+{
+    try_acceleration_and_multiplier_jacobians::<T, S, N, K, NU, D>(system, q, qd, t, motion)
+        .map(|(_, multipliers)| multipliers)
+}
+
+/// The Jacobians of `q̈` and of `λ` at `(q, q̇, t)`, given the motion
+/// `(q̈, Fᶜ)` the system's solver returned there, from one evaluation of
+/// the tangent systems: `M` factored (Cholesky, or the rank-revealing
+/// `LDLᵀ` where it is not numerically positive definite), `S = A M⁻¹ Aᵀ` by
+/// the pivoted `LDLᵀ` once, then one solve per column for both,
+/// `λᵥ = S⁻¹(b̃ᵥ − A M⁻¹F̃ᵥ)` and `q̈ᵥ = M⁻¹(F̃ᵥ + Aᵀλᵥ)`. Called by the
+/// generated `acceleration_and_multiplier_jacobians`; `D = 2N + NU`
+/// columns.
+///
+/// # Errors
+///
+/// `Err(NotDifferentiable)` where the rows are not independent to the
+/// rank rule of `acceleration` (a redundant set, or a state where a row
+/// has lost rank): `λ` is then not unique (module docs). `Err(NonFinite)`
+/// where `M` or `A` is not finite or has lost its digits to underflow, or
+/// an entry of the result overflows.
+#[allow(clippy::many_single_char_names, clippy::type_complexity)]
+pub fn try_acceleration_and_multiplier_jacobians<
+    T,
+    S,
+    const N: usize,
+    const K: usize,
+    const NU: usize,
+    const D: usize,
+>(
+    system: &S,
+    q: &SVector<T, N>,
+    qd: &SVector<T, N>,
+    t: T,
+    motion: Motion<T, N>,
+) -> Result<(Jacobians<T, N, NU>, MultiplierJacobians<T, N, K, NU>), DynamicsError>
 where
     T: RealField + Copy,
     S: Generated<T, N, K> + Tangent<T, N, K, D>,
@@ -106,16 +140,29 @@ where
     }
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
-    let solve = |f_c: &nalgebra::SVector<T, N>, b_c: &nalgebra::SVector<T, K>| {
+    // Each column's λᵥ, kept as the columns are solved in order.
+    let mut multipliers = SMatrix::<T, K, D>::zeros();
+    let mut column = 0;
+    let solve = |f_c: &SVector<T, N>, b_c: &SVector<T, K>| {
         let unconstrained = mass.solve(f_c);
-        Some(ldlt.solve_unchecked(&(b_c - a * unconstrained)))
+        let mu = ldlt.solve_unchecked(&(b_c - a * unconstrained));
+        if column < D {
+            multipliers.set_column(column, &mu);
+        }
+        column += 1;
+        Some(unconstrained + w * mu)
     };
     let (dq, dqd, du) =
-        tangent_solutions::<T, S, N, K, NU, D, K>(system, (q, qd, t), (&qdd, &lam), (&a, s), solve)
+        tangent_solutions::<T, S, N, K, NU, D, N>(system, (q, qd, t), (&qdd, &lam), (&a, s), solve)
             .ok_or(DynamicsError::NonFinite)?;
-    let jac = MultiplierJacobians { dq, dqd, du };
-    if jac.is_finite() {
-        Ok(jac)
+    let accelerations = Jacobians { dq, dqd, du };
+    let lambdas = MultiplierJacobians {
+        dq: multipliers.fixed_columns::<N>(0).into_owned(),
+        dqd: multipliers.fixed_columns::<N>(N).into_owned(),
+        du: multipliers.fixed_columns::<NU>(2 * N).into_owned(),
+    };
+    if accelerations.is_finite() && lambdas.is_finite() {
+        Ok((accelerations, lambdas))
     } else {
         Err(DynamicsError::NonFinite)
     }

@@ -26,8 +26,8 @@
 //! line (`names go1 …`) names them, for Pinocchio's side to place each by
 //! its name. Every state's `q̈` is checked against `A q̈ = b` (1e-12) first.
 //!
-//! For the Go1, `REFERENCE_FILE.derivatives` holds our `acceleration_jacobian`
-//! and `multiplier_jacobian` turned into Pinocchio's conventions
+//! For the Go1, `REFERENCE_FILE.derivatives` holds our Jacobians of `q̈` and
+//! `λ` (`acceleration_and_multiplier_jacobians`) turned into Pinocchio's conventions
 //! (`go1_derivatives.rs`), one matrix a line, after they are checked against
 //! central differences of our `q̈` and `λ` turned the same way (to 1e-6), for
 //! Pinocchio's side to compare with `computeConstraintDynamicsDerivatives`.
@@ -377,19 +377,16 @@ fn transposed(m: &[f64], rows: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The Go1's `acceleration_jacobian` and `multiplier_jacobian` at `s`
-/// (whose `q̈` is `qdd`), in Pinocchio's conventions.
+/// The Go1's Jacobians of `q̈` and `λ` at `s` (whose `q̈` is `qdd`), from
+/// `acceleration_and_multiplier_jacobians`, in Pinocchio's conventions.
 fn go1_jacobians(
     system: &Go1<f64>,
     s: &State<f64, N>,
     qdd: &SVector<f64, N>,
 ) -> go1_derivatives::Derivatives {
-    let j = system
-        .acceleration_jacobian(&s.q, &s.qd, s.t)
-        .expect("the Go1's Jacobian of q̈");
-    let l = system
-        .multiplier_jacobian(&s.q, &s.qd, s.t)
-        .expect("the Go1's Jacobian of λ");
+    let (j, l) = system
+        .acceleration_and_multiplier_jacobians(&s.q, &s.qd, s.t)
+        .expect("the Go1's Jacobians of q̈ and λ");
     go1_derivatives::pinocchio_derivatives(
         (&s.q, &s.qd, qdd),
         (&j.dq, &j.dqd, &j.du),
@@ -649,17 +646,17 @@ where
     }
 }
 
-/// Times the Go1's `acceleration_jacobian` and `multiplier_jacobian`
-/// together (per state; in our coordinates, the conversion to Pinocchio's
-/// not included), against `computeConstraintDynamicsDerivatives`; one JSON
-/// line.
+/// Times the Go1's `acceleration_and_multiplier_jacobians` (per state; in
+/// our coordinates, the conversion to Pinocchio's not included), against
+/// `computeConstraintDynamicsDerivatives`; one JSON line.
 fn time_go1_derivatives(round: &str, cases: &[(Go1<f64>, State<f64, N>)]) {
     let both = median_ns(|| {
         for (system, s) in cases {
-            let system = black_box(system);
-            let j = system.acceleration_jacobian(black_box(&s.q), black_box(&s.qd), s.t);
-            let l = system.multiplier_jacobian(black_box(&s.q), black_box(&s.qd), s.t);
-            let _ = black_box((j, l));
+            let _ = black_box(black_box(system).acceleration_and_multiplier_jacobians(
+                black_box(&s.q),
+                black_box(&s.qd),
+                s.t,
+            ));
         }
     });
     println!(
