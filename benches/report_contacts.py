@@ -204,32 +204,45 @@ HEADING = "## Contacts and loops: the quadruped, the Go1 and the five-bar, again
 TARGET_PREFIX = "Contacts: "
 
 
-def _machine():
+def machine():
     for line in Path("/proc/cpuinfo").read_text().splitlines():
         if line.startswith("model name"):
             return f"{line.split(':', 1)[1].strip()}, {os.cpu_count()} cores"
     return "unknown CPU"
 
 
-def splice(path, rows, ns, when):
-    """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md),
-    leaving the rest as the last full run wrote it."""
+def replace_section(path, heading, lines, new_targets, prefix, provenance):
+    """Rewrites the section `heading` of `path` (BENCHMARKS.md) with `lines`
+    (as a `section` returns them, `provenance` inserted after the heading)
+    and the targets' rows whose names start with `prefix` with
+    `new_targets`, leaving the rest as the last full run wrote it."""
     text = path.read_text()
-    lines = section(rows, ns)
-    if not lines:
-        sys.exit("no contacts.json: run benches/peers/run.sh")
-    lines[3:3] = [f"From the peers' run of {when} on {_machine()} (this section alone:",
-                  "`python3 benches/report_contacts.py`).", ""]
+    lines[3:3] = provenance + [""]
     body = "\n".join(lines[1:]) + "\n"
-    start = text.find(HEADING)
-    end = text.find("\n## ", start + len(HEADING)) if start >= 0 else -1
-    text = (text[:start] + body + (text[end:] if end >= 0 else "")) if start >= 0 else text + "\n" + body
-    kept = [line for line in text.split("\n") if not line.startswith(f"| {TARGET_PREFIX}")]
+    start = text.find(heading)
+    if start >= 0:
+        end = text.find("\n## ", start + len(heading))
+        text = text[:start] + body + (text[end:] if end >= 0 else "")
+    else:
+        at = text.find("\n## Contacts and loops")
+        at = at + 1 if at >= 0 and heading != HEADING else len(text)
+        text = text[:at] + body + "\n" + text[at:]
+    kept = [line for line in text.split("\n") if not line.startswith(f"| {prefix}")]
     end = next(i for i, line in enumerate(kept) if line.startswith("## Targets"))
     end = next(i for i in range(end + 4, len(kept)) if not kept[i].startswith("|"))
     new = [f"| {name} | {fmt.format(value)} | {wanted} | {'✓' if check(value) else '✗'} |"
-           for name, value, wanted, check, fmt in targets(rows)]
+           for name, value, wanted, check, fmt in new_targets]
     path.write_text("\n".join(kept[:end] + new + kept[end:]))
+
+
+def splice(path, rows, ns, when):
+    """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md)."""
+    lines = section(rows, ns)
+    if not lines:
+        sys.exit("no contacts.json: run benches/peers/run.sh")
+    provenance = [f"From the peers' run of {when} on {machine()} (this section alone:",
+                  "`python3 benches/report_contacts.py`)."]
+    replace_section(path, HEADING, lines, targets(rows), TARGET_PREFIX, provenance)
 
 
 if __name__ == "__main__":

@@ -10,9 +10,7 @@ Run alone (`python3 benches/report_kinematics.py`), it rewrites this section
 and its targets' rows in BENCHMARKS.md from the last run of the peers,
 leaving the rest of the file as the last full run wrote it."""
 
-import os
 import sys
-from pathlib import Path
 
 import report_contacts
 
@@ -164,36 +162,14 @@ def section(rows, ns):
     ] + table
 
 
-def _machine():
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            return f"{line.split(':', 1)[1].strip()}, {os.cpu_count()} cores"
-    return "unknown CPU"
-
-
 def splice(path, rows, ns, when):
     """Rewrites this section and the targets' rows of `path` (BENCHMARKS.md)."""
-    text = path.read_text()
     lines = section(rows, ns)
     if not lines:
         sys.exit("no kinematics.json: run benches/peers/run.sh")
-    lines[3:3] = [f"From the peers' run of {when} on {_machine()} (this section alone:",
-                  "`python3 benches/report_kinematics.py`).", ""]
-    body = "\n".join(lines[1:]) + "\n"
-    start = text.find(HEADING)
-    if start >= 0:
-        end = text.find("\n## ", start + len(HEADING))
-        text = text[:start] + body + (text[end:] if end >= 0 else "")
-    else:
-        at = text.find("\n## Contacts and loops")
-        at = at + 1 if at >= 0 else len(text)
-        text = text[:at] + body + "\n" + text[at:]
-    kept = [line for line in text.split("\n") if not line.startswith(f"| {TARGET_PREFIX}")]
-    end = next(i for i, line in enumerate(kept) if line.startswith("## Targets"))
-    end = next(i for i in range(end + 4, len(kept)) if not kept[i].startswith("|"))
-    new = [f"| {name} | {fmt.format(value)} | {wanted} | {'✓' if check(value) else '✗'} |"
-           for name, value, wanted, check, fmt in targets(rows)]
-    path.write_text("\n".join(kept[:end] + new + kept[end:]))
+    provenance = [f"From the peers' run of {when} on {report_contacts.machine()} (this section alone:",
+                  "`python3 benches/report_kinematics.py`)."]
+    report_contacts.replace_section(path, HEADING, lines, targets(rows), TARGET_PREFIX, provenance)
 
 
 if __name__ == "__main__":

@@ -140,6 +140,61 @@ impl<T: RealField + Copy, const N: usize> MassSolve<T, N> {
     }
 }
 
+/// The dense pieces of the tangent systems at `(q, q̇, t)`: `A`, the `M`
+/// factored (a semi-definite `M`'s auxiliary mass `M + s AᵀA`, with `s`),
+/// `W = M⁻¹ Aᵀ` and `S = A W` with its pivoted `LDLᵀ`, one factorization of
+/// each.
+struct Dense<T: RealField + Copy, const N: usize, const K: usize> {
+    a: SMatrix<T, K, N>,
+    m: SMatrix<T, N, N>,
+    s: T,
+    mass: MassSolve<T, N>,
+    w: SMatrix<T, N, K>,
+    gram: SMatrix<T, K, K>,
+    ldlt: PivotedLdlt<T, K>,
+}
+
+impl<T: RealField + Copy, const N: usize, const K: usize> Dense<T, N, K> {
+    /// `Err(NonFinite)` where `M` is in the range where products
+    /// underflow: a rigid body's `M = 4 Gᵀ J G` at `e = 1e-154` is 4e-308,
+    /// which has lost its digits, and so have the tangent terms made from
+    /// it: no derivative to trust.
+    fn new<S: Generated<T, N, K>>(
+        system: &S,
+        q: &SVector<T, N>,
+        qd: &SVector<T, N>,
+        t: T,
+    ) -> Result<Self, DynamicsError> {
+        let (a, _) = system.constraint_matrices(q, qd, t);
+        let m = system.mass_matrix(q, t);
+        let (m, s) = if S::SEMIDEFINITE_MASS {
+            auxiliary_mass(&m, &a)
+        } else {
+            (m, T::one())
+        };
+        if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
+            return Err(DynamicsError::NonFinite);
+        }
+        let mass = MassSolve::new(m);
+        let mut w = SMatrix::<T, N, K>::zeros();
+        for r in 0..K {
+            let column = mass.solve(&a.row(r).transpose());
+            w.set_column(r, &column);
+        }
+        let gram = a * w;
+        let ldlt = PivotedLdlt::factor(&gram);
+        Ok(Dense {
+            a,
+            m,
+            s,
+            mass,
+            w,
+            gram,
+            ldlt,
+        })
+    }
+}
+
 /// [`try_acceleration_jacobian`] with its `Err` as every entry NaN
 /// ([`Jacobians::not_a_number`]).
 #[must_use]
@@ -200,28 +255,15 @@ where
 {
     const { assert!(D == 2 * N + NU, "D = 2N + NU columns") };
     let (qdd, force) = motion;
-    let (a, _) = system.constraint_matrices(q, qd, t);
-    let m = system.mass_matrix(q, t);
-    let (m, s) = if S::SEMIDEFINITE_MASS {
-        auxiliary_mass(&m, &a)
-    } else {
-        (m, T::one())
-    };
-    // A mass matrix in the range where products underflow (a rigid body's
-    // `M = 4 Gᵀ J G` at `e = 1e-154` is 4e-308) has lost its digits, and
-    // so have the tangent terms made from it: no derivative to trust.
-    if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
-        return Err(DynamicsError::NonFinite);
-    }
-    let mass = MassSolve::new(m);
-    // W = M⁻¹ Aᵀ, S = A W, one factorization of each.
-    let mut w = SMatrix::<T, N, K>::zeros();
-    for r in 0..K {
-        let column = mass.solve(&a.row(r).transpose());
-        w.set_column(r, &column);
-    }
-    let gram = a * w;
-    let ldlt = PivotedLdlt::factor(&gram);
+    let Dense {
+        a,
+        m,
+        s,
+        mass,
+        w,
+        gram,
+        ldlt,
+    } = Dense::new(system, q, qd, t)?;
     // Where the fast solve's rank decision is suspect (`crate::rank`),
     // `acceleration` checked it and kept the rows it must: differentiate
     // that `q̈` the way it was recomputed.

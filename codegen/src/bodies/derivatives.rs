@@ -117,19 +117,11 @@ pub fn inverse_dynamics_jacobian(
         let c = held(g, composite[i]);
         let o = &outward[i];
         let (s, ci) = (o.column, o.coordinate);
-        let inertia_column = c.inertia.apply(g, s).held(g);
-        let rate_column = transposed_rate(g, &c, s);
-        let rate_column = spatial::hold3(g, rate_column);
-        let by_velocity = rate(g, &c, o.velocity_by_q);
-        let by_acceleration = c.inertia.apply(g, o.acceleration_by_q);
-        let force_by_q = by_velocity.add(g, by_acceleration).held(g);
-        let own = rate(g, &c, s);
-        let by_acceleration = c.inertia.apply(g, o.acceleration_by_rate);
-        let force_by_rate = own.add(g, by_acceleration).held(g);
+        let own = products(g, &c, o);
         // The body's own entry, then those of the bodies beyond it.
-        let own_q = s.dot(g, force_by_q);
+        let own_q = s.dot(g, own.force_by_q);
         accumulate(g, &mut by_q[ci][ci], own_q);
-        let own_rate = s.dot(g, force_by_rate);
+        let own_rate = s.dot(g, own.force_by_rate);
         accumulate(g, &mut by_rate[ci][ci], own_rate);
         for k in beyond(&tree.bodies, i) {
             let (Some(w), ck) = (&inward[k], outward[k].coordinate) else {
@@ -146,18 +138,38 @@ pub fn inverse_dynamics_jacobian(
             accumulate(g, &mut by_q[ci][ck], entries[2]);
             accumulate(g, &mut by_rate[ci][ck], entries[3]);
         }
+        // What the ancestors read also turns the subtree's force.
         let turned = s.cross_force(g, c.force);
         inward[i] = Some(Inward {
-            inertia_column,
-            rate_column,
-            force_by_q: force_by_q.add(g, turned).held(g),
-            force_by_rate,
+            force_by_q: own.force_by_q.add(g, turned).held(g),
+            ..own
         });
         if let Some(p) = tree.bodies[i].parent {
             composite[p] = sum(g, &composite[p], &c);
         }
     }
     Some([by_q, by_rate])
+}
+
+/// A body's products with its subtree's composites `c`, `force_by_q`
+/// without the turn `Sₖ ×* fᶜₖ` (which its own entry does not read).
+fn products(g: &mut Graph, c: &Composite, o: &Outward) -> Inward {
+    let s = o.column;
+    let inertia_column = c.inertia.apply(g, s).held(g);
+    let rate_column = transposed_rate(g, c, s);
+    let rate_column = spatial::hold3(g, rate_column);
+    let by_velocity = rate(g, c, o.velocity_by_q);
+    let by_acceleration = c.inertia.apply(g, o.acceleration_by_q);
+    let force_by_q = by_velocity.add(g, by_acceleration).held(g);
+    let own = rate(g, c, s);
+    let by_acceleration = c.inertia.apply(g, o.acceleration_by_rate);
+    let force_by_rate = own.add(g, by_acceleration).held(g);
+    Inward {
+        inertia_column,
+        rate_column,
+        force_by_q,
+        force_by_rate,
+    }
 }
 
 /// Every body's [`Outward`] quantities, parents first; `None` where a

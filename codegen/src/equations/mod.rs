@@ -113,6 +113,33 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.a,
         &rows.b,
     );
+    let (tangent, inverse_jacobian) = derivatives(&mut system, &mass_inverse, &rows, jacobians);
+    let momentum = momentum(&mut system.graph, &system.mass);
+    Equations {
+        momentum,
+        inverse_jacobian,
+        jacobians,
+        system,
+        a: rows.a,
+        b: rows.b,
+        velocity_constraints: rows.velocity_constraints,
+        velocity,
+        mass_inverse,
+        tangent,
+        partition: Partition::default(),
+    }
+}
+
+/// The tangent pieces of `acceleration_jacobian` (none without
+/// `jacobians`) and the bodies' `inverse_dynamics_jacobian` where
+/// `derivatives: [inverse_dynamics]` asks for it.
+fn derivatives(
+    system: &mut System,
+    mass_inverse: &MassInverse,
+    rows: &Rows,
+    jacobians: bool,
+) -> (Tangent, Option<[Vec<Vec<Id>>; 2]>) {
+    let n = system.dof();
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     // `∂τ/∂q`, `∂τ/∂q̇`, for `inverse_dynamics_jacobian` and for the
     // tangents of a tree whose `M` is factored. Not for an auxiliary mass
@@ -161,24 +188,11 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
     } else {
         Tangent::none()
     };
-    let momentum = momentum(&mut system.graph, &system.mass);
     let inverse_jacobian = match (&system.bodies, inverse_dynamics) {
         (Some(b), Some(jacobian)) if b.inverse_derivatives => Some(jacobian),
         _ => None,
     };
-    Equations {
-        momentum,
-        inverse_jacobian,
-        jacobians,
-        system,
-        a: rows.a,
-        b: rows.b,
-        velocity_constraints: rows.velocity_constraints,
-        velocity,
-        mass_inverse,
-        tangent,
-        partition: Partition::default(),
-    }
+    (tangent, inverse_jacobian)
 }
 
 /// `M` and `F` with their common factors pulled out, and for quaternion

@@ -16,9 +16,8 @@
 //! is solved through its auxiliary mass `M + s AᵀA`, whose multipliers
 //! are the same: `s AᵀA q̈ = s Aᵀ b` holds on both sides.
 
-use super::{tangent_solutions, Jacobians, MassSolve, Tangent};
-use crate::generated::{auxiliary_mass, Generated, Motion};
-use crate::inverse::PivotedLdlt;
+use super::{tangent_solutions, Dense, Jacobians, Tangent};
+use crate::generated::{Generated, Motion};
 use crate::rank::safe_minimum;
 use crate::DynamicsError;
 use nalgebra::{RealField, SMatrix, SVector};
@@ -114,26 +113,18 @@ where
 {
     const { assert!(D == 2 * N + NU, "D = 2N + NU columns") };
     let (qdd, force) = motion;
-    let (a, _) = system.constraint_matrices(q, qd, t);
-    let m = system.mass_matrix(q, t);
+    let Dense {
+        a,
+        m,
+        s,
+        mass,
+        w,
+        gram,
+        ldlt,
+    } = Dense::new(system, q, qd, t)?;
     if !m.iter().chain(a.iter()).all(|x| x.is_finite()) {
         return Err(DynamicsError::NonFinite);
     }
-    let (m, s) = if S::SEMIDEFINITE_MASS {
-        auxiliary_mass(&m, &a)
-    } else {
-        (m, T::one())
-    };
-    if m.diagonal().iter().any(|&x| x.abs() < safe_minimum()) {
-        return Err(DynamicsError::NonFinite);
-    }
-    let mass = MassSolve::new(m);
-    let mut w = SMatrix::<T, N, K>::zeros();
-    for r in 0..K {
-        w.set_column(r, &mass.solve(&a.row(r).transpose()));
-    }
-    let gram = a * w;
-    let ldlt = PivotedLdlt::factor(&gram);
     let underflow = gram.diagonal().iter().any(|&x| x < safe_minimum());
     if underflow || ldlt.rank() < K {
         return Err(DynamicsError::NotDifferentiable);
