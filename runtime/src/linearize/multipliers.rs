@@ -113,22 +113,15 @@ where
 {
     const { assert!(D == 2 * N + NU, "D = 2N + NU columns") };
     let (qdd, force) = motion;
-    let Dense {
-        a,
-        m,
-        s,
-        mass,
-        w,
-        gram,
-        ldlt,
-    } = Dense::new(system, q, qd, t)?;
-    if !m.iter().chain(a.iter()).all(|x| x.is_finite()) {
+    let dense: Dense<T, N, K> = Dense::new(system, q, qd, t)?;
+    if !dense.m.iter().chain(dense.a.iter()).all(|x| x.is_finite()) {
         return Err(DynamicsError::NonFinite);
     }
-    let underflow = gram.diagonal().iter().any(|&x| x < safe_minimum());
-    if underflow || ldlt.rank() < K {
+    let underflow = dense.gram.diagonal().iter().any(|&x| x < safe_minimum());
+    if underflow || dense.ldlt.rank() < K {
         return Err(DynamicsError::NotDifferentiable);
     }
+    let (a, w, s, mass, ldlt) = (dense.a, dense.w, dense.s, &dense.mass, &dense.ldlt);
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
     // Each column's λᵥ, kept as the columns are solved in order.
