@@ -80,12 +80,19 @@ impl<T: RealField + Copy, const N: usize, const NU: usize> Jacobians<T, N, NU> {
     #[must_use]
     #[inline]
     pub fn is_finite(&self) -> bool {
-        // Without an early exit, and not through a chain of iterators: the
-        // generated `acceleration_jacobian` ends in this check, and the
-        // chain's `try_fold`, not inlined, took a sixth of the cart-pole's.
-        let finite = |m: &[T]| m.iter().fold(true, |ok, x| ok & x.is_finite());
-        finite(self.dq.as_slice()) & finite(self.dqd.as_slice()) & finite(self.du.as_slice())
+        all_finite(self.dq.as_slice())
+            & all_finite(self.dqd.as_slice())
+            & all_finite(self.du.as_slice())
     }
+}
+
+/// Whether every entry is finite. Without an early exit, and not through a
+/// chain of iterators: the generated `acceleration_jacobian` ends in this
+/// check, and the chain's `try_fold`, not inlined, took a sixth of the
+/// cart-pole's.
+#[inline]
+fn all_finite<T: RealField + Copy>(m: &[T]) -> bool {
+    m.iter().fold(true, |ok, x| ok & x.is_finite())
 }
 
 /// What the generated code provides for the Jacobian: the right-hand sides

@@ -31,11 +31,13 @@
 //!
 //! Joints whose columns are constant in their body's axes qualify
 //! (revolute, prismatic, helical, and mimics of them, whose columns carry
-//! the multiplier and add to the coordinate they follow); a quaternion's
-//! columns vary with `q`, and a tree with one is differentiated
-//! symbolically instead (`None` here).
+//! the multiplier and add to the coordinate they follow, `accumulate`); a
+//! quaternion's four columns vary with `q`, and a tree with one is
+//! differentiated symbolically instead (`None` here).
 
-use super::joint::{JointKind, JointState};
+use super::joint::JointState;
+use super::kinematics::world_column;
+use super::recursion::accumulate;
 use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Body, Placement, Tree};
 use crate::expr::{Graph, Id, Sym};
@@ -53,14 +55,9 @@ struct Outward {
     acceleration_by_q: Spatial,
     /// `∂aᵢ/∂q̇ᵢ`.
     acceleration_by_rate: Spatial,
-    /// `Iᵢ`.
-    inertia: Inertia,
-    /// `Σᵢ`, the symmetric block of `Bᵢ`.
-    symmetric: M3,
-    /// `kᵢ = Iᵢ vᵢ`.
-    momentum: Spatial,
-    /// `fᵢ = Iᵢ aᵢ + vᵢ ×* kᵢ`.
-    force: Spatial,
+    /// The body's own inertia, `Σᵢ`, momentum and force: its subtree's
+    /// [`Composite`] before the children's are added.
+    own: Composite,
 }
 
 /// A body's products from the inward pass, with the composites of its
@@ -79,39 +76,29 @@ struct Inward {
 /// The composites of a subtree, summed inward.
 #[derive(Clone, Copy)]
 struct Composite {
+    /// `Iᶜ`.
     inertia: Inertia,
+    /// `Σᶜ`, the symmetric block of `Bᶜ`.
     symmetric: M3,
+    /// `kᶜ`, the sum of `kᵢ = Iᵢ vᵢ`.
     momentum: Spatial,
+    /// `fᶜ`, the sum of `fᵢ = Iᵢ aᵢ + vᵢ ×* kᵢ`.
     force: Spatial,
 }
 
 /// `(∂τ/∂q, ∂τ/∂q̇)` of the tree's inverse dynamics, n × n each, with `q̈`
-/// as `Sym::Accel`; `None` for a tree with a quaternion joint.
+/// as `Sym::Accel`; `None` for a tree with a joint of other than one
+/// column (a quaternion's four).
 pub fn inverse_dynamics_jacobian(
     g: &mut Graph,
     tree: &Tree,
     n: usize,
 ) -> Option<[Vec<Vec<Id>>; 2]> {
-    if tree
-        .bodies
-        .iter()
-        .any(|b| b.joint.kind == JointKind::Quaternion)
-    {
-        return None;
-    }
     let outward = outward(g, tree)?;
     let zero = g.int(0);
     let mut by_q = vec![vec![zero; n]; n];
     let mut by_rate = vec![vec![zero; n]; n];
-    let mut composite: Vec<Composite> = outward
-        .iter()
-        .map(|o| Composite {
-            inertia: o.inertia,
-            symmetric: o.symmetric,
-            momentum: o.momentum,
-            force: o.force,
-        })
-        .collect();
+    let mut composite: Vec<Composite> = outward.iter().map(|o| o.own).collect();
     let mut inward: Vec<Option<Inward>> = (0..tree.bodies.len()).map(|_| None).collect();
     for i in (0..tree.bodies.len()).rev() {
         let c = held(g, composite[i]);
@@ -227,10 +214,12 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
             velocity_by_q,
             acceleration_by_q,
             acceleration_by_rate,
-            inertia,
-            symmetric,
-            momentum,
-            force,
+            own: Composite {
+                inertia,
+                symmetric,
+                momentum,
+                force,
+            },
         });
         frames.push(frame);
         motion.push((v, a));
@@ -241,8 +230,7 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
 /// A motion vector of a body's axes at its origin in world axes about the
 /// world's origin: `ω = R s_ω`, `v = R s_v + p × ω`.
 fn to_world(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
-    let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
-    let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
+    let (linear, angular) = world_column(g, frame, s);
     let moved = spatial::cross(g, frame.translation, angular);
     Spatial {
         angular,
@@ -291,7 +279,8 @@ fn world_inertia(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia
 }
 
 /// `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` for the velocity `[ω; v]`:
-/// `X + Xᵀ` with `X = ω̃ Ī`, less the symmetric `ṽ h̃ + h̃ ṽ`.
+/// `X + Xᵀ` with `X = ω̃ Ī`, less the symmetric `ṽ h̃ + h̃ ṽ`, each
+/// symmetric entry once.
 fn symmetric_rate(g: &mut Graph, inertia: &Inertia, velocity: Spatial) -> M3 {
     let (w, v, h) = (velocity.angular, velocity.linear, inertia.first_moment);
     let w = spatial::skew(g, w);
@@ -299,8 +288,9 @@ fn symmetric_rate(g: &mut Graph, inertia: &Inertia, velocity: Spatial) -> M3 {
     let vh = spatial::dot(g, v, h);
     let two = g.int(2);
     let twice = g.mul2(two, vh);
-    [0, 1, 2].map(|r| {
-        [0, 1, 2].map(|c| {
+    let mut out = [[g.int(0); 3]; 3];
+    for r in 0..3 {
+        for c in r..3 {
             let hv = g.mul2(h[r], v[c]);
             let vh = g.mul2(v[r], h[c]);
             let mut e = g.add(&[turned[r][c], turned[c][r]]);
@@ -309,9 +299,12 @@ fn symmetric_rate(g: &mut Graph, inertia: &Inertia, velocity: Spatial) -> M3 {
             if r == c {
                 e = g.add2(e, twice);
             }
-            spatial::hold(g, e)
-        })
-    })
+            let e = spatial::hold(g, e);
+            out[r][c] = e;
+            out[c][r] = e;
+        }
+    }
+    out
 }
 
 /// `Bᶜ m = [Σᶜ ω − kₙ × ω; −2 k_f × ω]` for `m = [ω; v]`.
@@ -375,12 +368,6 @@ fn sum(g: &mut Graph, a: &Composite, b: &Composite) -> Composite {
         momentum: a.momentum.add(g, b.momentum),
         force: a.force.add(g, b.force),
     }
-}
-
-/// `x ← x + y`, where `x` starts at 0: mimics add to the coordinate they
-/// follow.
-fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
-    *x = if g.is_zero(*x) { y } else { g.add2(*x, y) };
 }
 
 #[cfg(test)]

@@ -147,7 +147,7 @@ fn path(described: &[Described], body: usize) -> impl Iterator<Item = usize> + '
 
 /// A motion subspace column `s` of a body's joint (in its axes, at its
 /// origin) in world axes: `(R s_v, R s_ω)`.
-fn world_column(g: &mut Graph, frame: &Placement, s: Spatial) -> (V3, V3) {
+pub(super) fn world_column(g: &mut Graph, frame: &Placement, s: Spatial) -> (V3, V3) {
     let linear = spatial::mat_vec(g, &frame.rotation, s.linear);
     let angular = spatial::mat_vec(g, &frame.rotation, s.angular);
     (linear, angular)

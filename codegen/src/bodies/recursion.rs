@@ -68,7 +68,7 @@ fn subspace(g: &mut Graph, js: JointState) -> Vec<(usize, Spatial)> {
 
 /// `x ← x + y`, where `x` starts at 0: a coordinate that several joints
 /// move (a mimic's) sums their parts.
-fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
+pub(super) fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
     *x = if g.is_zero(*x) { y } else { g.add2(*x, y) };
 }
 

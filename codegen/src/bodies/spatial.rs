@@ -6,7 +6,7 @@
 //! of axis-aligned frames fold away exactly and nothing is built for them.
 
 use crate::expr::num::Num;
-use crate::expr::{Func, Graph, Id, Node};
+use crate::expr::{Func, Graph, Id};
 
 /// A 3-vector of expressions.
 pub type V3 = [Id; 3];
@@ -18,15 +18,7 @@ pub type M3 = [[Id; 3]; 3];
 /// mass) does not copy its terms: what keeps the recursions' expressions
 /// O(n) rather than growing with every body they pass through.
 pub fn hold(g: &mut Graph, x: Id) -> Id {
-    let parts = match g.node(x) {
-        Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
-        _ => 0,
-    };
-    if parts >= 2 {
-        g.func(Func::Hold, x)
-    } else {
-        x
-    }
+    g.hold(x)
 }
 
 /// [`hold`] on each component.

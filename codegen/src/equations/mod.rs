@@ -159,19 +159,13 @@ fn derivatives(
         }),
         _ => None,
     };
-    // Long trees whose `M` is not factored as it is (a quaternion's
-    // auxiliary mass) differentiate `M q̈` (O(n) from the recursions) rather
-    // than `M`'s n² entries (see `PRODUCTS_FROM`).
+    // Long trees on an auxiliary mass (quaternion joints) differentiate
+    // `M q̈` (O(n) from the recursions) rather than `M`'s n² entries (see
+    // `PRODUCTS_FROM`).
     let mass_times = match (&system.bodies, &mass_inverse) {
-        (Some(b), MassInverse::Factored(_) | MassInverse::Auxiliary(_))
-            if jacobians && through_inverse.is_none() && n >= tangent::PRODUCTS_FROM =>
-        {
-            Some(crate::bodies::recursion::mass_times(
-                &mut system.graph,
-                &b.tree,
-                n,
-            ))
-        }
+        (Some(b), MassInverse::Auxiliary(_)) if jacobians && n >= tangent::PRODUCTS_FROM => Some(
+            crate::bodies::recursion::mass_times(&mut system.graph, &b.tree, n),
+        ),
         _ => None,
     };
     let pieces = Pieces {

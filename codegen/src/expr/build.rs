@@ -22,6 +22,22 @@ impl Graph {
         self.add(&[a, b])
     }
 
+    /// `x` as one operand ([`Func::Hold`]) where it is a sum of two or more
+    /// parts, else `x` itself: what keeps the bodies' recursions (and their
+    /// derivatives) O(n), rather than copying a sum's terms into every
+    /// product that scales it (`crate::bodies::spatial::hold`).
+    pub fn hold(&mut self, x: Id) -> Id {
+        let parts = match self.node(x) {
+            Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
+            _ => 0,
+        };
+        if parts >= 2 {
+            self.func(Func::Hold, x)
+        } else {
+            x
+        }
+    }
+
     /// `a − b`.
     pub fn sub(&mut self, a: Id, b: Id) -> Id {
         self.linear_combination([(a, Num::ONE), (b, Num::MINUS_ONE)])

@@ -137,15 +137,7 @@ fn derive(d: &mut impl Rule, g: &mut Graph, e: Id) -> Id {
 /// copying the terms of each derivative into every product that scales it.
 fn held(d: &mut impl Rule, g: &mut Graph, x: Id) -> Id {
     let inner = d.of(g, x);
-    let parts = match g.node(inner) {
-        Node::Add(terms, c0) => terms.len() + usize::from(!c0.is_zero()),
-        _ => 0,
-    };
-    if parts >= 2 {
-        g.func(Func::Hold, inner)
-    } else {
-        inner
-    }
+    g.hold(inner)
 }
 
 /// Forward mode: the directional derivative `Σᵢ sᵢ·∂e/∂vᵢ` along the seeds

@@ -16,7 +16,7 @@
 //! is solved through its auxiliary mass `M + s AᵀA`, whose multipliers
 //! are the same: `s AᵀA q̈ = s Aᵀ b` holds on both sides.
 
-use super::{tangent_solutions, Dense, Jacobians, Tangent};
+use super::{all_finite, tangent_solutions, Dense, Jacobians, Tangent};
 use crate::generated::{Generated, Motion};
 use crate::rank::safe_minimum;
 use crate::DynamicsError;
@@ -42,8 +42,9 @@ impl<T: RealField + Copy, const N: usize, const K: usize, const NU: usize>
     /// Whether every entry is finite.
     #[must_use]
     pub fn is_finite(&self) -> bool {
-        let finite = |m: &[T]| m.iter().fold(true, |ok, x| ok & x.is_finite());
-        finite(self.dq.as_slice()) & finite(self.dqd.as_slice()) & finite(self.du.as_slice())
+        all_finite(self.dq.as_slice())
+            & all_finite(self.dqd.as_slice())
+            & all_finite(self.du.as_slice())
     }
 }
 
