@@ -238,44 +238,12 @@ fn to_world(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
     }
 }
 
-/// A body's inertia in world axes about the world's origin, each
-/// parameter held: `h' = R h + m p` and, with `s = R h + (m/2) p`,
-/// `Ī' = R Ī Rᵀ − (p sᵀ + s pᵀ) + 2 (p·s) 1` (the shift `−(h̃'p̃ + p̃h̃') −
-/// m p̃p̃` written by `ã b̃ = b aᵀ − (a·b) 1`), each symmetric entry once.
+/// A body's inertia in world axes about the world's origin
+/// ([`Inertia::to_parent`] from its world frame), each parameter held.
 fn world_inertia(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia {
-    let (r, p, m) = (&frame.rotation, frame.translation, inertia.mass);
-    let rh = spatial::mat_vec(g, r, inertia.first_moment);
-    let half = g.num(crate::expr::num::Num::Rational(1, 2));
-    let half_m = g.mul2(half, m);
-    let mp = spatial::scale(g, m, p);
-    let s = spatial::scale(g, half_m, p);
-    let s = spatial::add(g, rh, s);
-    let turned = spatial::mat_mul(g, r, &inertia.rotational);
-    let ps = spatial::dot(g, p, s);
-    let two = g.int(2);
-    let diagonal = g.mul2(two, ps);
-    let mut rotational = [[g.int(0); 3]; 3];
-    for row in 0..3 {
-        for col in row..3 {
-            let rir = spatial::dot(g, turned[row], r[col]);
-            let a = g.mul2(p[row], s[col]);
-            let b = g.mul2(s[row], p[col]);
-            let mut e = g.sub(rir, a);
-            e = g.sub(e, b);
-            if row == col {
-                e = g.add2(e, diagonal);
-            }
-            let e = spatial::hold(g, e);
-            rotational[row][col] = e;
-            rotational[col][row] = e;
-        }
-    }
-    let h = spatial::add(g, rh, mp);
-    Inertia {
-        mass: m,
-        first_moment: spatial::hold3(g, h),
-        rotational,
-    }
+    inertia
+        .to_parent(g, &frame.rotation, frame.translation)
+        .held(g)
 }
 
 /// `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` for the velocity `[ω; v]`:

@@ -15,7 +15,7 @@
 //! nothing.
 
 use super::joint::JointState;
-use super::spatial::{self, Spatial, M3, V3};
+use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Described, Placement};
 use crate::expr::diff::AtRest;
 use crate::expr::{Graph, Id, Sym};
@@ -294,7 +294,8 @@ fn center_of_mass_jacobian(
 /// column of a coordinate is the momentum `[n; f] = Iᶜ S` of its joint's
 /// motion `S`, carried to world axes and about `c`: `[R f; R n + (o − c) ×
 /// R f]` with `(R, o)` the body's world frame (Pinocchio's `ccrba` forms
-/// `Iᶜ` in world axes instead: a dense rotation per body). The bias is the rate of the momentum about
+/// `Iᶜ` in world axes instead: a dense rotation per body), and `c` itself
+/// from the roots' composites ([`composite_center`]). The bias is the rate of the momentum about
 /// the world's origin at `q̈ = 0` without gravity, the force recursive
 /// Newton–Euler passes to the world ([`super::recursion::momentum_rate`]),
 /// moved to `c` the same way (`ċ × P = m ċ × ċ` vanishes).
@@ -316,8 +317,9 @@ fn centroidal(
     let zero = g.int(0);
     let mut map = vec![vec![zero; n]; 6];
     let bodies = super::recursion::composite_columns(g, &tree);
+    let center = composite_center(g, &tree, &bodies, &frames).unwrap_or(*c);
     for ((inertia, columns), frame) in bodies.iter().zip(&frames) {
-        let lever = spatial::sub(g, frame.translation, *c);
+        let lever = spatial::sub(g, frame.translation, center);
         for &(k, s) in columns {
             // The subtree's momentum in the body's frame, then in world
             // axes with its moment taken about `c`.
@@ -331,6 +333,42 @@ fn centroidal(
     }
     let rate = super::recursion::momentum_rate(g, &tree, n);
     (map, about_center(g, rate, c).to_vec())
+}
+
+/// The centre of mass from the composite inertias of the tree's roots
+/// (every moving body is in one root's subtree): `Σ (mᵣ oᵣ + Rᵣ hᵣ) / Σ mᵣ`
+/// over the roots `r` in their world frames `(Rᵣ, oᵣ)`, a few bodies'
+/// products where the first moments of every body cost one each. `None`
+/// where the roots' mass is the constant zero.
+fn composite_center(
+    g: &mut Graph,
+    tree: &super::Tree,
+    bodies: &[(Inertia, Vec<(usize, Spatial)>)],
+    frames: &[Placement],
+) -> Option<V3> {
+    let roots: Vec<usize> = (0..tree.bodies.len())
+        .filter(|&i| tree.bodies[i].parent.is_none())
+        .collect();
+    let masses: Vec<Id> = roots.iter().map(|&r| bodies[r].0.mass).collect();
+    let total = g.add(&masses);
+    if g.is_zero(total) {
+        return None;
+    }
+    let moments: Vec<V3> = roots
+        .iter()
+        .map(|&r| {
+            let (inertia, frame) = (&bodies[r].0, &frames[r]);
+            let at_origin = spatial::scale(g, inertia.mass, frame.translation);
+            let offset = spatial::mat_vec(g, &frame.rotation, inertia.first_moment);
+            spatial::add(g, at_origin, offset)
+        })
+        .collect();
+    Some([0, 1, 2].map(|k| {
+        let terms: Vec<Id> = moments.iter().map(|m| m[k]).collect();
+        let sum = g.add(&terms);
+        let c = g.div(sum, total);
+        spatial::hold(g, c)
+    }))
 }
 
 /// `[f; n − c × f]`: a force (or momentum) `[n; f]` about the world's

@@ -329,27 +329,40 @@ impl Inertia {
 
     /// The same inertia about the origin of a frame in which this frame has
     /// rotation `r` (columns: this frame's axes) and origin `p`:
-    /// `h' = R h + m p`, `Ī' = R Ī Rᵀ − (h̃ p̃ + p̃ h̃) − m p̃ p̃` with `h = R h`.
+    /// `h' = R h + m p` and, with `s = R h + (m/2) p`,
+    /// `Ī' = R Ī Rᵀ − (p sᵀ + s pᵀ) + 2 (p·s) 1`: the shift
+    /// `−(h̃ p̃ + p̃ h̃) − m p̃ p̃` (`h = R h`) written by
+    /// `ã b̃ = b aᵀ − (a·b) 1`, each symmetric entry built once.
     pub fn to_parent(self, g: &mut Graph, r: &M3, p: V3) -> Inertia {
-        let h = mat_vec(g, r, self.first_moment);
-        let ri = mat_mul(g, r, &self.rotational);
-        let rirt = mat_mul(g, &ri, &transpose(r));
-        let (hs, ps) = (skew(g, h), skew(g, p));
-        let hp = mat_mul(g, &hs, &ps);
-        let ph = mat_mul(g, &ps, &hs);
-        let pp = mat_mul(g, &ps, &ps);
         let m = self.mass;
-        let rotational = [0, 1, 2].map(|i| {
-            [0, 1, 2].map(|j| {
-                let mpp = g.mul2(m, pp[i][j]);
-                let cross = g.add(&[hp[i][j], ph[i][j], mpp]);
-                g.sub(rirt[i][j], cross)
-            })
-        });
+        let rh = mat_vec(g, r, self.first_moment);
+        let half = g.num(crate::expr::num::Num::Rational(1, 2));
+        let half_m = g.mul2(half, m);
+        let s = scale(g, half_m, p);
+        let s = add(g, rh, s);
+        let turned = mat_mul(g, r, &self.rotational);
+        let ps = dot(g, p, s);
+        let two = g.int(2);
+        let diagonal = g.mul2(two, ps);
+        let mut rotational = [[g.int(0); 3]; 3];
+        for row in 0..3 {
+            for col in row..3 {
+                let rir = dot(g, turned[row], r[col]);
+                let a = g.mul2(p[row], s[col]);
+                let b = g.mul2(s[row], p[col]);
+                let mut e = g.sub(rir, a);
+                e = g.sub(e, b);
+                if row == col {
+                    e = g.add2(e, diagonal);
+                }
+                rotational[row][col] = e;
+                rotational[col][row] = e;
+            }
+        }
         let mp = scale(g, m, p);
         Inertia {
             mass: m,
-            first_moment: add(g, h, mp),
+            first_moment: add(g, rh, mp),
             rotational,
         }
     }
