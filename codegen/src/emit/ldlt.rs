@@ -563,6 +563,12 @@ impl<'a> StructuredLdlt<'a> {
         Context::local(self.roles.inverse, p)
     }
 
+    /// The block of each row of the matrix (natural order), rows coupled
+    /// through its nonzeros sharing one (`Structure::blocks`).
+    pub(super) fn blocks(&self) -> Vec<usize> {
+        self.structure.blocks()
+    }
+
     /// Whether entry (i, j) of the matrix is a structural nonzero.
     pub(super) fn is_nonzero(&self, i: usize, j: usize) -> bool {
         self.structure.nonzero[i.max(j)][i.min(j)]

@@ -184,6 +184,28 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
     (forces, rhs)
 }
 
+/// Per column of the per-column form, which rows of `F̃` can be nonzero
+/// and whether any of `b̃` can (the structural zeros `tangent_rhs` leaves
+/// out); `None` for the directional form, whose one set of terms says
+/// nothing of a column's.
+pub(super) fn column_rows(ctx: &Context) -> Option<Vec<(Vec<bool>, bool)>> {
+    let (sets, directional) = sets(ctx);
+    if directional {
+        return None;
+    }
+    // Any tokens do: only which terms exist is read.
+    let (forces, rhs) = terms(ctx, &sets, &|_| quote!(x));
+    let rows = forces
+        .iter()
+        .zip(&rhs)
+        .map(|(f, b)| {
+            let f = f.iter().map(Option::is_some).collect();
+            (f, b.iter().any(Option::is_some))
+        })
+        .collect();
+    Some(rows)
+}
+
 /// The per-column terms written over locals bound elsewhere: the
 /// derivatives each get a name (`__tg{i}`, constants inlined) for the
 /// caller to bind in its own body, so that they share its temporaries (its

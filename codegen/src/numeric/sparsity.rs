@@ -67,6 +67,33 @@ impl Structure {
         self.nonzero.is_empty()
     }
 
+    /// The block of each row (natural order): rows coupled through a chain
+    /// of structural nonzeros share one, numbered from 0 in the order of
+    /// their first rows. `X` is block diagonal in them, so is `X⁻¹`: a
+    /// right-hand side within one block has its solution there.
+    pub fn blocks(&self) -> Vec<usize> {
+        let k = self.len();
+        let mut block = vec![usize::MAX; k];
+        let mut next = 0;
+        for start in 0..k {
+            if block[start] != usize::MAX {
+                continue;
+            }
+            block[start] = next;
+            let mut stack = vec![start];
+            while let Some(i) = stack.pop() {
+                for j in 0..k {
+                    if block[j] == usize::MAX && (self.nonzero[i][j] || self.nonzero[j][i]) {
+                        block[j] = next;
+                        stack.push(j);
+                    }
+                }
+            }
+            next += 1;
+        }
+        block
+    }
+
     /// Which entries of `x` in `X x = v` can be nonzero, for `v` nonzero
     /// where `rhs` says (in natural order): the reach of forward and back
     /// substitution through the factor's pattern.
@@ -188,6 +215,21 @@ mod tests {
         let order = elimination_order(&chain);
         assert_eq!(order, vec![0, 5, 1, 4, 2, 3]);
         assert_eq!(nonzeros(&factor_pattern(&permute(&chain, &order))), 5);
+    }
+
+    #[test]
+    fn blocks_are_the_rows_coupled_through_nonzeros() {
+        // Two chains, 0-2-4 and 1-3, and 5 alone: three blocks however
+        // their rows interleave, each solution staying in its block.
+        let edge = |i: usize, j: usize| i.abs_diff(j) == 2 && i.max(j) < 5;
+        let mut nonzero = pattern(6, edge);
+        for (i, row) in nonzero.iter_mut().enumerate() {
+            row[i] = true;
+        }
+        let structure = Structure::new(nonzero);
+        assert_eq!(structure.blocks(), vec![0, 1, 0, 1, 0, 2]);
+        let reach = structure.solution_pattern(&[false, false, false, true, false, false]);
+        assert_eq!(reach, vec![false, true, false, true, false, false]);
     }
 
     #[test]

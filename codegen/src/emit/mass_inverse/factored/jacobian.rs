@@ -15,9 +15,9 @@ use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::mass_inverse::adopt_dense;
-use crate::emit::tangent::{index, NamedTerms};
+use crate::emit::tangent::{column_rows, index, NamedTerms};
 use crate::equations::mass_inverse::Factored;
-use proc_macro2::TokenStream;
+use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 use syn::Ident;
 
@@ -149,26 +149,67 @@ fn straight_line(
 
 /// The columns solved in one loop over the right-hand sides `tangent_rhs`
 /// writes (the code the runtime's dense solve calls too), into `__jac`.
+/// Where `M` is block diagonal (a fixed base's branches) or columns are
+/// structurally zero, each column's solve runs over the blocks its `F̃`
+/// touches only ([`groups`]), chosen by a constant table of the columns.
 fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
     let (n_l, k_l) = (Context::dim(n), Context::dim(k));
     let d_l = ctx.jacobians_zero().1;
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let (qdd_vector, lam) = (vector(ctx, "qdd", n), vector(ctx, "lam", k));
-    let fv: Vec<Ident> = (0..n).map(|i| Context::local("jf", i)).collect();
-    let u: Vec<Ident> = (0..n).map(|i| Context::local("ju", i)).collect();
     let rv: Vec<Ident> = (0..k).map(|j| Context::local("jb", j)).collect();
-    let r: Vec<Ident> = (0..k).map(|j| Context::local("jr", j)).collect();
-    let mu: Vec<Ident> = (0..k).map(|j| Context::local("jmu", j)).collect();
-    let solve_u = gauss.mass.solve(&fv, "jy", &u);
-    let (every_u, every_mu) = (vec![true; n], vec![true; k]);
-    let b: Vec<Option<TokenStream>> = rv.iter().map(|b| Some(quote!(#b))).collect();
-    let residuals = residual_code(ctx, &r, &b, (&every_u, &u)).0;
-    let solve_mu = gauss.gram.solve(&r, "jz", &mu);
-    let column = accelerations(f, (&every_u, &u), (&every_mu, &mu))
-        .into_iter()
-        .map(|e| e.unwrap_or_else(|| quote!(T::zero())));
     let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
+    let groups = groups(ctx, gauss);
+    let read: Vec<bool> = match &groups {
+        None => vec![true; n],
+        Some(groups) => (0..n)
+            .map(|i| groups.rows.iter().any(|rows| rows[i]))
+            .collect(),
+    };
+    let fv = read.iter().enumerate().map(|(i, &read)| {
+        let name = Context::local("jf", i);
+        if read {
+            quote!(#name)
+        } else {
+            quote!(_)
+        }
+    });
+    let unpack = quote! {
+        let [#(#fv),*] = *__f;
+        #unpack_b
+    };
+    let pairs = quote!(__fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs));
+    let each = match groups {
+        None => {
+            let solve = column_solve(ctx, f, gauss, &vec![true; n]);
+            quote! {
+                for ((__f, __r), __out) in #pairs {
+                    #unpack
+                    #solve
+                }
+            }
+        }
+        Some(groups) => {
+            let table = groups.of_column.iter().map(|&g| Literal::u16_unsuffixed(g));
+            let arms = groups.rows.iter().enumerate().map(|(id, rows)| {
+                let id = Literal::usize_unsuffixed(id);
+                let solve = column_solve(ctx, f, gauss, rows);
+                quote!(#id => { #solve })
+            });
+            quote! {
+                const __GROUPS: [u16; #d_l] = [#(#table),*];
+                for (((__f, __r), __out), __g) in #pairs.zip(__GROUPS) {
+                    #unpack
+                    match __g {
+                        #(#arms)*
+                        // A structurally zero column: `__out` holds zeros.
+                        _ => {}
+                    }
+                }
+            }
+        }
+    };
     quote! {
         let mut __fs = ::constrained::nalgebra::SMatrix::<T, #n_l, #d_l>::zeros();
         let mut __rs = ::constrained::nalgebra::SMatrix::<T, #k_l, #d_l>::zeros();
@@ -176,13 +217,92 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
         let __outs = __jac.dq.data.0.iter_mut()
             .chain(__jac.dqd.data.0.iter_mut())
             .chain(__jac.du.data.0.iter_mut());
-        for ((__f, __r), __out) in __fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs) {
-            let [#(#fv),*] = *__f;
-            #unpack_b
-            #solve_u
-            #residuals
-            #solve_mu
-            *__out = [#(#column),*];
-        }
+        #each
     }
+}
+
+/// One column's solve, `F̃` in the locals `__jf{i}` nonzero where `rows`
+/// says, `b̃` in `__jb{r}`: `u = M⁻¹ F̃` over the entries it can reach,
+/// `μ = S⁻¹ (b̃ − A u)`, `q̈ᵥ = u + W μ` written to `*__out`.
+fn column_solve(ctx: &Context, f: &Factored, gauss: &FactoredSolve, rows: &[bool]) -> TokenStream {
+    let (n, k) = (ctx.n, ctx.k);
+    let u: Vec<Ident> = (0..n).map(|i| Context::local("ju", i)).collect();
+    let r: Vec<Ident> = (0..k).map(|j| Context::local("jr", j)).collect();
+    let mu: Vec<Ident> = (0..k).map(|j| Context::local("jmu", j)).collect();
+    let rhs: Vec<Option<TokenStream>> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, &on)| {
+            let name = Context::local("jf", i);
+            on.then(|| quote!(#name))
+        })
+        .collect();
+    let (solve_u, u_bound) = gauss.mass.solve_sparse(&rhs, "jy", &u);
+    let b: Vec<Option<TokenStream>> = (0..k)
+        .map(|j| {
+            let name = Context::local("jb", j);
+            Some(quote!(#name))
+        })
+        .collect();
+    let (residuals, r_bound) = residual_code(ctx, &r, &b, (&u_bound, &u));
+    let r: Vec<Option<TokenStream>> = r
+        .iter()
+        .zip(&r_bound)
+        .map(|(name, &bound)| bound.then(|| quote!(#name)))
+        .collect();
+    let (solve_mu, mu_bound) = gauss.gram.solve_sparse(&r, "jz", &mu);
+    let column = accelerations(f, (&u_bound, &u), (&mu_bound, &mu))
+        .into_iter()
+        .map(|e| e.unwrap_or_else(|| quote!(T::zero())));
+    quote! {
+        #solve_u
+        #residuals
+        #solve_mu
+        *__out = [#(#column),*];
+    }
+}
+
+/// The loop's columns grouped by the rows their solves read.
+struct Groups {
+    /// Each column's group; `rows.len()` for a structurally zero column.
+    of_column: Vec<u16>,
+    /// Each group's rows: the blocks of `M` its columns' `F̃` touch.
+    rows: Vec<Vec<bool>>,
+}
+
+/// The columns of the per-column form grouped by the blocks of `M` their
+/// `F̃` touches (`M⁻¹` keeps a block's right-hand side in the block); `None`
+/// where every column reads every row (one block, no zero column) or the
+/// form is directional (a column's rows unknown).
+fn groups(ctx: &Context, gauss: &FactoredSolve) -> Option<Groups> {
+    let columns = column_rows(ctx)?;
+    let blocks = gauss.mass.blocks();
+    let n = ctx.n;
+    let mut rows: Vec<Vec<bool>> = Vec::new();
+    let mut of_column: Vec<Option<usize>> = Vec::with_capacity(columns.len());
+    for (f, b) in &columns {
+        let touched: Vec<bool> = (0..n)
+            .map(|i| (0..n).any(|j| f[j] && blocks[j] == blocks[i]))
+            .collect();
+        if !b && !touched.contains(&true) {
+            of_column.push(None);
+            continue;
+        }
+        let id = match rows.iter().position(|r| *r == touched) {
+            Some(id) => id,
+            None => {
+                rows.push(touched);
+                rows.len() - 1
+            }
+        };
+        of_column.push(Some(id));
+    }
+    let every = of_column.iter().all(Option::is_some)
+        && matches!(&rows[..], [only] if only.iter().all(|&r| r));
+    let zero = u16::try_from(rows.len()).ok()?;
+    let of_column = of_column
+        .into_iter()
+        .map(|g| g.map_or(Some(zero), |g| u16::try_from(g).ok()))
+        .collect::<Option<Vec<u16>>>()?;
+    (!every).then_some(Groups { of_column, rows })
 }
