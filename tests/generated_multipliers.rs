@@ -7,8 +7,11 @@
 //! the four-bar), `M` a common mass times the identity (the spherical
 //! pendulum), one row (Appell's particle), `M` in
 //! quaternions through the auxiliary mass (the heavy top); the quadruped's
-//! in `quadruped`. A redundant set (whose `λ` is not unique) gives the
-//! force instead, and the runtime's minimum norm answers.
+//! in `quadruped`. A redundant set (whose `λ` is not unique) solved with
+//! `M(q)` factored (an arm on bodies, a free slab on four corners) gives
+//! the minimum-norm `λ` from the solve's factors, held to the runtime's
+//! minimum norm (an SVD of `A`); with a constant `M` it gives the force
+//! instead, and the runtime's minimum norm answers.
 
 use constrained::__private::{Generated, Reaction};
 use constrained::models::{
@@ -140,4 +143,108 @@ fn a_redundant_set_leaves_lambda_to_the_runtime() {
     let crank = SliderCrank::new(1.0, 0.5, 0.3, 1.0, 2.0, 9.81);
     let gap = multipliers_gap::<_, 4, 4>(&crank, &random_states(5), false);
     assert!(gap == 0.0, "{gap:e}");
+}
+
+constrained::constrained_system! {
+    /// A planar arm of three links on bodies (`M(q)` factored) whose tip is
+    /// held in `x` and `z`, and again by a combination of the two: three
+    /// rows of rank two.
+    pub struct HeldArm {
+        bodies: [
+            upper {
+                joint: revolute(q1, [0.0, 1.0, 0.0]),
+                mass: 1.2,
+                com: [0.15, 0.0, 0.01],
+                inertia: diag[0.002, 0.011, 0.010],
+            },
+            fore {
+                parent: upper,
+                joint: revolute(q2, [0.0, 1.0, 0.0]),
+                xyz: [0.3, 0.0, 0.0],
+                mass: 0.9,
+                com: [0.12, 0.0, -0.01],
+                inertia: diag[0.001, 0.008, 0.007],
+            },
+            hand {
+                parent: fore,
+                joint: revolute(q3, [0.0, 1.0, 0.0]),
+                xyz: [0.25, 0.0, 0.0],
+                mass: 0.4,
+                com: [0.05, 0.0, 0.0],
+                inertia: diag[0.0004, 0.001, 0.001],
+            },
+        ],
+        constraints: [
+            position(hand, [0.1, 0.0, 0.0]).x == 0.35,
+            position(hand, [0.1, 0.0, 0.0]).z == 0.2,
+            position(hand, [0.1, 0.0, 0.0]).x + 2.0 * position(hand, [0.1, 0.0, 0.0]).z == 0.75,
+        ],
+    }
+}
+
+constrained::constrained_system! {
+    /// A slab on a free joint resting on its four corners (`z = 0` each):
+    /// four rows and the quaternion's norm, of rank four, through the
+    /// auxiliary mass; it slides and turns about the vertical.
+    pub struct SlidingSlab {
+        bodies: [
+            slab {
+                joint: free(x, y, z, qw, qx, qy, qz),
+                mass: 2.0,
+                com: [0.01, -0.02, 0.03],
+                inertia: [[0.02, 0.001, 0.0], [0.001, 0.03, -0.002], [0.0, -0.002, 0.04]],
+            },
+        ],
+        constraints: [
+            position(slab, [0.2, 0.1, -0.05]).z == 0.0,
+            position(slab, [-0.2, 0.1, -0.05]).z == 0.0,
+            position(slab, [0.2, -0.1, -0.05]).z == 0.0,
+            position(slab, [-0.2, -0.1, -0.05]).z == 0.0,
+        ],
+    }
+}
+
+/// The slab flat on its corners, slid and turned about the vertical, and
+/// moving within the table's plane.
+fn slab_states() -> Vec<State<f64, 7>> {
+    let mut x = 29u64;
+    (0..24)
+        .map(|_| {
+            let yaw = 3.0 * uniform(&mut x);
+            let q = SVector::from_column_slice(&[
+                uniform(&mut x),
+                uniform(&mut x),
+                0.05,
+                (yaw / 2.0).cos(),
+                0.0,
+                0.0,
+                (yaw / 2.0).sin(),
+            ]);
+            // ż = 0 and ω about the vertical: q̇ of the quaternion is
+            // ½ q ⊗ (0, 0, 0, ω).
+            let w = 2.0 * uniform(&mut x);
+            let qd = SVector::from_column_slice(&[
+                uniform(&mut x),
+                uniform(&mut x),
+                0.0,
+                -0.5 * (yaw / 2.0).sin() * w,
+                0.0,
+                0.0,
+                0.5 * (yaw / 2.0).cos() * w,
+            ]);
+            State::new(0.0, q, qd)
+        })
+        .collect()
+}
+
+/// Redundant sets solved with `M(q)` factored (an arm on bodies, a free
+/// body through its auxiliary mass): the generated solve's `λ` is the
+/// minimum-norm one, from `S`'s own factors, and agrees with the
+/// runtime's minimum norm (an SVD of `A`) from the same force.
+#[test]
+fn a_redundant_set_on_bodies_has_the_minimum_norm_lambda_from_the_solve() {
+    let held = multipliers_gap::<_, 3, 3>(&HeldArm::new(), &random_states(23), true);
+    check("HeldArm (a row repeated)", held);
+    let slab = multipliers_gap::<_, 7, 5>(&SlidingSlab::new(), &slab_states(), true);
+    check("SlidingSlab (four corners)", slab);
 }

@@ -19,7 +19,8 @@ pub(in crate::emit) type PathCode = (TokenStream, TokenStream);
 /// (`constrained::rank`): where fewer rows than the generic rank were kept,
 /// the runtime verifies the dropped ones and recomputes if they are
 /// violated. `also` is a further condition for that check; `paths`, code
-/// each path runs first.
+/// each path runs first; `minimum_norm`, a redundant set's minimum-norm
+/// `λ` as an expression (`None`: the runtime solves for it).
 pub(in crate::emit) fn checked_motion(
     ctx: &Context,
     suspect: Option<TokenStream>,
@@ -27,17 +28,23 @@ pub(in crate::emit) fn checked_motion(
     multipliers: &[TokenStream],
     also: Option<TokenStream>,
     paths: Option<PathCode>,
+    minimum_norm: Option<TokenStream>,
 ) -> TokenStream {
     // The force as a closure that only the callers wanting it call, so
     // that `acceleration` never computes it.
     if ctx.k == 0 {
         return quote!(__F::stands(#acc, move || #force));
     }
-    // Every row's λ where the fast path kept them all, as a closure only
+    // λ where the fast path's rank decision stands, as a closure only
     // `Multiplied` calls: the unique λ where the model's rows are
-    // independent (generic rank K; a redundant set's are not unique, and
-    // the runtime's minimum norm answers there).
-    let lambda = (ctx.generic_rank == ctx.k).then(|| quote!([#(#multipliers),*]));
+    // independent (generic rank K); for a redundant set, whose λ are not
+    // unique, the minimum norm from the solve's own factors where the
+    // strategy writes it (`minimum_norm`), else the runtime's.
+    let lambda = if ctx.generic_rank == ctx.k {
+        Some(quote!([#(#multipliers),*]))
+    } else {
+        minimum_norm
+    };
     let Some(suspect) = suspect else {
         // No rank decision was taken (every row kept, or the solve handed
         // to the runtime): λ stands as it is.

@@ -77,8 +77,9 @@ pub trait Generated<T: RealField + Copy, const N: usize, const K: usize> {
 /// `Multiplied` finisher makes it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Reaction<T: RealField + Copy, const N: usize, const K: usize> {
-    /// Every row's multiplier, from the generated solve (all rows kept:
-    /// the unique `λ` of `Aᵀλ = Fᶜ`).
+    /// Every row's multiplier, from the generated solve: the unique `λ` of
+    /// `Aᵀλ = Fᶜ` where every row was kept, the minimum-norm one for a
+    /// redundant set whose solve writes it.
     Multipliers(SVector<T, K>),
     /// The constraint force `Fᶜ = Aᵀλ` only (a row dropped, the dense
     /// solve, a recomputation, or a solve without `λ`): the runtime finds

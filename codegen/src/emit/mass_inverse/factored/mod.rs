@@ -538,6 +538,11 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
             quote!(#l)
         })
         .collect();
+    // A redundant set's λ: the least norm, from S's own factors.
+    let minimum_norm = (ctx.generic_rank < ctx.k).then(|| {
+        let lam: Vec<Ident> = (0..ctx.k).map(|j| Context::local("lam", j)).collect();
+        gauss.gram.minimum_norm(&lam)
+    });
     let value = checked_motion(
         ctx,
         Some(gauss.gram.suspect(ctx.generic_rank)),
@@ -545,6 +550,7 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
         &lambda,
         None,
         None,
+        minimum_norm,
     );
     // A robot's solve is thousands of `let`s: nested no deeper than a block.
     let to_multipliers = bounded(gauss.to_multipliers.clone(), &value);

@@ -76,7 +76,7 @@ pub(super) fn function(
             quote!(-#m)
         })
         .collect();
-    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None);
+    let value = checked_motion(ctx, None, (&acc, &force), &lambda, None, None, None);
     let body = bounded(body, &value);
     let signature = ctx.gauss_signature();
     let doc = format!(

@@ -208,6 +208,7 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         &lambda,
         also,
         paths,
+        None,
     );
     let doc = format!(
         " `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,\n \
