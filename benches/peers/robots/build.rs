@@ -280,29 +280,49 @@ fn joints(file: &str, locked: &[&str], mimic: bool) -> usize {
     n
 }
 
-/// The Unitree Go1 of the Contacts rows: the wheel's `go1.urdf` as
-/// written, its root link `base` on a `floating` joint `root_joint` from a
-/// `world` link (the file has none: its base is fixed to the world as
-/// written), which is what Pinocchio's `buildModel(file,
-/// JointModelFreeFlyer())` adds on its side. Writes the copy and the
-/// invocation (`go1.rs`) into `out`: the four feet are the foot links'
-/// origins held where the state puts them, a motor torque per joint.
-fn go1(robots: &Path, out: &Path) {
-    let path = robots.join("go1_description/urdf/go1.urdf");
+/// `file` (under `robots`) with its root link `root` on a `floating` joint
+/// `root_joint` from a `world` link, which is what Pinocchio's
+/// `buildModel(file, JointModelFreeFlyer())` adds on its side; written to
+/// `out/copy`, whose path it returns. `robot` is the file's `<robot>` tag.
+fn floating(
+    robots: &Path,
+    (file, robot, root): (&str, &str, &str),
+    out: &Path,
+    copy: &str,
+) -> PathBuf {
+    let path = robots.join(file);
     println!("cargo::rerun-if-changed={}", path.display());
     let written =
         std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let robot = "<robot name=\"go1\">";
     assert!(
         written.contains(robot),
         "{} names another robot",
         path.display()
     );
-    let root = "\n  <link name=\"world\"/>\n  <joint name=\"root_joint\" type=\"floating\">\n    \
-                <parent link=\"world\"/>\n    <child link=\"base\"/>\n  </joint>";
-    let floating = written.replacen(robot, &format!("{robot}{root}"), 1);
-    let copy = out.join("go1_floating.urdf");
+    let joint = format!(
+        "\n  <link name=\"world\"/>\n  <joint name=\"root_joint\" type=\"floating\">\n    \
+         <parent link=\"world\"/>\n    <child link=\"{root}\"/>\n  </joint>"
+    );
+    let floating = written.replacen(robot, &format!("{robot}{joint}"), 1);
+    let copy = out.join(copy);
     std::fs::write(&copy, floating).expect("OUT_DIR is writable");
+    copy
+}
+
+/// The Unitree Go1 of the Contacts rows: the wheel's `go1.urdf` as
+/// written, its root link `base` on a floating joint ([`floating`]; the
+/// file has none: its base is fixed to the world as written). Writes the
+/// copy and the invocation (`go1.rs`) into `out`: the four feet are the
+/// foot links' origins held where the state puts them, a motor torque per
+/// joint.
+fn go1(robots: &Path, out: &Path) {
+    let file = "go1_description/urdf/go1.urdf";
+    let copy = floating(
+        robots,
+        (file, "<robot name=\"go1\">", "base"),
+        out,
+        "go1_floating.urdf",
+    );
     let torques = (1..=12)
         .map(|k| format!("t{k}"))
         .collect::<Vec<_>>()
@@ -334,6 +354,50 @@ fn go1(robots: &Path, out: &Path) {
         copy = copy.display().to_string(),
     );
     std::fs::write(out.join("go1.rs"), invocation).expect("OUT_DIR is writable");
+}
+
+/// The points of each G1 foot that stand, on its `*_ankle_roll_link`:
+/// three of the four contact spheres the file gives each ankle (centres
+/// at `x` −0.05 and 0.12, `y` ±0.025 or ±0.03, `z` −0.03).
+const G1_SOLE_POINTS: [[f64; 3]; 3] = [
+    [-0.05, 0.025, -0.03],
+    [-0.05, -0.025, -0.03],
+    [0.12, 0.03, -0.03],
+];
+
+/// The Unitree G1 (29 joints) of the redundant-contacts rows: the wheel's
+/// `g1_29dof_rev_1_0.urdf`, its `pelvis` on a floating joint ([`floating`];
+/// the file's own is commented out), standing on both feet, each held at
+/// the three points of [`G1_SOLE_POINTS`] where the state puts them:
+/// eighteen rows (and the quaternion's norm) of rank twelve on the feet
+/// (`g1_standing.rs` in `out`). Unpowered: `λ` holds it up.
+fn g1_standing(robots: &Path, out: &Path) {
+    let file = "g1_description/urdf/g1_29dof_rev_1_0.urdf";
+    let robot = "<robot name=\"g1_29dof_rev_1_0\">";
+    let copy = floating(robots, (file, robot, "pelvis"), out, "g1_floating.urdf");
+    let mut places = Vec::new();
+    let mut rows = Vec::new();
+    for side in ["left", "right"] {
+        for (k, [x, y, z]) in G1_SOLE_POINTS.iter().enumerate() {
+            let names = ["x", "y", "z"].map(|a| format!("{}{k}_{a}", &side[..1]));
+            rows.push(format!(
+                "position({side}_ankle_roll_link, [{x:?}, {y:?}, {z:?}]) == [{}],",
+                names.join(", ")
+            ));
+            places.extend(names);
+        }
+    }
+    let invocation = format!(
+        "constrained::constrained_system! {{\n    /// The Unitree G1 of example-robot-data's \
+         `g1_description/urdf/g1_29dof_rev_1_0.urdf` on a floating root joint, standing on\n    \
+         /// three points of each foot (held at `(x, y, z)` each), unpowered.\n    \
+         pub struct G1Standing {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        \
+         constraints: [\n            {rows}\n        ],\n    }}\n}}\n",
+        places = places.join(", "),
+        rows = rows.join("\n            "),
+        copy = copy.display().to_string(),
+    );
+    std::fs::write(out.join("g1_standing.rs"), invocation).expect("OUT_DIR is writable");
 }
 
 /// The methods of `Framed` that do not depend on a frame: name,
@@ -530,6 +594,7 @@ fn main() {
     let robots = robots_directory();
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     go1(&robots, &out_dir);
+    g1_standing(&robots, &out_dir);
     let mut out = String::new();
     let mut visit = String::new();
     for r in ROBOTS {

@@ -15,6 +15,8 @@
 //! Cholesky factorization: otherwise `M` is not positive definite there,
 //! and the function returns that error.
 
+mod minimum_norm;
+
 use super::context::Context;
 use crate::numeric::sparsity::Structure;
 use proc_macro2::TokenStream;
@@ -561,117 +563,6 @@ impl<'a> StructuredLdlt<'a> {
     /// elimination order).
     pub(super) fn reciprocal_at(&self, p: usize) -> Ident {
         Context::local(self.roles.inverse, p)
-    }
-
-    /// The minimum-norm solution of `S λ = r`, as a block expression
-    /// `[T; k]` (natural order), from the solve's `lam` (`S`'s {1}-inverse,
-    /// this factorization with its dropped pivots): `lam` less its part in
-    /// the null space of `S`. Each dropped pivot `p` gives a null vector
-    /// `nₚ = Pᵀ L⁻ᵀ eₚ` (`S nₚ = Pᵀ L D eₚ = 0`), and they span it; written
-    /// for every pivot scaled by its flag `dropped`, so that which ones were
-    /// dropped is read at run time, `λ = lam − N y` with
-    /// `(NᵀN + diag(kept)) y = Nᵀ lam`, a positive definite system (a
-    /// dropped `nₚ` is 1 at `p` and 0 beyond it, a kept one is zero). Where
-    /// `S`'s rows are the constraints', `null(S) = null(Aᵀ)`, so this is the
-    /// minimum-norm `λ` of `Aᵀλ = Fᶜ`. A pivot of that system that is not
-    /// positive (only NaN can make one) returns `None` from the enclosing
-    /// closure.
-    pub(super) fn minimum_norm(&self, lam: &[Ident]) -> TokenStream {
-        let k = self.k();
-        if k <= 1 || self.scalar_gram() {
-            // λ = r / S, or 0 where S = 0: already the least norm.
-            return quote!([#(#lam),*]);
-        }
-        let (l, o) = (&self.structure.fill, &self.structure.order);
-        let mut code = TokenStream::new();
-        let null = |p: usize, q: usize| Context::local2("nv", p, q);
-        // reach[p][q]: entry q (a position) of nₚ can be nonzero.
-        let mut reach = vec![vec![false; k]; k];
-        for p in 0..k {
-            let (inv, flag, npp) = (
-                Context::local(self.roles.inverse, p),
-                Context::local("nk", p),
-                null(p, p),
-            );
-            code.extend(quote! {
-                let #flag = if #inv == T::zero() { T::one() } else { T::zero() };
-                let #npp = #flag;
-            });
-            reach[p][p] = true;
-            // Lᵀ nₚ = eₚ, by back substitution from p.
-            for q in (0..p).rev() {
-                let terms: Vec<TokenStream> = (q + 1..=p)
-                    .filter(|&c| l[c][q] && reach[p][c])
-                    .map(|c| {
-                        let (lcq, nc) = (Context::local2(self.roles.lower, c, q), null(p, c));
-                        quote!(#lcq * #nc)
-                    })
-                    .collect();
-                if terms.is_empty() {
-                    continue;
-                }
-                reach[p][q] = true;
-                let nq = null(p, q);
-                code.extend(quote! { let #nq = -(#(#terms)+*); });
-            }
-        }
-        let reach = &reach;
-        let overlap = move |p: usize, q: usize| (0..k).filter(move |&i| reach[p][i] && reach[q][i]);
-        let nonzero: Vec<Vec<bool>> = (0..k)
-            .map(|p| (0..k).map(|q| overlap(p, q).next().is_some()).collect())
-            .collect();
-        let structure = Structure::new(nonzero);
-        let system = StructuredLdlt {
-            structure: &structure,
-            roles: Roles {
-                entry: "ng",
-                pivot: "ngd",
-                inverse: "ngi",
-                update: "ngu",
-                lower: "ngl",
-            },
-            pivots: Pivots::Positive(quote!(return ::core::option::Option::None;)),
-            solves: Solves::Once,
-        };
-        for p in 0..k {
-            for q in (0..=p).filter(|&q| structure.nonzero[p][q]) {
-                let products = overlap(p, q).map(|i| {
-                    let (a, b) = (null(p, i), null(q, i));
-                    quote!(#a * #b)
-                });
-                let kept = (p == q).then(|| {
-                    let flag = Context::local("nk", p);
-                    quote!(+ (T::one() - #flag))
-                });
-                let entry = system.entry(p, q);
-                code.extend(quote! { let #entry = #(#products)+* #kept; });
-            }
-        }
-        code.extend(system.factor());
-        // `Nᵀ lam`, by position.
-        let rhs: Vec<Ident> = (0..k).map(|p| Context::local("nh", p)).collect();
-        for (p, h) in rhs.iter().enumerate() {
-            let products = (0..k).filter(|&i| reach[p][i]).map(|i| {
-                let (n, x) = (null(p, i), &lam[o[i]]);
-                quote!(#n * #x)
-            });
-            code.extend(quote! { let #h = #(#products)+*; });
-        }
-        let y: Vec<Ident> = (0..k).map(|p| Context::local("ny", p)).collect();
-        code.extend(system.solve(&rhs, "nz", &y));
-        let mut out: Vec<TokenStream> = vec![TokenStream::new(); k];
-        for i in 0..k {
-            let x = &lam[o[i]];
-            let corrections = (0..k).filter(|&p| reach[p][i]).map(|p| {
-                let (yp, n) = (&y[p], null(p, i));
-                quote!(- #yp * #n)
-            });
-            out[o[i]] = quote!(#x #(#corrections)*);
-        }
-        quote! {{
-            #code
-            [#(#out),*]
-        }}
     }
 
     /// The block of each row of the matrix (natural order), rows coupled

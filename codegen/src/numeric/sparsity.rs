@@ -82,9 +82,9 @@ impl Structure {
             block[start] = next;
             let mut stack = vec![start];
             while let Some(i) = stack.pop() {
-                for j in 0..k {
-                    if block[j] == usize::MAX && (self.nonzero[i][j] || self.nonzero[j][i]) {
-                        block[j] = next;
+                for (j, b) in block.iter_mut().enumerate() {
+                    if *b == usize::MAX && (self.nonzero[i][j] || self.nonzero[j][i]) {
+                        *b = next;
                         stack.push(j);
                     }
                 }

@@ -34,6 +34,8 @@
 
 #[path = "../clock.rs"]
 mod clock;
+#[path = "../g1_standing.rs"]
+mod g1_standing;
 #[path = "../go1_derivatives.rs"]
 mod go1_derivatives;
 #[path = "../../../../../examples/support/quadruped.rs"]
@@ -103,11 +105,11 @@ constrained::constrained_system! {
 const STATES: usize = 20;
 
 /// splitmix64: reproducible states without a dependency.
-struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
     /// Uniform in `[-scale, scale)`.
-    fn uniform(&mut self, scale: f64) -> f64 {
+    pub(crate) fn uniform(&mut self, scale: f64) -> f64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -138,7 +140,7 @@ fn quadruped(tau: &[f64; 12]) -> Quadruped<f64> {
 }
 
 /// `maxᵢ |Aᵢ q̈ − bᵢ| / (‖Aᵢ‖₁ ‖q̈‖∞ + |bᵢ|)`.
-fn residual<const K: usize, const M: usize>(
+pub(crate) fn residual<const K: usize, const M: usize>(
     a: &SMatrix<f64, K, M>,
     b: &SVector<f64, K>,
     qdd: &SVector<f64, M>,
@@ -682,6 +684,7 @@ fn main() {
             time::<_, N, 13>("go1", round, &go1s);
             time_go1_derivatives(round, &go1s);
             time::<_, 4, 2>("five_bar", round, &five_bars);
+            g1_standing::time(round);
         }
         _ => {
             eprintln!("usage: contacts write REFERENCE_FILE | contacts time ROUND");

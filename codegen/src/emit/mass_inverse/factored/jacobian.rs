@@ -9,7 +9,10 @@
 //! straight-line over their structural nonzeros (a column that is
 //! identically zero costs nothing). A larger one, or the directional form, runs one loop
 //! over the columns of `tangent_rhs` (the code the runtime's dense solve
-//! calls too), which grows with `n + k` rather than with the columns.
+//! calls too), which grows with `n + k` rather than with the columns; in
+//! the per-column form each column's solve there runs over the blocks of
+//! `M` its right-hand side touches (a fixed base's branches), and a
+//! structurally zero column is skipped.
 
 use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;

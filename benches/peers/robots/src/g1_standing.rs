@@ -1,0 +1,148 @@
+//! The redundant-contacts rows of the Contacts section: the Unitree G1 on
+//! a floating base standing on three points of each foot (`build.rs`'s
+//! `g1_standing`): 36 coordinates, 19 rows (the six points' 18 and the
+//! quaternion's norm) of rank 13, so `λ` is not unique and the minimum
+//! norm is returned. Ours only: `q̈`, `q̈` and `λ` (the minimum norm from
+//! the solve's own factors), and `q̈` with `λ` found by the runtime's SVD of
+//! `A` from the solve's force (what a redundant set cost before), each
+//! checked before it is timed.
+
+use crate::clock::median_ns;
+use crate::Rng;
+use constrained::__private::Generated;
+use constrained::floating::FreeMotion;
+use constrained::multipliers::{multipliers, Multipliers};
+use constrained::nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
+use constrained::{ConstrainedSystem, State};
+use std::hint::black_box;
+
+include!(concat!(env!("OUT_DIR"), "/g1_standing.rs"));
+
+/// The G1's coordinates: the base's seven and 29 joints.
+const N: usize = 36;
+/// Its rows: the six points' 18 and the quaternion's norm.
+const K: usize = 19;
+
+/// The G1 with its six points held at `places` (`(x, y, z)` each: the
+/// left foot's three, then the right's).
+fn standing(places: &[f64; 18]) -> G1Standing<f64> {
+    let p = places;
+    G1Standing::new(
+        p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13],
+        p[14], p[15], p[16], p[17],
+    )
+}
+
+/// A G1 state: the pelvis about 0.75 m up, turned and moving, every joint
+/// within ±0.3 rad of zero, the feet's points held where this places them,
+/// the rates projected onto the rows' null space (`A q̇ = 0`, by the
+/// pseudo-inverse of `A`).
+fn state(rng: &mut Rng) -> (G1Standing<f64>, State<f64, N>) {
+    let base = FreeMotion {
+        position: Vector3::new(
+            rng.uniform(0.02),
+            rng.uniform(0.02),
+            0.75 + rng.uniform(0.02),
+        ),
+        orientation: UnitQuaternion::from_euler_angles(
+            rng.uniform(0.1),
+            rng.uniform(0.1),
+            rng.uniform(0.3),
+        ),
+        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
+        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
+    };
+    let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
+    for j in 7..N {
+        q[j] = rng.uniform(0.3);
+        qd[j] = rng.uniform(1.0);
+    }
+    let at_rest = State::new(0.0, q, SVector::zeros());
+    let placed = ConstrainedSystem::constraint_residual(&standing(&[0.0; 18]), &at_rest);
+    let system = standing(&std::array::from_fn(|i| placed[i]));
+    let (a, _) = ConstrainedSystem::constraint_matrices(&system, &at_rest);
+    let pinv: SMatrix<f64, N, K> = a.pseudo_inverse(1e-12).expect("a pseudo-inverse");
+    // Twice: the second takes what rounding left of the first.
+    for _ in 0..2 {
+        qd -= pinv * (a * qd);
+    }
+    let s = State::new(0.0, q, qd);
+    let position = ConstrainedSystem::constraint_residual(&system, &s).amax();
+    let velocity = ConstrainedSystem::constraint_velocity_residual(&system, &s).amax();
+    assert!(
+        position < 1e-14 && velocity < 1e-12,
+        "{position:e} {velocity:e}"
+    );
+    (system, s)
+}
+
+/// `q̈` with the runtime's minimum-norm `λ`: the solve's force, then an SVD
+/// of `A` (`constrained::multipliers::multipliers`).
+fn through_the_runtime(
+    system: &G1Standing<f64>,
+    s: &State<f64, N>,
+) -> (SVector<f64, N>, SVector<f64, K>) {
+    let (qdd, force) = Generated::gauss(system, &s.q, &s.qd, s.t, None).expect("a solve");
+    let (a, _) = Generated::constraint_matrices(system, &s.q, &s.qd, s.t);
+    (qdd, multipliers(&a, &force).expect("λ of Aᵀλ = Fᶜ"))
+}
+
+/// Checks each state's `A q̈ = b` (relative, as the other systems', to
+/// 1e-10) and its `λ` against the runtime's minimum norm (relative to the largest entry), then times the three
+/// ways per state; one JSON line each.
+pub fn time(round: &str) {
+    let mut rng = Rng(61);
+    let cases: Vec<_> = (0..20).map(|_| state(&mut rng)).collect();
+    let (mut worst, mut residual): (f64, f64) = (0.0, 0.0);
+    for (system, s) in &cases {
+        let (qdd, lambda) = system.acceleration_and_multipliers(s).expect("q̈ and λ");
+        let (a, b) = ConstrainedSystem::constraint_matrices(system, s);
+        // Six rows repeat the others only to the rounding the states'
+        // rates carry: the dropped rows hold to that, not to 1e-12.
+        residual = residual.max(crate::residual(&a, &b, &qdd));
+        let (_, reference) = through_the_runtime(system, s);
+        worst = worst.max((lambda - reference).amax() / reference.amax());
+    }
+    assert!(residual < 1e-10, "A q̈ = b only to {residual:e}");
+    assert!(
+        worst < 1e-10,
+        "λ differs from the runtime's minimum norm by {worst:e}"
+    );
+    eprintln!(
+        "contacts: the G1's A q̈ = b to {residual:.1e}, its minimum-norm λ within {worst:.1e} of the runtime's SVD"
+    );
+    let per_state = |ns: f64| ns / cases.len() as f64;
+    let acceleration = median_ns(|| {
+        for (system, s) in &cases {
+            let _ = black_box(ConstrainedSystem::acceleration(
+                black_box(system),
+                black_box(s),
+            ));
+        }
+    });
+    let both = median_ns(|| {
+        for (system, s) in &cases {
+            let _ = black_box(black_box(system).acceleration_and_multipliers(black_box(s)));
+        }
+    });
+    let runtime = median_ns(|| {
+        for (system, s) in &cases {
+            black_box(through_the_runtime(black_box(system), black_box(s)));
+        }
+    });
+    for (what, ns) in [
+        ("acceleration", acceleration),
+        ("acceleration_and_multipliers", both),
+        ("acceleration_and_runtime_multipliers", runtime),
+    ] {
+        println!(
+            "{{\"peer\": \"constrained\", \"what\": \"{what}\", \"system\": \"g1_points\", \"n\": {N}, \
+             \"rows\": {K}, \"ns\": {:.3}, \"states\": {}, \"round\": {round}, \"worst\": {worst:.3e}, \
+             \"residual\": {residual:.3e}, \"ok\": true}}",
+            per_state(ns),
+            cases.len()
+        );
+    }
+}
