@@ -29,12 +29,13 @@
 //! `acceleration_and_multipliers(&state)` ([`Multipliers`]). Where the
 //! generated solve kept every row (independent rows: the usual case), its
 //! own `λ` — the multipliers of `S λ = r` it solved for `q̈` — is
-//! returned as it is. For a redundant set solved with `M(q)` factored (a
-//! tree of bodies) whose rank decision stands, the generated solve returns
-//! the minimum-norm `λ` too, from the factors of `S` (the solve's `λ` less
-//! its part in the null space of `S`, which is that of `Aᵀ`). Otherwise
-//! (another redundant set, a suspect rank decision, the runtime's dense
-//! solve) `Aᵀ λ = Q_c` is solved by [`multipliers`].
+//! returned as it is. For a redundant set whose solve factors
+//! `S = A M⁻¹ Aᵀ` (`M⁻¹` known, or `M(q)` factored) and whose rank decision
+//! stands, the generated solve returns the minimum-norm `λ` too, from the
+//! factors of `S` (the solve's `λ` less its part in the null space of `S`,
+//! which is that of `Aᵀ`). Otherwise (a saddle-point solve, a suspect rank
+//! decision, the runtime's dense solve) `Aᵀ λ = Q_c` is solved by
+//! [`multipliers`].
 //! Two copies of the same row share the force equally:
 //!
 //! ```

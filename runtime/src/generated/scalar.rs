@@ -22,6 +22,18 @@ pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
     largest::<T>() * lit::<T>(d)
 }
 
+/// The largest pivot of `S = A M⁻¹ Aᵀ`, relative to its diagonal entry,
+/// that a dropped row may leave where the minimum-norm `λ` is taken from
+/// the factors: `count · ε` (`count = 64 (N + K)`, the scale of the
+/// runtime's SVD cut, `crate::multipliers`). Exact dependencies leave
+/// rounding there; a row dropped with a larger pivot is only nearly
+/// dependent (the rank rule's cutoff is loose), its `λ` is unique, and the
+/// runtime answers.
+#[inline(always)]
+pub fn dependent_pivot<T: RealField + Copy>(count: f64) -> T {
+    T::default_epsilon() * lit::<T>(count)
+}
+
 /// `T`'s largest finite value (NaN for a `T` without one, so that a
 /// comparison with it fails and sends the solve to the runtime's check).
 /// `s <= largest()` is a finiteness test in one floating-point comparison,

@@ -10,8 +10,7 @@ use quote::quote;
 use syn::Ident;
 
 impl StructuredLdlt<'_> {
-    /// The minimum-norm solution of `S λ = r`, as a block expression
-    /// `[T; k]` (natural order), from the solve's `lam` (`S`'s {1}-inverse,
+    /// The minimum-norm solution of `S λ = r` from the solve's `lam` (`S`'s {1}-inverse,
     /// this factorization with its dropped pivots): `lam` less its part in
     /// the null space of `S`. Each dropped pivot `p` gives a null vector
     /// `nₚ = Pᵀ L⁻ᵀ eₚ` (`S nₚ = Pᵀ L D eₚ = 0`), and they span it; written
@@ -20,17 +19,31 @@ impl StructuredLdlt<'_> {
     /// `(NᵀN + diag(kept)) y = Nᵀ lam`, a positive definite system (a
     /// dropped `nₚ` is 1 at `p` and 0 beyond it, a kept one is zero). Where
     /// `S`'s rows are the constraints', `null(S) = null(Aᵀ)`, so this is the
-    /// minimum-norm `λ` of `Aᵀλ = Fᶜ`. A pivot of that system that is not
-    /// positive (only NaN can make one) returns `None` from the enclosing
-    /// closure.
-    pub(in crate::emit) fn minimum_norm(&self, lam: &[Ident]) -> TokenStream {
+    /// minimum-norm `λ` of `Aᵀλ = Fᶜ`, for a system of `coordinates`
+    /// coordinates whose dropped rows are dependent to rounding
+    /// ([`Self::exactly_dependent`]). Where the rows were scaled (`λ` is
+    /// `D lam`), the norm is `D`'s: `weight` holds `dᵢ²` by row (`None`,
+    /// or past its end, 1), and `NᵀWN`, `NᵀW lam` replace `NᵀN`, `Nᵀ lam`.
+    /// Returns the code and each row's value (natural order), for the
+    /// caller to write; a pivot of that system that is not positive (only
+    /// NaN can make one) returns `None` from the enclosing closure.
+    pub(in crate::emit) fn minimum_norm(
+        &self,
+        lam: &[Ident],
+        weight: &[Option<TokenStream>],
+        coordinates: usize,
+    ) -> (TokenStream, Vec<TokenStream>) {
         let k = self.k();
         if k <= 1 || self.scalar_gram() {
             // λ = r / S, or 0 where S = 0: already the least norm.
-            return quote!([#(#lam),*]);
+            return (TokenStream::new(), lam.iter().map(|l| quote!(#l)).collect());
         }
         let o = &self.structure.order;
-        let (mut code, reach) = self.null_vectors();
+        let mut code = self.exactly_dependent(coordinates);
+        // `wᵢ ·` at position `i`, where row `o[i]` is weighted.
+        let weighted = |i: usize| weight.get(o[i]).cloned().flatten().map(|w| quote!(#w *));
+        let (vectors, reach) = self.null_vectors();
+        code.extend(vectors);
         let reach = &reach;
         let overlap = move |p: usize, q: usize| (0..k).filter(move |&i| reach[p][i] && reach[q][i]);
         let nonzero: Vec<Vec<bool>> = (0..k)
@@ -53,8 +66,8 @@ impl StructuredLdlt<'_> {
         for p in 0..k {
             for q in (0..=p).filter(|&q| structure.nonzero[p][q]) {
                 let products = overlap(p, q).map(|i| {
-                    let (a, b) = (null(p, i), null(q, i));
-                    quote!(#a * #b)
+                    let (a, b, w) = (null(p, i), null(q, i), weighted(i));
+                    quote!(#w #a * #b)
                 });
                 let kept = (p == q).then(|| {
                     let flag = Context::local("nk", p);
@@ -69,8 +82,8 @@ impl StructuredLdlt<'_> {
         let rhs: Vec<Ident> = (0..k).map(|p| Context::local("nh", p)).collect();
         for (p, h) in rhs.iter().enumerate() {
             let products = (0..k).filter(|&i| reach[p][i]).map(|i| {
-                let (n, x) = (null(p, i), &lam[o[i]]);
-                quote!(#n * #x)
+                let (n, x, w) = (null(p, i), &lam[o[i]], weighted(i));
+                quote!(#w #n * #x)
             });
             code.extend(quote! { let #h = #(#products)+*; });
         }
@@ -83,12 +96,31 @@ impl StructuredLdlt<'_> {
                 let (yp, n) = (&y[p], null(p, i));
                 quote!(- #yp * #n)
             });
-            out[o[i]] = quote!(#x #(#corrections)*);
+            out[o[i]] = quote!((#x #(#corrections)*));
         }
-        quote! {{
-            #code
-            [#(#out),*]
-        }}
+        (code, out)
+    }
+
+    /// `return None` unless every dropped pivot left rounding only
+    /// (`dⱼ ≤ dependent_pivot · Sⱼⱼ`): a row dropped by the rank rule's loose
+    /// cutoff while nearly independent has a unique `λ`, which moving along
+    /// its `nₚ` would change the force of; the runtime answers there.
+    fn exactly_dependent(&self, coordinates: usize) -> TokenStream {
+        let count = ((coordinates + self.k()) * 64) as f64;
+        let loose = (0..self.k()).map(|p| {
+            let (inv, d, s) = (
+                Context::local(self.roles.inverse, p),
+                Context::local(self.roles.pivot, p),
+                self.at(p, p),
+            );
+            quote!(((#inv == T::zero()) & (#d > __ncut * #s)))
+        });
+        quote! {
+            let __ncut: T = ::constrained::__private::dependent_pivot::<T>(#count);
+            if #(#loose)|* {
+                return ::core::option::Option::None;
+            }
+        }
     }
 
     /// Every pivot's null vector `nₚ = dropped · L⁻ᵀ eₚ` (by position) into

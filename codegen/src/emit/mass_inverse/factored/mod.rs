@@ -541,7 +541,8 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     // A redundant set's λ: the least norm, from S's own factors.
     let minimum_norm = (ctx.generic_rank < ctx.k).then(|| {
         let lam: Vec<Ident> = (0..ctx.k).map(|j| Context::local("lam", j)).collect();
-        gauss.gram.minimum_norm(&lam)
+        let (code, rows) = gauss.gram.minimum_norm(&lam, &[], ctx.n);
+        quote!({ #code [#(#rows),*] })
     });
     let value = checked_motion(
         ctx,

@@ -13,6 +13,7 @@ use crate::equations::mass_inverse::Symbolic;
 use crate::expr::{Graph, Id};
 use proc_macro2::TokenStream;
 use quote::quote;
+use syn::Ident;
 
 /// The straight-line solve of Gauss's principle for a symbolic `M⁻¹`, up to
 /// the multipliers: shared by `gauss` and the Jacobian
@@ -201,6 +202,7 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         None => (to_multipliers, None),
     };
     let lambda = written_multipliers(ctx, d, &body);
+    let minimum_norm = (ctx.generic_rank < ctx.k).then(|| minimum_norm(ctx, d, &body, &ldlt));
     let value = checked_motion(
         ctx,
         Some(ldlt.suspect(ctx.generic_rank)),
@@ -208,7 +210,7 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
         &lambda,
         also,
         paths,
-        None,
+        minimum_norm,
     );
     let doc = format!(
         " `(q̈, Aᵀλ)` of Gauss's principle, shared by `acceleration`,\n \
@@ -226,14 +228,43 @@ pub(in crate::emit) fn solver(ctx: &Context, d: &Symbolic) -> TokenStream {
     }
 }
 
+/// A redundant set's minimum-norm `λ`, as an expression: the least
+/// `‖μ D λ̂‖` among the scaled rows' solutions (`D`'s squares weight the
+/// norm), from `S`'s factors (`StructuredLdlt::minimum_norm`), written as
+/// the rows' own.
+fn minimum_norm(ctx: &Context, d: &Symbolic, body: &Body, ldlt: &StructuredLdlt) -> TokenStream {
+    let lam: Vec<Ident> = (0..ctx.k).map(|j| Context::local("lam", j)).collect();
+    let weight: Vec<Option<TokenStream>> = (0..ctx.k)
+        .map(|j| match d.scale.get(j) {
+            Some(&s) if !s.is_one() => Some(crate::emit::body::literal(s * s).0),
+            _ => None,
+        })
+        .collect();
+    let (code, rows) = ldlt.minimum_norm(&lam, &weight, ctx.n);
+    let rows = written(d, body, &rows);
+    quote!({ #code [#(#rows),*] })
+}
+
 /// `λ` of the rows as written: the solve's are those of the scaled rows
 /// `Â = D A` with `M` divided by a common mass `μ` (the force is
 /// `μ Âᵀ λ̂ = Aᵀ (μ D λ̂)`), so `λ = μ D λ̂`.
 fn written_multipliers(ctx: &Context, d: &Symbolic, body: &Body) -> Vec<TokenStream> {
-    let mass = d.common_mass.map(|m| body.expr(m));
-    (0..ctx.k)
+    let lam: Vec<TokenStream> = (0..ctx.k)
         .map(|j| {
             let l = Context::local("lam", j);
+            quote!(#l)
+        })
+        .collect();
+    written(d, body, &lam)
+}
+
+/// `μ D x` of the scaled rows' values `x` (see [`written_multipliers`]).
+fn written(d: &Symbolic, body: &Body, values: &[TokenStream]) -> Vec<TokenStream> {
+    let mass = d.common_mass.map(|m| body.expr(m));
+    values
+        .iter()
+        .enumerate()
+        .map(|(j, l)| {
             let scaled = match d.scale.get(j) {
                 Some(&s) if !s.is_one() => {
                     let (s, _) = crate::emit::body::literal(s);
