@@ -17,6 +17,8 @@
 
 mod minimum_norm;
 
+pub(super) use minimum_norm::Rows;
+
 use super::context::Context;
 use crate::numeric::sparsity::Structure;
 use proc_macro2::TokenStream;

@@ -22,15 +22,14 @@ pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
     largest::<T>() * lit::<T>(d)
 }
 
-/// The largest pivot of `S = A M⁻¹ Aᵀ`, relative to its diagonal entry,
-/// that a dropped row may leave where the minimum-norm `λ` is taken from
-/// the factors: `count · ε` (`count = 64 (N + K)`, the scale of the
-/// runtime's SVD cut, `crate::multipliers`). Exact dependencies leave
-/// rounding there; a row dropped with a larger pivot is only nearly
-/// dependent (the rank rule's cutoff is loose), its `λ` is unique, and the
-/// runtime answers.
+/// `count · ε`: the rounding of a sum of `count / 64` terms, relative to
+/// the sum of their magnitudes, with room (`count = 64 (N + K)`, the
+/// scale of the runtime's SVD cut, `crate::multipliers`). Generated code
+/// checks that a redundant set's minimum-norm `λ` gives the solve's force
+/// to within it (a row the rank rule dropped while only nearly dependent
+/// has a unique `λ`, and the runtime answers there).
 #[inline(always)]
-pub fn dependent_pivot<T: RealField + Copy>(count: f64) -> T {
+pub fn rounding<T: RealField + Copy>(count: f64) -> T {
     T::default_epsilon() * lit::<T>(count)
 }
 

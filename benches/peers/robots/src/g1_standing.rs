@@ -10,9 +10,8 @@
 use crate::clock::median_ns;
 use crate::Rng;
 use constrained::__private::Generated;
-use constrained::floating::FreeMotion;
 use constrained::multipliers::{multipliers, Multipliers};
-use constrained::nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
+use constrained::nalgebra::{SMatrix, SVector};
 use constrained::{ConstrainedSystem, State};
 use std::hint::black_box;
 
@@ -38,20 +37,7 @@ fn standing(places: &[f64; 18]) -> G1Standing<f64> {
 /// the rates projected onto the rows' null space (`A q̇ = 0`, by the
 /// pseudo-inverse of `A`).
 fn state(rng: &mut Rng) -> (G1Standing<f64>, State<f64, N>) {
-    let base = FreeMotion {
-        position: Vector3::new(
-            rng.uniform(0.02),
-            rng.uniform(0.02),
-            0.75 + rng.uniform(0.02),
-        ),
-        orientation: UnitQuaternion::from_euler_angles(
-            rng.uniform(0.1),
-            rng.uniform(0.1),
-            rng.uniform(0.3),
-        ),
-        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
-        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
-    };
+    let base = crate::moving_base(rng, 0.75, (0.1, 0.3));
     let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
     base.write(0, &mut q, &mut qd)
         .expect("seven coordinates fit");

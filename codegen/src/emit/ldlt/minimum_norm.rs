@@ -19,9 +19,9 @@ impl StructuredLdlt<'_> {
     /// `(NᵀN + diag(kept)) y = Nᵀ lam`, a positive definite system (a
     /// dropped `nₚ` is 1 at `p` and 0 beyond it, a kept one is zero). Where
     /// `S`'s rows are the constraints', `null(S) = null(Aᵀ)`, so this is the
-    /// minimum-norm `λ` of `Aᵀλ = Fᶜ`, for a system of `coordinates`
-    /// coordinates whose dropped rows are dependent to rounding
-    /// ([`Self::exactly_dependent`]). Where the rows were scaled (`λ` is
+    /// minimum-norm `λ` of `Aᵀλ = Fᶜ`, written to the locals `__nl{j}`
+    /// where it reproduces the solve's force ([`reproduces_force`]).
+    /// Where the rows were scaled (`λ` is
     /// `D lam`), the norm is `D`'s: `weight` holds `dᵢ²` by row (`None`,
     /// or past its end, 1), and `NᵀWN`, `NᵀW lam` replace `NᵀN`, `Nᵀ lam`.
     /// Returns the code and each row's value (natural order), for the
@@ -31,7 +31,7 @@ impl StructuredLdlt<'_> {
         &self,
         lam: &[Ident],
         weight: &[Option<TokenStream>],
-        coordinates: usize,
+        rows: &Rows,
     ) -> (TokenStream, Vec<TokenStream>) {
         let k = self.k();
         if k <= 1 || self.scalar_gram() {
@@ -39,7 +39,7 @@ impl StructuredLdlt<'_> {
             return (TokenStream::new(), lam.iter().map(|l| quote!(#l)).collect());
         }
         let o = &self.structure.order;
-        let mut code = self.exactly_dependent(coordinates);
+        let mut code = TokenStream::new();
         // `wᵢ ·` at position `i`, where row `o[i]` is weighted.
         let weighted = |i: usize| weight.get(o[i]).cloned().flatten().map(|w| quote!(#w *));
         let (vectors, reach) = self.null_vectors();
@@ -96,31 +96,12 @@ impl StructuredLdlt<'_> {
                 let (yp, n) = (&y[p], null(p, i));
                 quote!(- #yp * #n)
             });
-            out[o[i]] = quote!((#x #(#corrections)*));
+            let name = Context::local("nl", o[i]);
+            code.extend(quote! { let #name = #x #(#corrections)*; });
+            out[o[i]] = quote!(#name);
         }
+        code.extend(reproduces_force(rows, lam));
         (code, out)
-    }
-
-    /// `return None` unless every dropped pivot left rounding only
-    /// (`dⱼ ≤ dependent_pivot · Sⱼⱼ`): a row dropped by the rank rule's loose
-    /// cutoff while nearly independent has a unique `λ`, which moving along
-    /// its `nₚ` would change the force of; the runtime answers there.
-    fn exactly_dependent(&self, coordinates: usize) -> TokenStream {
-        let count = ((coordinates + self.k()) * 64) as f64;
-        let loose = (0..self.k()).map(|p| {
-            let (inv, d, s) = (
-                Context::local(self.roles.inverse, p),
-                Context::local(self.roles.pivot, p),
-                self.at(p, p),
-            );
-            quote!(((#inv == T::zero()) & (#d > __ncut * #s)))
-        });
-        quote! {
-            let __ncut: T = ::constrained::__private::dependent_pivot::<T>(#count);
-            if #(#loose)|* {
-                return ::core::option::Option::None;
-            }
-        }
     }
 
     /// Every pivot's null vector `nₚ = dropped · L⁻ᵀ eₚ` (by position) into
@@ -167,4 +148,58 @@ impl StructuredLdlt<'_> {
 /// The local holding entry `q` (a position) of pivot `p`'s null vector.
 fn null(p: usize, q: usize) -> Ident {
     Context::local2("nv", p, q)
+}
+
+/// The rows of `A` the solve's `λ` multiplies, for [`reproduces_force`].
+pub(in crate::emit) struct Rows<'r> {
+    /// `n`.
+    pub coordinates: usize,
+    /// Entry `(r, i)` of the rows the solve's `λ` multiplies (scaled, where
+    /// it scaled them), `None` where structurally zero.
+    pub entry: &'r dyn Fn(usize, usize) -> Option<TokenStream>,
+}
+
+/// `return None` unless the minimum-norm `λ` (`__nl{j}`) gives the solve's
+/// force `Aᵀ lam` to the rounding of forming it: per coordinate,
+/// `|Σᵣ aᵣᵢ (λᵣ − lamᵣ)| ≤ 64 (N + K) ε Σᵣ |aᵣᵢ| |lamᵣ|`. A row the rank rule's
+/// loose cutoff dropped while only nearly dependent has a unique `λ`, and
+/// a direction that is not quite null changes the force: the runtime
+/// answers there.
+fn reproduces_force(rows: &Rows, lam: &[Ident]) -> TokenStream {
+    let k = lam.len();
+    let count = ((rows.coordinates + k) * 64) as f64;
+    let mut code = quote! {
+        let __ncut: T = ::constrained::__private::rounding::<T>(#count);
+    };
+    let mut far = Vec::new();
+    for i in 0..rows.coordinates {
+        let entries: Vec<(usize, TokenStream)> = (0..k)
+            .filter_map(|r| (rows.entry)(r, i).map(|a| (r, a)))
+            .collect();
+        if entries.is_empty() {
+            continue;
+        }
+        let change = entries.iter().map(|(r, a)| {
+            let (after, before) = (Context::local("nl", *r), &lam[*r]);
+            quote!((#a) * (#after - #before))
+        });
+        let size = entries.iter().map(|(r, a)| {
+            let before = &lam[*r];
+            quote!(((#a) * #before).abs())
+        });
+        let (dc, ds) = (Context::local("ndf", i), Context::local("nds", i));
+        code.extend(quote! {
+            let #dc = #(#change)+*;
+            let #ds = #(#size)+*;
+        });
+        far.push(quote!((#dc.abs() > __ncut * #ds)));
+    }
+    if !far.is_empty() {
+        code.extend(quote! {
+            if #(#far)|* {
+                return ::core::option::Option::None;
+            }
+        });
+    }
+    code
 }

@@ -119,6 +119,26 @@ impl Rng {
     }
 }
 
+/// A floating base about `height` up (within 0.02 m each way), rolled and
+/// pitched within `tilt` and turned within `yaw` (radians), moving: the
+/// start of every floating system's states.
+pub(crate) fn moving_base(rng: &mut Rng, height: f64, (tilt, yaw): (f64, f64)) -> FreeMotion<f64> {
+    FreeMotion {
+        position: Vector3::new(
+            rng.uniform(0.02),
+            rng.uniform(0.02),
+            height + rng.uniform(0.02),
+        ),
+        orientation: UnitQuaternion::from_euler_angles(
+            rng.uniform(tilt),
+            rng.uniform(tilt),
+            rng.uniform(yaw),
+        ),
+        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
+        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
+    }
+}
+
 /// The feet's places: each foot under its hip (`tests/quadruped.rs`).
 fn feet() -> [f64; 8] {
     let mut feet = [0.0; 8];
@@ -178,20 +198,7 @@ fn leg(
 /// feet at their places, the joints' rates from the feet's velocity rows
 /// (`A q̇ = 0` solved for the 12 joint rates); random joint torques.
 fn quadruped_state(rng: &mut Rng) -> (Quadruped<f64>, State<f64, N>) {
-    let base = FreeMotion {
-        position: Vector3::new(
-            rng.uniform(0.02),
-            rng.uniform(0.02),
-            0.32 * 0.8f64.cos() + rng.uniform(0.02),
-        ),
-        orientation: UnitQuaternion::from_euler_angles(
-            rng.uniform(0.15),
-            rng.uniform(0.15),
-            rng.uniform(0.3),
-        ),
-        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
-        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
-    };
+    let base = moving_base(rng, 0.32 * 0.8f64.cos(), (0.15, 0.3));
     let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
     base.write(0, &mut q, &mut qd)
         .expect("seven coordinates fit");
@@ -259,20 +266,7 @@ fn go1_feet() -> [f64; 12] {
 /// Pinocchio's order of the same file's joints (`constrained_system!`'s
 /// `urdf`).
 fn go1_state(rng: &mut Rng) -> (Go1<f64>, State<f64, N>) {
-    let base = FreeMotion {
-        position: Vector3::new(
-            rng.uniform(0.02),
-            rng.uniform(0.02),
-            0.3 + rng.uniform(0.02),
-        ),
-        orientation: UnitQuaternion::from_euler_angles(
-            rng.uniform(0.1),
-            rng.uniform(0.1),
-            rng.uniform(0.2),
-        ),
-        linear: Vector3::new(rng.uniform(0.3), rng.uniform(0.3), rng.uniform(0.3)),
-        angular: Vector3::new(rng.uniform(1.0), rng.uniform(1.0), rng.uniform(1.0)),
-    };
+    let base = moving_base(rng, 0.3, (0.1, 0.2));
     let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
     base.write(0, &mut q, &mut qd)
         .expect("seven coordinates fit");

@@ -34,7 +34,7 @@ mod velocity;
 use crate::emit::body::Body;
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
-use crate::emit::ldlt::{Solves, StructuredLdlt};
+use crate::emit::ldlt::{Rows, Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
 use crate::emit::tokens::{concat, let_statement};
 use crate::equations::mass_inverse::Factored;
@@ -541,7 +541,13 @@ pub(in crate::emit) fn solver(ctx: &Context, f: &Factored) -> TokenStream {
     // A redundant set's λ: the least norm, from S's own factors.
     let minimum_norm = (ctx.generic_rank < ctx.k).then(|| {
         let lam: Vec<Ident> = (0..ctx.k).map(|j| Context::local("lam", j)).collect();
-        let (code, rows) = gauss.gram.minimum_norm(&lam, &[], ctx.n);
+        let g = &ctx.eq.system.graph;
+        let entry = |r: usize, i: usize| (!g.is_zero(ctx.eq.a[r][i])).then(|| a_entry(r, i));
+        let a = Rows {
+            coordinates: ctx.n,
+            entry: &entry,
+        };
+        let (code, rows) = gauss.gram.minimum_norm(&lam, &[], &a);
         quote!({ #code [#(#rows),*] })
     });
     let value = checked_motion(

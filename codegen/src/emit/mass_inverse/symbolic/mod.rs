@@ -7,7 +7,7 @@ pub(in crate::emit) mod step;
 
 use crate::emit::body::Body;
 use crate::emit::context::Context;
-use crate::emit::ldlt::StructuredLdlt;
+use crate::emit::ldlt::{Rows, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
 use crate::equations::mass_inverse::Symbolic;
 use crate::expr::{Graph, Id};
@@ -240,7 +240,26 @@ fn minimum_norm(ctx: &Context, d: &Symbolic, body: &Body, ldlt: &StructuredLdlt)
             _ => None,
         })
         .collect();
-    let (code, rows) = ldlt.minimum_norm(&lam, &weight, ctx.n);
+    // The scaled rows `D A`, whose multipliers `lam` are.
+    let g = &ctx.eq.system.graph;
+    let entry = |r: usize, i: usize| {
+        let a = ctx.eq.a[r][i];
+        (!g.is_zero(a)).then(|| {
+            let a = body.expr(a);
+            match d.scale.get(r) {
+                Some(&s) if !s.is_one() => {
+                    let (s, _) = crate::emit::body::literal(s);
+                    quote!(#s * (#a))
+                }
+                _ => a,
+            }
+        })
+    };
+    let a = Rows {
+        coordinates: ctx.n,
+        entry: &entry,
+    };
+    let (code, rows) = ldlt.minimum_norm(&lam, &weight, &a);
     let rows = written(d, body, &rows);
     quote!({ #code [#(#rows),*] })
 }
