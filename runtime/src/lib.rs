@@ -56,7 +56,7 @@ pub mod __private {
     };
     pub use crate::gauss_dense::gauss_dense;
     pub use crate::generated::{
-        largest, lit, rounding, signum, step, unscaled_bound, Generated, Motion, Reaction,
+        half_precision, largest, lit, signum, step, unscaled_bound, Generated, Motion, Reaction,
     };
     pub use crate::linearize::Tangent;
     pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};

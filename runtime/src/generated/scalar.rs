@@ -22,15 +22,16 @@ pub fn unscaled_bound<T: RealField + Copy>(d: f64) -> T {
     largest::<T>() * lit::<T>(d)
 }
 
-/// `count · ε`: the rounding of a sum of `count / 64` terms, relative to
-/// the sum of their magnitudes, with room (`count = 64 (N + K)`, the
-/// scale of the runtime's SVD cut, `crate::multipliers`). Generated code
-/// checks that a redundant set's minimum-norm `λ` gives the solve's force
-/// to within it (a row the rank rule dropped while only nearly dependent
-/// has a unique `λ`, and the runtime answers there).
+/// `√ε`: how closely a redundant set's minimum-norm `λ`, from the solve's
+/// factors, must give the solve's force, relative to its largest term.
+/// Rows dependent to rounding move it by rounding (grown by the rows'
+/// conditioning, so not a few `ε`); a row the rank rule's loose cutoff
+/// dropped while nearly independent (within 1e-3 rad) moves it by about
+/// its angle. Past this the rows were not dependent, `λ` is unique, and
+/// the runtime answers.
 #[inline(always)]
-pub fn rounding<T: RealField + Copy>(count: f64) -> T {
-    T::default_epsilon() * lit::<T>(count)
+pub fn half_precision<T: RealField + Copy>() -> T {
+    T::default_epsilon().sqrt()
 }
 
 /// `T`'s largest finite value (NaN for a `T` without one, so that a

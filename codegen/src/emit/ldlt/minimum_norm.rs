@@ -160,18 +160,15 @@ pub(in crate::emit) struct Rows<'r> {
 }
 
 /// `return None` unless the minimum-norm `λ` (`__nl{j}`) gives the solve's
-/// force `Aᵀ lam` to the rounding of forming it: per coordinate,
-/// `|Σᵣ aᵣᵢ (λᵣ − lamᵣ)| ≤ 64 (N + K) ε Σᵣ |aᵣᵢ| |lamᵣ|`. A row the rank rule's
-/// loose cutoff dropped while only nearly dependent has a unique `λ`, and
-/// a direction that is not quite null changes the force: the runtime
-/// answers there.
+/// force `Aᵀ lam` to `√ε` of its largest term: `maxᵢ |Σᵣ aᵣᵢ (λᵣ − lamᵣ)| ≤
+/// √ε maxᵢ Σᵣ |aᵣᵢ lamᵣ|` (`half_precision`). A row the rank rule's loose
+/// cutoff dropped while only nearly dependent has a unique `λ`, and a
+/// direction that is not quite null changes the force by about the row's
+/// angle: the runtime answers there.
 fn reproduces_force(rows: &Rows, lam: &[Ident]) -> TokenStream {
     let k = lam.len();
-    let count = ((rows.coordinates + k) * 64) as f64;
-    let mut code = quote! {
-        let __ncut: T = ::constrained::__private::rounding::<T>(#count);
-    };
-    let mut far = Vec::new();
+    let mut code = TokenStream::new();
+    let (mut change, mut size) = (Vec::new(), Vec::new());
     for i in 0..rows.coordinates {
         let entries: Vec<(usize, TokenStream)> = (0..k)
             .filter_map(|r| (rows.entry)(r, i).map(|a| (r, a)))
@@ -179,27 +176,33 @@ fn reproduces_force(rows: &Rows, lam: &[Ident]) -> TokenStream {
         if entries.is_empty() {
             continue;
         }
-        let change = entries.iter().map(|(r, a)| {
+        let moved = entries.iter().map(|(r, a)| {
             let (after, before) = (Context::local("nl", *r), &lam[*r]);
             quote!((#a) * (#after - #before))
         });
-        let size = entries.iter().map(|(r, a)| {
+        let terms = entries.iter().map(|(r, a)| {
             let before = &lam[*r];
             quote!(((#a) * #before).abs())
         });
         let (dc, ds) = (Context::local("ndf", i), Context::local("nds", i));
         code.extend(quote! {
-            let #dc = #(#change)+*;
-            let #ds = #(#size)+*;
+            let #dc = (#(#moved)+*).abs();
+            let #ds = #(#terms)+*;
         });
-        far.push(quote!((#dc.abs() > __ncut * #ds)));
+        change.push(dc);
+        size.push(ds);
     }
-    if !far.is_empty() {
-        code.extend(quote! {
-            if #(#far)|* {
-                return ::core::option::Option::None;
-            }
-        });
-    }
+    let (Some((first_change, changes)), Some((first_size, sizes))) =
+        (change.split_first(), size.split_first())
+    else {
+        return code;
+    };
+    code.extend(quote! {
+        let __nmoved = #first_change #(.max(#changes))*;
+        let __nforce = #first_size #(.max(#sizes))*;
+        if !(__nmoved <= ::constrained::__private::half_precision::<T>() * __nforce) {
+            return ::core::option::Option::None;
+        }
+    });
     code
 }
