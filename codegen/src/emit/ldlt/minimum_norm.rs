@@ -45,11 +45,7 @@ impl StructuredLdlt<'_> {
         let (vectors, reach) = self.null_vectors();
         code.extend(vectors);
         let reach = &reach;
-        let overlap = move |p: usize, q: usize| (0..k).filter(move |&i| reach[p][i] && reach[q][i]);
-        let nonzero: Vec<Vec<bool>> = (0..k)
-            .map(|p| (0..k).map(|q| overlap(p, q).next().is_some()).collect())
-            .collect();
-        let structure = Structure::new(nonzero);
+        let structure = Structure::new(overlaps(reach));
         let system = StructuredLdlt {
             structure: &structure,
             roles: Roles {
@@ -62,21 +58,7 @@ impl StructuredLdlt<'_> {
             pivots: Pivots::Positive(quote!(return ::core::option::Option::None;)),
             solves: Solves::Once,
         };
-        // `NᵀN + diag(kept)`, by position.
-        for p in 0..k {
-            for q in (0..=p).filter(|&q| structure.nonzero[p][q]) {
-                let products = overlap(p, q).map(|i| {
-                    let (a, b, w) = (null(p, i), null(q, i), weighted(i));
-                    quote!(#w #a * #b)
-                });
-                let kept = (p == q).then(|| {
-                    let flag = Context::local("nk", p);
-                    quote!(+ (T::one() - #flag))
-                });
-                let entry = system.entry(p, q);
-                code.extend(quote! { let #entry = #(#products)+* #kept; });
-            }
-        }
+        code.extend(normal_entries(&system, reach, &weighted));
         code.extend(system.factor());
         // `Nᵀ lam`, by position.
         let rhs: Vec<Ident> = (0..k).map(|p| Context::local("nh", p)).collect();
@@ -143,6 +125,45 @@ impl StructuredLdlt<'_> {
         }
         (code, reach)
     }
+}
+
+/// Where the null vectors `p` and `q` can both be nonzero (`reach`): the
+/// pattern of `NᵀN`.
+fn overlaps(reach: &[Vec<bool>]) -> Vec<Vec<bool>> {
+    let k = reach.len();
+    (0..k)
+        .map(|p| {
+            (0..k)
+                .map(|q| (0..k).any(|i| reach[p][i] && reach[q][i]))
+                .collect()
+        })
+        .collect()
+}
+
+/// The entries of `NᵀWN + diag(kept)` (by position, `weighted(i)` the
+/// factor `wᵢ ·` of position `i`, if any) as `system`'s locals.
+fn normal_entries(
+    system: &StructuredLdlt,
+    reach: &[Vec<bool>],
+    weighted: &dyn Fn(usize) -> Option<TokenStream>,
+) -> TokenStream {
+    let k = reach.len();
+    let mut code = TokenStream::new();
+    for p in 0..k {
+        for q in (0..=p).filter(|&q| system.structure.nonzero[p][q]) {
+            let products = (0..k).filter(|&i| reach[p][i] && reach[q][i]).map(|i| {
+                let (a, b, w) = (null(p, i), null(q, i), weighted(i));
+                quote!(#w #a * #b)
+            });
+            let kept = (p == q).then(|| {
+                let flag = Context::local("nk", p);
+                quote!(+ (T::one() - #flag))
+            });
+            let entry = system.entry(p, q);
+            code.extend(quote! { let #entry = #(#products)+* #kept; });
+        }
+    }
+    code
 }
 
 /// The local holding entry `q` (a position) of pivot `p`'s null vector.
