@@ -505,8 +505,7 @@ fn write(path: &str) {
     // (`go1 STATE NAME ROWS COLUMNS` and its entries row by row), in a file
     // of their own beside the reference.
     let mut derivatives = String::new();
-    let mut go1_index = 0;
-    for _ in 0..STATES {
+    for go1_index in 0..STATES {
         let (system, s) = go1_state(&mut own);
         let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
         let (a, b) = ConstrainedSystem::constraint_matrices(&system, &s);
@@ -555,7 +554,6 @@ fn write(path: &str) {
             );
             line(&mut derivatives, "", transposed(m, rows).iter());
         }
-        go1_index += 1;
     }
     assert!(
         worst_derivative < 1e-6,
