@@ -295,14 +295,22 @@ def replace_section(path, heading, lines, new_targets, prefix, provenance):
     path.write_text("\n".join(kept[:end] + new + kept[end:]))
 
 
+def splice_report(path, lines, new_targets, when, report):
+    """Rewrites the section `report` (its `HEADING`, `TARGET_PREFIX`, `JSON` and
+    script `NAME`) and its targets' rows of `path` (BENCHMARKS.md)."""
+    if not lines:
+        sys.exit(f"no {report.JSON}: run benches/peers/run.sh")
+    provenance = [f"From the peers' run of {when} on {machine()} (this section alone:",
+                  f"`python3 benches/{report.NAME}`)."]
+    replace_section(path, report.HEADING, lines, new_targets, report.TARGET_PREFIX, provenance)
+
+
+JSON, NAME = "contacts.json", "report_contacts.py"
+
+
 def splice(path, rows, ns, when):
     """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md)."""
-    lines = section(rows, ns)
-    if not lines:
-        sys.exit("no contacts.json: run benches/peers/run.sh")
-    provenance = [f"From the peers' run of {when} on {machine()} (this section alone:",
-                  "`python3 benches/report_contacts.py`)."]
-    replace_section(path, HEADING, lines, targets(rows), TARGET_PREFIX, provenance)
+    splice_report(path, section(rows, ns), targets(rows), when, sys.modules[__name__])
 
 
 if __name__ == "__main__":

@@ -167,14 +167,12 @@ def section(rows, ns):
     ] + table
 
 
+JSON, NAME = "kinematics.json", "report_kinematics.py"
+
+
 def splice(path, rows, ns, when):
     """Rewrites this section and the targets' rows of `path` (BENCHMARKS.md)."""
-    lines = section(rows, ns)
-    if not lines:
-        sys.exit("no kinematics.json: run benches/peers/run.sh")
-    provenance = [f"From the peers' run of {when} on {report_contacts.machine()} (this section alone:",
-                  "`python3 benches/report_kinematics.py`)."]
-    report_contacts.replace_section(path, HEADING, lines, targets(rows), TARGET_PREFIX, provenance)
+    report_contacts.splice_report(path, section(rows, ns), targets(rows), when, sys.modules[__name__])
 
 
 if __name__ == "__main__":
