@@ -157,7 +157,8 @@ if [ "$contacts_ok" = 1 ]; then
     "${contacts[@]}" write "$out/contacts.txt" || status=1
     for round in 1 2 3; do
       "${pin[@]}" "${contacts[@]}" time "$round" || status=1
-      "${pin[@]}" "$out/contacts" "$out/contacts.txt" "$round" "$robot_data/go1_description/urdf/go1.urdf" || status=1
+      "${pin[@]}" "$out/contacts" "$out/contacts.txt" "$round" "$robot_data/go1_description/urdf/go1.urdf" \
+        "$robot_data/g1_description/urdf/g1_29dof_rev_1_0.urdf" || status=1
     done
   } > "$target/benchmarks/contacts.json"
   cat "$target/benchmarks/contacts.json"

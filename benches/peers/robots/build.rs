@@ -392,7 +392,9 @@ fn g1_standing(robots: &Path, out: &Path) {
          `g1_description/urdf/g1_29dof_rev_1_0.urdf` on a floating root joint, standing on\n    \
          /// three points of each foot (held at `(x, y, z)` each), unpowered.\n    \
          pub struct G1Standing {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        \
-         constraints: [\n            {rows}\n        ],\n    }}\n}}\n",
+         constraints: [\n            {rows}\n        ],\n    }}\n}}\n\n\
+         /// The points of each foot held, in its `*_ankle_roll_link`'s frame.\n\
+         const SOLE_POINTS: [[f64; 3]; 3] = {G1_SOLE_POINTS:?};\n",
         places = places.join(", "),
         rows = rows.join("\n            "),
         copy = copy.display().to_string(),

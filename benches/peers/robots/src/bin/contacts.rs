@@ -324,7 +324,7 @@ fn five_bar_state(rng: &mut Rng) -> (FiveBarLoop<f64>, State<f64, 4>) {
     (system, state)
 }
 
-fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>) {
+pub(crate) fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>) {
     let _ = write!(out, "{name}");
     for v in values {
         let _ = write!(out, " {v:.17e}");
@@ -334,10 +334,10 @@ fn line<'a>(out: &mut String, name: &str, values: impl Iterator<Item = &'a f64>)
 
 /// Pinocchio's configuration, velocity and acceleration of a floating
 /// base's state and its `q̈` (module docs), the joints in our order.
-fn pinocchio_coordinates(
-    s: &State<f64, N>,
-    qdd: &SVector<f64, N>,
-) -> ([f64; 19], [f64; 18], [f64; 18]) {
+pub(crate) fn pinocchio_coordinates<const M: usize>(
+    s: &State<f64, M>,
+    qdd: &SVector<f64, M>,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let base = FreeMotion::read(0, &s.q, &s.qd).expect("a unit quaternion");
     let r = base.orientation;
     let (v, w) = (base.body_linear(), base.body_angular());
@@ -347,17 +347,17 @@ fn pinocchio_coordinates(
     let linear = r.inverse() * Vector3::new(qdd[0], qdd[1], qdd[2]) - w.cross(&v);
     let angular = (unit.conjugate() * quat_dd).imag() * 2.0;
     let quat = r.quaternion();
-    let mut config = [0.0; 19];
+    let mut config = vec![0.0; M];
     config[..3].copy_from_slice(&[s.q[0], s.q[1], s.q[2]]);
     config[3..7].copy_from_slice(&[quat.i, quat.j, quat.k, quat.w]);
-    let (mut velocity, mut acceleration) = ([0.0; 18], [0.0; 18]);
+    let (mut velocity, mut acceleration) = (vec![0.0; M - 1], vec![0.0; M - 1]);
     for k in 0..3 {
         velocity[k] = v[k];
         velocity[3 + k] = w[k];
         acceleration[k] = linear[k];
         acceleration[3 + k] = angular[k];
     }
-    for j in 7..N {
+    for j in 7..M {
         config[j] = s.q[j];
         velocity[j - 1] = s.qd[j];
         acceleration[j - 1] = qdd[j];
@@ -466,6 +466,7 @@ fn write(path: &str) {
     let names = Go1::<f64>::COORDINATES;
     assert_eq!(names[0], "root_joint_x", "the Go1's base comes first");
     let _ = writeln!(out, "names go1 {}", names[7..].join(" "));
+    let _ = writeln!(out, "names g1 {}", g1_standing::joints().join(" "));
     for _ in 0..STATES {
         let (system, s) = quadruped_state(&mut rng);
         let (qdd, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
@@ -575,6 +576,7 @@ fn write(path: &str) {
     }
     assert!(worst < 1e-12, "A q̈ = b only to {worst:e}");
     eprintln!("contacts: A q̈ = b to {worst:.1e} at every state");
+    g1_standing::write(&mut out);
     std::fs::write(path, out).expect("writes the reference file");
     std::fs::write(format!("{path}.derivatives"), derivatives)
         .expect("writes the derivatives beside the reference file");
