@@ -172,14 +172,10 @@ def section(rows, ns):
             "returns the solve's own `λ = J⁻ᵀ (f − M_lb u − M_ll θ̈)`, turned back into the",
             "world's axes.",
             "",
-            "The quadruped's `acceleration` runs 12,133 x86-64 instructions a call",
-            "(callgrind, on the 20 states) and 6,006 operations (`op_count`); one reciprocal",
-            "of `|q|²` serves its 144 divisions. `acceleration_and_multipliers` adds some 250",
-            "operations and 10 % more instructions but nearly doubles the time: the code a",
-            "call runs spans 69.4 KB against `acceleration`'s 64.9 KB (distinct 64-byte",
-            "lines) on a core whose L1 instruction cache is 64 KB, so the multipliers' code",
-            "streams from L2 at every call (cachegrind with a 64 KB I1: 969 misses a call",
-            "against 401).",
+            "The instruction-cache table below measures the other half of these ratios: the",
+            "quadruped's and the Go1's calls each run over 1,000 distinct 64-byte lines of",
+            "code, more than twice a 32 KiB L1i, so the whole hot path streams from L2 at",
+            "every call.",
             "On a loaded machine both sides' times grow, not in proportion: compare the",
             "ratios of one run's rounds, and their range. The same binary's quadruped",
             "`acceleration` also moves between runs, 0.93 to 1.11 µs on one afternoon",
@@ -228,7 +224,49 @@ def section(rows, ns):
         "",
         "| system | what | ours | Pinocchio | Pinocchio / ours |",
         "|---|---|---|---|---|",
-    ] + table + profile + redundant(rows, ns)
+    ] + table + profile + icache(load_icache()) + redundant(rows, ns)
+
+
+ICACHE_NAMES = {"quadruped": "quadruped", "go1": "Unitree Go1 from its URDF", "five_bar": "five-bar loop",
+                "g1_points": "G1 on three points of each foot"}
+
+
+def load_icache(name="icache.json"):
+    """The lines of `benchmarks/icache.json` (benches/peers/icache.sh), or []."""
+    import report
+
+    path = Path(report.TARGET) / "benchmarks" / name
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text().splitlines() if line.startswith("{")]
+
+
+def icache(rows):
+    """The instruction-cache table: per call, instructions, the code run and L1i misses."""
+    if not rows:
+        return []
+    r = rows[0]
+    out = [
+        "",
+        "### Instruction cache, per call",
+        "",
+        "`bash benches/peers/icache.sh`: cachegrind on `contacts spin SYSTEM WHAT PASSES`",
+        "(the states, then only calls), each figure the difference of a run with calls and",
+        "one without. The code run is the distinct lines of code the calls touch that the",
+        "states' set-up did not (a 1 MiB L1i, where only first touches miss: a lower",
+        f"bound); the misses are this machine's L1i's ({r['i1_bytes'] // 1024} KiB, {r['i1_ways']}-way, "
+        f"{r['line']}-byte lines, from sysfs),",
+        "over 1,000 calls. Where the code run is larger than the L1i, every line of it",
+        "misses at every call.",
+        "",
+        "| system | call | instructions | code run | L1i misses |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rows:
+        kb = r["lines"] * r["line"] / 1024
+        out.append(f"| {ICACHE_NAMES.get(r['system'], r['system'])} | `{r['what']}` | {r['instructions']:,.0f} | "
+                   f"{kb:.1f} KiB ({r['lines']:,} lines) | {r['i1_misses']:,.0f} |")
+    return out
 
 
 def redundant(rows, ns):

@@ -162,6 +162,8 @@ if [ "$contacts_ok" = 1 ]; then
     done
   } > "$target/benchmarks/contacts.json"
   cat "$target/benchmarks/contacts.json"
+  # The instruction-cache report of the same systems (cachegrind).
+  bash "$here/icache.sh" || status=1
 else
   status=1
 fi

@@ -10,6 +10,7 @@
 //! ```text
 //! contacts write REFERENCE_FILE   # the states and the generated answers
 //! contacts time ROUND             # the generated code's times, JSON lines
+//! contacts spin SYSTEM WHAT PASSES # only calls, for cachegrind (benches/peers/icache.sh)
 //! ```
 //!
 //! The states are consistent (the quadruped's legs placed by inverse
@@ -664,6 +665,56 @@ fn time_go1_derivatives(round: &str, cases: &[(Go1<f64>, State<f64, N>)]) {
     );
 }
 
+/// `passes` passes over `cases` calling `what` (`acceleration` or
+/// `acceleration_and_multipliers`) and nothing else: the loop that
+/// `benches/peers/icache.sh` runs under cachegrind, once with no pass (the
+/// set-up alone) and once with some, so that the difference is the calls'.
+fn spin<S, const M: usize, const K: usize>(what: &str, passes: usize, cases: &[(S, State<f64, M>)])
+where
+    S: ConstrainedSystem<f64, M, K> + Multipliers<f64, M, K>,
+{
+    for _ in 0..passes {
+        for (system, s) in cases {
+            if what == "acceleration" {
+                let _ = black_box(ConstrainedSystem::acceleration(
+                    black_box(system),
+                    black_box(s),
+                ));
+            } else {
+                let _ = black_box(black_box(system).acceleration_and_multipliers(black_box(s)));
+            }
+        }
+    }
+}
+
+/// `contacts spin SYSTEM WHAT PASSES`: the states of `SYSTEM` (as `time`
+/// makes them), then [`spin`].
+fn spin_system(system: &str, what: &str, passes: usize) {
+    match system {
+        "quadruped" => {
+            let mut rng = Rng(27);
+            let cases: Vec<_> = (0..STATES).map(|_| quadruped_state(&mut rng)).collect();
+            spin::<_, N, 13>(what, passes, &cases);
+        }
+        "go1" => {
+            let mut own = Rng(48);
+            let cases: Vec<_> = (0..STATES).map(|_| go1_state(&mut own)).collect();
+            spin::<_, N, 13>(what, passes, &cases);
+        }
+        "five_bar" => {
+            let mut rng = Rng(27);
+            let _: Vec<_> = (0..STATES).map(|_| quadruped_state(&mut rng)).collect();
+            let cases: Vec<_> = (0..STATES).map(|_| five_bar_state(&mut rng)).collect();
+            spin::<_, 4, 2>(what, passes, &cases);
+        }
+        "g1_points" => g1_standing::spin(what, passes),
+        _ => {
+            eprintln!("contacts spin: no system {system}");
+            std::process::exit(2);
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     match (args.get(1).map(String::as_str), args.get(2)) {
@@ -680,8 +731,17 @@ fn main() {
             time::<_, 4, 2>("five_bar", round, &five_bars);
             g1_standing::time(round);
         }
+        (Some("spin"), Some(system)) => {
+            let (Some(what), Some(Ok(passes))) = (args.get(3), args.get(4).map(|p| p.parse())) else {
+                eprintln!("usage: contacts spin SYSTEM WHAT PASSES");
+                std::process::exit(2);
+            };
+            spin_system(system, what, passes);
+        }
         _ => {
-            eprintln!("usage: contacts write REFERENCE_FILE | contacts time ROUND");
+            eprintln!(
+                "usage: contacts write REFERENCE_FILE | contacts time ROUND | contacts spin SYSTEM WHAT PASSES"
+            );
             std::process::exit(2);
         }
     }
