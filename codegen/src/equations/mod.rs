@@ -3,6 +3,7 @@
 //! ([`mass_inverse`]) and the tangent pieces (`tangent`).
 
 mod auxiliary;
+mod conditioned;
 pub mod gibbs_appell;
 pub mod in_base;
 pub mod legs;
@@ -77,6 +78,7 @@ pub struct VelocityTerms {
 pub fn derive(system: System, jacobians: bool) -> syn::Result<Equations> {
     let mut equations = constraint_equations(system, jacobians);
     equations.partition = partition::partition(&equations)?;
+    conditioned::reorder(&mut equations);
     Ok(equations)
 }
 
