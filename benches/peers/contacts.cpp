@@ -253,8 +253,8 @@ struct Problem {
   std::vector<State> states;
   // Our λ's entries in the peer's λ (−1: the peer's row has no twin and must be zero).
   std::vector<int> rows;
-  // A redundant set (the G1's), checked to these tolerances rather than
-  // 1e-12 (see main).
+  // A redundant set (the G1's): its λ is checked to `lambda_tolerance`
+  // rather than 1e-12 (see main).
   bool redundant = false;
   double qdd_tolerance = 1e-12, lambda_tolerance = 1e-12;
 };
@@ -489,12 +489,10 @@ int main(int argc, char **argv) {
   // The G1's eighteen rows have rank twelve. Its proximal loop stops at
   // its cap, never at its accuracy, and its λ along the rows' null space
   // drifts as it iterates (to within some 1e-8 of the minimum norm at
-  // best); our q̈, whose solve keeps twelve of the rows in a fixed order,
-  // is some 1e-11 from the exact one where the rows it keeps are nearly
-  // dependent (the runtime's dense solve and Pinocchio agree to 1e-13).
-  // So q̈ is checked to 1e-10 and λ to 1e-7, and said so.
+  // best): λ is checked to 1e-7, q̈ to 1e-12 as everywhere, and the cap
+  // raised until both hold.
   human.redundant = true;
-  human.qdd_tolerance = 1e-10;
+  human.qdd_tolerance = 1e-12;
   human.lambda_tolerance = 1e-7;
   for (int i = 0; i < n; i++) {
     const peer_record &r = records[i];

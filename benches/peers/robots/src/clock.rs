@@ -56,3 +56,37 @@ pub fn median_ns(mut call: impl FnMut()) -> f64 {
     samples.sort_by(f64::total_cmp);
     samples[15]
 }
+
+/// The median over 31 back-to-back pairs of batches of `b`'s time over
+/// `a`'s (each batch as many calls as make `a`'s about 5 ms): a ratio of
+/// two calls that a shared machine's slow spells, which last longer than a
+/// pair, move together rather than apart. (The contacts' binary's alone.)
+#[allow(dead_code)]
+pub fn paired_ratio(mut a: impl FnMut(), mut b: impl FnMut()) -> f64 {
+    let mut iterations: u64 = 1;
+    loop {
+        let start = cpu_now();
+        for _ in 0..iterations {
+            a();
+        }
+        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
+            break;
+        }
+        iterations *= 2;
+    }
+    let mut ratios: Vec<f64> = (0..31)
+        .map(|_| {
+            let start = cpu_now();
+            for _ in 0..iterations {
+                a();
+            }
+            let middle = cpu_now();
+            for _ in 0..iterations {
+                b();
+            }
+            (cpu_now() - middle) / (middle - start)
+        })
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    ratios[15]
+}

@@ -732,7 +732,8 @@ fn main() {
             g1_standing::time(round);
         }
         (Some("spin"), Some(system)) => {
-            let (Some(what), Some(Ok(passes))) = (args.get(3), args.get(4).map(|p| p.parse())) else {
+            let (Some(what), Some(Ok(passes))) = (args.get(3), args.get(4).map(|p| p.parse()))
+            else {
                 eprintln!("usage: contacts spin SYSTEM WHAT PASSES");
                 std::process::exit(2);
             };
