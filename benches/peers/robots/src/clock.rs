@@ -33,17 +33,7 @@ pub fn cpu_now() -> f64 {
 /// ns of `call`, over 31 batches of about 5 ms after doubling the batch up
 /// to that length.
 pub fn median_ns(mut call: impl FnMut()) -> f64 {
-    let mut iterations: u64 = 1;
-    loop {
-        let start = cpu_now();
-        for _ in 0..iterations {
-            call();
-        }
-        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
-            break;
-        }
-        iterations *= 2;
-    }
+    let iterations = calibrated(&mut call);
     let mut samples: Vec<f64> = (0..31)
         .map(|_| {
             let start = cpu_now();
@@ -63,17 +53,7 @@ pub fn median_ns(mut call: impl FnMut()) -> f64 {
 /// pair, move together rather than apart. (The contacts' binary's alone.)
 #[allow(dead_code)]
 pub fn paired_ratio(mut a: impl FnMut(), mut b: impl FnMut()) -> f64 {
-    let mut iterations: u64 = 1;
-    loop {
-        let start = cpu_now();
-        for _ in 0..iterations {
-            a();
-        }
-        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
-            break;
-        }
-        iterations *= 2;
-    }
+    let iterations = calibrated(&mut a);
     let mut ratios: Vec<f64> = (0..31)
         .map(|_| {
             let start = cpu_now();
@@ -89,4 +69,19 @@ pub fn paired_ratio(mut a: impl FnMut(), mut b: impl FnMut()) -> f64 {
         .collect();
     ratios.sort_by(f64::total_cmp);
     ratios[15]
+}
+
+/// How many calls of `call` make a batch of about 5 ms (doubling from one).
+fn calibrated(call: &mut impl FnMut()) -> u64 {
+    let mut iterations: u64 = 1;
+    loop {
+        let start = cpu_now();
+        for _ in 0..iterations {
+            call();
+        }
+        if cpu_now() - start > 5e6 || iterations >= 1 << 40 {
+            return iterations;
+        }
+        iterations *= 2;
+    }
 }

@@ -125,19 +125,7 @@ pub fn write(out: &mut String) {
 /// `passes` passes of `what` over the states, and nothing else (`contacts
 /// spin`, for cachegrind).
 pub fn spin(what: &str, passes: usize) {
-    let cases = states();
-    for _ in 0..passes {
-        for (system, s) in &cases {
-            if what == "acceleration" {
-                let _ = black_box(ConstrainedSystem::acceleration(
-                    black_box(system),
-                    black_box(s),
-                ));
-            } else {
-                let _ = black_box(black_box(system).acceleration_and_multipliers(black_box(s)));
-            }
-        }
-    }
+    crate::spin::<_, N, K>(what, passes, &states());
 }
 
 /// `q̈` with the runtime's minimum-norm `λ`: the solve's force, then an SVD

@@ -669,8 +669,11 @@ fn time_go1_derivatives(round: &str, cases: &[(Go1<f64>, State<f64, N>)]) {
 /// `acceleration_and_multipliers`) and nothing else: the loop that
 /// `benches/peers/icache.sh` runs under cachegrind, once with no pass (the
 /// set-up alone) and once with some, so that the difference is the calls'.
-fn spin<S, const M: usize, const K: usize>(what: &str, passes: usize, cases: &[(S, State<f64, M>)])
-where
+pub(crate) fn spin<S, const M: usize, const K: usize>(
+    what: &str,
+    passes: usize,
+    cases: &[(S, State<f64, M>)],
+) where
     S: ConstrainedSystem<f64, M, K> + Multipliers<f64, M, K>,
 {
     for _ in 0..passes {
