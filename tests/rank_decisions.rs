@@ -4,6 +4,7 @@
 //! whose motion on the parallelogram branch is known in closed form.
 
 use constrained::models::{four_bar_acceleration, four_bar_state, ParallelogramFourBar};
+use constrained::multipliers::{multipliers, Multipliers};
 use constrained::rank::relative_residual;
 use constrained::{ConstrainedSystem, State};
 
@@ -304,6 +305,19 @@ fn a_redundant_set_keeps_well_conditioned_rows() {
         assert!(
             error <= 1e-12 && residual <= 1e-13,
             "turned by ({roll}, {pitch}, {yaw}): q̈ {error:e} from the dense solve, rows to {residual:e}"
+        );
+        // The minimum-norm λ from the solve's factors, against the
+        // runtime's (an SVD of A) from the dense solve's force.
+        let (_, lambda) = system.acceleration_and_multipliers(&s).expect("q̈ and λ");
+        let (m, f) = (
+            ConstrainedSystem::mass_matrix(&system, &s),
+            ConstrainedSystem::forces(&system, &s),
+        );
+        let reference = multipliers(&a, &(m * exact - f)).expect("λ of Aᵀλ = Fᶜ");
+        let gap = (lambda - reference).amax() / reference.amax();
+        assert!(
+            gap <= 1e-10,
+            "turned by ({roll}, {pitch}, {yaw}): λ {gap:e} from the SVD's"
         );
     }
 }
