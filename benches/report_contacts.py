@@ -237,7 +237,10 @@ def section(rows, ns):
 
 
 ICACHE_NAMES = {"quadruped": "quadruped", "go1": "Unitree Go1 from its URDF", "five_bar": "five-bar loop",
-                "g1_points": "G1 on three points of each foot"}
+                "g1_points": "G1 on three points of each foot", "panda": "Panda (fixed base, Robots table)",
+                "ur5": "UR5 (fixed base)", "talos": "TALOS (fixed base)", "xarm7": "xArm7 (fixed base)",
+                "kinova": "Kinova Jaco 2 (fixed base)", "g1_arms_locked": "G1, arms locked (fixed base)",
+                "g1": "G1, 29 joints (fixed base)"}
 
 
 def load_icache(name="icache.json"):
@@ -259,8 +262,9 @@ def icache(rows):
         "",
         "### Instruction cache, per call",
         "",
-        "`bash benches/peers/icache.sh`: cachegrind on `contacts spin SYSTEM WHAT PASSES`",
-        "(the states, then only calls), each figure the difference of a run with calls and",
+        "`bash benches/peers/icache.sh`: cachegrind on `contacts spin SYSTEM WHAT PASSES` and, for",
+        "the Robots table's robots, `constrained-robots spin ROBOT WHAT PASSES` (the states,",
+        "then only calls), each figure the difference of a run with calls and",
         "one without. The code run is the distinct lines of code the calls touch that the",
         "states' set-up did not (a 1 MiB L1i, where only first touches miss: a lower",
         f"bound); the misses are this machine's L1i's ({r['i1_bytes'] // 1024} KiB, {r['i1_ways']}-way, "

@@ -1,23 +1,26 @@
 #!/usr/bin/env bash
 # The instruction-cache report of the Contacts section: for each contact
-# system's `acceleration` and `acceleration_and_multipliers`, the
-# instructions a call runs, the distinct 64-byte lines of code it runs
+# system's `acceleration` and `acceleration_and_multipliers`, and each
+# fixed-base robot's `acceleration`, `mass_matrix` and `inverse_dynamics`,
+# the instructions a call runs, the distinct 64-byte lines of code it runs
 # (its hot path's size) and its L1 instruction-cache misses per call, under
 # cachegrind with this machine's own L1i geometry (read from sysfs).
 #
 # Each figure is a difference of two runs of `contacts spin SYSTEM WHAT
-# PASSES`, which makes the states and then only calls: PASSES = 0 (the
-# set-up alone) against PASSES = 50 (1,000 calls) for instructions and
-# misses; against PASSES = 1 with a 1 MiB L1i, where only first touches
-# miss, for the lines (lines the set-up also ran are not counted, so this
-# is a lower bound). Writes <target>/benchmarks/icache.json (one JSON
-# object per line). Called by benches/peers/run.sh after the contacts'
-# rounds; needs valgrind (skipped, with a note, without it).
+# PASSES` (or `constrained-robots spin ROBOT WHAT PASSES`), which make the
+# states and then only calls: PASSES = 0 (the set-up alone) against
+# PASSES = 50 (1,000 calls) for instructions and misses; against PASSES = 1
+# with a 1 MiB L1i, where only first touches miss, for the lines (lines the
+# set-up also ran are not counted, so this is a lower bound). Writes
+# <target>/benchmarks/icache.json (one JSON object per line). Called by
+# benches/peers/run.sh after the contacts' rounds; needs valgrind
+# (skipped, with a note, without it).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 target=$(cargo metadata --format-version 1 --no-deps |
     python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
 contacts=$target/release/contacts
+robots=$target/release/constrained-robots
 out=$target/benchmarks/icache.json
 if ! command -v valgrind > /dev/null; then
   echo "   no valgrind: no instruction-cache report" >&2
@@ -33,23 +36,30 @@ for index in /sys/devices/system/cpu/cpu0/cache/index*; do
   fi
 done
 [ -n "$geometry" ] || geometry="32768,8,64"
-# Ir (instructions) and I1 misses of one run, as "IR MISSES".
+# Ir (instructions) and I1 misses of one run of BINARY, as "IR MISSES".
 counts() {
-  local i1=$1 system=$2 what=$3 passes=$4 file
+  local i1=$1 binary=$2 system=$3 what=$4 passes=$5 file
   file=$(mktemp)
   valgrind --tool=cachegrind --cache-sim=yes --I1="$i1" --D1=32768,8,64 --LL=33554432,16,64 \
-    --cachegrind-out-file="$file" "$contacts" spin "$system" "$what" "$passes" > /dev/null 2>&1
+    --cachegrind-out-file="$file" "$binary" spin "$system" "$what" "$passes" > /dev/null 2>&1
   awk '/^summary:/ { print $2, $3 }' "$file"
   rm -f "$file"
 }
 calls=1000
 : > "$out"
+cases=()
 for system in quadruped go1 five_bar g1_points; do
-  for what in acceleration acceleration_and_multipliers; do
-    read -r ir0 miss0 < <(counts "$geometry" "$system" "$what" 0)
-    read -r ir1 miss1 < <(counts "$geometry" "$system" "$what" 50)
-    read -r _ cold0 < <(counts 1048576,16,64 "$system" "$what" 0)
-    read -r _ cold1 < <(counts 1048576,16,64 "$system" "$what" 1)
+  for what in acceleration acceleration_and_multipliers; do cases+=("$contacts $system $what"); done
+done
+for robot in panda ur5 talos xarm7 kinova g1_arms_locked g1; do
+  for what in acceleration mass_matrix inverse_dynamics; do cases+=("$robots $robot $what"); done
+done
+for case in "${cases[@]}"; do
+    read -r binary system what <<< "$case"
+    read -r ir0 miss0 < <(counts "$geometry" "$binary" "$system" "$what" 0)
+    read -r ir1 miss1 < <(counts "$geometry" "$binary" "$system" "$what" 50)
+    read -r _ cold0 < <(counts 1048576,16,64 "$binary" "$system" "$what" 0)
+    read -r _ cold1 < <(counts 1048576,16,64 "$binary" "$system" "$what" 1)
     python3 - "$system" "$what" "$geometry" "$calls" "$ir0" "$ir1" "$miss0" "$miss1" "$cold0" "$cold1" >> "$out" <<'PY'
 import json, sys
 system, what, geometry, calls = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
@@ -59,6 +69,5 @@ print(json.dumps({"system": system, "what": what, "instructions": (ir1 - ir0) / 
                   "i1_misses": (miss1 - miss0) / calls, "lines": cold1 - cold0, "line": line,
                   "i1_bytes": size, "i1_ways": ways}))
 PY
-  done
 done
 cat "$out"

@@ -235,6 +235,46 @@ impl Visit for Time {
     }
 }
 
+/// `constrained-robots spin ROBOT WHAT PASSES`: `PASSES` passes of `WHAT`
+/// (`acceleration`, `mass_matrix` or `inverse_dynamics`) over the robot's
+/// states and nothing else, for cachegrind (`benches/peers/icache.sh`).
+struct Spin {
+    rng: Rng,
+    robot: String,
+    what: String,
+    passes: usize,
+}
+
+impl Visit for Spin {
+    fn robot<R: Urdf<N>, const N: usize>(&mut self) {
+        // Drawn for every robot, as `Time` draws them: the same states.
+        let samples = samples::<N>(&mut self.rng);
+        if R::NAME != self.robot {
+            return;
+        }
+        let systems: Vec<R> = samples.iter().map(|s| R::with_torques(&s.tau)).collect();
+        for _ in 0..self.passes {
+            for (system, s) in systems.iter().zip(&samples) {
+                match self.what.as_str() {
+                    "mass_matrix" => {
+                        black_box(&black_box(system).mass(black_box(&s.q)));
+                    }
+                    "inverse_dynamics" => {
+                        black_box(&black_box(system).tau(
+                            black_box(&s.q),
+                            black_box(&s.v),
+                            black_box(&s.a),
+                        ));
+                    }
+                    _ => {
+                        black_box(&black_box(system).qdd(black_box(&s.q), black_box(&s.v)));
+                    }
+                }
+            }
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let seed = 26;
@@ -251,9 +291,22 @@ fn main() {
             rng: Rng(seed),
             round: round.clone(),
         }),
+        (Some("spin"), Some(robot)) => {
+            let (Some(what), Some(Ok(passes))) = (args.get(3), args.get(4).map(|p| p.parse()))
+            else {
+                eprintln!("usage: constrained-robots spin ROBOT WHAT PASSES");
+                std::process::exit(2);
+            };
+            robots(&mut Spin {
+                rng: Rng(seed),
+                robot: robot.clone(),
+                what: what.clone(),
+                passes,
+            });
+        }
         _ => {
             eprintln!(
-                "usage: constrained-robots write REFERENCE_FILE | constrained-robots time ROUND"
+                "usage: constrained-robots write REFERENCE_FILE | constrained-robots time ROUND | constrained-robots spin ROBOT WHAT PASSES"
             );
             std::process::exit(2);
         }
