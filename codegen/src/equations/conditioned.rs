@@ -24,6 +24,7 @@
 
 use super::mass_inverse::MassInverse;
 use super::Equations;
+use crate::numeric::linalg::dot;
 use crate::numeric::sparsity::Structure;
 
 /// The rank rule's cutoff on `sin²θ` (`constrained::inverse::rank_tolerance`
@@ -112,10 +113,6 @@ fn conditioned_order(order: &[usize], nonzero: &[Vec<bool>], rows: &[Vec<f64>]) 
         }
     }
     out
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[cfg(test)]

@@ -175,7 +175,8 @@ pub fn damped_least_squares(j: &[Vec<f64>], r: &[f64], damping: f64) -> Vec<f64>
     x
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+/// `a · b`.
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 

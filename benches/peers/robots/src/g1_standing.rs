@@ -65,10 +65,11 @@ fn state(rng: &mut Rng) -> (G1Standing<f64>, State<f64, N>) {
     (system, s)
 }
 
-/// The states of both `write` and `time`: 20 from a generator of their own.
+/// The states of both `write` and `time`: `STATES` from a generator of
+/// their own.
 fn states() -> Vec<(G1Standing<f64>, State<f64, N>)> {
     let mut rng = Rng(61);
-    (0..20).map(|_| state(&mut rng)).collect()
+    (0..crate::STATES).map(|_| state(&mut rng)).collect()
 }
 
 /// The G1's joints in our order (after the base's seven coordinates), for

@@ -705,6 +705,8 @@ fn spin_system(system: &str, what: &str, passes: usize) {
             spin::<_, N, 13>(what, passes, &cases);
         }
         "five_bar" => {
+            // `time` draws the quadruped's states from this generator
+            // first: drawn here too, the five-bar's states are the same.
             let mut rng = Rng(27);
             let _: Vec<_> = (0..STATES).map(|_| quadruped_state(&mut rng)).collect();
             let cases: Vec<_> = (0..STATES).map(|_| five_bar_state(&mut rng)).collect();
