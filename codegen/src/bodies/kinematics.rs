@@ -169,32 +169,34 @@ fn accumulate<'v>(
     }
 }
 
-/// Each described body's mass `mᵢ` and first moment about the world's
-/// origin `mᵢ pᵢ + Rᵢ hᵢ` in world axes (zeros for a massless one).
-fn first_moments(
-    g: &mut Graph,
-    described: &[Described],
-    world: &[Placement],
-) -> (Vec<Id>, Vec<V3>) {
-    let zero = g.int(0);
-    let mut mass = vec![zero; described.len()];
-    let mut moment = vec![[zero; 3]; described.len()];
-    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
-        if g.is_zero(d.inertia.mass) {
-            continue;
-        }
-        let at_origin = spatial::scale(g, d.inertia.mass, frame.translation);
-        let offset = spatial::mat_vec(g, &frame.rotation, d.inertia.first_moment);
-        mass[i] = d.inertia.mass;
-        moment[i] = spatial::add(g, at_origin, offset);
-    }
-    (mass, moment)
+/// The bodies of the tree the described bodies merge into (fixed ones
+/// into the movable body they hang from, those welded to the world left
+/// out), their world frames, and each one's composite inertia (its own and
+/// its descendants', about its origin in its axes) with its joint's motion
+/// columns there.
+struct Composites {
+    tree: super::Tree,
+    frames: Vec<Placement>,
+    bodies: Vec<(Inertia, Vec<(usize, Spatial)>)>,
 }
 
-/// Whether body `i` is welded to the world: no joint moves it (each body
-/// from it to the root fixed to its parent).
-fn welded(described: &[Described], i: usize) -> bool {
-    path(described, i).all(|k| described[k].joint.is_none())
+impl Composites {
+    fn new(g: &mut Graph, described: &[Described], world: &[Placement]) -> Composites {
+        let z = spatial::zero(g);
+        let tree = super::Tree::new(g, described, z);
+        let frames = described
+            .iter()
+            .zip(world)
+            .filter(|(d, _)| d.joint.is_some())
+            .map(|(_, w)| *w)
+            .collect();
+        let bodies = super::recursion::composite_columns(g, &tree);
+        Composites {
+            tree,
+            frames,
+            bodies,
+        }
+    }
 }
 
 /// The centre of mass of the described bodies that move with some joint
@@ -204,32 +206,24 @@ fn welded(described: &[Described], i: usize) -> bool {
 /// ([`centroidal`]); `None` where that mass is the constant zero. The
 /// bodies welded to the world are Pinocchio's universe, whose inertia its
 /// `centerOfMass` leaves out: a fixed-base robot's base link is not part
-/// of its centre of mass (a floating one's is, on its free joint).
+/// of its centre of mass (a floating one's is, on its free joint). All of
+/// it comes from the composite inertias, summed in each body's own frame
+/// through its joint's sparse transform: `c` from the roots' composites
+/// ([`composite_center`]), a column of `∂c/∂q` from its body's
+/// ([`center_of_mass_jacobian`]); no body's first moment is carried to
+/// the world.
 pub fn center_of_mass(
     g: &mut Graph,
     described: &[Described],
     world: &[Placement],
     n: usize,
 ) -> Option<CenterOfMass> {
-    let (mass, moment) = first_moments(g, described, world);
-    let moving: Vec<usize> = (0..described.len())
-        .filter(|&i| !g.is_zero(mass[i]) && !welded(described, i))
-        .collect();
-    let masses: Vec<Id> = moving.iter().map(|&i| mass[i]).collect();
-    let total = g.add(&masses);
-    if g.is_zero(total) {
-        return None;
-    }
-    let position = [0, 1, 2].map(|r| {
-        let terms: Vec<Id> = moving.iter().map(|&i| moment[i][r]).collect();
-        let sum = g.add(&terms);
-        let c = g.div(sum, total);
-        spatial::hold(g, c)
-    });
-    let jacobian = center_of_mass_jacobian(g, (described, world), (mass, moment), total, n);
+    let composites = Composites::new(g, described, world);
+    let (position, total) = composite_center(g, &composites)?;
+    let jacobian = center_of_mass_jacobian(g, &composites, total, n);
     let velocity = times_rates(g, &jacobian);
     let velocity = [velocity[0], velocity[1], velocity[2]];
-    let (centroidal_map, centroidal_bias) = centroidal(g, described, world, &position, n);
+    let (centroidal_map, centroidal_bias) = centroidal(g, &composites, &position, n);
     Some(CenterOfMass {
         position,
         jacobian,
@@ -240,45 +234,36 @@ pub fn center_of_mass(
 }
 
 /// `∂c/∂q` by subtrees (Pinocchio's `jacobianCenterOfMass`): a coordinate
-/// of the joint of body `j` moves the bodies of `j`'s subtree rigidly, so
-/// its column is `(m_j v + ω × (h_j − m_j o_j)) / m` with `(v, ω)` its
-/// motion column in world axes at `j`'s origin `o_j`, `m_j` the subtree's
-/// mass and `h_j = Σ (mᵢ pᵢ + Rᵢ hᵢ)` its first moment about the world's
-/// origin. Bodies welded to the world are in no subtree of a joint.
+/// of the joint of body `j` moves `j`'s subtree rigidly, so with `(m_j,
+/// h_j)` the subtree's mass and first moment about `j`'s origin in `j`'s
+/// axes (its composite inertia's) and `(v, ω)` the coordinate's motion
+/// column there, its column is `R_j (m_j v + ω × h_j) / m`. A revolute
+/// joint's `ω` is an axis of the body, so the cross product is a
+/// permutation and the rotation to the world one column of `R_j`'s work
+/// per nonzero.
 fn center_of_mass_jacobian(
     g: &mut Graph,
-    (described, world): (&[Described], &[Placement]),
-    (mut mass, mut moment): (Vec<Id>, Vec<V3>),
+    composites: &Composites,
     total: Id,
     n: usize,
 ) -> Vec<Vec<Id>> {
     let zero = g.int(0);
-    // Parents come before their children: one backward pass sums subtrees.
-    for i in (0..described.len()).rev() {
-        if let Some(p) = described[i].parent {
-            mass[p] = g.add2(mass[p], mass[i]);
-            moment[p] = spatial::add(g, moment[p], moment[i]);
-            mass[p] = spatial::hold(g, mass[p]);
-            moment[p] = spatial::hold3(g, moment[p]);
-        }
-    }
     let one = g.int(1);
     let inverse = g.div(one, total);
     let inverse = spatial::hold(g, inverse);
     let mut jacobian = vec![vec![zero; n]; 3];
-    for (i, (d, frame)) in described.iter().zip(world).enumerate() {
-        let Some(joint) = d.joint else { continue };
-        if g.is_zero(mass[i]) {
+    for ((inertia, columns), frame) in composites.bodies.iter().zip(&composites.frames) {
+        if g.is_zero(inertia.mass) {
             continue;
         }
-        let about = spatial::scale(g, mass[i], frame.translation);
-        let lever = spatial::sub(g, moment[i], about);
-        for (k, s) in JointState::new(g, joint).columns(g) {
-            let (linear, angular) = world_column(g, frame, s);
-            let carried = spatial::scale(g, mass[i], linear);
-            let turned = spatial::cross(g, angular, lever);
-            let column = spatial::add(g, carried, turned);
-            let column = spatial::scale(g, inverse, column);
+        // The subtree's share of the whole: `m_j / m` and `h_j / m`.
+        let share = g.mul2(inertia.mass, inverse);
+        let moment = spatial::scale(g, inverse, inertia.first_moment);
+        for &(k, s) in columns {
+            let carried = spatial::scale(g, share, s.linear);
+            let turned = spatial::cross(g, s.angular, moment);
+            let local = spatial::add(g, carried, turned);
+            let column = spatial::mat_vec(g, &frame.rotation, local);
             accumulate(g, &mut jacobian, k, column.iter());
         }
     }
@@ -294,32 +279,17 @@ fn center_of_mass_jacobian(
 /// column of a coordinate is the momentum `[n; f] = Iᶜ S` of its joint's
 /// motion `S`, carried to world axes and about `c`: `[R f; R n + (o − c) ×
 /// R f]` with `(R, o)` the body's world frame (Pinocchio's `ccrba` forms
-/// `Iᶜ` in world axes instead: a dense rotation per body), and `c` itself
-/// from the roots' composites ([`composite_center`]). The bias is the rate of the momentum about
-/// the world's origin at `q̈ = 0` without gravity, the force recursive
-/// Newton–Euler passes to the world ([`super::recursion::momentum_rate`]),
-/// moved to `c` the same way (`ċ × P = m ċ × ċ` vanishes).
-fn centroidal(
-    g: &mut Graph,
-    described: &[Described],
-    world: &[Placement],
-    c: &V3,
-    n: usize,
-) -> (Vec<Vec<Id>>, Vec<Id>) {
-    let z = spatial::zero(g);
-    let tree = super::Tree::new(g, described, z);
-    let frames: Vec<Placement> = described
-        .iter()
-        .zip(world)
-        .filter(|(d, _)| d.joint.is_some())
-        .map(|(_, w)| *w)
-        .collect();
+/// `Iᶜ` in world axes instead: a dense rotation per body), `c` being the
+/// centre of mass the same composites give ([`composite_center`]). The
+/// bias is the rate of the momentum about the world's origin at `q̈ = 0`
+/// without gravity, the force recursive Newton–Euler passes to the world
+/// ([`super::recursion::momentum_rate`]), moved to `c` the same way
+/// (`ċ × P = m ċ × ċ` vanishes).
+fn centroidal(g: &mut Graph, composites: &Composites, c: &V3, n: usize) -> (Vec<Vec<Id>>, Vec<Id>) {
     let zero = g.int(0);
     let mut map = vec![vec![zero; n]; 6];
-    let bodies = super::recursion::composite_columns(g, &tree);
-    let center = composite_center(g, &tree, &bodies, &frames).unwrap_or(*c);
-    for ((inertia, columns), frame) in bodies.iter().zip(&frames) {
-        let lever = spatial::sub(g, frame.translation, center);
+    for ((inertia, columns), frame) in composites.bodies.iter().zip(&composites.frames) {
+        let lever = spatial::sub(g, frame.translation, *c);
         for &(k, s) in columns {
             // The subtree's momentum in the body's frame, then in world
             // axes with its moment taken about `c`.
@@ -331,21 +301,21 @@ fn centroidal(
             accumulate(g, &mut map, k, linear.iter().chain(&angular));
         }
     }
-    let rate = super::recursion::momentum_rate(g, &tree, n);
+    let rate = super::recursion::momentum_rate(g, &composites.tree, n);
     (map, about_center(g, rate, c).to_vec())
 }
 
 /// The centre of mass from the composite inertias of the tree's roots
 /// (every moving body is in one root's subtree): `Σ (mᵣ oᵣ + Rᵣ hᵣ) / Σ mᵣ`
 /// over the roots `r` in their world frames `(Rᵣ, oᵣ)`, a few bodies'
-/// products where the first moments of every body cost one each. `None`
-/// where the roots' mass is the constant zero.
-fn composite_center(
-    g: &mut Graph,
-    tree: &super::Tree,
-    bodies: &[(Inertia, Vec<(usize, Spatial)>)],
-    frames: &[Placement],
-) -> Option<V3> {
+/// products where the first moments of every body cost one each; and the
+/// mass `Σ mᵣ`. `None` where that mass is the constant zero.
+fn composite_center(g: &mut Graph, composites: &Composites) -> Option<(V3, Id)> {
+    let Composites {
+        tree,
+        frames,
+        bodies,
+    } = composites;
     let roots: Vec<usize> = (0..tree.bodies.len())
         .filter(|&i| tree.bodies[i].parent.is_none())
         .collect();
@@ -363,12 +333,13 @@ fn composite_center(
             spatial::add(g, at_origin, offset)
         })
         .collect();
-    Some([0, 1, 2].map(|k| {
+    let center = [0, 1, 2].map(|k| {
         let terms: Vec<Id> = moments.iter().map(|m| m[k]).collect();
         let sum = g.add(&terms);
         let c = g.div(sum, total);
         spatial::hold(g, c)
-    }))
+    });
+    Some((center, total))
 }
 
 /// `[f; n − c × f]`: a force (or momentum) `[n; f]` about the world's

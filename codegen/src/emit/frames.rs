@@ -142,7 +142,7 @@ fn center_of_mass(ctx: &Context, c: &CenterOfMass) -> TokenStream {
         ctx,
         quote!(center_of_mass_and_jacobian),
         " The centre of mass and its Jacobian together, `(c, ∂c/∂q)`, sharing the \
-         bodies' placements (Pinocchio's `jacobianCenterOfMass`, which fills \
+         subtrees' first moments (Pinocchio's `jacobianCenterOfMass`, which fills \
          `data.com[0]` and returns `Jcom`).",
         Inputs::Positions,
         &both,
