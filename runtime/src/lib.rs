@@ -59,6 +59,8 @@ pub mod __private {
         half_precision, largest, lit, signum, step, unscaled_bound, Generated, Motion, Reaction,
     };
     pub use crate::linearize::Tangent;
-    pub use crate::rank::{checked, least_squares, moore_penrose, safe_minimum};
+    pub use crate::rank::{
+        checked, conditioning_tolerance, least_squares, moore_penrose, safe_minimum,
+    };
     pub use crate::trig::sin_cos;
 }

@@ -13,7 +13,10 @@
 //!    (`Generated::GENERIC_RANK`). Keeping `r` rows is what a redundant model
 //!    does everywhere on its constraint surface, and near it, where an
 //!    integrator's stages sit and the redundant rows are only weakly
-//!    independent (enforcing them there gives spurious forces).
+//!    independent (enforcing them there gives spurious forces). Unless a
+//!    kept row is itself nearly dependent on the rows before it (its
+//!    pivot's `sin²θ` below [`conditioning_tolerance`]): the rows dropped
+//!    then hold only to rounding grown by `1/sin²θ`, and rule 2 decides.
 //! 2. **The dropped rows are satisfied anyway.** Every row's residual after
 //!    the solve, `|Aᵢ q̈ − bᵢ|`, is at most [`consistency_tolerance`] times
 //!    its scale `Σⱼ |Aᵢⱼ q̈ⱼ| + |bᵢ|`.
@@ -55,6 +58,18 @@ use nalgebra::{RealField, SMatrix, SVector};
 #[inline]
 pub fn consistency_tolerance<T: RealField + Copy>() -> T {
     T::default_epsilon() * nalgebra::convert::<f64, T>(1000.0)
+}
+
+/// Where a redundant set keeps as many rows as its rank, a kept row whose
+/// pivot's `sin²θ` is below this (`10⁻³`, a thousand times the rank
+/// tolerance) is nearly dependent on the rows before it: the kept system is
+/// ill-conditioned and the dropped rows hold only to rounding grown by
+/// `1/sin²θ`. Such a decision is verified by rule 2 like a drop, and a
+/// violated row sends `q̈` to the minimum-norm solve, which keeps the
+/// strongest directions whatever the attitude.
+#[inline]
+pub fn conditioning_tolerance<T: RealField + Copy>() -> T {
+    nalgebra::convert::<f64, T>(1e-3)
 }
 
 /// Below this, a diagonal entry of `S = A M⁻¹ Aᵀ` may have lost its

@@ -398,7 +398,30 @@ impl<'a> StructuredLdlt<'a> {
             let dropped = dropped(j);
             quote!(usize::from(!#dropped))
         });
-        quote!((#(#kept)+*) < #r)
+        // A redundant set keeping a nearly dependent row is verified too
+        // (`constrained::rank::conditioning_tolerance`): `inv ≠ 0` and
+        // `dⱼ < tol·Sⱼⱼ`. A pivot nothing updated is its diagonal entry,
+        // `sin²θ = 1`, and never weak.
+        let fill = &self.structure.fill;
+        let weak: Vec<TokenStream> = (0..k)
+            .filter(|&j| (0..j).any(|c| fill[j][c]))
+            .map(|j| {
+                let (dj, inv, sjj) = (
+                    Context::local(self.roles.pivot, j),
+                    Context::local(self.roles.inverse, j),
+                    self.at(j, j),
+                );
+                quote!(((#dj < __conditioned * #sjj) & (#inv != T::zero())))
+            })
+            .collect();
+        if weak.is_empty() {
+            return quote!((#(#kept)+*) < #r);
+        }
+        let tolerance = quote!(::constrained::__private::conditioning_tolerance::<T>());
+        quote!({
+            let __conditioned: T = #tolerance;
+            ((#(#kept)+*) < #r) #(| #weak)*
+        })
     }
 
     /// Whether the factorization kept row `row` (its pivot was not
