@@ -13,13 +13,16 @@ SYSTEMS = (("quadruped", 19, 18, "quadruped, 4 feet (19 coordinates, 13 rows; Pi
            ("go1", 19, 18, "Unitree Go1 from its URDF, 4 feet (19 coordinates, 13 rows; Pinocchio: nv 18, 12 rows)"),
            ("five_bar", 4, 4, "five-bar loop (4 joints, 2 rows; Pinocchio: one 3D loop contact)"),
            ("g1_points", 36, 35, "Unitree G1 from its URDF on three points of each foot (36 coordinates, 19 rows of "
-            "rank 13; Pinocchio: nv 35, 18 rows of rank 12)"))
+            "rank 13; Pinocchio: nv 35, 18 rows of rank 12)"),
+           ("g1_flat", 36, 35, "Unitree G1 from its URDF on two flat feet (36 coordinates, 13 rows; Pinocchio: nv 35, "
+            "two `CONTACT_6D`)"))
 # The wanted ratio to `constraintDynamics` of each system's method: issue
 # 27's q̈ ≥ 5×; issue 48's for the Go1 read from its URDF and for the G1 on
-# three points of each foot (redundant).
+# three points of each foot (redundant) and on two flat feet.
 TARGETS = {("quadruped", "acceleration"): 5, ("five_bar", "acceleration"): 5,
            ("go1", "acceleration"): 6, ("go1", "acceleration_and_multipliers"): 5,
-           ("g1_points", "acceleration_and_multipliers"): 3}
+           ("g1_points", "acceleration_and_multipliers"): 3,
+           ("g1_flat", "acceleration"): 4, ("g1_flat", "acceleration_and_multipliers"): 4}
 PEERS = ("constraintDynamics", "lcaba")
 OURS = ("acceleration", "acceleration_and_multipliers")
 # Issue 49's derivatives on contacts: our Jacobians of q̈ and λ
@@ -204,7 +207,13 @@ def section(rows, ns):
         "joint from a `world` link, Pinocchio's with `JointModelFreeFlyer`, its joints",
         "matched by name and its four foot links' origins 3D point contacts; the five-bar of",
         "`examples/five_bar.rs` closed by one 3D contact between the distal tips, whose",
-        "`y` row is identically zero — ours writes the two rows `x`, `z`), at 20 consistent",
+        "`y` row is identically zero — ours writes the two rows `x`, `z`; and the Unitree G1",
+        "of `g1_29dof_rev_1_0.urdf` on a floating root standing on two flat feet",
+        "(`benches/peers/robots/src/g1_flat.rs`: each foot's sole, `(0.035, 0, −0.035)` in",
+        "its ankle roll link, held by `position(..) == [x, y, z]` and",
+        "`orientation(..) == [roll, pitch, yaw]`, six independent rows a foot; Pinocchio's",
+        "a `CONTACT_6D` at the same sole in `LOCAL` axes, to which our world-axes force",
+        "and torque are turned), at 20 consistent",
         "states each (`benches/peers/robots/src/bin/contacts.rs`: the legs placed by",
         "inverse kinematics with the base moving (the Go1's by Newton's method), the",
         "five-bar by projection; `A q̈ = b`",
@@ -237,7 +246,7 @@ def section(rows, ns):
 
 
 ICACHE_NAMES = {"quadruped": "quadruped", "go1": "Unitree Go1 from its URDF", "five_bar": "five-bar loop",
-                "g1_points": "G1 on three points of each foot", "panda": "Panda (fixed base, Robots table)",
+                "g1_points": "G1 on three points of each foot", "g1_flat": "G1 on two flat feet", "panda": "Panda (fixed base, Robots table)",
                 "ur5": "UR5 (fixed base)", "talos": "TALOS (fixed base)", "xarm7": "xArm7 (fixed base)",
                 "kinova": "Kinova Jaco 2 (fixed base)", "g1_arms_locked": "G1, arms locked (fixed base)",
                 "g1": "G1, 29 joints (fixed base)"}

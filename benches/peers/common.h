@@ -3,7 +3,7 @@
  *
  * The reference file is a sequence of records; a record starts with a
  * header line (`chain N g h` or `four_bar m jm l d g`; `quadruped 18` or
- * `go1 18`, `g1 35` or `five_bar 4` in the contacts' file, benches/peers/robots/src/bin/contacts.rs)
+ * `go1 18`, `g1 35`, `g1flat 35` or `five_bar 4` in the contacts' file, benches/peers/robots/src/bin/contacts.rs)
  * followed by named vector lines (`q 0.1 0.2 …`). The robots' file, whose
  * lines are longer than these records hold, is read by robots.cpp. */
 #ifndef PEERS_COMMON_H
@@ -24,7 +24,7 @@ typedef struct {
 } peer_vector;
 
 typedef struct {
-  char kind[16];    /* "chain", "four_bar", "quadruped", "go1", "g1" or "five_bar" */
+  char kind[16];    /* "chain", "four_bar", "quadruped", "go1", "g1", "g1flat" or "five_bar" */
   double head[8];   /* the numbers on the header line */
   int nhead;
   peer_vector vec[12];
@@ -44,7 +44,7 @@ static int peer_read(const char *path, peer_record *out, int max) {
     char *tok = strtok(line, " \n");
     if (!tok) continue;
     if (!strcmp(tok, "chain") || !strcmp(tok, "four_bar") || !strcmp(tok, "quadruped") ||
-        !strcmp(tok, "five_bar") || !strcmp(tok, "go1") || !strcmp(tok, "g1")) {
+        !strcmp(tok, "five_bar") || !strcmp(tok, "go1") || !strcmp(tok, "g1") || !strcmp(tok, "g1flat")) {
       if (++n >= max) break;
       memset(&out[n], 0, sizeof out[n]);
       snprintf(out[n].kind, sizeof out[n].kind, "%s", tok);

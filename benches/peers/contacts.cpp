@@ -28,6 +28,13 @@
 // the minimum-norm one ours returns only through its proximal iterations
 // (mu > 0, from λ = 0), which is what is checked and timed.
 //
+// The G1 on two flat feet (`g1_flat`): the same model, each foot's sole
+// (the record's `sole`, in its *_ankle_roll_link's frame) held by a 6D
+// contact (LOCAL) at the place and attitude the record gives; its twelve
+// rows are independent, and λ (each foot's force, then torque, on the foot
+// at its sole in the sole's axes) is unique. `lcaba` is not run on it (see
+// main).
+//
 // The quadruped's feet are 3D point contacts of the lower legs' foot points
 // with the world (LOCAL_WORLD_ALIGNED: the force on the foot in world axes,
 // our λ); the five-bar's loop is one 3D contact between the two distal
@@ -57,6 +64,7 @@
 #include <pinocchio/algorithm/constrained-dynamics-derivatives.hpp>
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
 #include <pinocchio/algorithm/loop-constrained-aba.hpp>
+#include <pinocchio/math.hpp>
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/parsers/urdf.hpp>
 
@@ -224,6 +232,22 @@ static Constraints g1_points(const pin::Model &model, const VectorXd &points, co
   return out;
 }
 
+// The G1's two soles (`sole`, in the ankle roll link's frame) held flat at
+// `places` ((x, y, z, roll, pitch, yaw) each, the rotation Rz Ry Rx; left
+// foot first).
+static Constraints g1_flat(const pin::Model &model, const VectorXd &sole, const VectorXd &places) {
+  Constraints out;
+  const char *feet[2] = {"left_ankle_roll_link", "right_ankle_roll_link"};
+  for (int side = 0; side < 2; side++) {
+    const pin::Frame &f = model.frames[model.getFrameId(feet[side])];
+    const VectorXd p = places.segment<6>(6 * side);
+    const pin::SE3 target(pin::rpy::rpyToMatrix(p[3], p[4], p[5]), Eigen::Vector3d(p[0], p[1], p[2]));
+    out.push_back(Constraint(pin::CONTACT_6D, model, f.parentJoint, f.placement * at(sole[0], sole[1], sole[2]), 0,
+                             target, pin::LOCAL));
+  }
+  return out;
+}
+
 // The Go1's four feet held at `places` ((x, y, z) each: FL, FR, RL, RR).
 static Constraints go1_feet(const pin::Model &model, const VectorXd &places) {
   Constraints out;
@@ -257,6 +281,8 @@ struct Problem {
   // rather than 1e-12 (see main).
   bool redundant = false;
   double lambda_tolerance = 1e-12;
+  // Whether `lcaba` is run too (see main).
+  bool lcaba = true;
 };
 
 struct Timed {
@@ -473,18 +499,24 @@ int main(int argc, char **argv) {
     fprintf(stderr, "usage: %s REFERENCE_FILE ROUND GO1_URDF G1_URDF\n", argv[0]);
     return 2;
   }
-  static peer_record records[96];
-  const int n = peer_read(argv[1], records, 96);
-  Problem legs{"quadruped"}, dog{"go1"}, loop{"five_bar"}, human{"g1_points"};
+  static peer_record records[128];
+  const int n = peer_read(argv[1], records, 128);
+  Problem legs{"quadruped"}, dog{"go1"}, loop{"five_bar"}, human{"g1_points"}, flat{"g1_flat"};
   const std::vector<pin::JointIndex> lower = quadruped(legs.model);
   std::vector<int> iq, iv, hq, hv;
   floating("go1", dog.model, argv[3], names_of(argv[1], "go1"), iq, iv);
   floating("g1", human.model, argv[4], names_of(argv[1], "g1"), hq, hv);
+  flat.model = human.model;
   loop.constraints = five_bar(loop.model);
   for (int i = 0; i < 12; i++) legs.rows.push_back(i);
   dog.rows = legs.rows;
   loop.rows = {0, -1, 1};
   for (int i = 0; i < 18; i++) human.rows.push_back(i);
+  for (int i = 0; i < 12; i++) flat.rows.push_back(i);
+  // On the two 6D contacts lcaba's q̈ is about 1 (relative to its largest
+  // entry) from ours and from constraintDynamics', at every damping:
+  // it answers another problem, and is not a peer of this row.
+  flat.lcaba = false;
   // The G1's eighteen rows have rank twelve. Its proximal loop stops at
   // its cap, never at its accuracy, and its λ along the rows' null space
   // drifts as it iterates (to within some 1e-8 of the minimum norm at
@@ -498,6 +530,7 @@ int main(int argc, char **argv) {
     Problem &p = !strcmp(r.kind, "quadruped") ? legs
                  : !strcmp(r.kind, "go1")     ? dog
                  : !strcmp(r.kind, "g1")      ? human
+                 : !strcmp(r.kind, "g1flat")  ? flat
                                               : loop;
     if (&p == &legs && legs.constraints.empty()) legs.constraints = feet(legs.model, lower, vec(r, "feet"));
     if (&p == &dog) {
@@ -515,7 +548,11 @@ int main(int argc, char **argv) {
       s.held = g1_points(human.model, vec(r, "points"), vec(r, "feet"));
       if (human.constraints.empty()) human.constraints = s.held;
     }
-    if (&p == &dog || &p == &human) {
+    if (&p == &flat) {
+      s.held = g1_flat(flat.model, vec(r, "sole"), vec(r, "feet"));
+      if (flat.constraints.empty()) flat.constraints = s.held;
+    }
+    if (&p == &dog || &p == &human || &p == &flat) {
       const std::vector<int> &jq = &p == &dog ? iq : hq, &jv = &p == &dog ? iv : hv;
       if (s.q.size() != p.model.nq || s.v.size() != p.model.nv) {
         fprintf(stderr, "%s: the record's sizes differ from Pinocchio's model\n", p.system);
@@ -532,12 +569,14 @@ int main(int argc, char **argv) {
     }
     p.states.push_back(s);
   }
-  if (legs.states.empty() || dog.states.empty() || loop.states.empty() || human.states.empty()) {
+  if (legs.states.empty() || dog.states.empty() || loop.states.empty() || human.states.empty() ||
+      flat.states.empty()) {
     fprintf(stderr, "the reference lacks quadruped, Go1, five-bar or G1 states\n");
     return 2;
   }
   read_derivatives(argv[1], dog, iv);
-  for (Problem *p : {&legs, &dog, &loop, &human})
-    for (bool lcaba : {false, true}) run(*p, lcaba, argv[2]);
+  for (Problem *p : {&legs, &dog, &loop, &human, &flat})
+    for (bool lcaba : {false, true})
+      if (!lcaba || p->lcaba) run(*p, lcaba, argv[2]);
   return peer_failures ? 1 : 0;
 }

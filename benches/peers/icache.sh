@@ -48,7 +48,7 @@ counts() {
 calls=1000
 : > "$out"
 cases=()
-for system in quadruped go1 five_bar g1_points; do
+for system in quadruped go1 five_bar g1_points g1_flat; do
   for what in acceleration acceleration_and_multipliers; do cases+=("$contacts $system $what"); done
 done
 for robot in panda ur5 talos xarm7 kinova g1_arms_locked g1; do

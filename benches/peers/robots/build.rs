@@ -400,6 +400,58 @@ fn g1_standing(robots: &Path, out: &Path) {
         copy = copy.display().to_string(),
     );
     std::fs::write(out.join("g1_standing.rs"), invocation).expect("OUT_DIR is writable");
+    g1_flat(&copy, out);
+}
+
+/// The sole of each G1 foot as a flat contact: a point under the ankle
+/// roll link (midway between its file's contact spheres, as the kinematics
+/// rows' `left_sole`) held in place and the link's attitude held, six rows
+/// a foot (`g1_flat.rs` in `out`): what Pinocchio's `CONTACT_6D` holds.
+const G1_SOLE: [f64; 3] = [0.035, 0.0, -0.035];
+
+/// The Unitree G1 of the flat-feet rows, from the floating copy `copy`:
+/// each foot's sole point held at `(x, y, z)` and its attitude at
+/// `(roll, pitch, yaw)` (`Rz Ry Rx`), twelve independent rows (and the
+/// quaternion's norm); a frame at each sole, from which the states place
+/// them. Unpowered.
+fn g1_flat(copy: &Path, out: &Path) {
+    let [x, y, z] = G1_SOLE;
+    let mut places = Vec::new();
+    let mut rows = Vec::new();
+    let mut frames = Vec::new();
+    for side in ["left", "right"] {
+        let s = &side[..1];
+        let at = ["x", "y", "z"].map(|a| format!("{s}_{a}"));
+        let turned = ["roll", "pitch", "yaw"].map(|a| format!("{s}_{a}"));
+        rows.push(format!(
+            "position({side}_ankle_roll_link, [{x:?}, {y:?}, {z:?}]) == [{}],",
+            at.join(", ")
+        ));
+        rows.push(format!(
+            "orientation({side}_ankle_roll_link) == [{}],",
+            turned.join(", ")
+        ));
+        frames.push(format!(
+            "{side}_sole {{ body: {side}_ankle_roll_link, xyz: [{x:?}, {y:?}, {z:?}] }}"
+        ));
+        places.extend(at);
+        places.extend(turned);
+    }
+    let invocation = format!(
+        "constrained::constrained_system! {{\n    /// The Unitree G1 of example-robot-data's \
+         `g1_description/urdf/g1_29dof_rev_1_0.urdf` on a floating root joint, standing on\n    \
+         /// two flat feet (each sole held at `(x, y, z)`, its attitude at `(roll, pitch, yaw)`), unpowered.\n    \
+         pub struct G1Flat {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        \
+         frames: [{frames}],\n        \
+         constraints: [\n            {rows}\n        ],\n    }}\n}}\n\n\
+         /// The sole point of each foot, in its `*_ankle_roll_link`'s frame.\n\
+         const SOLE: [f64; 3] = {G1_SOLE:?};\n",
+        places = places.join(", "),
+        frames = frames.join(", "),
+        rows = rows.join("\n            "),
+        copy = copy.display().to_string(),
+    );
+    std::fs::write(out.join("g1_flat.rs"), invocation).expect("OUT_DIR is writable");
 }
 
 /// The methods of `Framed` that do not depend on a frame: name,

@@ -2,8 +2,10 @@
 //! `examples/support/quadruped.rs` standing on its four feet (19
 //! coordinates, 13 rows), the Unitree Go1 read from example-robot-data's
 //! URDF with a floating root joint standing on its four feet (19
-//! coordinates, 13 rows; `build.rs` writes it) and a planar five-bar closed
-//! by one loop (4 joints, 2 rows), against Pinocchio's `constraintDynamics`
+//! coordinates, 13 rows; `build.rs` writes it), a planar five-bar closed
+//! by one loop (4 joints, 2 rows) and the Unitree G1 on a floating root on
+//! three points of each foot (`g1_standing.rs`) and on two flat feet
+//! (`g1_flat.rs`), against Pinocchio's `constraintDynamics`
 //! (and `lcaba`) on the same models and states
 //! (`benches/peers/contacts.cpp`).
 //!
@@ -35,6 +37,8 @@
 
 #[path = "../clock.rs"]
 mod clock;
+#[path = "../g1_flat.rs"]
+mod g1_flat;
 #[path = "../g1_standing.rs"]
 mod g1_standing;
 #[path = "../go1_derivatives.rs"]
@@ -578,6 +582,7 @@ fn write(path: &str) {
     assert!(worst < 1e-12, "A q̈ = b only to {worst:e}");
     eprintln!("contacts: A q̈ = b to {worst:.1e} at every state");
     g1_standing::write(&mut out);
+    g1_flat::write(&mut out);
     std::fs::write(path, out).expect("writes the reference file");
     std::fs::write(format!("{path}.derivatives"), derivatives)
         .expect("writes the derivatives beside the reference file");
@@ -713,6 +718,7 @@ fn spin_system(system: &str, what: &str, passes: usize) {
             spin::<_, 4, 2>(what, passes, &cases);
         }
         "g1_points" => g1_standing::spin(what, passes),
+        "g1_flat" => spin::<_, 36, { g1_flat::K }>(what, passes, &g1_flat::states()),
         _ => {
             eprintln!("contacts spin: no system {system}");
             std::process::exit(2);
@@ -735,6 +741,7 @@ fn main() {
             time_go1_derivatives(round, &go1s);
             time::<_, 4, 2>("five_bar", round, &five_bars);
             g1_standing::time(round);
+            time::<_, 36, { g1_flat::K }>("g1_flat", round, &g1_flat::states());
         }
         (Some("spin"), Some(system)) => {
             let (Some(what), Some(Ok(passes))) = (args.get(3), args.get(4).map(|p| p.parse()))
