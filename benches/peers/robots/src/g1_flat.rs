@@ -6,7 +6,7 @@
 
 use crate::Rng;
 use constrained::multipliers::{multipliers, Multipliers};
-use constrained::nalgebra::{Matrix3, Rotation3, SMatrix, SVector, Vector3};
+use constrained::nalgebra::{Matrix3, Rotation3, SVector, Vector3};
 use constrained::{ConstrainedSystem, State};
 use std::fmt::Write as _;
 
@@ -35,39 +35,20 @@ fn soles(q: &SVector<f64, N>) -> [(Matrix3<f64>, Vector3<f64>); 2] {
     ]
 }
 
-/// A G1 state as the three-point rows draw theirs (the pelvis about 0.75 m
-/// up, turned and moving, every joint within ±0.3 rad of zero), each sole
-/// held where this places it and as it is turned, the rates projected
-/// onto the rows' null space (`A q̇ = 0`, by the pseudo-inverse of `A`).
+/// A G1 state ([`crate::g1_pose`], as the three-point rows draw theirs),
+/// each sole held where it places it and as it turns it, the rates on the
+/// rows' null space ([`crate::on_the_rows`]).
 fn state(rng: &mut Rng) -> (G1Flat<f64>, State<f64, N>) {
-    let base = crate::moving_base(rng, 0.75, (0.1, 0.3));
-    let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
-    base.write(0, &mut q, &mut qd)
-        .expect("seven coordinates fit");
-    for j in 7..N {
-        q[j] = rng.uniform(0.3);
-        qd[j] = rng.uniform(1.0);
-    }
+    let (q, qd) = crate::g1_pose::<N>(rng);
     let mut places = [0.0; 12];
     for (k, (r, p)) in soles(&q).iter().enumerate() {
         let (roll, pitch, yaw) = Rotation3::from_matrix_unchecked(*r).euler_angles();
         places[6 * k..6 * k + 6].copy_from_slice(&[p.x, p.y, p.z, roll, pitch, yaw]);
     }
     let system = flat(&places);
-    let at_rest = State::new(0.0, q, SVector::zeros());
-    let (a, _) = ConstrainedSystem::constraint_matrices(&system, &at_rest);
-    let pinv: SMatrix<f64, N, K> = a.pseudo_inverse(1e-12).expect("a pseudo-inverse");
-    // Twice: the second takes what rounding left of the first.
-    for _ in 0..2 {
-        qd -= pinv * (a * qd);
-    }
-    let s = State::new(0.0, q, qd);
-    let position = ConstrainedSystem::constraint_residual(&system, &s).amax();
-    let velocity = ConstrainedSystem::constraint_velocity_residual(&system, &s).amax();
-    assert!(
-        position < 1e-14 && velocity < 1e-12,
-        "{position:e} {velocity:e}"
-    );
+    let s = crate::on_the_rows::<_, N, K>(&system, (q, qd), |a| {
+        a.pseudo_inverse(1e-12).expect("a pseudo-inverse")
+    });
     (system, s)
 }
 

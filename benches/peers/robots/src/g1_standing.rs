@@ -11,7 +11,7 @@ use crate::clock::{median_ns, paired_ratio};
 use crate::Rng;
 use constrained::__private::Generated;
 use constrained::multipliers::{multipliers, Multipliers};
-use constrained::nalgebra::{SMatrix, SVector};
+use constrained::nalgebra::SVector;
 use constrained::{ConstrainedSystem, State};
 use std::fmt::Write as _;
 use std::hint::black_box;
@@ -33,35 +33,16 @@ fn standing(places: &[f64; 18]) -> G1Standing<f64> {
     )
 }
 
-/// A G1 state: the pelvis about 0.75 m up, turned and moving, every joint
-/// within ±0.3 rad of zero, the feet's points held where this places them,
-/// the rates projected onto the rows' null space (`A q̇ = 0`, by the
-/// pseudo-inverse of `A`).
+/// A G1 state ([`crate::g1_pose`]), the feet's points held where it
+/// places them, the rates on the rows' null space ([`crate::on_the_rows`]).
 fn state(rng: &mut Rng) -> (G1Standing<f64>, State<f64, N>) {
-    let base = crate::moving_base(rng, 0.75, (0.1, 0.3));
-    let (mut q, mut qd) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
-    base.write(0, &mut q, &mut qd)
-        .expect("seven coordinates fit");
-    for j in 7..N {
-        q[j] = rng.uniform(0.3);
-        qd[j] = rng.uniform(1.0);
-    }
+    let (q, qd) = crate::g1_pose::<N>(rng);
     let at_rest = State::new(0.0, q, SVector::zeros());
     let placed = ConstrainedSystem::constraint_residual(&standing(&[0.0; 18]), &at_rest);
     let system = standing(&std::array::from_fn(|i| placed[i]));
-    let (a, _) = ConstrainedSystem::constraint_matrices(&system, &at_rest);
-    let pinv: SMatrix<f64, N, K> = a.pseudo_inverse(1e-12).expect("a pseudo-inverse");
-    // Twice: the second takes what rounding left of the first.
-    for _ in 0..2 {
-        qd -= pinv * (a * qd);
-    }
-    let s = State::new(0.0, q, qd);
-    let position = ConstrainedSystem::constraint_residual(&system, &s).amax();
-    let velocity = ConstrainedSystem::constraint_velocity_residual(&system, &s).amax();
-    assert!(
-        position < 1e-14 && velocity < 1e-12,
-        "{position:e} {velocity:e}"
-    );
+    let s = crate::on_the_rows::<_, N, K>(&system, (q, qd), |a| {
+        a.pseudo_inverse(1e-12).expect("a pseudo-inverse")
+    });
     (system, s)
 }
 

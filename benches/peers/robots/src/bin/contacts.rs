@@ -164,6 +164,52 @@ fn quadruped(tau: &[f64; 12]) -> Quadruped<f64> {
     )
 }
 
+/// A standing G1's pose, as both of its rows draw theirs: the pelvis about
+/// 0.75 m up, turned and moving, every joint within ±0.3 rad of zero and
+/// its rate within ±1 rad/s.
+pub(crate) fn g1_pose<const M: usize>(rng: &mut Rng) -> (SVector<f64, M>, SVector<f64, M>) {
+    let base = moving_base(rng, 0.75, (0.1, 0.3));
+    let (mut q, mut qd) = (SVector::<f64, M>::zeros(), SVector::<f64, M>::zeros());
+    base.write(0, &mut q, &mut qd)
+        .expect("seven coordinates fit");
+    for j in 7..M {
+        q[j] = rng.uniform(0.3);
+        qd[j] = rng.uniform(1.0);
+    }
+    (q, qd)
+}
+
+/// The state `(q, q̇)` with `q̇` projected onto the null space of the rows of
+/// `system` (`A q̇ = 0`, by `pseudo_inverse` of `A`, which the caller
+/// writes at its sizes: nalgebra's SVD asks for bounds on the dimensions
+/// that `M` and `K` alone do not carry; twice, the second taking what
+/// rounding left of the first), checked on them: positions to
+/// 1e-14 (where `system` holds the places `q` puts its points), velocities
+/// to 1e-12.
+pub(crate) fn on_the_rows<S, const M: usize, const K: usize>(
+    system: &S,
+    (q, mut qd): (SVector<f64, M>, SVector<f64, M>),
+    pseudo_inverse: fn(&SMatrix<f64, K, M>) -> SMatrix<f64, M, K>,
+) -> State<f64, M>
+where
+    S: ConstrainedSystem<f64, M, K>,
+{
+    let at_rest = State::new(0.0, q, SVector::zeros());
+    let (a, _) = ConstrainedSystem::constraint_matrices(system, &at_rest);
+    let pinv = pseudo_inverse(&a);
+    for _ in 0..2 {
+        qd -= pinv * (a * qd);
+    }
+    let s = State::new(0.0, q, qd);
+    let position = ConstrainedSystem::constraint_residual(system, &s).amax();
+    let velocity = ConstrainedSystem::constraint_velocity_residual(system, &s).amax();
+    assert!(
+        position < 1e-14 && velocity < 1e-12,
+        "{position:e} {velocity:e}"
+    );
+    s
+}
+
 /// `maxᵢ |Aᵢ q̈ − bᵢ| / (‖Aᵢ‖₁ ‖q̈‖∞ + |bᵢ|)`.
 pub(crate) fn residual<const K: usize, const M: usize>(
     a: &SMatrix<f64, K, M>,
