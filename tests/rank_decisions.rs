@@ -324,7 +324,8 @@ fn a_redundant_set_keeps_well_conditioned_rows() {
 
 /// Whatever the foot's attitude, a nearly dependent row the solve keeps is
 /// caught (`constrained::rank::conditioning_tolerance`): over a grid of
-/// attitudes out to the foot on its edge (tilts to ±1.45 rad, every yaw),
+/// attitudes out to the foot on its edge (roll −1.55 to 1.45 rad, pitch
+/// −1.5 to 1.5 rad, every yaw),
 /// `q̈` is within 1e-10 of the dense Moore–Penrose solve (6e-11 at worst)
 /// and every row holds to 1e-11 (3e-12). The order chosen at the reference
 /// attitude alone kept rows with `sin²θ` between 1e-6 and 1e-3 at some of
