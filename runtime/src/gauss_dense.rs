@@ -52,11 +52,18 @@ where
     if K == 0 {
         return Ok((acc, SVector::zeros()));
     }
-    let w = chol.solve(&a.transpose());
-    let gram = a * w;
+    // `Y = L⁻¹ Aᵀ`, so that `S = A M⁻¹ Aᵀ = Yᵀ Y` and `M⁻¹ Aᵀ λ = L⁻ᵀ (Y λ)`:
+    // one triangular solve per row of `A` where `M⁻¹ Aᵀ` takes two. The
+    // factor's upper triangle is never read.
+    let l = chol.l_dirty();
+    let mut y = a.transpose();
+    l.solve_lower_triangular_unchecked_mut(&mut y);
+    let gram = y.tr_mul(&y);
     let ldlt = PivotedLdlt::factor(&gram);
     let lambda = ldlt.solve_unchecked(&(b - a * acc));
-    let qdd = acc + w * lambda;
+    let mut reaction = y * lambda;
+    l.tr_solve_lower_triangular_unchecked_mut(&mut reaction);
+    let qdd = acc + reaction;
     // The actual system's constraint force (the auxiliary one's λ carries
     // the added s AᵀA term).
     let force = if S::SEMIDEFINITE_MASS {

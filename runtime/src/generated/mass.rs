@@ -27,7 +27,7 @@ where
         return (*m, *f);
     }
     let (m_aux, s) = auxiliary_mass(m, a);
-    (m_aux, f + a.transpose() * (b * s))
+    (m_aux, f + a.tr_mul(&(b * s)))
 }
 
 /// `(M + s AᵀA, s)` with `s = tr M / ‖A‖²_F` (1 where either vanishes): the
@@ -43,5 +43,5 @@ pub(crate) fn auxiliary_mass<T: RealField + Copy, const N: usize, const K: usize
     } else {
         T::one()
     };
-    (m + a.transpose() * a * s, s)
+    (m + a.tr_mul(a) * s, s)
 }
