@@ -66,7 +66,9 @@ pub fn consistency_tolerance<T: RealField + Copy>() -> T {
 /// ill-conditioned and the dropped rows hold only to rounding grown by
 /// `1/sin²θ`. Such a decision is verified by rule 2 like a drop, and a
 /// violated row sends `q̈` to the minimum-norm solve, which keeps the
-/// strongest directions whatever the attitude.
+/// strongest directions whatever the attitude. The saddle-point solves test
+/// each multiplier's pivot against the same bound (below it, the dense
+/// solve answers).
 #[inline]
 pub fn conditioning_tolerance<T: RealField + Copy>() -> T {
     nalgebra::convert::<f64, T>(1e-3)

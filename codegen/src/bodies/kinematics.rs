@@ -238,9 +238,9 @@ pub fn center_of_mass(
 /// h_j)` the subtree's mass and first moment about `j`'s origin in `j`'s
 /// axes (its composite inertia's) and `(v, ω)` the coordinate's motion
 /// column there, its column is `R_j (m_j v + ω × h_j) / m`. A revolute
-/// joint's `ω` is an axis of the body, so the cross product is a
-/// permutation and the rotation to the world one column of `R_j`'s work
-/// per nonzero.
+/// joint's `ω` is its axis, constant in the body's axes (a coordinate axis
+/// turns the cross product into a permutation), and the rotation to the
+/// world costs one column of `R_j` per nonzero of the local column.
 fn center_of_mass_jacobian(
     g: &mut Graph,
     composites: &Composites,

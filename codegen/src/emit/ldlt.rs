@@ -201,9 +201,11 @@ impl<'a> StructuredLdlt<'a> {
                 quote! { let __tol: T = #rank_tolerance; }
             }
             // Growth of at most 10³ in the pivots without pivoting: about
-            // 10⁻¹³ relative where the dense solve's is 10⁻¹⁶.
+            // 10⁻¹³ relative where the dense solve's is 10⁻¹⁶. The same
+            // `sin²θ` test as a redundant set's kept pivots
+            // (`constrained::rank::conditioning_tolerance`).
             Pivots::Signed { .. } => {
-                let tolerance = quote!(::constrained::__private::lit::<T>(1e-3f64));
+                let tolerance = quote!(::constrained::__private::conditioning_tolerance::<T>());
                 quote! { let __tol: T = #tolerance; }
             }
             Pivots::Positive(_) => TokenStream::new(),

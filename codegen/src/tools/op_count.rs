@@ -65,6 +65,7 @@ const FREE: &[&str] = &[
     "lit",
     "safe_minimum",
     "rank_tolerance",
+    "conditioning_tolerance",
     "from_array_storage",
     "ArrayStorage",
     "clone",
