@@ -17,8 +17,9 @@
 //! time and emits `F̃`, `b̃` for every column (`tangent_rhs`); here `M` and
 //! `S = A M⁻¹ Aᵀ` are factored once (Cholesky; the rank-revealing
 //! [`PivotedLdlt`] of `S` with the rank rule of `acceleration`) and every
-//! column is one solve: `q̈ᵥ = M⁻¹F̃ᵥ + M⁻¹Aᵀ S⁺(b̃ᵥ − A M⁻¹F̃ᵥ)`. Nothing is
-//! differenced.
+//! column is one solve: `q̈ᵥ = M⁻¹F̃ᵥ + M⁻¹Aᵀ S⁺(b̃ᵥ − A M⁻¹F̃ᵥ)`, where
+//! every row is kept regrouped as `q̈ᵥ = P F̃ᵥ + Q b̃ᵥ` with `P` and `Q`
+//! formed once (`batch`). Nothing is differenced.
 //!
 //! `λ` is recovered from the constraint force the solver returned,
 //! `λ = S⁺ A M⁻¹ Fᶜ`; any `λ` with `Aᵀλ = Fᶜ` gives the same `q̈ᵥ` (the
@@ -36,6 +37,7 @@ use crate::inverse::PivotedLdlt;
 use crate::rank::{consistency_tolerance, safe_minimum, tight_cut};
 use crate::svd::JacobiSvd;
 use crate::DynamicsError;
+use batch::Projection;
 use nalgebra::{Cholesky, Const, RealField, SMatrix, SVector};
 
 /// The Jacobians of `q̈(q, q̇, u)`: `dq = ∂q̈/∂q`, `dqd = ∂q̈/∂q̇`,
@@ -145,6 +147,28 @@ impl<T: RealField + Copy, const N: usize> MassSolve<T, N> {
             MassSolve::Ldlt(l) => l.solve_unchecked(v),
         }
     }
+
+    /// `M⁻¹`: `L⁻ᵀ L⁻¹` from the Cholesky factor's inverse, where the
+    /// solves of the identity's columns cost three times as much (nalgebra's
+    /// `Cholesky::solve` was a third of the Go1's Jacobians); by those
+    /// solves for the `LDLᵀ`.
+    fn inverse(&self) -> SMatrix<T, N, N> {
+        match self {
+            MassSolve::Cholesky(c) => {
+                let x = batch::lower_inverse(&c.l());
+                x.tr_mul(&x)
+            }
+            MassSolve::Ldlt(l) => {
+                let mut inverse = SMatrix::<T, N, N>::zeros();
+                for j in 0..N {
+                    let mut unit = SVector::<T, N>::zeros();
+                    unit[j] = T::one();
+                    inverse.set_column(j, &l.solve_unchecked(&unit));
+                }
+                inverse
+            }
+        }
+    }
 }
 
 /// The dense pieces of the tangent systems at `(q, q̇, t)`: `A`, the `M`
@@ -156,6 +180,7 @@ struct Dense<T: RealField + Copy, const N: usize, const K: usize> {
     m: SMatrix<T, N, N>,
     s: T,
     mass: MassSolve<T, N>,
+    inverse: SMatrix<T, N, N>,
     w: SMatrix<T, N, K>,
     gram: SMatrix<T, K, K>,
     ldlt: PivotedLdlt<T, K>,
@@ -183,11 +208,8 @@ impl<T: RealField + Copy, const N: usize, const K: usize> Dense<T, N, K> {
             return Err(DynamicsError::NonFinite);
         }
         let mass = MassSolve::new(m);
-        let mut w = SMatrix::<T, N, K>::zeros();
-        for r in 0..K {
-            let column = mass.solve(&a.row(r).transpose());
-            w.set_column(r, &column);
-        }
+        let inverse = mass.inverse();
+        let w = inverse * a.transpose();
         let gram = a * w;
         let ldlt = PivotedLdlt::factor(&gram);
         Ok(Dense {
@@ -195,6 +217,7 @@ impl<T: RealField + Copy, const N: usize, const K: usize> Dense<T, N, K> {
             m,
             s,
             mass,
+            inverse,
             w,
             gram,
             ldlt,
@@ -267,6 +290,7 @@ where
         m,
         s,
         mass,
+        inverse,
         w,
         gram,
         ldlt,
@@ -284,6 +308,13 @@ where
     }
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
+    if ldlt.rank() == K {
+        let auxiliary = S::SEMIDEFINITE_MASS.then_some(s);
+        let projection = Projection::new(&inverse, &w, &ldlt, auxiliary);
+        let (jacobians, _) =
+            projection.jacobians::<S, NU, D>(system, (q, qd, t), (&qdd, &lam), false);
+        return Ok(jacobians);
+    }
     let solve = |f_c: &SVector<T, N>, b_c: &SVector<T, K>| {
         let unconstrained = mass.solve(f_c);
         let mu = ldlt.solve_unchecked(&(b_c - a * unconstrained));
@@ -510,6 +541,7 @@ pub fn linearization<T: RealField + Copy, const N: usize, const NU: usize, const
     (a, b)
 }
 
+mod batch;
 mod multipliers;
 mod reduced;
 pub use multipliers::{

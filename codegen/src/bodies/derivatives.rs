@@ -8,14 +8,23 @@
 //! Every quantity is in world axes about the world's origin, where a
 //! coordinate `qᵢ` moves the bodies beyond its joint rigidly about the
 //! joint's column `Sᵢ` (`∂X/∂qᵢ = Sᵢ × X` for each of their motion vectors,
-//! `Sᵢ ×*` for forces). What does not move rigidly are the velocity and
-//! acceleration the parent `λ` passes on, so that per joint
+//! `Sᵢ ×*` for forces). What does not move rigidly is the motion the
+//! parent `λ` passes on, so that for every body beyond the joint
+//! `∂v/∂qᵢ = Sᵢ × v + δvᵢ`, `∂a/∂qᵢ = Sᵢ × a + δaᵢ + δvᵢ × v` and
+//! `∂a/∂q̇ᵢ = δa′ᵢ + Sᵢ × v`, with per column
 //!
-//! - `∂vᵢ/∂qᵢ = v_λ × Sᵢ`, `∂aᵢ/∂qᵢ = a_λ × Sᵢ + v_λ × (v_λ × Sᵢ)`,
-//!   `∂aᵢ/∂q̇ᵢ = vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ` (gravity as `a₀ = −g`),
+//! - `δvᵢ = v_λ × Sᵢ`, `δaᵢ = a_λ × Sᵢ + v_λ × (v_λ × Sᵢ)`,
+//!   `δa′ᵢ = vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ` (gravity as `a₀ = −g`)
 //!
-//! and per body the rate of its force along a change `δv` of velocity that
-//! is the same for all bodies beyond, `Bᵢ δv = vᵢ ×* Iᵢ δv − Iᵢ (vᵢ × δv) +
+//! for a column constant in its body's axes (revolute, prismatic,
+//! helical, and mimics of them, whose columns carry the multiplier and add
+//! to the coordinate they follow, `accumulate`). A quaternion's four
+//! columns vary with its own coordinates: its `δv`, `δa`, `δa′` gain the
+//! partials of the joint's own velocity and acceleration ([`varying`]),
+//! and its rows the turn of its columns among themselves.
+//!
+//! Per body, the rate of its force along a change `δv` of velocity that
+//! is the same for all bodies beyond is `Bᵢ δv = vᵢ ×* Iᵢ δv − Iᵢ (vᵢ × δv) +
 //! δv ×* kᵢ` (`kᵢ = Iᵢ vᵢ`; Pinocchio's `doYcrb`). In the 3 × 3 blocks of
 //! `[ω; v]`, `B = [Σ − k̃ₙ, 0; −2 k̃_f, 0]` with the symmetric
 //! `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` (`Ī`, `h` the inertia's
@@ -23,53 +32,64 @@
 //! angular part of `δv` only. With the composites over each subtree (`Iᶜ`,
 //! `Bᶜ`, `fᶜ`), for `k` beyond `i`:
 //!
-//! - `∂τₖ/∂qᵢ = (Iᶜₖ Sₖ)ᵀ ∂aᵢ/∂qᵢ + (Bᶜₖᵀ Sₖ)ᵀ ∂vᵢ/∂qᵢ`, and `∂τₖ/∂q̇ᵢ` the
-//!   same with `∂aᵢ/∂q̇ᵢ` and `Sᵢ`;
-//! - `∂τᵢ/∂qₖ = Sᵢᵀ (Bᶜₖ ∂vₖ/∂qₖ + Iᶜₖ ∂aₖ/∂qₖ + Sₖ ×* fᶜₖ)`, and
-//!   `∂τᵢ/∂q̇ₖ = Sᵢᵀ (Bᶜₖ Sₖ + Iᶜₖ ∂aₖ/∂q̇ₖ)`; for `i = k` the same without
-//!   the last term (`Sᵢᵀ (Sᵢ ×* f) = 0`).
-//!
-//! Joints whose columns are constant in their body's axes qualify
-//! (revolute, prismatic, helical, and mimics of them, whose columns carry
-//! the multiplier and add to the coordinate they follow, `accumulate`); a
-//! quaternion's four columns vary with `q`, and a tree with one is
-//! differentiated symbolically instead (`None` here).
+//! - `∂τₖ/∂qᵢ = (Iᶜₖ Sₖ)ᵀ δaᵢ + (Bᶜₖᵀ Sₖ)ᵀ δvᵢ`, and `∂τₖ/∂q̇ᵢ` the
+//!   same with `δa′ᵢ` and `Sᵢ`;
+//! - `∂τᵢ/∂qₖ = Sᵢᵀ (Bᶜₖ δvₖ + Iᶜₖ δaₖ + Sₖ ×* fᶜₖ)`, and
+//!   `∂τᵢ/∂q̇ₖ = Sᵢᵀ (Bᶜₖ Sₖ + Iᶜₖ δa′ₖ)`; between two columns of one joint
+//!   the same without the last term (the rigid turns of `Sᵢ` and of `fᶜ`
+//!   cancel), plus `(∂Sᵢ/∂qₖ − Sₖ × Sᵢ)ᵀ fᶜ` where the columns vary.
 
 use super::joint::JointState;
 use super::kinematics::world_column;
 use super::recursion::accumulate;
 use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Body, Placement, Tree};
+use crate::expr::diff::Differentiator;
 use crate::expr::{Graph, Id, Sym};
+
+/// One column of a joint, with what its coordinate and rate do to the
+/// motion the joint passes on, in world axes about the world's origin.
+#[derive(Clone, Copy)]
+struct Column {
+    /// The coordinate it moves.
+    coordinate: usize,
+    /// `Sᵢ`.
+    column: Spatial,
+    /// `δvᵢ`: `∂v/∂qᵢ` of every body beyond is `Sᵢ × v + δvᵢ`.
+    velocity_by_q: Spatial,
+    /// `δaᵢ`: `∂a/∂qᵢ` of every body beyond is `Sᵢ × a + δaᵢ + δvᵢ × v`.
+    acceleration_by_q: Spatial,
+    /// `δa′ᵢ`: `∂a/∂q̇ᵢ` of every body beyond is `δa′ᵢ + Sᵢ × v`.
+    acceleration_by_rate: Spatial,
+}
 
 /// A body's quantities from the outward pass, in world axes about the
 /// world's origin.
 struct Outward {
-    /// The coordinate its joint moves.
-    coordinate: usize,
-    /// `Sᵢ`.
-    column: Spatial,
-    /// `∂vᵢ/∂qᵢ = v_λ × Sᵢ`.
-    velocity_by_q: Spatial,
-    /// `∂aᵢ/∂qᵢ`.
-    acceleration_by_q: Spatial,
-    /// `∂aᵢ/∂q̇ᵢ`.
-    acceleration_by_rate: Spatial,
+    /// Its joint's columns.
+    columns: Vec<Column>,
+    /// `[r][c]`: `∂Sᵣ/∂q_c − S_c × Sᵣ` between two columns of a joint whose
+    /// columns vary with its own coordinates (a quaternion's); empty where
+    /// they are constant in the body's axes.
+    turning: Vec<Vec<Spatial>>,
     /// The body's own inertia, `Σᵢ`, momentum and force: its subtree's
     /// [`Composite`] before the children's are added.
     own: Composite,
 }
 
-/// A body's products from the inward pass, with the composites of its
-/// subtree: what the entries of its ancestors read.
+/// A body's products from the inward pass for one of its columns, with
+/// the composites of its subtree: what the entries of its ancestors read.
+#[derive(Clone, Copy)]
 struct Inward {
+    /// The column's coordinate.
+    coordinate: usize,
     /// `Iᶜₖ Sₖ`.
     inertia_column: Spatial,
     /// The angular part of `Bᶜₖᵀ Sₖ` (its linear part is zero).
     rate_column: V3,
-    /// `Bᶜₖ ∂vₖ/∂qₖ + Iᶜₖ ∂aₖ/∂qₖ + Sₖ ×* fᶜₖ`.
+    /// `Bᶜₖ δvₖ + Iᶜₖ δaₖ + Sₖ ×* fᶜₖ`.
     force_by_q: Spatial,
-    /// `Bᶜₖ Sₖ + Iᶜₖ ∂aₖ/∂q̇ₖ`.
+    /// `Bᶜₖ Sₖ + Iᶜₖ δa′ₖ`.
     force_by_rate: Spatial,
 }
 
@@ -87,71 +107,97 @@ struct Composite {
 }
 
 /// `(∂τ/∂q, ∂τ/∂q̇)` of the tree's inverse dynamics, n × n each, with `q̈`
-/// as `Sym::Accel`; `None` for a tree with a joint of other than one
-/// column (a quaternion's four).
-pub fn inverse_dynamics_jacobian(
-    g: &mut Graph,
-    tree: &Tree,
-    n: usize,
-) -> Option<[Vec<Vec<Id>>; 2]> {
-    let outward = outward(g, tree)?;
+/// as `Sym::Accel`.
+pub fn inverse_dynamics_jacobian(g: &mut Graph, tree: &Tree, n: usize) -> [Vec<Vec<Id>>; 2] {
+    let outward = outward(g, tree);
     let zero = g.int(0);
     let mut by_q = vec![vec![zero; n]; n];
     let mut by_rate = vec![vec![zero; n]; n];
     let mut composite: Vec<Composite> = outward.iter().map(|o| o.own).collect();
-    let mut inward: Vec<Option<Inward>> = (0..tree.bodies.len()).map(|_| None).collect();
+    let mut inward: Vec<Vec<Inward>> = vec![Vec::new(); tree.bodies.len()];
     for i in (0..tree.bodies.len()).rev() {
         let c = held(g, composite[i]);
         let o = &outward[i];
-        let (s, ci) = (o.column, o.coordinate);
-        let own = products(g, &c, o);
-        // The body's own entry, then those of the bodies beyond it.
-        let own_q = s.dot(g, own.force_by_q);
-        accumulate(g, &mut by_q[ci][ci], own_q);
-        let own_rate = s.dot(g, own.force_by_rate);
-        accumulate(g, &mut by_rate[ci][ci], own_rate);
+        let own: Vec<Inward> = o.columns.iter().map(|col| products(g, &c, col)).collect();
+        own_entries(g, o, &own, c.force, [&mut by_q, &mut by_rate]);
+        // The entries between this joint's columns and those beyond.
         for k in beyond(&tree.bodies, i) {
-            let (Some(w), ck) = (&inward[k], outward[k].coordinate) else {
-                continue;
-            };
-            let entries = [
-                pair(g, w, o.acceleration_by_q, o.velocity_by_q.angular),
-                pair(g, w, o.acceleration_by_rate, s.angular),
-                s.dot(g, w.force_by_q),
-                s.dot(g, w.force_by_rate),
-            ];
-            accumulate(g, &mut by_q[ck][ci], entries[0]);
-            accumulate(g, &mut by_rate[ck][ci], entries[1]);
-            accumulate(g, &mut by_q[ci][ck], entries[2]);
-            accumulate(g, &mut by_rate[ci][ck], entries[3]);
+            for w in &inward[k] {
+                for col in &o.columns {
+                    let (s, ck, ci) = (col.column, w.coordinate, col.coordinate);
+                    let entries = [
+                        pair(g, w, col.acceleration_by_q, col.velocity_by_q.angular),
+                        pair(g, w, col.acceleration_by_rate, s.angular),
+                        s.dot(g, w.force_by_q),
+                        s.dot(g, w.force_by_rate),
+                    ];
+                    accumulate(g, &mut by_q[ck][ci], entries[0]);
+                    accumulate(g, &mut by_rate[ck][ci], entries[1]);
+                    accumulate(g, &mut by_q[ci][ck], entries[2]);
+                    accumulate(g, &mut by_rate[ci][ck], entries[3]);
+                }
+            }
         }
         // What the ancestors read also turns the subtree's force.
-        let turned = s.cross_force(g, c.force);
-        inward[i] = Some(Inward {
-            force_by_q: own.force_by_q.add(g, turned).held(g),
-            ..own
-        });
+        inward[i] = own
+            .into_iter()
+            .zip(&o.columns)
+            .map(|(w, col)| {
+                let turned = col.column.cross_force(g, c.force);
+                Inward {
+                    force_by_q: w.force_by_q.add(g, turned).held(g),
+                    ..w
+                }
+            })
+            .collect();
         if let Some(p) = tree.bodies[i].parent {
             composite[p] = sum(g, &composite[p], &c);
         }
     }
-    Some([by_q, by_rate])
+    [by_q, by_rate]
 }
 
-/// A body's products with its subtree's composites `c`, `force_by_q`
-/// without the turn `Sₖ ×* fᶜₖ` (which its own entry does not read).
-fn products(g: &mut Graph, c: &Composite, o: &Outward) -> Inward {
-    let s = o.column;
+/// The entries between a joint's own columns: `∂τᵣ/∂q_c = Sᵣᵀ (Bᶜ δv_c +
+/// Iᶜ δa_c) + (∂Sᵣ/∂q_c − S_c × Sᵣ)ᵀ fᶜ` and `∂τᵣ/∂q̇_c = Sᵣᵀ (Bᶜ S_c +
+/// Iᶜ δa′_c)` (the subtree's rigid turn `S_c ×* fᶜ` cancels that of `Sᵣ`).
+fn own_entries(
+    g: &mut Graph,
+    o: &Outward,
+    own: &[Inward],
+    force: Spatial,
+    [by_q, by_rate]: [&mut Vec<Vec<Id>>; 2],
+) {
+    for (r, row) in o.columns.iter().enumerate() {
+        for (k, (col, w)) in o.columns.iter().zip(own).enumerate() {
+            let (ri, ci) = (row.coordinate, col.coordinate);
+            let mut by_coordinate = row.column.dot(g, w.force_by_q);
+            if let Some(turn) = o.turning.get(r).and_then(|t| t.get(k)) {
+                let turned = turn.dot(g, force);
+                by_coordinate = g.add2(by_coordinate, turned);
+            }
+            accumulate(g, &mut by_q[ri][ci], by_coordinate);
+            let by_velocity = row.column.dot(g, w.force_by_rate);
+            accumulate(g, &mut by_rate[ri][ci], by_velocity);
+        }
+    }
+}
+
+/// A column's products with its body's subtree's composites `c`,
+/// `force_by_q` without the turn `Sₖ ×* fᶜₖ` (which its own entries do
+/// not read).
+fn products(g: &mut Graph, c: &Composite, col: &Column) -> Inward {
+    let s = col.column;
     let inertia_column = c.inertia.apply(g, s).held(g);
     let rate_column = transposed_rate(g, c, s);
     let rate_column = spatial::hold3(g, rate_column);
-    let by_velocity = rate(g, c, o.velocity_by_q);
-    let by_acceleration = c.inertia.apply(g, o.acceleration_by_q);
+    let by_velocity = rate(g, c, col.velocity_by_q);
+    let by_acceleration = c.inertia.apply(g, col.acceleration_by_q);
     let force_by_q = by_velocity.add(g, by_acceleration).held(g);
     let own = rate(g, c, s);
-    let by_acceleration = c.inertia.apply(g, o.acceleration_by_rate);
+    let by_acceleration = c.inertia.apply(g, col.acceleration_by_rate);
     let force_by_rate = own.add(g, by_acceleration).held(g);
     Inward {
+        coordinate: col.coordinate,
         inertia_column,
         rate_column,
         force_by_q,
@@ -159,9 +205,8 @@ fn products(g: &mut Graph, c: &Composite, o: &Outward) -> Inward {
     }
 }
 
-/// Every body's [`Outward`] quantities, parents first; `None` where a
-/// joint has other than one column.
-fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
+/// Every body's [`Outward`] quantities, parents first.
+fn outward(g: &mut Graph, tree: &Tree) -> Vec<Outward> {
     let zero = spatial::zero(g);
     let gravity = Spatial {
         angular: zero,
@@ -172,7 +217,7 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
     let mut motion: Vec<(Spatial, Spatial)> = Vec::with_capacity(tree.bodies.len());
     let mut out = Vec::with_capacity(tree.bodies.len());
     for body in &tree.bodies {
-        let (parent_frame, (vp, ap)) = match body.parent {
+        let (parent_frame, parent) = match body.parent {
             Some(p) => (frames[p], motion[p]),
             None => (Placement::identity(g), (rest, gravity)),
         };
@@ -183,25 +228,15 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
             rotation: placed.rotation.map(|row| spatial::hold3(g, row)),
             translation: spatial::hold3(g, placed.translation),
         };
-        let &[(coordinate, local)] = &js.columns(g)[..] else {
-            return None;
+        let local = js.columns(g);
+        let (v, a, columns, turning) = match &local[..] {
+            &[(coordinate, s)] if js.quaternion.is_none() => {
+                let column = to_world(g, &frame, s).held(g);
+                let (v, a, col) = constant(g, parent, (coordinate, column));
+                (v, a, vec![col], Vec::new())
+            }
+            _ => varying(g, &js, &frame, &local, parent),
         };
-        let column = to_world(g, &frame, local).held(g);
-        let rate = g.sym(Sym::Vel(coordinate));
-        let accel = g.sym(Sym::Accel(coordinate));
-        let sq = column.scale(g, rate);
-        let v = vp.add(g, sq).held(g);
-        let velocity_by_q = vp.cross_motion(g, column).held(g);
-        // `vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ` (`Sᵢ × Sᵢ = 0`).
-        let coriolis = velocity_by_q.scale(g, rate);
-        let sa = column.scale(g, accel);
-        let a = ap.add(g, sa).add(g, coriolis).held(g);
-        let turned = ap.cross_motion(g, column);
-        let twice = vp.cross_motion(g, velocity_by_q);
-        let acceleration_by_q = turned.add(g, twice).held(g);
-        // `vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ`, likewise.
-        let two = g.int(2);
-        let acceleration_by_rate = velocity_by_q.scale(g, two).held(g);
         let inertia = world_inertia(g, &body.inertia, &frame);
         let momentum = inertia.apply(g, v).held(g);
         let ia = inertia.apply(g, a);
@@ -209,11 +244,8 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
         let force = ia.add(g, gyroscopic).held(g);
         let symmetric = symmetric_rate(g, &inertia, v);
         out.push(Outward {
-            coordinate,
-            column,
-            velocity_by_q,
-            acceleration_by_q,
-            acceleration_by_rate,
+            columns,
+            turning,
             own: Composite {
                 inertia,
                 symmetric,
@@ -224,7 +256,137 @@ fn outward(g: &mut Graph, tree: &Tree) -> Option<Vec<Outward>> {
         frames.push(frame);
         motion.push((v, a));
     }
-    Some(out)
+    out
+}
+
+/// `(v, a, column)` of a body on a joint of one column `S` constant in its
+/// axes (revolute, prismatic, helical, a mimic of one), from its parent's
+/// `(v_λ, a_λ)`: `δv = v_λ × S`, `δa = a_λ × S + v_λ × (v_λ × S)`,
+/// `δa′ = 2 v_λ × S`.
+fn constant(
+    g: &mut Graph,
+    (vp, ap): (Spatial, Spatial),
+    (coordinate, column): (usize, Spatial),
+) -> (Spatial, Spatial, Column) {
+    let rate = g.sym(Sym::Vel(coordinate));
+    let accel = g.sym(Sym::Accel(coordinate));
+    let sq = column.scale(g, rate);
+    let v = vp.add(g, sq).held(g);
+    let velocity_by_q = vp.cross_motion(g, column).held(g);
+    // `vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ` (`Sᵢ × Sᵢ = 0`).
+    let coriolis = velocity_by_q.scale(g, rate);
+    let sa = column.scale(g, accel);
+    let a = ap.add(g, sa).add(g, coriolis).held(g);
+    let turned = ap.cross_motion(g, column);
+    let twice = vp.cross_motion(g, velocity_by_q);
+    let acceleration_by_q = turned.add(g, twice).held(g);
+    // `vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ`, likewise.
+    let two = g.int(2);
+    let acceleration_by_rate = velocity_by_q.scale(g, two).held(g);
+    let col = Column {
+        coordinate,
+        column,
+        velocity_by_q,
+        acceleration_by_q,
+        acceleration_by_rate,
+    };
+    (v, a, col)
+}
+
+/// `(v, a, columns, turning)` of a body on a joint whose columns vary with
+/// its own coordinates (a quaternion's), from its parent's `(v_λ, a_λ)`.
+/// With `X` the body's frame, the joint's own velocity `v_J = Σ S q̇` and
+/// acceleration `a_J = Σ S q̈ + Σ Ṡ q̇` in its axes, `v = v_λ + X v_J` and
+/// `a = a_λ + X a_J + v × X v_J`, so that per column
+///
+/// - `δv = v_λ × S + X ∂v_J/∂q`,
+/// - `δa = a_λ × S + X ∂a_J/∂q + v_λ × δv + v × X ∂v_J/∂q`,
+/// - `δa′ = X ∂a_J/∂q̇ + (v + v_λ) × S`,
+///
+/// which are [`constant`]'s where `v_J` and `a_J` do not depend on `q`;
+/// the partials of `v_J`, `a_J` and `S` are taken of their expressions.
+fn varying(
+    g: &mut Graph,
+    js: &JointState,
+    frame: &Placement,
+    local: &[(usize, Spatial)],
+    (vp, ap): (Spatial, Spatial),
+) -> (Spatial, Spatial, Vec<Column>, Vec<Vec<Spatial>>) {
+    let vj = joint_motion(g, local, Sym::Vel);
+    let mut aj = joint_motion(g, local, Sym::Accel);
+    if let Some(rate) = js.column_rate(g, vj.angular) {
+        aj.angular = spatial::add(g, aj.angular, rate);
+    }
+    let vj_world = to_world(g, frame, vj);
+    let v = vp.add(g, vj_world).held(g);
+    let aj_world = to_world(g, frame, aj);
+    let transport = v.cross_motion(g, vj_world);
+    let a = ap.add(g, aj_world).add(g, transport).held(g);
+    let mut d = Differentiator::new();
+    let mut partial = |g: &mut Graph, m: Spatial, by: Sym| {
+        let local = Spatial {
+            angular: m.angular.map(|e| d.partial(g, e, by)),
+            linear: m.linear.map(|e| d.partial(g, e, by)),
+        };
+        to_world(g, frame, local).held(g)
+    };
+    let mut columns = Vec::with_capacity(local.len());
+    for &(coordinate, s) in local {
+        let column = to_world(g, frame, s).held(g);
+        let dvj = partial(g, vj, Sym::Coord(coordinate));
+        let daj = partial(g, aj, Sym::Coord(coordinate));
+        let daj_rate = partial(g, aj, Sym::Vel(coordinate));
+        let turned = vp.cross_motion(g, column);
+        let velocity_by_q = turned.add(g, dvj).held(g);
+        let parts = [
+            ap.cross_motion(g, column),
+            daj,
+            vp.cross_motion(g, velocity_by_q),
+            v.cross_motion(g, dvj),
+        ];
+        let acceleration_by_q = sum_of(g, parts).held(g);
+        let both = v.add(g, vp);
+        let carried = both.cross_motion(g, column);
+        let acceleration_by_rate = daj_rate.add(g, carried).held(g);
+        columns.push(Column {
+            coordinate,
+            column,
+            velocity_by_q,
+            acceleration_by_q,
+            acceleration_by_rate,
+        });
+    }
+    let turning = local
+        .iter()
+        .map(|&(_, s)| {
+            local
+                .iter()
+                .map(|&(c, _)| partial(g, s, Sym::Coord(c)))
+                .collect()
+        })
+        .collect();
+    (v, a, columns, turning)
+}
+
+/// `Σ Sₖ xₖ` over a joint's columns (`x` its coordinates' velocities or
+/// accelerations), in the body's axes.
+fn joint_motion(g: &mut Graph, columns: &[(usize, Spatial)], sym: fn(usize) -> Sym) -> Spatial {
+    let mut total = Spatial::zero(g);
+    for &(c, s) in columns {
+        let x = g.sym(sym(c));
+        let sx = s.scale(g, x);
+        total = total.add(g, sx);
+    }
+    total
+}
+
+/// The sum of motion vectors.
+fn sum_of<const K: usize>(g: &mut Graph, parts: [Spatial; K]) -> Spatial {
+    let mut total = Spatial::zero(g);
+    for p in parts {
+        total = total.add(g, p);
+    }
+    total
 }
 
 /// A motion vector of a body's axes at its origin in world axes about the
@@ -299,8 +461,8 @@ fn transposed_rate(g: &mut Graph, c: &Composite, s: Spatial) -> V3 {
     spatial::add(g, sum, fv)
 }
 
-/// `(Iᶜₖ Sₖ)ᵀ a + (Bᶜₖᵀ Sₖ)ᵀ [w; ·]`: an entry of a body beyond the
-/// joint whose `∂a` is `a` and whose `∂v` has angular part `w`.
+/// `(Iᶜₖ Sₖ)ᵀ a + (Bᶜₖᵀ Sₖ)ᵀ [w; ·]`: an entry of a column beyond the
+/// joint whose `δa` is `a` and whose `δv` has angular part `w`.
 fn pair(g: &mut Graph, w: &Inward, a: Spatial, angular: V3) -> Id {
     let by_a = w.inertia_column.dot(g, a);
     let by_v = spatial::dot(g, w.rate_column, angular);
@@ -395,6 +557,46 @@ mod tests {
         ],
     }";
 
+    /// A free base (three slides and a quaternion) carrying a revolute
+    /// arm whose second link hangs on a spherical joint (a quaternion
+    /// whose parent moves), full inertias off their origins.
+    const FLOATING: &str = "pub struct Floating {
+        gravity: [0.3, -1.2, -9.7],
+        bodies: [
+            trunk {
+                joint: free(x, y, z, qw, qx, qy, qz),
+                mass: 6.0,
+                com: [0.02, -0.01, 0.03],
+                inertia: [[0.08, 0.002, -0.001], [0.002, 0.2, 0.003], [-0.001, 0.003, 0.22]],
+            },
+            upper {
+                parent: trunk,
+                joint: revolute(q1, [0.0, 0.6, 0.8]),
+                xyz: [0.2, -0.1, 0.0],
+                rpy: [0.3, -0.2, 0.1],
+                mass: 1.5,
+                com: [0.0, 0.01, -0.15],
+                inertia: diag[0.01, 0.012, 0.004],
+            },
+            ball {
+                parent: upper,
+                joint: spherical(bw, bx, by, bz),
+                xyz: [0.0, 0.05, -0.3],
+                mass: 0.8,
+                com: [0.01, 0.0, -0.12],
+                inertia: [[0.006, 0.0004, 0.0], [0.0004, 0.005, -0.0002], [0.0, -0.0002, 0.002]],
+            },
+            foot {
+                parent: ball,
+                joint: prismatic(s, [0.0, 0.0, 1.0]),
+                xyz: [0.0, 0.0, -0.25],
+                mass: 0.3,
+                com: [0.0, 0.02, -0.01],
+                inertia: diag[0.0005, 0.0006, 0.0004],
+            },
+        ],
+    }";
+
     /// A revolute arm and a finger on a prismatic joint that follows the
     /// elbow (a URDF `<mimic>` with a multiplier and an offset), and a
     /// second finger that follows it the other way.
@@ -427,7 +629,7 @@ mod tests {
             bodies: bodies.tree.clone(),
             gravity: bodies.gravity_vector,
         };
-        let recursions = super::inverse_dynamics_jacobian(g, &tree, n).expect("no quaternions");
+        let recursions = super::inverse_dynamics_jacobian(g, &tree, n);
         let mut d = Differentiator::new();
         let mut worst: f64 = 0.0;
         for (m, by) in recursions
@@ -470,6 +672,7 @@ mod tests {
             ("branched", BRANCHED.to_string()),
             ("panda", panda),
             ("mimic", mimic),
+            ("floating", FLOATING.to_string()),
         ];
         for (name, model) in cases {
             let worst = against_partials(&model);

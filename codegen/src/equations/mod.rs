@@ -144,11 +144,12 @@ fn derivatives(
     let n = system.dof();
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     // `∂τ/∂q`, `∂τ/∂q̇`, for `inverse_dynamics_jacobian` and for the
-    // tangents of a tree whose `M` is factored. Not for an auxiliary mass
-    // (quaternion joints): there the partials of `τ` by every coordinate of
-    // a free base, straight-line, took the quadruped's expansion from 22,263
-    // to 41,650 lines for a third off the Go1's Jacobian.
-    let factored = matches!(mass_inverse, MassInverse::Factored(_));
+    // tangents of a tree whose `M` is factored, on an auxiliary mass
+    // (quaternion joints) too.
+    let factored = matches!(
+        mass_inverse,
+        MassInverse::Factored(_) | MassInverse::Auxiliary(_)
+    );
     let inverse_dynamics = system
         .bodies
         .as_ref()
@@ -308,9 +309,10 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
         let roots: Vec<Id> = m.iter().flatten().flatten().copied().collect();
         crate::expr::squares::operations(g, &roots)
     };
-    match recursions {
-        Some(r) if cost(g, &r) <= cost(g, &partials) => r,
-        _ => partials,
+    if cost(g, &recursions) <= cost(g, &partials) {
+        recursions
+    } else {
+        partials
     }
 }
 

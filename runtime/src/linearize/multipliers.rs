@@ -16,7 +16,8 @@
 //! is solved through its auxiliary mass `M + s AᵀA`, whose multipliers
 //! are the same: `s AᵀA q̈ = s Aᵀ b` holds on both sides.
 
-use super::{all_finite, tangent_solutions, Dense, Jacobians, Tangent};
+use super::batch::Projection;
+use super::{all_finite, Dense, Jacobians, Tangent};
 use crate::generated::{Generated, Motion};
 use crate::rank::safe_minimum;
 use crate::DynamicsError;
@@ -81,8 +82,9 @@ where
 /// `(q̈, Fᶜ)` the system's solver returned there, from one evaluation of
 /// the tangent systems: `M` factored (Cholesky, or the rank-revealing
 /// `LDLᵀ` where it is not numerically positive definite), `S = A M⁻¹ Aᵀ` by
-/// the pivoted `LDLᵀ` once, then one solve per column for both,
-/// `λᵥ = S⁻¹(b̃ᵥ − A M⁻¹F̃ᵥ)` and `q̈ᵥ = M⁻¹(F̃ᵥ + Aᵀλᵥ)`. Called by the
+/// the pivoted `LDLᵀ` once, then for each column both
+/// `λᵥ = S⁻¹(b̃ᵥ − A M⁻¹F̃ᵥ)` and `q̈ᵥ = M⁻¹(F̃ᵥ + Aᵀλᵥ)`, regrouped as two
+/// products with the column's nonzeros (`super::batch`). Called by the
 /// generated `acceleration_and_multiplier_jacobians`; `D = 2N + NU`
 /// columns.
 ///
@@ -122,30 +124,13 @@ where
     if underflow || dense.ldlt.rank() < K {
         return Err(DynamicsError::NotDifferentiable);
     }
-    let (a, w, s, mass, ldlt) = (dense.a, dense.w, dense.s, &dense.mass, &dense.ldlt);
+    let (w, s, ldlt) = (dense.w, dense.s, &dense.ldlt);
     // λ with Aᵀλ = Fᶜ: S λ = A M⁻¹ Fᶜ = Wᵀ Fᶜ.
     let lam = ldlt.solve_unchecked(&(w.transpose() * force));
-    // Each column's λᵥ, kept as the columns are solved in order.
-    let mut multipliers = SMatrix::<T, K, D>::zeros();
-    let mut column = 0;
-    let solve = |f_c: &SVector<T, N>, b_c: &SVector<T, K>| {
-        let unconstrained = mass.solve(f_c);
-        let mu = ldlt.solve_unchecked(&(b_c - a * unconstrained));
-        if column < D {
-            multipliers.set_column(column, &mu);
-        }
-        column += 1;
-        Some(unconstrained + w * mu)
-    };
-    let (dq, dqd, du) =
-        tangent_solutions::<T, S, N, K, NU, D, N>(system, (q, qd, t), (&qdd, &lam), (&a, s), solve)
-            .ok_or(DynamicsError::NonFinite)?;
-    let accelerations = Jacobians { dq, dqd, du };
-    let lambdas = MultiplierJacobians {
-        dq: multipliers.fixed_columns::<N>(0).into_owned(),
-        dqd: multipliers.fixed_columns::<N>(N).into_owned(),
-        du: multipliers.fixed_columns::<NU>(2 * N).into_owned(),
-    };
+    let auxiliary = S::SEMIDEFINITE_MASS.then_some(s);
+    let projection = Projection::new(&dense.inverse, &w, ldlt, auxiliary);
+    let (accelerations, lambdas) =
+        projection.jacobians::<S, NU, D>(system, (q, qd, t), (&qdd, &lam), true);
     if accelerations.is_finite() && lambdas.is_finite() {
         Ok((accelerations, lambdas))
     } else {
