@@ -742,7 +742,8 @@ pub(crate) fn spin<S, const M: usize, const K: usize>(
 }
 
 /// `contacts spin SYSTEM WHAT PASSES`: the states of `SYSTEM` (as `time`
-/// makes them), then [`spin`].
+/// makes them), then [`spin`]; for the Go1, `WHAT` may also be
+/// `jacobians` (`acceleration_and_multiplier_jacobians`, for a profiler).
 fn spin_system(system: &str, what: &str, passes: usize) {
     match system {
         "quadruped" => {
@@ -753,7 +754,19 @@ fn spin_system(system: &str, what: &str, passes: usize) {
         "go1" => {
             let mut own = Rng(48);
             let cases: Vec<_> = (0..STATES).map(|_| go1_state(&mut own)).collect();
-            spin::<_, N, 13>(what, passes, &cases);
+            if what == "jacobians" {
+                for _ in 0..passes {
+                    for (system, s) in &cases {
+                        let _ = black_box(black_box(system).acceleration_and_multiplier_jacobians(
+                            black_box(&s.q),
+                            black_box(&s.qd),
+                            s.t,
+                        ));
+                    }
+                }
+            } else {
+                spin::<_, N, 13>(what, passes, &cases);
+            }
         }
         "five_bar" => {
             // `time` draws the quadruped's states from this generator
