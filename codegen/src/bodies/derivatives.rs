@@ -5,7 +5,8 @@
 //! quantities per body, then one product of two of them per entry of the
 //! matrices that can be nonzero (a joint and one of its ancestors).
 //!
-//! Every quantity is in world axes about the world's origin, where a
+//! Every quantity is in the axes of one frame about its origin (the
+//! world's, or a body's where that costs less: [`reference_frames`]), where a
 //! coordinate `qᵢ` moves the bodies beyond its joint rigidly about the
 //! joint's column `Sᵢ` (`∂X/∂qᵢ = Sᵢ × X` for each of their motion vectors,
 //! `Sᵢ ×*` for forces). What does not move rigidly is the motion the
@@ -107,9 +108,15 @@ struct Composite {
 }
 
 /// `(∂τ/∂q, ∂τ/∂q̇)` of the tree's inverse dynamics, n × n each, with `q̈`
-/// as `Sym::Accel`.
-pub fn inverse_dynamics_jacobian(g: &mut Graph, tree: &Tree, n: usize) -> [Vec<Vec<Id>>; 2] {
-    let outward = outward(g, tree);
+/// as `Sym::Accel`, the recursions run in the axes of body `reference`
+/// (the world's where `None`; [`reference_frames`]).
+pub fn inverse_dynamics_jacobian(
+    g: &mut Graph,
+    tree: &Tree,
+    n: usize,
+    reference: Option<usize>,
+) -> [Vec<Vec<Id>>; 2] {
+    let outward = outward(g, tree, reference);
     let zero = g.int(0);
     let mut by_q = vec![vec![zero; n]; n];
     let mut by_rate = vec![vec![zero; n]; n];
@@ -205,39 +212,40 @@ fn products(g: &mut Graph, c: &Composite, col: &Column) -> Inward {
     }
 }
 
-/// Every body's [`Outward`] quantities, parents first.
-fn outward(g: &mut Graph, tree: &Tree) -> Vec<Outward> {
+/// Every body's [`Outward`] quantities, parents first, in the axes of
+/// body `reference` about its origin (the world's where `None`).
+fn outward(g: &mut Graph, tree: &Tree, reference: Option<usize>) -> Vec<Outward> {
+    let states: Vec<JointState> = tree
+        .bodies
+        .iter()
+        .map(|b| JointState::new(g, b.joint))
+        .collect();
+    let (frames, world) = reference_frames(g, tree, &states, reference);
     let zero = spatial::zero(g);
+    let down = spatial::neg(g, tree.gravity);
     let gravity = Spatial {
         angular: zero,
-        linear: spatial::neg(g, tree.gravity),
+        linear: spatial::mat_vec(g, &world.rotation, down),
     };
     let rest = Spatial::zero(g);
-    let mut frames: Vec<Placement> = Vec::with_capacity(tree.bodies.len());
     let mut motion: Vec<(Spatial, Spatial)> = Vec::with_capacity(tree.bodies.len());
     let mut out = Vec::with_capacity(tree.bodies.len());
-    for body in &tree.bodies {
-        let (parent_frame, parent) = match body.parent {
-            Some(p) => (frames[p], motion[p]),
-            None => (Placement::identity(g), (rest, gravity)),
+    for (i, body) in tree.bodies.iter().enumerate() {
+        let parent = match body.parent {
+            Some(p) => motion[p],
+            None => (rest, gravity),
         };
-        let js = JointState::new(g, body.joint);
-        let joint = js.placement(g);
-        let placed = parent_frame.then(g, &body.placement).then(g, &joint);
-        let frame = Placement {
-            rotation: placed.rotation.map(|row| spatial::hold3(g, row)),
-            translation: spatial::hold3(g, placed.translation),
-        };
+        let (js, frame) = (&states[i], &frames[i]);
         let local = js.columns(g);
         let (v, a, columns, turning) = match &local[..] {
             &[(coordinate, s)] if js.quaternion.is_none() => {
-                let column = to_world(g, &frame, s).held(g);
+                let column = to_world(g, frame, s).held(g);
                 let (v, a, col) = constant(g, parent, (coordinate, column));
                 (v, a, vec![col], Vec::new())
             }
-            _ => varying(g, &js, &frame, &local, parent),
+            _ => varying(g, js, frame, &local, parent),
         };
-        let inertia = world_inertia(g, &body.inertia, &frame);
+        let inertia = world_inertia(g, &body.inertia, frame);
         let momentum = inertia.apply(g, v).held(g);
         let ia = inertia.apply(g, a);
         let gyroscopic = v.cross_force(g, momentum);
@@ -253,10 +261,85 @@ fn outward(g: &mut Graph, tree: &Tree) -> Vec<Outward> {
                 force,
             },
         });
-        frames.push(frame);
         motion.push((v, a));
     }
     out
+}
+
+/// Every body's frame, and the world's, in the axes of body `reference`
+/// about its origin (the world's where `None`), each entry held. The
+/// recursions' quantities are vectors and pairings of them, so any one
+/// frame serves, fixed or not, and the one whose coordinates move the
+/// fewest bodies' frames costs least: in a free base's own axes no
+/// body's frame depends on the base's position or attitude, where in the
+/// world's every one does. The bodies from `reference` up to the world
+/// are placed by walking up (each parent by its child's inverse
+/// placement), the others down from their parents.
+fn reference_frames(
+    g: &mut Graph,
+    tree: &Tree,
+    states: &[JointState],
+    reference: Option<usize>,
+) -> (Vec<Placement>, Placement) {
+    let held = |g: &mut Graph, p: Placement| Placement {
+        rotation: p.rotation.map(|row| spatial::hold3(g, row)),
+        translation: spatial::hold3(g, p.translation),
+    };
+    let own = |g: &mut Graph, i: usize| {
+        let joint = states[i].placement(g);
+        tree.bodies[i].placement.then(g, &joint)
+    };
+    let mut frames: Vec<Option<Placement>> = vec![None; tree.bodies.len()];
+    let mut world = Placement::identity(g);
+    if let Some(r) = reference {
+        let mut here = Placement::identity(g);
+        let mut at = r;
+        frames[r] = Some(here);
+        // Up the path to the world, at most one step per body.
+        for _ in 0..tree.bodies.len() {
+            let step = own(g, at);
+            let back = inverse(g, &step);
+            let up = here.then(g, &back);
+            here = held(g, up);
+            match tree.bodies[at].parent {
+                Some(p) => {
+                    frames[p] = Some(here);
+                    at = p;
+                }
+                None => {
+                    world = here;
+                    break;
+                }
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(tree.bodies.len());
+    for i in 0..tree.bodies.len() {
+        let frame = match frames[i] {
+            Some(f) => f,
+            None => {
+                let parent = match tree.bodies[i].parent {
+                    Some(p) => out[p],
+                    None => world,
+                };
+                let step = own(g, i);
+                let placed = parent.then(g, &step);
+                held(g, placed)
+            }
+        };
+        out.push(frame);
+    }
+    (out, world)
+}
+
+/// `(R, p)⁻¹ = (Rᵀ, −Rᵀ p)`.
+fn inverse(g: &mut Graph, p: &Placement) -> Placement {
+    let rotation = spatial::transpose(&p.rotation);
+    let back = spatial::mat_vec(g, &rotation, p.translation);
+    Placement {
+        rotation,
+        translation: spatial::neg(g, back),
+    }
 }
 
 /// `(v, a, column)` of a body on a joint of one column `S` constant in its
@@ -616,9 +699,9 @@ mod tests {
   </joint>
 </robot>"#;
 
-    /// The recursions' `∂τ/∂q`, `∂τ/∂q̇` against the exact partials of
-    /// `τ`'s own expressions, at random points: the largest difference
-    /// relative to the largest entry.
+    /// The recursions' `∂τ/∂q`, `∂τ/∂q̇`, in the world's axes and in each
+    /// body's, against the exact partials of `τ`'s own expressions, at
+    /// random points: the largest difference relative to the largest entry.
     fn against_partials(model: &str) -> f64 {
         let mut eq = crate::analyse(model.parse().expect("tokens")).expect("expands");
         let bodies = eq.system.bodies.clone().expect("bodies");
@@ -629,27 +712,30 @@ mod tests {
             bodies: bodies.tree.clone(),
             gravity: bodies.gravity_vector,
         };
-        let recursions = super::inverse_dynamics_jacobian(g, &tree, n);
         let mut d = Differentiator::new();
         let mut worst: f64 = 0.0;
-        for (m, by) in recursions
-            .iter()
-            .zip([Sym::Coord as fn(usize) -> Sym, Sym::Vel])
-        {
-            let mut ours = Vec::new();
-            let mut truth = Vec::new();
-            for (i, row) in m.iter().enumerate() {
-                for (k, &e) in row.iter().enumerate() {
-                    ours.push(e);
-                    truth.push(d.partial(g, tau[i], by(k)));
+        let references = std::iter::once(None).chain((0..tree.bodies.len()).map(Some));
+        for reference in references {
+            let recursions = super::inverse_dynamics_jacobian(g, &tree, n, reference);
+            for (m, by) in recursions
+                .iter()
+                .zip([Sym::Coord as fn(usize) -> Sym, Sym::Vel])
+            {
+                let mut ours = Vec::new();
+                let mut truth = Vec::new();
+                for (i, row) in m.iter().enumerate() {
+                    for (k, &e) in row.iter().enumerate() {
+                        ours.push(e);
+                        truth.push(d.partial(g, tau[i], by(k)));
+                    }
                 }
-            }
-            for point in crate::numeric::rng::sample_points(7) {
-                let a = g.eval(&ours, &point);
-                let b = g.eval(&truth, &point);
-                let scale = b.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
-                for (x, y) in a.iter().zip(&b) {
-                    worst = worst.max((x - y).abs() / scale);
+                for point in crate::numeric::rng::sample_points(7) {
+                    let a = g.eval(&ours, &point);
+                    let b = g.eval(&truth, &point);
+                    let scale = b.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
+                    for (x, y) in a.iter().zip(&b) {
+                        worst = worst.max((x - y).abs() / scale);
+                    }
                 }
             }
         }

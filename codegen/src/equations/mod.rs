@@ -303,17 +303,43 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
         gravity: bodies.gravity_vector,
     };
     let n = bodies.inverse.len();
-    let partials = partials_of_tau(g, bodies);
-    let recursions = crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n);
     let cost = |g: &crate::expr::Graph, m: &[Vec<Vec<Id>>; 2]| {
         let roots: Vec<Id> = m.iter().flatten().flatten().copied().collect();
         crate::expr::squares::operations(g, &roots)
     };
-    if cost(g, &recursions) <= cost(g, &partials) {
-        recursions
-    } else {
-        partials
+    let partials = partials_of_tau(g, bodies);
+    let mut best = (cost(g, &partials), partials);
+    for reference in references(&tree) {
+        let recursions =
+            crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, reference);
+        let ops = cost(g, &recursions);
+        if ops <= best.0 {
+            best = (ops, recursions);
+        }
     }
+    best.1
+}
+
+/// The frames the recursions are tried in: the world's, and those of the
+/// bodies down the single chain from the world, at most four: the first
+/// links of an arm and a free base after its three slides (the Panda's
+/// `∂τ` in 4,344 operations where the world's axes took 5,411, the
+/// floating Go1's in 14,718 where they took 18,185). Once the tree
+/// branches, no one body's frame spares the others' coordinates.
+fn references(tree: &crate::bodies::Tree) -> Vec<Option<usize>> {
+    let mut out = vec![None];
+    let mut at = None;
+    while out.len() <= 4 {
+        let mut children = (0..tree.bodies.len()).filter(|&i| tree.bodies[i].parent == at);
+        match (children.next(), children.next()) {
+            (Some(only), None) => {
+                out.push(Some(only));
+                at = Some(only);
+            }
+            _ => break,
+        }
+    }
+    out
 }
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own
