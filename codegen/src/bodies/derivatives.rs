@@ -314,8 +314,8 @@ fn reference_frames(
         }
     }
     let mut out = Vec::with_capacity(tree.bodies.len());
-    for i in 0..tree.bodies.len() {
-        let frame = match frames[i] {
+    for (i, known) in frames.iter().enumerate() {
+        let frame = match *known {
             Some(f) => f,
             None => {
                 let parent = match tree.bodies[i].parent {
