@@ -156,7 +156,7 @@ impl<T: RealField + Copy, const N: usize> MassSolve<T, N> {
         match self {
             MassSolve::Cholesky(c) => {
                 let x = batch::lower_inverse(&c.l());
-                x.tr_mul(&x)
+                batch::lower_gram(&x)
             }
             MassSolve::Ldlt(l) => {
                 let mut inverse = SMatrix::<T, N, N>::zeros();
@@ -209,8 +209,8 @@ impl<T: RealField + Copy, const N: usize, const K: usize> Dense<T, N, K> {
         }
         let mass = MassSolve::new(m);
         let inverse = mass.inverse();
-        let w = inverse * a.transpose();
-        let gram = a * w;
+        let w = batch::times_transpose(&inverse, &a);
+        let gram = batch::gram(&a, &w);
         let ldlt = PivotedLdlt::factor(&gram);
         Ok(Dense {
             a,

@@ -43,5 +43,30 @@ pub(crate) fn auxiliary_mass<T: RealField + Copy, const N: usize, const K: usize
     } else {
         T::one()
     };
-    (m + a.tr_mul(a) * s, s)
+    // `s AᵀA`'s lower triangle as the sum of each row's outer product over
+    // its nonzero entries (a contact row touches a few coordinates), then
+    // mirrored: the sum stays exactly symmetric.
+    let mut lower = SMatrix::<T, N, N>::zeros();
+    for r in 0..K {
+        let row = a.row(r);
+        for i in 0..N {
+            let x = row[i] * s;
+            if x == T::zero() {
+                continue;
+            }
+            for j in i..N {
+                lower[(j, i)] += x * row[j];
+            }
+        }
+    }
+    let mut out = *m;
+    for j in 0..N {
+        for i in j..N {
+            out[(i, j)] += lower[(i, j)];
+            if i != j {
+                out[(j, i)] += lower[(i, j)];
+            }
+        }
+    }
+    (out, s)
 }

@@ -46,7 +46,20 @@ impl<T: RealField + Copy, const N: usize, const K: usize> Projection<T, N, K> {
             g.set_column(j, &column);
         }
         let q = w * g;
-        let p = inverse - q * w.transpose();
+        // `M⁻¹ − Q Wᵀ`, symmetric: each entry once.
+        let mut p = *inverse;
+        for j in 0..N {
+            for i in j..N {
+                let mut sum = T::zero();
+                for r in 0..K {
+                    sum += q[(i, r)] * w[(j, r)];
+                }
+                p[(i, j)] -= sum;
+                if i != j {
+                    p[(j, i)] = p[(i, j)];
+                }
+            }
+        }
         if let Some(s) = auxiliary {
             for j in 0..K {
                 g[(j, j)] -= s;
@@ -149,4 +162,64 @@ pub(super) fn lower_inverse<T: RealField + Copy, const N: usize>(
         }
     }
     x
+}
+
+/// `XᵀX` of a lower-triangular `X` (`M⁻¹ = L⁻ᵀL⁻¹`), each entry of the
+/// symmetric result once: `(XᵀX)ᵢⱼ = Σ_{k ≥ max(i, j)} Xₖᵢ Xₖⱼ`.
+pub(super) fn lower_gram<T: RealField + Copy, const N: usize>(
+    x: &SMatrix<T, N, N>,
+) -> SMatrix<T, N, N> {
+    let mut out = SMatrix::<T, N, N>::zeros();
+    for j in 0..N {
+        for i in j..N {
+            let mut sum = T::zero();
+            for k in i..N {
+                sum += x[(k, i)] * x[(k, j)];
+            }
+            out[(i, j)] = sum;
+            out[(j, i)] = sum;
+        }
+    }
+    out
+}
+
+/// `B Aᵀ`, one column of `B` per nonzero entry of `A` (a contact row
+/// touches the base and its own leg: half of `A` is zeros).
+pub(super) fn times_transpose<T: RealField + Copy, const N: usize, const K: usize>(
+    b: &SMatrix<T, N, N>,
+    a: &SMatrix<T, K, N>,
+) -> SMatrix<T, N, K> {
+    let mut out = SMatrix::<T, N, K>::zeros();
+    for r in 0..K {
+        for j in 0..N {
+            let x = a[(r, j)];
+            if x != T::zero() {
+                out.column_mut(r).axpy(x, &b.column(j), T::one());
+            }
+        }
+    }
+    out
+}
+
+/// `A W` for `W = M⁻¹Aᵀ` (symmetric), each entry once and over the
+/// nonzero entries of `A`'s row only.
+pub(super) fn gram<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    w: &SMatrix<T, N, K>,
+) -> SMatrix<T, K, K> {
+    let mut out = SMatrix::<T, K, K>::zeros();
+    for r in 0..K {
+        for c in r..K {
+            let mut sum = T::zero();
+            for j in 0..N {
+                let x = a[(r, j)];
+                if x != T::zero() {
+                    sum += x * w[(j, c)];
+                }
+            }
+            out[(r, c)] = sum;
+            out[(c, r)] = sum;
+        }
+    }
+    out
 }
