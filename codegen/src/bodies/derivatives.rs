@@ -108,15 +108,16 @@ struct Composite {
 }
 
 /// `(∂τ/∂q, ∂τ/∂q̇)` of the tree's inverse dynamics, n × n each, with `q̈`
-/// as `Sym::Accel`, the recursions run in the axes of body `reference`
-/// (the world's where `None`; [`reference_frames`]).
+/// as `Sym::Accel`, the recursions run in the axes of one reference body
+/// per subtree on the world (the world's for a subtree without one;
+/// [`reference_frames`]).
 pub fn inverse_dynamics_jacobian(
     g: &mut Graph,
     tree: &Tree,
     n: usize,
-    reference: Option<usize>,
+    references: &[usize],
 ) -> [Vec<Vec<Id>>; 2] {
-    let outward = outward(g, tree, reference);
+    let outward = outward(g, tree, references);
     let zero = g.int(0);
     let mut by_q = vec![vec![zero; n]; n];
     let mut by_rate = vec![vec![zero; n]; n];
@@ -212,28 +213,30 @@ fn products(g: &mut Graph, c: &Composite, col: &Column) -> Inward {
     }
 }
 
-/// Every body's [`Outward`] quantities, parents first, in the axes of
-/// body `reference` about its origin (the world's where `None`).
-fn outward(g: &mut Graph, tree: &Tree, reference: Option<usize>) -> Vec<Outward> {
+/// Every body's [`Outward`] quantities, parents first, each in the axes
+/// of its subtree's reference body ([`reference_frames`]).
+fn outward(g: &mut Graph, tree: &Tree, references: &[usize]) -> Vec<Outward> {
     let states: Vec<JointState> = tree
         .bodies
         .iter()
         .map(|b| JointState::new(g, b.joint))
         .collect();
-    let (frames, world) = reference_frames(g, tree, &states, reference);
+    let (frames, worlds) = reference_frames(g, tree, &states, references);
     let zero = spatial::zero(g);
     let down = spatial::neg(g, tree.gravity);
-    let gravity = Spatial {
-        angular: zero,
-        linear: spatial::mat_vec(g, &world.rotation, down),
-    };
     let rest = Spatial::zero(g);
     let mut motion: Vec<(Spatial, Spatial)> = Vec::with_capacity(tree.bodies.len());
     let mut out = Vec::with_capacity(tree.bodies.len());
     for (i, body) in tree.bodies.iter().enumerate() {
         let parent = match body.parent {
             Some(p) => motion[p],
-            None => (rest, gravity),
+            None => {
+                let gravity = Spatial {
+                    angular: zero,
+                    linear: spatial::mat_vec(g, &worlds[i].rotation, down),
+                };
+                (rest, gravity)
+            }
         };
         let (js, frame) = (&states[i], &frames[i]);
         let local = js.columns(g);
@@ -266,21 +269,24 @@ fn outward(g: &mut Graph, tree: &Tree, reference: Option<usize>) -> Vec<Outward>
     out
 }
 
-/// Every body's frame, and the world's, in the axes of body `reference`
-/// about its origin (the world's where `None`), each entry held. The
-/// recursions' quantities are vectors and pairings of them, so any one
-/// frame serves, fixed or not, and the one whose coordinates move the
-/// fewest bodies' frames costs least: in a free base's own axes no
-/// body's frame depends on the base's position or attitude, where in the
-/// world's every one does. The bodies from `reference` up to the world
-/// are placed by walking up (each parent by its child's inverse
-/// placement), the others down from their parents.
+/// Every body's frame, and for each body on the world the world's frame,
+/// in the axes of its subtree's reference body about its origin (the
+/// world's for a subtree without one), each entry held. The recursions'
+/// quantities are vectors and pairings of them, so any one frame serves a
+/// subtree, fixed or not, and the one whose coordinates move the fewest
+/// bodies' frames costs least: in a free base's own axes no body's frame
+/// depends on the base's position or attitude, where in the world's every
+/// one does. The subtrees hanging from the world never meet (the world
+/// has no coordinate), so each may take its own. From each reference up
+/// to the world, bodies are placed by walking up (each parent by its
+/// child's inverse placement), the others down from their parents. A
+/// second reference in a subtree that has one is ignored.
 fn reference_frames(
     g: &mut Graph,
     tree: &Tree,
     states: &[JointState],
-    reference: Option<usize>,
-) -> (Vec<Placement>, Placement) {
+    references: &[usize],
+) -> (Vec<Placement>, Vec<Placement>) {
     let held = |g: &mut Graph, p: Placement| Placement {
         rotation: p.rotation.map(|row| spatial::hold3(g, row)),
         translation: spatial::hold3(g, p.translation),
@@ -289,14 +295,19 @@ fn reference_frames(
         let joint = states[i].placement(g);
         tree.bodies[i].placement.then(g, &joint)
     };
-    let mut frames: Vec<Option<Placement>> = vec![None; tree.bodies.len()];
-    let mut world = Placement::identity(g);
-    if let Some(r) = reference {
+    let count = tree.bodies.len();
+    let mut frames: Vec<Option<Placement>> = vec![None; count];
+    let mut worlds: Vec<Option<Placement>> = vec![None; count];
+    for &r in references {
+        let root = root_of(&tree.bodies, r);
+        if worlds[root].is_some() {
+            continue;
+        }
         let mut here = Placement::identity(g);
         let mut at = r;
         frames[r] = Some(here);
         // Up the path to the world, at most one step per body.
-        for _ in 0..tree.bodies.len() {
+        for _ in 0..count {
             let step = own(g, at);
             let back = inverse(g, &step);
             let up = here.then(g, &back);
@@ -307,20 +318,22 @@ fn reference_frames(
                     at = p;
                 }
                 None => {
-                    world = here;
+                    worlds[at] = Some(here);
                     break;
                 }
             }
         }
     }
-    let mut out = Vec::with_capacity(tree.bodies.len());
+    let identity = Placement::identity(g);
+    let worlds: Vec<Placement> = worlds.into_iter().map(|w| w.unwrap_or(identity)).collect();
+    let mut out = Vec::with_capacity(count);
     for (i, known) in frames.iter().enumerate() {
         let frame = match *known {
             Some(f) => f,
             None => {
                 let parent = match tree.bodies[i].parent {
                     Some(p) => out[p],
-                    None => world,
+                    None => worlds[i],
                 };
                 let step = own(g, i);
                 let placed = parent.then(g, &step);
@@ -329,7 +342,19 @@ fn reference_frames(
         };
         out.push(frame);
     }
-    (out, world)
+    (out, worlds)
+}
+
+/// The body on the world whose subtree holds body `i`.
+pub fn root_of(bodies: &[Body], i: usize) -> usize {
+    let mut at = i;
+    for _ in 0..bodies.len() {
+        match bodies[at].parent {
+            Some(p) => at = p,
+            None => break,
+        }
+    }
+    at
 }
 
 /// `(R, p)⁻¹ = (Rᵀ, −Rᵀ p)`.
@@ -680,6 +705,23 @@ mod tests {
         ],
     }";
 
+    /// Two arms on the world, each of two links: subtrees that may each
+    /// take their own frame.
+    const TWO_ARMS: &str = "pub struct TwoArms {
+        gravity: [0.0, 0.4, -9.8],
+        bodies: [
+            left { joint: revolute(a1, [0.0, 0.0, 1.0]), xyz: [0.0, 0.2, 0.5], mass: 1.0,
+                   com: [0.1, 0.0, 0.0], inertia: diag[0.01, 0.02, 0.02] },
+            left_fore { parent: left, joint: revolute(a2, [0.0, 1.0, 0.0]), xyz: [0.3, 0.0, 0.0],
+                        rpy: [0.2, 0.0, 0.0], mass: 0.5, com: [0.15, 0.0, 0.01],
+                        inertia: diag[0.002, 0.006, 0.006] },
+            right { joint: revolute(b1, [0.6, 0.0, 0.8]), xyz: [0.0, -0.2, 0.5], rpy: [0.0, 0.3, 0.0],
+                    mass: 1.2, com: [0.0, 0.1, 0.0], inertia: diag[0.02, 0.01, 0.02] },
+            right_fore { parent: right, joint: prismatic(b2, [0.0, 1.0, 0.0]), xyz: [0.0, 0.3, 0.0],
+                         mass: 0.4, com: [0.0, 0.1, 0.02], inertia: diag[0.003, 0.001, 0.003] },
+        ],
+    }";
+
     /// A revolute arm and a finger on a prismatic joint that follows the
     /// elbow (a URDF `<mimic>` with a multiplier and an offset), and a
     /// second finger that follows it the other way.
@@ -714,9 +756,21 @@ mod tests {
         };
         let mut d = Differentiator::new();
         let mut worst: f64 = 0.0;
-        let references = std::iter::once(None).chain((0..tree.bodies.len()).map(Some));
+        // No reference, each body alone, and every subtree on the world at
+        // once in its first and its second body's axes.
+        let count = tree.bodies.len();
+        let roots: Vec<usize> = (0..count)
+            .filter(|&i| tree.bodies[i].parent.is_none())
+            .collect();
+        let children: Vec<usize> = roots
+            .iter()
+            .filter_map(|&r| (0..count).find(|&i| tree.bodies[i].parent == Some(r)))
+            .collect();
+        let references = std::iter::once(Vec::new())
+            .chain((0..count).map(|i| vec![i]))
+            .chain([roots, children]);
         for reference in references {
-            let recursions = super::inverse_dynamics_jacobian(g, &tree, n, reference);
+            let recursions = super::inverse_dynamics_jacobian(g, &tree, n, &reference);
             for (m, by) in recursions
                 .iter()
                 .zip([Sym::Coord as fn(usize) -> Sym, Sym::Vel])
@@ -759,6 +813,7 @@ mod tests {
             ("panda", panda),
             ("mimic", mimic),
             ("floating", FLOATING.to_string()),
+            ("two arms", TWO_ARMS.to_string()),
         ];
         for (name, model) in cases {
             let worst = against_partials(&model);

@@ -289,14 +289,12 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
 }
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics: by the recursions
-/// of `crate::bodies::derivatives` where every joint's column is constant
-/// in its body's axes and they cost fewer operations than the partials of
-/// `τ`'s expressions ([`partials_of_tau`]), else those partials. Both are
-/// exact; which is cheaper depends on the tree: the partials of a short
-/// leg touch three bodies each, where the recursions carry every body's
-/// inertia to the world (the Go1's twelve joints: 5.0× Pinocchio's
-/// `computeRNEADerivatives` by the partials, 2.3× by the recursions; the
-/// Panda's seven in one chain: 0.9× and 1.5×).
+/// of `crate::bodies::derivatives`, each subtree on the world in the
+/// cheapest of its candidate frames ([`chains`]), where they cost fewer
+/// operations than the partials of `τ`'s expressions
+/// ([`partials_of_tau`]), else those partials. Both are exact; the
+/// partials of a short leg touch three bodies each, which the recursions
+/// match once each leg is in its own hip's axes.
 fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
     let tree = crate::bodies::Tree {
         bodies: bodies.tree.clone(),
@@ -308,38 +306,82 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
         crate::expr::squares::operations(g, &roots)
     };
     let partials = partials_of_tau(g, bodies);
-    let mut best = (cost(g, &partials), partials);
-    for reference in references(&tree) {
-        let recursions =
-            crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, reference);
-        let ops = cost(g, &recursions);
-        if ops <= best.0 {
-            best = (ops, recursions);
+    let chains = chains(&tree);
+    // Each subtree on the world takes the cheapest of its candidate
+    // frames; the subtrees' entries are apart, so each is costed on its
+    // own rows.
+    let depth = chains.iter().map(Vec::len).max().unwrap_or(0);
+    let mut best: Vec<(usize, Option<usize>)> = vec![(usize::MAX, None); chains.len()];
+    for d in 0..=depth {
+        let references: Vec<usize> = chains
+            .iter()
+            .filter_map(|c| c.get(d.checked_sub(1)?).copied())
+            .collect();
+        let m = crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references);
+        for (k, chain) in chains.iter().enumerate() {
+            let rows = subtree_rows(&tree, chain[0], n);
+            let roots: Vec<Id> = m
+                .iter()
+                .flat_map(|by| rows.iter().flat_map(move |&r| by[r].iter().copied()))
+                .collect();
+            let ops = crate::expr::squares::operations(g, &roots);
+            let reference = d.checked_sub(1).and_then(|i| chain.get(i).copied());
+            if ops < best[k].0 && (d == 0 || reference.is_some()) {
+                best[k] = (ops, reference);
+            }
         }
     }
-    best.1
+    let references: Vec<usize> = best.iter().filter_map(|&(_, r)| r).collect();
+    let recursions =
+        crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references);
+    if cost(g, &recursions) <= cost(g, &partials) {
+        recursions
+    } else {
+        partials
+    }
 }
 
-/// The frames the recursions are tried in: the world's, and those of the
-/// bodies down the single chain from the world, at most four: the first
-/// links of an arm and a free base after its three slides (the Panda's
-/// `∂τ` in 4,344 operations where the world's axes took 5,411, the
-/// floating Go1's in 14,718 where they took 18,185). Once the tree
-/// branches, no one body's frame spares the others' coordinates.
-fn references(tree: &crate::bodies::Tree) -> Vec<Option<usize>> {
-    let mut out = vec![None];
-    let mut at = None;
-    while out.len() <= 4 {
-        let mut children = (0..tree.bodies.len()).filter(|&i| tree.bodies[i].parent == at);
-        match (children.next(), children.next()) {
-            (Some(only), None) => {
-                out.push(Some(only));
-                at = Some(only);
+/// For each body on the world, the bodies down the single chain from it,
+/// itself first, at most four: the frames its subtree's recursions are
+/// tried in besides the world's. The first links of an arm and a free
+/// base after its three slides (the Panda's `∂τ` in 4,344 operations where
+/// the world's axes took 5,411, the floating Go1's in 14,718 where they
+/// took 18,185, the fixed-trunk Go1's legs each in their hip's 1,882 where
+/// the partials took 4,888); once a subtree branches, no one body's frame
+/// spares the others' coordinates.
+fn chains(tree: &crate::bodies::Tree) -> Vec<Vec<usize>> {
+    let children =
+        |at: usize| (0..tree.bodies.len()).filter(move |&i| tree.bodies[i].parent == Some(at));
+    (0..tree.bodies.len())
+        .filter(|&i| tree.bodies[i].parent.is_none())
+        .map(|root| {
+            let mut chain = vec![root];
+            while chain.len() < 4 {
+                let last = chain[chain.len() - 1];
+                let mut next = children(last);
+                match (next.next(), next.next()) {
+                    (Some(only), None) => chain.push(only),
+                    _ => break,
+                }
             }
-            _ => break,
-        }
-    }
-    out
+            chain
+        })
+        .collect()
+}
+
+/// The coordinates the joints of body `root`'s subtree move.
+fn subtree_rows(tree: &crate::bodies::Tree, root: usize, n: usize) -> Vec<usize> {
+    let mut rows: Vec<usize> = (0..tree.bodies.len())
+        .filter(|&i| crate::bodies::derivatives::root_of(&tree.bodies, i) == root)
+        .flat_map(|i| {
+            let j = tree.bodies[i].joint;
+            j.coordinate..j.coordinate + j.kind.coordinate_count()
+        })
+        .filter(|&r| r < n)
+        .collect();
+    rows.sort_unstable();
+    rows.dedup();
+    rows
 }
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own
