@@ -40,29 +40,14 @@
 //!   the same without the last term (the rigid turns of `Sᵢ` and of `fᶜ`
 //!   cancel), plus `(∂Sᵢ/∂qₖ − Sₖ × Sᵢ)ᵀ fᶜ` where the columns vary.
 
+use super::columns::{constant, to_world, varying, Column};
 use super::joint::JointState;
-use super::kinematics::world_column;
 use super::recursion::accumulate;
+use super::reference::reference_frames;
 use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Body, Placement, Tree};
-use crate::expr::diff::Differentiator;
-use crate::expr::{Graph, Id, Sym};
 
-/// One column of a joint, with what its coordinate and rate do to the
-/// motion the joint passes on, in world axes about the world's origin.
-#[derive(Clone, Copy)]
-struct Column {
-    /// The coordinate it moves.
-    coordinate: usize,
-    /// `Sᵢ`.
-    column: Spatial,
-    /// `δvᵢ`: `∂v/∂qᵢ` of every body beyond is `Sᵢ × v + δvᵢ`.
-    velocity_by_q: Spatial,
-    /// `δaᵢ`: `∂a/∂qᵢ` of every body beyond is `Sᵢ × a + δaᵢ + δvᵢ × v`.
-    acceleration_by_q: Spatial,
-    /// `δa′ᵢ`: `∂a/∂q̇ᵢ` of every body beyond is `δa′ᵢ + Sᵢ × v`.
-    acceleration_by_rate: Spatial,
-}
+use crate::expr::{Graph, Id};
 
 /// A body's quantities from the outward pass, in world axes about the
 /// world's origin.
@@ -267,245 +252,6 @@ fn outward(g: &mut Graph, tree: &Tree, references: &[usize]) -> Vec<Outward> {
         motion.push((v, a));
     }
     out
-}
-
-/// Every body's frame, and for each body on the world the world's frame,
-/// in the axes of its subtree's reference body about its origin (the
-/// world's for a subtree without one), each entry held. The recursions'
-/// quantities are vectors and pairings of them, so any one frame serves a
-/// subtree, fixed or not, and the one whose coordinates move the fewest
-/// bodies' frames costs least: in a free base's own axes no body's frame
-/// depends on the base's position or attitude, where in the world's every
-/// one does. The subtrees hanging from the world never meet (the world
-/// has no coordinate), so each may take its own. From each reference up
-/// to the world, bodies are placed by walking up (each parent by its
-/// child's inverse placement), the others down from their parents. A
-/// second reference in a subtree that has one is ignored.
-fn reference_frames(
-    g: &mut Graph,
-    tree: &Tree,
-    states: &[JointState],
-    references: &[usize],
-) -> (Vec<Placement>, Vec<Placement>) {
-    let held = |g: &mut Graph, p: Placement| Placement {
-        rotation: p.rotation.map(|row| spatial::hold3(g, row)),
-        translation: spatial::hold3(g, p.translation),
-    };
-    let own = |g: &mut Graph, i: usize| {
-        let joint = states[i].placement(g);
-        tree.bodies[i].placement.then(g, &joint)
-    };
-    let count = tree.bodies.len();
-    let mut frames: Vec<Option<Placement>> = vec![None; count];
-    let mut worlds: Vec<Option<Placement>> = vec![None; count];
-    for &r in references {
-        let root = root_of(&tree.bodies, r);
-        if worlds[root].is_some() {
-            continue;
-        }
-        let mut here = Placement::identity(g);
-        let mut at = r;
-        frames[r] = Some(here);
-        // Up the path to the world, at most one step per body.
-        for _ in 0..count {
-            let step = own(g, at);
-            let back = inverse(g, &step);
-            let up = here.then(g, &back);
-            here = held(g, up);
-            match tree.bodies[at].parent {
-                Some(p) => {
-                    frames[p] = Some(here);
-                    at = p;
-                }
-                None => {
-                    worlds[at] = Some(here);
-                    break;
-                }
-            }
-        }
-    }
-    let identity = Placement::identity(g);
-    let worlds: Vec<Placement> = worlds.into_iter().map(|w| w.unwrap_or(identity)).collect();
-    let mut out = Vec::with_capacity(count);
-    for (i, known) in frames.iter().enumerate() {
-        let frame = match *known {
-            Some(f) => f,
-            None => {
-                let parent = match tree.bodies[i].parent {
-                    Some(p) => out[p],
-                    None => worlds[i],
-                };
-                let step = own(g, i);
-                let placed = parent.then(g, &step);
-                held(g, placed)
-            }
-        };
-        out.push(frame);
-    }
-    (out, worlds)
-}
-
-/// The body on the world whose subtree holds body `i`.
-pub fn root_of(bodies: &[Body], i: usize) -> usize {
-    let mut at = i;
-    for _ in 0..bodies.len() {
-        match bodies[at].parent {
-            Some(p) => at = p,
-            None => break,
-        }
-    }
-    at
-}
-
-/// `(R, p)⁻¹ = (Rᵀ, −Rᵀ p)`.
-fn inverse(g: &mut Graph, p: &Placement) -> Placement {
-    let rotation = spatial::transpose(&p.rotation);
-    let back = spatial::mat_vec(g, &rotation, p.translation);
-    Placement {
-        rotation,
-        translation: spatial::neg(g, back),
-    }
-}
-
-/// `(v, a, column)` of a body on a joint of one column `S` constant in its
-/// axes (revolute, prismatic, helical, a mimic of one), from its parent's
-/// `(v_λ, a_λ)`: `δv = v_λ × S`, `δa = a_λ × S + v_λ × (v_λ × S)`,
-/// `δa′ = 2 v_λ × S`.
-fn constant(
-    g: &mut Graph,
-    (vp, ap): (Spatial, Spatial),
-    (coordinate, column): (usize, Spatial),
-) -> (Spatial, Spatial, Column) {
-    let rate = g.sym(Sym::Vel(coordinate));
-    let accel = g.sym(Sym::Accel(coordinate));
-    let sq = column.scale(g, rate);
-    let v = vp.add(g, sq).held(g);
-    let velocity_by_q = vp.cross_motion(g, column).held(g);
-    // `vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ` (`Sᵢ × Sᵢ = 0`).
-    let coriolis = velocity_by_q.scale(g, rate);
-    let sa = column.scale(g, accel);
-    let a = ap.add(g, sa).add(g, coriolis).held(g);
-    let turned = ap.cross_motion(g, column);
-    let twice = vp.cross_motion(g, velocity_by_q);
-    let acceleration_by_q = turned.add(g, twice).held(g);
-    // `vᵢ × Sᵢ + v_λ × Sᵢ = 2 v_λ × Sᵢ`, likewise.
-    let two = g.int(2);
-    let acceleration_by_rate = velocity_by_q.scale(g, two).held(g);
-    let col = Column {
-        coordinate,
-        column,
-        velocity_by_q,
-        acceleration_by_q,
-        acceleration_by_rate,
-    };
-    (v, a, col)
-}
-
-/// `(v, a, columns, turning)` of a body on a joint whose columns vary with
-/// its own coordinates (a quaternion's), from its parent's `(v_λ, a_λ)`.
-/// With `X` the body's frame, the joint's own velocity `v_J = Σ S q̇` and
-/// acceleration `a_J = Σ S q̈ + Σ Ṡ q̇` in its axes, `v = v_λ + X v_J` and
-/// `a = a_λ + X a_J + v × X v_J`, so that per column
-///
-/// - `δv = v_λ × S + X ∂v_J/∂q`,
-/// - `δa = a_λ × S + X ∂a_J/∂q + v_λ × δv + v × X ∂v_J/∂q`,
-/// - `δa′ = X ∂a_J/∂q̇ + (v + v_λ) × S`,
-///
-/// which are [`constant`]'s where `v_J` and `a_J` do not depend on `q`;
-/// the partials of `v_J`, `a_J` and `S` are taken of their expressions.
-fn varying(
-    g: &mut Graph,
-    js: &JointState,
-    frame: &Placement,
-    local: &[(usize, Spatial)],
-    (vp, ap): (Spatial, Spatial),
-) -> (Spatial, Spatial, Vec<Column>, Vec<Vec<Spatial>>) {
-    let vj = joint_motion(g, local, Sym::Vel);
-    let mut aj = joint_motion(g, local, Sym::Accel);
-    if let Some(rate) = js.column_rate(g, vj.angular) {
-        aj.angular = spatial::add(g, aj.angular, rate);
-    }
-    let vj_world = to_world(g, frame, vj);
-    let v = vp.add(g, vj_world).held(g);
-    let aj_world = to_world(g, frame, aj);
-    let transport = v.cross_motion(g, vj_world);
-    let a = ap.add(g, aj_world).add(g, transport).held(g);
-    let mut d = Differentiator::new();
-    let mut partial = |g: &mut Graph, m: Spatial, by: Sym| {
-        let local = Spatial {
-            angular: m.angular.map(|e| d.partial(g, e, by)),
-            linear: m.linear.map(|e| d.partial(g, e, by)),
-        };
-        to_world(g, frame, local).held(g)
-    };
-    let mut columns = Vec::with_capacity(local.len());
-    for &(coordinate, s) in local {
-        let column = to_world(g, frame, s).held(g);
-        let dvj = partial(g, vj, Sym::Coord(coordinate));
-        let daj = partial(g, aj, Sym::Coord(coordinate));
-        let daj_rate = partial(g, aj, Sym::Vel(coordinate));
-        let turned = vp.cross_motion(g, column);
-        let velocity_by_q = turned.add(g, dvj).held(g);
-        let parts = [
-            ap.cross_motion(g, column),
-            daj,
-            vp.cross_motion(g, velocity_by_q),
-            v.cross_motion(g, dvj),
-        ];
-        let acceleration_by_q = sum_of(g, parts).held(g);
-        let both = v.add(g, vp);
-        let carried = both.cross_motion(g, column);
-        let acceleration_by_rate = daj_rate.add(g, carried).held(g);
-        columns.push(Column {
-            coordinate,
-            column,
-            velocity_by_q,
-            acceleration_by_q,
-            acceleration_by_rate,
-        });
-    }
-    let turning = local
-        .iter()
-        .map(|&(_, s)| {
-            local
-                .iter()
-                .map(|&(c, _)| partial(g, s, Sym::Coord(c)))
-                .collect()
-        })
-        .collect();
-    (v, a, columns, turning)
-}
-
-/// `Σ Sₖ xₖ` over a joint's columns (`x` its coordinates' velocities or
-/// accelerations), in the body's axes.
-fn joint_motion(g: &mut Graph, columns: &[(usize, Spatial)], sym: fn(usize) -> Sym) -> Spatial {
-    let mut total = Spatial::zero(g);
-    for &(c, s) in columns {
-        let x = g.sym(sym(c));
-        let sx = s.scale(g, x);
-        total = total.add(g, sx);
-    }
-    total
-}
-
-/// The sum of motion vectors.
-fn sum_of<const K: usize>(g: &mut Graph, parts: [Spatial; K]) -> Spatial {
-    let mut total = Spatial::zero(g);
-    for p in parts {
-        total = total.add(g, p);
-    }
-    total
-}
-
-/// A motion vector of a body's axes at its origin in world axes about the
-/// world's origin: `ω = R s_ω`, `v = R s_v + p × ω`.
-fn to_world(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
-    let (linear, angular) = world_column(g, frame, s);
-    let moved = spatial::cross(g, frame.translation, angular);
-    Spatial {
-        angular,
-        linear: spatial::add(g, linear, moved),
-    }
 }
 
 /// A body's inertia in world axes about the world's origin
@@ -726,20 +472,20 @@ mod tests {
     /// elbow (a URDF `<mimic>` with a multiplier and an offset), and a
     /// second finger that follows it the other way.
     const MIMIC: &str = r#"<robot name="r">
-  <link name="base"/>
-  <link name="arm"><inertial><origin xyz="0.1 0 0.2"/><mass value="1.2"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.01"/></inertial></link>
-  <link name="fore"><inertial><origin xyz="0.2 0.01 0"/><mass value="0.8"/><inertia ixx="0.01" ixy="0.001" ixz="0" iyy="0.02" iyz="0" izz="0.015"/></inertial></link>
-  <link name="left"><inertial><origin xyz="0 0.02 0"/><mass value="0.1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
-  <link name="right"><inertial><origin xyz="0 -0.02 0"/><mass value="0.1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-  <joint name="elbow" type="revolute"><parent link="arm"/><child link="fore"/><origin xyz="0 0 0.4" rpy="0.2 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-  <joint name="left_joint" type="prismatic"><parent link="fore"/><child link="left"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
-<mimic joint="elbow" multiplier="0.5" offset="0.01"/>
-  </joint>
-  <joint name="right_joint" type="prismatic"><parent link="fore"/><child link="right"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
-<mimic joint="elbow" multiplier="-0.5"/>
-  </joint>
-</robot>"#;
+      <link name="base"/>
+      <link name="arm"><inertial><origin xyz="0.1 0 0.2"/><mass value="1.2"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.01"/></inertial></link>
+      <link name="fore"><inertial><origin xyz="0.2 0.01 0"/><mass value="0.8"/><inertia ixx="0.01" ixy="0.001" ixz="0" iyy="0.02" iyz="0" izz="0.015"/></inertial></link>
+      <link name="left"><inertial><origin xyz="0 0.02 0"/><mass value="0.1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+      <link name="right"><inertial><origin xyz="0 -0.02 0"/><mass value="0.1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+      <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="elbow" type="revolute"><parent link="arm"/><child link="fore"/><origin xyz="0 0 0.4" rpy="0.2 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="left_joint" type="prismatic"><parent link="fore"/><child link="left"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <mimic joint="elbow" multiplier="0.5" offset="0.01"/>
+      </joint>
+      <joint name="right_joint" type="prismatic"><parent link="fore"/><child link="right"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <mimic joint="elbow" multiplier="-0.5"/>
+      </joint>
+    </robot>"#;
 
     /// The recursions' `∂τ/∂q`, `∂τ/∂q̇`, in the world's axes and in each
     /// body's, against the exact partials of `τ`'s own expressions, at

@@ -16,11 +16,13 @@
 //! for the bias forces and O(n²) for `M`, against the n^3.5 of
 //! differentiating the kinetic energy twice.
 
+pub(crate) mod columns;
 pub(crate) mod derivatives;
 pub(crate) mod free;
 pub(crate) mod joint;
 pub(crate) mod kinematics;
 pub(crate) mod recursion;
+pub(crate) mod reference;
 pub(crate) mod spatial;
 
 use crate::expr::{Graph, Id};

@@ -372,7 +372,7 @@ fn chains(tree: &crate::bodies::Tree) -> Vec<Vec<usize>> {
 /// The coordinates the joints of body `root`'s subtree move.
 fn subtree_rows(tree: &crate::bodies::Tree, root: usize, n: usize) -> Vec<usize> {
     let mut rows: Vec<usize> = (0..tree.bodies.len())
-        .filter(|&i| crate::bodies::derivatives::root_of(&tree.bodies, i) == root)
+        .filter(|&i| crate::bodies::reference::root_of(&tree.bodies, i) == root)
         .flat_map(|i| {
             let j = tree.bodies[i].joint;
             j.coordinate..j.coordinate + j.kind.coordinate_count()
