@@ -312,6 +312,7 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
     // own rows.
     let depth = chains.iter().map(Vec::len).max().unwrap_or(0);
     let mut best: Vec<(usize, Option<usize>)> = vec![(usize::MAX, None); chains.len()];
+    let mut built = Vec::with_capacity(depth + 1);
     for d in 0..=depth {
         let references: Vec<usize> = chains
             .iter()
@@ -330,10 +331,14 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
                 best[k] = (ops, reference);
             }
         }
+        built.push((references, m));
     }
     let references: Vec<usize> = best.iter().filter_map(|&(_, r)| r).collect();
-    let recursions =
-        crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references);
+    // Built already where every subtree chose the same depth.
+    let recursions = match built.into_iter().find(|(r, _)| *r == references) {
+        Some((_, m)) => m,
+        None => crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references),
+    };
     if cost(g, &recursions) <= cost(g, &partials) {
         recursions
     } else {
