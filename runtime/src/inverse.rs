@@ -143,6 +143,20 @@ impl<T: RealField + Copy, const K: usize> PivotedLdlt<T, K> {
         (0..K).any(|step| self.order[step] == row && self.d[step] != T::zero())
     }
 
+    /// The matrix of [`solve_unchecked`](Self::solve_unchecked): its
+    /// solves of the identity's columns (a {1}-inverse of the factored
+    /// matrix, its inverse where every row is kept).
+    #[must_use]
+    pub(crate) fn inverse_unchecked(&self) -> SMatrix<T, K, K> {
+        let mut inverse = SMatrix::<T, K, K>::zeros();
+        for j in 0..K {
+            let mut unit = SVector::<T, K>::zeros();
+            unit[j] = T::one();
+            inverse.set_column(j, &self.solve_unchecked(&unit));
+        }
+        inverse
+    }
+
     /// [`solve`](Self::solve) without the finiteness check: a result
     /// beyond `T`'s range comes back as infinite or NaN entries (the
     /// runtime's solvers check what they derive from it).

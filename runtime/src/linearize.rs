@@ -158,15 +158,7 @@ impl<T: RealField + Copy, const N: usize> MassSolve<T, N> {
                 let x = batch::lower_inverse(&c.l());
                 batch::lower_gram(&x)
             }
-            MassSolve::Ldlt(l) => {
-                let mut inverse = SMatrix::<T, N, N>::zeros();
-                for j in 0..N {
-                    let mut unit = SVector::<T, N>::zeros();
-                    unit[j] = T::one();
-                    inverse.set_column(j, &l.solve_unchecked(&unit));
-                }
-                inverse
-            }
+            MassSolve::Ldlt(l) => l.inverse_unchecked(),
         }
     }
 }

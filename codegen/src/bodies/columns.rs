@@ -5,13 +5,15 @@
 
 use super::joint::JointState;
 use super::kinematics::world_column;
+use super::recursion::joint_motion;
 use super::spatial::{self, Spatial};
 use super::Placement;
 use crate::expr::diff::Differentiator;
 use crate::expr::{Graph, Sym};
 
 /// One column of a joint, with what its coordinate and rate do to the
-/// motion the joint passes on, in world axes about the world's origin.
+/// motion the joint passes on, in the reference frame's axes about its
+/// origin (`super::reference`).
 #[derive(Clone, Copy)]
 pub(super) struct Column {
     /// The coordinate it moves.
@@ -84,22 +86,23 @@ pub(super) fn varying(
     if let Some(rate) = js.column_rate(g, vj.angular) {
         aj.angular = spatial::add(g, aj.angular, rate);
     }
-    let vj_world = to_world(g, frame, vj);
-    let v = vp.add(g, vj_world).held(g);
-    let aj_world = to_world(g, frame, aj);
-    let transport = v.cross_motion(g, vj_world);
-    let a = ap.add(g, aj_world).add(g, transport).held(g);
+    let vj_placed = in_frame(g, frame, vj);
+    let v = vp.add(g, vj_placed).held(g);
+    let aj_placed = in_frame(g, frame, aj);
+    let transport = v.cross_motion(g, vj_placed);
+    let a = ap.add(g, aj_placed).add(g, transport).held(g);
+    let both = v.add(g, vp);
     let mut d = Differentiator::new();
     let mut partial = |g: &mut Graph, m: Spatial, by: Sym| {
         let local = Spatial {
             angular: m.angular.map(|e| d.partial(g, e, by)),
             linear: m.linear.map(|e| d.partial(g, e, by)),
         };
-        to_world(g, frame, local).held(g)
+        in_frame(g, frame, local).held(g)
     };
     let mut columns = Vec::with_capacity(local.len());
     for &(coordinate, s) in local {
-        let column = to_world(g, frame, s).held(g);
+        let column = in_frame(g, frame, s).held(g);
         let dvj = partial(g, vj, Sym::Coord(coordinate));
         let daj = partial(g, aj, Sym::Coord(coordinate));
         let daj_rate = partial(g, aj, Sym::Vel(coordinate));
@@ -112,7 +115,6 @@ pub(super) fn varying(
             v.cross_motion(g, dvj),
         ];
         let acceleration_by_q = sum_of(g, parts).held(g);
-        let both = v.add(g, vp);
         let carried = both.cross_motion(g, column);
         let acceleration_by_rate = daj_rate.add(g, carried).held(g);
         columns.push(Column {
@@ -135,18 +137,6 @@ pub(super) fn varying(
     (v, a, columns, turning)
 }
 
-/// `Σ Sₖ xₖ` over a joint's columns (`x` its coordinates' velocities or
-/// accelerations), in the body's axes.
-fn joint_motion(g: &mut Graph, columns: &[(usize, Spatial)], sym: fn(usize) -> Sym) -> Spatial {
-    let mut total = Spatial::zero(g);
-    for &(c, s) in columns {
-        let x = g.sym(sym(c));
-        let sx = s.scale(g, x);
-        total = total.add(g, sx);
-    }
-    total
-}
-
 /// The sum of motion vectors.
 fn sum_of<const K: usize>(g: &mut Graph, parts: [Spatial; K]) -> Spatial {
     let mut total = Spatial::zero(g);
@@ -156,9 +146,10 @@ fn sum_of<const K: usize>(g: &mut Graph, parts: [Spatial; K]) -> Spatial {
     total
 }
 
-/// A motion vector of a body's axes at its origin in world axes about the
-/// world's origin: `ω = R s_ω`, `v = R s_v + p × ω`.
-pub(super) fn to_world(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
+/// A motion vector of a body's axes at its origin in the axes of the frame
+/// its placement `frame` is in, about that frame's origin:
+/// `ω = R s_ω`, `v = R s_v + p × ω`.
+pub(super) fn in_frame(g: &mut Graph, frame: &Placement, s: Spatial) -> Spatial {
     let (linear, angular) = world_column(g, frame, s);
     let moved = spatial::cross(g, frame.translation, angular);
     Spatial {

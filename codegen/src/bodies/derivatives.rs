@@ -40,17 +40,16 @@
 //!   the same without the last term (the rigid turns of `Sᵢ` and of `fᶜ`
 //!   cancel), plus `(∂Sᵢ/∂qₖ − Sₖ × Sᵢ)ᵀ fᶜ` where the columns vary.
 
-use super::columns::{constant, to_world, varying, Column};
+use super::columns::{constant, in_frame, varying, Column};
 use super::joint::JointState;
 use super::recursion::accumulate;
 use super::reference::reference_frames;
 use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Body, Placement, Tree};
-
 use crate::expr::{Graph, Id};
 
-/// A body's quantities from the outward pass, in world axes about the
-/// world's origin.
+/// A body's quantities from the outward pass, in its subtree's reference
+/// frame's axes about that frame's origin.
 struct Outward {
     /// Its joint's columns.
     columns: Vec<Column>,
@@ -227,13 +226,13 @@ fn outward(g: &mut Graph, tree: &Tree, references: &[usize]) -> Vec<Outward> {
         let local = js.columns(g);
         let (v, a, columns, turning) = match &local[..] {
             &[(coordinate, s)] if js.quaternion.is_none() => {
-                let column = to_world(g, frame, s).held(g);
+                let column = in_frame(g, frame, s).held(g);
                 let (v, a, col) = constant(g, parent, (coordinate, column));
                 (v, a, vec![col], Vec::new())
             }
             _ => varying(g, js, frame, &local, parent),
         };
-        let inertia = world_inertia(g, &body.inertia, frame);
+        let inertia = inertia_in_frame(g, &body.inertia, frame);
         let momentum = inertia.apply(g, v).held(g);
         let ia = inertia.apply(g, a);
         let gyroscopic = v.cross_force(g, momentum);
@@ -254,9 +253,9 @@ fn outward(g: &mut Graph, tree: &Tree, references: &[usize]) -> Vec<Outward> {
     out
 }
 
-/// A body's inertia in world axes about the world's origin
-/// ([`Inertia::to_parent`] from its world frame), each parameter held.
-fn world_inertia(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia {
+/// A body's inertia in the axes of the frame its placement `frame` is in,
+/// about that frame's origin ([`Inertia::to_parent`]), each parameter held.
+fn inertia_in_frame(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia {
     inertia
         .to_parent(g, &frame.rotation, frame.translation)
         .held(g)

@@ -64,6 +64,24 @@ impl Placement {
             })
     }
 
+    /// `(R, p)⁻¹ = (Rᵀ, −Rᵀ p)`: the outer frame placed in this one.
+    pub fn inverse(&self, g: &mut Graph) -> Placement {
+        let rotation = spatial::transpose(&self.rotation);
+        let back = spatial::mat_vec(g, &rotation, self.translation);
+        Placement {
+            rotation,
+            translation: spatial::neg(g, back),
+        }
+    }
+
+    /// Each entry [`spatial::hold`]: a frame the recursions read many times.
+    pub fn held(self, g: &mut Graph) -> Placement {
+        Placement {
+            rotation: self.rotation.map(|row| spatial::hold3(g, row)),
+            translation: spatial::hold3(g, self.translation),
+        }
+    }
+
     /// `self ∘ inner`: the placement in `self`'s outer frame of a frame
     /// placed by `inner` in `self`'s frame.
     pub fn then(&self, g: &mut Graph, inner: &Placement) -> Placement {
@@ -232,10 +250,7 @@ pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
         let joint_frame = parent.then(g, &d.placement);
         let motion = joint_motion(g, d);
         let world = joint_frame.then(g, &motion);
-        frames.push(Placement {
-            rotation: world.rotation.map(|row| spatial::hold3(g, row)),
-            translation: spatial::hold3(g, world.translation),
-        });
+        frames.push(world.held(g));
     }
     frames
 }
@@ -250,11 +265,7 @@ pub fn parent_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
         .iter()
         .map(|d| {
             let motion = joint_motion(g, d);
-            let local = d.placement.then(g, &motion);
-            Placement {
-                rotation: local.rotation.map(|row| spatial::hold3(g, row)),
-                translation: spatial::hold3(g, local.translation),
-            }
+            d.placement.then(g, &motion).held(g)
         })
         .collect()
 }

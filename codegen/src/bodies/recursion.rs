@@ -73,7 +73,11 @@ pub(super) fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
 }
 
 /// `Σₖ Sₖ xₖ` for the joint's coordinates' velocities or accelerations.
-fn joint_motion(g: &mut Graph, columns: &[(usize, Spatial)], sym: fn(usize) -> Sym) -> Spatial {
+pub(super) fn joint_motion(
+    g: &mut Graph,
+    columns: &[(usize, Spatial)],
+    sym: fn(usize) -> Sym,
+) -> Spatial {
     let mut sum = Spatial::zero(g);
     for &(c, s) in columns {
         let x = g.sym(sym(c));

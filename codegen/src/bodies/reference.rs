@@ -3,7 +3,6 @@
 //! world's.
 
 use super::joint::JointState;
-use super::spatial;
 use super::{Body, Placement, Tree};
 use crate::expr::Graph;
 
@@ -25,10 +24,6 @@ pub(super) fn reference_frames(
     states: &[JointState],
     references: &[usize],
 ) -> (Vec<Placement>, Vec<Placement>) {
-    let held = |g: &mut Graph, p: Placement| Placement {
-        rotation: p.rotation.map(|row| spatial::hold3(g, row)),
-        translation: spatial::hold3(g, p.translation),
-    };
     let own = |g: &mut Graph, i: usize| {
         let joint = states[i].placement(g);
         tree.bodies[i].placement.then(g, &joint)
@@ -46,10 +41,8 @@ pub(super) fn reference_frames(
         frames[r] = Some(here);
         // Up the path to the world, at most one step per body.
         for _ in 0..count {
-            let step = own(g, at);
-            let back = inverse(g, &step);
-            let up = here.then(g, &back);
-            here = held(g, up);
+            let back = own(g, at).inverse(g);
+            here = here.then(g, &back).held(g);
             match tree.bodies[at].parent {
                 Some(p) => {
                     frames[p] = Some(here);
@@ -74,8 +67,7 @@ pub(super) fn reference_frames(
                     None => worlds[i],
                 };
                 let step = own(g, i);
-                let placed = parent.then(g, &step);
-                held(g, placed)
+                parent.then(g, &step).held(g)
             }
         };
         out.push(frame);
@@ -93,14 +85,4 @@ pub fn root_of(bodies: &[Body], i: usize) -> usize {
         }
     }
     at
-}
-
-/// `(R, p)⁻¹ = (Rᵀ, −Rᵀ p)`.
-fn inverse(g: &mut Graph, p: &Placement) -> Placement {
-    let rotation = spatial::transpose(&p.rotation);
-    let back = spatial::mat_vec(g, &rotation, p.translation);
-    Placement {
-        rotation,
-        translation: spatial::neg(g, back),
-    }
 }

@@ -145,11 +145,8 @@ fn derivatives(
     let inputs: Vec<Sym> = (0..system.inputs).map(|j| system.input(j)).collect();
     // `∂τ/∂q`, `∂τ/∂q̇`, for `inverse_dynamics_jacobian` and for the
     // tangents of a tree whose `M` is factored, on an auxiliary mass
-    // (quaternion joints) too.
-    let factored = matches!(
-        mass_inverse,
-        MassInverse::Factored(_) | MassInverse::Auxiliary(_)
-    );
+    // (quaternion joints) too: every `M` but a symbolic inverse's.
+    let factored = !matches!(mass_inverse, MassInverse::Symbolic(_));
     let inverse_dynamics = system
         .bodies
         .as_ref()

@@ -38,13 +38,7 @@ impl<T: RealField + Copy, const N: usize, const K: usize> Projection<T, N, K> {
         ldlt: &PivotedLdlt<T, K>,
         auxiliary: Option<T>,
     ) -> Self {
-        let mut g = SMatrix::<T, K, K>::zeros();
-        for j in 0..K {
-            let mut unit = SVector::<T, K>::zeros();
-            unit[j] = T::one();
-            let column = ldlt.solve_unchecked(&unit);
-            g.set_column(j, &column);
-        }
+        let mut g = ldlt.inverse_unchecked();
         let q = w * g;
         // `M⁻¹ − Q Wᵀ`, symmetric: each entry once.
         let mut p = *inverse;
