@@ -105,6 +105,23 @@ fn constant_powers_that_overflow_are_rejected_not_folded_wrongly() {
     assert!(code.contains("1024f64"), "2^10 folded to 1024: {code}");
 }
 
+/// An integer exponent beyond `i32` made by folding (`(4⁴)⁴ = 2³²`, which
+/// the parser's bound on `powi` never sees) is emitted as `powf` of its
+/// value: `powi` would have wrapped it to `x⁰ = 1`.
+#[test]
+fn a_folded_exponent_beyond_i32_is_not_wrapped() {
+    let code = outcome(
+        "struct S { coordinates: [x], mass: diag[1.0], forces: [x.powf(4.0.powi(4).powi(4))] }",
+    )
+    .expect("accepted");
+    assert!(code.contains("powf"), "emitted as powf: {code}");
+    assert!(
+        code.contains("4294967296f64"),
+        "the exponent's value: {code}"
+    );
+    assert!(!code.contains(". powi (0"), "no wrapped exponent: {code}");
+}
+
 #[test]
 fn names_that_collide_with_generated_code_are_rejected() {
     for name in [

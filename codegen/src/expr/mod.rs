@@ -386,13 +386,19 @@ pub fn signed_parts(terms: &[(Id, Num)], c0: Num) -> Vec<(Option<Id>, Num, bool)
         .collect()
 }
 
-/// `x^e` in `f64`, exact for integer and half-integer exponents.
+/// `x^e` in `f64`, exact for integer and half-integer exponents. An
+/// integer beyond `i32` goes to `powf`: `powi(k as i32)` wrapped `2³²` to
+/// 0, and `x^(2³²)` was 1.
 pub fn power(x: f64, e: Num) -> f64 {
+    let integer = |x: f64, k: i64| match i32::try_from(k) {
+        Ok(k) => x.powi(k),
+        Err(_) => x.powf(k as f64),
+    };
     match e.as_integer() {
-        Some(k) => x.powi(k as i32),
+        Some(k) => integer(x, k),
         None if matches!(e, Num::Rational(_, 2)) => {
             let k = (e * Num::int(2)).as_integer().unwrap_or(1);
-            x.sqrt().powi(k as i32)
+            integer(x.sqrt(), k)
         }
         None => x.powf(e.to_f64()),
     }

@@ -198,15 +198,16 @@ impl Body<'_> {
         let atom = || self.wrapped(b, Prec::Atom);
         match e.as_integer() {
             Some(k) if k <= MAX_UNROLLED_POWER => vec![self.wrapped(b, Prec::Unary); k as usize],
-            Some(k) => {
-                let (k, atom) = (Literal::i32_unsuffixed(k as i32), atom());
+            // `powi` takes an `i32`; a larger integer goes to `powf` below.
+            Some(k) if i32::try_from(k).is_ok() => {
+                let (k, atom) = (Literal::i64_unsuffixed(k), atom());
                 vec![quote! { #atom.powi(#k) }]
             }
-            None if e == Num::ratio(1, 2) => {
+            _ if e == Num::ratio(1, 2) => {
                 let atom = atom();
                 vec![quote! { #atom.sqrt() }]
             }
-            None => {
+            _ => {
                 let ((lit, _), atom) = (literal(e), atom());
                 vec![quote! { #atom.powf(#lit) }]
             }
