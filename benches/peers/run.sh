@@ -15,7 +15,9 @@
 # accelerations, centre of mass and its velocity, centroidal map and its
 # time variation, RNEA and ABA derivatives
 # (benches/peers/robots/src/bin/kinematics.rs, benches/peers/kinematics.cpp).
-# Each program checks its answer
+# The Robots rows also run Pinocchio traced into CasADi and emitted as C
+# (benches/peers/casadi, its own virtual environment .venv-casadi) on the
+# Panda, the UR5 and the G1. Each program checks its answer
 # against the generated code's (chains/examples/peer_reference.rs) before it
 # times anything, and exits with 1 if one disagrees.
 #
@@ -101,6 +103,25 @@ if [ ! -x "$out/mujoco" ] || [ "$here/mujoco.c" -nt "$out/mujoco" ] || [ "$here/
     -o "$out/mujoco" -L"$mujoco" -Wl,-rpath,"$mujoco" -l:"$library" -lm
 fi
 
+# Pinocchio traced into CasADi and emitted as C: a virtual environment of
+# its own (its wheel pulls an older pin), the robots' aba, crba and rnea
+# generated from our robots' reference file (by joint name), compiled with
+# the harness at -O3 as the other peers.
+casadi_generate() {
+  local reference=$1 dir=$2 env="$here/.venv-casadi"
+  if [ ! -x "$env/bin/python" ]; then
+    python3 -m venv "$env" || return 1
+  fi
+  "$env/bin/pip" install --quiet --disable-pip-version-check -r "$here/casadi/requirements.txt" || return 1
+  local site prefix
+  site=$("$env/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+  prefix="$site/cmeel.prefix"
+  LD_LIBRARY_PATH="$prefix/lib" PYTHONPATH=$(echo "$prefix"/lib/python3*/site-packages) \
+    "$env/bin/python" "$here/casadi/generate.py" "$robot_data" "$reference" "$dir" panda ur5 g1 || return 1
+  gcc -std=c11 -O3 -DNDEBUG -D_POSIX_C_SOURCE=200809L -I"$dir" "$here/casadi/harness.c" \
+    "$dir/casadi_robots.c" -o "$dir/casadi" -lm
+}
+
 cargo run --quiet --release -p constrained-chains --example peer_reference -- "$out/reference.txt"
 # The robots' crate (outside the workspace) reads the URDFs at compile
 # time; built here, unpinned, and run pinned below.
@@ -123,9 +144,17 @@ if [ "$robots_ok" = 1 ]; then
   robots=(cargo run --quiet --release --manifest-path "$here/robots/Cargo.toml" --bin constrained-robots --)
   {
     "${robots[@]}" write "$out/robots.txt" || status=1
+    # Pinocchio generated through CasADi on the Panda, the UR5 and the G1
+    # (benches/peers/casadi): generated from the file just written, so on
+    # the same states; optional like the robots'.
+    casadi=0
+    casadi_generate "$out/robots.txt" "$out/casadi" >&2 && casadi=1 || status=1
     for round in 1 2 3; do
       "${pin[@]}" "${robots[@]}" time "$round" || status=1
       "${pin[@]}" "$out/robots" "$robot_data" "$out/robots.txt" "$round" || status=1
+      if [ "$casadi" = 1 ]; then
+        "${pin[@]}" "$out/casadi/casadi" "$out/casadi/casadi_states.txt" "$round" || status=1
+      fi
     done
   } > "$target/benchmarks/robots.json"
   cat "$target/benchmarks/robots.json"

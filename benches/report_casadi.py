@@ -1,0 +1,119 @@
+"""The section of BENCHMARKS.md against Pinocchio generated through CasADi,
+and its targets (issue 48): `aba`, `crba` and `rnea` of the Panda, the UR5
+and the G1 traced into CasADi and emitted as C (benches/peers/casadi), on
+the Robots rows' states, in the same alternating rounds
+(benches/peers/run.sh appends CasADi's lines, `"peer": "casadi"`, to
+<target>/benchmarks/robots.json). Standard library only.
+
+Run alone (`python3 benches/report_casadi.py`), it rewrites this section and
+its targets' rows in BENCHMARKS.md from the last run of the peers, leaving
+the rest of the file as the last full run wrote it."""
+
+import sys
+
+import report_contacts
+
+# (system, label): issue 48's robots; each quantity's target is 2×.
+SYSTEMS = (
+    ("panda", "Panda (7 joints, fingers locked)"),
+    ("ur5", "UR5 (6 joints)"),
+    ("g1", "G1 (29 joints, fixed base)"),
+)
+PAIRS = (("acceleration", "aba", "q̈"), ("mass_matrix", "crba", "M(q)"),
+         ("inverse_dynamics", "rnea", "inverse dynamics"))
+WANTED = 2
+AGREEMENT = 1e-12
+HEADING = "## Against Pinocchio generated through CasADi"
+TARGET_PREFIX = "CasADi: "
+
+
+def load(target):
+    return report_contacts.load(target, "robots.json")
+
+
+def ratios(rows, system, ours, theirs):
+    """The rounds' ratios CasADi's / ours, paired by round."""
+    a = {r["round"]: r["ns"] for r in rows.get(("constrained", ours, system), [])}
+    b = {r["round"]: r["ns"] for r in rows.get(("casadi", theirs, system), []) if r["ok"] and r["ns"]}
+    return [b[k] / a[k] for k in sorted(a) if k in b and a[k]]
+
+
+def targets(rows):
+    """Each quantity of each robot ≥ 2× faster than CasADi's, and the
+    agreement of every answer."""
+    out = []
+    for system, _ in SYSTEMS:
+        for ours, theirs, label in PAIRS:
+            r = ratios(rows, system, ours, theirs)
+            if r:
+                out.append((f"{TARGET_PREFIX}{system} {label} ≥ {WANTED} × faster than Pinocchio's `{theirs}` "
+                            f"generated through CasADi (median of {len(r)} alternating rounds)",
+                            report_contacts._median(r), f"≥ {WANTED}", lambda x: x >= WANTED, "{:.2f}×"))
+    peer = [x for (who, _, _), xs in rows.items() if who == "casadi" for x in xs]
+    if peer:
+        out.append((f"{TARGET_PREFIX}Pinocchio generated through CasADi agrees with ours on every robot at 20 "
+                    "states (worst relative difference of q̈, M, τ)", max(x["difference"] for x in peer),
+                    f"≤ {AGREEMENT:.0e}", lambda x: x <= AGREEMENT, "{:.1e}"))
+    return out
+
+
+def section(rows, ns):
+    """The table: per robot and quantity, both times, the ratios and the
+    worst difference seen."""
+    median = report_contacts._median
+    table = []
+    for system, name in SYSTEMS:
+        for ours, theirs, label in PAIRS:
+            mine, peer = rows.get(("constrained", ours, system), []), rows.get(("casadi", theirs, system), [])
+            if not mine or not peer:
+                continue
+            worst = max(x["difference"] for x in peer)
+            r = ratios(rows, system, ours, theirs)
+            ours_ns = median([x["ns"] for x in mine])
+            if r:
+                theirs_ns = median([x["ns"] for x in peer if x["ok"] and x["ns"]])
+                table.append(f"| {name} | {label}: `{ours}` / `{theirs}` | {ns(ours_ns)} | {ns(theirs_ns)} | "
+                             f"{median(r):.2f}× ({min(r):.2f}–{max(r):.2f}) | {worst:.1e} |")
+            else:
+                table.append(f"| {name} | {label}: `{ours}` / `{theirs}` | {ns(ours_ns)} | disagreed | – | "
+                             f"{worst:.1e} |")
+    if not table:
+        return []
+    return [
+        "",
+        HEADING,
+        "",
+        "Pinocchio's maintainers put its code generated through CasADi 5–10× ahead of its",
+        "library calls, which makes it the fastest Pinocchio. `benches/peers/casadi/generate.py`",
+        "builds `CasadiKinDyn` (the `cmeel-casadi-kin-dyn` wheel, Pinocchio 2.6 inside, in a",
+        "virtual environment of its own: `benches/peers/.venv-casadi`) of the Robots rows'",
+        "URDFs as written, fixed base, the Panda's fingers held at zero, and emits its `aba`,",
+        "`crba` and `rnea` as C with CasADi's code generator; `benches/peers/casadi/harness.c`",
+        "compiles them at `-O3` (no `-march`, as both other sides) and runs them on the Robots",
+        "rows' 20 states, mapped into CasADi's order by joint NAME, in the same alternating",
+        "rounds (ours, Pinocchio's, CasADi's), on the thread's CPU clock, the same statistic.",
+        "Every answer is checked against ours before it is timed (`crba`'s upper triangle",
+        f"mirrored), relative to the largest entry, to {AGREEMENT:.0e}.",
+        "",
+        "| robot | what | ours | CasADi's | CasADi's / ours | worst relative difference |",
+        "|---|---|---|---|---|---|",
+    ] + table
+
+
+JSON, NAME = "robots.json", "report_casadi.py"
+
+
+def splice(path, rows, ns, when):
+    """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md)."""
+    report_contacts.splice_report(path, section(rows, ns), targets(rows), when, sys.modules[__name__])
+
+
+if __name__ == "__main__":
+    from datetime import datetime, timezone
+
+    import report
+
+    run = report.TARGET / "benchmarks" / JSON
+    when = datetime.fromtimestamp(run.stat().st_mtime, timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    splice(report.ROOT / "BENCHMARKS.md", load(report.TARGET), report.ns, when)
+    print(f"wrote the CasADi section of {report.ROOT / 'BENCHMARKS.md'}")
