@@ -233,6 +233,9 @@ pub struct Trace {
     pub acceleration: Spatial,
     /// `fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ + Σⱼ ʲXᵢᵀ fⱼ` over the children `j`.
     pub force: Spatial,
+    /// The body's motion at its centre of mass, where its own force was
+    /// taken there ([`spatial::Inertia::force`]).
+    pub center: Option<spatial::Center>,
     /// The composite inertia `Iᶜᵢ = Iᵢ + Σⱼ ʲXᵢᵀ Iᶜⱼ ʲXᵢ`.
     pub composite: Inertia,
 }

@@ -14,7 +14,7 @@
 //! `qᵢ`. A quaternion joint has four columns in `Sᵢ` ([`super::free`]).
 
 use super::joint::{JointKind, JointState};
-use super::spatial::{self, Inertia, Spatial};
+use super::spatial::{self, Center, Inertia, Spatial};
 use super::{Body, Dynamics, Trace, Tree};
 use crate::expr::{Graph, Id, Sym};
 
@@ -103,6 +103,9 @@ struct Pass {
     v: Vec<Spatial>,
     a: Vec<Spatial>,
     f: Vec<Spatial>,
+    /// Each body's motion at its centre of mass, where its force was
+    /// taken there.
+    centers: Vec<Option<Center>>,
 }
 
 /// Recursive Newton–Euler.
@@ -121,6 +124,7 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
     let mut v: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
     let mut f: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
     let mut a: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
+    let mut centers = Vec::with_capacity(tree.bodies.len());
     for (i, body) in tree.bodies.iter().enumerate() {
         let (vp, ap) = match body.parent {
             Some(p) => (v[p], a[p]),
@@ -157,10 +161,9 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
             let sq = joint_motion(g, &s, Sym::Accel);
             a[i] = a[i].add(g, sq).held(g);
         }
-        let momentum = body.inertia.apply(g, vi).held(g);
-        let ia = body.inertia.apply(g, a[i]);
-        let gyroscopic = vi.cross_force(g, momentum);
-        f.push(ia.add(g, gyroscopic).held(g));
+        let (force, center) = body.inertia.force(g, vi, a[i]);
+        f.push(force.held(g));
+        centers.push(center);
     }
     let zero = g.int(0);
     let mut tau = vec![zero; n];
@@ -174,7 +177,13 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
             f[p] = f[p].add(g, up).held(g);
         }
     }
-    Pass { tau, v, a, f }
+    Pass {
+        tau,
+        v,
+        a,
+        f,
+        centers,
+    }
 }
 
 /// `M(q) q̈` by recursive Newton–Euler without velocities or gravity, `q̈`
@@ -441,6 +450,7 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
             velocity: bias.v[i],
             acceleration: bias.a[i],
             force: bias.f[i],
+            center: bias.centers[i],
             composite: composite[i],
         })
         .collect();

@@ -262,6 +262,22 @@ pub struct Inertia {
     pub rotational: M3,
 }
 
+/// A body's motion at its centre of mass, where recursive Newton–Euler
+/// takes its force there ([`Inertia::force`]), in the body's axes.
+#[derive(Clone, Copy, Debug)]
+pub struct Center {
+    /// `c`, the centre of mass.
+    pub com: V3,
+    /// `Ī_C`, the rotational inertia about it.
+    pub about_com: M3,
+    /// `ċ = v_O + ω × c`, the velocity of the centre of mass.
+    pub velocity: V3,
+    /// `c̈ = a_O + ω̇ × c + ω × ċ`, its classical acceleration.
+    pub acceleration: V3,
+    /// `L = Ī_C ω`, the angular momentum about it.
+    pub spin: V3,
+}
+
 impl Inertia {
     /// Whether every entry is the constant zero (a massless body).
     pub fn is_zero(&self, g: &Graph) -> bool {
@@ -307,6 +323,76 @@ impl Inertia {
             angular: add(g, iw, hv),
             linear: sub(g, mv, hw),
         }
+    }
+
+    /// `I a + v ×* (I v)`: the force recursive Newton–Euler asks of a body
+    /// moving with velocity `v = [ω; v_O]` and acceleration `a = [ω̇; a_O]`,
+    /// and, where it is taken about the centre of mass, the terms of that.
+    /// Where the inertia is numbers and the mass is not zero, by Newton
+    /// and Euler about the centre of mass `c` moved to the origin: with
+    /// `ċ = v_O + ω × c` and `c̈ = a_O + ω̇ × c + ω × ċ` (the classical
+    /// acceleration of `c`) and `L = Ī_C ω`, `f = m c̈` and
+    /// `n = Ī_C ω̇ + ω × L + c × f`: for a full inertia 102 operations where
+    /// the two spatial products and the cross product of them take 126.
+    pub fn force(&self, g: &mut Graph, v: Spatial, a: Spatial) -> (Spatial, Option<Center>) {
+        let Some((c, about_center)) = self.center(g) else {
+            let momentum = self.apply(g, v).held(g);
+            let ia = self.apply(g, a);
+            let gyroscopic = v.cross_force(g, momentum);
+            return (ia.add(g, gyroscopic), None);
+        };
+        let (w, dw) = (v.angular, a.angular);
+        // Each vector held, as the recursions hold theirs: a product of
+        // two sums stays one product.
+        let wc = cross(g, w, c);
+        let velocity = add(g, v.linear, wc);
+        let velocity = hold3(g, velocity);
+        let turning = cross(g, w, velocity);
+        let spun = cross(g, dw, c);
+        let sum = add(g, a.linear, spun);
+        let sum = add(g, sum, turning);
+        let acceleration = hold3(g, sum);
+        let f = scale(g, self.mass, acceleration);
+        let f = hold3(g, f);
+        let euler = mat_vec(g, &about_center, dw);
+        let spin = mat_vec(g, &about_center, w);
+        let spin = hold3(g, spin);
+        let gyroscopic = cross(g, w, spin);
+        let moment = cross(g, c, f);
+        let n = add(g, euler, gyroscopic);
+        let force = Spatial {
+            angular: add(g, n, moment),
+            linear: f,
+        };
+        let center = Center {
+            com: c,
+            about_com: about_center,
+            velocity,
+            acceleration,
+            spin,
+        };
+        (force, Some(center))
+    }
+
+    /// The centre of mass `c = h / m` and the inertia about it `Ī_C = Ī_O +
+    /// h̃ c̃` ([`Inertia::from_com`] undone), where every parameter is a
+    /// number and the mass is not zero: folded at compile time, exactly for
+    /// the decimals of a model (rationals).
+    fn center(&self, g: &mut Graph) -> Option<(V3, M3)> {
+        let numbers = std::iter::once(&self.mass)
+            .chain(&self.first_moment)
+            .chain(self.rotational.iter().flatten());
+        let constant = numbers.into_iter().all(|&x| g.as_num(x).is_some());
+        if !constant || g.is_zero(self.mass) {
+            return None;
+        }
+        let one = g.int(1);
+        let inverse = g.div(one, self.mass);
+        let c = scale(g, inverse, self.first_moment);
+        let (hc, cc) = (skew(g, self.first_moment), skew(g, c));
+        let shift = mat_mul(g, &hc, &cc);
+        let about_center = mat_add(g, &self.rotational, &shift);
+        Some((c, about_center))
     }
 
     /// Each parameter [`hold`]: a composite inertia.

@@ -111,6 +111,17 @@ fn labelled(i: usize, t: &Trace) -> Vec<(Id, String)> {
     let s = subscript(i + 1);
     let mut out = spatial_labels("v", i, &t.velocity, ["ω", "v"]);
     out.extend(spatial_labels("a", i, &t.acceleration, ["ω̇", "v̇"]));
+    if let Some(center) = &t.center {
+        for (sym, vector) in [
+            ("ċ", center.velocity),
+            ("c̈", center.acceleration),
+            ("L", center.spin),
+        ] {
+            for (axis, &id) in AXES.iter().zip(&vector) {
+                out.push((id, format!("{sym}{s}.{axis}")));
+            }
+        }
+    }
     out.extend(spatial_labels("f", i, &t.force, ["n", "f"]));
     let c = &t.composite;
     out.push((c.mass, format!("Iᶜ{s}.m")));
@@ -140,6 +151,8 @@ pub fn text(
          motion vectors [ω; v], force vectors [n; f] (moment about the body's origin; force), iX_λ from the parent λ to body i,\n  \
          recursive Newton–Euler at q̈ = 0:  vᵢ = iX_λ v_λ + Sᵢ q̇ᵢ,  aᵢ = iX_λ a_λ + vᵢ × Sᵢ q̇ᵢ  (v₀ = 0, a₀ = −g),\n  \
          fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ + Σ_children iX_jᵀ fⱼ,  bias c = C q̇ + g with cᵢ = Sᵢᵀ fᵢ,  F = Q − ∂V/∂q − c;\n  \
+         a body's own Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ about its centre of mass c (inertia Ī_C there):  ċᵢ = vᵢ.v + ωᵢ × c,\n  \
+         c̈ᵢ = aᵢ.v̇ + ω̇ᵢ × c + ωᵢ × ċᵢ,  Lᵢ = Ī_C ωᵢ,  force m c̈ᵢ,  moment Ī_C ω̇ᵢ + ωᵢ × Lᵢ + c × m c̈ᵢ;\n  \
          composite rigid body:  Iᶜᵢ = Iᵢ + Σ_children iX_jᵀ Iᶜⱼ iX_j  (mass m, first moment h = m c, rotational Ī about the origin),\n  \
          Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i.\n  \
          Sums are named once below and by name wherever they recur."
@@ -177,6 +190,17 @@ pub fn text(
         };
         let _ = writeln!(w, "{}", line("v", &t.velocity, ["ω", "v"]));
         let _ = writeln!(w, "{}", line("a", &t.acceleration, ["ω̇", "v̇"]));
+        if let Some(center) = &t.center {
+            let _ = writeln!(
+                w,
+                "    at the centre of mass c = {}, Ī_C = {}:\n      ċ{s} = {}, c̈{s} = {}, L{s} = {}",
+                vector(p, center.com),
+                matrix(p, &center.about_com),
+                vector(p, center.velocity),
+                vector(p, center.acceleration),
+                vector(p, center.spin)
+            );
+        }
         let _ = writeln!(w, "{}", line("f", &t.force, ["n", "f"]));
         let c = &t.composite;
         let _ = writeln!(
