@@ -254,11 +254,9 @@ fn outward(g: &mut Graph, tree: &Tree, references: &[usize]) -> Vec<Outward> {
 }
 
 /// A body's inertia in the axes of the frame its placement `frame` is in,
-/// about that frame's origin ([`Inertia::to_parent`]), each parameter held.
+/// about that frame's origin ([`Inertia::moved`]), each parameter held.
 fn inertia_in_frame(g: &mut Graph, inertia: &Inertia, frame: &Placement) -> Inertia {
-    inertia
-        .to_parent(g, &frame.rotation, frame.translation)
-        .held(g)
+    inertia.moved(g, &frame.rotation, frame.translation).held(g)
 }
 
 /// `Σ = ω̃ Ī − Ī ω̃ − (h vᵀ + v hᵀ − 2 (v·h) 1)` for the velocity `[ω; v]`:

@@ -374,6 +374,42 @@ impl Inertia {
         (force, Some(center))
     }
 
+    /// The same inertia in a frame where this one has rotation `r` and
+    /// origin `p`, as [`Inertia::to_parent`], but through the centre of mass
+    /// where the inertia is numbers ([`Inertia::force`]'s `c` and `Ī_C`):
+    /// `c' = R c + p`, `h' = m c'` and `Ī' = R Ī_C Rᵀ + m (|c'|² 1 − c' c'ᵀ)`,
+    /// whose shift needs no `R h` of its own (113 operations against 135
+    /// for a dense `R`).
+    pub fn moved(self, g: &mut Graph, r: &M3, p: V3) -> Inertia {
+        let Some((c, about_center)) = self.center(g) else {
+            return self.to_parent(g, r, p);
+        };
+        let rc = mat_vec(g, r, c);
+        let center = add(g, rc, p);
+        let h = scale(g, self.mass, center);
+        let turned = mat_mul(g, r, &about_center);
+        let products: [[Id; 3]; 3] = [0, 1, 2].map(|i| [0, 1, 2].map(|j| g.mul2(h[i], center[j])));
+        let diagonal = [0, 1, 2].map(|i| products[i][i]);
+        let squared = g.add(&diagonal);
+        let mut rotational = [[g.int(0); 3]; 3];
+        for row in 0..3 {
+            for col in row..3 {
+                let rir = dot(g, turned[row], r[col]);
+                let mut e = g.sub(rir, products[row][col]);
+                if row == col {
+                    e = g.add2(e, squared);
+                }
+                rotational[row][col] = e;
+                rotational[col][row] = e;
+            }
+        }
+        Inertia {
+            mass: self.mass,
+            first_moment: h,
+            rotational,
+        }
+    }
+
     /// The centre of mass `c = h / m` and the inertia about it `Ī_C = Ī_O +
     /// h̃ c̃` ([`Inertia::from_com`] undone), where every parameter is a
     /// number and the mass is not zero: folded at compile time, exactly for
