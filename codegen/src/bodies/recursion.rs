@@ -126,41 +126,13 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
     let mut a: Vec<Spatial> = Vec::with_capacity(tree.bodies.len());
     let mut centers = Vec::with_capacity(tree.bodies.len());
     for (i, body) in tree.bodies.iter().enumerate() {
-        let (vp, ap) = match body.parent {
+        let parent = match body.parent {
             Some(p) => (v[p], a[p]),
             None => (base_velocity, base_acceleration),
         };
-        let s = subspace(g, states[i]);
-        let vi = motion_to_child(g, body, states[i], vp);
-        let vi = if terms.velocities {
-            let sq = joint_motion(g, &s, Sym::Vel);
-            let vi = vi.add(g, sq).held(g);
-            v.push(vi);
-            let coriolis = vi.cross_motion(g, sq);
-            let coriolis = match states[i].column_rate(g, sq.angular) {
-                // Sᵢ varies with q: Σ Ṡₖ q̇ₖ as well.
-                Some(rate) => {
-                    let angular = spatial::add(g, coriolis.angular, rate);
-                    Spatial {
-                        angular,
-                        ..coriolis
-                    }
-                }
-                None => coriolis,
-            };
-            let ai = motion_to_child(g, body, states[i], ap);
-            a.push(ai.add(g, coriolis));
-            vi
-        } else {
-            v.push(vi);
-            a.push(motion_to_child(g, body, states[i], ap));
-            vi
-        };
-        a[i] = a[i].held(g);
-        if terms.accelerations {
-            let sq = joint_motion(g, &s, Sym::Accel);
-            a[i] = a[i].add(g, sq).held(g);
-        }
+        let (vi, ai) = body_motion(g, body, states[i], parent, terms);
+        v.push(vi);
+        a.push(ai);
         let (force, center) = body.inertia.force(g, vi, a[i]);
         f.push(force.held(g));
         centers.push(center);
@@ -184,6 +156,46 @@ fn newton_euler(g: &mut Graph, tree: &Tree, n: usize, terms: Terms) -> Pass {
         f,
         centers,
     }
+}
+
+/// A body's velocity `vᵢ = ⁱX_λ v_λ + Sᵢ q̇ᵢ` and acceleration `aᵢ = ⁱX_λ
+/// a_λ + vᵢ × Sᵢ q̇ᵢ (+ Ṡᵢ q̇ᵢ) + Sᵢ q̈ᵢ` from its parent's, each held, with
+/// the terms `terms` asks for.
+fn body_motion(
+    g: &mut Graph,
+    body: &Body,
+    state: JointState,
+    (vp, ap): (Spatial, Spatial),
+    terms: Terms,
+) -> (Spatial, Spatial) {
+    let s = subspace(g, state);
+    let vi = motion_to_child(g, body, state, vp);
+    let (vi, ai) = if terms.velocities {
+        let sq = joint_motion(g, &s, Sym::Vel);
+        let vi = vi.add(g, sq).held(g);
+        let coriolis = vi.cross_motion(g, sq);
+        let coriolis = match state.column_rate(g, sq.angular) {
+            // Sᵢ varies with q: Σ Ṡₖ q̇ₖ as well.
+            Some(rate) => {
+                let angular = spatial::add(g, coriolis.angular, rate);
+                Spatial {
+                    angular,
+                    ..coriolis
+                }
+            }
+            None => coriolis,
+        };
+        let ai = motion_to_child(g, body, state, ap);
+        (vi, ai.add(g, coriolis))
+    } else {
+        (vi, motion_to_child(g, body, state, ap))
+    };
+    let mut ai = ai.held(g);
+    if terms.accelerations {
+        let sq = joint_motion(g, &s, Sym::Accel);
+        ai = ai.add(g, sq).held(g);
+    }
+    (vi, ai)
 }
 
 /// `M(q) q̈` by recursive Newton–Euler without velocities or gravity, `q̈`

@@ -179,29 +179,7 @@ pub fn text(
             vector(p, m.first_moment),
             matrix(p, &m.rotational)
         );
-        let line = |sym: &str, v: &Spatial, parts: [&str; 2]| {
-            format!(
-                "    {sym}{s} = [{}: {}; {}: {}]",
-                parts[0],
-                list(p, v.angular),
-                parts[1],
-                list(p, v.linear)
-            )
-        };
-        let _ = writeln!(w, "{}", line("v", &t.velocity, ["ω", "v"]));
-        let _ = writeln!(w, "{}", line("a", &t.acceleration, ["ω̇", "v̇"]));
-        if let Some(center) = &t.center {
-            let _ = writeln!(
-                w,
-                "    at the centre of mass c = {}, Ī_C = {}:\n      ċ{s} = {}, c̈{s} = {}, L{s} = {}",
-                vector(p, center.com),
-                matrix(p, &center.about_com),
-                vector(p, center.velocity),
-                vector(p, center.acceleration),
-                vector(p, center.spin)
-            );
-        }
-        let _ = writeln!(w, "{}", line("f", &t.force, ["n", "f"]));
+        motion(w, p, &s, t);
         let c = &t.composite;
         let _ = writeln!(
             w,
@@ -217,6 +195,34 @@ pub fn text(
         }
     }
     let _ = writeln!(w);
+}
+
+/// A body's velocity, acceleration, motion at its centre of mass (where
+/// its force was taken there) and force, subscripted `s`.
+fn motion(w: &mut String, p: &Printer, s: &str, t: &Trace) {
+    let line = |sym: &str, v: &Spatial, parts: [&str; 2]| {
+        format!(
+            "    {sym}{s} = [{}: {}; {}: {}]",
+            parts[0],
+            list(p, v.angular),
+            parts[1],
+            list(p, v.linear)
+        )
+    };
+    let _ = writeln!(w, "{}", line("v", &t.velocity, ["ω", "v"]));
+    let _ = writeln!(w, "{}", line("a", &t.acceleration, ["ω̇", "v̇"]));
+    if let Some(center) = &t.center {
+        let _ = writeln!(
+            w,
+            "    at the centre of mass c = {}, Ī_C = {}:\n      ċ{s} = {}, c̈{s} = {}, L{s} = {}",
+            vector(p, center.com),
+            matrix(p, &center.about_com),
+            vector(p, center.velocity),
+            vector(p, center.acceleration),
+            vector(p, center.spin)
+        );
+    }
+    let _ = writeln!(w, "{}", line("f", &t.force, ["n", "f"]));
 }
 
 /// The joint, its axis and its coordinates.
