@@ -328,19 +328,46 @@ impl Inertia {
     /// `I a + v ×* (I v)`: the force recursive Newton–Euler asks of a body
     /// moving with velocity `v = [ω; v_O]` and acceleration `a = [ω̇; a_O]`,
     /// and, where it is taken about the centre of mass, the terms of that.
-    /// Where the inertia is numbers and the mass is not zero, by Newton
-    /// and Euler about the centre of mass `c` moved to the origin: with
+    /// Where the inertia is numbers, the mass is not zero and it costs
+    /// fewer operations (for the body's own `v` and `a`), by Newton and
+    /// Euler about the centre of mass `c` moved to the origin: with
     /// `ċ = v_O + ω × c` and `c̈ = a_O + ω̇ × c + ω × ċ` (the classical
     /// acceleration of `c`) and `L = Ī_C ω`, `f = m c̈` and
     /// `n = Ī_C ω̇ + ω × L + c × f`: for a full inertia 102 operations where
     /// the two spatial products and the cross product of them take 126.
     pub fn force(&self, g: &mut Graph, v: Spatial, a: Spatial) -> (Spatial, Option<Center>) {
+        let momentum = self.apply(g, v).held(g);
+        let ia = self.apply(g, a);
+        let gyroscopic = v.cross_force(g, momentum);
+        let spatial = ia.add(g, gyroscopic);
         let Some((c, about_center)) = self.center(g) else {
-            let momentum = self.apply(g, v).held(g);
-            let ia = self.apply(g, a);
-            let gyroscopic = v.cross_force(g, momentum);
-            return (ia.add(g, gyroscopic), None);
+            return (spatial, None);
         };
+        let (force, center) = self.about_center(g, (v, a), c, &about_center);
+        // Near the root, where v and a have few entries, the spatial
+        // products of the inertia's constants can be the cheaper: the
+        // single body on a vertical axis is `I_zz q̈` one way and twelve
+        // operations the other. Both read the same v and a.
+        let cost = |g: &Graph, f: &Spatial| {
+            let roots: Vec<Id> = f.angular.iter().chain(&f.linear).copied().collect();
+            crate::expr::squares::operations(g, &roots)
+        };
+        if cost(g, &spatial) <= cost(g, &force) {
+            (spatial, None)
+        } else {
+            (force, Some(center))
+        }
+    }
+
+    /// [`Inertia::force`] about the centre of mass `c` (inertia `Ī_C` there).
+    fn about_center(
+        &self,
+        g: &mut Graph,
+        (v, a): (Spatial, Spatial),
+        c: V3,
+        about_center: &M3,
+    ) -> (Spatial, Center) {
+        let about_center = *about_center;
         let (w, dw) = (v.angular, a.angular);
         // Each vector held, as the recursions hold theirs: a product of
         // two sums stays one product.
@@ -371,7 +398,7 @@ impl Inertia {
             acceleration,
             spin,
         };
-        (force, Some(center))
+        (force, center)
     }
 
     /// The same inertia in a frame where this one has rotation `r` and

@@ -151,7 +151,7 @@ pub fn text(
          motion vectors [ω; v], force vectors [n; f] (moment about the body's origin; force), iX_λ from the parent λ to body i,\n  \
          recursive Newton–Euler at q̈ = 0:  vᵢ = iX_λ v_λ + Sᵢ q̇ᵢ,  aᵢ = iX_λ a_λ + vᵢ × Sᵢ q̇ᵢ  (v₀ = 0, a₀ = −g),\n  \
          fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ + Σ_children iX_jᵀ fⱼ,  bias c = C q̇ + g with cᵢ = Sᵢᵀ fᵢ,  F = Q − ∂V/∂q − c;\n  \
-         a body's own Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ about its centre of mass c (inertia Ī_C there):  ċᵢ = vᵢ.v + ωᵢ × c,\n  \
+         a body's own Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ, where fewer operations, about its centre of mass c (Ī_C there):  ċᵢ = vᵢ.v + ωᵢ × c,\n  \
          c̈ᵢ = aᵢ.v̇ + ω̇ᵢ × c + ωᵢ × ċᵢ,  Lᵢ = Ī_C ωᵢ,  force m c̈ᵢ,  moment Ī_C ω̇ᵢ + ωᵢ × Lᵢ + c × m c̈ᵢ;\n  \
          composite rigid body:  Iᶜᵢ = Iᵢ + Σ_children iX_jᵀ Iᶜⱼ iX_j  (mass m, first moment h = m c, rotational Ī about the origin),\n  \
          Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i.\n  \
