@@ -272,7 +272,6 @@ def robot_targets(rows):
 def robot_section(rows):
     """The Robots table: robots read from example-robot-data's URDFs as
     written, the generated code against Pinocchio on the same files."""
-    median = report_contacts._median
     table = []
     for system, name, _, _ in ROBOTS:
         mimic = any(who == "pinocchio" and what == "crba_solve" and s == system for who, what, s in rows)
@@ -288,14 +287,7 @@ def robot_section(rows):
             if not mine:
                 continue
             r = robot_ratios(rows, system, ours, theirs)
-            ours_ns = median([x["ns"] for x in mine])
-            if r:
-                theirs_ns = median([x["ns"] for x in peer if x["ok"] and x["ns"]])
-                table.append(f"| {name} | {label}: `{ours}` / `{theirs}` | {ns(ours_ns)} | {ns(theirs_ns)} | "
-                             f"{median(r):.2f}× ({min(r):.2f}–{max(r):.2f}) | {worst:.1e} |")
-            else:
-                table.append(f"| {name} | {label}: `{ours}` / `{theirs}` | {ns(ours_ns)} | disagreed | – | "
-                             f"{worst:.1e} |")
+            table.append(report_contacts.ratio_row(name, f"{label}: `{ours}` / `{theirs}`", mine, peer, r, worst, ns))
     if not table:
         return []
     return [

@@ -60,7 +60,6 @@ def targets(rows):
 def section(rows, ns):
     """The table: per robot and quantity, both times, the ratios and the
     worst difference seen."""
-    median = report_contacts._median
     table = []
     for system, name in SYSTEMS:
         for ours, theirs, label in PAIRS:
@@ -69,14 +68,7 @@ def section(rows, ns):
                 continue
             worst = max(x["difference"] for x in peer)
             r = ratios(rows, system, ours, theirs)
-            ours_ns = median([x["ns"] for x in mine])
-            if r:
-                theirs_ns = median([x["ns"] for x in peer if x["ok"] and x["ns"]])
-                table.append(f"| {name} | {label}: `{ours}` / `{theirs}` | {ns(ours_ns)} | {ns(theirs_ns)} | "
-                             f"{median(r):.2f}× ({min(r):.2f}–{max(r):.2f}) | {worst:.1e} |")
-            else:
-                table.append(f"| {name} | {label}: `{ours}` / `{theirs}` | {ns(ours_ns)} | disagreed | – | "
-                             f"{worst:.1e} |")
+            table.append(report_contacts.ratio_row(name, f"{label}: `{ours}` / `{theirs}`", mine, peer, r, worst, ns))
     if not table:
         return []
     return [
@@ -103,17 +95,5 @@ def section(rows, ns):
 JSON, NAME = "robots.json", "report_casadi.py"
 
 
-def splice(path, rows, ns, when):
-    """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md)."""
-    report_contacts.splice_report(path, section(rows, ns), targets(rows), when, sys.modules[__name__])
-
-
 if __name__ == "__main__":
-    from datetime import datetime, timezone
-
-    import report
-
-    run = report.TARGET / "benchmarks" / JSON
-    when = datetime.fromtimestamp(run.stat().st_mtime, timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    splice(report.ROOT / "BENCHMARKS.md", load(report.TARGET), report.ns, when)
-    print(f"wrote the CasADi section of {report.ROOT / 'BENCHMARKS.md'}")
+    report_contacts.run_alone(sys.modules[__name__], "CasADi")

@@ -397,20 +397,35 @@ def splice_report(path, lines, new_targets, when, report):
     replace_section(path, report.HEADING, lines, new_targets, report.TARGET_PREFIX, provenance)
 
 
-JSON, NAME = "contacts.json", "report_contacts.py"
+def ratio_row(name, what, mine, peer, r, worst, ns):
+    """A table row of ours against a peer: both times (medians of the rounds),
+    the peer's / ours (median and range of the rounds' ratios) and the worst
+    difference; `disagreed` where the peer timed nothing."""
+    ours_ns = _median([x["ns"] for x in mine])
+    if not r:
+        return f"| {name} | {what} | {ns(ours_ns)} | disagreed | – | {worst:.1e} |"
+    theirs_ns = _median([x["ns"] for x in peer if x["ok"] and x["ns"]])
+    return (f"| {name} | {what} | {ns(ours_ns)} | {ns(theirs_ns)} | "
+            f"{_median(r):.2f}× ({min(r):.2f}–{max(r):.2f}) | {worst:.1e} |")
 
 
-def splice(path, rows, ns, when):
-    """Rewrites this section and its targets' rows of `path` (BENCHMARKS.md)."""
-    splice_report(path, section(rows, ns), targets(rows), when, sys.modules[__name__])
-
-
-if __name__ == "__main__":
+def run_alone(module, what):
+    """A report module run alone (`python3 benches/<its NAME>`): rewrites its
+    section (`section`) and targets' rows (`targets`) of BENCHMARKS.md from
+    the last run of the peers (its `JSON`, by `load`), dated by that file."""
     from datetime import datetime, timezone
 
     import report
 
-    run = report.TARGET / "benchmarks" / "contacts.json"
+    run = report.TARGET / "benchmarks" / module.JSON
     when = datetime.fromtimestamp(run.stat().st_mtime, timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    splice(report.ROOT / "BENCHMARKS.md", load(report.TARGET), report.ns, when)
-    print(f"wrote the contacts section of {report.ROOT / 'BENCHMARKS.md'}")
+    rows = module.load(report.TARGET)
+    splice_report(report.ROOT / "BENCHMARKS.md", module.section(rows, report.ns), module.targets(rows), when, module)
+    print(f"wrote the {what} section of {report.ROOT / 'BENCHMARKS.md'}")
+
+
+JSON, NAME = "contacts.json", "report_contacts.py"
+
+
+if __name__ == "__main__":
+    run_alone(sys.modules[__name__], "contacts")

@@ -175,17 +175,5 @@ def section(rows, ns):
 JSON, NAME = "kinematics.json", "report_kinematics.py"
 
 
-def splice(path, rows, ns, when):
-    """Rewrites this section and the targets' rows of `path` (BENCHMARKS.md)."""
-    report_contacts.splice_report(path, section(rows, ns), targets(rows), when, sys.modules[__name__])
-
-
 if __name__ == "__main__":
-    from datetime import datetime, timezone
-
-    import report
-
-    run = report.TARGET / "benchmarks" / "kinematics.json"
-    when = datetime.fromtimestamp(run.stat().st_mtime, timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    splice(report.ROOT / "BENCHMARKS.md", load(report.TARGET), report.ns, when)
-    print(f"wrote the kinematics section of {report.ROOT / 'BENCHMARKS.md'}")
+    report_contacts.run_alone(sys.modules[__name__], "kinematics")
