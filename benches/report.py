@@ -790,14 +790,11 @@ def splice_robots():
     leaving the rest as the last full run wrote it."""
     from types import SimpleNamespace
 
-    run = TARGET / "benchmarks" / "robots.json"
-    when = datetime.fromtimestamp(run.stat().st_mtime, timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    rows = report_contacts.load(TARGET, "robots.json")
-    shape = SimpleNamespace(HEADING="## Robots from URDF as written, against Pinocchio", TARGET_PREFIX="Robots: ",
-                            JSON="robots.json", NAME="report.py robots")
-    report_contacts.splice_report(ROOT / "BENCHMARKS.md", robot_section(rows), robot_targets(rows), when, shape)
-    print(f"wrote the Robots section of {ROOT / 'BENCHMARKS.md'}")
-
+    robots = SimpleNamespace(HEADING="## Robots from URDF as written, against Pinocchio", TARGET_PREFIX="Robots: ",
+                             JSON="robots.json", NAME="report.py robots",
+                             load=lambda target: report_contacts.load(target, "robots.json"),
+                             section=lambda rows, _ns: robot_section(rows), targets=robot_targets)
+    report_contacts.run_alone(robots, "Robots")
 
 if __name__ == "__main__":
     if sys.argv[1:] == ["robots"]:

@@ -106,6 +106,13 @@ def state_lines(record, where, nq):
     (cos, sin)), v, tau and a as inputs, our qdd, M (row-major) and tau_id
     as the answers to check against."""
     n = record["n"]
+
+    def by_v(x):
+        out = [0.0] * n
+        for (_, _, iv), value in zip(where, x):
+            out[iv] = value
+        return out
+
     lines = []
     for s in record["states"]:
         q = [0.0] * nq
@@ -114,11 +121,6 @@ def state_lines(record, where, nq):
                 q[iq], q[iq + 1] = math.cos(x), math.sin(x)
             else:
                 q[iq] = x
-        def by_v(x):
-            out = [0.0] * n
-            for (_, _, iv), value in zip(where, x):
-                out[iv] = value
-            return out
         m = [[0.0] * n for _ in range(n)]
         for i, (_, _, vi) in enumerate(where):
             for j, (_, _, vj) in enumerate(where):

@@ -343,7 +343,7 @@ impl Inertia {
         let Some((c, about_center)) = self.center(g) else {
             return (spatial, None);
         };
-        let (force, center) = self.about_center(g, (v, a), c, &about_center);
+        let (force, center) = self.about_center(g, (v, a), c, about_center);
         // Near the root, where v and a have few entries, the spatial
         // products of the inertia's constants can be the cheaper: the
         // single body on a vertical axis is `I_zz q̈` one way and twelve
@@ -365,9 +365,8 @@ impl Inertia {
         g: &mut Graph,
         (v, a): (Spatial, Spatial),
         c: V3,
-        about_center: &M3,
+        about_center: M3,
     ) -> (Spatial, Center) {
-        let about_center = *about_center;
         let (w, dw) = (v.angular, a.angular);
         // Each vector held, as the recursions hold theirs: a product of
         // two sums stays one product.

@@ -49,7 +49,7 @@ fn the_force_about_the_center_is_the_spatial_one() {
     let (c, about) = inertia.center(&mut g).expect("numbers");
     assert_eq!(g.as_num(c[1]), Some(Num::Rational(-27, 1000)));
     assert_eq!(g.as_num(about[2][2]), Some(Num::Rational(107, 250)));
-    let (classic, _) = inertia.about_center(&mut g, (v, a), c, &about);
+    let (classic, _) = inertia.about_center(&mut g, (v, a), c, about);
     let (want, got) = (values(&g, &parts(&spatial)), values(&g, &parts(&classic)));
     for (w, x) in want.iter().zip(&got) {
         assert!(
