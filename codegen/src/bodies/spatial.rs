@@ -378,8 +378,8 @@ impl Inertia {
         let sum = add(g, a.linear, spun);
         let sum = add(g, sum, turning);
         let acceleration = hold3(g, sum);
+        // A multiple of the held `c̈`: nothing more to hold.
         let f = scale(g, self.mass, acceleration);
-        let f = hold3(g, f);
         let euler = mat_vec(g, &about_center, dw);
         let spin = mat_vec(g, &about_center, w);
         let spin = hold3(g, spin);
