@@ -185,7 +185,10 @@ constrained::constrained_system! {
     /// Four arms of four joints on a fixed base, axes along the body's
     /// own: sixteen coordinates, so the tangents differentiate the
     /// recursions' `M q̈`, and sparse, so they take the per-column form.
+    /// A torque at each joint, three of them scaled: `∂q̈/∂u` is `M⁻¹`'s
+    /// columns, which the Jacobian reads from `M⁻¹` formed block by block.
     pub struct FourArms {
+        inputs: [u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, u16],
         bodies: [
             a0l0 { joint: revolute(q1, [0.0, 0.0, 1.0]), xyz: [0.2, 0.0, 0.0], mass: 0.8, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
             a0l1 { parent: a0l0, joint: revolute(q2, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.7, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
@@ -204,6 +207,7 @@ constrained::constrained_system! {
             a3l2 { parent: a3l1, joint: revolute(q15, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.6, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
             a3l3 { parent: a3l2, joint: revolute(q16, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.5, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
         ],
+        forces: [u1, -u2, 2.5 * u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, -0.5 * u16],
     }
 }
 
@@ -327,10 +331,36 @@ fn tree_jacobians_agree_with_dual_numbers_and_differences() {
         0,
         23
     );
+    let arms = |u: [f64; 16]| {
+        FourArms::<f64>::new(
+            u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
+            u[14], u[15],
+        )
+    };
+    let arms_on_duals = |u: [f64; 16]| {
+        FourArms::<Dual64>::new(
+            d(u[0]),
+            d(u[1]),
+            d(u[2]),
+            d(u[3]),
+            d(u[4]),
+            d(u[5]),
+            d(u[6]),
+            d(u[7]),
+            d(u[8]),
+            d(u[9]),
+            d(u[10]),
+            d(u[11]),
+            d(u[12]),
+            d(u[13]),
+            d(u[14]),
+            d(u[15]),
+        )
+    };
     agrees!(
         "four arms (products, per column)",
-        FourArms::<f64>::new(),
-        FourArms::<Dual64>::new(),
+        arms(u),
+        arms_on_duals(u),
         16,
         0,
         29
@@ -375,4 +405,34 @@ fn tree_jacobians_agree_with_dual_numbers_and_differences() {
         4,
         11
     );
+}
+
+/// Where a torque drives each joint, `∂q̈/∂u = M⁻¹ B` (`B` the torques'
+/// constant factors): the generated Jacobian's `du`, which reads its
+/// columns from `M⁻¹` formed block by block from the factors, against
+/// nalgebra's inverse of the generated `M`, at ten random states.
+#[test]
+fn torque_columns_are_the_inverse_mass_matrix_scaled() {
+    let u: [f64; 16] = std::array::from_fn(|k| 0.2 - 0.05 * (k as f64));
+    let arms = FourArms::<f64>::new(
+        u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
+        u[14], u[15],
+    );
+    let mut factors = [1.0; 16];
+    (factors[1], factors[2], factors[15]) = (-1.0, 2.5, -0.5);
+    let b = SMatrix::<f64, 16, 16>::from_diagonal(&SVector::from(factors));
+    let mut next = numbers(31);
+    let mut worst = 0.0f64;
+    for _ in 0..10 {
+        let q = SVector::<f64, 16>::from_fn(|_, _| next() * 0.6);
+        let qd = SVector::<f64, 16>::from_fn(|_, _| next());
+        let jac = arms
+            .try_acceleration_jacobian(&q, &qd, 0.0)
+            .expect("the Jacobian");
+        let m = arms.mass_matrix(&q, 0.0);
+        let expected = m.try_inverse().expect("M is invertible") * b;
+        worst = worst.max(relative(&jac.du, &expected));
+    }
+    println!("four arms: ∂q̈/∂u against M⁻¹ B {worst:.1e}");
+    assert!(worst <= 1e-12, "∂q̈/∂u is {worst:e} from M⁻¹ B");
 }

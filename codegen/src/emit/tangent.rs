@@ -14,6 +14,7 @@ use super::chunks::bounded;
 use super::context::{Context, Inputs};
 use super::tokens::{braced, concat, signed_sum};
 use crate::equations::tangent::{Derivatives, Form};
+use crate::expr::num::Num;
 use crate::expr::{Id, Sym};
 use proc_macro2::TokenStream;
 use quote::{quote, ToTokens};
@@ -204,6 +205,30 @@ pub(super) fn column_rows(ctx: &Context) -> Option<Vec<(Vec<bool>, bool)>> {
         })
         .collect();
     Some(rows)
+}
+
+/// Per column of the per-column form, the row and the number where its
+/// `F̃` is that number in that row and zero elsewhere, with no `b̃`: a
+/// column of `∂q̈/∂u` where an input enters `F` alone with a constant
+/// factor (a motor torque), whose tangent solve is a column of `M⁻¹`
+/// scaled. `None` for another column, and for the directional form.
+pub(super) fn constant_columns(ctx: &Context) -> Option<Vec<Option<(usize, Num)>>> {
+    let (sets, directional) = sets(ctx);
+    if directional {
+        return None;
+    }
+    let g = &ctx.eq.system.graph;
+    let column = |d: &Derivatives| -> Option<(usize, Num)> {
+        let coupled = d.mass.iter().any(|&(_, _, e)| !g.is_zero(e))
+            || d.mass_times.iter().any(|&e| !g.is_zero(e))
+            || d.a.iter().any(|&(_, _, e)| !g.is_zero(e))
+            || d.b.iter().any(|&e| !g.is_zero(e));
+        let mut rows = d.forces.iter().enumerate().filter(|(_, &e)| !g.is_zero(e));
+        let (row, &e) = rows.next()?;
+        (!coupled && rows.next().is_none()).then_some(())?;
+        Some((row, g.as_num(e)?))
+    };
+    Some(sets.iter().map(|d| column(d)).collect())
 }
 
 /// The per-column terms written over locals bound elsewhere: the

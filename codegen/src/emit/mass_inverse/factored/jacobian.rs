@@ -12,13 +12,18 @@
 //! calls too), which grows with `n + k` rather than with the columns; in
 //! the per-column form each column's solve there runs over the blocks of
 //! `M` its right-hand side touches (a fixed base's branches), and a
-//! structurally zero column is skipped.
+//! structurally zero column is skipped. Without constraints, where inputs
+//! enter `F` with constant factors (torques), `M⁻¹` is formed once when
+//! that is cheaper than solving for their columns ([`unit_columns`]):
+//! those columns are read from it, and the loop's columns are products
+//! with it.
 
 use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
+use crate::emit::literal::literal;
 use crate::emit::mass_inverse::adopt_dense;
-use crate::emit::tangent::{column_rows, index, NamedTerms};
+use crate::emit::tangent::{column_rows, constant_columns, index, NamedTerms};
 use crate::equations::mass_inverse::Factored;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
@@ -163,7 +168,14 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
     let (qdd_vector, lam) = (vector(ctx, "qdd", n), vector(ctx, "lam", k));
     let rv: Vec<Ident> = (0..k).map(|j| Context::local("jb", j)).collect();
     let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
-    let groups = groups(ctx, gauss);
+    let (unit, inverse) = unit_columns(ctx, gauss);
+    let groups = groups(ctx, gauss, &unit);
+    // With `M⁻¹` formed, every column is a product with it: independent
+    // sums, where the solves are chains of dependent steps.
+    let solve = |rows: &[bool]| match &inverse {
+        Some(inverse) => column_product(&inverse.x, rows),
+        None => column_solve(ctx, f, gauss, rows),
+    };
     let read: Vec<bool> = match &groups {
         None => vec![true; n],
         Some(groups) => (0..n)
@@ -183,9 +195,13 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
         #unpack_b
     };
     let pairs = quote!(__fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs));
+    let (inverse_code, writes) = inverse
+        .as_ref()
+        .map(|i| (i.code.clone(), i.writes.clone()))
+        .unwrap_or_default();
     let each = match groups {
         None => {
-            let solve = column_solve(ctx, f, gauss, &vec![true; n]);
+            let solve = solve(&vec![true; n]);
             quote! {
                 for ((__f, __r), __out) in #pairs {
                     #unpack
@@ -197,7 +213,7 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
             let table = groups.of_column.iter().map(|&g| Literal::u16_unsuffixed(g));
             let arms = groups.rows.iter().enumerate().map(|(id, rows)| {
                 let id = Literal::usize_unsuffixed(id);
-                let solve = column_solve(ctx, f, gauss, rows);
+                let solve = solve(rows);
                 quote!(#id => { #solve })
             });
             quote! {
@@ -206,7 +222,8 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
                     #unpack
                     match __g {
                         #(#arms)*
-                        // A structurally zero column: `__out` holds zeros.
+                        // A structurally zero column, or one written from
+                        // `M⁻¹` after the loop: `__out` holds zeros.
                         _ => {}
                     }
                 }
@@ -217,11 +234,86 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
         let mut __fs = ::constrained::nalgebra::SMatrix::<T, #n_l, #d_l>::zeros();
         let mut __rs = ::constrained::nalgebra::SMatrix::<T, #k_l, #d_l>::zeros();
         <Self as #tangent>::tangent_rhs(self, q, qd, t, &#qdd_vector, &#lam, &mut __fs, &mut __rs);
+        #inverse_code
         let __outs = __jac.dq.data.0.iter_mut()
             .chain(__jac.dqd.data.0.iter_mut())
             .chain(__jac.du.data.0.iter_mut());
         #each
+        #writes
     }
+}
+
+/// `M⁻¹` formed for the Jacobian's columns ([`unit_columns`]).
+struct Inverse {
+    /// Its code (before the loop).
+    code: TokenStream,
+    /// Its entries' locals, natural order (`None`: structurally zero).
+    x: Vec<Vec<Option<Ident>>>,
+    /// The columns read from it (after the loop).
+    writes: TokenStream,
+}
+
+/// With `M⁻¹` formed (`k = 0`, [`Inverse`]): the column `M⁻¹ F̃`, `F̃` in
+/// the locals `__jf{i}` nonzero where `rows` says, written to `*__out`.
+fn column_product(x: &[Vec<Option<Ident>>], rows: &[bool]) -> TokenStream {
+    let column = x.iter().map(|row| {
+        let terms: Vec<TokenStream> = row
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| rows[j])
+            .filter_map(|(j, entry)| {
+                let (entry, fj) = (entry.as_ref()?, Context::local("jf", j));
+                Some(quote!(#entry * #fj))
+            })
+            .collect();
+        if terms.is_empty() {
+            quote!(T::zero())
+        } else {
+            quote!(#(#terms)+*)
+        }
+    });
+    quote!(*__out = [#(#column),*];)
+}
+
+/// The columns whose `F̃` is a number in one row and zero elsewhere (a
+/// motor torque's `∂q̈/∂u`), where `k = 0`: `q̈ᵥ = β M⁻¹ eᵣ`, read from
+/// `M⁻¹` formed once by Takahashi's recurrence
+/// ([`inverse`](crate::emit::ldlt::StructuredLdlt::inverse)) where that
+/// takes fewer multiplications than their solves. Returns which columns
+/// that writes (the loop skips them) and the inverse, whose writes run
+/// after the loop (whose iterator holds `__jac` until then).
+fn unit_columns(ctx: &Context, gauss: &FactoredSolve) -> (Vec<bool>, Option<Inverse>) {
+    let columns = constant_columns(ctx).unwrap_or_default();
+    let none = (vec![false; columns.len()], None);
+    let rows: Vec<usize> = columns.iter().flatten().map(|&(r, _)| r).collect();
+    if ctx.k > 0 || rows.is_empty() {
+        return none;
+    }
+    let (inverse, solves) = gauss.mass.inverse_and_unit_solve_costs(&rows);
+    if inverse >= solves {
+        return none;
+    }
+    let (code, x) = gauss.mass.inverse("mx");
+    let mut writes = TokenStream::new();
+    for (c, column) in columns.iter().enumerate() {
+        let Some((r, beta)) = column else { continue };
+        let (matrix, col) = destination(ctx, c);
+        for (i, entry) in x.iter().enumerate() {
+            let Some(entry) = &entry[*r] else { continue };
+            let value = if beta.is_one() {
+                quote!(#entry)
+            } else if (-*beta).is_one() {
+                quote!(-#entry)
+            } else {
+                let b = literal(*beta).0;
+                quote!(#b * #entry)
+            };
+            let row = index(i);
+            writes.extend(quote!(__jac.#matrix.data.0[#col][#row] = #value;));
+        }
+    }
+    let unit = columns.iter().map(Option::is_some).collect();
+    (unit, Some(Inverse { code, x, writes }))
 }
 
 /// One column's solve, `F̃` in the locals `__jf{i}` nonzero where `rows`
@@ -267,7 +359,8 @@ fn column_solve(ctx: &Context, f: &Factored, gauss: &FactoredSolve, rows: &[bool
 
 /// The loop's columns grouped by the rows their solves read.
 struct Groups {
-    /// Each column's group; `rows.len()` for a structurally zero column.
+    /// Each column's group; `rows.len()` for a structurally zero column
+    /// or one [`unit_columns`] writes.
     of_column: Vec<u16>,
     /// Each group's rows: the blocks of `M` its columns' `F̃` touch.
     rows: Vec<Vec<bool>>,
@@ -277,17 +370,17 @@ struct Groups {
 /// `F̃` touches (`M⁻¹` keeps a block's right-hand side in the block); `None`
 /// where every column reads every row (one block, no zero column) or the
 /// form is directional (a column's rows unknown).
-fn groups(ctx: &Context, gauss: &FactoredSolve) -> Option<Groups> {
+fn groups(ctx: &Context, gauss: &FactoredSolve, skip: &[bool]) -> Option<Groups> {
     let columns = column_rows(ctx)?;
     let blocks = gauss.mass.blocks();
     let n = ctx.n;
     let mut rows: Vec<Vec<bool>> = Vec::new();
     let mut of_column: Vec<Option<usize>> = Vec::with_capacity(columns.len());
-    for (f, b) in &columns {
+    for (c, (f, b)) in columns.iter().enumerate() {
         let touched: Vec<bool> = (0..n)
             .map(|i| (0..n).any(|j| f[j] && blocks[j] == blocks[i]))
             .collect();
-        if !b && !touched.contains(&true) {
+        if skip.get(c).copied().unwrap_or(false) || (!b && !touched.contains(&true)) {
             of_column.push(None);
             continue;
         }
