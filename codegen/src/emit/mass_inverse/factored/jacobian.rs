@@ -166,8 +166,6 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
     let d_l = ctx.jacobians_zero().1;
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let (qdd_vector, lam) = (vector(ctx, "qdd", n), vector(ctx, "lam", k));
-    let rv: Vec<Ident> = (0..k).map(|j| Context::local("jb", j)).collect();
-    let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
     let (unit, inverse) = unit_columns(ctx, gauss);
     let groups = groups(ctx, gauss, &unit);
     // With `M⁻¹` formed, every column is a product with it: independent
@@ -176,24 +174,7 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
         Some(inverse) => column_product(&inverse.x, rows),
         None => column_solve(ctx, f, gauss, rows),
     };
-    let read: Vec<bool> = match &groups {
-        None => vec![true; n],
-        Some(groups) => (0..n)
-            .map(|i| groups.rows.iter().any(|rows| rows[i]))
-            .collect(),
-    };
-    let fv = read.iter().enumerate().map(|(i, &read)| {
-        let name = Context::local("jf", i);
-        if read {
-            quote!(#name)
-        } else {
-            quote!(_)
-        }
-    });
-    let unpack = quote! {
-        let [#(#fv),*] = *__f;
-        #unpack_b
-    };
+    let unpack = unpack(ctx, groups.as_ref());
     let pairs = quote!(__fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs));
     let (inverse_code, writes) = inverse
         .as_ref()
@@ -240,6 +221,27 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
             .chain(__jac.du.data.0.iter_mut());
         #each
         #writes
+    }
+}
+
+/// The loop body's first lines: a column's `F̃` into `__jf{i}` (`_` for a
+/// row no group reads) and its `b̃` into `__jb{r}`.
+fn unpack(ctx: &Context, groups: Option<&Groups>) -> TokenStream {
+    let (n, k) = (ctx.n, ctx.k);
+    let fv = (0..n).map(|i| {
+        let read = groups.is_none_or(|groups| groups.rows.iter().any(|rows| rows[i]));
+        let name = Context::local("jf", i);
+        if read {
+            quote!(#name)
+        } else {
+            quote!(_)
+        }
+    });
+    let rv: Vec<Ident> = (0..k).map(|j| Context::local("jb", j)).collect();
+    let unpack_b = (k > 0).then(|| quote!(let [#(#rv),*] = *__r;));
+    quote! {
+        let [#(#fv),*] = *__f;
+        #unpack_b
     }
 }
 
