@@ -299,68 +299,34 @@ macro_rules! agrees {
     }};
 }
 
+/// `$system::new(u[0], …, u[15])`: the sixteen inputs of a system of
+/// sixteen torques, on any scalar.
+macro_rules! sixteen {
+    ($system:ty, $u:expr) => {{
+        let u = $u;
+        <$system>::new(
+            u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
+            u[14], u[15],
+        )
+    }};
+}
+
 #[test]
 fn tree_jacobians_agree_with_dual_numbers_and_differences() {
     let d = Dual64::from;
     let u: [f64; 16] = std::array::from_fn(|k| 0.1 * (k as f64) - 0.7);
     agrees!(
         "twisted chain (products, directional)",
-        TwistedChain::<f64>::new(
-            u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
-            u[14], u[15]
-        ),
-        TwistedChain::<Dual64>::new(
-            d(u[0]),
-            d(u[1]),
-            d(u[2]),
-            d(u[3]),
-            d(u[4]),
-            d(u[5]),
-            d(u[6]),
-            d(u[7]),
-            d(u[8]),
-            d(u[9]),
-            d(u[10]),
-            d(u[11]),
-            d(u[12]),
-            d(u[13]),
-            d(u[14]),
-            d(u[15])
-        ),
+        sixteen!(TwistedChain<f64>, u),
+        sixteen!(TwistedChain<Dual64>, u.map(Dual64::from)),
         16,
         0,
         23
     );
-    let arms = |u: [f64; 16]| {
-        FourArms::<f64>::new(
-            u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
-            u[14], u[15],
-        )
-    };
-    let arms_on_duals = |u: [f64; 16]| {
-        FourArms::<Dual64>::new(
-            d(u[0]),
-            d(u[1]),
-            d(u[2]),
-            d(u[3]),
-            d(u[4]),
-            d(u[5]),
-            d(u[6]),
-            d(u[7]),
-            d(u[8]),
-            d(u[9]),
-            d(u[10]),
-            d(u[11]),
-            d(u[12]),
-            d(u[13]),
-            d(u[14]),
-            d(u[15]),
-        )
-    };
     agrees!(
         "four arms (products, per column)",
-        arms(u),
-        arms_on_duals(u),
+        sixteen!(FourArms<f64>, u),
+        sixteen!(FourArms<Dual64>, u.map(Dual64::from)),
         16,
         0,
         29
@@ -414,10 +380,7 @@ fn tree_jacobians_agree_with_dual_numbers_and_differences() {
 #[test]
 fn torque_columns_are_the_inverse_mass_matrix_scaled() {
     let u: [f64; 16] = std::array::from_fn(|k| 0.2 - 0.05 * (k as f64));
-    let arms = FourArms::<f64>::new(
-        u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
-        u[14], u[15],
-    );
+    let arms = sixteen!(FourArms<f64>, u);
     let mut factors = [1.0; 16];
     (factors[1], factors[2], factors[15]) = (-1.0, 2.5, -0.5);
     let b = SMatrix::<f64, 16, 16>::from_diagonal(&SVector::from(factors));
