@@ -258,14 +258,14 @@ def robot_targets(rows):
             wanted = speed.get(ours)
             r = robot_ratios(rows, system, ours, theirs) if wanted else None
             if r:
-                targets.append((f"Robots: {system} {label} ≥ {wanted} × faster than Pinocchio's `{theirs}` "
-                                f"(median of {len(r)} alternating rounds)",
-                                report_contacts._median(r), f"≥ {wanted}", lambda x, w=wanted: x >= w, "{:.2f}×"))
+                targets.append(report_contacts.at_least(
+                    f"Robots: {system} {label} ≥ {wanted} × faster than Pinocchio's `{theirs}` "
+                    f"(median of {len(r)} alternating rounds)", r, wanted))
         worst = robot_difference(rows, system) if agreement else None
         if worst is not None:
-            targets.append((f"Robots: {system} from URDF as written agrees with Pinocchio (worst relative "
-                            "difference of q̈, M, τ)", worst, f"≤ {AGREEMENT:.0e}",
-                            lambda x: x <= AGREEMENT, "{:.1e}"))
+            targets.append(report_contacts.agrees(
+                f"Robots: {system} from URDF as written agrees with Pinocchio (worst relative "
+                "difference of q̈, M, τ)", worst, AGREEMENT))
     return targets
 
 

@@ -46,14 +46,14 @@ def targets(rows):
         for ours, theirs, label in PAIRS:
             r = ratios(rows, system, ours, theirs)
             if r:
-                out.append((f"{TARGET_PREFIX}{system} {label} ≥ {WANTED} × faster than Pinocchio's `{theirs}` "
-                            f"generated through CasADi (median of {len(r)} alternating rounds)",
-                            report_contacts._median(r), f"≥ {WANTED}", lambda x: x >= WANTED, "{:.2f}×"))
+                out.append(report_contacts.at_least(
+                    f"{TARGET_PREFIX}{system} {label} ≥ {WANTED} × faster than Pinocchio's `{theirs}` generated "
+                    f"through CasADi (median of {len(r)} alternating rounds)", r, WANTED))
     peer = [x for (who, _, _), xs in rows.items() if who == "casadi" for x in xs]
     if peer:
-        out.append((f"{TARGET_PREFIX}Pinocchio generated through CasADi agrees with ours on every robot at 20 "
-                    "states (worst relative difference of q̈, M, τ)", max(x["difference"] for x in peer),
-                    f"≤ {AGREEMENT:.0e}", lambda x: x <= AGREEMENT, "{:.1e}"))
+        out.append(report_contacts.agrees(
+            f"{TARGET_PREFIX}Pinocchio generated through CasADi agrees with ours on every robot at 20 states "
+            "(worst relative difference of q̈, M, τ)", max(x["difference"] for x in peer), AGREEMENT))
     return out
 
 

@@ -46,6 +46,16 @@ def _median(values):
     return ordered[middle] if len(ordered) % 2 else (ordered[middle - 1] + ordered[middle]) / 2
 
 
+def at_least(text, r, wanted):
+    """A target row: the median of the rounds' ratios `r` at least `wanted`."""
+    return (text, _median(r), f"≥ {wanted}", lambda x, w=wanted: x >= w, "{:.2f}×")
+
+
+def agrees(text, worst, tolerance=1e-12):
+    """A target row: the worst relative difference at most `tolerance`."""
+    return (text, worst, f"≤ {tolerance:.0e}", lambda x, t=tolerance: x <= t, "{:.1e}")
+
+
 def load(target, name="contacts.json"):
     """(peer, what, system) → the list of its rounds' JSON lines, from
     `benchmarks/<name>` (the contacts', or the robots' `robots.json`)."""
@@ -96,20 +106,18 @@ def targets(rows):
         r = ratios(rows, system, ours, "constraintDynamics")
         if r:
             what = "q̈" if ours == "acceleration" else "q̈ and λ"
-            out.append((f"Contacts: {system.replace('_', '-')} {what} ≥ {wanted} × faster than Pinocchio's "
-                        f"`constraintDynamics` (median of {len(r)} alternating rounds)", _median(r), f"≥ {wanted}",
-                        lambda x, w=wanted: x >= w, "{:.2f}×"))
+            out.append(at_least(f"Contacts: {system.replace('_', '-')} {what} ≥ {wanted} × faster than Pinocchio's "
+                                f"`constraintDynamics` (median of {len(r)} alternating rounds)", r, wanted))
     system, ours, theirs, wanted = DERIVATIVES
     r = ratios(rows, system, ours, theirs)
     if r:
-        out.append((f"Contacts: {system} ∂q̈ and ∂λ ≥ {wanted} × faster than Pinocchio's "
-                    f"`computeConstraintDynamicsDerivatives` (median of {len(r)} alternating rounds)", _median(r),
-                    f"≥ {wanted}", lambda x, w=wanted: x >= w, "{:.2f}×"))
+        out.append(at_least(f"Contacts: {system} ∂q̈ and ∂λ ≥ {wanted} × faster than Pinocchio's "
+                            f"`computeConstraintDynamicsDerivatives` (median of {len(r)} alternating rounds)", r,
+                            wanted))
     peer = rows.get(("pinocchio", theirs, system), [])
     if peer:
-        out.append((f"Contacts: {system} ∂q̈ and ∂λ agree with `computeConstraintDynamicsDerivatives` at 20 states "
-                    "(worst relative difference)", max(p["difference"] for p in peer), "≤ 1e-12",
-                    lambda x: x <= 1e-12, "{:.1e}"))
+        out.append(agrees(f"Contacts: {system} ∂q̈ and ∂λ agree with `computeConstraintDynamicsDerivatives` at 20 "
+                          "states (worst relative difference)", max(p["difference"] for p in peer)))
     return out
 
 

@@ -58,20 +58,19 @@ def _theirs(rows, system, what):
 def targets(rows):
     """Issue 49's speed targets, and its agreement to 1e-12 per robot."""
     out = []
-    median = report_contacts._median
     for system, _, speed in SYSTEMS:
         for what, wanted in speed.items():
             r = report_contacts.ratios(rows, system, what, what)
             peer = _theirs(rows, system, what)
             if r and peer:
-                out.append((f"{TARGET_PREFIX}{system} {what} ≥ {wanted} × faster than Pinocchio's "
-                            f"`{peer[0]['pinocchio']}` (median of {len(r)} alternating rounds)",
-                            median(r), f"≥ {wanted}", lambda x, w=wanted: x >= w, "{:.2f}×"))
+                out.append(report_contacts.at_least(
+                    f"{TARGET_PREFIX}{system} {what} ≥ {wanted} × faster than Pinocchio's "
+                    f"`{peer[0]['pinocchio']}` (median of {len(r)} alternating rounds)", r, wanted))
         peer = [x for (who, _, s), xs in rows.items() if who == "pinocchio" and s == system for x in xs]
         if peer:
-            out.append((f"{TARGET_PREFIX}{system}: every quantity agrees with Pinocchio's at 20 states "
-                        "(worst relative difference)", max(x["difference"] for x in peer),
-                        f"≤ {AGREEMENT:.0e}", lambda x: x <= AGREEMENT, "{:.1e}"))
+            out.append(report_contacts.agrees(
+                f"{TARGET_PREFIX}{system}: every quantity agrees with Pinocchio's at 20 states "
+                "(worst relative difference)", max(x["difference"] for x in peer), AGREEMENT))
     return out
 
 

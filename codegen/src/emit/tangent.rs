@@ -225,7 +225,9 @@ pub(super) fn constant_columns(ctx: &Context) -> Option<Vec<Option<(usize, Num)>
             || d.b.iter().any(|&e| !g.is_zero(e));
         let mut rows = d.forces.iter().enumerate().filter(|(_, &e)| !g.is_zero(e));
         let (row, &e) = rows.next()?;
-        (!coupled && rows.next().is_none()).then_some(())?;
+        if coupled || rows.next().is_some() {
+            return None;
+        }
         Some((row, g.as_num(e)?))
     };
     Some(sets.iter().map(|d| column(d)).collect())
