@@ -13,6 +13,7 @@ from pathlib import Path
 
 import report_casadi
 import report_contacts
+import report_growth
 import report_kinematics
 import report_urdf_sweep
 
@@ -570,6 +571,8 @@ def main():
     targets += report_kinematics.targets(kinematics)
     contacts = report_contacts.load(TARGET)
     targets += report_contacts.targets(contacts)
+    # Present where scripts/urdf_sweep.sh has been run.
+    targets += report_growth.targets(report_growth.load(TARGET))
     jac = {(model, way): get(f"jacobian/{model}/{way}") for model in ("cart_pole", "chain_8", "chain_32")
            for way in ("acceleration", "generated", "central_differences", "dual_numbers")}
     if jac[("cart_pole", "generated")]:
@@ -775,6 +778,7 @@ def main():
     # Present where scripts/urdf_sweep.sh has been run.
     lines += report_urdf_sweep.section(report_urdf_sweep.load(TARGET / "benchmarks" / "urdf_sweep.json"))
     lines += report_kinematics.section(kinematics, ns)
+    lines += report_growth.section(report_growth.load(TARGET))
     lines += report_contacts.section(contacts, ns)
     lines.append("")
     (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))

@@ -5,7 +5,9 @@
 # name (benches/urdf_sweep.py says how). Not part of the test command: it
 # uses the peers' virtual environment (benches/peers/.venv, set up here as
 # benches/peers/run.sh does) and builds a crate per robot. Writes
-# <target>/benchmarks/urdf_sweep.json and prints the table for BENCHMARKS.md.
+# <target>/benchmarks/urdf_sweep.json and prints the table for BENCHMARKS.md;
+# then benches/growth.py counts the G1's truncations (growth.json) and
+# rewrites BENCHMARKS.md's Growth section.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
@@ -22,3 +24,5 @@ robots="$site/cmeel.prefix/share/example-robot-data/robots"
 CARGO_TARGET_DIR="$target/urdf-sweep/tool" cargo build --quiet --release \
     --manifest-path benches/urdf_sweep/Cargo.toml
 "$here/.venv/bin/python" benches/urdf_sweep.py "$robots" "$target" "$repo"
+# The G1's truncations: operations per q̈ against the joints' count.
+"$here/.venv/bin/python" benches/growth.py "$robots" "$target" "$repo"

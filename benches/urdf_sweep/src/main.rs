@@ -7,6 +7,9 @@
 //! names the file and line of the element refused. With
 //! `RIGHT_ANGLES_WITHIN=<radians>` set, each file is expanded with
 //! `right_angles_within: <radians>` (what snapping near-right angles saves).
+//! With `LOCKED=<joint>,<joint>,..` set, each file is expanded with those
+//! joints `locked:` (the truncations `benches/growth.py` counts), and the
+//! line also gives the operations of `mass_matrix` and `inverse_dynamics`.
 
 use std::time::Instant;
 
@@ -21,7 +24,12 @@ fn expand(path: &str) -> String {
     let snap = std::env::var("RIGHT_ANGLES_WITHIN")
         .map(|t| format!("right_angles_within: {t},"))
         .unwrap_or_default();
-    let source = format!("struct Robot {{ urdf: {path:?}, {snap} }}");
+    let locked = std::env::var("LOCKED")
+        .ok()
+        .filter(|names| !names.is_empty())
+        .map(|names| format!("locked: [{names}],"))
+        .unwrap_or_default();
+    let source = format!("struct Robot {{ urdf: {path:?}, {snap} {locked} }}");
     let tokens: proc_macro2::TokenStream = match source.parse() {
         Ok(tokens) => tokens,
         Err(e) => return line(path, &format!("\"error\": {:?}", e.to_string())),
@@ -41,9 +49,15 @@ fn expand(path: &str) -> String {
             let ops = constrained_codegen::tools::op_count::acceleration(&file)
                 .map_or(0, |ops| ops.total());
             let n = count_coordinates(&text);
+            let method = |name| {
+                constrained_codegen::tools::op_count::method(&file, name).map_or(0, |ops| ops.total())
+            };
             format!(
                 "{{\"file\": {path:?}, \"ok\": true, \"seconds\": {seconds:.3}, \"n\": {n}, \
-                 \"ops\": {ops}, \"constant_trig\": {}}}",
+                 \"ops\": {ops}, \"mass_matrix_ops\": {}, \"inverse_dynamics_ops\": {}, \
+                 \"constant_trig\": {}}}",
+                method("mass_matrix"),
+                method("inverse_dynamics"),
                 constant_trig(&text)
             )
         }
