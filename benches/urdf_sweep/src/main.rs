@@ -50,7 +50,8 @@ fn expand(path: &str) -> String {
                 .map_or(0, |ops| ops.total());
             let n = count_coordinates(&text);
             let method = |name| {
-                constrained_codegen::tools::op_count::method(&file, name).map_or(0, |ops| ops.total())
+                constrained_codegen::tools::op_count::method(&file, name)
+                    .map_or(0, |ops| ops.total())
             };
             format!(
                 "{{\"file\": {path:?}, \"ok\": true, \"seconds\": {seconds:.3}, \"n\": {n}, \
