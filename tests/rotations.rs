@@ -183,3 +183,91 @@ fn a_disc_written_with_bodies_rolls_as_the_disk_written_with_coordinates() {
     println!("rolling disc, bodies vs coordinates: q̈ {worst:.1e}, ω {omega:.1e}");
     assert!(worst < 1e-12 && omega < 1e-14, "{worst:e} {omega:e}");
 }
+
+constrained_system! {
+    /// A free base with a two-link arm and a third link, the arm's last
+    /// link held at an attitude of the world and the third link at the
+    /// attitude of the arm's first: orientation locks of both kinds, over
+    /// a quaternion and revolute joints with turned frames.
+    pub struct LockedChain {
+        parameters: [roll, pitch, yaw],
+        bodies: [
+            base {
+                joint: free(x, y, z, qw, qx, qy, qz),
+                mass: 3.0,
+                com: [0.02, -0.01, 0.05],
+                inertia: diag[0.05, 0.07, 0.09],
+            },
+            upper {
+                parent: base,
+                joint: revolute(a1, [0.0, 1.0, 0.0]),
+                xyz: [0.1, 0.0, -0.2],
+                rpy: [0.2, 0.0, 0.1],
+                mass: 1.0,
+                com: [0.0, 0.0, -0.15],
+                inertia: diag[0.01, 0.01, 0.002],
+            },
+            lower {
+                parent: upper,
+                joint: revolute(a2, [1.0, 0.0, 0.0]),
+                xyz: [0.0, 0.05, -0.3],
+                mass: 0.5,
+                com: [0.0, 0.0, -0.1],
+                inertia: diag[0.004, 0.004, 0.001],
+            },
+            other {
+                parent: base,
+                joint: revolute(a3, [0.0, 0.0, 1.0]),
+                xyz: [0.2, 0.1, 0.0],
+                rpy: [0.0, -0.4, 0.0],
+                mass: 0.4,
+                com: [0.05, 0.0, 0.0],
+                inertia: diag[0.001, 0.002, 0.002],
+            },
+        ],
+        constraints: [
+            orientation(lower) == [roll, pitch, yaw],
+            orientation(other) == orientation(upper),
+        ],
+    }
+}
+
+/// The locks' rows of `A` and `b`, which the macro builds in closed form
+/// from the bodies' angular velocities (`φ̇ = B(E) ωₐ − B(Eᵀ) ω_b`), are
+/// the derivatives of the rows `φ` themselves: `A = ∂φ/∂q` against central
+/// differences of `constraint_residual`, `A q̇ = φ̇` (the velocity
+/// residual) to rounding, and `b = −(∂φ̇/∂q) q̇` against central
+/// differences of `constraint_velocity_residual` along `q̇`, at states off
+/// the constraint and with the quaternion off the unit sphere (where
+/// `R(q/|q|)` still turns the base); 1e-7 of each quantity's largest entry.
+#[test]
+fn the_locks_rows_are_the_derivatives_of_the_locks() {
+    const N: usize = 10;
+    let lock = LockedChain::new(0.3, -0.2, 0.5);
+    let mut worst: [f64; 3] = [0.0; 3];
+    for k in 0..8 {
+        let x = f64::from(k);
+        let q = SVector::<f64, N>::from_fn(|i, _| {
+            let i = i as f64;
+            0.7 * (1.3 * i + 0.9 * x).sin() + if i == 3.0 { 1.1 } else { 0.0 }
+        });
+        let qd = SVector::<f64, N>::from_fn(|i, _| 1.5 * (0.8 * i as f64 - 0.6 * x).cos());
+        let (a, b) = lock.constraint_matrices(&q, &qd, 0.0);
+        let phi = |q: &SVector<f64, N>| lock.constraint_residual(q, &qd, 0.0);
+        let rate = |q: &SVector<f64, N>| lock.constraint_velocity_residual(q, &qd, 0.0);
+        let h = 1e-6;
+        let mut by_differences = a * 0.0;
+        for j in 0..N {
+            let mut step = SVector::<f64, N>::zeros();
+            step[j] = h;
+            by_differences.set_column(j, &((phi(&(q + step)) - phi(&(q - step))) / (2.0 * h)));
+        }
+        let along = (rate(&(q + qd * h)) - rate(&(q - qd * h))) / (2.0 * h);
+        worst[0] = worst[0].max((a - by_differences).amax() / a.amax());
+        worst[1] = worst[1].max((a * qd - rate(&q)).amax() / rate(&q).amax());
+        worst[2] = worst[2].max((b + along).amax() / b.amax());
+    }
+    println!("A {:e}, A q̇ {:e}, b {:e}", worst[0], worst[1], worst[2]);
+    assert!(worst[0] < 1e-7 && worst[2] < 1e-7, "{worst:?}");
+    assert!(worst[1] < 1e-13, "{worst:?}");
+}

@@ -228,6 +228,22 @@ pub fn subspace_rate(g: &mut Graph, q: [Id; 4], rates: [Id; 4], omega: V3) -> V3
     super::spatial::scale(g, factor, omega)
 }
 
+/// The joint's angular columns in the joint frame's axes, `R(q/|q|) k Gₘ =
+/// k Eₘ` with `E(q)` the left quaternion matrix (`ω_parent = 2 E q̇ / |q|²`,
+/// `q = (w, x, y, z)`): the columns of [`subspace`] carried out of the body
+/// without the rotation's products.
+pub fn parent_columns(g: &mut Graph, q: [Id; 4]) -> [V3; 4] {
+    let [w, x, y, z] = q;
+    let columns: [V3; 4] = [
+        [g.neg(x), g.neg(y), g.neg(z)],
+        [w, z, g.neg(y)],
+        [g.neg(z), w, x],
+        [y, g.neg(x), w],
+    ];
+    let k = twice_inverse_norm(g, q);
+    columns.map(|c| super::spatial::scale(g, k, c))
+}
+
 /// The joint's columns for `β` in the velocity coordinates (the module's
 /// `½ S Gᵀ`): `eⱼ` in the body's axes, `j = 0, 1, 2`. (`α`'s, `S q`, is
 /// zero.)

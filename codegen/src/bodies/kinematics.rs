@@ -93,6 +93,97 @@ pub fn frame(
     }
 }
 
+/// A body's angular velocity in world axes, `ω = J_ω q̇`, with its
+/// Jacobian and its rate at `q̈ = 0`, `J̇_ω q̇`: what an orientation lock's
+/// rows are made of (`crate::model::rotation`).
+#[derive(Clone, Debug)]
+pub struct AngularMotion {
+    /// `J_ω`, 3 × n: each joint's angular column `R s_ω` on the body's path.
+    pub jacobian: [Vec<Id>; 3],
+    /// `ω = J_ω q̇`, held.
+    pub velocity: V3,
+    /// `J̇_ω q̇`, held.
+    pub bias: V3,
+}
+
+/// [`AngularMotion`] of the described body `body`, whose world frames are
+/// `world`, from the root out: `ω` sums each joint's `R s_ω q̇`; a column
+/// constant in its body (revolute, prismatic, helical, a mimic of one)
+/// turns with the body but not about itself, so its rate is `ω_λ × R s_ω
+/// q̇`, the parent's `ω_λ`; a quaternion's, whose columns vary with its own
+/// coordinates, is its derivative along the motion.
+pub fn angular_motion(
+    g: &mut Graph,
+    (described, world): (&[Described], &[Placement]),
+    body: usize,
+    n: usize,
+) -> AngularMotion {
+    let zero = g.int(0);
+    let mut jacobian = [0, 1, 2].map(|_| vec![zero; n]);
+    let mut velocity = spatial::zero(g);
+    let mut bias = spatial::zero(g);
+    let mut at_rest = AtRest::default();
+    let mut from_root: Vec<usize> = path(described, body).collect();
+    from_root.reverse();
+    for i in from_root {
+        let Some(joint) = described[i].joint else {
+            continue;
+        };
+        let js = JointState::new(g, joint);
+        let columns: Vec<(usize, V3)> = match js.quaternion {
+            Some((q, _)) if joint.mimic.is_none() => {
+                // In the joint frame's axes, without `R(q/|q|)`.
+                let placement = &described[i].placement;
+                let frame = match described[i].parent {
+                    Some(p) => spatial::mat_mul(g, &world[p].rotation, &placement.rotation),
+                    None => placement.rotation,
+                };
+                let own = super::free::parent_columns(g, q);
+                (0..4)
+                    .map(|m| (joint.coordinate + m, spatial::mat_vec(g, &frame, own[m])))
+                    .collect()
+            }
+            _ => js
+                .columns(g)
+                .into_iter()
+                .map(|(k, s)| (k, world_column(g, &world[i], s).1))
+                .collect(),
+        };
+        let mut own = spatial::zero(g);
+        for (k, angular) in columns {
+            accumulate(g, &mut jacobian, k, angular.iter());
+            let rate = g.sym(Sym::Vel(k));
+            let part = spatial::scale(g, rate, angular);
+            own = spatial::add(g, own, part);
+        }
+        let own = spatial::hold3(g, own);
+        let turn = match js.quaternion {
+            None => spatial::cross(g, velocity, own),
+            // `d/dt (k E q̇) = k̇ E q̇` (`E(q̇) q̇ = 0`), `k̇ = −k (qᵀq̇) k`.
+            Some((q, _)) if joint.mimic.is_none() => {
+                let carried = spatial::cross(g, velocity, own);
+                let rates = js_rates(g, joint.coordinate);
+                let scaled = super::free::subspace_rate(g, q, rates, own);
+                spatial::add(g, carried, scaled)
+            }
+            Some(_) => own.map(|e| at_rest.derivative(g, e)),
+        };
+        bias = spatial::add(g, bias, turn);
+        let sum = spatial::add(g, velocity, own);
+        velocity = spatial::hold3(g, sum);
+    }
+    AngularMotion {
+        jacobian,
+        velocity,
+        bias: spatial::hold3(g, bias),
+    }
+}
+
+/// A quaternion's four rates from its first coordinate `c`.
+fn js_rates(g: &mut Graph, c: usize) -> [Id; 4] {
+    [0, 1, 2, 3].map(|m| g.sym(Sym::Vel(c + m)))
+}
+
 /// `J q̇` over `J`'s structural nonzeros, each entry held.
 fn times_rates(g: &mut Graph, jacobian: &[Vec<Id>]) -> Vec<Id> {
     jacobian

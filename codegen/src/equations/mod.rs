@@ -232,6 +232,15 @@ fn constraint_rows(
     let (mut a, mut b, mut velocity_constraints) = (Vec::new(), Vec::new(), Vec::new());
     let mut structured = Vec::new();
     for c in constraints {
+        if let Some(rates) = &c.rates {
+            // An orientation lock's row: its derivatives in closed form.
+            a.push(factorer.factor_all(g, &rates.row));
+            let rhs = g.neg(rates.bias);
+            b.push(rhs);
+            structured.push(rhs);
+            velocity_constraints.push(rates.velocity);
+            continue;
+        }
         let velocity_level = match c.level {
             Level::Velocity => c.phi,
             // φ has no q̇, so D φ = Σ ∂φ/∂qⱼ q̇ⱼ + ∂φ/∂t has no q̈ term.

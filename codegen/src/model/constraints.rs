@@ -46,8 +46,9 @@ impl Lowerer<'_> {
         if let Some(rows) = self.orientation_rows(c) {
             return rows
                 .into_iter()
-                .map(|(phi, branch)| Constraint {
+                .map(|(phi, branch, rates)| Constraint {
                     branch: Some(branch),
+                    rates,
                     ..self.constraint_of(phi, &c.tokens)
                 })
                 .collect();
@@ -86,6 +87,7 @@ impl Lowerer<'_> {
                 tokens: c.tokens.clone(),
                 in_base: None,
                 branch: None,
+                rates: None,
             };
         }
         self.constraint_of(phi, &c.tokens)
@@ -111,6 +113,7 @@ impl Lowerer<'_> {
             tokens: tokens.clone(),
             in_base: None,
             branch: None,
+            rates: None,
         }
     }
 

@@ -160,6 +160,7 @@ impl Lowerer<'_> {
             tokens,
             in_base: None,
             branch: None,
+            rates: None,
         }
     }
 }

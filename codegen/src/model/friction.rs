@@ -202,6 +202,7 @@ pub fn apply(
             tokens: entry.tokens.clone(),
             in_base: None,
             branch: None,
+            rates: None,
         });
     }
 }

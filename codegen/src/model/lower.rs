@@ -114,6 +114,9 @@ pub struct Lowerer<'a> {
     /// The kinematics of a `frames` section, until the bodies' terms take
     /// them (`crate::bodies::kinematics`).
     pub kinematics: Option<crate::bodies::kinematics::Kinematics>,
+    /// The described bodies, by the index of `frames`, for the angular
+    /// velocities of orientation locks (`super::rotation`).
+    pub described: Vec<crate::bodies::Described>,
 }
 
 impl<'a> Lowerer<'a> {
@@ -130,6 +133,7 @@ impl<'a> Lowerer<'a> {
             bases: Vec::new(),
             written: check::Written::default(),
             kinematics: None,
+            described: Vec::new(),
         }
     }
 

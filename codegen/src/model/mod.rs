@@ -62,6 +62,23 @@ pub struct Constraint {
     /// the rows vanish at half turns too, where their rank drops, and the
     /// rank of `A` is measured on the branch.
     pub branch: Option<Id>,
+    /// For a row of an orientation lock, its derivatives in closed form
+    /// (`model::rotation`), which stage 3 takes instead of differentiating
+    /// φ twice.
+    pub rates: Option<Rates>,
+}
+
+/// A row's derivatives in closed form: the same values as `D φ` and its
+/// parts, from the bodies' angular velocities instead of the partials of
+/// their rotation matrices.
+#[derive(Clone, Debug)]
+pub struct Rates {
+    /// `φ̇`.
+    pub velocity: Id,
+    /// `∂φ̇/∂q̇`, n entries: the row of `A`.
+    pub row: Vec<Id>,
+    /// `φ̈` at `q̈ = 0`: `−b`.
+    pub bias: Id,
 }
 
 /// A row `φᵢ = (p + R̂ r)ᵢ − cᵢ` of a point of a body under a free base

@@ -168,6 +168,7 @@ impl Lowerer<'_> {
             .zip(world)
             .collect();
         self.kinematics = frames.map(|l| self.frames_section(l, &described));
+        self.described.clone_from(&described);
         described
     }
 
