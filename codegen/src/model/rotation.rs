@@ -28,8 +28,7 @@
 //! `φ̇ = B(E) ωₐ − B(Eᵀ) ω_b` with `B(X) = ½ ((tr X) 1 − X)`, exactly, by
 //! `vee(Mᵀ ũ + ũ M) = ((tr M) 1 − M) u`. Differentiating φ twice instead
 //! goes through the second partials of every entry of both rotation
-//! matrices: the G1 on two flat feet spent 8,800 operations on its
-//! thirteen rows that way, 4,300 in closed form.
+//! matrices, about twice the operations on a humanoid's flat feet.
 
 use super::lower::Lowerer;
 use super::Rates;
