@@ -130,27 +130,8 @@ pub fn angular_motion(
             continue;
         };
         let js = JointState::new(g, joint);
-        let columns: Vec<(usize, V3)> = match js.quaternion {
-            Some((q, _)) if joint.mimic.is_none() => {
-                // In the joint frame's axes, without `R(q/|q|)`.
-                let placement = &described[i].placement;
-                let frame = match described[i].parent {
-                    Some(p) => spatial::mat_mul(g, &world[p].rotation, &placement.rotation),
-                    None => placement.rotation,
-                };
-                let own = super::free::parent_columns(g, q);
-                (0..4)
-                    .map(|m| (joint.coordinate + m, spatial::mat_vec(g, &frame, own[m])))
-                    .collect()
-            }
-            _ => js
-                .columns(g)
-                .into_iter()
-                .map(|(k, s)| (k, world_column(g, &world[i], s).1))
-                .collect(),
-        };
         let mut own = spatial::zero(g);
-        for (k, angular) in columns {
+        for (k, (_, angular)) in world_columns(g, (described, world), i, joint) {
             accumulate(g, &mut jacobian, k, angular.iter());
             let rate = g.sym(Sym::Vel(k));
             let part = spatial::scale(g, rate, angular);
@@ -217,17 +198,54 @@ fn point_jacobian(
 ) -> Vec<Vec<Id>> {
     let zero = g.int(0);
     let mut jacobian = vec![vec![zero; n]; 6];
-    for (joint, frame) in path(described, body).map(|i| (described[i].joint, &world[i])) {
-        let Some(joint) = joint else { continue };
+    for i in path(described, body) {
+        let (Some(joint), frame) = (described[i].joint, &world[i]) else {
+            continue;
+        };
         let arm = spatial::sub(g, p, frame.translation);
-        for (k, s) in JointState::new(g, joint).columns(g) {
-            let (linear, angular) = world_column(g, frame, s);
+        for (k, (linear, angular)) in world_columns(g, (described, world), i, joint) {
             let turn = spatial::cross(g, angular, arm);
             let linear = spatial::add(g, linear, turn);
             accumulate(g, &mut jacobian, k, linear.iter().chain(&angular));
         }
     }
     jacobian
+}
+
+/// The columns of body `i`'s joint `joint` in world axes at the body's
+/// origin, `(R s_v, R s_ω)` by coordinate ([`world_column`]); a
+/// quaternion's (no mimic) as `R_F k Eₘ` with `R_F` its joint frame's
+/// axes ([`super::free::parent_columns`]), without the products of
+/// `R(q/|q|)`.
+fn world_columns(
+    g: &mut Graph,
+    (described, world): (&[Described], &[Placement]),
+    i: usize,
+    joint: super::Joint,
+) -> Vec<(usize, (V3, V3))> {
+    let js = JointState::new(g, joint);
+    match js.quaternion {
+        Some((q, _)) if joint.mimic.is_none() => {
+            let placement = &described[i].placement;
+            let frame = match described[i].parent {
+                Some(p) => spatial::mat_mul(g, &world[p].rotation, &placement.rotation),
+                None => placement.rotation,
+            };
+            let zero = spatial::zero(g);
+            let own = super::free::parent_columns(g, q);
+            (0..4)
+                .map(|m| {
+                    let angular = spatial::mat_vec(g, &frame, own[m]);
+                    (joint.coordinate + m, (zero, angular))
+                })
+                .collect()
+        }
+        _ => js
+            .columns(g)
+            .into_iter()
+            .map(|(k, s)| (k, world_column(g, &world[i], s)))
+            .collect(),
+    }
 }
 
 /// The described bodies from `body` to the root, `body` first (a tree: at
