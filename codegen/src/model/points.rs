@@ -91,9 +91,9 @@ impl Lowerer<'_> {
                 "expected `velocity(body, [x, y, z])` or `velocity(body, position(other, [x, y, z]))`",
             ));
         };
-        let (_, frame) = self.body_frame(body)?;
+        let (index, frame) = self.body_frame(body)?;
         if matches!(at, Expr::Call(_)) {
-            return self.velocity_at(&frame, at);
+            return self.velocity_at(index, &frame, at);
         }
         let local = self.local_point(at)?;
         let turned = spatial::mat_vec(self.graph, &frame.rotation, local);

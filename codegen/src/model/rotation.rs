@@ -9,9 +9,10 @@
 //! orientation(a) == [roll, pitch, yaw]          // a's axes held at Rz(yaw) Ry(pitch) Rx(roll)
 //! ```
 //!
-//! `ω` is `vee(Ṙ Rᵀ)`, `R` the body's attitude (body axes → world). The
-//! velocity of the material point at `p` is `ȯ + Ṙ Rᵀ (p − o)`, `o` the
-//! body's origin: unlike `velocity(body, [x, y, z])` the point need not be
+//! `ω` is `vee(Ṙ Rᵀ)`, `R` the body's attitude (body axes → world), built
+//! as `J_ω q̇` from the joints' axes in the world
+//! ([`crate::bodies::kinematics::angular_motion`]). The velocity of the
+//! material point at `p` is `ȯ + ω × (p − o)`, `o` the body's origin: unlike `velocity(body, [x, y, z])` the point need not be
 //! fixed in the body (a wheel's contact point). An orientation lock's rows
 //! are `½ vee(E − Eᵀ)` with `E = R_a R_bᵀ` (world axes): zero where the
 //! attitudes agree, and their time derivative there is `ω_a − ω_b`, so the
@@ -116,13 +117,8 @@ impl Lowerer<'_> {
         motion
     }
 
-    /// The time derivative of each entry of `m`.
-    fn rate(&mut self, m: &M3) -> M3 {
-        let mut d = crate::expr::diff::Differentiator::new();
-        m.map(|row| row.map(|x| d.time_derivative(self.graph, x, self.n).1))
-    }
-
-    /// `angular_velocity(body)`: `vee(Ṙ Rᵀ)`, world axes.
+    /// `angular_velocity(body)`: `ω = J_ω q̇` in world axes, `vee(Ṙ Rᵀ)`
+    /// ([`angular_motion`]).
     pub fn angular_velocity(&mut self, e: &Expr, args: &[&Expr]) -> syn::Result<V3> {
         let [body] = args else {
             return Err(syn::Error::new_spanned(
@@ -130,10 +126,8 @@ impl Lowerer<'_> {
                 "expected `angular_velocity(body)`",
             ));
         };
-        let frame = self.frame_of(body)?;
-        let rate = self.rate(&frame.rotation);
-        let spin = spatial::mat_mul(self.graph, &rate, &spatial::transpose(&frame.rotation));
-        Ok(self.vee(&spin))
+        let (i, _) = self.body_of(body)?;
+        Ok(self.angular_motion(i).velocity)
     }
 
     /// `vee` of a skew-symmetric matrix, as `½ (M − Mᵀ)`'s axial vector.
@@ -146,9 +140,10 @@ impl Lowerer<'_> {
         [axial(2, 1), axial(0, 2), axial(1, 0)]
     }
 
-    /// `velocity(body, position(other, [..]))`: the velocity of `body`'s
-    /// material point at the other point's place, `ȯ + Ṙ Rᵀ (p − o)`.
-    pub fn velocity_at(&mut self, frame: &Placement, place: &Expr) -> syn::Result<V3> {
+    /// `velocity(body, position(other, [..]))`: the velocity of the
+    /// material point of the described body `i` (world frame `frame`) at
+    /// the other point's place, `ȯ + ω × (p − o)`.
+    pub fn velocity_at(&mut self, i: usize, frame: &Placement, place: &Expr) -> syn::Result<V3> {
         if call_named(place, "position").is_none() {
             return Err(syn::Error::new_spanned(
                 place,
@@ -157,13 +152,12 @@ impl Lowerer<'_> {
         }
         let p = self.point(place)?;
         let offset = spatial::sub(self.graph, p, frame.translation);
-        let local = spatial::mat_t_vec(self.graph, &frame.rotation, offset);
-        let rate = self.rate(&frame.rotation);
+        let omega = self.angular_motion(i).velocity;
         let mut d = crate::expr::diff::Differentiator::new();
         let origin = frame
             .translation
             .map(|x| d.time_derivative(self.graph, x, self.n).1);
-        let turned = spatial::mat_vec(self.graph, &rate, local);
+        let turned = spatial::cross(self.graph, omega, offset);
         Ok(spatial::add(self.graph, origin, turned))
     }
 
