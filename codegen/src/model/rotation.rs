@@ -118,7 +118,7 @@ impl Lowerer<'_> {
     }
 
     /// `angular_velocity(body)`: `ω = J_ω q̇` in world axes, `vee(Ṙ Rᵀ)`
-    /// ([`angular_motion`]).
+    /// (`crate::bodies::kinematics::angular_motion`).
     pub fn angular_velocity(&mut self, e: &Expr, args: &[&Expr]) -> syn::Result<V3> {
         let [body] = args else {
             return Err(syn::Error::new_spanned(
@@ -163,7 +163,7 @@ impl Lowerer<'_> {
 
     /// The three rows of `orientation(a) == orientation(b)` or
     /// `orientation(a) == [roll, pitch, yaw]`, each with its branch residual
-    /// `Eᵢᵢ − 1` and its derivatives in closed form ([`Lowerer::lock_rates`];
+    /// `Eᵢᵢ − 1` and its derivatives in closed form (`lock_rates`;
     /// module docs); `None` when `c` is not an orientation lock.
     pub fn orientation_rows(
         &mut self,
