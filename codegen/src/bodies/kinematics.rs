@@ -110,8 +110,10 @@ pub struct AngularMotion {
 /// `world`, from the root out: `ω` sums each joint's `R s_ω q̇`; a column
 /// constant in its body (revolute, prismatic, helical, a mimic of one)
 /// turns with the body but not about itself, so its rate is `ω_λ × R s_ω
-/// q̇`, the parent's `ω_λ`; a quaternion's, whose columns vary with its own
-/// coordinates, is its derivative along the motion.
+/// q̇`, the parent's `ω_λ`; a quaternion's, `R_F k E q̇` ([`world_columns`]),
+/// turns with its joint frame and scales with `k = 2/|q|²`:
+/// `ω_λ × ω_J − k (qᵀq̇) ω_J` (`E(q̇) q̇ = 0`). Any other column's rate is
+/// its derivative along the motion.
 pub fn angular_motion(
     g: &mut Graph,
     (described, world): (&[Described], &[Placement]),
@@ -140,7 +142,7 @@ pub fn angular_motion(
         let own = spatial::hold3(g, own);
         let turn = match js.quaternion {
             None => spatial::cross(g, velocity, own),
-            // `d/dt (k E q̇) = k̇ E q̇` (`E(q̇) q̇ = 0`), `k̇ = −k (qᵀq̇) k`.
+            // `d/dt (k E q̇) = k̇ E q̇` (`E(q̇) q̇ = 0`), `k̇ = −k² qᵀq̇`.
             Some((q, _)) if joint.mimic.is_none() => {
                 let carried = spatial::cross(g, velocity, own);
                 let rates = js_rates(g, joint.coordinate);

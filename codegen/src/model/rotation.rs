@@ -215,7 +215,9 @@ impl Lowerer<'_> {
     ///
     /// `ω_b = 0` for an attitude of numbers. Exact: the same values as
     /// differentiating φ, without the partials of the rotation matrices.
-    /// `None` for each row where the system has no bodies to move.
+    /// `None` for each row (the rows then differentiated as any other)
+    /// where the described bodies were not recorded beside their frames,
+    /// which `Lowerer::described` always does: never an index out of range.
     fn lock_rates(&mut self, e: &M3, a: usize, b: Option<usize>) -> [Option<Rates>; 3] {
         if self.described.len() != self.frames.len() {
             return [None, None, None];
