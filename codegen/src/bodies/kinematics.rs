@@ -4,8 +4,11 @@
 //! frames of [`super::world_frames`]: Jacobians column by column from the
 //! joints' motion subspaces carried to the world (as Pinocchio builds them,
 //! not by differentiating placements, which costs several times more),
-//! velocities as `J q̇`, and the biases `J̇ q̇` differentiated exactly along
-//! the motion by `crate::expr::diff`.
+//! velocities as `J q̇`, and the biases `J̇ q̇` as the point's classical
+//! acceleration at `q̈ = 0`, carried joint by joint from the root
+//! (`path_motion`; Pinocchio's `getFrameClassicalAcceleration`), not by
+//! differentiating `J q̇`'s expressions, which costs half as much again or
+//! more.
 //!
 //! Conventions are Pinocchio's `LOCAL_WORLD_ALIGNED`: a frame's velocity is
 //! `[v; ω]`, the velocity of its origin and its angular velocity, both in
@@ -79,10 +82,16 @@ pub fn frame(
     let position = spatial::hold3(g, placed.translation);
     let jacobian = point_jacobian(g, (described, world), body, position, n);
     let velocity = times_rates(g, &jacobian);
-    // `q̇` is held by `AtRest`: the derivative of `J(q) q̇` along the motion
-    // at `q̈ = 0` is `J̇ q̇`.
-    let mut rate = AtRest::default();
-    let bias = velocity.iter().map(|&v| rate.derivative(g, v)).collect();
+    // `J̇ q̇`: the point's classical acceleration at `q̈ = 0`,
+    // `ö + ω̇ × r + ω × (ω × r)`, and `ω̇`.
+    let motion = path_motion(g, (described, world), body, n);
+    let r = spatial::sub(g, position, world[body].translation);
+    let turned = spatial::cross(g, motion.alpha, r);
+    let spun = spatial::cross(g, motion.omega, r);
+    let spun = spatial::cross(g, motion.omega, spun);
+    let linear = spatial::add(g, motion.acceleration, turned);
+    let linear = spatial::add(g, linear, spun);
+    let bias = linear.iter().chain(&motion.alpha).copied().collect();
     Frame {
         name,
         rotation,
@@ -107,58 +116,106 @@ pub struct AngularMotion {
 }
 
 /// [`AngularMotion`] of the described body `body`, whose world frames are
-/// `world`, from the root out: `ω` sums each joint's `R s_ω q̇`; a column
-/// constant in its body (revolute, prismatic, helical, a mimic of one)
-/// turns with the body but not about itself, so its rate is `ω_λ × R s_ω
-/// q̇`, the parent's `ω_λ`; a quaternion's, `R_F k E q̇` ([`world_columns`]),
-/// turns with its joint frame and scales with `k = 2/|q|²`:
-/// `ω_λ × ω_J − k (qᵀq̇) ω_J` (`E(q̇) q̇ = 0`). Any other column's rate is
-/// its derivative along the motion.
+/// `world` ([`path_motion`]).
 pub fn angular_motion(
     g: &mut Graph,
     (described, world): (&[Described], &[Placement]),
     body: usize,
     n: usize,
 ) -> AngularMotion {
+    let m = path_motion(g, (described, world), body, n);
+    AngularMotion {
+        jacobian: m.jacobian,
+        velocity: m.omega,
+        bias: m.alpha,
+    }
+}
+
+/// A body's motion at `q̈ = 0` in world axes, from [`path_motion`].
+struct PathMotion {
+    /// `J_ω`, 3 × n.
+    jacobian: [Vec<Id>; 3],
+    /// `ω`, held.
+    omega: V3,
+    /// `ω̇` at `q̈ = 0`, held.
+    alpha: V3,
+    /// The classical acceleration of the body's origin at `q̈ = 0`, held.
+    acceleration: V3,
+}
+
+/// The motion of the described body `body` at `q̈ = 0`, joint by joint
+/// from the root, in world axes. `ω` sums each joint's `R s_ω q̇`. A column
+/// constant in its body (revolute, prismatic, helical, a mimic of one)
+/// turns with the body but not about itself, so its rate is `ω_λ × R s_ω
+/// q̇`, the parent's `ω_λ`. A quaternion's, `R_F k E q̇` ([`world_columns`]),
+/// turns with its joint frame and scales with `k = 2/|q|²`:
+/// `ω_λ × ω_J − k (qᵀq̇) ω_J` (`E(q̇) q̇ = 0`). Any other column's rate is
+/// its derivative along the motion. Each origin, `d` from its parent's and
+/// sliding at `u = R s_v q̇`, accelerates as
+/// `ö = ö_λ + ω̇_λ × d + ω_λ × (ω_λ × d) + 2 ω_λ × u`: no partials of the
+/// world frames.
+fn path_motion(
+    g: &mut Graph,
+    (described, world): (&[Described], &[Placement]),
+    body: usize,
+    n: usize,
+) -> PathMotion {
     let zero = g.int(0);
     let mut jacobian = [0, 1, 2].map(|_| vec![zero; n]);
-    let mut velocity = spatial::zero(g);
-    let mut bias = spatial::zero(g);
+    let (mut omega, mut alpha, mut acceleration) =
+        (spatial::zero(g), spatial::zero(g), spatial::zero(g));
+    let mut origin = spatial::zero(g);
     let mut at_rest = AtRest::default();
     let mut from_root: Vec<usize> = path(described, body).collect();
     from_root.reverse();
     for i in from_root {
-        let Some(joint) = described[i].joint else {
-            continue;
-        };
-        let js = JointState::new(g, joint);
-        let mut own = spatial::zero(g);
-        for (k, (_, angular)) in world_columns(g, (described, world), i, joint) {
-            accumulate(g, &mut jacobian, k, angular.iter());
-            let rate = g.sym(Sym::Vel(k));
-            let part = spatial::scale(g, rate, angular);
-            own = spatial::add(g, own, part);
-        }
-        let own = spatial::hold3(g, own);
-        let turn = match js.quaternion {
-            None => spatial::cross(g, velocity, own),
-            // `d/dt (k E q̇) = k̇ E q̇` (`E(q̇) q̇ = 0`), `k̇ = −k² qᵀq̇`.
-            Some((q, _)) if joint.mimic.is_none() => {
-                let carried = spatial::cross(g, velocity, own);
-                let rates = js_rates(g, joint.coordinate);
-                let scaled = super::free::subspace_rate(g, q, rates, own);
-                spatial::add(g, carried, scaled)
+        let here = world[i].translation;
+        let d = spatial::sub(g, here, origin);
+        let turned = spatial::cross(g, alpha, d);
+        let spun = spatial::cross(g, omega, d);
+        let spun = spatial::cross(g, omega, spun);
+        let carried = spatial::add(g, acceleration, turned);
+        acceleration = spatial::add(g, carried, spun);
+        origin = here;
+        if let Some(joint) = described[i].joint {
+            let (mut own, mut slide) = (spatial::zero(g), spatial::zero(g));
+            for (k, (linear, angular)) in world_columns(g, (described, world), i, joint) {
+                accumulate(g, &mut jacobian, k, angular.iter());
+                let rate = g.sym(Sym::Vel(k));
+                let part = spatial::scale(g, rate, angular);
+                own = spatial::add(g, own, part);
+                let part = spatial::scale(g, rate, linear);
+                slide = spatial::add(g, slide, part);
             }
-            Some(_) => own.map(|e| at_rest.derivative(g, e)),
-        };
-        bias = spatial::add(g, bias, turn);
-        let sum = spatial::add(g, velocity, own);
-        velocity = spatial::hold3(g, sum);
+            let own = spatial::hold3(g, own);
+            let coriolis = spatial::cross(g, omega, slide);
+            let two = g.int(2);
+            let coriolis = spatial::scale(g, two, coriolis);
+            acceleration = spatial::add(g, acceleration, coriolis);
+            let js = JointState::new(g, joint);
+            let turn = match js.quaternion {
+                None => spatial::cross(g, omega, own),
+                // `d/dt (k E q̇) = k̇ E q̇` (`E(q̇) q̇ = 0`), `k̇ = −k² qᵀq̇`.
+                Some((q, _)) if joint.mimic.is_none() => {
+                    let carried = spatial::cross(g, omega, own);
+                    let rates = js_rates(g, joint.coordinate);
+                    let scaled = super::free::subspace_rate(g, q, rates, own);
+                    spatial::add(g, carried, scaled)
+                }
+                Some(_) => own.map(|e| at_rest.derivative(g, e)),
+            };
+            let sum = spatial::add(g, alpha, turn);
+            alpha = spatial::hold3(g, sum);
+            let sum = spatial::add(g, omega, own);
+            omega = spatial::hold3(g, sum);
+        }
+        acceleration = spatial::hold3(g, acceleration);
     }
-    AngularMotion {
+    PathMotion {
         jacobian,
-        velocity,
-        bias: spatial::hold3(g, bias),
+        omega,
+        alpha,
+        acceleration,
     }
 }
 
