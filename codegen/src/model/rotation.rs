@@ -258,15 +258,16 @@ impl Lowerer<'_> {
                 }
             }
         }
-        let mut rows = rows.into_iter();
-        [0, 1, 2].map(|i| {
+        let [x, y, z] = rows;
+        [(0, x), (1, y), (2, z)].map(|(i, row)| {
             Some(Rates {
                 velocity: velocity[i],
-                row: rows.next().unwrap_or_default(),
+                row,
                 bias: bias[i],
             })
         })
     }
+
     /// `[roll, pitch, yaw]` of numbers and parameters: `Rz Ry Rx`.
     fn attitude(&mut self, e: &Expr) -> syn::Result<M3> {
         let Expr::Array(array) = e else {
