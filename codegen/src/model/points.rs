@@ -47,12 +47,23 @@ impl Lowerer<'_> {
 
     /// The body named by `body` and its world frame.
     fn body_frame(&mut self, body: &Expr) -> syn::Result<(usize, Placement)> {
+        self.body_named(body, "points")
+    }
+
+    /// The index among the described bodies and the world frame of the
+    /// body named by `body`; without bodies, an error saying that `what`
+    /// (points, rotations) of bodies need them.
+    pub(super) fn body_named(
+        &mut self,
+        body: &Expr,
+        what: &str,
+    ) -> syn::Result<(usize, Placement)> {
         let Some(name) = single_ident(body) else {
             return Err(syn::Error::new_spanned(body, "expected a body's name"));
         };
         let Some(index) = self.frames.iter().position(|(n, _)| name == n) else {
             let why = if self.frames.is_empty() {
-                "points of bodies need a `bodies` or `urdf` section".to_string()
+                format!("{what} of bodies need a `bodies` or `urdf` section")
             } else {
                 format!("unknown body `{name}`")
             };

@@ -12,8 +12,9 @@
 //! `ω` is `vee(Ṙ Rᵀ)`, `R` the body's attitude (body axes → world), built
 //! as `J_ω q̇` from the joints' axes in the world
 //! ([`crate::bodies::kinematics::angular_motion`]). The velocity of the
-//! material point at `p` is `ȯ + ω × (p − o)`, `o` the body's origin: unlike `velocity(body, [x, y, z])` the point need not be
-//! fixed in the body (a wheel's contact point). An orientation lock's rows
+//! material point at `p` is `ȯ + ω × (p − o)`, `o` the body's origin:
+//! unlike `velocity(body, [x, y, z])` the point need not be fixed in the
+//! body (a wheel's contact point). An orientation lock's rows
 //! are `½ vee(E − Eᵀ)` with `E = R_a R_bᵀ` (world axes): zero where the
 //! attitudes agree, and their time derivative there is `ω_a − ω_b`, so the
 //! rows' multipliers are the torque the lock exerts on `a` in world axes
@@ -84,37 +85,16 @@ pub fn call_named<'e>(e: &'e Expr, f: &str) -> Option<Vec<&'e Expr>> {
 }
 
 impl Lowerer<'_> {
-    /// The world frame of the body named by `body`.
-    pub fn frame_of(&mut self, body: &Expr) -> syn::Result<Placement> {
-        self.body_of(body).map(|(_, frame)| frame)
-    }
-
     /// The index among the described bodies and the world frame of the
     /// body named by `body`.
     fn body_of(&mut self, body: &Expr) -> syn::Result<(usize, Placement)> {
-        let Some(name) = name_of(body) else {
-            return Err(syn::Error::new_spanned(body, "expected a body's name"));
-        };
-        match self.frames.iter().position(|(n, _)| name == n) {
-            Some(i) => Ok((i, self.frames[i].1)),
-            None if self.frames.is_empty() => Err(syn::Error::new_spanned(
-                body,
-                "rotations of bodies need a `bodies` or `urdf` section",
-            )),
-            None => Err(syn::Error::new_spanned(
-                body,
-                format!("unknown body `{name}`"),
-            )),
-        }
+        self.body_named(body, "rotations")
     }
 
     /// [`AngularMotion`] of the described body `i`.
     fn angular_motion(&mut self, i: usize) -> AngularMotion {
         let world: Vec<Placement> = self.frames.iter().map(|(_, p)| *p).collect();
-        let described = std::mem::take(&mut self.described);
-        let motion = angular_motion(self.graph, (&described, &world), i, self.n);
-        self.described = described;
-        motion
+        angular_motion(self.graph, (&self.described, &world), i, self.n)
     }
 
     /// `angular_velocity(body)`: `ω = J_ω q̇` in world axes, `vee(Ṙ Rᵀ)`
@@ -198,8 +178,10 @@ impl Lowerer<'_> {
         let rows = self.vee(&e);
         let rates = self.lock_rates(&e, a, b);
         Some(
-            (0..3)
-                .map(|i| (rows[i], self.graph.sub(e[i][i], one), rates[i].clone()))
+            rates
+                .into_iter()
+                .enumerate()
+                .map(|(i, r)| (rows[i], self.graph.sub(e[i][i], one), r))
                 .collect(),
         )
     }
