@@ -35,12 +35,17 @@ pub struct InBaseRows {
     /// `free`) turns the multipliers back, `λ = R̂ λ'`, and a correction
     /// `δb` of the rows enters as `R̂ᵀ δb`.
     pub base: usize,
+    /// The base's quaternion's `w` coordinate.
+    pub w: usize,
     /// The model's own rows of `A` (in `q̇`), in the same closed form:
     /// `I` for the position, `R̂ ((k Gₘ) × r)` for the quaternion's `q̇ₘ`,
     /// `R̂ J` for the joints between.
     pub model_a: [Vec<Id>; 3],
     /// The model's own `b = R̂ (R̂ᵀ b)`.
     pub model_b: [Id; 3],
+    /// The body the point is fixed in, by its index among the described
+    /// bodies, and the point in its frame.
+    pub body: (usize, V3),
 }
 
 /// Every complete triple of rows of one point under a free base, in the
@@ -150,8 +155,10 @@ fn triple_rows(
         a,
         b,
         base: base.x,
+        w: base.w,
         model_a,
         model_b,
+        body: (base.body, base.local),
     }
 }
 

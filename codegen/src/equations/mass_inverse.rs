@@ -131,10 +131,14 @@ impl Factored {
             (mass_entries, &mass),
             a,
             (auxiliary.as_ref().map(|x| &x.normal[..]), &quaternions),
-            range_cost,
+            (range_cost, false),
         );
         let velocity = tree.and_then(|t| super::velocity::form(g, t, a, range_cost));
-        let legs = velocity.as_ref().and_then(super::legs::find);
+        // A held body's rows are solved as six of their own, which the
+        // legs' elimination does not read.
+        let legs = (velocity.as_ref())
+            .filter(|v| v.system.held.is_empty())
+            .and_then(super::legs::find);
         Factored {
             mass,
             weighted,
@@ -452,7 +456,7 @@ fn row_scale(g: &Graph, row: &[Id]) -> Num {
 /// The exact inverse of a constant matrix by Gauss–Jordan elimination in
 /// rationals (floats only where a literal was not a short decimal), or
 /// `None` when it is singular.
-fn exact_inverse(m: &[Vec<Num>]) -> Option<Vec<Vec<Num>>> {
+pub(super) fn exact_inverse(m: &[Vec<Num>]) -> Option<Vec<Vec<Num>>> {
     let n = m.len();
     let mut work: Vec<Vec<Num>> = m
         .iter()

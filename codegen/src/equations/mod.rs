@@ -5,6 +5,7 @@
 mod auxiliary;
 mod conditioned;
 pub mod gibbs_appell;
+pub mod held;
 pub mod in_base;
 pub mod legs;
 pub mod mass_inverse;
@@ -106,6 +107,7 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         forces: &v.forces,
         bodies: &t.tree[..],
         in_base: &in_base[..],
+        held: &system.held[..],
     });
     let mass_inverse = mass_inverse::build(
         g,

@@ -77,19 +77,24 @@ impl Equations {
         }
     }
 
-    /// A factored `M`'s saddle-point strategies, which need every row
-    /// independent (the range-space form's rank-revealing factorization
-    /// answers otherwise); the velocity form replaces the saddle where
-    /// there is one.
+    /// A factored `M`'s saddle-point strategies, which need every row they
+    /// solve independent (the range-space form's rank-revealing
+    /// factorization answers otherwise); the velocity form replaces the
+    /// saddle where there is one, and solves a body held at three or more
+    /// points through its own six rows (`super::held`), so that it needs
+    /// the rank of `A` to be the rows it keeps.
     fn factored_strategy(&self, f: &Factored) -> Option<Strategy> {
-        if self.partition.rank != self.a.len() {
-            return None;
+        let full = self.partition.rank == self.a.len();
+        if let Some(v) = &f.velocity {
+            let kept = v.rows.len() + v.system.quaternions.len();
+            if self.partition.rank != kept {
+                return None;
+            }
+            return Some(match &f.legs {
+                Some(_) => Strategy::Legs,
+                None => Strategy::VelocitySaddle,
+            });
         }
-        match (&f.velocity, &f.legs, &f.saddle) {
-            (Some(_), Some(_), _) => Some(Strategy::Legs),
-            (Some(_), None, _) => Some(Strategy::VelocitySaddle),
-            (None, _, Some(_)) => Some(Strategy::Saddle),
-            (None, _, None) => None,
-        }
+        f.saddle.as_ref().filter(|_| full).map(|_| Strategy::Saddle)
     }
 }

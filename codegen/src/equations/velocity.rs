@@ -63,6 +63,8 @@ pub struct Bodies<'a> {
     pub bodies: &'a [Body],
     /// The rows of points under a free base, in its axes.
     pub in_base: &'a [super::in_base::InBaseRows],
+    /// The bodies held at three or more points.
+    pub held: &'a [crate::model::HeldBody],
 }
 
 /// The quaternions' `w` coordinates of a tree.
@@ -92,6 +94,9 @@ pub struct Transformed {
     /// Each free base's `x` coordinate and `R̂`: its position's
     /// accelerations are `p̈ = R̂ z`.
     pub free: Vec<(usize, M3)>,
+    /// The bodies held at three or more points of `in_base`, each solved
+    /// through its own six rows (`super::held`).
+    pub held: Vec<super::held::HeldRows>,
 }
 
 /// The velocity form of `gauss`'s system, where [`transformed`] finds it
@@ -102,21 +107,36 @@ pub fn form(g: &mut Graph, bodies: Bodies, a: &[Vec<Id>], range_cost: usize) -> 
     let mut system = transformed(g, (velocity_mass, tree), forces, a)?;
     // Only the triples under a base the tree's own form turns (both find
     // the same free joints; any other keeps its rows of `A T`).
-    let in_base: Vec<_> = (bodies.in_base.iter())
+    let mut in_base: Vec<_> = (bodies.in_base.iter())
         .filter(|rows| system.free.iter().any(|&(x, _)| x == rows.base))
         .cloned()
         .collect();
-    for rows in &in_base {
+    for rows in &mut in_base {
+        // A quaternion joint between the base and the point (a ball joint)
+        // turns its own columns as any row's: `T`.
+        for c in quaternions(tree).into_iter().filter(|&c| c != rows.w) {
+            let own = crate::bodies::free::coordinates(g, c);
+            let big_g = crate::bodies::free::g_matrix(g, own);
+            for row in &mut rows.a {
+                if c + 4 <= row.len() {
+                    transform(g, (c, own, &big_g), row);
+                }
+            }
+        }
         for (i, &r) in rows.rows.iter().enumerate() {
             system.a[r].clone_from(&rows.a[i]);
         }
     }
+    let bases = (&in_base[..], &system.free[..]);
+    system.held = super::held::reduce(g, (bodies.held, tree), bases, &mut system.a);
     system.in_base = in_base;
     let (n, a) = (forces.len(), &system.a);
     let ws: Vec<usize> = system.quaternions.iter().map(|&(c, _)| c).collect();
     let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();
+    let dropped: Vec<usize> = system.held.iter().flat_map(|h| h.dropped()).collect();
     let rows: Vec<usize> = (0..a.len())
         .filter(|r| !system.quaternions.iter().any(|&(_, s)| s == *r))
+        .filter(|r| !dropped.contains(r))
         .collect();
     let mass: Vec<Vec<Id>> = coordinates
         .iter()
@@ -131,8 +151,12 @@ pub fn form(g: &mut Graph, bodies: Bodies, a: &[Vec<Id>], range_cost: usize) -> 
             .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
             .collect(),
     );
+    // Every coordinate before any multiplier: a floating base's rows keep
+    // their rank through its six coordinates, a leg's alone lose it where
+    // the leg straightens (`super::saddle_point`).
+    let costs = (range_cost, true);
     let structure =
-        super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, (None, &ws), range_cost)?;
+        super::saddle_point::structure(g, (&mass, &pattern), &reduced_a, (None, &ws), costs)?;
     Some(Velocity {
         system,
         mass: velocity_mass.to_vec(),
@@ -187,6 +211,7 @@ pub fn transformed(
         a,
         in_base: Vec::new(),
         free,
+        held: Vec::new(),
     })
 }
 

@@ -10,7 +10,7 @@ use super::lower::{Binding, Lowerer};
 use super::sections::Sections;
 use super::source::{source, Lowered, Source};
 use super::unilateral::Gap;
-use super::{bodies, friction_mode, urdf, Constraint, System};
+use super::{bodies, friction_mode, urdf, Constraint, HeldBody, System};
 use crate::expr::{Graph, Sym};
 use crate::parse::{List, SystemInput};
 use proc_macro2::Span;
@@ -57,6 +57,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         energy: parts.dynamics.energy,
         unilateral: parts.unilateral,
         friction: parts.friction,
+        held: parts.held,
     };
     check::check(&mut errors, &system, &written);
     errors.finish()?;
@@ -110,6 +111,7 @@ impl Names {
 struct Parts {
     dynamics: Lowered,
     constraints: Vec<Constraint>,
+    held: Vec<HeldBody>,
     unilateral: Vec<Gap>,
     friction: Vec<Entry>,
     eliminate: Option<(Vec<usize>, Span)>,
@@ -128,6 +130,7 @@ impl Lowerer<'_> {
         self.definitions(sections.definitions, coordinates);
         let mut dynamics = self.dynamics(source, sections, coordinates, described);
         let mut constraints = self.all_constraints(sections.constraints, source, coordinates);
+        let held = self.held_bodies(&constraints);
         let first_input = names.modes.end;
         let unilateral = sections
             .unilateral
@@ -152,6 +155,7 @@ impl Lowerer<'_> {
         Parts {
             dynamics,
             constraints,
+            held,
             unilateral,
             friction,
             eliminate,

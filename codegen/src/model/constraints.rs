@@ -59,11 +59,13 @@ impl Lowerer<'_> {
         rows.into_iter()
             .enumerate()
             .map(|(component, phi)| Constraint {
-                in_base: in_base.map(|(w, x, point)| InBase {
-                    w,
-                    x,
-                    point,
+                in_base: in_base.map(|p| InBase {
+                    w: p.w,
+                    x: p.x,
+                    point: p.point,
                     component,
+                    body: p.body,
+                    local: p.local,
                 }),
                 ..self.constraint_of(phi, &c.tokens)
             })

@@ -96,6 +96,24 @@ pub struct InBase {
     pub point: crate::bodies::spatial::V3,
     /// Which of the three rows, `i`.
     pub component: usize,
+    /// The body, by its index among the described bodies.
+    pub body: usize,
+    /// The point in the body's frame, as written.
+    pub local: crate::bodies::spatial::V3,
+}
+
+/// A body held at three or more of its points under a free base
+/// (`position(body, r) == c`, each `r` numbers): its attitude and angular
+/// motion, from which the velocity form replaces the points' rows by the
+/// body's own six (`crate::equations::held`).
+#[derive(Clone, Debug)]
+pub struct HeldBody {
+    /// The body, by its index among the described bodies.
+    pub body: usize,
+    /// Its attitude `R` (body axes → world).
+    pub rotation: crate::bodies::spatial::M3,
+    /// Its angular velocity, Jacobian and rate in world axes.
+    pub angular: crate::bodies::kinematics::AngularMotion,
 }
 
 /// A checked system: every expression is a node of `graph`.
@@ -145,6 +163,8 @@ pub struct System {
     /// The entries of `friction: [..]`; their modes are the parameters
     /// [`System::modes`] (hidden fields).
     pub friction: Vec<friction::Entry>,
+    /// The bodies held at three or more points under a free base.
+    pub held: Vec<HeldBody>,
 }
 
 /// The expressions of a system with bodies beyond `M` and `F`.

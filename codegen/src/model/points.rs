@@ -13,6 +13,22 @@ use crate::bodies::Placement;
 use crate::expr::{Id, Sym};
 use syn::Expr;
 
+/// A point under a free base, as [`crate::model::InBase`] records it for
+/// each of its three rows.
+#[derive(Clone, Copy)]
+pub struct InBasePoint {
+    /// The base's quaternion's `w` coordinate.
+    pub w: usize,
+    /// The base's `x` coordinate.
+    pub x: usize,
+    /// The point in the base's axes.
+    pub point: V3,
+    /// The body, by its index among the described bodies.
+    pub body: usize,
+    /// The point in the body's frame.
+    pub local: V3,
+}
+
 impl Lowerer<'_> {
     /// `position(..).x` and the like.
     pub fn point_component(&mut self, field: &syn::ExprField) -> syn::Result<Id> {
@@ -160,10 +176,10 @@ impl Lowerer<'_> {
     }
 
     /// The point of `position(body, [x, y, z])` in the axes of the free
-    /// base above the body, with the base's `(w, x)` coordinates
-    /// ([`crate::model::InBase`]); `None` for any other expression, or a
-    /// body with no free base above it.
-    fn point_in_base(&mut self, e: &Expr) -> Option<(usize, usize, V3)> {
+    /// base above the body, with the base's `(w, x)` coordinates, the
+    /// body and the point in its frame ([`crate::model::InBase`]); `None`
+    /// for any other expression, or a body with no free base above it.
+    fn point_in_base(&mut self, e: &Expr) -> Option<InBasePoint> {
         let Expr::Call(call) = e else { return None };
         let args: Vec<&Expr> = call.args.iter().collect();
         let kind = single_ident(&call.func).map(ToString::to_string);
@@ -174,7 +190,13 @@ impl Lowerer<'_> {
         let index = self.frames.iter().position(|(n, _)| name == n)?;
         let local = self.triple(at, "the point")?;
         match self.along_chain(index, local, true) {
-            (point, Some((w, x))) => Some((w, x, point)),
+            (point, Some((w, x))) => Some(InBasePoint {
+                w,
+                x,
+                point,
+                body: index,
+                local,
+            }),
             (_, None) => None,
         }
     }
@@ -183,11 +205,10 @@ impl Lowerer<'_> {
     /// one; for `position(body, r) == [..]` (constant) on a body under a
     /// free base, also the point in the base's axes
     /// (`point_in_base`).
-    #[allow(clippy::type_complexity)]
     pub fn point_rows(
         &mut self,
         c: &crate::parse::ConstraintInput,
-    ) -> Option<(Vec<Id>, Option<(usize, usize, V3)>)> {
+    ) -> Option<(Vec<Id>, Option<InBasePoint>)> {
         let is_point = |e: &Expr| {
             super::body_functions::body_function(e)
                 .is_some_and(|(f, _)| f.role == super::body_functions::Role::Vector)

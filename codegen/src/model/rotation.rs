@@ -33,7 +33,7 @@
 //! matrices, about twice the operations on a humanoid's flat feet.
 
 use super::lower::Lowerer;
-use super::Rates;
+use super::{HeldBody, Rates};
 use crate::bodies::kinematics::{angular_motion, AngularMotion};
 use crate::bodies::spatial::{self, M3, V3};
 use crate::bodies::Placement;
@@ -95,6 +95,31 @@ impl Lowerer<'_> {
     fn angular_motion(&mut self, i: usize) -> AngularMotion {
         let world: Vec<Placement> = self.frames.iter().map(|(_, p)| *p).collect();
         angular_motion(self.graph, (&self.described, &world), i, self.n)
+    }
+
+    /// Every body held at three or more of its points under a free base,
+    /// each point numbers in the body's frame: its attitude and angular
+    /// motion, for the velocity form's rows of the body
+    /// (`crate::equations::held`, which decides whether the points fix
+    /// the body).
+    pub(super) fn held_bodies(&mut self, constraints: &[super::Constraint]) -> Vec<HeldBody> {
+        let mut count: Vec<usize> = vec![0; self.frames.len()];
+        for p in constraints.iter().filter_map(|c| c.in_base) {
+            let numbers = p.local.iter().all(|&e| self.graph.as_num(e).is_some());
+            if p.component == 0 && numbers {
+                if let Some(c) = count.get_mut(p.body) {
+                    *c += 1;
+                }
+            }
+        }
+        (0..count.len())
+            .filter(|&i| count[i] >= 3)
+            .map(|i| HeldBody {
+                body: i,
+                rotation: self.frames[i].1.rotation,
+                angular: self.angular_motion(i),
+            })
+            .collect()
     }
 
     /// `angular_velocity(body)`: `ω = J_ω q̇` in world axes, `vee(Ṙ Rᵀ)`

@@ -15,8 +15,9 @@ use crate::bodies::free::G_PATTERN;
 use crate::emit::context::Context;
 use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::literal::literal;
-use crate::emit::solve::{corrected, corrected_by, correction_locals};
+use crate::emit::solve::{corrected, correction_locals};
 use crate::emit::tokens::concat;
+use crate::equations::held::HeldRows;
 use crate::equations::in_base::InBaseRows;
 use crate::equations::legs::Legs;
 use crate::equations::strategy::Strategy;
@@ -38,7 +39,7 @@ pub(super) fn solver(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenS
     let correction = if v.system.in_base.is_empty() {
         corrected(&b, &[])
     } else {
-        turned_correction(v, &b)
+        turned_correction(ctx, v)
     };
     let alphas = alphas(ctx, v, &dense);
     let (nr, kr) = (v.coordinates.len(), v.rows.len());
@@ -73,7 +74,7 @@ pub(super) fn solver(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenS
     };
     let (recover, acceleration) = accelerations(ctx, v, &values);
     let (norms, mut mu) = multipliers(ctx, v, &values);
-    let norms = concat([norms, in_world(v, &mut mu)]);
+    let norms = concat([norms, in_world(v, &mut mu), held_multipliers(v, &mut mu)]);
     let body = concat([head, correction, alphas, solve, recover, norms]);
     function(ctx, (acceleration, &mu), body, how)
 }
@@ -125,8 +126,9 @@ fn constraint_inputs(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> Vec<
             }
         }
     }
+    let solved = solved_rows(v);
     for &(c, _) in &v.system.quaternions {
-        for r in 0..k {
+        for &r in &solved {
             if !g.is_zero(v.system.a[r][c]) {
                 named.push((Context::local2("aa", r, c), v.system.a[r][c]));
             }
@@ -140,14 +142,26 @@ fn constraint_inputs(ctx: &Context, v: &Velocity, ldlt: &StructuredLdlt) -> Vec<
         }
     }
     for (r, &e) in ctx.eq.b.iter().enumerate() {
-        // A row of a point under a free base: `R̂ᵀ b`.
+        // A row of a point under a free base: `R̂ᵀ b`; of a held body's
+        // six, theirs.
         let e = v
             .system
             .in_base
             .iter()
             .find_map(|t| Some(t.b[t.rows.iter().position(|&x| x == r)?]))
             .unwrap_or(e);
-        named.push((Context::local("b", r), e));
+        let e = held_b(v, r).unwrap_or(e);
+        if solved.contains(&r) {
+            named.push((Context::local("b", r), e));
+        }
+    }
+    for (h, held) in v.system.held.iter().enumerate() {
+        for i in 0..3 {
+            for j in 0..3 {
+                named.push((held_local("hr", h, i, j), held.rotation[i][j]));
+                named.push((held_local("hb", h, i, j), held.relative[i][j]));
+            }
+        }
     }
     for (t, (_, rotation)) in v.system.free.iter().enumerate() {
         for (i, row) in rotation.iter().enumerate() {
@@ -326,9 +340,10 @@ fn rotation_local(v: &Velocity, rows: &InBaseRows, i: usize, j: usize) -> Ident 
 }
 
 /// `b + δb` for `acceleration_corrected`, with the rows of a point under a
-/// free base in the base's axes: `R̂ᵀ b + R̂ᵀ δb`.
-fn turned_correction(v: &Velocity, b: &[Ident]) -> TokenStream {
-    let d = correction_locals(b.len());
+/// free base in the base's axes: `R̂ᵀ b + R̂ᵀ δb`; a held body's six from
+/// its points' `δb` ([`held_correction`]).
+fn turned_correction(ctx: &Context, v: &Velocity) -> TokenStream {
+    let d = correction_locals(ctx.k);
     let mut terms: Vec<TokenStream> = d.iter().map(|d| quote!(#d)).collect();
     for rows in &v.system.in_base {
         let [d0, d1, d2] = rows.rows.map(|r| &d[r]);
@@ -337,14 +352,144 @@ fn turned_correction(v: &Velocity, b: &[Ident]) -> TokenStream {
             terms[r] = quote!((#r0 * #d0 + #r1 * #d1 + #r2 * #d2));
         }
     }
-    corrected_by(b, &terms)
+    let mut code = TokenStream::new();
+    for (h, held) in v.system.held.iter().enumerate() {
+        let (local, six) = held_correction(h, held, &d);
+        code.extend(local);
+        for (i, r) in held.six().into_iter().enumerate() {
+            terms[r] = six[i].clone();
+        }
+    }
+    let solved = solved_rows(v);
+    let b: Vec<Ident> = solved.iter().map(|&r| Context::local("b", r)).collect();
+    let terms: Vec<&TokenStream> = solved.iter().map(|&r| &terms[r]).collect();
+    quote! {
+        let (#(#b,)*) = match correction {
+            ::core::option::Option::Some(__db) => {
+                let [[#(#d),*]] = __db.data.0;
+                #code
+                (#(#b + #terms,)*)
+            }
+            ::core::option::Option::None => (#(#b,)*),
+        };
+    }
+}
+
+/// The rows the saddle-point solve reads `b` of: its own and the norms'.
+fn solved_rows(v: &Velocity) -> Vec<usize> {
+    let mut rows = v.rows.clone();
+    rows.extend(v.system.quaternions.iter().map(|&(_, norm)| norm));
+    rows.sort_unstable();
+    rows
+}
+
+/// The right-hand side of row `r` where it is one of a held body's six.
+fn held_b(v: &Velocity, r: usize) -> Option<Id> {
+    v.system.held.iter().find_map(|h| {
+        let i = h.six().iter().position(|&x| x == r)?;
+        Some(h.b[i])
+    })
+}
+
+/// The local of entry `(i, j)` of a held body's `R` (`"hr"`) or `R_B`
+/// (`"hb"`).
+fn held_local(what: &str, h: usize, i: usize, j: usize) -> Ident {
+    Context::local2(what, h, 3 * i + j)
+}
+
+/// `Σ wᵢ xᵢ` over the nonzero constant weights, `T::zero()` for none.
+fn weighted(weights: impl Iterator<Item = (Num, TokenStream)>) -> TokenStream {
+    let terms: Vec<TokenStream> = weights
+        .filter(|(w, _)| !w.is_zero())
+        .map(|(w, x)| {
+            let (w, _) = literal(w);
+            quote!(#w * #x)
+        })
+        .collect();
+    if terms.is_empty() {
+        quote!(T::zero())
+    } else {
+        quote!((#(#terms)+*))
+    }
+}
+
+/// A held body's six right-hand sides' change from its points' `δb`
+/// (world axes): each point's in the body's axes, `δᴸ = Rᵀ δb` (locals
+/// `__hd{h}_{c}`), then `R_B (P G δᴸ)` and `R (G_ω δᴸ)`.
+fn held_correction(h: usize, held: &HeldRows, d: &[Ident]) -> (TokenStream, Vec<TokenStream>) {
+    let mut code = TokenStream::new();
+    let mut local: Vec<TokenStream> = Vec::new();
+    for (p, triple) in held.triples.iter().enumerate() {
+        let [d0, d1, d2] = triple.map(|r| &d[r]);
+        for i in 0..3 {
+            let [r0, r1, r2] = [0, 1, 2].map(|j| held_local("hr", h, j, i));
+            let name = Context::local2("hd", h, 3 * p + i);
+            code.extend(quote! { let #name = #r0 * #d0 + #r1 * #d1 + #r2 * #d2; });
+            local.push(quote!(#name));
+        }
+    }
+    let six: Vec<TokenStream> = (0..6)
+        .map(|i| weighted(held.correction.iter().map(|c| c[i]).zip(local.iter().cloned())))
+        .collect();
+    let turn = |what: &str, part: &[TokenStream]| -> Vec<TokenStream> {
+        (0..3)
+            .map(|i| {
+                let [r0, r1, r2] = [0, 1, 2].map(|j| held_local(what, h, i, j));
+                let [x0, x1, x2] = [&part[0], &part[1], &part[2]];
+                quote!((#r0 * #x0 + #r1 * #x1 + #r2 * #x2))
+            })
+            .collect()
+    };
+    let mut out = turn("hb", &six[..3]);
+    out.extend(turn("hr", &six[3..]));
+    (code, out)
+}
+
+/// A held body's points' multipliers from its six rows' (`μ₁` in the
+/// base's axes, `μ_ω` in the world's): `fᴸ = R_Bᵀ μ₁`, `τᴸ = Rᵀ μ_ω`
+/// (locals `__hw{h}_{i}`), then each point's `R (H [fᴸ; τᴸ])ᵢ` in world
+/// axes (locals `__hl{h}_{c}` in the body's, `__mub{r}` in the world's).
+fn held_multipliers(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
+    let mut code = TokenStream::new();
+    for (h, held) in v.system.held.iter().enumerate() {
+        let six: Vec<TokenStream> = held.six().iter().map(|&r| or_zero(&mu[r])).collect();
+        let mut wrench = Vec::new();
+        for (what, part) in [("hb", &six[..3]), ("hr", &six[3..])] {
+            for i in 0..3 {
+                let [r0, r1, r2] = [0, 1, 2].map(|j| held_local(what, h, j, i));
+                let [x0, x1, x2] = [&part[0], &part[1], &part[2]];
+                let name = Context::local2("hw", h, wrench.len());
+                code.extend(quote! { let #name = #r0 * #x0 + #r1 * #x1 + #r2 * #x2; });
+                wrench.push(quote!(#name));
+            }
+        }
+        for (c, row) in held.multipliers.iter().enumerate() {
+            let value = weighted(row.iter().copied().zip(wrench.iter().cloned()));
+            let name = Context::local2("hl", h, c);
+            code.extend(quote! { let #name = #value; });
+        }
+        for (p, triple) in held.triples.iter().enumerate() {
+            for (i, &r) in triple.iter().enumerate() {
+                let [r0, r1, r2] = [0, 1, 2].map(|j| held_local("hr", h, i, j));
+                let [l0, l1, l2] = [0, 1, 2].map(|j| Context::local2("hl", h, 3 * p + j));
+                let name = Context::local("mub", r);
+                code.extend(quote! { let #name = #r0 * #l0 + #r1 * #l1 + #r2 * #l2; });
+                mu[r] = Some(quote!(#name));
+            }
+        }
+    }
+    code
 }
 
 /// Each triple of rows solved in a base's axes gives `λ'`; the model's
-/// rows' are `λ = R̂ λ'` (locals `__mub{r}`).
+/// rows' are `λ = R̂ λ'` (locals `__mub{r}`); a held body's points' come
+/// from its six rows instead ([`held_multipliers`]).
 fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
     let mut code = TokenStream::new();
-    for rows in &v.system.in_base {
+    let held: Vec<usize> = (v.system.held.iter())
+        .flat_map(|h| h.triples.iter().flatten().copied())
+        .collect();
+    for rows in v.system.in_base.iter().filter(|t| !held.contains(&t.rows[0])) {
         let own: Vec<TokenStream> = rows.rows.iter().map(|&r| or_zero(&mu[r])).collect();
         for (i, &r) in rows.rows.iter().enumerate() {
             let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(v, rows, i, j));
