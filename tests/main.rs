@@ -30,6 +30,7 @@ mod free_base;
 mod gauss;
 mod generated_multipliers;
 mod gibbs_appell;
+mod held;
 mod hostile_runtime;
 mod impacts;
 mod integrators;

@@ -89,10 +89,11 @@ fn each_leg_is_solved_through_its_foot() {
 /// (`equations::saddle_point`): chosen for the quadruped, with the
 /// quaternion's `α` (coordinate 3) solved from the norm's row (row 12)
 /// alone, so the saddle-point system keeps 18 coordinates — the base's
-/// position and `β`, the legs — and the feet's 12 rows. In its order each
-/// leg's three joints come before its foot's three rows, which come before
-/// every coordinate of the base they also touch (so no row couples with
-/// another foot's except through the base's Schur complement).
+/// position and `β`, the legs — and the feet's 12 rows. Its order takes
+/// every coordinate before any row (a row's pivot is then `S`'s, away from
+/// zero at a straightened leg too), and the legs' solve eliminates each
+/// foot with its own leg: its three joints and its three rows, the feet
+/// meeting only in the base's Schur complement.
 #[test]
 fn each_foot_is_eliminated_with_its_leg() {
     let eq =
@@ -120,27 +121,17 @@ fn each_foot_is_eliminated_with_its_leg() {
             .position(|&r| r == row)
             .expect("in order")
     };
-    let base_first = (0..6).map(position).min().expect("six base coordinates");
-    for leg in 0..3 {
-        // Three of the feet are eliminated with their legs before any base
-        // coordinate (the fourth's rows may pivot on the base's position,
-        // whose entries in them, in the base's axes, are the constant 1).
-        let first_joint = (0..3)
-            .map(|j| position(6 + 3 * leg + j))
-            .min()
-            .expect("three joints");
-        let last = (0..3)
-            .flat_map(|j| [position(6 + 3 * leg + j), position(n + 3 * leg + j)])
-            .max()
-            .expect("six");
-        assert!(
-            last < base_first,
-            "leg {leg}: joints and rows before the base"
-        );
-        assert!(
-            last - first_joint < 6,
-            "leg {leg}: its joints and rows together, without another leg's"
-        );
+    let first_row = (n..n + k).map(position).min().expect("twelve rows");
+    assert!(
+        (0..n).all(|c| position(c) < first_row),
+        "every coordinate before any row"
+    );
+    let legs = f.legs.as_ref().expect("the legs' solve");
+    assert_eq!(legs.base, [0, 1, 2, 3, 4, 5]);
+    for (leg, (joints, rows)) in legs.legs.iter().enumerate() {
+        let ours = [0, 1, 2].map(|j| 6 + 3 * leg + j);
+        assert_eq!(*joints, ours, "leg {leg}'s joints");
+        assert_eq!(*rows, [0, 1, 2].map(|j| 3 * leg + j), "leg {leg}'s foot");
     }
     // The feet's rows in the base's axes: `I` on the position, no `α`.
     let one = |e| g.as_num(e).is_some_and(|x| x.is_one());

@@ -5,6 +5,7 @@
 //! describes: what `acceleration` computes, in its compile-time order.
 //! Also the elimination orders every part of the derivation prints.
 
+use crate::equations::held::HeldRows;
 use crate::equations::legs::Legs;
 use crate::equations::mass_inverse::Factored;
 use crate::equations::strategy::Strategy;
@@ -94,6 +95,30 @@ fn velocity_text(w: &mut String, v: &Velocity, coordinates: &[String], pivots: &
         nr,
         v.rows.len(),
         order(&v.structure, name),
+    );
+    for held in &v.system.held {
+        held_text(w, held);
+    }
+}
+
+/// The lines for a body held at three or more points: its rows solved as
+/// the body's own six (`crate::equations::held`).
+fn held_text(w: &mut String, held: &HeldRows) {
+    let rows: Vec<String> = held
+        .triples
+        .iter()
+        .map(|[x, _, z]| format!("{x}–{z}"))
+        .collect();
+    let [a0, _, a2] = held.angular();
+    let _ = writeln!(
+        w,
+        "  rows {} hold {} points rᵢ of one body (rank 6): solved as the body's own six,\n  \
+         the first point's rows and its angular acceleration J_ω q̈ = −J̇_ω q̇ (world axes, in place of rows {a0}–{a2}),\n  \
+         with right-hand side N Ĉ⁺ b (the points' rows in the least-squares sense of their accelerations,\n  \
+         exact where they are consistent): Ĉ = diag(R) Cᴸ diag(R)ᵀ, Cᴸ = [1, −[rᵢ]×] a constant;\n  \
+         the points' λ = R Cᴸ (CᴸᵀCᴸ)⁻¹ [fᴸ; r₁ × fᴸ + τᴸ] from the body's wrench, the least λ",
+        rows.join(", "),
+        held.triples.len(),
     );
 }
 

@@ -151,10 +151,7 @@ pub fn reduce(
 ) -> Vec<HeldRows> {
     let mut out = Vec::new();
     for body in held {
-        let triples: Vec<&InBaseRows> = in_base
-            .iter()
-            .filter(|t| t.body.0 == body.body)
-            .collect();
+        let triples: Vec<&InBaseRows> = in_base.iter().filter(|t| t.body.0 == body.body).collect();
         let Some(first) = triples.first() else {
             continue;
         };

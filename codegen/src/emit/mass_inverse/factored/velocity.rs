@@ -429,7 +429,14 @@ fn held_correction(h: usize, held: &HeldRows, d: &[Ident]) -> (TokenStream, Vec<
         }
     }
     let six: Vec<TokenStream> = (0..6)
-        .map(|i| weighted(held.correction.iter().map(|c| c[i]).zip(local.iter().cloned())))
+        .map(|i| {
+            weighted(
+                held.correction
+                    .iter()
+                    .map(|c| c[i])
+                    .zip(local.iter().cloned()),
+            )
+        })
         .collect();
     let turn = |what: &str, part: &[TokenStream]| -> Vec<TokenStream> {
         (0..3)
@@ -489,7 +496,12 @@ fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
     let held: Vec<usize> = (v.system.held.iter())
         .flat_map(|h| h.triples.iter().flatten().copied())
         .collect();
-    for rows in v.system.in_base.iter().filter(|t| !held.contains(&t.rows[0])) {
+    for rows in v
+        .system
+        .in_base
+        .iter()
+        .filter(|t| !held.contains(&t.rows[0]))
+    {
         let own: Vec<TokenStream> = rows.rows.iter().map(|&r| or_zero(&mu[r])).collect();
         for (i, &r) in rows.rows.iter().enumerate() {
             let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(v, rows, i, j));
