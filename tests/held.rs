@@ -11,9 +11,9 @@ use constrained::rank::relative_residual;
 use constrained::{ConstrainedSystem, State};
 
 constrained::constrained_system! {
-    /// A biped's legs on a floating pelvis, each foot held at three points of its sole.
-    pub struct BipedOnSixPoints {
-        parameters: [l0x, l0y, l0z, l1x, l1y, l1z, l2x, l2y, l2z, r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z],
+    /// A biped's legs on a floating pelvis, its left foot held at four points of its sole, its right at three.
+    pub struct BipedOnSevenPoints {
+        parameters: [l0x, l0y, l0z, l1x, l1y, l1z, l2x, l2y, l2z, l3x, l3y, l3z, r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z],
         bodies: [
             pelvis {
                 joint: free(x, y, z, qw, qx, qy, qz),
@@ -38,6 +38,7 @@ constrained::constrained_system! {
             position(l_foot, [-0.05, 0.025, -0.04]) == [l0x, l0y, l0z],
             position(l_foot, [-0.05, -0.025, -0.04]) == [l1x, l1y, l1z],
             position(l_foot, [0.12, 0.0, -0.04]) == [l2x, l2y, l2z],
+            position(l_foot, [0.1, 0.04, -0.04]) == [l3x, l3y, l3z],
             position(r_foot, [-0.05, 0.025, -0.04]) == [r0x, r0y, r0z],
             position(r_foot, [-0.05, -0.025, -0.04]) == [r1x, r1y, r1z],
             position(r_foot, [0.12, 0.0, -0.04]) == [r2x, r2y, r2z],
@@ -46,10 +47,14 @@ constrained::constrained_system! {
 }
 
 const N: usize = 19;
-const K: usize = 19;
+const K: usize = 22;
 
-/// The points' rows of each foot, `x, y, z` of three points each.
-const FEET: [usize; 2] = [0, 9];
+/// Each foot's points' rows, `x, y, z` of each point: its first row and
+/// its number of points.
+const FEET: [(usize, usize); 2] = [(0, 4), (12, 3)];
+
+/// The quaternion's norm's row.
+const NORM: usize = 21;
 
 /// A deterministic number in `[-1, 1)` for index `i` of stream `k`.
 fn wiggle(k: usize, i: usize) -> f64 {
@@ -59,7 +64,7 @@ fn wiggle(k: usize, i: usize) -> f64 {
 /// The biped at state `k`: the pelvis leaning, every joint within
 /// ±0.3 rad (the knees of state 0 straight), the feet's points held where
 /// they are; `q̇` arbitrary (off the constraint surface).
-fn biped(k: usize) -> (BipedOnSixPoints<f64>, State<f64, N>) {
+fn biped(k: usize) -> (BipedOnSevenPoints<f64>, State<f64, N>) {
     let pelvis =
         UnitQuaternion::from_euler_angles(0.1 * wiggle(k, 1), 0.1 * wiggle(k, 2), wiggle(k, 3));
     let mut q = SVector::<f64, N>::zeros();
@@ -76,20 +81,21 @@ fn biped(k: usize) -> (BipedOnSixPoints<f64>, State<f64, N>) {
         q[16] = 0.0;
     }
     let qd = SVector::<f64, N>::from_fn(|i, _| wiggle(k + 10, i));
-    let free = BipedOnSixPoints::new(
+    let free = BipedOnSevenPoints::new(
         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+        0.0, 0.0, 0.0,
     );
     let s = State::new(0.0, q, qd);
     let p = ConstrainedSystem::constraint_residual(&free, &s);
-    let system = BipedOnSixPoints::new(
+    let system = BipedOnSevenPoints::new(
         p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13],
-        p[14], p[15], p[16], p[17],
+        p[14], p[15], p[16], p[17], p[18], p[19], p[20],
     );
     (system, s)
 }
 
 /// `q̇` moved onto `A q̇ = 0` (twice, by the pseudo-inverse of `A`).
-fn on_the_surface(system: &BipedOnSixPoints<f64>, s: &State<f64, N>) -> State<f64, N> {
+fn on_the_surface(system: &BipedOnSevenPoints<f64>, s: &State<f64, N>) -> State<f64, N> {
     let mut qd = s.qd;
     for _ in 0..2 {
         let at = State::new(s.t, s.q, qd);
@@ -105,7 +111,7 @@ fn on_the_surface(system: &BipedOnSixPoints<f64>, s: &State<f64, N>) -> State<f6
 /// rows a foot), the quaternion's norm holds, and `M q̈ − F` is a force of
 /// those 13 rows: Gauss's principle under them, solved densely.
 fn least_squares(
-    system: &BipedOnSixPoints<f64>,
+    system: &BipedOnSevenPoints<f64>,
     s: &State<f64, N>,
     db: &SVector<f64, K>,
 ) -> SVector<f64, N> {
@@ -114,14 +120,14 @@ fn least_squares(
     let phi = ConstrainedSystem::constraint_residual(system, s);
     let places = [
         system.l0x, system.l0y, system.l0z, system.l1x, system.l1y, system.l1z, system.l2x,
-        system.l2y, system.l2z, system.r0x, system.r0y, system.r0z, system.r1x, system.r1y,
-        system.r1z, system.r2x, system.r2y, system.r2z,
+        system.l2y, system.l2z, system.l3x, system.l3y, system.l3z, system.r0x, system.r0y,
+        system.r0z, system.r1x, system.r1y, system.r1z, system.r2x, system.r2y, system.r2z,
     ];
     let point = |r: usize| Vector3::from_fn(|c, _| phi[r + c] + places[r + c]);
     let mut rows = SMatrix::<f64, 13, N>::zeros();
     let mut rhs = SVector::<f64, 13>::zeros();
-    for (foot, &first) in FEET.iter().enumerate() {
-        for i in 0..3 {
+    for (foot, &(first, points)) in FEET.iter().enumerate() {
+        for i in 0..points {
             let r = first + 3 * i;
             let arm = point(r) - point(first);
             for c in 0..3 {
@@ -141,8 +147,8 @@ fn least_squares(
             }
         }
     }
-    rows.set_row(12, &a.row(18));
-    rhs[12] = b[18];
+    rows.set_row(12, &a.row(NORM));
+    rhs[12] = b[NORM];
     let (m, f) = (
         ConstrainedSystem::mass_matrix(system, s),
         ConstrainedSystem::forces(system, s),
@@ -163,7 +169,7 @@ fn least_squares(
 }
 
 /// `λ` is the least of the constraint force's: against the runtime's SVD.
-fn lambda_gap(system: &BipedOnSixPoints<f64>, s: &State<f64, N>) -> f64 {
+fn lambda_gap(system: &BipedOnSevenPoints<f64>, s: &State<f64, N>) -> f64 {
     let (qdd, lambda) = system.acceleration_and_multipliers(s).expect("q̈ and λ");
     let (a, _) = ConstrainedSystem::constraint_matrices(system, s);
     let (m, f) = (
@@ -175,9 +181,9 @@ fn lambda_gap(system: &BipedOnSixPoints<f64>, s: &State<f64, N>) -> f64 {
 }
 
 /// On the constraint surface (`q̇` projected onto `A q̇ = 0`), the feet's
-/// rows are consistent: `A q̈ = b` to 1e-12 (worst 1.2e-15), `q̈` within
-/// 1e-10 of the runtime's dense Moore–Penrose solve (3e-14) and `λ` of
-/// its SVD (2e-13), the knees straight in the first state.
+/// rows are consistent: `A q̈ = b` to 1e-12 (worst 4.7e-15), `q̈` within
+/// 1e-10 of the runtime's dense Moore–Penrose solve (5.5e-14) and `λ` of
+/// its SVD (2.5e-13), the knees straight in the first state.
 #[test]
 fn on_the_surface_the_feet_hold_and_lambda_is_the_least() {
     let mut worst = [0.0f64; 3];
@@ -206,11 +212,11 @@ fn on_the_surface_the_feet_hold_and_lambda_is_the_least() {
     );
 }
 
-/// Off the surface the feet's nine rows each are inconsistent (a turning
+/// Off the surface the feet's rows are inconsistent (a turning
 /// foot's points accelerate towards its axis, which no rigid acceleration
-/// of three held points matches), and the solve reads them in the
+/// of its held points matches), and the solve reads them in the
 /// least-squares sense of the points' accelerations: `q̈` within 1e-10 of
-/// that problem solved densely (worst 9e-14), `λ` the least of its force
+/// that problem solved densely (worst 1.2e-13), `λ` the least of its force
 /// (to 1e-10), and a correction `db` of `b` through the same six rows a
 /// foot (1e-10). Without the part of the points' rates that no rigid
 /// motion gives (`cᴸ`), `q̈` is 0.18 from it.
