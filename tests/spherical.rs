@@ -345,3 +345,69 @@ fn a_tethered_ball_in_velocity_coordinates_is_the_dense_solve() {
     assert!(eigenvalues.min() > -1e-12, "{eigenvalues}");
     assert!((generated - dense).amax() < 1e-12 * dense.amax().max(1.0));
 }
+
+constrained_system! {
+    /// A trunk on a free joint and a foot on a ball joint below it, one
+    /// point of the foot held: the point's rows in the trunk's axes
+    /// (`equations/in_base.rs`) reach through the ball's quaternion.
+    pub struct FootOnOnePoint {
+        parameters: [ax, ay, az],
+        bodies: [
+            trunk {
+                joint: free(x, y, z, qw, qx, qy, qz),
+                mass: 8.0,
+                com: [0.03, -0.02, 0.25],
+                inertia: [[0.2, 0.01, 0.0], [0.01, 0.15, 0.0], [0.0, 0.0, 0.1]],
+            },
+            foot {
+                parent: trunk,
+                joint: spherical(fw, fx, fy, fz),
+                xyz: [0.0, 0.0, -0.4],
+                mass: 0.6,
+                com: [0.03, 0.0, -0.02],
+                inertia: [[1.5e-4, 0.0, 1.0e-5], [0.0, 8.0e-4, 0.0], [1.0e-5, 0.0, 8.5e-4]],
+            },
+        ],
+        constraints: [position(foot, [0.12, 0.03, -0.03]) == [ax, ay, az]],
+    }
+}
+
+/// A point beyond a ball joint under a free base, in the quaternions'
+/// velocity coordinates: the point's rows in the base's axes take the
+/// ball's columns through `T` as every other row does (`q̈ = T z`). At 8
+/// moving states, half of them with both quaternions off the unit sphere,
+/// `q̈` and `Aᵀλ` equal the runtime's dense solve to 1e-12, with and
+/// without a correction of `b`, the generated solve answering every one.
+#[test]
+fn a_point_beyond_a_ball_joint_is_the_dense_solve() {
+    let sys = FootOnOnePoint::<f64>::new(0.1, -0.05, 0.2);
+    let mut states = Vec::new();
+    for k in 0..8 {
+        let x = f64::from(k);
+        let trunk = UnitQuaternion::from_euler_angles(0.2 * x.sin(), -0.1, 0.3 * x);
+        let foot = UnitQuaternion::from_euler_angles(0.4, 0.1 * x, -0.2 * x.cos());
+        let scale = if k % 2 == 1 {
+            1.0 + 0.05 * (x - 4.0)
+        } else {
+            1.0
+        };
+        let mut q = SVector::<f64, 11>::zeros();
+        q[0] = 0.1 * x;
+        q[2] = 0.8;
+        for (i, v) in [trunk.w, trunk.i, trunk.j, trunk.k].into_iter().enumerate() {
+            q[3 + i] = scale * v;
+        }
+        for (i, v) in [foot.w, foot.i, foot.j, foot.k].into_iter().enumerate() {
+            q[7 + i] = v / scale;
+        }
+        let qd = SVector::<f64, 11>::from_fn(|i, _| (0.7 * (i as f64 + x)).sin());
+        states.push(State::new(0.0, q, qd));
+    }
+    use crate::auxiliary::{against_dense, assert_close};
+    let gaps = against_dense::<_, 11, 5>(&sys, &states);
+    assert_close("FootOnOnePoint, on and off the spheres", &gaps);
+    assert_eq!(
+        gaps.own, 16,
+        "the generated solve answered every state itself"
+    );
+}
