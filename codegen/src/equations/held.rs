@@ -35,9 +35,7 @@
 //! `Ĉ`, which is the minimum-norm multiplier of the points' rows.
 
 use super::in_base::InBaseRows;
-use super::velocity::transpose;
 use crate::bodies::spatial::{self, M3, V3};
-use crate::bodies::Body;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id};
 use crate::model::HeldBody;
@@ -57,6 +55,9 @@ pub struct HeldRows {
     /// The six rows' right-hand side: the first point's three in the
     /// base's axes, the angular three in the world's.
     pub b: [Id; 6],
+    /// The body's angular rows `J_ω` over `q̇` (world axes), which the
+    /// velocity form turns by `T` into the second point's rows of `A T`.
+    pub angular_rows: [Vec<Id>; 3],
     /// `R`, the body's attitude (body axes → world).
     pub rotation: M3,
     /// `R_B = R̂ᵀ R`, the body's axes in the base's.
@@ -111,14 +112,15 @@ fn constants(points: &[[Num; 3]]) -> Option<Vec<[Num; 6]>> {
                 .collect()
         })
         .collect();
-    let inverse = super::mass_inverse::exact_inverse(&gram)?;
+    let inverse = crate::numeric::linalg::exact_inverse(&gram)?;
     let norm = |m: &[Vec<Num>]| {
         m.iter()
             .flatten()
             .fold(0.0f64, |s, x| s.max(x.to_f64().abs()))
     };
+    // A NaN condition (a float literal's overflow) fails it too.
     let condition = 6.0 * norm(&gram) * norm(&inverse);
-    if !(condition <= CONDITION) {
+    if condition.is_nan() || condition > CONDITION {
         return None;
     }
     Some(
@@ -140,14 +142,12 @@ fn at_point(r: [Num; 3], x: [Num; 6]) -> [Num; 3] {
     ]
 }
 
-/// The points' rows of every held body whose points under one of the
-/// velocity form's free bases fix it: the second point's rows of `a`
-/// (`A T`) become the body's angular rows.
+/// The six rows of every held body whose points under one of the velocity
+/// form's free bases (`free`: each one's `x` and `R̂`) fix it.
 pub fn reduce(
     g: &mut Graph,
-    (held, tree): (&[HeldBody], &[Body]),
+    held: &[HeldBody],
     (in_base, free): (&[InBaseRows], &[(usize, M3)]),
-    a: &mut [Vec<Id>],
 ) -> Vec<HeldRows> {
     let mut out = Vec::new();
     for body in held {
@@ -171,15 +171,9 @@ pub fn reduce(
         if triples.iter().any(|t| t.base != first.base) {
             continue;
         }
-        let Some(rows) = held_rows(g, body, (&triples, &points), base) else {
-            continue;
-        };
-        for (i, &r) in rows.angular().iter().enumerate() {
-            let mut row = body.angular.jacobian[i].clone();
-            transpose(g, tree, &mut row);
-            a[r] = row;
+        if let Some(rows) = held_rows(g, body, (&triples, &points), base) {
+            out.push(rows);
         }
-        out.push(rows);
     }
     out
 }
@@ -193,21 +187,38 @@ fn held_rows(
     base: M3,
 ) -> Option<HeldRows> {
     let gmat = constants(points)?;
-    let k3 = gmat.len();
     let r1 = points[0];
-    // P G − E₁ (the first point's own rate is in its `b`) and G_ω.
-    let column = |c: usize| {
-        let [p0, p1, p2] = at_point(r1, gmat[c]);
-        let [w0, w1, w2] = [gmat[c][3], gmat[c][4], gmat[c][5]];
-        [p0, p1, p2, w0, w1, w2]
-    };
-    let correction: Vec<[Num; 6]> = (0..k3).map(column).collect();
+    // P G and G_ω, one column per point row.
+    let correction: Vec<[Num; 6]> = gmat
+        .iter()
+        .map(|c| {
+            let [p0, p1, p2] = at_point(r1, *c);
+            [p0, p1, p2, c[3], c[4], c[5]]
+        })
+        .collect();
     let rotation = body.rotation;
     let relative = spatial::mat_mul(g, &spatial::transpose(&base), &rotation);
-    let omega = spatial::mat_t_vec(g, &rotation, body.angular.velocity);
+    let rates = unmatched_rates(g, body, points);
+    let b = right_hand_side(g, (body, triples[0]), (&correction, &rates), &relative);
+    Some(HeldRows {
+        triples: triples.iter().map(|t| t.rows).collect(),
+        b,
+        angular_rows: body.angular.jacobian.clone(),
+        rotation,
+        relative,
+        multipliers: gmat.iter().map(|row| from_wrench(r1, *row)).collect(),
+        correction,
+    })
+}
+
+/// `cᴸᵢ = |ωᴸ|² rᵢ − ωᴸ (ωᴸ · rᵢ)` of every point, `ωᴸ = Rᵀ ω`: the part of
+/// its rate at `q̈ = 0` that no rigid motion of the body gives, in the
+/// body's axes, one entry per point row.
+fn unmatched_rates(g: &mut Graph, body: &HeldBody, points: &[[Num; 3]]) -> Vec<Id> {
+    let omega = spatial::mat_t_vec(g, &body.rotation, body.angular.velocity);
     let omega = spatial::hold3(g, omega);
     let squared = spatial::dot(g, omega, omega);
-    let mut rates: Vec<Id> = Vec::with_capacity(k3);
+    let mut rates: Vec<Id> = Vec::with_capacity(3 * points.len());
     for &[x, y, z] in points {
         let r = [x, y, z].map(|c| g.num(c));
         let along = spatial::dot(g, omega, r);
@@ -215,14 +226,26 @@ fn held_rows(
         let inward = spatial::scale(g, along, omega);
         rates.extend(spatial::sub(g, outward, inward));
     }
+    rates
+}
+
+/// The six rows' `b`: the first point's plus `R_B ((P G − E₁) cᴸ)` (its
+/// own rate is in its `b` already), then `−J̇_ω q̇ + R (G_ω cᴸ)`.
+fn right_hand_side(
+    g: &mut Graph,
+    (body, first): (&HeldBody, &InBaseRows),
+    (correction, rates): (&[[Num; 6]], &[Id]),
+    relative: &M3,
+) -> [Id; 6] {
     let combine = |g: &mut Graph, i: usize, skip_first: bool| {
-        let items: Vec<(Id, Num)> = (0..k3)
-            .map(|c| {
-                let mut w = correction[c][i];
-                if skip_first && c == i {
-                    w = w + -Num::ONE;
-                }
-                (rates[c], w)
+        let items: Vec<(Id, Num)> = (correction.iter().zip(rates).enumerate())
+            .map(|(c, (w, &rate))| {
+                let w = if skip_first && c == i {
+                    w[i] + -Num::ONE
+                } else {
+                    w[i]
+                };
+                (rate, w)
             })
             .filter(|(_, w)| !w.is_zero())
             .collect();
@@ -230,50 +253,32 @@ fn held_rows(
     };
     let at_first: V3 = [0, 1, 2].map(|i| combine(g, i, true));
     let turning: V3 = [3, 4, 5].map(|i| combine(g, i, false));
-    let at_first = spatial::mat_vec(g, &relative, at_first);
-    let turning = spatial::mat_vec(g, &rotation, turning);
-    let first = triples[0];
+    let at_first = spatial::mat_vec(g, relative, at_first);
+    let turning = spatial::mat_vec(g, &body.rotation, turning);
     let own = spatial::neg(g, body.angular.bias);
-    let b_first = spatial::add(g, first.b, at_first);
-    let b_turning = spatial::add(g, own, turning);
-    let b = [
-        b_first[0],
-        b_first[1],
-        b_first[2],
-        b_turning[0],
-        b_turning[1],
-        b_turning[2],
+    let [x, y, z] = spatial::add(g, first.b, at_first);
+    let [u, v, w] = spatial::add(g, own, turning);
+    [x, y, z, u, v, w]
+}
+
+/// A row of `Cᴸ (CᴸᵀCᴸ)⁻¹ [1 0; [r₁]× 1]` from the same row of
+/// `Cᴸ (CᴸᵀCᴸ)⁻¹`: `row · [f; r₁ × f + τ]`, so the force's weights gain
+/// `t × r₁` (`t` the torque's weights: `t · (r₁ × f) = (t × r₁) · f`).
+fn from_wrench(r1: [Num; 3], row: [Num; 6]) -> [Num; 6] {
+    let [_, _, _, t0, t1, t2] = row;
+    let [rx, ry, rz] = r1;
+    // r₁ × t, subtracted.
+    let plus = [
+        ry * t2 + -(rz * t1),
+        rz * t0 + -(rx * t2),
+        rx * t1 + -(ry * t0),
     ];
-    // Cᴸ (CᴸᵀCᴸ)⁻¹ [1 0; [r₁]× 1]: (CᴸᵀCᴸ)⁻¹ Cᴸᵀ's transpose, its force
-    // columns gaining r₁ × of the torque's.
-    let multipliers = gmat
-        .iter()
-        .map(|row| {
-            let [_, _, _, t0, t1, t2] = *row;
-            let [rx, ry, rz] = r1;
-            // [f; τ] ↦ row · [f; r₁ × f + τ]: the force weights gain
-            // (τ weights) × r₁'s transpose, (t × r₁)ᵀ f = t · (r₁ × f).
-            let plus = [
-                ry * t2 + -(rz * t1),
-                rz * t0 + -(rx * t2),
-                rx * t1 + -(ry * t0),
-            ];
-            [
-                row[0] + -plus[0],
-                row[1] + -plus[1],
-                row[2] + -plus[2],
-                t0,
-                t1,
-                t2,
-            ]
-        })
-        .collect();
-    Some(HeldRows {
-        triples: triples.iter().map(|t| t.rows).collect(),
-        b,
-        rotation,
-        relative,
-        correction,
-        multipliers,
-    })
+    [
+        row[0] + -plus[0],
+        row[1] + -plus[1],
+        row[2] + -plus[2],
+        t0,
+        t1,
+        t2,
+    ]
 }

@@ -20,6 +20,7 @@ use super::velocity::Bodies;
 use crate::expr::common_factors::Factorer;
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id, Node, Sym};
+use crate::numeric::linalg::exact_inverse;
 use crate::numeric::sparsity::Structure;
 
 /// How `M⁻¹` is applied.
@@ -451,40 +452,6 @@ fn row_scale(g: &Graph, row: &[Id]) -> Num {
         .map(Num::recip)
         .filter(|d| matches!(d, Num::Rational(..)))
         .unwrap_or(Num::ONE)
-}
-
-/// The exact inverse of a constant matrix by Gauss–Jordan elimination in
-/// rationals (floats only where a literal was not a short decimal), or
-/// `None` when it is singular.
-pub(super) fn exact_inverse(m: &[Vec<Num>]) -> Option<Vec<Vec<Num>>> {
-    let n = m.len();
-    let mut work: Vec<Vec<Num>> = m
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            let mut r = row.clone();
-            r.extend((0..n).map(|j| if i == j { Num::ONE } else { Num::ZERO }));
-            r
-        })
-        .collect();
-    for c in 0..n {
-        let p = (c..n).find(|&r| !work[r][c].is_zero())?;
-        work.swap(c, p);
-        let pivot = work[c][c];
-        for x in work[c].iter_mut() {
-            *x = *x / pivot;
-        }
-        let pivot_row = work[c].clone();
-        for (r, row) in work.iter_mut().enumerate() {
-            let f = row[c];
-            if r != c && !f.is_zero() {
-                for (x, p) in row.iter_mut().zip(&pivot_row) {
-                    *x = *x + -(f * *p);
-                }
-            }
-        }
-    }
-    Some(work.into_iter().map(|row| row[n..].to_vec()).collect())
 }
 
 #[cfg(test)]

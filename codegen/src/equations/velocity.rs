@@ -105,31 +105,7 @@ pub struct Transformed {
 pub fn form(g: &mut Graph, bodies: Bodies, a: &[Vec<Id>], range_cost: usize) -> Option<Velocity> {
     let (velocity_mass, tree, forces) = (bodies.mass, bodies.bodies, bodies.forces);
     let mut system = transformed(g, (velocity_mass, tree), forces, a)?;
-    // Only the triples under a base the tree's own form turns (both find
-    // the same free joints; any other keeps its rows of `A T`).
-    let mut in_base: Vec<_> = (bodies.in_base.iter())
-        .filter(|rows| system.free.iter().any(|&(x, _)| x == rows.base))
-        .cloned()
-        .collect();
-    for rows in &mut in_base {
-        // A quaternion joint between the base and the point (a ball joint)
-        // turns its own columns as any row's: `T`.
-        for c in quaternions(tree).into_iter().filter(|&c| c != rows.w) {
-            let own = crate::bodies::free::coordinates(g, c);
-            let big_g = crate::bodies::free::g_matrix(g, own);
-            for row in &mut rows.a {
-                if c + 4 <= row.len() {
-                    transform(g, (c, own, &big_g), row);
-                }
-            }
-        }
-        for (i, &r) in rows.rows.iter().enumerate() {
-            system.a[r].clone_from(&rows.a[i]);
-        }
-    }
-    let bases = (&in_base[..], &system.free[..]);
-    system.held = super::held::reduce(g, (bodies.held, tree), bases, &mut system.a);
-    system.in_base = in_base;
+    points_in_base(g, &mut system, bodies);
     let (n, a) = (forces.len(), &system.a);
     let ws: Vec<usize> = system.quaternions.iter().map(|&(c, _)| c).collect();
     let coordinates: Vec<usize> = (0..n).filter(|i| !ws.contains(i)).collect();
@@ -164,6 +140,46 @@ pub fn form(g: &mut Graph, bodies: Bodies, a: &[Vec<Id>], range_cost: usize) -> 
         rows,
         structure,
     })
+}
+
+/// The rows of points under the form's free bases, in their axes
+/// (`super::in_base`), into `system`'s `A T`, and the bodies held at three
+/// or more of them as their own six rows (`super::held`).
+fn points_in_base(g: &mut Graph, system: &mut Transformed, bodies: Bodies) {
+    let tree = bodies.bodies;
+    // Only the triples under a base the tree's own form turns (both find
+    // the same free joints; any other keeps its rows of `A T`).
+    let mut in_base: Vec<_> = (bodies.in_base.iter())
+        .filter(|rows| system.free.iter().any(|&(x, _)| x == rows.base))
+        .cloned()
+        .collect();
+    for rows in &mut in_base {
+        // A quaternion joint between the base and the point (a ball joint)
+        // turns its own columns as any row's: `T`.
+        for c in quaternions(tree).into_iter().filter(|&c| c != rows.w) {
+            let own = crate::bodies::free::coordinates(g, c);
+            let big_g = crate::bodies::free::g_matrix(g, own);
+            for row in &mut rows.a {
+                if c + 4 <= row.len() {
+                    transform(g, (c, own, &big_g), row);
+                }
+            }
+        }
+        for (i, &r) in rows.rows.iter().enumerate() {
+            system.a[r].clone_from(&rows.a[i]);
+        }
+    }
+    let bases = (&in_base[..], &system.free[..]);
+    system.held = super::held::reduce(g, bodies.held, bases);
+    for held in &system.held {
+        // The second point's rows carry the body's angular ones, as `A T`.
+        for (i, &r) in held.angular().iter().enumerate() {
+            let mut row = held.angular_rows[i].clone();
+            transpose(g, tree, &mut row);
+            system.a[r] = row;
+        }
+    }
+    system.in_base = in_base;
 }
 
 /// `TᵀF` and `A T` for every quaternion of the tree, where `TᵀMT` has no

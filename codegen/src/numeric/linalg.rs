@@ -1,4 +1,7 @@
-//! Small dense `f64` linear algebra for compile-time checks.
+//! Small dense `f64` linear algebra for compile-time checks, and the exact
+//! inverse of a constant matrix.
+
+use crate::expr::num::Num;
 
 /// Whether the symmetric matrix `m` is positive definite (Cholesky succeeds
 /// with pivots above a relative tolerance).
@@ -222,4 +225,38 @@ mod rank_tests {
         let x = damped_least_squares(&j, &[4.0, 1.0], 1e-12);
         assert!((x[0] - 2.0).abs() < 1e-10 && x[1] == 0.0, "{x:?}");
     }
+}
+
+/// The exact inverse of a constant matrix by Gauss–Jordan elimination in
+/// rationals (floats only where a literal was not a short decimal), or
+/// `None` when it is singular.
+pub fn exact_inverse(m: &[Vec<Num>]) -> Option<Vec<Vec<Num>>> {
+    let n = m.len();
+    let mut work: Vec<Vec<Num>> = m
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            let mut r = row.clone();
+            r.extend((0..n).map(|j| if i == j { Num::ONE } else { Num::ZERO }));
+            r
+        })
+        .collect();
+    for c in 0..n {
+        let p = (c..n).find(|&r| !work[r][c].is_zero())?;
+        work.swap(c, p);
+        let pivot = work[c][c];
+        for x in work[c].iter_mut() {
+            *x = *x / pivot;
+        }
+        let pivot_row = work[c].clone();
+        for (r, row) in work.iter_mut().enumerate() {
+            let f = row[c];
+            if r != c && !f.is_zero() {
+                for (x, p) in row.iter_mut().zip(&pivot_row) {
+                    *x = *x + -(f * *p);
+                }
+            }
+        }
+    }
+    Some(work.into_iter().map(|row| row[n..].to_vec()).collect())
 }
