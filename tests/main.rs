@@ -6,6 +6,7 @@
 //! stays a binary of its own (a counting global allocator, no harness), as
 //! do the compile-fail tests (`tests/ui`, a package of their own).
 
+#[macro_use]
 mod common;
 
 mod appell_eq30;

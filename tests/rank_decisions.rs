@@ -228,7 +228,7 @@ fn a_state_of_lower_rank_is_decided_at_run_time() {
     }
 }
 
-constrained::constrained_system! {
+trunk_on_ball_foot!(
     /// A trunk on a free joint with a foot on a ball joint below it, the
     /// foot held at three points of its sole (the G1's), each point's
     /// three rows in world axes: nine rows of rank six, and the two
@@ -236,31 +236,14 @@ constrained::constrained_system! {
     /// of freedom. The rows' own order (x, y, z of each point) keeps the
     /// second point's y row when the foot is turned a little, nearly along
     /// the first point's, and drops its well-conditioned z row.
-    pub struct FootOnThreePoints {
-        parameters: [ax, ay, az, bx, by, bz, cx, cy, cz],
-        bodies: [
-            trunk {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 8.0,
-                com: [0.03, -0.02, 0.25],
-                inertia: [[0.2, 0.01, 0.0], [0.01, 0.15, 0.0], [0.0, 0.0, 0.1]],
-            },
-            foot {
-                parent: trunk,
-                joint: spherical(fw, fx, fy, fz),
-                xyz: [0.0, 0.0, -0.4],
-                mass: 0.6,
-                com: [0.03, 0.0, -0.02],
-                inertia: [[1.5e-4, 0.0, 1.0e-5], [0.0, 8.0e-4, 0.0], [1.0e-5, 0.0, 8.5e-4]],
-            },
-        ],
-        constraints: [
-            position(foot, [-0.05, 0.025, -0.03]) == [ax, ay, az],
-            position(foot, [-0.05, -0.025, -0.03]) == [bx, by, bz],
-            position(foot, [0.12, 0.03, -0.03]) == [cx, cy, cz],
-        ],
-    }
-}
+    FootOnThreePoints,
+    [ax, ay, az, bx, by, bz, cx, cy, cz],
+    [
+        position(foot, [-0.05, 0.025, -0.03]) == [ax, ay, az],
+        position(foot, [-0.05, -0.025, -0.03]) == [bx, by, bz],
+        position(foot, [0.12, 0.03, -0.03]) == [cx, cy, cz],
+    ]
+);
 
 /// The trunk at rest, leaning, the foot below it tilted by `(roll, pitch)`
 /// and turned by `yaw` in the world, its points held where they are.

@@ -346,31 +346,14 @@ fn a_tethered_ball_in_velocity_coordinates_is_the_dense_solve() {
     assert!((generated - dense).amax() < 1e-12 * dense.amax().max(1.0));
 }
 
-constrained_system! {
+trunk_on_ball_foot!(
     /// A trunk on a free joint and a foot on a ball joint below it, one
     /// point of the foot held: the point's rows in the trunk's axes
     /// (`equations/in_base.rs`) reach through the ball's quaternion.
-    pub struct FootOnOnePoint {
-        parameters: [ax, ay, az],
-        bodies: [
-            trunk {
-                joint: free(x, y, z, qw, qx, qy, qz),
-                mass: 8.0,
-                com: [0.03, -0.02, 0.25],
-                inertia: [[0.2, 0.01, 0.0], [0.01, 0.15, 0.0], [0.0, 0.0, 0.1]],
-            },
-            foot {
-                parent: trunk,
-                joint: spherical(fw, fx, fy, fz),
-                xyz: [0.0, 0.0, -0.4],
-                mass: 0.6,
-                com: [0.03, 0.0, -0.02],
-                inertia: [[1.5e-4, 0.0, 1.0e-5], [0.0, 8.0e-4, 0.0], [1.0e-5, 0.0, 8.5e-4]],
-            },
-        ],
-        constraints: [position(foot, [0.12, 0.03, -0.03]) == [ax, ay, az]],
-    }
-}
+    FootOnOnePoint,
+    [ax, ay, az],
+    [position(foot, [0.12, 0.03, -0.03]) == [ax, ay, az]]
+);
 
 /// A point beyond a ball joint under a free base, in the quaternions'
 /// velocity coordinates: the point's rows in the base's axes take the

@@ -14,3 +14,34 @@ pub fn appell_state() -> impl Strategy<Value = ([f64; 3], [f64; 3], f64, f64, f6
         -3.0..3.0f64,
     )
 }
+
+/// A trunk on a free joint with a foot on a ball joint 0.4 below it,
+/// `$name` with the given parameters and constraints
+/// (`rank_decisions::FootOnThreePoints`, `spherical::FootOnOnePoint`).
+macro_rules! trunk_on_ball_foot {
+    ($(#[$attr:meta])* $name:ident, [$($p:ident),*], [$($c:tt)*]) => {
+        constrained::constrained_system! {
+            $(#[$attr])*
+            pub struct $name {
+                parameters: [$($p),*],
+                bodies: [
+                    trunk {
+                        joint: free(x, y, z, qw, qx, qy, qz),
+                        mass: 8.0,
+                        com: [0.03, -0.02, 0.25],
+                        inertia: [[0.2, 0.01, 0.0], [0.01, 0.15, 0.0], [0.0, 0.0, 0.1]],
+                    },
+                    foot {
+                        parent: trunk,
+                        joint: spherical(fw, fx, fy, fz),
+                        xyz: [0.0, 0.0, -0.4],
+                        mass: 0.6,
+                        com: [0.03, 0.0, -0.02],
+                        inertia: [[1.5e-4, 0.0, 1.0e-5], [0.0, 8.0e-4, 0.0], [1.0e-5, 0.0, 8.5e-4]],
+                    },
+                ],
+                constraints: [$($c)*],
+            }
+        }
+    };
+}

@@ -6,8 +6,11 @@
 //! solve to the runtime's dense one, as in [`super::saddle`]), or, for a
 //! floating base standing on legs, each leg through its foot's rows and the
 //! base's 6 × 6 inertia with the feet held ([`super::legs`]); then
-//! `q̈ = T z` and the norms' multipliers. `Aᵀλ` is formed with the model's
-//! `A`, so every output is in the model's coordinates.
+//! `q̈ = T z` and the norms' multipliers. A body held at three or more
+//! points is solved through its own six rows, whose `b` (and correction)
+//! come from its points' and whose `μ` give its points' least `λ`
+//! (`crate::equations::held`). `Aᵀλ` is formed with the model's `A`, so
+//! every output is in the model's coordinates.
 
 use super::saddle::{function, or_zero, solved};
 use super::{auxiliary, bind};
