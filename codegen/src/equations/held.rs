@@ -168,9 +168,6 @@ pub fn reduce(
         let Some(points) = points.filter(|p| p.len() >= 3) else {
             continue;
         };
-        if triples.iter().any(|t| t.base != first.base) {
-            continue;
-        }
         if let Some(rows) = held_rows(g, body, (&triples, &points), base) {
             out.push(rows);
         }

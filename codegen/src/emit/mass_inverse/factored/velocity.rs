@@ -241,10 +241,12 @@ fn accelerations(
         // p̈ = R̂ z.
         let z: Vec<TokenStream> = (0..3).map(|j| values[x + j].clone()).collect();
         for i in 0..3 {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| free_rotation(t, i, j));
-            let (z0, z1, z2) = (&z[0], &z[1], &z[2]);
+            let value = row_times(
+                [0, 1, 2].map(|j| free_rotation(t, i, j)),
+                [&z[0], &z[1], &z[2]],
+            );
             let name = Context::local("pa", x + i);
-            code.extend(quote! { let #name = #r0 * #z0 + #r1 * #z1 + #r2 * #z2; });
+            code.extend(quote! { let #name = #value; });
         }
         for i in 0..3 {
             let name = Context::local("pa", x + i);
@@ -351,8 +353,11 @@ fn turned_correction(ctx: &Context, v: &Velocity) -> TokenStream {
     for rows in &v.system.in_base {
         let [d0, d1, d2] = rows.rows.map(|r| &d[r]);
         for (i, &r) in rows.rows.iter().enumerate() {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(v, rows, j, i));
-            terms[r] = quote!((#r0 * #d0 + #r1 * #d1 + #r2 * #d2));
+            let value = row_times(
+                [0, 1, 2].map(|j| rotation_local(v, rows, j, i)),
+                [d0, d1, d2],
+            );
+            terms[r] = quote!((#value));
         }
     }
     let mut code = TokenStream::new();
@@ -400,20 +405,24 @@ fn held_local(what: &str, h: usize, i: usize, j: usize) -> Ident {
     Context::local2(what, h, 3 * i + j)
 }
 
-/// `Σ wᵢ xᵢ` over the nonzero constant weights, `T::zero()` for none.
+/// `Σ wᵢ xᵢ` over the nonzero constant weights, parenthesised;
+/// `T::zero()` for none.
 fn weighted(weights: impl Iterator<Item = (Num, TokenStream)>) -> TokenStream {
-    let terms: Vec<TokenStream> = weights
+    let pairs: Vec<(TokenStream, TokenStream)> = weights
         .filter(|(w, _)| !w.is_zero())
-        .map(|(w, x)| {
-            let (w, _) = literal(w);
-            quote!(#w * #x)
-        })
+        .map(|(w, x)| (literal(w).0, x))
         .collect();
-    if terms.is_empty() {
-        quote!(T::zero())
-    } else {
-        quote!((#(#terms)+*))
+    if pairs.is_empty() {
+        return quote!(T::zero());
     }
+    let sum = super::dot(pairs);
+    quote!((#sum))
+}
+
+/// `r₀ x₀ + r₁ x₁ + r₂ x₂`: a row of a rotation's locals times a vector.
+fn row_times<A: quote::ToTokens, B: quote::ToTokens>(r: [A; 3], x: [B; 3]) -> TokenStream {
+    let ([r0, r1, r2], [x0, x1, x2]) = (r, x);
+    quote!(#r0 * #x0 + #r1 * #x1 + #r2 * #x2)
 }
 
 /// A held body's six right-hand sides' change from its points' `δb`
@@ -425,9 +434,9 @@ fn held_correction(h: usize, held: &HeldRows, d: &[Ident]) -> (TokenStream, Vec<
     for (p, triple) in held.triples.iter().enumerate() {
         let [d0, d1, d2] = triple.map(|r| &d[r]);
         for i in 0..3 {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| held_local("hr", h, j, i));
+            let value = row_times([0, 1, 2].map(|j| held_local("hr", h, j, i)), [d0, d1, d2]);
             let name = Context::local2("hd", h, 3 * p + i);
-            code.extend(quote! { let #name = #r0 * #d0 + #r1 * #d1 + #r2 * #d2; });
+            code.extend(quote! { let #name = #value; });
             local.push(quote!(#name));
         }
     }
@@ -444,9 +453,9 @@ fn held_correction(h: usize, held: &HeldRows, d: &[Ident]) -> (TokenStream, Vec<
     let turn = |what: &str, part: &[TokenStream]| -> Vec<TokenStream> {
         (0..3)
             .map(|i| {
-                let [r0, r1, r2] = [0, 1, 2].map(|j| held_local(what, h, i, j));
-                let [x0, x1, x2] = [&part[0], &part[1], &part[2]];
-                quote!((#r0 * #x0 + #r1 * #x1 + #r2 * #x2))
+                let r = [0, 1, 2].map(|j| held_local(what, h, i, j));
+                let value = row_times(r, [&part[0], &part[1], &part[2]]);
+                quote!((#value))
             })
             .collect()
     };
@@ -466,10 +475,10 @@ fn held_multipliers(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream
         let mut wrench = Vec::new();
         for (what, part) in [("hb", &six[..3]), ("hr", &six[3..])] {
             for i in 0..3 {
-                let [r0, r1, r2] = [0, 1, 2].map(|j| held_local(what, h, j, i));
-                let [x0, x1, x2] = [&part[0], &part[1], &part[2]];
+                let r = [0, 1, 2].map(|j| held_local(what, h, j, i));
+                let value = row_times(r, [&part[0], &part[1], &part[2]]);
                 let name = Context::local2("hw", h, wrench.len());
-                code.extend(quote! { let #name = #r0 * #x0 + #r1 * #x1 + #r2 * #x2; });
+                code.extend(quote! { let #name = #value; });
                 wrench.push(quote!(#name));
             }
         }
@@ -480,10 +489,10 @@ fn held_multipliers(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream
         }
         for (p, triple) in held.triples.iter().enumerate() {
             for (i, &r) in triple.iter().enumerate() {
-                let [r0, r1, r2] = [0, 1, 2].map(|j| held_local("hr", h, i, j));
-                let [l0, l1, l2] = [0, 1, 2].map(|j| Context::local2("hl", h, 3 * p + j));
+                let local = [0, 1, 2].map(|j| Context::local2("hl", h, 3 * p + j));
+                let value = row_times([0, 1, 2].map(|j| held_local("hr", h, i, j)), local);
                 let name = Context::local("mub", r);
-                code.extend(quote! { let #name = #r0 * #l0 + #r1 * #l1 + #r2 * #l2; });
+                code.extend(quote! { let #name = #value; });
                 mu[r] = Some(quote!(#name));
             }
         }
@@ -507,10 +516,10 @@ fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
     {
         let own: Vec<TokenStream> = rows.rows.iter().map(|&r| or_zero(&mu[r])).collect();
         for (i, &r) in rows.rows.iter().enumerate() {
-            let [r0, r1, r2] = [0, 1, 2].map(|j| rotation_local(v, rows, i, j));
-            let [m0, m1, m2] = [&own[0], &own[1], &own[2]];
+            let r3 = [0, 1, 2].map(|j| rotation_local(v, rows, i, j));
+            let value = row_times(r3, [&own[0], &own[1], &own[2]]);
             let name = Context::local("mub", r);
-            code.extend(quote! { let #name = #r0 * #m0 + #r1 * #m1 + #r2 * #m2; });
+            code.extend(quote! { let #name = #value; });
             mu[r] = Some(quote!(#name));
         }
     }
