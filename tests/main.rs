@@ -53,3 +53,4 @@ mod spherical;
 mod stick_slip;
 mod urdf_as_written;
 mod user_names;
+mod velocity_jacobians;

@@ -25,7 +25,7 @@ quadruped_system!(
 
 /// The feet's places when standing with hip flexion `θ` and knee `−2θ`
 /// (each foot under its hip), and the state there at rest.
-fn standing(theta: f64) -> ([f64; 8], State<f64, N>) {
+pub(crate) fn standing(theta: f64) -> ([f64; 8], State<f64, N>) {
     let mut feet = [0.0; 8];
     for (k, h) in HIPS.iter().enumerate() {
         feet[2 * k] = h[0];
@@ -50,7 +50,7 @@ fn robot(feet: [f64; 8]) -> Quadruped<f64> {
 }
 
 /// A tumbling state near standing: joints and base moved, with velocities.
-fn perturbed(s: &State<f64, N>, k: usize) -> State<f64, N> {
+pub(crate) fn perturbed(s: &State<f64, N>, k: usize) -> State<f64, N> {
     let x = k as f64;
     let base = FreeMotion {
         position: Vector3::new(0.01 * x.sin(), -0.02, s.q[2] + 0.01 * x.cos()),

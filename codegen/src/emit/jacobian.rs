@@ -105,7 +105,32 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
     let both = ctx.path(quote!(linearize::try_acceleration_and_multiplier_jacobians));
     let error = ctx.path(quote!(DynamicsError));
     let (params, args) = (&parts.params, &parts.args);
+    // The velocity form solves the tangent systems through its own
+    // factors; elsewhere the runtime solves them densely.
+    let (private, only_body, both_body) = match mass_inverse::multiplier_jacobians(ctx) {
+        Some((private, name)) => (
+            private,
+            quote! {
+                let (_, __l) = self.#name(#args, true)?;
+                ::core::result::Result::Ok(__l)
+            },
+            quote!(self.#name(#args, true)),
+        ),
+        None => (
+            TokenStream::new(),
+            quote! {
+                let __motion = #motion;
+                #only::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+            },
+            quote! {
+                let __motion = #motion;
+                #both::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+            },
+        ),
+    };
     quote! {
+        #private
+
         /// The Jacobians of the constraint multipliers `λ(q, q̇, u)` that
         /// `constraint_multipliers` returns: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u`
         /// (`K` rows each), exact, from the same tangent systems as
@@ -118,8 +143,7 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
             &self,
             #params
         ) -> ::core::result::Result<#multipliers, #error> {
-            let __motion = #motion;
-            #only::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+            #only_body
         }
         /// The Jacobians of `q̈` and of the multipliers `λ` from one
         /// evaluation of the tangent systems, solved densely: what
@@ -131,8 +155,7 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
             &self,
             #params
         ) -> ::core::result::Result<(#accelerations, #multipliers), #error> {
-            let __motion = #motion;
-            #both::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+            #both_body
         }
     }
 }

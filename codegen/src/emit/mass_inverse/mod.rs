@@ -45,7 +45,27 @@ pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> TokenStream {
     match &ctx.eq.mass_inverse {
         MassInverse::Symbolic(d) => symbolic::jacobian::jacobian(ctx, d, dense),
         MassInverse::Factored(f) => factored::jacobian::jacobian(ctx, f, dense),
-        MassInverse::Auxiliary(_) => dense.clone(),
+        MassInverse::Auxiliary(f) => match factored::velocity_jacobians(ctx, f) {
+            Some((_, name)) => {
+                let args = ctx.args(super::context::Inputs::States);
+                quote! {
+                    let (__j, _) = self.#name(#args, false)?;
+                    ::core::result::Result::Ok(__j)
+                }
+            }
+            None => dense.clone(),
+        },
+    }
+}
+
+/// The private methods behind `acceleration_and_multiplier_jacobians`
+/// where the strategy solves the tangent systems itself (the velocity
+/// form's), and the name of the one to call with `(q, qd, t,
+/// multipliers)`; `None` where the runtime's dense solve does.
+pub(super) fn multiplier_jacobians(ctx: &Context) -> Option<(TokenStream, syn::Ident)> {
+    match &ctx.eq.mass_inverse {
+        MassInverse::Auxiliary(f) => factored::velocity_jacobians(ctx, f),
+        MassInverse::Symbolic(_) | MassInverse::Factored(_) => None,
     }
 }
 

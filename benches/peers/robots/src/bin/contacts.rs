@@ -743,7 +743,8 @@ pub(crate) fn spin<S, const M: usize, const K: usize>(
 
 /// `contacts spin SYSTEM WHAT PASSES`: the states of `SYSTEM` (as `time`
 /// makes them), then [`spin`]; for the Go1, `WHAT` may also be
-/// `jacobians` (`acceleration_and_multiplier_jacobians`, for a profiler).
+/// `jacobians` (`acceleration_and_multiplier_jacobians`) or
+/// `qdd_jacobian` (`acceleration_jacobian`), for a profiler.
 fn spin_system(system: &str, what: &str, passes: usize) {
     match system {
         "quadruped" => {
@@ -754,7 +755,17 @@ fn spin_system(system: &str, what: &str, passes: usize) {
         "go1" => {
             let mut own = Rng(48);
             let cases: Vec<_> = (0..STATES).map(|_| go1_state(&mut own)).collect();
-            if what == "jacobians" {
+            if what == "qdd_jacobian" {
+                for _ in 0..passes {
+                    for (system, s) in &cases {
+                        let _ = black_box(black_box(system).acceleration_jacobian(
+                            black_box(&s.q),
+                            black_box(&s.qd),
+                            s.t,
+                        ));
+                    }
+                }
+            } else if what == "jacobians" {
                 for _ in 0..passes {
                     for (system, s) in &cases {
                         let _ = black_box(black_box(system).acceleration_and_multiplier_jacobians(

@@ -113,12 +113,15 @@ impl Leg<'_> {
 /// `S u = r` by `L D Lᵀ`, each leg's `θ̈` and `μ`. `entry(i, j)` is the
 /// saddle-point matrix's bound local at (i, j) where structurally nonzero,
 /// `rhs[i]` its right-hand side. Returns the code and the solved values by
-/// position (coordinates, then rows).
+/// position (coordinates, then rows). Without `factor`, only the code that
+/// reads `rhs`: another right-hand side through the factors an earlier
+/// call with `factor` bound in an enclosing scope (the tangent systems'
+/// columns, `super::velocity_jacobian`).
 pub(super) fn solve(
     legs: &Legs,
     (nr, kr): (usize, usize),
     entry: &dyn Fn(usize, usize) -> Option<Ident>,
-    rhs: &[Option<TokenStream>],
+    (rhs, factor): (&[Option<TokenStream>], bool),
     dense: &TokenStream,
 ) -> (TokenStream, Vec<Option<TokenStream>>) {
     let zero = || quote!(T::zero());
@@ -131,7 +134,9 @@ pub(super) fn solve(
     let mut shares = Vec::new();
     for (t, &(joints, rows)) in legs.legs.iter().enumerate() {
         let j = |i: usize, k: usize| at(nr + rows[i], joints[k]);
-        code.extend(inverse(t, &j, dense, &tolerance));
+        if factor {
+            code.extend(inverse(t, &j, dense, &tolerance));
+        }
         let leg = Leg {
             t,
             inverse: [0, 1, 2].map(|i| [0, 1, 2].map(|k| name("lja", t, 3 * i + k))),
@@ -141,20 +146,22 @@ pub(super) fn solve(
             base: legs.base,
             nr,
         };
-        let c = share(&leg, rhs, &mut code, (&mut s_terms, &mut r_terms));
+        let c = share(&leg, rhs, &mut code, (&mut s_terms, &mut r_terms), factor);
         shares.push((leg, c));
     }
     let structure = Structure::with_order(vec![vec![true; 6]; 6], (0..6).collect());
     let ldlt = StructuredLdlt::reduced(&structure, dense.clone());
-    for (m, row) in s_terms.iter().enumerate() {
-        for (o, terms) in row.iter().enumerate().take(m + 1) {
-            let own = at(legs.base[m], legs.base[o]);
-            let entry = ldlt.entry(m, o);
-            let value = minus(own, sum(terms.clone())).unwrap_or_else(zero);
-            code.extend(quote! { let #entry = #value; });
+    if factor {
+        for (m, row) in s_terms.iter().enumerate() {
+            for (o, terms) in row.iter().enumerate().take(m + 1) {
+                let own = at(legs.base[m], legs.base[o]);
+                let entry = ldlt.entry(m, o);
+                let value = minus(own, sum(terms.clone())).unwrap_or_else(zero);
+                code.extend(quote! { let #entry = #value; });
+            }
         }
+        code.extend(ldlt.factor());
     }
-    code.extend(ldlt.factor());
     let r: Vec<Ident> = (0..6).map(|m| Context::local("bsr", m)).collect();
     for (m, name) in r.iter().enumerate() {
         let value = minus(rhs[legs.base[m]].clone(), sum(r_terms[m].clone()));
@@ -180,19 +187,22 @@ pub(super) fn solve(
 
 /// Leg `leg`'s share: `c = J⁻¹ b` (returned), and into `S` and `r`:
 /// `S −= Eᵀ W + Wᵀ E` with `W = J⁻ᵀ Y`, `Y = M_lb − ½ M_ll J⁻¹ E` (so that
-/// `Eᵀ W = Nᵀ Y`), and `r −= M_lbᵀ c + Eᵀ J⁻ᵀ (f_l − M_ll c)`.
+/// `Eᵀ W = Nᵀ Y`; where `factor`), and `r −= M_lbᵀ c + Eᵀ J⁻ᵀ (f_l − M_ll c)`.
 fn share(
     leg: &Leg,
     rhs: &[Option<TokenStream>],
     code: &mut TokenStream,
     (s_terms, r_terms): (&mut [Vec<Vec<TokenStream>>], &mut [Vec<TokenStream>]),
+    factor: bool,
 ) -> [Option<Ident>; 3] {
     let b = |k: usize| rhs[leg.nr + leg.rows[k]].clone();
     let c = [0, 1, 2].map(|i| {
         let value = dot((0..3).map(|k| (leg.a(i, k), b(k))));
         bind(code, leg.name("ljc", i), value)
     });
-    gram_share(leg, code, s_terms);
+    if factor {
+        gram_share(leg, code, s_terms);
+    }
     residual_share(leg, rhs, &c, code, r_terms);
     c
 }

@@ -34,17 +34,52 @@ use syn::Ident;
 /// The function `gauss`.
 pub(super) fn solver(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let dense = auxiliary::dense_answer(ctx);
-    let ldlt = StructuredLdlt::saddle(&v.structure, v.coordinates.len(), dense.clone());
     let bail = |error: TokenStream| ctx.gauss_error(error);
+    let solved = solve(ctx, v, legs, &dense, &bail);
+    function(
+        ctx,
+        (solved.acceleration, &solved.mu),
+        solved.code,
+        solved.how,
+    )
+}
+
+/// The velocity form solved for `gauss`'s right-hand side: the code, and
+/// what it leaves bound.
+pub(super) struct Solved<'a> {
+    /// From the expressions to `q̈` and `μ`.
+    pub code: TokenStream,
+    /// `q̈`'s entries, in the model's coordinates.
+    pub acceleration: Vec<TokenStream>,
+    /// Each row's `μ` (`λ = −μ`), `None` where structurally zero.
+    pub mu: Vec<Option<TokenStream>>,
+    /// The strategy's sentence.
+    pub how: &'static str,
+    /// The saddle-point `L D Lᵀ` it factored (the legs' own where `legs`).
+    pub ldlt: StructuredLdlt<'a>,
+}
+
+/// The velocity form's solve, every check handing the answer to `dense`
+/// (non-finite inputs to `bail`): `gauss`'s body, and the factors the
+/// tangent systems' columns are solved through
+/// (`super::velocity_jacobian`). Reads `correction`.
+pub(super) fn solve<'a>(
+    ctx: &Context,
+    v: &'a Velocity,
+    legs: Option<&Legs>,
+    dense: &TokenStream,
+    bail: &dyn Fn(TokenStream) -> TokenStream,
+) -> Solved<'a> {
+    let ldlt = StructuredLdlt::saddle(&v.structure, v.coordinates.len(), dense.clone());
     let (named, checked) = named(ctx, v, &ldlt);
-    let head = bind(ctx, &named, checked, &bail);
+    let head = bind(ctx, &named, checked, bail);
     let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
     let correction = if v.system.in_base.is_empty() {
         corrected(&b, &[])
     } else {
         turned_correction(ctx, v)
     };
-    let alphas = alphas(ctx, v, &dense);
+    let alphas = alphas(ctx, v, dense);
     let (nr, kr) = (v.coordinates.len(), v.rows.len());
     let g = &ctx.eq.system.graph;
     let mut rhs: Vec<Option<TokenStream>> = v
@@ -64,7 +99,7 @@ pub(super) fn solver(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenS
     let ((solve, values), how) = match legs {
         Some(legs) => {
             let entry = |i: usize, j: usize| v.structure.nonzero[i][j].then(|| ldlt.entry(i, j));
-            let solved = super::legs::solve(legs, (nr, kr), &entry, &rhs, &dense);
+            let solved = super::legs::solve(legs, (nr, kr), &entry, (&rhs, true), dense);
             (solved, Strategy::Legs.describe())
         }
         None => {
@@ -76,10 +111,23 @@ pub(super) fn solver(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenS
         }
     };
     let (recover, acceleration) = accelerations(ctx, v, &values);
-    let (norms, mut mu) = multipliers(ctx, v, &values);
+    let forces: Vec<Option<TokenStream>> = (0..ctx.n)
+        .map(|i| {
+            (!g.is_zero(v.system.forces[i])).then(|| {
+                let f = Context::local("f", i);
+                quote!(#f)
+            })
+        })
+        .collect();
+    let (norms, mut mu) = multipliers(ctx, v, &values, &forces);
     let norms = concat([norms, in_world(v, &mut mu), held_multipliers(v, &mut mu)]);
-    let body = concat([head, correction, alphas, solve, recover, norms]);
-    function(ctx, (acceleration, &mu), body, how)
+    Solved {
+        code: concat([head, correction, alphas, solve, recover, norms]),
+        acceleration,
+        mu,
+        how,
+        ldlt,
+    }
 }
 
 /// The locals bound from the expressions: `TᵀMT`'s entries of the
@@ -227,7 +275,7 @@ fn alphas(ctx: &Context, v: &Velocity, dense: &TokenStream) -> TokenStream {
 /// `q̈ = T z`: the kept coordinates as solved, each quaternion's four as
 /// `½ (q α + Gᵀ β)` (locals `__qa{i}`); the code and each coordinate's
 /// value.
-fn accelerations(
+pub(super) fn accelerations(
     ctx: &Context,
     v: &Velocity,
     solved: &[Option<TokenStream>],
@@ -284,11 +332,13 @@ fn accelerations(
 
 /// `μ` for every row (`None` where structurally zero): the kept rows' as
 /// solved, each norm's
-/// `((TᵀF)_α − Σ (A T)_{rα} μ_r) / (A T)_{norm,α}` (locals `__mun{r}`).
-fn multipliers(
+/// `((TᵀF)_α − Σ (A T)_{rα} μ_r) / (A T)_{norm,α}` (locals `__mun{r}`),
+/// `(TᵀF)_α` from `forces` by coordinate.
+pub(super) fn multipliers(
     ctx: &Context,
     v: &Velocity,
     solved: &[Option<TokenStream>],
+    forces: &[Option<TokenStream>],
 ) -> (TokenStream, Vec<Option<TokenStream>>) {
     let g = &ctx.eq.system.graph;
     let nr = v.coordinates.len();
@@ -298,12 +348,7 @@ fn multipliers(
     }
     let mut code = TokenStream::new();
     for &(c, norm) in &v.system.quaternions {
-        let f = if g.is_zero(v.system.forces[c]) {
-            quote!(T::zero())
-        } else {
-            let f = Context::local("f", c);
-            quote!(#f)
-        };
+        let f = or_zero(&forces[c]);
         let terms: Vec<TokenStream> = v
             .rows
             .iter()
@@ -327,14 +372,14 @@ fn multipliers(
 }
 
 /// The local of `R̂[i][j]` of the `t`-th free base.
-fn free_rotation(t: usize, i: usize, j: usize) -> Ident {
+pub(super) fn free_rotation(t: usize, i: usize, j: usize) -> Ident {
     Context::local2("rf", t, 3 * i + j)
 }
 
 /// The local of `R̂[i][j]` of the free base of a triple of rows in its
 /// axes (`crate::equations::velocity::form` keeps only triples whose base
 /// is among `free`).
-fn rotation_local(v: &Velocity, rows: &InBaseRows, i: usize, j: usize) -> Ident {
+pub(super) fn rotation_local(v: &Velocity, rows: &InBaseRows, i: usize, j: usize) -> Ident {
     let t = v
         .system
         .free
@@ -420,7 +465,10 @@ fn weighted(weights: impl Iterator<Item = (Num, TokenStream)>) -> TokenStream {
 }
 
 /// `r₀ x₀ + r₁ x₁ + r₂ x₂`: a row of a rotation's locals times a vector.
-fn row_times<A: quote::ToTokens, B: quote::ToTokens>(r: [A; 3], x: [B; 3]) -> TokenStream {
+pub(super) fn row_times<A: quote::ToTokens, B: quote::ToTokens>(
+    r: [A; 3],
+    x: [B; 3],
+) -> TokenStream {
     let ([r0, r1, r2], [x0, x1, x2]) = (r, x);
     quote!(#r0 * #x0 + #r1 * #x1 + #r2 * #x2)
 }
@@ -503,7 +551,7 @@ fn held_multipliers(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream
 /// Each triple of rows solved in a base's axes gives `λ'`; the model's
 /// rows' are `λ = R̂ λ'` (locals `__mub{r}`); a held body's points' come
 /// from its six rows instead ([`held_multipliers`]).
-fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
+pub(super) fn in_world(v: &Velocity, mu: &mut [Option<TokenStream>]) -> TokenStream {
     let mut code = TokenStream::new();
     let held: Vec<usize> = (v.system.held.iter())
         .flat_map(|h| h.triples.iter().flatten().copied())
