@@ -12,9 +12,13 @@
 //! `acceleration` gives `q̈`, `λ` and the structured factorization of
 //! `S = A M⁻¹ Aᵀ`, and each column is one sparse solve through it
 //! (`q̈ᵥ = M⁻¹F̃ᵥ + W S⁺(b̃ᵥ − A M⁻¹F̃ᵥ)`, `W = M⁻¹Aᵀ`, only structural
-//! nonzeros touched). Where the rank decision is suspect, and for a full
-//! `M(q)`, the runtime (`constrained::linearize`) factors `M` and `S`
-//! densely once and solves for every column.
+//! nonzeros touched). For a full `M(q)` the columns run through `gauss`'s
+//! generated factors of `M` and `S`; where `gauss` solves the quaternions'
+//! velocity form, through that form's factors, `∂λ` with them
+//! (`mass_inverse::factored::velocity_jacobian`). Where a rank decision or
+//! a pivot is suspect, and for a semi-definite `M` otherwise, the runtime
+//! (`constrained::linearize`) factors `M` and `S` densely once and solves
+//! for every column.
 
 use super::context::{Context, Inputs};
 use super::mass_inverse;
@@ -85,56 +89,28 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
 
 /// `multiplier_jacobian` and `acceleration_and_multiplier_jacobians`, for
 /// a system with constraint rows: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u` (with those of
-/// `q̈`) by the runtime's solve of the same tangent systems
-/// (`linearize::try_acceleration_and_multiplier_jacobians`), after `gauss`'s
-/// motion.
+/// `q̈`) from the same tangent systems, solved through the velocity form's
+/// factors where `gauss` solves that form, else by the runtime
+/// (`linearize::try_acceleration_and_multiplier_jacobians`) after
+/// `gauss`'s motion.
 fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> TokenStream {
     if ctx.k == 0 {
         return TokenStream::new();
     }
     let (n, nu) = (ctx.n, ctx.eq.system.inputs);
-    let (n_lit, k_lit, nu_lit, d_lit) = (
-        Context::dim(n),
-        Context::dim(ctx.k),
-        Context::dim(nu),
-        Context::dim(2 * n + nu),
-    );
+    let (n_lit, k_lit, nu_lit) = (Context::dim(n), Context::dim(ctx.k), Context::dim(nu));
     let multipliers = ctx.path(quote!(linearize::MultiplierJacobians<T, #n_lit, #k_lit, #nu_lit>));
     let accelerations = ctx.path(quote!(Jacobians<T, #n_lit, #nu_lit>));
-    let only = ctx.path(quote!(linearize::try_multiplier_jacobian));
-    let both = ctx.path(quote!(linearize::try_acceleration_and_multiplier_jacobians));
     let error = ctx.path(quote!(DynamicsError));
-    let (params, args) = (&parts.params, &parts.args);
-    // The velocity form solves the tangent systems through its own
-    // factors; elsewhere the runtime solves them densely.
-    let (private, only_body, both_body) = match mass_inverse::multiplier_jacobians(ctx) {
-        Some((private, name)) => (
-            private,
-            quote! {
-                let (_, __l) = self.#name(#args, true)?;
-                ::core::result::Result::Ok(__l)
-            },
-            quote!(self.#name(#args, true)),
-        ),
-        None => (
-            TokenStream::new(),
-            quote! {
-                let __motion = #motion;
-                #only::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
-            },
-            quote! {
-                let __motion = #motion;
-                #both::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
-            },
-        ),
-    };
+    let params = &parts.params;
+    let (private, only_body, both_body) = multiplier_bodies(ctx, &parts.args, motion);
     quote! {
         #private
 
         /// The Jacobians of the constraint multipliers `λ(q, q̇, u)` that
         /// `constraint_multipliers` returns: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u`
         /// (`K` rows each), exact, from the same tangent systems as
-        /// `acceleration_jacobian` (their multipliers), solved densely.
+        /// `acceleration_jacobian` (their multipliers).
         /// `Err(NotDifferentiable)` where the rows are not independent
         /// (`λ` is then not unique); `Err` where `acceleration` is, or an
         /// entry is not finite.
@@ -146,7 +122,7 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
             #only_body
         }
         /// The Jacobians of `q̈` and of the multipliers `λ` from one
-        /// evaluation of the tangent systems, solved densely: what
+        /// evaluation of the tangent systems: what
         /// `acceleration_jacobian` and `multiplier_jacobian` return, for
         /// about the cost of the second alone. `Err` as
         /// `multiplier_jacobian`.
@@ -158,6 +134,47 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
             #both_body
         }
     }
+}
+
+/// The private methods the two entry points call (none for the runtime's
+/// solve) and their two bodies: the velocity form solves the tangent
+/// systems through its own factors; elsewhere the runtime solves them
+/// densely after `motion`.
+fn multiplier_bodies(
+    ctx: &Context,
+    args: &TokenStream,
+    motion: &TokenStream,
+) -> (TokenStream, TokenStream, TokenStream) {
+    if let Some((private, name)) = mass_inverse::multiplier_jacobians(ctx) {
+        return (
+            private,
+            quote! {
+                let (_, __l) = self.#name(#args, true)?;
+                ::core::result::Result::Ok(__l)
+            },
+            quote!(self.#name(#args, true)),
+        );
+    }
+    let (n, nu) = (ctx.n, ctx.eq.system.inputs);
+    let (n_lit, k_lit, nu_lit, d_lit) = (
+        Context::dim(n),
+        Context::dim(ctx.k),
+        Context::dim(nu),
+        Context::dim(2 * n + nu),
+    );
+    let only = ctx.path(quote!(linearize::try_multiplier_jacobian));
+    let both = ctx.path(quote!(linearize::try_acceleration_and_multiplier_jacobians));
+    (
+        TokenStream::new(),
+        quote! {
+            let __motion = #motion;
+            #only::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+        },
+        quote! {
+            let __motion = #motion;
+            #both::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+        },
+    )
 }
 
 /// The public entry points' parts: the one body and what the two forms

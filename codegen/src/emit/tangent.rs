@@ -190,6 +190,17 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
 /// out); `None` for the directional form, whose one set of terms says
 /// nothing of a column's.
 pub(super) fn column_rows(ctx: &Context) -> Option<Vec<(Vec<bool>, bool)>> {
+    let patterns = column_patterns(ctx)?;
+    let rows = patterns
+        .into_iter()
+        .map(|(f, b)| (f, b.contains(&true)))
+        .collect();
+    Some(rows)
+}
+
+/// Per column of the per-column form, which rows of `F̃` and which of `b̃`
+/// can be nonzero; `None` for the directional form.
+pub(super) fn column_patterns(ctx: &Context) -> Option<Vec<(Vec<bool>, Vec<bool>)>> {
     let (sets, directional) = sets(ctx);
     if directional {
         return None;
@@ -201,7 +212,8 @@ pub(super) fn column_rows(ctx: &Context) -> Option<Vec<(Vec<bool>, bool)>> {
         .zip(&rhs)
         .map(|(f, b)| {
             let f = f.iter().map(Option::is_some).collect();
-            (f, b.iter().any(Option::is_some))
+            let b = b.iter().map(Option::is_some).collect();
+            (f, b)
         })
         .collect();
     Some(rows)

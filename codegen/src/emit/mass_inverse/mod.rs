@@ -8,9 +8,11 @@
 //! - `factored`: a configuration-dependent `M`, factored in generated code
 //!   on its compile-time pattern;
 //! - `factored` again for a positive semi-definite `M`, through its
-//!   auxiliary mass `M + s A_RᵀA_R` (the solver only: its Jacobian and step
-//!   are the runtime's dense ones, whose tangent systems are those of the
-//!   actual `M`).
+//!   auxiliary mass `M + s A_RᵀA_R` (the solver only: its step is the
+//!   runtime's dense one, and so is its Jacobian, whose tangent systems are
+//!   those of the actual `M`, but where `gauss` solves the quaternions'
+//!   velocity form: its Jacobians, `∂q̈` and `∂λ`, run through that form's
+//!   own factors).
 //!
 //! This module is the only `match` on how `M⁻¹` is applied in `emit`; which
 //! solve `gauss` performs was decided in stage 3

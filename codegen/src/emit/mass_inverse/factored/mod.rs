@@ -32,6 +32,8 @@ pub(in crate::emit) mod step;
 mod velocity;
 mod velocity_jacobian;
 
+pub(in crate::emit) use velocity_jacobian::velocity_jacobians;
+
 use crate::emit::body::Body;
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
@@ -515,30 +517,6 @@ fn constraint_force(ctx: &Context, multipliers: &[Ident]) -> Vec<TokenStream> {
                 .collect())
         })
         .collect()
-}
-
-/// The private methods that solve the tangent systems through the
-/// velocity form's factors ([`velocity_jacobian`]), where `gauss` solves
-/// that form and no body is held at three or more points; the name of the
-/// one that answers `(∂q̈, ∂λ)`.
-pub(in crate::emit) fn velocity_jacobians(
-    ctx: &Context,
-    f: &Factored,
-) -> Option<(TokenStream, Ident)> {
-    let strategy = ctx.eq.strategy();
-    let v = f
-        .velocity
-        .as_ref()
-        .filter(|v| velocity_jacobian::applies(v))?;
-    let legs = match strategy {
-        Strategy::Legs => f.legs.as_ref(),
-        Strategy::VelocitySaddle => None,
-        _ => return None,
-    };
-    Some((
-        velocity_jacobian::method(ctx, v, legs),
-        velocity_jacobian::name(),
-    ))
 }
 
 /// `gauss` for a configuration-dependent `M`.

@@ -465,10 +465,7 @@ fn weighted(weights: impl Iterator<Item = (Num, TokenStream)>) -> TokenStream {
 }
 
 /// `r₀ x₀ + r₁ x₁ + r₂ x₂`: a row of a rotation's locals times a vector.
-pub(super) fn row_times<A: quote::ToTokens, B: quote::ToTokens>(
-    r: [A; 3],
-    x: [B; 3],
-) -> TokenStream {
+fn row_times<A: quote::ToTokens, B: quote::ToTokens>(r: [A; 3], x: [B; 3]) -> TokenStream {
     let ([r0, r1, r2], [x0, x1, x2]) = (r, x);
     quote!(#r0 * #x0 + #r1 * #x1 + #r2 * #x2)
 }

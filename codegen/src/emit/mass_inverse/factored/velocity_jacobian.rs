@@ -26,16 +26,38 @@
 
 use super::legs;
 use super::saddle::{or_zero, solved};
-use super::velocity::{self, accelerations, free_rotation, in_world, multipliers, row_times};
+use super::velocity::{self, accelerations, free_rotation, in_world, multipliers};
 use crate::bodies::free::G_PATTERN;
 use crate::emit::context::{Context, Inputs};
+use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::literal::literal;
+use crate::emit::tangent::column_patterns;
 use crate::equations::legs::Legs;
+use crate::equations::mass_inverse::Factored;
+use crate::equations::strategy::Strategy;
 use crate::equations::velocity::Velocity;
 use crate::expr::num::Num;
-use proc_macro2::TokenStream;
+use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 use syn::Ident;
+
+/// The private methods that solve the tangent systems through the
+/// velocity form's factors ([`velocity_jacobian`]), where `gauss` solves
+/// that form and no body is held at three or more points; the name of the
+/// one that answers `(∂q̈, ∂λ)`.
+pub(in crate::emit) fn velocity_jacobians(
+    ctx: &Context,
+    f: &Factored,
+) -> Option<(TokenStream, Ident)> {
+    let strategy = ctx.eq.strategy();
+    let v = f.velocity.as_ref().filter(|v| applies(v))?;
+    let legs = match strategy {
+        Strategy::Legs => f.legs.as_ref(),
+        Strategy::VelocitySaddle => None,
+        _ => return None,
+    };
+    Some((method(ctx, v, legs), name()))
+}
 
 /// The name of the private method [`method`] emits.
 pub(in crate::emit) fn name() -> Ident {
@@ -73,15 +95,14 @@ pub(super) fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenS
         let m = or_zero(m);
         quote!(-(#m))
     });
-    let columns = columns(ctx, v, legs, &solved.ldlt, &dense);
+    let columns = looped(ctx, v, legs, &solved.ldlt, &dense);
+    let outputs = outputs(ctx, &literal, &columns);
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let zeros = |rows: usize, cols: usize| {
         let m = ctx.matrix(rows, cols);
         quote!(<#m>::zeros())
     };
     let (fs, rs) = (zeros(n, 2 * n + nu), zeros(k, 2 * n + nu));
-    let (ldq, ldu) = (zeros(k, n), zeros(k, nu));
-    let jacobians_zero = ctx.jacobians_zero().0;
     let correction = ctx.correction_type();
     let body = solved.code;
     let (qdd_vector, lam_vector) = (
@@ -109,28 +130,43 @@ pub(super) fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenS
                 &mut __fs,
                 &mut __rs,
             );
-            let mut __jac = #jacobians_zero;
-            let mut __lj = #literal { dq: #ldq, dqd: #ldq, du: #ldu };
-            {
-                let __outs = __jac.dq.data.0.iter_mut()
-                    .chain(__jac.dqd.data.0.iter_mut())
-                    .chain(__jac.du.data.0.iter_mut());
-                let __louts = __lj.dq.data.0.iter_mut()
-                    .chain(__lj.dqd.data.0.iter_mut())
-                    .chain(__lj.du.data.0.iter_mut());
-                let __pairs = __fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs).zip(__louts);
-                for (((__f, __r), __out), __lout) in __pairs {
-                    #columns
-                }
-            }
-            if __jac.is_finite() && __lj.is_finite() {
-                ::core::result::Result::Ok((__jac, __lj))
-            } else {
-                ::core::result::Result::Err(#error::NonFinite)
-            }
+            #outputs
         }
 
         #dense_method
+    }
+}
+
+/// The outputs `__jac` and `__lj` (`literal` the path of `∂λ`'s struct),
+/// each column written by the loop `columns` over `__pairs`, then
+/// checked finite.
+fn outputs(ctx: &Context, literal: &TokenStream, columns: &TokenStream) -> TokenStream {
+    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
+    let zeros = |rows: usize, cols: usize| {
+        let m = ctx.matrix(rows, cols);
+        quote!(<#m>::zeros())
+    };
+    let (ldq, ldu) = (zeros(k, n), zeros(k, nu));
+    let jacobians_zero = ctx.jacobians_zero().0;
+    let error = ctx.path(quote!(DynamicsError));
+    quote! {
+        let mut __jac = #jacobians_zero;
+        let mut __lj = #literal { dq: #ldq, dqd: #ldq, du: #ldu };
+        {
+            let __outs = __jac.dq.data.0.iter_mut()
+                .chain(__jac.dqd.data.0.iter_mut())
+                .chain(__jac.du.data.0.iter_mut());
+            let __louts = __lj.dq.data.0.iter_mut()
+                .chain(__lj.dqd.data.0.iter_mut())
+                .chain(__lj.du.data.0.iter_mut());
+            let __pairs = __fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs).zip(__louts);
+            #columns
+        }
+        if __jac.is_finite() && __lj.is_finite() {
+            ::core::result::Result::Ok((__jac, __lj))
+        } else {
+            ::core::result::Result::Err(#error::NonFinite)
+        }
     }
 }
 
@@ -172,31 +208,134 @@ fn dense_method(
     }
 }
 
-/// The loop's body: column `__f` (`F̃`), `__r` (`b̃`) into the velocity
-/// form, solved through the factors, `q̈ᵥ = T zᵥ` into `*__out` and, where
-/// `multipliers`, `λᵥ = −μᵥ` into `*__lout`.
+/// The loop over the columns of `tangent_rhs`: each column's solve
+/// specialized to the rows its right-hand side can touch (a leg's joint
+/// moves its own foot's rows and the base's forces only), the columns
+/// grouped by those patterns ([`groups`]) and dispatched by a constant
+/// table; a structurally zero column is skipped (its outputs stay zero).
+fn looped(
+    ctx: &Context,
+    v: &Velocity,
+    legs: Option<&Legs>,
+    ldlt: &StructuredLdlt,
+    dense: &TokenStream,
+) -> TokenStream {
+    let (n, k) = (ctx.n, ctx.k);
+    let every = (vec![true; n], vec![true; k]);
+    let each = |pattern: &Pattern| columns(ctx, v, legs, ldlt, dense, pattern);
+    let Some(patterns) = column_patterns(ctx) else {
+        let body = each(&every);
+        return quote! {
+            for (((__f, __r), __out), __lout) in __pairs {
+                #body
+            }
+        };
+    };
+    let (groups, of_column) = groups(&patterns, &|p| operations(&each(p)));
+    let zero = groups.len();
+    let table = of_column
+        .iter()
+        .map(|g| Literal::usize_unsuffixed(g.unwrap_or(zero)));
+    let count = Literal::usize_unsuffixed(of_column.len());
+    let arms = groups.iter().enumerate().map(|(id, pattern)| {
+        let (id, body) = (Literal::usize_unsuffixed(id), each(pattern));
+        quote!(#id => { #body })
+    });
+    quote! {
+        const __GROUPS: [u16; #count] = [#(#table),*];
+        for ((((__f, __r), __out), __lout), __g) in __pairs.zip(__GROUPS) {
+            match __g {
+                #(#arms)*
+                // A structurally zero column: its outputs hold zeros.
+                _ => {}
+            }
+        }
+    }
+}
+
+/// Which rows of `F̃` and of `b̃` a column's right-hand side can touch.
+type Pattern = (Vec<bool>, Vec<bool>);
+
+/// The arithmetic operators of some code: the estimated cost of a
+/// column's solve.
+fn operations(code: &TokenStream) -> usize {
+    let text = code.to_string();
+    [" * ", " + ", " - ", " / "]
+        .iter()
+        .map(|op| text.matches(op).count())
+        .sum()
+}
+
+/// The columns' groups: each distinct nonzero pattern, solved by the
+/// cheapest group whose pattern covers it where that costs at most a
+/// quarter more than its own (a motor torque's column by its leg's), so
+/// that few copies of the solve are emitted. Returns each group's pattern
+/// and each column's group (`None`: structurally zero).
+fn groups(
+    patterns: &[Pattern],
+    cost: &dyn Fn(&Pattern) -> usize,
+) -> (Vec<Pattern>, Vec<Option<usize>>) {
+    let nonzero = |p: &Pattern| p.0.contains(&true) || p.1.contains(&true);
+    let mut distinct: Vec<(&Pattern, usize)> = Vec::new();
+    for p in patterns.iter().filter(|p| nonzero(p)) {
+        if !distinct.iter().any(|(q, _)| *q == p) {
+            distinct.push((p, cost(p)));
+        }
+    }
+    // The dearest first: a pattern's covering groups exist when it is placed.
+    distinct.sort_by(|a, b| b.1.cmp(&a.1));
+    let covers = |q: &Pattern, p: &Pattern| {
+        let within = |a: &[bool], b: &[bool]| a.iter().zip(b).all(|(&x, &y)| !x || y);
+        within(&p.0, &q.0) && within(&p.1, &q.1)
+    };
+    let mut groups: Vec<(Pattern, usize)> = Vec::new();
+    let mut group_of: Vec<(&Pattern, usize)> = Vec::new();
+    for (p, c) in distinct {
+        let cheapest = (groups.iter().enumerate())
+            .filter(|(_, (q, qc))| covers(q, p) && 4 * *qc <= 5 * c)
+            .min_by_key(|(_, (_, qc))| *qc)
+            .map(|(id, _)| id);
+        let id = cheapest.unwrap_or_else(|| {
+            groups.push((p.clone(), c));
+            groups.len() - 1
+        });
+        group_of.push((p, id));
+    }
+    let of_column = patterns
+        .iter()
+        .map(|p| {
+            let found = group_of.iter().find(|(q, _)| *q == p);
+            found.map(|&(_, id)| id)
+        })
+        .collect();
+    (groups.into_iter().map(|(p, _)| p).collect(), of_column)
+}
+
+/// The loop's body for the columns of `pattern`: column `__f` (`F̃`),
+/// `__r` (`b̃`) into the velocity form, solved through the factors,
+/// `q̈ᵥ = T zᵥ` into `*__out` and, where `multipliers`, `λᵥ = −μᵥ` into
+/// `*__lout`.
 fn columns(
     ctx: &Context,
     v: &Velocity,
     legs: Option<&Legs>,
-    ldlt: &crate::emit::ldlt::StructuredLdlt,
+    ldlt: &StructuredLdlt,
     dense: &TokenStream,
+    (fp, bp): &Pattern,
 ) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
-    let jf: Vec<Ident> = (0..n).map(|i| Context::local("jf", i)).collect();
-    let jb: Vec<Ident> = (0..k).map(|r| Context::local("jb", r)).collect();
-    let (forces_code, forces) = turned_forces(v, n);
-    let (rows_code, rows) = turned_rows(ctx, v);
+    let read = |on: bool, name: Ident| if on { quote!(#name) } else { quote!(_) };
+    let jf = (0..n).map(|i| read(fp[i], Context::local("jf", i)));
+    let jb = (0..k).map(|r| read(bp[r], Context::local("jb", r)));
+    let (forces_code, forces) = turned_forces(v, fp);
+    let (rows_code, rows) = turned_rows(ctx, v, bp);
     let (nr, kr) = (v.coordinates.len(), v.rows.len());
     let mut rhs: Vec<Option<TokenStream>> = v
         .coordinates
         .iter()
-        .map(|&i| {
-            let f = &forces[i];
-            Some(quote!(#f))
-        })
+        .map(|&i| forces[i].as_ref().map(|f| quote!(#f)))
         .collect();
-    rhs.extend(rows.iter().map(|b| Some(quote!(#b))));
+    rhs.extend(rows.iter().map(|b| b.as_ref().map(|b| quote!(#b))));
     let (solve, values) = match legs {
         Some(legs) => {
             let entry = |i: usize, j: usize| v.structure.nonzero[i][j].then(|| ldlt.entry(i, j));
@@ -205,7 +344,9 @@ fn columns(
         None => solved(ldlt, &rhs, (nr, kr)),
     };
     let (recover, acceleration) = accelerations(ctx, v, &values);
-    let alpha_forces: Vec<Option<TokenStream>> = forces.iter().map(|f| Some(quote!(#f))).collect();
+    let alpha_forces: Vec<Option<TokenStream>> = (forces.iter())
+        .map(|f| f.as_ref().map(|f| quote!(#f)))
+        .collect();
     let (norms, mut mu) = multipliers(ctx, v, &values, &alpha_forces);
     let world = in_world(v, &mut mu);
     let lambda = mu.iter().map(|m| {
@@ -229,86 +370,115 @@ fn columns(
     }
 }
 
-/// `TᵀF̃` of a column (`F̃` in `__jf{i}`) into `__jt{i}` by the model's
-/// coordinate: a free base position's `R̂ᵀ F̃`, a quaternion's `½ qᵀ F̃` at
-/// its `w` coordinate (its `α`) and `½ G F̃` at its three others (its `β`),
-/// every other coordinate's `F̃` as it is.
-fn turned_forces(v: &Velocity, n: usize) -> (TokenStream, Vec<Ident>) {
-    let jf: Vec<Ident> = (0..n).map(|i| Context::local("jf", i)).collect();
-    let mut value: Vec<TokenStream> = jf.iter().map(|f| quote!(#f)).collect();
+/// `TᵀF̃` of a column (`F̃` in `__jf{i}`, nonzero where `fp`) into
+/// `__jt{i}` by the model's coordinate: a free base position's `R̂ᵀ F̃`, a
+/// quaternion's `½ qᵀ F̃` at its `w` coordinate (its `α`) and `½ G F̃` at
+/// its three others (its `β`), every other coordinate's `F̃` as it is;
+/// `None` where structurally zero.
+fn turned_forces(v: &Velocity, fp: &[bool]) -> (TokenStream, Vec<Option<Ident>>) {
+    let n = fp.len();
+    let jf = |i: usize| fp[i].then(|| Context::local("jf", i));
+    let mut value: Vec<Option<TokenStream>> = (0..n).map(|i| jf(i).map(|f| quote!(#f))).collect();
     for (t, &(x, _)) in v.system.free.iter().enumerate() {
         for j in 0..3 {
-            let r = [0, 1, 2].map(|i| free_rotation(t, i, j));
-            let turned = row_times(r, [&jf[x], &jf[x + 1], &jf[x + 2]]);
-            value[x + j] = turned;
+            let terms = (0..3).filter_map(|i| {
+                let (r, f) = (free_rotation(t, i, j), jf(x + i)?);
+                Some((quote!(#r), quote!(#f)))
+            });
+            value[x + j] = sum_of_products(terms);
         }
     }
     let (half, _) = literal(Num::Rational(1, 2));
     for &(c, _) in &v.system.quaternions {
-        let q: Vec<Ident> = (0..4).map(|m| Context::local("qv", c + m)).collect();
-        let f = &jf[c..c + 4];
-        value[c] = quote!((#(#q * #f)+*) * #half);
+        let q = |m: usize| Context::local("qv", c + m);
+        let alpha = (0..4).filter_map(|m| {
+            let (q, f) = (q(m), jf(c + m)?);
+            Some((quote!(#q), quote!(#f)))
+        });
+        value[c] = sum_of_products(alpha).map(|a| quote!((#a) * #half));
         for (j, row) in G_PATTERN.iter().enumerate() {
-            let terms = row.iter().enumerate().map(|(kk, &(plus, m))| {
-                let (q, f) = (&q[m], &f[kk]);
-                if plus {
-                    quote!(+ #q * #f)
-                } else {
-                    quote!(- #q * #f)
-                }
-            });
-            value[c + 1 + j] = quote!((T::zero() #(#terms)*) * #half);
-        }
-    }
-    let names: Vec<Ident> = (0..n).map(|i| Context::local("jt", i)).collect();
-    let code = quote! { #( let #names = #value; )* };
-    (code, names)
-}
-
-/// `b̃` of a column (`__jb{r}`) into the kept rows' right-hand sides
-/// `__jv{rr}`: a point's rows under a free base turned by `R̂ᵀ`, each
-/// quaternion's `α = b̃_norm / (A T)_{norm,α}` (locals `__alpha{c}`,
-/// which `q̈ᵥ = T zᵥ` reads), then `b̃ − Σ (A T)_{rα} α`.
-fn turned_rows(ctx: &Context, v: &Velocity) -> (TokenStream, Vec<Ident>) {
-    let g = &ctx.eq.system.graph;
-    let jb: Vec<Ident> = (0..ctx.k).map(|r| Context::local("jb", r)).collect();
-    let mut b: Vec<TokenStream> = jb.iter().map(|x| quote!(#x)).collect();
-    for rows in &v.system.in_base {
-        let [b0, b1, b2] = rows.rows.map(|r| &jb[r]);
-        for (i, &r) in rows.rows.iter().enumerate() {
-            let turned = row_times(
-                [0, 1, 2].map(|j| velocity::rotation_local(v, rows, j, i)),
-                [b0, b1, b2],
-            );
-            b[r] = quote!((#turned));
+            let terms: Vec<TokenStream> = (row.iter().enumerate())
+                .filter_map(|(kk, &(plus, m))| {
+                    let (q, f) = (q(m), jf(c + kk)?);
+                    Some(if plus {
+                        quote!(+ #q * #f)
+                    } else {
+                        quote!(- #q * #f)
+                    })
+                })
+                .collect();
+            value[c + 1 + j] = (!terms.is_empty()).then(|| quote!((T::zero() #(#terms)*) * #half));
         }
     }
     let mut code = TokenStream::new();
+    let names = (value.into_iter().enumerate())
+        .map(|(i, value)| {
+            let value = value?;
+            let name = Context::local("jt", i);
+            code.extend(quote! { let #name = #value; });
+            Some(name)
+        })
+        .collect();
+    (code, names)
+}
+
+/// `Σ aᵢ bᵢ`, `None` for no pairs.
+fn sum_of_products(pairs: impl Iterator<Item = (TokenStream, TokenStream)>) -> Option<TokenStream> {
+    let terms: Vec<TokenStream> = pairs.map(|(a, b)| quote!(#a * #b)).collect();
+    (!terms.is_empty()).then(|| quote!(#(#terms)+*))
+}
+
+/// `b̃` of a column (`__jb{r}`, nonzero where `bp`) into the kept rows'
+/// right-hand sides `__jv{rr}` (`None` where structurally zero): a
+/// point's rows under a free base turned by `R̂ᵀ`, each quaternion's
+/// `α = b̃_norm / (A T)_{norm,α}` (locals `__alpha{c}`, zero without a
+/// `b̃_norm`, which `q̈ᵥ = T zᵥ` reads), then `b̃ − Σ (A T)_{rα} α`.
+fn turned_rows(ctx: &Context, v: &Velocity, bp: &[bool]) -> (TokenStream, Vec<Option<Ident>>) {
+    let g = &ctx.eq.system.graph;
+    let jb = |r: usize| bp[r].then(|| Context::local("jb", r));
+    let mut b: Vec<Option<TokenStream>> = (0..ctx.k).map(|r| jb(r).map(|x| quote!(#x))).collect();
+    for rows in &v.system.in_base {
+        for (i, &r) in rows.rows.iter().enumerate() {
+            let terms = (0..3).filter_map(|j| {
+                let (rot, x) = (velocity::rotation_local(v, rows, j, i), jb(rows.rows[j])?);
+                Some((quote!(#rot), quote!(#x)))
+            });
+            b[r] = sum_of_products(terms).map(|t| quote!((#t)));
+        }
+    }
+    let mut code = TokenStream::new();
+    let mut alphas = Vec::new();
     for &(c, norm) in &v.system.quaternions {
-        let (alpha, an, bn) = (
-            Context::local("alpha", c),
-            Context::local2("aa", norm, c),
-            &b[norm],
-        );
-        code.extend(quote! { let #alpha = #bn / #an; });
+        let alpha = Context::local("alpha", c);
+        match &b[norm] {
+            Some(bn) => {
+                let an = Context::local2("aa", norm, c);
+                code.extend(quote! { let #alpha = #bn / #an; });
+                alphas.push(c);
+            }
+            None => code.extend(quote! { let #alpha = T::zero(); }),
+        }
     }
     let mut names = Vec::with_capacity(v.rows.len());
     for (rr, &r) in v.rows.iter().enumerate() {
         let terms: Vec<TokenStream> = (v.system.quaternions.iter())
-            .filter(|&&(c, _)| !g.is_zero(v.system.a[r][c]))
+            .filter(|&&(c, _)| alphas.contains(&c) && !g.is_zero(v.system.a[r][c]))
             .map(|&(c, _)| {
                 let (a, alpha) = (Context::local2("aa", r, c), Context::local("alpha", c));
                 quote!(#a * #alpha)
             })
             .collect();
-        let own = &b[r];
-        let value = if terms.is_empty() {
-            quote!(#own)
-        } else {
-            quote!(#own - (#(#terms)+*))
+        let value = match (&b[r], terms.is_empty()) {
+            (None, true) => None,
+            (Some(own), true) => Some(quote!(#own)),
+            (Some(own), false) => Some(quote!(#own - (#(#terms)+*))),
+            (None, false) => Some(quote!(-(#(#terms)+*))),
         };
-        let name = Context::local("jv", rr);
-        code.extend(quote! { let #name = #value; });
+        let name = value.map(|value| {
+            let name = Context::local("jv", rr);
+            code.extend(quote! { let #name = #value; });
+            name
+        });
         names.push(name);
     }
     (code, names)
