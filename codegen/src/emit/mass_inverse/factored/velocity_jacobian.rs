@@ -283,7 +283,7 @@ fn groups(
         }
     }
     // The dearest first: a pattern's covering groups exist when it is placed.
-    distinct.sort_by(|a, b| b.1.cmp(&a.1));
+    distinct.sort_by_key(|d| std::cmp::Reverse(d.1));
     let covers = |q: &Pattern, p: &Pattern| {
         let within = |a: &[bool], b: &[bool]| a.iter().zip(b).all(|(&x, &y)| !x || y);
         within(&p.0, &q.0) && within(&p.1, &q.1)
