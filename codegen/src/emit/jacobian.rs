@@ -104,16 +104,31 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
     let error = ctx.path(quote!(DynamicsError));
     let params = &parts.params;
     let (private, only_body, both_body) = multiplier_bodies(ctx, &parts.args, motion);
+    let how = if private.is_empty() {
+        "solved densely"
+    } else {
+        "solved through the velocity form's factors"
+    };
+    let only_doc = [
+        " The Jacobians of the constraint multipliers `λ(q, q̇, u)` that".to_string(),
+        " `constraint_multipliers` returns: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u`".into(),
+        " (`K` rows each), exact, from the same tangent systems as".into(),
+        format!(" `acceleration_jacobian` (their multipliers), {how}."),
+        " `Err(NotDifferentiable)` where the rows are not independent".into(),
+        " (`λ` is then not unique); `Err` where `acceleration` is, or an".into(),
+        " entry is not finite.".into(),
+    ];
+    let both_doc = [
+        " The Jacobians of `q̈` and of the multipliers `λ` from one".to_string(),
+        format!(" evaluation of the tangent systems, {how}: what"),
+        " `acceleration_jacobian` and `multiplier_jacobian` return, for".into(),
+        " about the cost of the second alone. `Err` as".into(),
+        " `multiplier_jacobian`.".into(),
+    ];
     quote! {
         #private
 
-        /// The Jacobians of the constraint multipliers `λ(q, q̇, u)` that
-        /// `constraint_multipliers` returns: `∂λ/∂q`, `∂λ/∂q̇`, `∂λ/∂u`
-        /// (`K` rows each), exact, from the same tangent systems as
-        /// `acceleration_jacobian` (their multipliers).
-        /// `Err(NotDifferentiable)` where the rows are not independent
-        /// (`λ` is then not unique); `Err` where `acceleration` is, or an
-        /// entry is not finite.
+        #(#[doc = #only_doc])*
         #[inline]
         pub fn multiplier_jacobian(
             &self,
@@ -121,11 +136,7 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
         ) -> ::core::result::Result<#multipliers, #error> {
             #only_body
         }
-        /// The Jacobians of `q̈` and of the multipliers `λ` from one
-        /// evaluation of the tangent systems: what
-        /// `acceleration_jacobian` and `multiplier_jacobian` return, for
-        /// about the cost of the second alone. `Err` as
-        /// `multiplier_jacobian`.
+        #(#[doc = #both_doc])*
         #[inline]
         pub fn acceleration_and_multiplier_jacobians(
             &self,
