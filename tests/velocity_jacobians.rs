@@ -1,8 +1,10 @@
 //! The Jacobians of `q̈` and `λ` where `gauss` solves the quaternions'
 //! velocity form: the tangent systems solved through its own factors
 //! (`emit/mass_inverse/factored/velocity_jacobian.rs`), the legs' solve
-//! on the quadruped and the saddle-point `L D Lᵀ` on a pinned free body
-//! and on a trunk whose ball-jointed foot is held at a point. Against two
+//! on the quadruped and the saddle-point `L D Lᵀ` on a pinned free body,
+//! on a trunk whose ball-jointed foot is held at a point and on a free
+//! block welded by a point and an orientation lock (rows in the world's
+//! axes). Against two
 //! independent truths, at moving states off the constraint surface (and,
 //! for the trunk, off the quaternions' unit spheres): the runtime's dense
 //! solve of the same tangent systems (the auxiliary mass's Cholesky factor
@@ -13,6 +15,7 @@
 use crate::contacts::PinnedTop;
 use crate::quadruped::model::Quadruped;
 use crate::quadruped::{perturbed, standing};
+use crate::rotations::Welded;
 use constrained::linearize::{try_acceleration_and_multiplier_jacobians, MultiplierJacobians};
 use constrained::multipliers::Multipliers;
 use constrained::nalgebra::{SMatrix, SVector, UnitQuaternion};
@@ -218,4 +221,37 @@ fn the_saddle_point_solve_gives_the_dense_jacobians() {
         own, 16,
         "the saddle-point solve answered every state itself"
     );
+}
+
+/// An orientation lock, whose rows stay in the world's axes (`D` the
+/// identity there): a free block welded to the world by a point and a
+/// lock, at 8 moving states off the lock and off the unit sphere: the
+/// generated Jacobians equal the dense ones to 1e-11 and central
+/// differences to 1e-6.
+#[test]
+fn an_orientation_lock_gives_the_dense_jacobians() {
+    let welded = Welded::<f64>::new(0.3, -0.2, 0.5);
+    let (mut dense_gap, mut central_gap, mut own) = (0.0f64, 0.0f64, 0);
+    for k in 0..8 {
+        let x = f64::from(k);
+        let e = UnitQuaternion::from_euler_angles(0.3 + 0.1 * x.sin(), -0.2, 0.5 + 0.05 * x);
+        let scale = 1.0 + 0.04 * (x - 3.5);
+        let mut q = SVector::<f64, 7>::zeros();
+        q[0] = 0.01 * x;
+        for (i, v) in [e.w, e.i, e.j, e.k].into_iter().enumerate() {
+            q[3 + i] = scale * v;
+        }
+        let qd = SVector::<f64, 7>::from_fn(|i, _| 0.5 * (0.9 * (i as f64 + x)).cos());
+        let (generated, dense, central) = compare!(&welded, &State::new(0.0, q, qd), 7, 7, 0);
+        dense_gap = dense_gap.max(worst(&generated, &dense));
+        central_gap = central_gap.max(central);
+        own += usize::from(generated != dense);
+    }
+    println!("orientation lock: dense {dense_gap:.1e}, central differences {central_gap:.1e}");
+    assert!(dense_gap < 1e-11, "{dense_gap:e} from the dense solve");
+    assert!(
+        central_gap < 1e-6,
+        "{central_gap:e} from central differences"
+    );
+    assert_eq!(own, 8, "the saddle-point solve answered every state itself");
 }
