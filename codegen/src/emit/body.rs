@@ -90,17 +90,7 @@ impl<'a> Body<'a> {
         // Temporaries that are reciprocals are bound in the preamble under
         // another name, those that need λ later: neither joins a sub-product.
         let shareable = |id: Id| !needs_multipliers[id.index()] && reciprocal_of(g, id).is_none();
-        // A bound reciprocal of a base known before the multipliers.
-        let invertible: Vec<Id> = (reciprocals.keys())
-            .copied()
-            .filter(|&b| !needs_multipliers[b.index()])
-            .collect();
-        let subproducts = SubProducts::plan(
-            g,
-            &products,
-            &schedule.temporaries,
-            (&shareable, &invertible),
-        );
+        let subproducts = SubProducts::plan(g, &products, &schedule.temporaries, &shareable);
         // A temporary that is itself `1/p` is the reciprocal.
         for id in &schedule.temporaries {
             if let Some(name) = reciprocal_of(g, *id).and_then(|b| reciprocals.get(&b)) {
@@ -198,10 +188,6 @@ impl<'a> Body<'a> {
     fn shared_factor(&self, f: Factor) -> TokenStream {
         match f {
             Factor::Leaf(id) => self.expr(id),
-            Factor::Inverse(id) => {
-                let name = &self.reciprocals[&id];
-                quote!(#name)
-            }
             Factor::Shared(i) => {
                 let name = Context::local("sp", i);
                 quote!(#name)
@@ -250,9 +236,8 @@ impl<'a> Body<'a> {
                     }
                     None => {}
                 }
-                // The reciprocal first: a sub-product may read it.
-                let mut shared = self.reciprocal_after(id);
-                shared.extend(self.subproducts_after(Some(position)));
+                let mut shared = shared;
+                shared.extend(self.reciprocal_after(id));
                 let name = &self.temp_names[&id];
                 self.defining.set(position);
                 let value = self.node(id).0;

@@ -22,15 +22,11 @@ use std::collections::{BTreeMap, HashMap};
 /// least two factors from the products, so real bodies stop far sooner).
 const MAX_ROUNDS: usize = 64;
 
-/// A factor of a product: a variable, the reciprocal of one, or an
-/// earlier sub-product.
+/// A factor of a product: a variable, or an earlier sub-product.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub(super) enum Factor {
     /// A variable, or a temporary that qualifies (module docs).
     Leaf(Id),
-    /// `1/b` of a base whose reciprocal is bound (`1/|q|²` in every
-    /// angular velocity `k G q̇` of a quaternion), to the power one.
-    Inverse(Id),
     /// Sub-product `i`.
     Shared(usize),
 }
@@ -49,46 +45,34 @@ pub(super) struct SubProducts {
     pub(super) after: Vec<Option<usize>>,
     /// The temporaries that may be factors (by arena index).
     shareable: Vec<bool>,
-    /// The bases whose reciprocals may be factors (by arena index).
-    invertible: Vec<bool>,
 }
 
 impl SubProducts {
     /// The sub-products of a body that writes `products`, whose temporaries
     /// are `temporaries` (in schedule order), of which those where
     /// `shareable` holds may be factors; with where each is bound.
-    /// `invertible` the bases whose reciprocal is bound where the base is
-    /// (a temporary's right after it, before its sub-products; a
-    /// parameter's in the preamble).
     pub(super) fn plan(
         g: &Graph,
         products: &[Id],
         temporaries: &[Id],
-        (shareable, invertible): (&dyn Fn(Id) -> bool, &[Id]),
+        shareable: &dyn Fn(Id) -> bool,
     ) -> SubProducts {
         let mut marked = vec![false; g.len()];
-        let mut inverted = vec![false; g.len()];
         let mut position: HashMap<Id, usize> = HashMap::new();
         for (i, &id) in temporaries.iter().enumerate() {
             marked[id.index()] = shareable(id);
             position.insert(id, i);
         }
-        for &id in invertible {
-            inverted[id.index()] = true;
-        }
-        let mut plan = SubProducts::find(g, products, &|id| marked[id.index()], &|id| {
-            inverted[id.index()]
-        });
+        let mut plan = SubProducts::find(g, products, &|id| marked[id.index()]);
         for &(a, b) in &plan.pairs {
             let after = |f: Factor| match f {
-                Factor::Leaf(id) | Factor::Inverse(id) => position.get(&id).copied(),
+                Factor::Leaf(id) => position.get(&id).copied(),
                 Factor::Shared(j) => plan.after[j],
             };
             let at = after(a).max(after(b));
             plan.after.push(at);
         }
         plan.shareable = marked;
-        plan.invertible = inverted;
         plan
     }
 
@@ -97,24 +81,13 @@ impl SubProducts {
         self.shareable.get(id.index()).copied().unwrap_or(false)
     }
 
-    /// Whether `1/id` may be a factor of a sub-product.
-    pub(super) fn invertible(&self, id: Id) -> bool {
-        self.invertible.get(id.index()).copied().unwrap_or(false)
-    }
-
     /// The shared pairs among the products `products` (their nodes), whose
-    /// factors qualify where they are variables or where `bound` holds,
-    /// and reciprocals where `inverse` holds.
-    fn find(
-        g: &Graph,
-        products: &[Id],
-        bound: &dyn Fn(Id) -> bool,
-        inverse: &dyn Fn(Id) -> bool,
-    ) -> SubProducts {
+    /// factors qualify where they are variables or where `bound` holds.
+    fn find(g: &Graph, products: &[Id], bound: &dyn Fn(Id) -> bool) -> SubProducts {
         let mut sets: Vec<Multiset> = products
             .iter()
             .map(|&p| match g.node(p) {
-                Node::Mul(factors) => qualifying(g, factors.iter().copied(), (bound, inverse)),
+                Node::Mul(factors) => qualifying(g, factors.iter().copied(), bound),
                 _ => Multiset::new(),
             })
             .filter(|set| set.values().sum::<u32>() >= 2)
@@ -173,22 +146,15 @@ impl SubProducts {
 pub(super) fn qualifying(
     g: &Graph,
     factors: impl Iterator<Item = (Id, Num)>,
-    (bound, inverse): (&dyn Fn(Id) -> bool, &dyn Fn(Id) -> bool),
+    bound: &dyn Fn(Id) -> bool,
 ) -> Multiset {
     let mut set = Multiset::new();
     for (b, e) in factors {
         if let Some(k) = qualifies(g, b, e, bound) {
             *set.entry(Factor::Leaf(b)).or_default() += k;
-        } else if inverts(b, e, inverse) {
-            *set.entry(Factor::Inverse(b)).or_default() += 1;
         }
     }
     set
-}
-
-/// Whether the factor `b^e` is `1/b` with `1/b` bound (`inverse`).
-pub(super) fn inverts(b: Id, e: Num, inverse: &dyn Fn(Id) -> bool) -> bool {
-    e == Num::int(-1) && inverse(b)
 }
 
 /// The multiplicity of the factor `b^e` in a sub-product, where it
@@ -273,7 +239,7 @@ mod tests {
             g.mul(&[m, l, gr, s]),
             g.mul(&[m, l, gr, w]),
         ];
-        let found = SubProducts::find(&g, &products, &|_| false, &|_| false);
+        let found = SubProducts::find(&g, &products, &|_| false);
         assert_eq!(
             found.pairs,
             vec![
@@ -284,26 +250,11 @@ mod tests {
         let Node::Mul(f) = g.node(products[1]).clone() else {
             panic!("a product");
         };
-        let applied = found.apply(qualifying(&g, f.iter().copied(), (&|_| false, &|_| false)));
+        let applied = found.apply(qualifying(&g, f.iter().copied(), &|_| false));
         assert_eq!(
             applied,
             Multiset::from([(Factor::Leaf(l), 1), (Factor::Shared(0), 1)])
         );
-    }
-
-    #[test]
-    fn a_bound_reciprocal_joins_a_pair() {
-        // a·c/b and a·d/b with `1/b` bound: a·(1/b) once, in both.
-        let mut g = Graph::new();
-        let (a, b) = (g.sym(Sym::Param(0)), g.sym(Sym::Coord(0)));
-        let (c, d) = (g.sym(Sym::Vel(0)), g.sym(Sym::Vel(1)));
-        let inverse = g.pown(b, Num::int(-1));
-        let products = [g.mul(&[a, inverse, c]), g.mul(&[a, inverse, d])];
-        let found = SubProducts::find(&g, &products, &|_| false, &|x| x == b);
-        assert_eq!(found.pairs, vec![(Factor::Leaf(a), Factor::Inverse(b))]);
-        // Without the reciprocal bound, `1/b` is no factor to share.
-        let none = SubProducts::find(&g, &products, &|_| false, &|_| false);
-        assert!(none.pairs.is_empty());
     }
 
     #[test]
@@ -315,7 +266,7 @@ mod tests {
             g.sym(Sym::Param(2)),
         );
         let products = [g.mul(&[a, b]), g.mul(&[b, c])];
-        assert!(SubProducts::find(&g, &products, &|_| false, &|_| false)
+        assert!(SubProducts::find(&g, &products, &|_| false)
             .pairs
             .is_empty());
     }

@@ -4,7 +4,7 @@
 
 use super::{literal, Body, Prec};
 use crate::emit::context::Context;
-use crate::emit::subproducts::{inverts, qualifies, qualifying, Factor};
+use crate::emit::subproducts::{qualifies, qualifying, Factor};
 use crate::emit::tokens::{join_product, parenthesized, signed_sum};
 use crate::expr::cse::MAX_UNROLLED_POWER;
 use crate::expr::num::Num;
@@ -135,10 +135,9 @@ impl Body<'_> {
             .filter(|&(i, _)| !covered(i) && negated != Some(i))
             .map(|(_, &f)| f);
         let shareable = |id: Id| self.subproducts.shareable(id);
-        let invertible = |id: Id| self.subproducts.invertible(id);
-        let applied =
-            self.subproducts
-                .apply(qualifying(self.graph, rest, (&shareable, &invertible)));
+        let applied = self
+            .subproducts
+            .apply(qualifying(self.graph, rest, &shareable));
         for (&f, &k) in &applied {
             if let Factor::Shared(i) = f {
                 let name = Context::local("sp", i);
@@ -156,11 +155,6 @@ impl Body<'_> {
                     continue;
                 }
                 Num::int(i64::from(left))
-            } else if negated != Some(i) && inverts(b, e, &invertible) {
-                if !applied.contains_key(&Factor::Inverse(b)) {
-                    continue;
-                }
-                e
             } else {
                 e
             };
