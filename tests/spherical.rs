@@ -364,28 +364,7 @@ trunk_on_ball_foot!(
 #[test]
 fn a_point_beyond_a_ball_joint_is_the_dense_solve() {
     let sys = FootOnOnePoint::<f64>::new(0.1, -0.05, 0.2);
-    let mut states = Vec::new();
-    for k in 0..8 {
-        let x = f64::from(k);
-        let trunk = UnitQuaternion::from_euler_angles(0.2 * x.sin(), -0.1, 0.3 * x);
-        let foot = UnitQuaternion::from_euler_angles(0.4, 0.1 * x, -0.2 * x.cos());
-        let scale = if k % 2 == 1 {
-            1.0 + 0.05 * (x - 4.0)
-        } else {
-            1.0
-        };
-        let mut q = SVector::<f64, 11>::zeros();
-        q[0] = 0.1 * x;
-        q[2] = 0.8;
-        for (i, v) in [trunk.w, trunk.i, trunk.j, trunk.k].into_iter().enumerate() {
-            q[3 + i] = scale * v;
-        }
-        for (i, v) in [foot.w, foot.i, foot.j, foot.k].into_iter().enumerate() {
-            q[7 + i] = v / scale;
-        }
-        let qd = SVector::<f64, 11>::from_fn(|i, _| (0.7 * (i as f64 + x)).sin());
-        states.push(State::new(0.0, q, qd));
-    }
+    let states: Vec<_> = (0..8).map(crate::common::trunk_on_foot_state).collect();
     use crate::auxiliary::{against_dense, assert_close};
     let gaps = against_dense::<_, 11, 5>(&sys, &states);
     assert_close("FootOnOnePoint, on and off the spheres", &gaps);

@@ -16,19 +16,11 @@ use crate::contacts::PinnedTop;
 use crate::quadruped::model::Quadruped;
 use crate::quadruped::{perturbed, standing};
 use crate::rotations::Welded;
+use crate::spherical::FootOnOnePoint;
 use constrained::linearize::{try_acceleration_and_multiplier_jacobians, MultiplierJacobians};
 use constrained::multipliers::Multipliers;
 use constrained::nalgebra::{SMatrix, SVector, UnitQuaternion};
 use constrained::{ConstrainedSystem, Jacobians, State};
-
-trunk_on_ball_foot!(
-    /// A trunk on a free joint, a foot on a ball joint below it, one
-    /// point of the foot held (two quaternions, the point's rows in the
-    /// trunk's axes reaching through the ball's).
-    TrunkOnFoot,
-    [ax, ay, az],
-    [position(foot, [0.12, 0.03, -0.03]) == [ax, ay, az]]
-);
 
 /// The largest entry of `a − b` against the largest of `b` (at least 1).
 fn gap<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
@@ -173,7 +165,7 @@ fn the_legs_solve_gives_the_dense_jacobians() {
 #[test]
 fn the_saddle_point_solve_gives_the_dense_jacobians() {
     let top = PinnedTop::<f64>::new(0.8, 0.3, 2.0, 0.4);
-    let trunk = TrunkOnFoot::<f64>::new(0.1, -0.05, 0.2);
+    let trunk = FootOnOnePoint::<f64>::new(0.1, -0.05, 0.2);
     let (mut dense_gap, mut central_gap, mut own) = (0.0f64, 0.0f64, 0);
     for k in 0..8 {
         let x = f64::from(k);
@@ -189,24 +181,8 @@ fn the_saddle_point_solve_gives_the_dense_jacobians() {
         central_gap = central_gap.max(central);
         own += usize::from(generated != dense);
 
-        let a = UnitQuaternion::from_euler_angles(0.2 * x.sin(), -0.1, 0.3 * x);
-        let b = UnitQuaternion::from_euler_angles(0.4, 0.1 * x, -0.2 * x.cos());
-        let scale = if k % 2 == 1 {
-            1.0 + 0.05 * (x - 4.0)
-        } else {
-            1.0
-        };
-        let mut q = SVector::<f64, 11>::zeros();
-        q[0] = 0.1 * x;
-        q[2] = 0.8;
-        for (i, v) in [a.w, a.i, a.j, a.k].into_iter().enumerate() {
-            q[3 + i] = scale * v;
-        }
-        for (i, v) in [b.w, b.i, b.j, b.k].into_iter().enumerate() {
-            q[7 + i] = v / scale;
-        }
-        let qd = SVector::<f64, 11>::from_fn(|i, _| (0.7 * (i as f64 + x)).sin());
-        let (generated, dense, central) = compare!(&trunk, &State::new(0.0, q, qd), 11, 5, 0);
+        let s = crate::common::trunk_on_foot_state(k);
+        let (generated, dense, central) = compare!(&trunk, &s, 11, 5, 0);
         dense_gap = dense_gap.max(worst(&generated, &dense));
         central_gap = central_gap.max(central);
         own += usize::from(generated != dense);

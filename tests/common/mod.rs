@@ -45,3 +45,30 @@ macro_rules! trunk_on_ball_foot {
         }
     };
 }
+
+/// The `k`-th moving state of a trunk on a ball-jointed foot
+/// (`trunk_on_ball_foot!`), both quaternions turned, an odd `k`'s off
+/// the unit spheres (the trunk's scaled by `1 + 0.05 (k − 4)`, the foot's
+/// by its inverse).
+pub fn trunk_on_foot_state(k: u32) -> constrained::State<f64, 11> {
+    use constrained::nalgebra::{SVector, UnitQuaternion};
+    let x = f64::from(k);
+    let trunk = UnitQuaternion::from_euler_angles(0.2 * x.sin(), -0.1, 0.3 * x);
+    let foot = UnitQuaternion::from_euler_angles(0.4, 0.1 * x, -0.2 * x.cos());
+    let scale = if k % 2 == 1 {
+        1.0 + 0.05 * (x - 4.0)
+    } else {
+        1.0
+    };
+    let mut q = SVector::<f64, 11>::zeros();
+    q[0] = 0.1 * x;
+    q[2] = 0.8;
+    for (i, v) in [trunk.w, trunk.i, trunk.j, trunk.k].into_iter().enumerate() {
+        q[3 + i] = scale * v;
+    }
+    for (i, v) in [foot.w, foot.i, foot.j, foot.k].into_iter().enumerate() {
+        q[7 + i] = v / scale;
+    }
+    let qd = SVector::<f64, 11>::from_fn(|i, _| (0.7 * (i as f64 + x)).sin());
+    constrained::State::new(0.0, q, qd)
+}
