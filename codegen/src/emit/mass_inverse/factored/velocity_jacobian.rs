@@ -20,9 +20,11 @@
 //! answer to the runtime's dense solve), solves `gauss`'s own right-hand
 //! side for the `q̈` and `λ` that `tangent_rhs` contracts with, then one
 //! loop runs every column through those factors: the legs' `J⁻¹` and the
-//! base's `L D Lᵀ` with the feet held, or the saddle-point `L D Lᵀ`.
-//! A body held at three or more points (its points' `λ` not unique) keeps
-//! the runtime's solve.
+//! base's `L D Lᵀ` with the feet held, or the saddle-point `L D Lᵀ`. Each
+//! column's solve is emitted for the rows its right-hand side can touch,
+//! columns of one pattern sharing one copy ([`looped`]). A body held at
+//! three or more points (its points' `λ` not unique) keeps the runtime's
+//! solve.
 
 use super::legs;
 use super::saddle::{or_zero, solved};
@@ -42,9 +44,9 @@ use quote::quote;
 use syn::Ident;
 
 /// The private methods that solve the tangent systems through the
-/// velocity form's factors ([`velocity_jacobian`]), where `gauss` solves
-/// that form and no body is held at three or more points; the name of the
-/// one that answers `(∂q̈, ∂λ)`.
+/// velocity form's factors (the module docs), where `gauss` solves that
+/// form and no body is held at three or more points; the name of the one
+/// that answers `(∂q̈, ∂λ)`.
 pub(in crate::emit) fn velocity_jacobians(
     ctx: &Context,
     f: &Factored,
@@ -60,12 +62,12 @@ pub(in crate::emit) fn velocity_jacobians(
 }
 
 /// The name of the private method [`method`] emits.
-pub(in crate::emit) fn name() -> Ident {
+fn name() -> Ident {
     Ident::new("__velocity_jacobians", proc_macro2::Span::call_site())
 }
 
 /// Whether [`method`] applies: no body held at three or more points.
-pub(super) fn applies(v: &Velocity) -> bool {
+fn applies(v: &Velocity) -> bool {
     v.system.held.is_empty()
 }
 
@@ -73,7 +75,7 @@ pub(super) fn applies(v: &Velocity) -> bool {
 /// returning `(∂q̈, ∂λ)` (`∂λ` zeros unless `multipliers`), and its
 /// fallback `__velocity_jacobians_dense`, the runtime's solve after
 /// `gauss`'s motion.
-pub(super) fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
+fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
     let (n_l, k_l, nu_l) = (Context::dim(n), Context::dim(k), Context::dim(nu));
     let d_l = Context::dim(2 * n + nu);
