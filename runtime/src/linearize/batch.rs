@@ -113,11 +113,7 @@ impl<T: RealField + Copy, const N: usize, const K: usize> Projection<T, N, K> {
         let mut b_tilde = SMatrix::<T, K, D>::zeros();
         system.tangent_rhs(q, qd, t, qdd, lam, &mut f_tilde, &mut b_tilde);
         let mut accelerations = Jacobians::<T, N, NU>::zeros();
-        let mut lambdas = MultiplierJacobians::<T, N, K, NU> {
-            dq: SMatrix::zeros(),
-            dqd: SMatrix::zeros(),
-            du: SMatrix::zeros(),
-        };
+        let mut lambdas = MultiplierJacobians::<T, N, K, NU>::zeros();
         for c in 0..D {
             let (x, y) = self.apply(
                 f_tilde.column(c).iter().copied(),

@@ -40,6 +40,16 @@ pub struct MultiplierJacobians<T, const N: usize, const K: usize, const NU: usiz
 impl<T: RealField + Copy, const N: usize, const K: usize, const NU: usize>
     MultiplierJacobians<T, N, K, NU>
 {
+    /// All three Jacobians zero.
+    #[must_use]
+    pub fn zeros() -> Self {
+        MultiplierJacobians {
+            dq: SMatrix::zeros(),
+            dqd: SMatrix::zeros(),
+            du: SMatrix::zeros(),
+        }
+    }
+
     /// Whether every entry is finite.
     #[must_use]
     pub fn is_finite(&self) -> bool {

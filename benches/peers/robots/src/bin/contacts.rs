@@ -755,24 +755,15 @@ fn spin_system(system: &str, what: &str, passes: usize) {
         "go1" => {
             let mut own = Rng(48);
             let cases: Vec<_> = (0..STATES).map(|_| go1_state(&mut own)).collect();
-            if what == "qdd_jacobian" {
+            if what == "qdd_jacobian" || what == "jacobians" {
                 for _ in 0..passes {
                     for (system, s) in &cases {
-                        let _ = black_box(black_box(system).acceleration_jacobian(
-                            black_box(&s.q),
-                            black_box(&s.qd),
-                            s.t,
-                        ));
-                    }
-                }
-            } else if what == "jacobians" {
-                for _ in 0..passes {
-                    for (system, s) in &cases {
-                        let _ = black_box(black_box(system).acceleration_and_multiplier_jacobians(
-                            black_box(&s.q),
-                            black_box(&s.qd),
-                            s.t,
-                        ));
+                        let (system, q, qd) = (black_box(system), black_box(&s.q), black_box(&s.qd));
+                        if what == "jacobians" {
+                            let _ = black_box(system.acceleration_and_multiplier_jacobians(q, qd, s.t));
+                        } else {
+                            let _ = black_box(system.acceleration_jacobian(q, qd, s.t));
+                        }
                     }
                 }
             } else {

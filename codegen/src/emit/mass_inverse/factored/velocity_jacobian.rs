@@ -81,7 +81,8 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let d_l = Context::dim(2 * n + nu);
     let jacobians = ctx.path(quote!(Jacobians<T, #n_l, #nu_l>));
     let lambdas = ctx.path(quote!(linearize::MultiplierJacobians<T, #n_l, #k_l, #nu_l>));
-    let literal = ctx.path(quote!(linearize::MultiplierJacobians::<T, #n_l, #k_l, #nu_l>));
+    let lambdas_zero =
+        ctx.path(quote!(linearize::MultiplierJacobians::<T, #n_l, #k_l, #nu_l>::zeros()));
     let error = ctx.path(quote!(DynamicsError));
     let result = quote!(::core::result::Result<(#jacobians, #lambdas), #error>);
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
@@ -98,20 +99,16 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
         quote!(-(#m))
     });
     let columns = looped(ctx, v, legs, &solved.ldlt, &dense);
-    let outputs = outputs(ctx, &literal, &columns);
+    let outputs = outputs(ctx, &lambdas_zero, &columns);
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
-    let zeros = |rows: usize, cols: usize| {
-        let m = ctx.matrix(rows, cols);
-        quote!(<#m>::zeros())
-    };
-    let (fs, rs) = (zeros(n, 2 * n + nu), zeros(k, 2 * n + nu));
+    let (fs, rs) = (ctx.matrix(n, 2 * n + nu), ctx.matrix(k, 2 * n + nu));
     let correction = ctx.correction_type();
     let body = solved.code;
     let (qdd_vector, lam_vector) = (
         ctx.vector_value(qdd.iter().map(|x| quote!(#x))),
         ctx.vector_value(lam.iter().map(|x| quote!(#x))),
     );
-    let dense_method = dense_method(ctx, &dense_name, &params, &result, &literal);
+    let dense_method = dense_method(ctx, &dense_name, &params, &result, &lambdas_zero);
     quote! {
         /// `(∂q̈, ∂λ)` through the velocity form's factors (`∂λ` zeros
         /// unless `multipliers`); the runtime's dense solve where a check
@@ -122,8 +119,8 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
             #body
             #( let #qdd = #acc; )*
             #( let #lam = #lam_values; )*
-            let mut __fs = #fs;
-            let mut __rs = #rs;
+            let mut __fs = <#fs>::zeros();
+            let mut __rs = <#rs>::zeros();
             <Self as #tangent>::tangent_rhs(
                 self,
                 #args,
@@ -139,21 +136,15 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     }
 }
 
-/// The outputs `__jac` and `__lj` (`literal` the path of `∂λ`'s struct),
-/// each column written by the loop `columns` over `__pairs`, then
-/// checked finite.
-fn outputs(ctx: &Context, literal: &TokenStream, columns: &TokenStream) -> TokenStream {
-    let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
-    let zeros = |rows: usize, cols: usize| {
-        let m = ctx.matrix(rows, cols);
-        quote!(<#m>::zeros())
-    };
-    let (ldq, ldu) = (zeros(k, n), zeros(k, nu));
+/// The outputs `__jac` and `__lj` (`lambdas_zero` the zeros of `∂λ`'s
+/// struct), each column written by the loop `columns` over `__pairs`,
+/// then checked finite.
+fn outputs(ctx: &Context, lambdas_zero: &TokenStream, columns: &TokenStream) -> TokenStream {
     let jacobians_zero = ctx.jacobians_zero().0;
     let error = ctx.path(quote!(DynamicsError));
     quote! {
         let mut __jac = #jacobians_zero;
-        let mut __lj = #literal { dq: #ldq, dqd: #ldq, du: #ldu };
+        let mut __lj = #lambdas_zero;
         {
             let __outs = __jac.dq.data.0.iter_mut()
                 .chain(__jac.dqd.data.0.iter_mut())
@@ -172,15 +163,16 @@ fn outputs(ctx: &Context, literal: &TokenStream, columns: &TokenStream) -> Token
     }
 }
 
-/// `__velocity_jacobians_dense` (`lambdas` the path of `∂λ`'s struct): `gauss`'s motion, then the runtime's
-/// dense solve of the tangent systems (its rank rule decides where the
-/// velocity form's checks failed).
+/// `__velocity_jacobians_dense` (`lambdas_zero` the zeros of `∂λ`'s
+/// struct): `gauss`'s motion, then the runtime's dense solve of the
+/// tangent systems (its rank rule decides where the velocity form's checks
+/// failed).
 fn dense_method(
     ctx: &Context,
     name: &Ident,
     params: &TokenStream,
     result: &TokenStream,
-    lambdas: &TokenStream,
+    lambdas_zero: &TokenStream,
 ) -> TokenStream {
     let (n, k, nu) = (ctx.n, ctx.k, ctx.eq.system.inputs);
     let (n_l, k_l, nu_l) = (Context::dim(n), Context::dim(k), Context::dim(nu));
@@ -189,11 +181,6 @@ fn dense_method(
     let motion = ctx.call_gauss("Fallible", quote!(::core::option::Option::None));
     let both = ctx.path(quote!(linearize::try_acceleration_and_multiplier_jacobians));
     let alone = ctx.path(quote!(linearize::try_acceleration_jacobian));
-    let zeros = |rows: usize, cols: usize| {
-        let m = ctx.matrix(rows, cols);
-        quote!(<#m>::zeros())
-    };
-    let (ldq, ldu) = (zeros(k, n), zeros(k, nu));
     quote! {
         /// The runtime's dense solve of the tangent systems after
         /// `gauss`'s motion: where a check of the velocity form fails.
@@ -204,7 +191,7 @@ fn dense_method(
                 #both::<T, Self, #n_l, #k_l, #nu_l, #d_l>(self, #args, __motion)
             } else {
                 let __j = #alone::<T, Self, #n_l, #k_l, #nu_l, #d_l>(self, #args, __motion)?;
-                ::core::result::Result::Ok((__j, #lambdas { dq: #ldq, dqd: #ldq, du: #ldu }))
+                ::core::result::Result::Ok((__j, #lambdas_zero))
             }
         }
     }
@@ -233,14 +220,25 @@ fn looped(
             }
         };
     };
-    let (groups, of_column) = groups(&patterns, &|p| operations(&each(p)));
+    // Each distinct pattern's code once: its cost decides the groups, and
+    // a group's is its arm.
+    let mut codes: Vec<(&Pattern, TokenStream)> = Vec::new();
+    for p in &patterns {
+        if !codes.iter().any(|(q, _)| *q == p) {
+            codes.push((p, each(p)));
+        }
+    }
+    let code_of = |p: &Pattern| codes.iter().find(|(q, _)| *q == p).map(|(_, c)| c.clone());
+    let cost = |p: &Pattern| code_of(p).map_or(0, |c| operations(&c));
+    let (groups, of_column) = groups(&patterns, &cost);
     let zero = groups.len();
     let table = of_column
         .iter()
         .map(|g| Literal::usize_unsuffixed(g.unwrap_or(zero)));
     let count = Literal::usize_unsuffixed(of_column.len());
     let arms = groups.iter().enumerate().map(|(id, pattern)| {
-        let (id, body) = (Literal::usize_unsuffixed(id), each(pattern));
+        let id = Literal::usize_unsuffixed(id);
+        let body = code_of(pattern).unwrap_or_default();
         quote!(#id => { #body })
     });
     quote! {
