@@ -58,7 +58,7 @@ pub mod __private {
     pub use crate::generated::{
         half_precision, largest, lit, signum, step, unscaled_bound, Generated, Motion, Reaction,
     };
-    pub use crate::linearize::Tangent;
+    pub use crate::linearize::{all_finite, Tangent};
     pub use crate::rank::{
         checked, conditioning_tolerance, least_squares, moore_penrose, safe_minimum,
     };

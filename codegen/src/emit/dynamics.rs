@@ -49,16 +49,13 @@ fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value
     if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+        let all = ctx.private(quote!(all_finite));
         let finite = if scalar {
             quote!(__value.is_finite())
         } else if pair {
-            quote!(__value
-                .0
-                .iter()
-                .chain(__value.1.iter())
-                .all(|__x| __x.is_finite()))
+            quote!(#all(__value.0.as_slice()) & #all(__value.1.as_slice()))
         } else {
-            quote!(__value.iter().all(|__x| __x.is_finite()))
+            quote!(#all(__value.as_slice()))
         };
         let doc = format!("{doc}\n\n`Err(NonFinite)` where a value is not finite (as `acceleration`, this system's methods return `Result`).");
         quote! {
