@@ -429,3 +429,43 @@ fn f32_centroidal_map_and_inverse_dynamics_jacobian_agree_with_f64() {
         assert!((dq32.cast::<f64>() - dq).norm() <= 1e-4 * dq.norm().max(1.0));
     }
 }
+
+/// A value that overflows is an error, not a matrix holding it: the
+/// check over the two n × n matrices (`all_finite` over their storage)
+/// sees an infinity wherever it lands and a NaN from any input the
+/// matrices read, and passes a state whose values are all finite.
+#[test]
+fn an_inverse_dynamics_jacobian_that_overflows_is_an_error() {
+    use constrained::DynamicsError;
+    let panda = PandaTool::<f64>::new();
+    let q = SVector::<f64, 7>::from_fn(|i, _| 0.1 * i as f64);
+    let qdd = SVector::<f64, 7>::zeros();
+    assert!(panda.inverse_dynamics_jacobian(&q, &q, &qdd, 0.0).is_ok());
+    for k in 0..7 {
+        // q̇ₖ² overflows in the Coriolis terms that qₖ's rate reaches.
+        let mut fast = SVector::<f64, 7>::zeros();
+        fast[k] = 1e200;
+        assert_eq!(
+            panda.inverse_dynamics_jacobian(&q, &fast, &qdd, 0.0).err(),
+            Some(DynamicsError::NonFinite),
+            "rate {k}"
+        );
+        // The first joint turns about gravity's axis: neither `τ` nor its
+        // derivatives depend on its angle, so a NaN there is not read.
+        if k == 0 {
+            continue;
+        }
+        let mut lost = q;
+        lost[k] = f64::NAN;
+        assert_eq!(
+            panda.inverse_dynamics_jacobian(&lost, &q, &qdd, 0.0).err(),
+            Some(DynamicsError::NonFinite),
+            "angle {k}"
+        );
+        assert_eq!(
+            panda.inverse_dynamics(&lost, &q, &qdd, 0.0).err(),
+            Some(DynamicsError::NonFinite),
+            "τ at angle {k}"
+        );
+    }
+}

@@ -48,6 +48,7 @@
 //! ```
 
 use crate::generated::{Generated, Reaction};
+use crate::linearize::all_finite;
 use crate::svd::JacobiSvd;
 use crate::{DynamicsError, State};
 use nalgebra::{RealField, SMatrix, SVector};
@@ -87,10 +88,7 @@ where
                 (qdd, multipliers(&a, &force)?)
             }
         };
-        if !lambda.iter().all(|x| x.is_finite()) {
-            return Err(DynamicsError::NonFinite);
-        }
-        if qdd.iter().all(|x| x.is_finite()) {
+        if all_finite(lambda.as_slice()) & all_finite(qdd.as_slice()) {
             Ok((qdd, lambda))
         } else {
             Err(DynamicsError::NonFinite)

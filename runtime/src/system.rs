@@ -1,4 +1,5 @@
 use crate::generated::Generated;
+use crate::linearize::all_finite;
 use crate::rank::moore_penrose;
 use crate::{ConstraintLevel, DynamicsError, GibbsAppellError, State};
 use nalgebra::{RealField, SMatrix, SVector};
@@ -154,7 +155,7 @@ where
         r: &SVector<T, K>,
     ) -> Option<(SVector<T, N>, [bool; K])> {
         Generated::constraint_step(self, &s.q, &s.qd, s.t, r)
-            .filter(|(step, _)| step.iter().all(|x| x.is_finite()))
+            .filter(|(step, _)| all_finite(step.as_slice()))
     }
 }
 
@@ -165,7 +166,7 @@ fn finite<T: RealField + Copy, const N: usize>(
     value: Result<SVector<T, N>, DynamicsError>,
 ) -> Result<SVector<T, N>, DynamicsError> {
     match value {
-        Ok(v) if !v.iter().all(|x| x.is_finite()) => Err(DynamicsError::NonFinite),
+        Ok(v) if !all_finite(v.as_slice()) => Err(DynamicsError::NonFinite),
         other => other,
     }
 }
@@ -183,7 +184,7 @@ fn finite_gibbs_appell<T: RealField + Copy, const N: usize>(
     value: Result<SVector<T, N>, GibbsAppellError>,
 ) -> Result<SVector<T, N>, GibbsAppellError> {
     match value {
-        Ok(v) if !v.iter().all(|x| x.is_finite()) => Err(GibbsAppellError::NonFinite),
+        Ok(v) if !all_finite(v.as_slice()) => Err(GibbsAppellError::NonFinite),
         other => other,
     }
 }

@@ -8,6 +8,7 @@
 //! ```text
 //! kinematics write REFERENCE_FILE
 //! kinematics time ROUND
+//! kinematics spin ROBOT WHAT PASSES # only calls, for a profiler
 //! ```
 //!
 //! `write` writes, per robot, a header (`robot NAME N`, then `urdf` with
@@ -439,6 +440,51 @@ impl Visit for Time {
     }
 }
 
+/// `spin`: `PASSES` times over the states of one robot, one quantity
+/// (`whole_times`' name, or `dtau`'s shorter `inverse_dynamics_jacobian`),
+/// nothing timed or written: for `perf` or cachegrind.
+struct Spin {
+    rng: Rng,
+    robot: String,
+    what: String,
+    passes: usize,
+}
+
+impl Visit for Spin {
+    fn robot<R: Framed<N>, const N: usize>(&mut self) {
+        let samples = samples::<N>(&mut self.rng);
+        if R::NAME != self.robot {
+            return;
+        }
+        let systems: Vec<R> = samples.iter().map(|s| R::with_torques(&s.tau)).collect();
+        for _ in 0..self.passes {
+            for (r, s) in systems.iter().zip(&samples) {
+                let (r, q, v) = (black_box(r), black_box(&s.q), black_box(&s.v));
+                match self.what.as_str() {
+                    "centroidal_map" => {
+                        black_box(r.centroidal(q));
+                    }
+                    "inverse_dynamics_jacobian" => {
+                        black_box(r.tau_jacobian(q, v, black_box(&s.a)));
+                    }
+                    "acceleration_jacobian" => {
+                        black_box(r.derivatives(q, v));
+                    }
+                    "inverse_dynamics" => {
+                        black_box(r.tau(q, v, black_box(&s.a)));
+                    }
+                    "mass_matrix" => {
+                        black_box(r.mass(q));
+                    }
+                    _ => {
+                        black_box(r.com_and_jacobian(q));
+                    }
+                }
+            }
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let seed = 49;
@@ -455,8 +501,17 @@ fn main() {
             rng: Rng(seed),
             round: round.clone(),
         }),
+        (Some("spin"), Some(robot)) => framed(&mut Spin {
+            rng: Rng(seed),
+            robot: robot.clone(),
+            what: args.get(3).cloned().unwrap_or_default(),
+            passes: args.get(4).and_then(|p| p.parse().ok()).unwrap_or(1000),
+        }),
         _ => {
-            eprintln!("usage: kinematics write REFERENCE_FILE | kinematics time ROUND");
+            eprintln!(
+                "usage: kinematics write REFERENCE_FILE | kinematics time ROUND | \
+                 kinematics spin ROBOT WHAT PASSES"
+            );
             std::process::exit(2);
         }
     }
