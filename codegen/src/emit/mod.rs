@@ -17,7 +17,8 @@
 //!   (`symbolic`, `factored`, the latter also through a semi-definite `M`'s
 //!   auxiliary mass), each with its solver, Jacobian and step; its `mod.rs` is the only `match` on the strategy.
 //!
-//! Below both: `body` (expressions to tokens), `chunks` (long bodies in
+//! Below both: `body` (expressions to tokens), `hoist` (a method's
+//! repeated constants bound once), `chunks` (long bodies in
 //! blocks), `context` (types, names, signatures), `ldlt` (the structured
 //! factorization), `subproducts` and `reuse` (the products a body shares).
 
@@ -32,6 +33,7 @@ mod forwards;
 mod frames;
 mod friction;
 mod gibbs_appell;
+mod hoist;
 mod impact;
 mod jacobian;
 mod ldlt;
@@ -79,6 +81,9 @@ pub fn system(eq: &Equations) -> TokenStream {
     let definition = struct_definition(sys, ctx.n, ctx.k, &derivation_doc(&derivation));
     let constants = constants(&ctx, &derivation);
 
+    // Every method's constants bound once, at its top (`hoist`).
+    let methods = hoist::literals(methods);
+    let impls = hoist::literals(quote! { #generated_impl #tangent_impl #friction_impl });
     quote! {
         #definition
 
@@ -91,9 +96,7 @@ pub fn system(eq: &Equations) -> TokenStream {
 
         #(#files)*
 
-        #generated_impl
-        #tangent_impl
-        #friction_impl
+        #impls
     }
 }
 
