@@ -85,10 +85,21 @@ fn count_coordinates(text: &str) -> usize {
         .unwrap_or(0)
 }
 
-/// Calls of `sin_cos`, `.sin()` or `.cos()` whose argument is a literal.
+/// Calls of `sin_cos`, `.sin()` or `.cos()` whose argument is a literal,
+/// written in place or bound at the method's top (`__lit{k}`, a constant
+/// the method reads more than once).
 fn constant_trig(text: &str) -> usize {
     let literal_call = text
         .matches("sin_cos (:: constrained :: __private :: lit")
+        .count()
+        + text.matches("sin_cos (__lit").count();
+    let bound = text
+        .match_indices("__lit")
+        .filter(|(at, _)| {
+            let after = text[at + "__lit".len()..].trim_start_matches(|c: char| c.is_ascii_digit());
+            let tail = after.trim_start();
+            tail.starts_with(". sin ()") || tail.starts_with(". cos ()")
+        })
         .count();
     let method = ["lit :: < T > (", "lit::<T>("]
         .iter()
@@ -103,5 +114,5 @@ fn constant_trig(text: &str) -> usize {
                 .count()
         })
         .sum::<usize>();
-    literal_call + method
+    literal_call + method + bound
 }
