@@ -440,9 +440,11 @@ impl Visit for Time {
     }
 }
 
-/// `spin`: `PASSES` times over the states of one robot, one quantity
-/// (`whole_times`' name, or `dtau`'s shorter `inverse_dynamics_jacobian`),
-/// nothing timed or written: for `perf` or cachegrind.
+/// `kinematics spin ROBOT WHAT PASSES`: `PASSES` passes of `WHAT`
+/// (`centroidal_map`, `inverse_dynamics_jacobian`, `acceleration_jacobian`,
+/// `inverse_dynamics`, `mass_matrix`; anything else: the centre of mass and
+/// its Jacobian) over the robot's states and nothing else, for a profiler,
+/// as `constrained-robots spin` does for `q̈`, `M` and `τ`.
 struct Spin {
     rng: Rng,
     robot: String,
@@ -452,6 +454,7 @@ struct Spin {
 
 impl Visit for Spin {
     fn robot<R: Framed<N>, const N: usize>(&mut self) {
+        // Drawn for every robot, as `Time` draws them: the same states.
         let samples = samples::<N>(&mut self.rng);
         if R::NAME != self.robot {
             return;
