@@ -758,9 +758,11 @@ fn spin_system(system: &str, what: &str, passes: usize) {
             if what == "qdd_jacobian" || what == "jacobians" {
                 for _ in 0..passes {
                     for (system, s) in &cases {
-                        let (system, q, qd) = (black_box(system), black_box(&s.q), black_box(&s.qd));
+                        let (system, q, qd) =
+                            (black_box(system), black_box(&s.q), black_box(&s.qd));
                         if what == "jacobians" {
-                            let _ = black_box(system.acceleration_and_multiplier_jacobians(q, qd, s.t));
+                            let _ =
+                                black_box(system.acceleration_and_multiplier_jacobians(q, qd, s.t));
                         } else {
                             let _ = black_box(system.acceleration_jacobian(q, qd, s.t));
                         }
