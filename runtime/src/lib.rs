@@ -56,9 +56,10 @@ pub mod __private {
     };
     pub use crate::gauss_dense::gauss_dense;
     pub use crate::generated::{
-        half_precision, largest, lit, signum, step, unscaled_bound, Generated, Motion, Reaction,
+        all_finite, half_precision, largest, lit, signum, step, unscaled_bound, Generated, Motion,
+        Reaction,
     };
-    pub use crate::linearize::{all_finite, Tangent};
+    pub use crate::linearize::Tangent;
     pub use crate::rank::{
         checked, conditioning_tolerance, least_squares, moore_penrose, safe_minimum,
     };

@@ -32,7 +32,7 @@
 //! is the one above with `F̃ᵥ + s Aᵀ b̃ᵥ` (the `∂s` terms multiply
 //! `A q̈ − b = 0`).
 
-use crate::generated::{auxiliary_mass, Generated, Motion};
+use crate::generated::{all_finite, auxiliary_mass, Generated, Motion};
 use crate::inverse::PivotedLdlt;
 use crate::rank::{consistency_tolerance, safe_minimum, tight_cut};
 use crate::svd::JacobiSvd;
@@ -86,19 +86,6 @@ impl<T: RealField + Copy, const N: usize, const NU: usize> Jacobians<T, N, NU> {
             & all_finite(self.dqd.as_slice())
             & all_finite(self.du.as_slice())
     }
-}
-
-/// Whether every entry is finite. Without an early exit, and not through a
-/// chain of iterators or a matrix's iterator: the generated
-/// `acceleration_jacobian` and `inverse_dynamics_jacobian` end in this
-/// check, where the chain's `try_fold`, not inlined, took a sixth of the
-/// cart-pole's `acceleration_jacobian`, and the early exit over two 29 × 29
-/// matrices (a compare and a branch per entry) a sixth of the G1's
-/// `inverse_dynamics_jacobian`; over a slice the fold is a few SIMD
-/// instructions per four entries.
-#[inline]
-pub fn all_finite<T: RealField + Copy>(m: &[T]) -> bool {
-    m.iter().fold(true, |ok, x| ok & x.is_finite())
 }
 
 /// What the generated code provides for the Jacobian: the right-hand sides

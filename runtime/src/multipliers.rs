@@ -47,8 +47,8 @@
 //! assert!((lambda - Vector2::new(1.0, 1.0)).norm() < 1e-15);
 //! ```
 
+use crate::generated::all_finite;
 use crate::generated::{Generated, Reaction};
-use crate::linearize::all_finite;
 use crate::svd::JacobiSvd;
 use crate::{DynamicsError, State};
 use nalgebra::{RealField, SMatrix, SVector};

@@ -1,5 +1,5 @@
+use crate::generated::all_finite;
 use crate::generated::Generated;
-use crate::linearize::all_finite;
 use crate::rank::moore_penrose;
 use crate::{ConstraintLevel, DynamicsError, GibbsAppellError, State};
 use nalgebra::{RealField, SMatrix, SVector};

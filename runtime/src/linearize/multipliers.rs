@@ -17,7 +17,8 @@
 //! are the same: `s AᵀA q̈ = s Aᵀ b` holds on both sides.
 
 use super::batch::Projection;
-use super::{all_finite, Dense, Jacobians, Tangent};
+use super::{Dense, Jacobians, Tangent};
+use crate::generated::all_finite;
 use crate::generated::{Generated, Motion};
 use crate::rank::safe_minimum;
 use crate::DynamicsError;
