@@ -28,6 +28,43 @@ fn gap<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, 
     (a - b).iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale
 }
 
+/// The worst differences over a test's states from the dense solve and
+/// from central differences, and how many states the generated solve
+/// answered itself (its answer not bitwise the dense one).
+#[derive(Default)]
+struct Gaps {
+    dense: f64,
+    central: f64,
+    own: usize,
+}
+
+/// Both Jacobians, of `q̈` and of `λ`.
+type Both<const N_: usize, const K: usize, const NU: usize> =
+    (Jacobians<f64, N_, NU>, MultiplierJacobians<f64, N_, K, NU>);
+
+impl Gaps {
+    /// One state's [`compare!`].
+    fn add<const N_: usize, const K: usize, const NU: usize>(
+        &mut self,
+        (generated, dense, central): (Both<N_, K, NU>, Both<N_, K, NU>, f64),
+    ) {
+        self.dense = self.dense.max(worst(&generated, &dense));
+        self.central = self.central.max(central);
+        self.own += usize::from(generated != dense);
+    }
+
+    /// Prints them under `name`, then asserts: within 1e-11 of the dense
+    /// solve and 1e-6 of central differences, and all `states` answered
+    /// by `solve` itself.
+    fn check(&self, name: &str, states: usize, solve: &str) {
+        let (dense, central) = (self.dense, self.central);
+        println!("{name}: dense {dense:.1e}, central differences {central:.1e}");
+        assert_eq!(self.own, states, "{solve} answered every state itself");
+        assert!(dense < 1e-11, "{dense:e} from the dense solve");
+        assert!(central < 1e-6, "{central:e} from central differences");
+    }
+}
+
 /// The worst of the three blocks of `q̈`'s and of `λ`'s Jacobians.
 fn worst<const N_: usize, const K: usize, const NU: usize>(
     (a, l): &(Jacobians<f64, N_, NU>, MultiplierJacobians<f64, N_, K, NU>),
@@ -133,21 +170,11 @@ fn the_legs_solve_gives_the_dense_jacobians() {
         t(11),
         t(12),
     );
-    let (mut dense_gap, mut central_gap, mut own) = (0.0f64, 0.0f64, 0);
+    let mut gaps = Gaps::default();
     for k in 0..8 {
-        let s = perturbed(&rest, k);
-        let (generated, dense, central) = compare!(&sys, &s, 19, 13, 12);
-        dense_gap = dense_gap.max(worst(&generated, &dense));
-        central_gap = central_gap.max(central);
-        own += usize::from(generated != dense);
+        gaps.add(compare!(&sys, &perturbed(&rest, k), 19, 13, 12));
     }
-    println!("quadruped: dense {dense_gap:.1e}, central differences {central_gap:.1e}");
-    assert_eq!(own, 8, "the legs' solve answered every state itself");
-    assert!(dense_gap < 1e-11, "{dense_gap:e} from the dense solve");
-    assert!(
-        central_gap < 1e-6,
-        "{central_gap:e} from central differences"
-    );
+    gaps.check("quadruped", 8, "the legs' solve");
     // A front leg straight: its `det J` fails the pivot test, and the
     // runtime's dense solve answers, exactly as called directly.
     let mut s = perturbed(&rest, 3);
@@ -166,7 +193,7 @@ fn the_legs_solve_gives_the_dense_jacobians() {
 fn the_saddle_point_solve_gives_the_dense_jacobians() {
     let top = PinnedTop::<f64>::new(0.8, 0.3, 2.0, 0.4);
     let trunk = FootOnOnePoint::<f64>::new(0.1, -0.05, 0.2);
-    let (mut dense_gap, mut central_gap, mut own) = (0.0f64, 0.0f64, 0);
+    let mut gaps = Gaps::default();
     for k in 0..8 {
         let x = f64::from(k);
         let e = UnitQuaternion::from_euler_angles(0.3 * x.sin(), -0.4, 0.2 * x);
@@ -176,27 +203,11 @@ fn the_saddle_point_solve_gives_the_dense_jacobians() {
             q[3 + i] = v;
         }
         let qd = SVector::<f64, 7>::from_fn(|i, _| (0.9 * (i as f64 + x)).cos());
-        let (generated, dense, central) = compare!(&top, &State::new(0.0, q, qd), 7, 4, 0);
-        dense_gap = dense_gap.max(worst(&generated, &dense));
-        central_gap = central_gap.max(central);
-        own += usize::from(generated != dense);
-
+        gaps.add(compare!(&top, &State::new(0.0, q, qd), 7, 4, 0));
         let s = crate::common::trunk_on_foot_state(k);
-        let (generated, dense, central) = compare!(&trunk, &s, 11, 5, 0);
-        dense_gap = dense_gap.max(worst(&generated, &dense));
-        central_gap = central_gap.max(central);
-        own += usize::from(generated != dense);
+        gaps.add(compare!(&trunk, &s, 11, 5, 0));
     }
-    println!("pinned top and trunk: dense {dense_gap:.1e}, central differences {central_gap:.1e}");
-    assert!(dense_gap < 1e-11, "{dense_gap:e} from the dense solve");
-    assert!(
-        central_gap < 1e-6,
-        "{central_gap:e} from central differences"
-    );
-    assert_eq!(
-        own, 16,
-        "the saddle-point solve answered every state itself"
-    );
+    gaps.check("pinned top and trunk", 16, "the saddle-point solve");
 }
 
 /// An orientation lock, whose rows stay in the world's axes (`D` the
@@ -207,7 +218,7 @@ fn the_saddle_point_solve_gives_the_dense_jacobians() {
 #[test]
 fn an_orientation_lock_gives_the_dense_jacobians() {
     let welded = Welded::<f64>::new(0.3, -0.2, 0.5);
-    let (mut dense_gap, mut central_gap, mut own) = (0.0f64, 0.0f64, 0);
+    let mut gaps = Gaps::default();
     for k in 0..8 {
         let x = f64::from(k);
         let e = UnitQuaternion::from_euler_angles(0.3 + 0.1 * x.sin(), -0.2, 0.5 + 0.05 * x);
@@ -218,16 +229,7 @@ fn an_orientation_lock_gives_the_dense_jacobians() {
             q[3 + i] = scale * v;
         }
         let qd = SVector::<f64, 7>::from_fn(|i, _| 0.5 * (0.9 * (i as f64 + x)).cos());
-        let (generated, dense, central) = compare!(&welded, &State::new(0.0, q, qd), 7, 7, 0);
-        dense_gap = dense_gap.max(worst(&generated, &dense));
-        central_gap = central_gap.max(central);
-        own += usize::from(generated != dense);
+        gaps.add(compare!(&welded, &State::new(0.0, q, qd), 7, 7, 0));
     }
-    println!("orientation lock: dense {dense_gap:.1e}, central differences {central_gap:.1e}");
-    assert!(dense_gap < 1e-11, "{dense_gap:e} from the dense solve");
-    assert!(
-        central_gap < 1e-6,
-        "{central_gap:e} from central differences"
-    );
-    assert_eq!(own, 8, "the saddle-point solve answered every state itself");
+    gaps.check("orientation lock", 8, "the saddle-point solve");
 }
