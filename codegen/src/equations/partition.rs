@@ -35,10 +35,10 @@
 //! they are chosen again at every state of that rank.
 
 pub use super::surface::{consistent_states, consistent_states_from, Seeds, StateValues};
-use super::surface::{eval_a, position_rows, random_states};
+use super::surface::{position_rows, random_states, Surface};
 use crate::equations::mass_inverse::MassInverse;
 use crate::equations::Equations;
-use crate::expr::Sym;
+use crate::expr::{Id, Sym};
 use crate::model::Level;
 use crate::numeric::linalg::independent_columns;
 
@@ -80,30 +80,32 @@ pub fn partition(eq: &Equations) -> syn::Result<Partition> {
 /// decision does not depend on them).
 pub fn partition_with(eq: &Equations, seeds: Seeds) -> syn::Result<Partition> {
     let n = eq.system.dof();
-    let states = consistent_states_from(eq, seeds.states);
+    let surface = Surface::new(eq);
+    let states = surface.consistent_states_from(seeds.states);
     let on_surface = !states.is_empty();
     if !on_surface {
         contradictions(eq)?;
     }
     let first: Vec<Vec<Vec<f64>>> = if on_surface {
-        states.iter().map(|s| eval_a(eq, s)).collect()
+        states.iter().map(|s| surface.a(s)).collect()
     } else {
         // No consistent state found: measure off the surface (generic rank).
         random_states(eq, seeds.random)
             .iter()
-            .map(|s| eval_a(eq, s))
+            .map(|s| surface.a(s))
             .collect()
     };
     let check: Vec<Vec<Vec<f64>>> = if on_surface {
-        consistent_states_from(eq, seeds.check)
+        surface
+            .consistent_states_from(seeds.check)
             .iter()
-            .map(|s| eval_a(eq, s))
+            .map(|s| surface.a(s))
             .collect()
     } else {
         Vec::new()
     };
     if matches!(eq.mass_inverse, MassInverse::Auxiliary(_)) {
-        completes_the_mass(eq, &states)?;
+        completes_the_mass(eq, &surface, &states)?;
     }
     let rank_of = |a: &Vec<Vec<f64>>| independent_columns(a, RANK_TOLERANCE).len();
     let rank = first.iter().chain(&check).map(rank_of).max().unwrap_or(0);
@@ -284,25 +286,36 @@ fn choose(matrices: &[Vec<Vec<f64>>], rank: usize, n: usize) -> Vec<usize> {
 /// rank at some consistent state (or, without any, at a random one), so
 /// that the auxiliary mass `M + s AᵀA` is positive definite there
 /// (Udwadia & Schutte 2010). Otherwise no acceleration is determined.
-fn completes_the_mass(eq: &Equations, states: &[StateValues]) -> syn::Result<()> {
+fn completes_the_mass(
+    eq: &Equations,
+    surface: &Surface,
+    states: &[StateValues],
+) -> syn::Result<()> {
     let n = eq.system.dof();
     let points: Vec<StateValues> = if states.is_empty() {
         random_states(eq, 0x0a55_1571)
     } else {
         states.to_vec()
     };
-    let g = &eq.system.graph;
+    let entries: Vec<Id> = eq.system.mass.iter().flatten().copied().collect();
+    let mass = eq.system.graph.tape(&entries);
     let mut best = 0;
     let mut mass_rank = n;
     for s in &points {
+        let values = mass.eval(&s.env());
+        let mut rest = values.as_slice();
         let m: Vec<Vec<f64>> = eq
             .system
             .mass
             .iter()
-            .map(|row| g.eval(row, &s.env()))
+            .map(|row| {
+                let (this, next) = rest.split_at(row.len());
+                rest = next;
+                this.to_vec()
+            })
             .collect();
         mass_rank = mass_rank.min(independent_columns(&m, RANK_TOLERANCE).len());
-        let stacked: Vec<Vec<f64>> = m.into_iter().chain(eval_a(eq, s)).collect();
+        let stacked: Vec<Vec<f64>> = m.into_iter().chain(surface.a(s)).collect();
         best = best.max(independent_columns(&stacked, RANK_TOLERANCE).len());
     }
     if best == n {

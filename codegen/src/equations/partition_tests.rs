@@ -2,7 +2,7 @@
 //! decision.
 
 use super::*;
-use crate::equations::surface::{branches, STATES};
+use crate::equations::surface::{branches, eval_a, STATES};
 use crate::numeric::rng::SplitMix64;
 
 fn analyse(model: &str) -> Equations {

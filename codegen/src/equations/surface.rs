@@ -6,6 +6,7 @@
 //! the position-level rows, velocities onto every row at velocity level).
 
 use crate::equations::Equations;
+use crate::expr::tape::Tape;
 use crate::expr::{Id, Sym};
 use crate::model::Level;
 use crate::numeric::linalg::{damped_least_squares, minimum_norm_solve};
@@ -82,16 +83,9 @@ fn random_state(eq: &Equations, rng: &mut SplitMix64) -> StateValues {
     }
 }
 
+/// `A` at `s`, row by row (once: for many states, [`Surface::a`]).
 pub(super) fn eval_a(eq: &Equations, s: &StateValues) -> Vec<Vec<f64>> {
-    // All rows in one evaluation: they share their kinematics (the
-    // quadruped's feet share the base's), which row by row were walked and
-    // evaluated once per row, a quarter of its expansion.
-    let entries: Vec<Id> = eq.a.iter().flatten().copied().collect();
-    let values = eq.system.graph.eval(&entries, &s.env());
-    match eq.a.first().map_or(0, Vec::len) {
-        0 => vec![Vec::new(); eq.a.len()],
-        n => values.chunks(n).map(<[f64]>::to_vec).collect(),
-    }
+    Surface::new(eq).a(s)
 }
 
 /// Up to `STATES` consistent states, from deterministic seeds.
@@ -101,18 +95,7 @@ pub fn consistent_states(eq: &Equations) -> Vec<StateValues> {
 
 /// Up to `STATES` consistent states, from the generator seeded with `seed`.
 pub fn consistent_states_from(eq: &Equations, seed: u64) -> Vec<StateValues> {
-    let mut rng = SplitMix64::new(seed);
-    let mut found = Vec::new();
-    for _ in 0..SEEDS {
-        if found.len() == STATES {
-            break;
-        }
-        let mut s = random_state(eq, &mut rng);
-        if project(eq, &mut s) {
-            found.push(s);
-        }
-    }
-    found
+    Surface::new(eq).consistent_states_from(seed)
 }
 
 /// The position-level rows: their indices and their `φ`.
@@ -133,119 +116,171 @@ pub(super) fn branches(eq: &Equations) -> Vec<Id> {
         .collect()
 }
 
-/// Newton with minimum-norm steps, from the locks' branches; `true` when φ
-/// and φ̇ vanish to 1e-13 and the state is still on every branch.
-fn project(eq: &Equations, s: &mut StateValues) -> bool {
-    let g = &eq.system.graph;
-    let (positions, phi) = position_rows(eq);
-    let branch = branches(eq);
-    if !onto_branches(eq, s, &branch) {
-        return false;
+/// What the search for consistent states evaluates at every step, compiled
+/// once (`expr::tape`): the rows of `A` (all in one tape, since they share
+/// their kinematics: the quadruped's feet share the base's), the
+/// position-level rows' `φ`, the locks' branch residuals and the rows at
+/// velocity level.
+pub(super) struct Surface<'a> {
+    eq: &'a Equations,
+    a: Tape,
+    columns: usize,
+    positions: Vec<usize>,
+    phi: Tape,
+    branches: usize,
+    branch: Tape,
+    velocity: Tape,
+}
+
+impl<'a> Surface<'a> {
+    /// The tapes of `eq`'s rows.
+    pub(super) fn new(eq: &'a Equations) -> Surface<'a> {
+        let g = &eq.system.graph;
+        let entries: Vec<Id> = eq.a.iter().flatten().copied().collect();
+        let (positions, phi) = position_rows(eq);
+        let branch = branches(eq);
+        Surface {
+            eq,
+            a: g.tape(&entries),
+            columns: eq.a.first().map_or(0, Vec::len),
+            positions,
+            phi: g.tape(&phi),
+            branches: branch.len(),
+            branch: g.tape(&branch),
+            velocity: g.tape(&eq.velocity_constraints),
+        }
     }
-    let converge = |s: &mut StateValues,
-                    residual: &dyn Fn(&StateValues) -> Vec<f64>,
-                    rows: &[usize],
-                    velocity: bool| {
-        for _ in 0..60 {
-            let r = residual(s);
-            if r.iter().all(|x| x.abs() < 1e-13) {
-                return true;
+
+    /// `A` at `s`, row by row.
+    pub(super) fn a(&self, s: &StateValues) -> Vec<Vec<f64>> {
+        let values = self.a.eval(&s.env());
+        match self.columns {
+            0 => vec![Vec::new(); self.eq.a.len()],
+            n => values.chunks(n).map(<[f64]>::to_vec).collect(),
+        }
+    }
+
+    /// Up to `STATES` consistent states, from the generator seeded with
+    /// `seed`.
+    pub(super) fn consistent_states_from(&self, seed: u64) -> Vec<StateValues> {
+        let mut rng = SplitMix64::new(seed);
+        let mut found = Vec::new();
+        for _ in 0..SEEDS {
+            if found.len() == STATES {
+                break;
             }
+            let mut s = random_state(self.eq, &mut rng);
+            if self.project(&mut s) {
+                found.push(s);
+            }
+        }
+        found
+    }
+
+    /// Newton with minimum-norm steps, from the locks' branches; `true` when
+    /// φ and φ̇ vanish to 1e-13 and the state is still on every branch.
+    fn project(&self, s: &mut StateValues) -> bool {
+        if !self.onto_branches(s) {
+            return false;
+        }
+        let converge = |s: &mut StateValues, residual: &Tape, rows: &[usize], velocity: bool| {
+            for _ in 0..60 {
+                let r = residual.eval(&s.env());
+                if r.iter().all(|x| x.abs() < 1e-13) {
+                    return true;
+                }
+                if r.iter().any(|x| !x.is_finite()) {
+                    return false;
+                }
+                let a = self.a(s);
+                let j: Vec<Vec<f64>> = rows.iter().map(|&i| a[i].clone()).collect();
+                let step = minimum_norm_solve(&j, &r);
+                let target = if velocity { &mut s.qd } else { &mut s.q };
+                target.iter_mut().zip(&step).for_each(|(x, d)| *x -= d);
+            }
+            false
+        };
+        let all: Vec<usize> = (0..self.eq.a.len()).collect();
+        converge(s, &self.phi, &self.positions, false)
+            && self
+                .branch
+                .eval(&s.env())
+                .iter()
+                .all(|x| x.abs() < BRANCH_TOLERANCE)
+            && converge(s, &self.velocity, &all, true)
+    }
+
+    /// The position rows' and the branch residuals' values at `s`.
+    fn residual(&self, s: &StateValues) -> Vec<f64> {
+        let mut r = self.phi.eval(&s.env());
+        r.extend(self.branch.eval(&s.env()));
+        r
+    }
+
+    /// Positions brought onto the locks' branches (module docs): damped
+    /// least-squares steps on the position rows and the branch residuals
+    /// together, each step halved until it reduces the residual. The branch
+    /// residuals' gradients come from central differences (their values
+    /// need only reach `BRANCH_TOLERANCE`; Newton on the exact rows
+    /// follows). `true` at once without locks.
+    fn onto_branches(&self, s: &mut StateValues) -> bool {
+        if self.branches == 0 {
+            return true;
+        }
+        let size = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+        for _ in 0..100 {
+            let r = self.residual(s);
             if r.iter().any(|x| !x.is_finite()) {
                 return false;
             }
-            let a = eval_a(eq, s);
-            let j: Vec<Vec<f64>> = rows.iter().map(|&i| a[i].clone()).collect();
-            let step = minimum_norm_solve(&j, &r);
-            let target = if velocity { &mut s.qd } else { &mut s.q };
-            target.iter_mut().zip(&step).for_each(|(x, d)| *x -= d);
+            if r.iter().all(|x| x.abs() < BRANCH_TOLERANCE) {
+                return true;
+            }
+            let a = self.a(s);
+            let mut j: Vec<Vec<f64>> = self.positions.iter().map(|&i| a[i].clone()).collect();
+            j.extend(self.branch_gradients(s));
+            let step = damped_least_squares(&j, &r, 1e-12);
+            let mut scale = 1.0;
+            let accepted = (0..30).any(|_| {
+                let mut trial = s.clone();
+                trial
+                    .q
+                    .iter_mut()
+                    .zip(&step)
+                    .for_each(|(x, d)| *x -= scale * d);
+                let better = size(&self.residual(&trial)) < size(&r);
+                if better {
+                    *s = trial;
+                }
+                scale /= 2.0;
+                better
+            });
+            if !accepted {
+                return false;
+            }
         }
         false
-    };
-    let all: Vec<usize> = (0..eq.a.len()).collect();
-    converge(s, &|s| g.eval(&phi, &s.env()), &positions, false)
-        && g.eval(&branch, &s.env())
-            .iter()
-            .all(|x| x.abs() < BRANCH_TOLERANCE)
-        && converge(
-            s,
-            &|s| g.eval(&eq.velocity_constraints, &s.env()),
-            &all,
-            true,
-        )
+    }
+
+    /// `∂(Eᵢᵢ − 1)/∂q` of every branch residual, by central differences.
+    fn branch_gradients(&self, s: &StateValues) -> Vec<Vec<f64>> {
+        let h = 1e-6;
+        let mut rows = vec![vec![0.0; s.q.len()]; self.branches];
+        for j in 0..s.q.len() {
+            let mut shifted = s.clone();
+            shifted.q[j] = s.q[j] + h;
+            let plus = self.branch.eval(&shifted.env());
+            shifted.q[j] = s.q[j] - h;
+            let minus = self.branch.eval(&shifted.env());
+            for (i, row) in rows.iter_mut().enumerate() {
+                row[j] = (plus[i] - minus[i]) / (2.0 * h);
+            }
+        }
+        rows
+    }
 }
 
 /// How near its branch a lock is brought before Newton takes over (and
 /// must stay): Newton then moves `q` by about as much, and the half turns
 /// are `Eᵢᵢ − 1 ~ −2` away.
 const BRANCH_TOLERANCE: f64 = 1e-8;
-
-/// Positions brought onto the locks' branches (module docs): damped
-/// least-squares steps on the position rows and the branch residuals
-/// together, each step halved until it reduces the residual. The branch
-/// residuals' gradients come from central differences (their values need
-/// only reach `BRANCH_TOLERANCE`; Newton on the exact rows follows). `true`
-/// at once without locks.
-fn onto_branches(eq: &Equations, s: &mut StateValues, branch: &[Id]) -> bool {
-    if branch.is_empty() {
-        return true;
-    }
-    let g = &eq.system.graph;
-    let (positions, phi) = position_rows(eq);
-    let residual = |s: &StateValues| -> Vec<f64> {
-        let mut r = g.eval(&phi, &s.env());
-        r.extend(g.eval(branch, &s.env()));
-        r
-    };
-    let size = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
-    for _ in 0..100 {
-        let r = residual(s);
-        if r.iter().any(|x| !x.is_finite()) {
-            return false;
-        }
-        if r.iter().all(|x| x.abs() < BRANCH_TOLERANCE) {
-            return true;
-        }
-        let a = eval_a(eq, s);
-        let mut j: Vec<Vec<f64>> = positions.iter().map(|&i| a[i].clone()).collect();
-        j.extend(branch_gradients(eq, s, branch));
-        let step = damped_least_squares(&j, &r, 1e-12);
-        let mut scale = 1.0;
-        let accepted = (0..30).any(|_| {
-            let mut trial = s.clone();
-            trial
-                .q
-                .iter_mut()
-                .zip(&step)
-                .for_each(|(x, d)| *x -= scale * d);
-            let better = size(&residual(&trial)) < size(&r);
-            if better {
-                *s = trial;
-            }
-            scale /= 2.0;
-            better
-        });
-        if !accepted {
-            return false;
-        }
-    }
-    false
-}
-
-/// `∂(Eᵢᵢ − 1)/∂q` of every branch residual, by central differences.
-fn branch_gradients(eq: &Equations, s: &StateValues, branch: &[Id]) -> Vec<Vec<f64>> {
-    let g = &eq.system.graph;
-    let h = 1e-6;
-    let mut rows = vec![vec![0.0; s.q.len()]; branch.len()];
-    for j in 0..s.q.len() {
-        let mut shifted = s.clone();
-        shifted.q[j] = s.q[j] + h;
-        let plus = g.eval(branch, &shifted.env());
-        shifted.q[j] = s.q[j] - h;
-        let minus = g.eval(branch, &shifted.env());
-        for (i, row) in rows.iter_mut().enumerate() {
-            row[j] = (plus[i] - minus[i]) / (2.0 * h);
-        }
-    }
-    rows
-}

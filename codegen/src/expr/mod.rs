@@ -37,6 +37,7 @@ pub mod num;
 pub mod print;
 pub(crate) mod rounded;
 pub(crate) mod squares;
+pub mod tape;
 #[cfg(test)]
 mod tests;
 pub(crate) mod trig;
@@ -360,16 +361,10 @@ impl Graph {
         found
     }
 
-    /// Evaluates `roots` in `f64` with the variables given by `env`.
+    /// Evaluates `roots` in `f64` with the variables given by `env` (once:
+    /// for many points, compile them with [`Graph::tape`]).
     pub fn eval(&self, roots: &[Id], env: &dyn Fn(Sym) -> f64) -> Vec<f64> {
-        let order = self.reachable(roots);
-        let mut value: HashMap<Id, f64, FastHash> =
-            HashMap::with_capacity_and_hasher(order.len(), FastHash::default());
-        for id in order {
-            let v = self.node(id).value(|c| value[&c], env);
-            value.insert(id, v);
-        }
-        roots.iter().map(|r| value[r]).collect()
+        self.tape(roots).eval(env)
     }
 }
 
