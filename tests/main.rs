@@ -39,6 +39,7 @@ mod jacobian_edges;
 mod joints;
 mod linearize;
 mod lock_rank;
+mod macro_fragments;
 mod momentum;
 mod multiplier_jacobian;
 mod nonsmooth;
