@@ -35,11 +35,12 @@ mod held;
 mod hostile_runtime;
 mod impacts;
 mod integrators;
+mod invocation;
 mod jacobian_edges;
 mod joints;
 mod linearize;
 mod lock_rank;
-mod macro_fragments;
+
 mod momentum;
 mod multiplier_jacobian;
 mod nonsmooth;

@@ -118,6 +118,33 @@ impl<'a> Body<'a> {
     /// Variable bindings, then the temporaries that do not need the
     /// multipliers λ.
     pub(super) fn preamble(&self) -> TokenStream {
+        let params = self
+            .parameters
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| self.used.contains(&Sym::Param(*i)))
+            .map(|(_, p)| quote! { let #p = self.#p; });
+        self.preamble_with(quote!(#(#params)*))
+    }
+
+    /// [`Body::preamble`] for a free function, which reads the parameters
+    /// from its argument `__parameters: [T; P]` instead of `self`.
+    pub(super) fn detached_preamble(&self) -> TokenStream {
+        let any = (0..self.parameters.len()).any(|i| self.used.contains(&Sym::Param(i)));
+        let params = any.then(|| {
+            let parts = self.parameters.iter().enumerate().map(|(i, p)| {
+                if self.used.contains(&Sym::Param(i)) {
+                    quote!(#p)
+                } else {
+                    quote!(_)
+                }
+            });
+            quote! { let [#(#parts),*] = __parameters; }
+        });
+        self.preamble_with(quote!(#params))
+    }
+
+    fn preamble_with(&self, params: TokenStream) -> TokenStream {
         let pattern = |names: &[Ident], sym: fn(usize) -> Sym| {
             let any = (0..names.len()).any(|i| self.used.contains(&sym(i)));
             any.then(|| {
@@ -135,12 +162,6 @@ impl<'a> Body<'a> {
         let vels = pattern(&self.velocities, Sym::Vel).map(|p| quote! { let #p = qd.data.0; });
         let accs =
             pattern(&self.accelerations, Sym::Accel).map(|p| quote! { let #p = qdd.data.0; });
-        let params = self
-            .parameters
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| self.used.contains(&Sym::Param(*i)))
-            .map(|(_, p)| quote! { let #p = self.#p; });
         let mut reciprocals: Vec<(&Ident, Id)> = self
             .reciprocals
             .iter()
@@ -152,7 +173,7 @@ impl<'a> Body<'a> {
             let p = self.expr(b);
             quote! { let #name = T::one() / #p; }
         });
-        let mut out = quote! { #coords #vels #accs #(#params)* #(#reciprocals)* };
+        let mut out = quote! { #coords #vels #accs #params #(#reciprocals)* };
         out.extend(self.subproducts_after(None));
         out.extend(self.temporaries(false));
         out

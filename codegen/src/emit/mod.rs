@@ -28,6 +28,7 @@ mod context;
 pub mod derivation;
 mod derivation_bodies;
 mod derivation_saddle;
+mod detached;
 mod dynamics;
 mod forwards;
 mod frames;
@@ -67,7 +68,7 @@ pub fn system(eq: &Equations) -> TokenStream {
     let ctx = Context::new(eq, partition.rank);
     let sys = &eq.system;
     let name = &sys.name;
-    let methods = inherent_methods(&ctx);
+    let (methods, functions) = inherent_methods(&ctx);
     let friction_impl = friction::trait_impl(&ctx);
     // A model read from a file is rebuilt when the file changes.
     let files = sys.bodies.iter().flat_map(|b| &b.files).map(|f| {
@@ -94,6 +95,8 @@ pub fn system(eq: &Equations) -> TokenStream {
             #methods
         }
 
+        #functions
+
         #(#files)*
 
         #impls
@@ -102,10 +105,12 @@ pub fn system(eq: &Equations) -> TokenStream {
 
 /// The inherent methods, in the order they are emitted: the model's own
 /// values, `A` and `b`, the solves, the Gibbs–Appell form, the
-/// linearization, the evaluations, the gaps' and friction's.
-fn inherent_methods(ctx: &Context) -> TokenStream {
-    let values = model_values(ctx);
-    let matrices = constraint_matrices(ctx);
+/// linearization, the evaluations, the gaps' and friction's; and the
+/// functions the first two forward to (`detached`).
+fn inherent_methods(ctx: &Context) -> (TokenStream, Option<TokenStream>) {
+    let mut detached = model_values(ctx);
+    detached.push(constraint_matrices(ctx));
+    let values = detached.iter().map(|d| &d.method);
     let motion = motion::methods(ctx);
     let partition = &ctx.eq.partition;
     let gibbs_appell = gibbs_appell::methods(ctx, partition);
@@ -113,21 +118,21 @@ fn inherent_methods(ctx: &Context) -> TokenStream {
     let evaluation = [dynamics::methods(ctx), frames::methods(ctx)];
     let gaps = impact::methods(ctx);
     let friction = friction::methods(ctx);
-    quote! {
-        #values
-        #matrices
+    let methods = quote! {
+        #(#values)*
         #motion
         #gibbs_appell
         #linearization
         #(#evaluation)*
         #gaps
         #friction
-    }
+    };
+    (methods, detached::functions(ctx, &detached))
 }
 
 /// `M`, `F`, `φ` and the constraints at velocity level, as written or
 /// derived.
-fn model_values(ctx: &Context) -> TokenStream {
+fn model_values(ctx: &Context) -> Vec<detached::Detached> {
     let (eq, sys) = (ctx.eq, &ctx.eq.system);
     let mass = matrix_function(
         ctx,
@@ -159,12 +164,7 @@ fn model_values(ctx: &Context) -> TokenStream {
          Jacobian in `q̇` is `A` (used by stabilization and projection).",
         &eq.velocity_constraints,
     );
-    quote! {
-        #mass
-        #forces
-        #residual
-        #velocity_residual
-    }
+    vec![mass, forces, residual, velocity_residual]
 }
 
 /// The system's constants: its sizes, the coordinates' names, the
@@ -341,19 +341,23 @@ fn derivation_doc(derivation: &str) -> String {
     format!("\n# Derivation\n\n```text\n{derivation}```")
 }
 
-fn vector_function(ctx: &Context, name: TokenStream, doc: &str, entries: &[Id]) -> TokenStream {
-    let body = Body::new(ctx.eq, entries);
-    let preamble = body.preamble();
-    let value = ctx.vector_value(entries.iter().map(|&e| body.expr(e)));
-    let (params, ret) = (ctx.params(Inputs::States), ctx.vector(entries.len()));
-    quote! {
-        #[doc = #doc]
-        #[inline]
-        pub fn #name(&self, #params) -> #ret {
-            #preamble
-            #value
-        }
-    }
+fn vector_function(
+    ctx: &Context,
+    name: TokenStream,
+    doc: &str,
+    entries: &[Id],
+) -> detached::Detached {
+    let ret = ctx.vector(entries.len());
+    let v = detached::Value {
+        name,
+        doc,
+        inputs: Inputs::States,
+        ret,
+        roots: entries,
+    };
+    detached::value(ctx, &v, |body| {
+        ctx.vector_value(entries.iter().map(|&e| body.expr(e)))
+    })
 }
 
 fn matrix_function(
@@ -363,49 +367,46 @@ fn matrix_function(
     inputs: Inputs,
     rows: &[Vec<Id>],
     cols: usize,
-) -> TokenStream {
+) -> detached::Detached {
     let roots: Vec<Id> = rows.iter().flatten().copied().collect();
-    let body = Body::new(ctx.eq, &roots);
-    let preamble = body.preamble();
-    let value = ctx.matrix_value(rows.len(), column_major(&body, rows, cols));
-    let (params, ret) = (ctx.params(inputs), ctx.matrix(rows.len(), cols));
-    quote! {
-        #[doc = #doc]
-        #[inline]
-        pub fn #name(&self, #params) -> #ret {
-            #preamble
-            #value
-        }
-    }
+    let ret = ctx.matrix(rows.len(), cols);
+    let v = detached::Value {
+        name,
+        doc,
+        inputs,
+        ret,
+        roots: &roots,
+    };
+    detached::value(ctx, &v, |body| {
+        ctx.matrix_value(rows.len(), column_major(body, rows, cols))
+    })
 }
 
-/// The entries column by column: nalgebra stores columns.
 fn column_major(body: &Body, rows: &[Vec<Id>], cols: usize) -> Vec<Vec<TokenStream>> {
     (0..cols)
         .map(|j| rows.iter().map(|row| body.expr(row[j])).collect())
         .collect()
 }
 
-fn constraint_matrices(ctx: &Context) -> TokenStream {
+fn constraint_matrices(ctx: &Context) -> detached::Detached {
     let eq = ctx.eq;
     let (n, k) = (ctx.n, ctx.k);
     let mut roots: Vec<Id> = eq.a.iter().flatten().copied().collect();
     roots.extend(&eq.b);
-    let body = Body::new(eq, &roots);
-    let preamble = body.preamble();
-    let a = ctx.matrix_value(k, column_major(&body, &eq.a, n));
-    let b = ctx.vector_value(eq.b.iter().map(|&e| body.expr(e)));
-    let params = ctx.params(Inputs::States);
     let (a_type, b_type) = (ctx.matrix(k, n), ctx.vector(k));
-    quote! {
-        /// The constraint equations `A q̈ = b` as `(A, b)`: the constraints
-        /// differentiated once (velocity level) or twice (position level).
-        #[inline]
-        pub fn constraint_matrices(&self, #params) -> (#a_type, #b_type) {
-            #preamble
-            (#a, #b)
-        }
-    }
+    let v = detached::Value {
+        name: quote!(constraint_matrices),
+        doc: " The constraint equations `A q̈ = b` as `(A, b)`: the constraints\n \
+              differentiated once (velocity level) or twice (position level).",
+        inputs: Inputs::States,
+        ret: quote!((#a_type, #b_type)),
+        roots: &roots,
+    };
+    detached::value(ctx, &v, |body| {
+        let a = ctx.matrix_value(k, column_major(body, &eq.a, n));
+        let b = ctx.vector_value(eq.b.iter().map(|&e| body.expr(e)));
+        quote!((#a, #b))
+    })
 }
 
 /// The length of the emitted `SYMBOLIC` value as Rust tokens (its strings

@@ -92,7 +92,7 @@ fn solved(expanded: &syn::File, multipliers: bool) -> Option<OpCount> {
     let gauss = find_method(expanded, "gauss")?;
     let mut bindings = Vec::new();
     let mut result = None;
-    collect(&gauss.block.stmts, &mut bindings, &mut result)?;
+    collect(&gauss.stmts, &mut bindings, &mut result)?;
     let (call, at) = result?;
     let mut ops = OpCount::default();
     let mut uses = Vec::new();
@@ -115,9 +115,9 @@ pub fn method(expanded: &syn::File, name: &str) -> Option<OpCount> {
     let f = find_method(expanded, name)?;
     let mut bindings = Vec::new();
     let mut result = None;
-    collect(&f.block.stmts, &mut bindings, &mut result)?;
+    collect(&f.stmts, &mut bindings, &mut result)?;
     let mut ops = OpCount::default();
-    let uses = match f.block.stmts.last()? {
+    let uses = match f.stmts.last()? {
         _ if bindings
             .iter()
             .any(|b| b.names.iter().any(|n| n == "__value")) =>
@@ -166,18 +166,37 @@ struct Binding {
 
 /// The inherent method `name` (for `gauss`, the solver's body: the
 /// trait's `gauss` only forwards to it).
-fn find_method<'a>(file: &'a syn::File, name: &str) -> Option<&'a syn::ImplItemFn> {
-    file.items
+/// The body of the method `name`: the function in the system's module
+/// of detached values (`crate::emit::detached`) that the method forwards
+/// to, where there is one, else the method's own.
+fn find_method<'a>(file: &'a syn::File, name: &str) -> Option<&'a syn::Block> {
+    let detached = file
+        .items
         .iter()
         .filter_map(|item| match item {
-            syn::Item::Impl(i) if i.trait_.is_none() => Some(i),
+            syn::Item::Mod(m) if m.ident.to_string().starts_with("__constrained_") => {
+                m.content.as_ref()
+            }
             _ => None,
         })
-        .flat_map(|i| i.items.iter())
+        .flat_map(|(_, items)| items.iter())
         .find_map(|item| match item {
-            syn::ImplItem::Fn(f) if f.sig.ident == name => Some(f),
+            syn::Item::Fn(f) if f.sig.ident == name => Some(&*f.block),
             _ => None,
-        })
+        });
+    detached.or_else(|| {
+        file.items
+            .iter()
+            .filter_map(|item| match item {
+                syn::Item::Impl(i) if i.trait_.is_none() => Some(i),
+                _ => None,
+            })
+            .flat_map(|i| i.items.iter())
+            .find_map(|item| match item {
+                syn::ImplItem::Fn(f) if f.sig.ident == name => Some(&f.block),
+                _ => None,
+            })
+    })
 }
 
 /// Collects the bindings of `stmts` in order (blocks are entered, early
