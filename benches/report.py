@@ -11,6 +11,7 @@ import sys
 from datetime import datetime, timezone
 from pathlib import Path
 
+import report_build
 import report_casadi
 import report_contacts
 import report_growth
@@ -571,6 +572,7 @@ def main():
     targets += report_kinematics.targets(kinematics)
     contacts = report_contacts.load(TARGET)
     targets += report_contacts.targets(contacts)
+    targets += report_build.targets(report_build.load(TARGET))
     # Present where scripts/urdf_sweep.sh has been run.
     targets += report_growth.targets(report_growth.load(TARGET))
     jac = {(model, way): get(f"jacobian/{model}/{way}") for model in ("cart_pole", "chain_8", "chain_32")
@@ -780,6 +782,7 @@ def main():
     lines += report_kinematics.section(kinematics, ns)
     lines += report_growth.section(report_growth.load(TARGET))
     lines += report_contacts.section(contacts, ns)
+    lines += report_build.section(report_build.load(TARGET))
     lines.append("")
     (ROOT / "BENCHMARKS.md").write_text("\n".join(lines))
     print("\n".join(lines[7:14]))

@@ -193,6 +193,8 @@ if [ "$contacts_ok" = 1 ]; then
   cat "$target/benchmarks/contacts.json"
   # The instruction-cache report of the same systems (cachegrind).
   bash "$here/icache.sh" || status=1
+  # The CPU time of building the standing G1's `acceleration`.
+  bash "$here/build_time.sh" || status=1
 else
   status=1
 fi
