@@ -3,8 +3,7 @@ a binary that calls the standing G1's `acceleration`, its dependencies
 built (benches/peers/build_time.sh writes <target>/benchmarks/build_time.json:
 three builds in each of two release profiles). Standard library only."""
 
-import json
-from pathlib import Path
+import report_contacts
 
 # Issue 48's build target: at most this many seconds of CPU.
 WANTED = 15.0
@@ -14,14 +13,9 @@ PROFILES = (("advised", "the generator at opt-level 3, as docs/dsl.md advises fo
 
 def load(target):
     """profile → its builds' JSON lines, from `benchmarks/build_time.json`."""
-    path = Path(target) / "benchmarks" / "build_time.json"
     rows = {}
-    if not path.exists():
-        return rows
-    for line in path.read_text().splitlines():
-        if line.startswith("{"):
-            r = json.loads(line)
-            rows.setdefault(r["profile"], []).append(r)
+    for r in report_contacts.json_lines(target, JSON):
+        rows.setdefault(r["profile"], []).append(r)
     return rows
 
 
@@ -83,7 +77,5 @@ def section(rows, ns=None):
 
 if __name__ == "__main__":
     import sys
-
-    import report_contacts
 
     report_contacts.run_alone(sys.modules[__name__], "build time")

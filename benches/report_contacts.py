@@ -56,17 +56,20 @@ def agrees(text, worst, tolerance=1e-12):
     return (text, worst, f"≤ {tolerance:.0e}", lambda x, t=tolerance: x <= t, "{:.1e}")
 
 
+def json_lines(target, name):
+    """The JSON objects of `benchmarks/<name>`, one a line (none without it)."""
+    path = Path(target) / "benchmarks" / name
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text().splitlines() if line.startswith("{")]
+
+
 def load(target, name="contacts.json"):
     """(peer, what, system) → the list of its rounds' JSON lines, from
     `benchmarks/<name>` (the contacts', or the robots' `robots.json`)."""
-    path = Path(target) / "benchmarks" / name
     rows = {}
-    if not path.exists():
-        return rows
-    for line in path.read_text().splitlines():
-        if line.startswith("{"):
-            r = json.loads(line)
-            rows.setdefault((r["peer"], r["what"], r["system"]), []).append(r)
+    for r in json_lines(target, name):
+        rows.setdefault((r["peer"], r["what"], r["system"]), []).append(r)
     return rows
 
 

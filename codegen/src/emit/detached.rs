@@ -136,19 +136,8 @@ mod tests {
     fn detached(source: &str) -> Vec<String> {
         let expanded = crate::expand(source.parse().expect("tokens")).expect("expands");
         let file: syn::File = syn::parse2(expanded).expect("Rust");
-        file.items
-            .iter()
-            .filter_map(|item| match item {
-                syn::Item::Mod(m) if m.ident.to_string().starts_with("__constrained_") => {
-                    m.content.as_ref()
-                }
-                _ => None,
-            })
-            .flat_map(|(_, items)| items.iter())
-            .filter_map(|item| match item {
-                syn::Item::Fn(f) => Some(f.sig.ident.to_string()),
-                _ => None,
-            })
+        crate::tools::op_count::detached_functions(&file)
+            .map(|f| f.sig.ident.to_string())
             .collect()
     }
 

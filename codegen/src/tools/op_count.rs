@@ -170,20 +170,9 @@ struct Binding {
 /// of detached values (`crate::emit::detached`) that the method forwards
 /// to, where there is one, else the method's own.
 fn find_method<'a>(file: &'a syn::File, name: &str) -> Option<&'a syn::Block> {
-    let detached = file
-        .items
-        .iter()
-        .filter_map(|item| match item {
-            syn::Item::Mod(m) if m.ident.to_string().starts_with("__constrained_") => {
-                m.content.as_ref()
-            }
-            _ => None,
-        })
-        .flat_map(|(_, items)| items.iter())
-        .find_map(|item| match item {
-            syn::Item::Fn(f) if f.sig.ident == name => Some(&*f.block),
-            _ => None,
-        });
+    let detached = detached_functions(file)
+        .find(|f| f.sig.ident == name)
+        .map(|f| &*f.block);
     detached.or_else(|| {
         file.items
             .iter()
@@ -197,6 +186,25 @@ fn find_method<'a>(file: &'a syn::File, name: &str) -> Option<&'a syn::Block> {
                 _ => None,
             })
     })
+}
+
+/// The functions of an expansion's module of detached values
+/// (`crate::emit::detached`), which a large model's `M`, `F`, `φ`, `φ̇` and
+/// `(A, b)` methods forward to.
+pub fn detached_functions(file: &syn::File) -> impl Iterator<Item = &syn::ItemFn> {
+    file.items
+        .iter()
+        .filter_map(|item| match item {
+            syn::Item::Mod(m) if m.ident.to_string().starts_with("__constrained_") => {
+                m.content.as_ref()
+            }
+            _ => None,
+        })
+        .flat_map(|(_, items)| items.iter())
+        .filter_map(|item| match item {
+            syn::Item::Fn(f) => Some(f),
+            _ => None,
+        })
 }
 
 /// Collects the bindings of `stmts` in order (blocks are entered, early
