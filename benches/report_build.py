@@ -19,11 +19,6 @@ def load(target):
     return rows
 
 
-def _median(values):
-    values = sorted(values)
-    return values[len(values) // 2]
-
-
 def targets(rows):
     """A target row per profile measured: the median CPU (user + system)."""
     out = []
@@ -31,8 +26,8 @@ def targets(rows):
         builds = rows.get(profile)
         if not builds:
             continue
-        cpu = _median([b["user"] + b["sys"] for b in builds])
-        wall = _median([b["wall"] for b in builds])
+        cpu = report_contacts._median([b["user"] + b["sys"] for b in builds])
+        wall = report_contacts._median([b["wall"] for b in builds])
         out.append((f"Build: a binary calling the standing G1's `acceleration` (36 coordinates, 19 rows), "
                     f"its dependencies built, {text}: CPU seconds, user + system (median of {len(builds)} "
                     f"builds; {wall:.1f} s wall)",
@@ -68,10 +63,10 @@ def section(rows, ns=None):
         if not builds:
             continue
         cpu = [b["user"] + b["sys"] for b in builds]
-        lines.append(f"| {text} | {_median(cpu):.1f} s ({min(cpu):.1f}–{max(cpu):.1f}) | "
-                     f"{_median([b['user'] for b in builds]):.1f} s | "
-                     f"{_median([b['sys'] for b in builds]):.1f} s | "
-                     f"{_median([b['wall'] for b in builds]):.1f} s |")
+        lines.append(f"| {text} | {report_contacts._median(cpu):.1f} s ({min(cpu):.1f}–{max(cpu):.1f}) | "
+                     f"{report_contacts._median([b['user'] for b in builds]):.1f} s | "
+                     f"{report_contacts._median([b['sys'] for b in builds]):.1f} s | "
+                     f"{report_contacts._median([b['wall'] for b in builds]):.1f} s |")
     return lines
 
 

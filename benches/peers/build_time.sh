@@ -67,7 +67,7 @@ fn main() {
     println!("{:?}", ConstrainedSystem::acceleration(&s, &state).map(|a| a[0]).ok());
 }
 RUST
-CARGO_TARGET_DIR=$target/build-time/target-$profile cargo build --quiet --release --manifest-path "$crate/Cargo.toml" 2> /dev/null
+CARGO_TARGET_DIR=$target/build-time/target-$profile cargo build --quiet --release --manifest-path "$crate/Cargo.toml"
 CARGO_TARGET_DIR=$target/build-time/target-$profile python3 - "$crate" "$profile" <<'PY'
 import json, os, resource, subprocess, sys, time
 crate, profile = sys.argv[1], sys.argv[2]
@@ -76,7 +76,7 @@ for build in range(1, 4):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.monotonic()
     subprocess.run(["cargo", "build", "--quiet", "--release", "--manifest-path",
-                    os.path.join(crate, "Cargo.toml")], check=True, stderr=subprocess.DEVNULL)
+                    os.path.join(crate, "Cargo.toml")], check=True)
     wall = time.monotonic() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     print(json.dumps({"system": "g1_standing", "what": "acceleration", "profile": profile, "build": build,

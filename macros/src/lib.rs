@@ -11,7 +11,7 @@ pub fn constrained_system(input: TokenStream) -> TokenStream {
     let options = constrained_codegen::Options {
         jacobians: cfg!(feature = "jacobians"),
     };
-    if let Some(Ok(tokens)) = detached(&input, options) {
+    if let Some(Ok(tokens)) = expanded_as_text(&input, options) {
         return tokens;
     }
     // With the compiler's tokens, errors point at the input's own.
@@ -31,7 +31,7 @@ pub fn constrained_system(input: TokenStream) -> TokenStream {
 /// `proc-macro2`'s own tokens the compiler parses the result once. The
 /// generated items then carry the call site's span instead of the input's:
 /// only errors point at the input's tokens, and they take the other path.
-fn detached(
+fn expanded_as_text(
     input: &TokenStream,
     options: constrained_codegen::Options,
 ) -> Option<syn::Result<TokenStream>> {

@@ -130,33 +130,31 @@ impl<'a> Body<'a> {
     /// [`Body::preamble`] for a free function, which reads the parameters
     /// from its argument `__parameters: [T; P]` instead of `self`.
     pub(super) fn detached_preamble(&self) -> TokenStream {
-        let any = (0..self.parameters.len()).any(|i| self.used.contains(&Sym::Param(i)));
-        let params = any.then(|| {
-            let parts = self.parameters.iter().enumerate().map(|(i, p)| {
-                if self.used.contains(&Sym::Param(i)) {
-                    quote!(#p)
+        let params = self
+            .used_pattern(self.parameters, Sym::Param)
+            .map(|p| quote! { let #p = __parameters; });
+        self.preamble_with(quote!(#params))
+    }
+
+    /// `[a, _, c]` binding the variables of `names` the body reads (`_`
+    /// for the others), or `None` where it reads none.
+    fn used_pattern(&self, names: &[Ident], sym: fn(usize) -> Sym) -> Option<TokenStream> {
+        let any = (0..names.len()).any(|i| self.used.contains(&sym(i)));
+        any.then(|| {
+            let parts = names.iter().enumerate().map(|(i, name)| {
+                if self.used.contains(&sym(i)) {
+                    quote!(#name)
                 } else {
                     quote!(_)
                 }
             });
-            quote! { let [#(#parts),*] = __parameters; }
-        });
-        self.preamble_with(quote!(#params))
+            quote! { [#(#parts),*] }
+        })
     }
 
     fn preamble_with(&self, params: TokenStream) -> TokenStream {
         let pattern = |names: &[Ident], sym: fn(usize) -> Sym| {
-            let any = (0..names.len()).any(|i| self.used.contains(&sym(i)));
-            any.then(|| {
-                let parts = names.iter().enumerate().map(|(i, name)| {
-                    if self.used.contains(&sym(i)) {
-                        quote!(#name)
-                    } else {
-                        quote!(_)
-                    }
-                });
-                quote! { [[#(#parts),*]] }
-            })
+            self.used_pattern(names, sym).map(|p| quote! { [#p] })
         };
         let coords = pattern(&self.coordinates, Sym::Coord).map(|p| quote! { let #p = q.data.0; });
         let vels = pattern(&self.velocities, Sym::Vel).map(|p| quote! { let #p = qd.data.0; });

@@ -63,49 +63,38 @@ pub(super) fn value(
     let body = Body::new(ctx.eq, v.roots);
     let (name, ret) = (&v.name, &v.ret);
     let (params, args) = (ctx.params(v.inputs), ctx.args(v.inputs));
-    let docs = v.doc.split('\n');
     let large = crate::expr::squares::operations(&ctx.eq.system.graph, v.roots) >= DETACH_FROM;
-    if !large {
-        let preamble = body.preamble();
-        let value = value(&body);
-        let method = quote! {
-            #(#[doc = #docs])*
-            #[inline]
-            pub fn #name(&self, #params) -> #ret {
+    let (computed, function) = if large {
+        let (preamble, value) = (body.detached_preamble(), value(&body));
+        let module = module(ctx);
+        let parameters = &ctx.eq.system.parameters;
+        let count = Context::dim(parameters.len());
+        let function = quote! {
+            pub fn #name<T: ::constrained::nalgebra::RealField + Copy>(
+                #params,
+                __parameters: [T; #count],
+            ) -> #ret {
                 #preamble
                 #value
             }
         };
-        return Detached {
-            method,
-            function: None,
-        };
-    }
-    let preamble = body.detached_preamble();
-    let value = value(&body);
-    let module = module(ctx);
-    let parameters = &ctx.eq.system.parameters;
-    let count = Context::dim(parameters.len());
+        (
+            quote!(#module::#name(#args, [#(self.#parameters),*])),
+            Some(function),
+        )
+    } else {
+        let (preamble, value) = (body.preamble(), value(&body));
+        (quote!(#preamble #value), None)
+    };
+    let docs = v.doc.split('\n');
     let method = quote! {
         #(#[doc = #docs])*
         #[inline]
         pub fn #name(&self, #params) -> #ret {
-            #module::#name(#args, [#(self.#parameters),*])
+            #computed
         }
     };
-    let function = quote! {
-        pub fn #name<T: ::constrained::nalgebra::RealField + Copy>(
-            #params,
-            __parameters: [T; #count],
-        ) -> #ret {
-            #preamble
-            #value
-        }
-    };
-    Detached {
-        method,
-        function: Some(function),
-    }
+    Detached { method, function }
 }
 
 /// The module holding the detached functions, if any.

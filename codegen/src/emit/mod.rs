@@ -18,7 +18,8 @@
 //!   auxiliary mass), each with its solver, Jacobian and step; its `mod.rs` is the only `match` on the strategy.
 //!
 //! Below both: `body` (expressions to tokens), `hoist` (a method's
-//! repeated constants bound once), `chunks` (long bodies in
+//! repeated constants bound once), `detached` (a large model's values as
+//! free functions), `chunks` (long bodies in
 //! blocks), `context` (types, names, signatures), `ldlt` (the structured
 //! factorization), `subproducts` and `reuse` (the products a body shares).
 
@@ -382,6 +383,7 @@ fn matrix_function(
     })
 }
 
+/// The entries column by column: nalgebra stores columns.
 fn column_major(body: &Body, rows: &[Vec<Id>], cols: usize) -> Vec<Vec<TokenStream>> {
     (0..cols)
         .map(|j| rows.iter().map(|row| body.expr(row[j])).collect())

@@ -85,7 +85,22 @@ fn random_state(eq: &Equations, rng: &mut SplitMix64) -> StateValues {
 
 /// `A` at `s`, row by row (once: for many states, [`Surface::a`]).
 pub(super) fn eval_a(eq: &Equations, s: &StateValues) -> Vec<Vec<f64>> {
-    Surface::new(eq).a(s)
+    rows_of(eq, &a_tape(eq).eval(&s.env()))
+}
+
+/// Every entry of `A`, row after row, in one tape: the rows share their
+/// kinematics (the quadruped's feet share the base's).
+fn a_tape(eq: &Equations) -> Tape {
+    let entries: Vec<Id> = eq.a.iter().flatten().copied().collect();
+    eq.system.graph.tape(&entries)
+}
+
+/// `A`'s rows from its entries' values, row after row.
+fn rows_of(eq: &Equations, values: &[f64]) -> Vec<Vec<f64>> {
+    match eq.a.first().map_or(0, Vec::len) {
+        0 => vec![Vec::new(); eq.a.len()],
+        n => values.chunks(n).map(<[f64]>::to_vec).collect(),
+    }
 }
 
 /// Up to `STATES` consistent states, from deterministic seeds.
@@ -117,14 +132,11 @@ pub(super) fn branches(eq: &Equations) -> Vec<Id> {
 }
 
 /// What the search for consistent states evaluates at every step, compiled
-/// once (`expr::tape`): the rows of `A` (all in one tape, since they share
-/// their kinematics: the quadruped's feet share the base's), the
-/// position-level rows' `φ`, the locks' branch residuals and the rows at
-/// velocity level.
+/// once (`expr::tape`): the rows of `A` ([`a_tape`]), the position-level
+/// rows' `φ`, the locks' branch residuals and the rows at velocity level.
 pub(super) struct Surface<'a> {
     eq: &'a Equations,
     a: Tape,
-    columns: usize,
     positions: Vec<usize>,
     phi: Tape,
     branches: usize,
@@ -136,13 +148,11 @@ impl<'a> Surface<'a> {
     /// The tapes of `eq`'s rows.
     pub(super) fn new(eq: &'a Equations) -> Surface<'a> {
         let g = &eq.system.graph;
-        let entries: Vec<Id> = eq.a.iter().flatten().copied().collect();
         let (positions, phi) = position_rows(eq);
         let branch = branches(eq);
         Surface {
             eq,
-            a: g.tape(&entries),
-            columns: eq.a.first().map_or(0, Vec::len),
+            a: a_tape(eq),
             positions,
             phi: g.tape(&phi),
             branches: branch.len(),
@@ -153,11 +163,7 @@ impl<'a> Surface<'a> {
 
     /// `A` at `s`, row by row.
     pub(super) fn a(&self, s: &StateValues) -> Vec<Vec<f64>> {
-        let values = self.a.eval(&s.env());
-        match self.columns {
-            0 => vec![Vec::new(); self.eq.a.len()],
-            n => values.chunks(n).map(<[f64]>::to_vec).collect(),
-        }
+        rows_of(self.eq, &self.a.eval(&s.env()))
     }
 
     /// Up to `STATES` consistent states, from the generator seeded with
