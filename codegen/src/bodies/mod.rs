@@ -8,7 +8,9 @@
 //! - [`kinematics`]: named frames' placements, Jacobians, velocities and
 //!   acceleration biases, and the centre of mass;
 //! - [`derivatives`]: `∂τ/∂q` and `∂τ/∂q̇` of inverse dynamics by recursions
-//!   in world axes.
+//!   in world axes;
+//! - [`point_motion`]: by the same recursions, a point's acceleration under
+//!   a free base and its partials by the joints between.
 //!
 //! Every quantity of a body is kept in the body's own frame, so a joint
 //! contributes its own rotation only and the constant placements, whose
@@ -21,6 +23,7 @@ pub(crate) mod derivatives;
 pub(crate) mod free;
 pub(crate) mod joint;
 pub(crate) mod kinematics;
+pub(crate) mod point_motion;
 pub(crate) mod recursion;
 pub(crate) mod reference;
 pub(crate) mod spatial;

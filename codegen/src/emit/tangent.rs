@@ -73,6 +73,9 @@ impl<'a> TangentTerms<'a> {
         if !self.directional {
             let all =
                 concat((0..self.forces.len()).map(|c| writes(&index(c).to_token_stream(), c)));
+            // Terms that read `λ` (the points' under a free base,
+            // `crate::equations::point_tangent`): the caller has bound it.
+            let preamble = concat([preamble, self.body.after_multipliers()]);
             // Nested no deeper than a block (`super::chunks`).
             let preamble = bounded(preamble, &all);
             return braced(concat([preamble, all]));

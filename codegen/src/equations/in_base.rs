@@ -46,6 +46,12 @@ pub struct InBaseRows {
     /// The body the point is fixed in, by its index among the described
     /// bodies, and the point in its frame.
     pub body: (usize, V3),
+    /// `r`, the point in the base's axes.
+    pub point: V3,
+    /// The columns of the joints between the base and the body
+    /// (`crate::bodies::point_motion`); `None` where one is not constant
+    /// in its body's axes.
+    pub path: Option<Vec<crate::bodies::point_motion::PathColumn>>,
 }
 
 /// Every complete triple of rows of one point under a free base, in the
@@ -55,12 +61,12 @@ pub fn rows(g: &mut Graph, constraints: &[Constraint], n: usize) -> Vec<InBaseRo
     let mut d = Differentiator::new();
     let mut at_rest = AtRest::default();
     for r in 0..constraints.len().saturating_sub(2) {
-        let triple = [r, r + 1, r + 2].map(|i| constraints[i].in_base);
+        let triple = [r, r + 1, r + 2].map(|i| constraints[i].in_base.as_ref());
         let [Some(x), Some(y), Some(z)] = triple else {
             continue;
         };
         let same = |o: &crate::model::InBase| o.w == x.w && o.x == x.x && o.point == x.point;
-        if [x.component, y.component, z.component] != [0, 1, 2] || !same(&y) || !same(&z) {
+        if [x.component, y.component, z.component] != [0, 1, 2] || !same(y) || !same(z) {
             continue;
         }
         if x.w + 4 > n || x.x + 3 > n {
@@ -78,21 +84,21 @@ pub fn rows(g: &mut Graph, constraints: &[Constraint], n: usize) -> Vec<InBaseRo
 }
 
 /// The base's attitude and angular velocity, from its quaternion.
-struct Turning {
+pub(super) struct Turning {
     /// The quaternion `q`.
-    q: [Id; 4],
+    pub(super) q: [Id; 4],
     /// `q̇`.
-    rates: [Id; 4],
+    pub(super) rates: [Id; 4],
     /// `G(q)`.
-    big_g: [[Id; 4]; 3],
+    pub(super) big_g: [[Id; 4]; 3],
     /// `k = 2/|q|²`.
-    k: Id,
+    pub(super) k: Id,
     /// `ω = k G q̇`, held.
-    omega: V3,
+    pub(super) omega: V3,
 }
 
 /// [`Turning`] of the base whose quaternion's `w` is `w`.
-fn turning(g: &mut Graph, w: usize) -> Turning {
+pub(super) fn turning(g: &mut Graph, w: usize) -> Turning {
     let q = free::coordinates(g, w);
     let rates = [0, 1, 2, 3].map(|k| g.sym(Sym::Vel(w + k)));
     let big_g = free::g_matrix(g, q);
@@ -123,7 +129,7 @@ fn turning(g: &mut Graph, w: usize) -> Turning {
 fn triple_rows(
     g: &mut Graph,
     (d, at_rest): (&mut Differentiator, &mut AtRest),
-    base: crate::model::InBase,
+    base: &crate::model::InBase,
     rows: [usize; 3],
     n: usize,
 ) -> InBaseRows {
@@ -159,6 +165,8 @@ fn triple_rows(
         model_a,
         model_b,
         body: (base.body, base.local),
+        point: base.point,
+        path: base.path.clone(),
     }
 }
 
@@ -192,7 +200,7 @@ fn bias_terms(g: &mut Graph, at_rest: &mut AtRest, turning: &Turning, r: V3) -> 
 fn model_rows(
     g: &mut Graph,
     (rotation, turning): (&spatial::M3, &Turning),
-    base: crate::model::InBase,
+    base: &crate::model::InBase,
     a: &[Vec<Id>; 3],
 ) -> [Vec<Id>; 3] {
     let n = a[0].len();

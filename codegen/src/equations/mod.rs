@@ -10,6 +10,7 @@ pub mod in_base;
 pub mod legs;
 pub mod mass_inverse;
 pub mod partition;
+mod point_tangent;
 pub mod saddle_point;
 pub mod strategy;
 mod surface;
@@ -117,7 +118,8 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
         &rows.a,
         &rows.b,
     );
-    let (tangent, inverse_jacobian) = derivatives(&mut system, &mass_inverse, &rows, jacobians);
+    let (tangent, inverse_jacobian) =
+        derivatives(&mut system, &mass_inverse, (&rows, &in_base), jacobians);
     let momentum = momentum(&mut system.graph, &system.mass);
     Equations {
         momentum,
@@ -140,7 +142,7 @@ fn constraint_equations(mut system: System, jacobians: bool) -> Equations {
 fn derivatives(
     system: &mut System,
     mass_inverse: &MassInverse,
-    rows: &Rows,
+    (rows, in_base): (&Rows, &[in_base::InBaseRows]),
     jacobians: bool,
 ) -> (Tangent, Option<[Vec<Vec<Id>>; 2]>) {
     let n = system.dof();
@@ -158,6 +160,7 @@ fn derivatives(
         (Some(b), Some(jacobian)) if jacobians && factored => Some(tangent::ThroughInverse {
             applied: &b.applied,
             jacobian,
+            in_base,
         }),
         _ => None,
     };

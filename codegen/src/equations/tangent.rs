@@ -114,6 +114,9 @@ pub struct ThroughInverse<'a> {
     pub applied: &'a [Id],
     /// `(∂τ/∂q, ∂τ/∂q̇)` with `q̈` as `Sym::Accel`.
     pub jacobian: &'a [Vec<Vec<Id>>; 2],
+    /// The rows of points under a free base, whose terms come from the
+    /// points' motion ([`super::point_tangent`]) where their paths allow.
+    pub in_base: &'a [super::in_base::InBaseRows],
 }
 
 /// What is differentiated: the pieces of the derived equations.
@@ -230,11 +233,23 @@ fn through_inverse_form(
     columns: &[Sym],
 ) -> Option<Form> {
     let n = p.forces.len();
+    let points = super::point_tangent::point_tangents(g, r.in_base, n);
+    // The points' rows are left out of `A` and `b` here: their terms
+    // come whole from `points`.
+    let zero = g.int(0);
+    let mut a = p.a.to_vec();
+    let mut b = p.b.to_vec();
+    for &row in &points.rows {
+        a[row].iter_mut().for_each(|e| *e = zero);
+        b[row] = zero;
+    }
     let plain = Pieces {
         mass: &[],
         mass_times: None,
         through_inverse: None,
         forces: r.applied,
+        a: &a,
+        b: &b,
         ..*p
     };
     let Form::Columns(mut per_column) = form_of(g, &plain, columns, false) else {
@@ -243,6 +258,12 @@ fn through_inverse_form(
     for (c, d) in per_column.iter_mut().enumerate().take(2 * n) {
         let by = &r.jacobian[c / n];
         d.mass_times = (0..n).map(|i| by[i][c % n]).collect();
+        for &(i, e) in &points.forces[c] {
+            d.forces[i] = g.add2(d.forces[i], e);
+        }
+        for &(row, e) in &points.rhs[c] {
+            d.b[row] = g.add2(d.b[row], e);
+        }
     }
     Some(Form::Columns(per_column))
 }

@@ -59,13 +59,14 @@ impl Lowerer<'_> {
         rows.into_iter()
             .enumerate()
             .map(|(component, phi)| Constraint {
-                in_base: in_base.map(|p| InBase {
+                in_base: in_base.as_ref().map(|p| InBase {
                     w: p.w,
                     x: p.x,
                     point: p.point,
                     component,
                     body: p.body,
                     local: p.local,
+                    path: p.path.clone(),
                 }),
                 ..self.constraint_of(phi, &c.tokens)
             })

@@ -86,7 +86,7 @@ pub struct Rates {
 /// base's axes, a function of the joints between: the velocity form
 /// (`crate::equations::velocity`) solves the three rows premultiplied by
 /// `R̂ᵀ`, free of the base's attitude.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct InBase {
     /// The quaternion's `w` coordinate.
     pub w: usize,
@@ -100,6 +100,9 @@ pub struct InBase {
     pub body: usize,
     /// The point in the body's frame, as written.
     pub local: crate::bodies::spatial::V3,
+    /// The columns of the joints between the base and the body, base
+    /// first; `None` where one is not constant in its body's axes.
+    pub path: Option<Vec<crate::bodies::point_motion::PathColumn>>,
 }
 
 /// A body held at three or more of its points under a free base

@@ -8,6 +8,7 @@
 
 use super::bodies::single_ident;
 use super::lower::Lowerer;
+use crate::bodies::point_motion::PathColumn;
 use crate::bodies::spatial::{self, V3};
 use crate::bodies::Placement;
 use crate::expr::{Id, Sym};
@@ -15,7 +16,7 @@ use syn::Expr;
 
 /// A point under a free base, as [`crate::model::InBase`] records it for
 /// each of its three rows.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 pub struct InBasePoint {
     /// The base's quaternion's `w` coordinate.
     pub w: usize,
@@ -27,6 +28,10 @@ pub struct InBasePoint {
     pub body: usize,
     /// The point in the body's frame.
     pub local: V3,
+    /// The columns of the joints between the base and the body
+    /// (`crate::bodies::point_motion::path_columns`); `None` where one
+    /// is not constant in its body's axes.
+    pub path: Option<Vec<PathColumn>>,
 }
 
 impl Lowerer<'_> {
@@ -196,9 +201,29 @@ impl Lowerer<'_> {
                 point,
                 body: index,
                 local,
+                path: self.path_below_base(index),
             }),
             (_, None) => None,
         }
+    }
+
+    /// The columns of the joints between body `index` and the free base
+    /// above it, base first (`crate::bodies::point_motion::path_columns`).
+    fn path_below_base(&mut self, index: usize) -> Option<Vec<PathColumn>> {
+        let mut steps = Vec::new();
+        let mut body = Some(index);
+        // Each step moves to the parent, whose index is lower.
+        for _ in 0..self.chain.len() {
+            let i = body?;
+            if let Some(Some(_)) = self.bases.get(i) {
+                steps.reverse();
+                return crate::bodies::point_motion::path_columns(self.graph, &steps);
+            }
+            let &(parent, frame) = self.chain.get(i)?;
+            steps.push((frame, self.described.get(i)?.joint));
+            body = parent;
+        }
+        None
     }
 
     /// The rows of a constraint between points, or `None` when it is not

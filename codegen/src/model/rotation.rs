@@ -104,7 +104,7 @@ impl Lowerer<'_> {
     /// the body).
     pub(super) fn held_bodies(&mut self, constraints: &[super::Constraint]) -> Vec<HeldBody> {
         let mut count: Vec<usize> = vec![0; self.frames.len()];
-        for p in constraints.iter().filter_map(|c| c.in_base) {
+        for p in constraints.iter().filter_map(|c| c.in_base.as_ref()) {
             let numbers = p.local.iter().all(|&e| self.graph.as_num(e).is_some());
             if p.component == 0 && numbers {
                 if let Some(c) = count.get_mut(p.body) {
