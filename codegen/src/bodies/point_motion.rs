@@ -75,6 +75,8 @@ pub struct PointColumn {
     pub coordinate: usize,
     /// `Jᵢ = ∂r/∂qᵢ`.
     pub jacobian: V3,
+    /// `∂ṙ/∂qᵢ`.
+    pub velocity_by_q: V3,
     /// `∂r̈/∂qᵢ`, with `q̈` as `Sym::Accel`.
     pub acceleration_by_q: V3,
     /// `∂r̈/∂q̇ᵢ`.
@@ -154,6 +156,7 @@ pub fn point_motion(
             PointColumn {
                 coordinate: col.coordinate,
                 jacobian,
+                velocity_by_q,
                 acceleration_by_q,
                 acceleration_by_rate,
             }

@@ -160,7 +160,6 @@ fn derivatives(
         (Some(b), Some(jacobian)) if jacobians && factored => Some(tangent::ThroughInverse {
             applied: &b.applied,
             jacobian,
-            in_base,
         }),
         _ => None,
     };
@@ -181,6 +180,7 @@ fn derivatives(
         a: &rows.a,
         b: &rows.b,
         velocity_constraints: &rows.velocity_constraints,
+        in_base,
     };
     let tangent = if jacobians {
         tangent::tangent(&mut system.graph, &pieces, &inputs)
@@ -287,11 +287,7 @@ fn constraint_rows(
 /// gravity with `q̇` in `q̈`'s place (`crate::bodies::recursion::mass_times`:
 /// O(n) where `M` has n² entries), whichever takes fewer operations. The
 /// same function either way.
-fn momentum(
-    g: &mut crate::expr::Graph,
-    mass: &[Vec<Id>],
-    bodies: Option<&BodyTerms>,
-) -> Vec<Id> {
+fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>], bodies: Option<&BodyTerms>) -> Vec<Id> {
     let by_entries: Vec<Id> = mass
         .iter()
         .map(|row| {

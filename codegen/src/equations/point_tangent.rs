@@ -44,6 +44,9 @@ pub struct PointTangents {
     pub forces: Vec<Vec<(usize, Id)>>,
     /// `[column]`: `(r, b̃ᵣ)`.
     pub rhs: Vec<Vec<(usize, Id)>>,
+    /// `(r, j, ∂ψᵣ/∂qⱼ)` of the velocity-level rows `ψ = ṗ + R̂ ṙ`: every
+    /// entry of `rows` that can be nonzero.
+    pub velocity: Vec<(usize, usize, Id)>,
 }
 
 /// The base's quantities every point under it reads.
@@ -57,6 +60,8 @@ struct Base {
     /// Per coordinate `qₘ` of the quaternion, `(∂ω̇ + ω × ∂ω, 2 ∂ω)`, and
     /// per rate `q̇ₘ` the same by it.
     by_coordinate: [(V3, V3); 4],
+    /// `∂ω/∂qₘ`.
+    omega_by_coordinate: [V3; 4],
     by_rate: [(V3, V3); 4],
 }
 
@@ -67,6 +72,7 @@ pub fn point_tangents(g: &mut Graph, in_base: &[InBaseRows], n: usize) -> PointT
         rows: Vec::new(),
         forces: vec![Vec::new(); 2 * n],
         rhs: vec![Vec::new(); 2 * n],
+        velocity: Vec::new(),
     };
     // The points of one body share its path and their forces' sums.
     let mut groups: Vec<(&[PathColumn], Vec<&InBaseRows>)> = Vec::new();
@@ -94,6 +100,7 @@ pub fn point_tangents(g: &mut Graph, in_base: &[InBaseRows], n: usize) -> PointT
                 motion: &motion,
             };
             point_rows(g, &at, w, &mut out);
+            point_velocity(g, &at, w, &mut out);
             sums.add(g, &base, rows, &motion);
             out.rows.extend(rows.rows);
         }
@@ -135,8 +142,8 @@ fn point_rows(g: &mut Graph, at: &Point, w: usize, out: &mut PointTangents) {
     for (c, v) in by_rate {
         write(g, n + c, v);
     }
-    // By the quaternion's coordinates (turning `R̂` too) and rates.
     let r = rows.point;
+    // By the quaternion's coordinates (turning `R̂` too) and rates.
     for m in 0..4 {
         let (turn, twice) = base.by_coordinate[m];
         let moved = [
@@ -150,6 +157,32 @@ fn point_rows(g: &mut Graph, at: &Point, w: usize, out: &mut PointTangents) {
         let moved = [cross(g, turn, r), cross(g, twice, motion.velocity)];
         let v = sum(g, &moved);
         write(g, n + w + m, v);
+    }
+}
+
+/// `∂ψ/∂q` of one point's three velocity-level rows `ψ = ṗ + R̂ ṙ`:
+/// `R̂ ∂ṙ` by the path's coordinates, `R̂ ((k Gₘ) × ṙ + ∂ω × r)` by the
+/// quaternion's.
+fn point_velocity(g: &mut Graph, at: &Point, w: usize, out: &mut PointTangents) {
+    let (base, rows, motion) = (at.base, at.rows, at.motion);
+    let mut velocity: Vec<(usize, V3)> = Vec::new();
+    for col in &motion.columns {
+        accumulate(g, &mut velocity, col.coordinate, col.velocity_by_q);
+    }
+    for m in 0..4 {
+        let parts = [
+            cross(g, base.turns[m], motion.velocity),
+            cross(g, base.omega_by_coordinate[m], rows.point),
+        ];
+        velocity.push((w + m, sum(g, &parts)));
+    }
+    for (c, v) in velocity {
+        let turned = spatial::mat_vec(g, &base.rotation, v);
+        for (&row, &e) in rows.rows.iter().zip(&turned) {
+            if !g.is_zero(e) {
+                out.velocity.push((row, c, e));
+            }
+        }
     }
 }
 
@@ -296,11 +329,16 @@ fn base(g: &mut Graph, d: &mut Differentiator, w: usize) -> Base {
     };
     let by_coordinate = [0, 1, 2, 3].map(|m| by(g, Sym::Coord(w + m)));
     let by_rate = [0, 1, 2, 3].map(|m| by(g, Sym::Vel(w + m)));
+    let omega_by_coordinate = [0, 1, 2, 3].map(|m| {
+        let partial = t.omega.map(|e| d.partial(g, e, Sym::Coord(w + m)));
+        spatial::hold3(g, partial)
+    });
     Base {
         rotation,
         turns,
         root,
         by_coordinate,
+        omega_by_coordinate,
         by_rate,
     }
 }
@@ -359,12 +397,8 @@ mod tests {
             ],
         }";
 
-    /// The terms from the points' motion are those of `A`'s and `b`'s
-    /// entries differentiated one by one, `∂b/∂v − (∂A/∂v) q̈` and
-    /// `(∂A/∂v)ᵀ λ`, in every column, at random states off the quaternion's
-    /// unit sphere.
-    #[test]
-    fn the_points_terms_are_those_of_the_rows_entries() {
+    /// The Walker's equations, its point rows and their terms.
+    fn walker() -> (super::super::Equations, Graph, PointTangents) {
         let eq = crate::analyse(WALKER.parse().expect("tokens")).expect("expands");
         let mut g = eq.system.graph.clone();
         let n = eq.system.dof();
@@ -373,9 +407,44 @@ mod tests {
         assert!(in_base.iter().all(|rows| rows.path.is_some()));
         let terms = point_tangents(&mut g, &in_base, n);
         assert_eq!(terms.rows.len(), 9);
+        (eq, g, terms)
+    }
+
+    /// Each `(got, expected)` pair agrees at random states (seed `stream`),
+    /// off the quaternion's unit sphere; the number of nonzero ones.
+    fn agree(g: &Graph, pairs: &[(Id, Id)], stream: u64, what: &str) -> usize {
+        let ids: Vec<Id> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+        let mut nonzero = 0;
+        for point in crate::numeric::rng::sample_points(stream) {
+            let values = g.eval(&ids, &point);
+            for (k, pair) in values.chunks(2).enumerate() {
+                let (got, expected) = (pair[0], pair[1]);
+                assert!(
+                    (got - expected).abs() <= 1e-9 * (1.0 + expected.abs()),
+                    "{what}, entry {k}: {got} against {expected}"
+                );
+                nonzero += usize::from(expected != 0.0);
+            }
+        }
+        nonzero
+    }
+
+    /// The sum of the terms of `row`, as one expression.
+    fn total(g: &mut Graph, terms: &[(usize, Id)], row: usize) -> Id {
+        let parts: Vec<Id> = terms.iter().filter(|t| t.0 == row).map(|t| t.1).collect();
+        g.add(&parts)
+    }
+
+    /// The terms from the points' motion are those of `A`'s and `b`'s
+    /// entries differentiated one by one, `∂b/∂v − (∂A/∂v) q̈` and
+    /// `(∂A/∂v)ᵀ λ`, in every column.
+    #[test]
+    fn the_points_terms_are_those_of_the_rows_entries() {
+        let (eq, mut g, terms) = walker();
+        let n = eq.system.dof();
         let mut d = Differentiator::new();
-        let mut checked = 0;
         let minus = g.int(-1);
+        let mut checked = 0;
         for c in 0..2 * n {
             let var = if c < n {
                 Sym::Coord(c)
@@ -384,22 +453,14 @@ mod tests {
             };
             let mut pairs = Vec::new();
             for &r in &terms.rows {
-                let db = d.partial(&mut g, eq.b[r], var);
-                let mut expected = vec![db];
+                let mut expected = vec![d.partial(&mut g, eq.b[r], var)];
                 for (i, &a) in eq.a[r].iter().enumerate() {
                     let da = d.partial(&mut g, a, var);
                     let qdd = g.sym(Sym::Accel(i));
-                    let t = g.mul(&[minus, da, qdd]);
-                    expected.push(t);
+                    expected.push(g.mul(&[minus, da, qdd]));
                 }
                 let expected = g.add(&expected);
-                let got: Vec<Id> = terms.rhs[c]
-                    .iter()
-                    .filter(|t| t.0 == r)
-                    .map(|t| t.1)
-                    .collect();
-                let got = g.add(&got);
-                pairs.push((got, expected));
+                pairs.push((total(&mut g, &terms.rhs[c], r), expected));
             }
             for i in 0..n {
                 let mut expected = Vec::new();
@@ -409,28 +470,32 @@ mod tests {
                     expected.push(g.mul2(da, lam));
                 }
                 let expected = g.add(&expected);
-                let got: Vec<Id> = terms.forces[c]
-                    .iter()
-                    .filter(|t| t.0 == i)
-                    .map(|t| t.1)
-                    .collect();
-                let got = g.add(&got);
-                pairs.push((got, expected));
+                pairs.push((total(&mut g, &terms.forces[c], i), expected));
             }
-            for point in crate::numeric::rng::sample_points(7) {
-                let ids: Vec<Id> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
-                let values = g.eval(&ids, &point);
-                for (k, pair) in values.chunks(2).enumerate() {
-                    let (got, expected) = (pair[0], pair[1]);
-                    assert!(
-                        (got - expected).abs() <= 1e-9 * (1.0 + expected.abs()),
-                        "column {c}, entry {k}: {got} against {expected}"
-                    );
-                    checked += usize::from(expected != 0.0);
-                }
-            }
+            checked += agree(&g, &pairs, 7, &format!("column {c}"));
         }
         // Not a comparison of zeros.
         assert!(checked > 500, "{checked} nonzero entries compared");
+    }
+
+    /// `∂ψ/∂q` of the points' velocity-level rows is that of `ψ`'s
+    /// expressions.
+    #[test]
+    fn the_points_velocity_jacobian_is_that_of_the_rows() {
+        let (eq, mut g, terms) = walker();
+        let mut d = Differentiator::new();
+        let mut pairs = Vec::new();
+        for &r in &terms.rows {
+            for j in 0..eq.system.dof() {
+                let expected = d.partial(&mut g, eq.velocity_constraints[r], Sym::Coord(j));
+                let got: Vec<(usize, Id)> = (terms.velocity.iter())
+                    .filter(|v| (v.0, v.1) == (r, j))
+                    .map(|v| (r, v.2))
+                    .collect();
+                pairs.push((total(&mut g, &got, r), expected));
+            }
+        }
+        let nonzero = agree(&g, &pairs, 8, "∂ψ/∂q");
+        assert!(nonzero > 100, "{nonzero} nonzero entries of ∂ψ/∂q compared");
     }
 }

@@ -31,6 +31,7 @@
 //!   from energies, whose every entry depends on every coordinate: the
 //!   16-link pendulum's columns would take 280,000 nodes and 35 MB of code).
 
+use super::point_tangent::PointTangents;
 use crate::expr::diff::{Differentiator, Directional};
 use crate::expr::{Graph, Id, Sym};
 
@@ -114,9 +115,6 @@ pub struct ThroughInverse<'a> {
     pub applied: &'a [Id],
     /// `(∂τ/∂q, ∂τ/∂q̇)` with `q̈` as `Sym::Accel`.
     pub jacobian: &'a [Vec<Vec<Id>>; 2],
-    /// The rows of points under a free base, whose terms come from the
-    /// points' motion ([`super::point_tangent`]) where their paths allow.
-    pub in_base: &'a [super::in_base::InBaseRows],
 }
 
 /// What is differentiated: the pieces of the derived equations.
@@ -138,6 +136,9 @@ pub struct Pieces<'a> {
     pub b: &'a [Id],
     /// `ψ`, the constraints at velocity level.
     pub velocity_constraints: &'a [Id],
+    /// The rows of points under a free base, whose terms come from the
+    /// points' motion ([`super::point_tangent`]) where their paths allow.
+    pub in_base: &'a [super::in_base::InBaseRows],
 }
 
 /// The pieces' derivatives, each entry by `derivative`.
@@ -194,16 +195,24 @@ pub fn tangent(g: &mut Graph, p: &Pieces, inputs: &[Sym]) -> Tangent {
         .chain((0..n).map(Sym::Vel))
         .chain(inputs.iter().copied())
         .collect();
+    let points = super::point_tangent::point_tangents(g, p.in_base, n);
     let form = match p.through_inverse {
-        Some(r) => through_inverse_form(g, p, r, &columns),
+        Some(r) => through_inverse_form(g, p, r, (&columns, &points)),
         None => None,
     };
     let form = form.unwrap_or_else(|| form_of(g, p, &columns, true));
     let mut d = Differentiator::new();
-    let velocity_constraints = p
-        .velocity_constraints
-        .iter()
-        .map(|&psi| {
+    let zero = g.int(0);
+    let velocity_constraints = (p.velocity_constraints.iter().enumerate())
+        .map(|(r, &psi)| {
+            if points.rows.contains(&r) {
+                // A point's rows: from its motion, every other entry zero.
+                let mut row = vec![zero; n];
+                for &(_, j, e) in points.velocity.iter().filter(|v| v.0 == r) {
+                    row[j] = e;
+                }
+                return row;
+            }
             let nodes = g.reachable(&[psi]);
             (0..n)
                 .map(|j| {
@@ -230,10 +239,9 @@ fn through_inverse_form(
     g: &mut Graph,
     p: &Pieces,
     r: ThroughInverse,
-    columns: &[Sym],
+    (columns, points): (&[Sym], &PointTangents),
 ) -> Option<Form> {
     let n = p.forces.len();
-    let points = super::point_tangent::point_tangents(g, r.in_base, n);
     // The points' rows are left out of `A` and `b` here: their terms
     // come whole from `points`.
     let zero = g.int(0);
