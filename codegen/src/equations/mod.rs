@@ -307,15 +307,10 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>], bodies: Option<&BodyTe
     };
     let products = crate::bodies::recursion::mass_times(g, &bodies.tree, mass.len());
     let rates: Vec<Id> = (0..mass.len()).map(|i| g.sym(Sym::Vel(i))).collect();
-    let by_recursion: Vec<Id> = products
-        .iter()
-        .map(|&e| {
-            g.substitute(e, &|s| match s {
-                Sym::Accel(i) => rates.get(i).copied(),
-                _ => None,
-            })
-        })
-        .collect();
+    let by_recursion = g.substitute_all(&products, &|s| match s {
+        Sym::Accel(i) => rates.get(i).copied(),
+        _ => None,
+    });
     let cost = |g: &crate::expr::Graph, roots: &[Id]| crate::expr::squares::operations(g, roots);
     if cost(g, &by_recursion) < cost(g, &by_entries) {
         by_recursion

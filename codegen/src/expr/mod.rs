@@ -313,8 +313,14 @@ impl Graph {
     /// Replaces variables by expressions (`map` returns `None` to keep one),
     /// rebuilding through the canonicalising constructors.
     pub fn substitute(&mut self, root: Id, map: &dyn Fn(Sym) -> Option<Id>) -> Id {
+        self.substitute_all(&[root], map)[0]
+    }
+
+    /// [`Graph::substitute`] in each of `roots`, in one walk over what they
+    /// reach (their shared nodes rebuilt once).
+    pub fn substitute_all(&mut self, roots: &[Id], map: &dyn Fn(Sym) -> Option<Id>) -> Vec<Id> {
         let mut done: HashMap<Id, Id> = HashMap::new();
-        for id in self.reachable(&[root]) {
+        for id in self.reachable(roots) {
             let node = self.node(id);
             let result = match node {
                 Node::Num(_) => id,
@@ -330,7 +336,7 @@ impl Graph {
             };
             done.insert(id, result);
         }
-        done[&root]
+        roots.iter().map(|r| done[r]).collect()
     }
 
     /// Whether any variable for which `pred` holds occurs in `root`.
