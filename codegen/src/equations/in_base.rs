@@ -97,6 +97,19 @@ pub(super) struct Turning {
     pub(super) omega: V3,
 }
 
+impl Turning {
+    /// `−κ = −k (qᵀq̇)`: how fast `ω`'s scale shrinks as the quaternion's
+    /// norm grows (`ω̇ = β − κ ω`).
+    pub(super) fn minus_kappa(&self, g: &mut Graph) -> Id {
+        let dot: Vec<Id> = (self.q.iter().zip(&self.rates))
+            .map(|(&a, &b)| g.mul2(a, b))
+            .collect();
+        let dot = g.add(&dot);
+        let minus = g.int(-1);
+        g.mul(&[minus, self.k, dot])
+    }
+}
+
 /// [`Turning`] of the base whose quaternion's `w` is `w`.
 pub(super) fn turning(g: &mut Graph, w: usize) -> Turning {
     let q = free::coordinates(g, w);
@@ -184,12 +197,7 @@ fn bias_terms(g: &mut Graph, at_rest: &mut AtRest, turning: &Turning, r: V3) -> 
     let transport = spatial::cross(g, omega, held_velocity);
     let two = g.int(2);
     let transport = spatial::scale(g, two, transport);
-    let dot: Vec<Id> = (turning.q.iter().zip(&turning.rates))
-        .map(|(&a, &b)| g.mul2(a, b))
-        .collect();
-    let dot = g.add(&dot);
-    let minus = g.int(-1);
-    let scale = g.mul(&[minus, turning.k, dot]);
+    let scale = turning.minus_kappa(g);
     let norm_rate = spatial::scale(g, scale, omega_r);
     [centripetal, transport, acceleration, norm_rate]
 }

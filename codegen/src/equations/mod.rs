@@ -288,20 +288,7 @@ fn constraint_rows(
 /// O(n) where `M` has n² entries), whichever takes fewer operations. The
 /// same function either way.
 fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>], bodies: Option<&BodyTerms>) -> Vec<Id> {
-    let by_entries: Vec<Id> = mass
-        .iter()
-        .map(|row| {
-            let terms: Vec<Id> = row
-                .iter()
-                .enumerate()
-                .map(|(j, &m)| {
-                    let v = g.sym(Sym::Vel(j));
-                    g.mul2(m, v)
-                })
-                .collect();
-            g.add(&terms)
-        })
-        .collect();
+    let by_entries = momentum_by_entries(g, mass);
     let Some(bodies) = bodies else {
         return by_entries;
     };
@@ -317,6 +304,21 @@ fn momentum(g: &mut crate::expr::Graph, mass: &[Vec<Id>], bodies: Option<&BodyTe
     } else {
         by_entries
     }
+}
+
+/// `M q̇` from `M`'s entries, row by row; structural zeros vanish.
+fn momentum_by_entries(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> {
+    mass.iter()
+        .map(|row| {
+            let terms: Vec<Id> = (row.iter().enumerate())
+                .map(|(j, &m)| {
+                    let v = g.sym(Sym::Vel(j));
+                    g.mul2(m, v)
+                })
+                .collect();
+            g.add(&terms)
+        })
+        .collect()
 }
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics: by the recursions
@@ -510,7 +512,7 @@ fn complete_squares(
 
 #[cfg(test)]
 mod momentum_tests {
-    use crate::expr::{Id, Sym};
+    use crate::expr::Id;
 
     /// The Panda's `M q̇` by the recursions is `M`'s rows times `q̇` at
     /// random states, and takes fewer operations than those products.
@@ -519,20 +521,7 @@ mod momentum_tests {
         let source = crate::tools::fixtures::panda("Panda", 7);
         let eq = crate::analyse(source.parse().expect("tokens")).expect("expands");
         let mut g = eq.system.graph.clone();
-        let by_entries: Vec<Id> = eq
-            .system
-            .mass
-            .iter()
-            .map(|row| {
-                let terms: Vec<Id> = (row.iter().enumerate())
-                    .map(|(j, &m)| {
-                        let v = g.sym(Sym::Vel(j));
-                        g.mul2(m, v)
-                    })
-                    .collect();
-                g.add(&terms)
-            })
-            .collect();
+        let by_entries = super::momentum_by_entries(&mut g, &eq.system.mass);
         let operations = |roots: &[Id]| crate::expr::squares::operations(&g, roots);
         let (chosen, entries) = (operations(&eq.momentum), operations(&by_entries));
         assert!(chosen < entries, "{chosen} operations against {entries}");

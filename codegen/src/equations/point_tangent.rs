@@ -297,12 +297,7 @@ fn base(g: &mut Graph, d: &mut Differentiator, w: usize) -> Base {
         let part = spatial::scale(g, accel, column);
         spin = spatial::add(g, spin, part);
     }
-    let dot: Vec<Id> = (t.q.iter().zip(&t.rates))
-        .map(|(&a, &b)| g.mul2(a, b))
-        .collect();
-    let dot = g.add(&dot);
-    let minus = g.int(-1);
-    let minus_kappa = g.mul(&[minus, t.k, dot]);
+    let minus_kappa = t.minus_kappa(g);
     let slowed = spatial::scale(g, minus_kappa, t.omega);
     let spin = spatial::add(g, spin, slowed);
     let spin = spatial::hold3(g, spin);
