@@ -128,8 +128,8 @@ pub fn point_motion(
             let jacobian = at_point(g, s);
             let jacobian = spatial::hold3(g, jacobian);
             // By the coordinate: `∂v`, `∂a`, then the point's.
-            let turned = s.cross_motion(g, v);
-            let dv = turned.add(g, col.velocity_by_q).held(g);
+            let s_v = s.cross_motion(g, v);
+            let dv = s_v.add(g, col.velocity_by_q).held(g);
             let turned = s.cross_motion(g, a);
             let carried = col.velocity_by_q.cross_motion(g, v);
             let da = turned.add(g, col.acceleration_by_q).add(g, carried);
@@ -143,16 +143,15 @@ pub fn point_motion(
                 spatial::cross(g, dv.angular, velocity),
                 spatial::cross(g, v.angular, velocity_by_q),
             ];
-            let acceleration_by_q = sum(g, terms);
+            let acceleration_by_q = spatial::sum(g, &terms);
             // By the rate: `∂v = S`, `∂a = δa′ + S × v`.
-            let turned = s.cross_motion(g, v);
-            let da = col.acceleration_by_rate.add(g, turned);
+            let da = col.acceleration_by_rate.add(g, s_v);
             let terms = [
                 at_point(g, da),
                 spatial::cross(g, s.angular, velocity),
                 spatial::cross(g, v.angular, jacobian),
             ];
-            let acceleration_by_rate = sum(g, terms);
+            let acceleration_by_rate = spatial::sum(g, &terms);
             PointColumn {
                 coordinate: col.coordinate,
                 jacobian,
@@ -167,13 +166,4 @@ pub fn point_motion(
         acceleration,
         columns,
     }
-}
-
-/// The sum of 3-vectors.
-fn sum<const K: usize>(g: &mut Graph, parts: [V3; K]) -> V3 {
-    let mut total = spatial::zero(g);
-    for p in parts {
-        total = spatial::add(g, total, p);
-    }
-    total
 }

@@ -43,6 +43,14 @@ pub fn add(g: &mut Graph, a: V3, b: V3) -> V3 {
     [0, 1, 2].map(|i| g.add2(a[i], b[i]))
 }
 
+/// The sum of 3-vectors, as one sum per component.
+pub fn sum(g: &mut Graph, parts: &[V3]) -> V3 {
+    [0, 1, 2].map(|k| {
+        let terms: Vec<Id> = parts.iter().map(|p| p[k]).collect();
+        g.add(&terms)
+    })
+}
+
 /// `a − b`.
 pub fn sub(g: &mut Graph, a: V3, b: V3) -> V3 {
     [0, 1, 2].map(|i| g.sub(a[i], b[i]))

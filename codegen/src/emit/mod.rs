@@ -58,10 +58,7 @@ use quote::quote;
 use std::collections::HashMap;
 use syn::Ident;
 
-/// The methods generated code calls for a power `b^e` (`body`): `sqrt`
-/// for `e = 1/2`, `powi` for an integer, `powf` otherwise. With the
-/// operator table's names, every function a generated body calls.
-pub const POWER_METHODS: &[&str] = &["sqrt", "powi", "powf"];
+pub use crate::expr::POWER_METHODS;
 
 /// Emits the struct, its constants and its functions.
 pub fn system(eq: &Equations) -> TokenStream {

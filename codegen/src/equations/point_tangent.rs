@@ -151,11 +151,11 @@ fn point_rows(g: &mut Graph, at: &Point, w: usize, out: &mut PointTangents) {
             cross(g, turn, r),
             cross(g, twice, motion.velocity),
         ];
-        let v = sum(g, &moved);
+        let v = spatial::sum(g, &moved);
         write(g, w + m, v);
         let (turn, twice) = base.by_rate[m];
         let moved = [cross(g, turn, r), cross(g, twice, motion.velocity)];
-        let v = sum(g, &moved);
+        let v = spatial::sum(g, &moved);
         write(g, n + w + m, v);
     }
 }
@@ -174,7 +174,7 @@ fn point_velocity(g: &mut Graph, at: &Point, w: usize, out: &mut PointTangents) 
             cross(g, base.turns[m], motion.velocity),
             cross(g, base.omega_by_coordinate[m], rows.point),
         ];
-        velocity.push((w + m, sum(g, &parts)));
+        velocity.push((w + m, spatial::sum(g, &parts)));
     }
     for (c, v) in velocity {
         let turned = spatial::mat_vec(g, &base.rotation, v);
@@ -336,15 +336,6 @@ fn base(g: &mut Graph, d: &mut Differentiator, w: usize) -> Base {
         omega_by_coordinate,
         by_rate,
     }
-}
-
-/// The sum of 3-vectors.
-fn sum(g: &mut Graph, parts: &[V3]) -> V3 {
-    let mut total = spatial::zero(g);
-    for &p in parts {
-        total = spatial::add(g, total, p);
-    }
-    total
 }
 
 #[cfg(test)]

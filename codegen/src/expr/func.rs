@@ -388,6 +388,11 @@ fn inverse_root_of_one_minus_square(g: &mut Graph, a: Id) -> Id {
     g.pown(d, Num::ratio(-1, 2))
 }
 
+/// The methods generated code calls for a power `b^e` (`crate::emit`'s
+/// bodies): `sqrt` for `e = 1/2`, `powi` for an integer, `powf` otherwise.
+/// With the operator table's names, every function a generated body calls.
+pub const POWER_METHODS: &[&str] = &["sqrt", "powi", "powf"];
+
 #[cfg(test)]
 mod tests {
     use super::Func;

@@ -42,7 +42,7 @@ pub mod tape;
 mod tests;
 pub(crate) mod trig;
 
-pub use func::{Args, Emission, Func, Parity, Visibility};
+pub use func::{Args, Emission, Func, Parity, Visibility, POWER_METHODS};
 
 use crate::expr::num::Num;
 use std::collections::HashMap;

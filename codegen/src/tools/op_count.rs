@@ -13,7 +13,7 @@
 //! solver that calls into the runtime for its answer (a dense `M(q)`) is
 //! not straight-line and has no count.
 
-use crate::expr::Func;
+use crate::expr::{Func, POWER_METHODS};
 use syn::{Expr, Pat, Stmt};
 
 /// Operations by kind.
@@ -53,7 +53,7 @@ impl OpCount {
 /// function: an entry of the operator table (`crate::expr::Func`, by the
 /// name generated code calls), or a power as `crate::emit` writes it.
 fn is_function(name: &str) -> bool {
-    Func::ALL.iter().any(|f| f.name() == name) || crate::emit::POWER_METHODS.contains(&name)
+    Func::ALL.iter().any(|f| f.name() == name) || POWER_METHODS.contains(&name)
 }
 
 /// Method and function calls that compute nothing (conversions, checks,
