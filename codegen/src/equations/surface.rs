@@ -142,6 +142,11 @@ pub(super) struct Surface<'a> {
     branches: usize,
     branch: Tape,
     velocity: Tape,
+    /// The parameters the position rows' `φ` read.
+    parameters: Vec<usize>,
+    /// Whether those parameters are moved onto the surface too
+    /// ([`Surface::consistent_states_from`]).
+    with_parameters: std::cell::Cell<bool>,
 }
 
 impl<'a> Surface<'a> {
@@ -158,6 +163,8 @@ impl<'a> Surface<'a> {
             branches: branch.len(),
             branch: g.tape(&branch),
             velocity: g.tape(&eq.velocity_constraints),
+            parameters: read_parameters(g, &phi),
+            with_parameters: std::cell::Cell::new(false),
         }
     }
 
@@ -167,16 +174,42 @@ impl<'a> Surface<'a> {
     }
 
     /// Up to `STATES` consistent states, from the generator seeded with
-    /// `seed`.
+    /// `seed`. Where the first `STATES` seeds all fail to reach `φ = 0` by
+    /// moving `q` alone and the position rows read parameters, the seeds
+    /// are projected with those parameters free as well: points held at
+    /// parameters (`position(foot, r) == [x, y, z]`) are consistent only
+    /// for some of their values (three points of one rigid foot must keep
+    /// the foot's distances), which random parameters miss, and the rank
+    /// is to be measured where the model is used. The choice holds for the
+    /// surface's later batches.
     pub(super) fn consistent_states_from(&self, seed: u64) -> Vec<StateValues> {
+        if !self.with_parameters.get() {
+            let found = self.states_from(seed, false);
+            if !found.is_empty() || self.parameters.is_empty() {
+                return found;
+            }
+            self.with_parameters.set(true);
+        }
+        self.states_from(seed, true)
+    }
+
+    /// Up to `STATES` consistent states from `seed`. Moving `q` alone
+    /// where the rows read parameters, none unless one of the first
+    /// `STATES` seeds succeeds: the parameters are then freed.
+    fn states_from(&self, seed: u64, parameters: bool) -> Vec<StateValues> {
         let mut rng = SplitMix64::new(seed);
         let mut found = Vec::new();
-        for _ in 0..SEEDS {
-            if found.len() == STATES {
+        for tried in 0..SEEDS {
+            if found.len() == STATES
+                || (!parameters
+                    && !self.parameters.is_empty()
+                    && found.is_empty()
+                    && tried == STATES as u64)
+            {
                 break;
             }
             let mut s = random_state(self.eq, &mut rng);
-            if self.project(&mut s) {
+            if self.project(&mut s, parameters) {
                 found.push(s);
             }
         }
@@ -185,35 +218,84 @@ impl<'a> Surface<'a> {
 
     /// Newton with minimum-norm steps, from the locks' branches; `true` when
     /// φ and φ̇ vanish to 1e-13 and the state is still on every branch.
-    fn project(&self, s: &mut StateValues) -> bool {
+    /// With `parameters`, the position step moves the parameters the rows
+    /// read as well as `q`.
+    fn project(&self, s: &mut StateValues, parameters: bool) -> bool {
         if !self.onto_branches(s) {
             return false;
         }
-        let converge = |s: &mut StateValues, residual: &Tape, rows: &[usize], velocity: bool| {
-            for _ in 0..60 {
-                let r = residual.eval(&s.env());
-                if r.iter().all(|x| x.abs() < 1e-13) {
-                    return true;
-                }
-                if r.iter().any(|x| !x.is_finite()) {
-                    return false;
-                }
-                let a = self.a(s);
-                let j: Vec<Vec<f64>> = rows.iter().map(|&i| a[i].clone()).collect();
-                let step = minimum_norm_solve(&j, &r);
-                let target = if velocity { &mut s.qd } else { &mut s.q };
-                target.iter_mut().zip(&step).for_each(|(x, d)| *x -= d);
-            }
-            false
-        };
-        let all: Vec<usize> = (0..self.eq.a.len()).collect();
-        converge(s, &self.phi, &self.positions, false)
+        let free: &[usize] = if parameters { &self.parameters } else { &[] };
+        self.converge(s, Level::Position, free)
             && self
                 .branch
                 .eval(&s.env())
                 .iter()
                 .all(|x| x.abs() < BRANCH_TOLERANCE)
-            && converge(s, &self.velocity, &all, true)
+            && self.converge(s, Level::Velocity, &[])
+    }
+
+    /// Newton on the position rows' `φ` (in `q`, and the `free`
+    /// parameters) or on every row at velocity level (in `q̇`). It gives up
+    /// after `STALL` steps without a new smallest residual: on an
+    /// inconsistent system the minimum-norm steps wander, and a
+    /// convergent run improves at nearly every step.
+    fn converge(&self, s: &mut StateValues, level: Level, free: &[usize]) -> bool {
+        let (residual, rows): (&Tape, Vec<usize>) = match level {
+            Level::Position => (&self.phi, self.positions.clone()),
+            _ => (&self.velocity, (0..self.eq.a.len()).collect()),
+        };
+        let mut best = f64::INFINITY;
+        let mut since = 0;
+        for _ in 0..60 {
+            let r = residual.eval(&s.env());
+            let size = r.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+            if size < 1e-13 {
+                return true;
+            }
+            if !size.is_finite() {
+                return false;
+            }
+            if size < best {
+                (best, since) = (size, 0);
+            } else {
+                since += 1;
+                if since == STALL {
+                    return false;
+                }
+            }
+            let a = self.a(s);
+            let mut j: Vec<Vec<f64>> = rows.iter().map(|&i| a[i].clone()).collect();
+            let by_parameter = self.parameter_columns(s, free);
+            for (row, extra) in j.iter_mut().zip(&by_parameter) {
+                row.extend(extra);
+            }
+            let step = minimum_norm_solve(&j, &r);
+            let (own, rest) = step.split_at(step.len() - free.len());
+            let target = if level == Level::Position { &mut s.q } else { &mut s.qd };
+            target.iter_mut().zip(own).for_each(|(x, d)| *x -= d);
+            free.iter().zip(rest).for_each(|(&p, d)| s.params[p] -= d);
+        }
+        false
+    }
+
+    /// `∂φ/∂p` of the position rows for each of the `free` parameters, row
+    /// by row, by central differences: `φ` is most often linear in them
+    /// (a point's target), and the state need only reach `φ = 0`, which
+    /// Newton on the exact `∂φ/∂q` then finishes.
+    fn parameter_columns(&self, s: &StateValues, free: &[usize]) -> Vec<Vec<f64>> {
+        let mut columns = vec![vec![0.0; free.len()]; self.positions.len()];
+        for (k, &p) in free.iter().enumerate() {
+            let h = 1e-6 * s.params[p].abs().max(1.0);
+            let mut shifted = s.clone();
+            shifted.params[p] = s.params[p] + h;
+            let plus = self.phi.eval(&shifted.env());
+            shifted.params[p] = s.params[p] - h;
+            let minus = self.phi.eval(&shifted.env());
+            for (row, (a, b)) in columns.iter_mut().zip(plus.iter().zip(&minus)) {
+                row[k] = (a - b) / (2.0 * h);
+            }
+        }
+        columns
     }
 
     /// The position rows' and the branch residuals' values at `s`.
@@ -286,7 +368,26 @@ impl<'a> Surface<'a> {
     }
 }
 
+/// The parameters that `roots` read, in order.
+fn read_parameters(g: &crate::expr::Graph, roots: &[Id]) -> Vec<usize> {
+    let mut read: Vec<usize> = g
+        .reachable(roots)
+        .into_iter()
+        .filter_map(|id| match g.node(id) {
+            crate::expr::Node::Sym(Sym::Param(p)) => Some(*p),
+            _ => None,
+        })
+        .collect();
+    read.sort_unstable();
+    read.dedup();
+    read
+}
+
 /// How near its branch a lock is brought before Newton takes over (and
 /// must stay): Newton then moves `q` by about as much, and the half turns
 /// are `Eᵢᵢ − 1 ~ −2` away.
 const BRANCH_TOLERANCE: f64 = 1e-8;
+
+/// Newton steps without a new smallest residual before a projection is
+/// abandoned.
+const STALL: usize = 8;

@@ -86,6 +86,21 @@ impl Hasher for FastHasher {
         self.add(i as u64);
     }
 
+    // The constants' `i128`s: two words, not `write`'s byte loop, which an
+    // unoptimized proc macro (cargo's default release profile) runs slowly.
+    fn write_u128(&mut self, i: u128) {
+        self.add(i as u64);
+        self.add((i >> 64) as u64);
+    }
+
+    fn write_i128(&mut self, i: i128) {
+        self.write_u128(i as u128);
+    }
+
+    fn write_i64(&mut self, i: i64) {
+        self.add(i as u64);
+    }
+
     fn finish(&self) -> u64 {
         self.0
     }
@@ -268,13 +283,17 @@ impl Graph {
     }
 
     fn intern(&mut self, node: Node) -> Id {
-        if let Some(&id) = self.index.get(&node) {
-            return id;
+        // One hash per node, found or not.
+        let next = self.nodes.len();
+        match self.index.entry(node) {
+            std::collections::hash_map::Entry::Occupied(found) => *found.get(),
+            std::collections::hash_map::Entry::Vacant(slot) => {
+                let id = Id(u32::try_from(next).expect("expression graph exceeds 2^32 nodes"));
+                self.nodes.push(slot.key().clone());
+                slot.insert(id);
+                id
+            }
         }
-        let id = Id(u32::try_from(self.nodes.len()).expect("expression graph exceeds 2^32 nodes"));
-        self.nodes.push(node.clone());
-        self.index.insert(node, id);
-        id
     }
 
     /// The constant `n`.
