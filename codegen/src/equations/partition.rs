@@ -9,8 +9,11 @@
 //! positions onto the position-level constraints (Jacobian `∂φ/∂q`, the
 //! position-level rows of `A`), then velocities onto every constraint at
 //! velocity level (`φ̇` or `φ`, whose Jacobian in `q̇` is `A`). Where no
-//! state can be projected the rank off the surface is used instead, and the
-//! derivation says so.
+//! state is reached by moving `q` alone and the position rows read
+//! parameters, the parameters move too (points held at parameters are
+//! consistent only for some of their values). Where no state can be
+//! projected the rank off the surface is used instead, and the derivation
+//! says so.
 //!
 //! The states must be where the model is used. An orientation lock's rows
 //! also vanish at half turns of the lock (`model::rotation`), a surface of

@@ -3,7 +3,9 @@
 //! generic): deterministic pseudo-random states, positions brought onto
 //! the orientation locks' branches by damped least squares, then projected
 //! onto `φ = 0` by Newton's method with minimum-norm steps (positions onto
-//! the position-level rows, velocities onto every row at velocity level).
+//! the position-level rows, velocities onto every row at velocity level),
+//! with the parameters the position rows read where `q` alone reaches no
+//! state ([`Surface::consistent_states_from`]).
 
 use crate::equations::Equations;
 use crate::expr::tape::Tape;
@@ -271,7 +273,11 @@ impl<'a> Surface<'a> {
             }
             let step = minimum_norm_solve(&j, &r);
             let (own, rest) = step.split_at(step.len() - free.len());
-            let target = if level == Level::Position { &mut s.q } else { &mut s.qd };
+            let target = if level == Level::Position {
+                &mut s.q
+            } else {
+                &mut s.qd
+            };
             target.iter_mut().zip(own).for_each(|(x, d)| *x -= d);
             free.iter().zip(rest).for_each(|(&p, d)| s.params[p] -= d);
         }
