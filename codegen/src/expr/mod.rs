@@ -46,7 +46,7 @@ pub use func::{Args, Emission, Func, Parity, Visibility, POWER_METHODS};
 
 use crate::expr::num::Num;
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::{BuildHasherDefault, Hash, Hasher};
 
 /// A multiply-rotate hasher (the Fx hash of rustc) for the graph's maps:
 /// their keys are nodes and ids the macro builds itself, so SipHash's
@@ -227,7 +227,16 @@ impl Node {
 #[derive(Clone, Debug, Default)]
 pub struct Graph {
     nodes: Vec<Node>,
-    index: HashMap<Node, Id, FastHash>,
+    /// Each node's hash and id: a node is found by its hash and compared
+    /// with the arena's, so it is stored once.
+    index: hashbrown::HashTable<(u64, Id)>,
+}
+
+/// A node's hash in [`Graph`]'s index.
+fn hash_of(node: &Node) -> u64 {
+    let mut h = FastHasher::default();
+    node.hash(&mut h);
+    h.finish()
 }
 
 impl Graph {
@@ -279,21 +288,32 @@ impl Graph {
             return None;
         };
         let negated = Node::Add(terms.iter().map(|&(t, c)| (t, -c)).collect(), -*c0);
-        self.index.get(&negated).copied()
+        self.find(&negated)
     }
 
     fn intern(&mut self, node: Node) -> Id {
-        // One hash per node, found or not.
-        let next = self.nodes.len();
-        match self.index.entry(node) {
-            std::collections::hash_map::Entry::Occupied(found) => *found.get(),
-            std::collections::hash_map::Entry::Vacant(slot) => {
-                let id = Id(u32::try_from(next).expect("expression graph exceeds 2^32 nodes"));
-                self.nodes.push(slot.key().clone());
-                slot.insert(id);
-                id
-            }
+        let hash = hash_of(&node);
+        let nodes = &self.nodes;
+        if let Some(&(_, id)) = self
+            .index
+            .find(hash, |&(h, id)| h == hash && nodes[id.index()] == node)
+        {
+            return id;
         }
+        let id = Id(u32::try_from(self.nodes.len()).expect("expression graph exceeds 2^32 nodes"));
+        self.nodes.push(node);
+        self.index.insert_unique(hash, (hash, id), |&(h, _)| h);
+        id
+    }
+
+    /// The id of `node` if the arena holds it.
+    fn find(&self, node: &Node) -> Option<Id> {
+        let hash = hash_of(node);
+        self.index
+            .find(hash, |&(h, id)| {
+                h == hash && self.nodes[id.index()] == *node
+            })
+            .map(|&(_, id)| id)
     }
 
     /// The constant `n`.
