@@ -338,7 +338,6 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
         let roots: Vec<Id> = m.iter().flatten().flatten().copied().collect();
         crate::expr::squares::operations(g, &roots)
     };
-    let partials = partials_of_tau(g, bodies);
     let chains = chains(&tree);
     // Each subtree on the world takes the cheapest of its candidate
     // frames; the subtrees' entries are apart, so each is costed on its
@@ -372,10 +371,12 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
         Some((_, m)) => m,
         None => crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references),
     };
-    if cost(g, &recursions) <= cost(g, &partials) {
-        recursions
-    } else {
-        partials
+    // The partials are built only while they may still cost less: their
+    // count grows with every column, so past the recursions' they lose.
+    let budget = cost(g, &recursions);
+    match partials_of_tau(g, bodies, budget) {
+        Some(partials) if cost(g, &partials) < budget => partials,
+        _ => recursions,
     }
 }
 
@@ -424,16 +425,39 @@ fn subtree_rows(tree: &crate::bodies::Tree, root: usize, n: usize) -> Vec<usize>
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own
 /// expressions, which memoised share each body's derivatives among the
-/// coordinates' rows.
-fn partials_of_tau(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
+/// coordinates' rows. `None` as soon as they reach `budget` operations
+/// (the recursions' count): a robot's partials are many times that, and
+/// building them whole took a tenth of its expansion.
+fn partials_of_tau(
+    g: &mut crate::expr::Graph,
+    bodies: &BodyTerms,
+    budget: usize,
+) -> Option<[Vec<Vec<Id>>; 2]> {
     let tau = &bodies.inverse;
     let n = tau.len();
     let mut d = Differentiator::new();
-    [Sym::Coord as fn(usize) -> Sym, Sym::Vel].map(|by| {
-        tau.iter()
-            .map(|&t| (0..n).map(|k| d.partial(g, t, by(k))).collect())
+    let by = [Sym::Coord as fn(usize) -> Sym, Sym::Vel];
+    let mut columns: Vec<Vec<Id>> = Vec::with_capacity(2 * n);
+    let mut next_check = 1;
+    for column in 0..2 * n {
+        let variable = by[column / n](column % n);
+        columns.push(tau.iter().map(|&t| d.partial(g, t, variable)).collect());
+        // Counted at 1, 2, 4, … columns and at the last: a sum over the
+        // nodes reached, which only grows as columns are added.
+        if columns.len() == next_check || column + 1 == 2 * n {
+            next_check *= 2;
+            let roots: Vec<Id> = columns.iter().flatten().copied().collect();
+            if crate::expr::squares::operations(g, &roots) >= budget {
+                return None;
+            }
+        }
+    }
+    let entry = |half: usize, row: usize, k: usize| columns[half * n + k][row];
+    Some([0, 1].map(|half| {
+        (0..n)
+            .map(|row| (0..n).map(|k| entry(half, row, k)).collect())
             .collect()
-    })
+    }))
 }
 
 /// The entries of `M`, `A` and `F`: what the code computes beside `b`.
