@@ -374,10 +374,7 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
     // The partials are built only while they may still cost less: their
     // count grows with every column, so past the recursions' they lose.
     let budget = cost(g, &recursions);
-    match partials_of_tau(g, bodies, budget) {
-        Some(partials) if cost(g, &partials) < budget => partials,
-        _ => recursions,
-    }
+    partials_of_tau(g, bodies, budget).unwrap_or(recursions)
 }
 
 /// For each body on the world, the bodies down the single chain from it,
@@ -425,9 +422,10 @@ fn subtree_rows(tree: &crate::bodies::Tree, root: usize, n: usize) -> Vec<usize>
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own
 /// expressions, which memoised share each body's derivatives among the
-/// coordinates' rows. `None` as soon as they reach `budget` operations
-/// (the recursions' count): a robot's partials are many times that, and
-/// building them whole took a tenth of its expansion.
+/// coordinates' rows. `None` unless they cost fewer than `budget`
+/// operations (the recursions' count), and as soon as they reach it: a
+/// robot's partials are many times that, and building them whole took a
+/// tenth of its expansion.
 fn partials_of_tau(
     g: &mut crate::expr::Graph,
     bodies: &BodyTerms,
@@ -435,6 +433,9 @@ fn partials_of_tau(
 ) -> Option<[Vec<Vec<Id>>; 2]> {
     let tau = &bodies.inverse;
     let n = tau.len();
+    if n == 0 {
+        return None;
+    }
     let mut d = Differentiator::new();
     let by = [Sym::Coord as fn(usize) -> Sym, Sym::Vel];
     let mut columns: Vec<Vec<Id>> = Vec::with_capacity(2 * n);

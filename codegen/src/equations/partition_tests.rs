@@ -9,6 +9,15 @@ fn analyse(model: &str) -> Equations {
     crate::analyse(model.parse().expect("tokens")).expect("expands")
 }
 
+/// Seeds for both batches and the random states, drawn from `rng`.
+fn seeds(rng: &mut SplitMix64) -> Seeds {
+    Seeds {
+        states: rng.next_u64(),
+        check: rng.next_u64(),
+        random: rng.next_u64(),
+    }
+}
+
 /// A free brick with its attitude locked (to `attitude`) and `unused`
 /// parameters, which moved the states' draws: with 5, 7, 8 or 10 every
 /// state the Newton projection found was a half turn of the lock.
@@ -191,15 +200,11 @@ fn the_decision_does_not_depend_on_the_seeds() {
         (biped(), 13, 13, 6),
         (four_bar.to_string(), 8, 8, 12),
     ];
-    for (model, rank, position_rank, seeds) in cases {
+    for (model, rank, position_rank, draws) in cases {
         let eq = analyse(&model);
         let mut rng = SplitMix64::new(0x5eed);
-        for _ in 0..seeds {
-            let seeds = Seeds {
-                states: rng.next_u64(),
-                check: rng.next_u64(),
-                random: rng.next_u64(),
-            };
+        for _ in 0..draws {
+            let seeds = seeds(&mut rng);
             let p = partition_with(&eq, seeds).expect("partition");
             let name = &eq.system.name;
             assert_eq!(
@@ -238,11 +243,7 @@ fn states_of_lower_rank_leave_the_rank_to_the_largest() {
     assert!(p.lower > 0 && p.lower < p.states + p.checked, "{p:?}");
     let mut rng = SplitMix64::new(0x10e5);
     for _ in 0..50 {
-        let seeds = Seeds {
-            states: rng.next_u64(),
-            check: rng.next_u64(),
-            random: rng.next_u64(),
-        };
+        let seeds = seeds(&mut rng);
         let p = partition_with(&eq, seeds).expect("partition");
         assert_eq!((p.rank, p.position_rank), (2, 2), "{seeds:?}");
     }
@@ -290,11 +291,7 @@ fn points_held_at_parameters_are_measured_on_the_surface() {
     let g = &eq.system.graph;
     let mut rng = SplitMix64::new(0x0b51);
     for _ in 0..8 {
-        let seeds = Seeds {
-            states: rng.next_u64(),
-            check: rng.next_u64(),
-            random: rng.next_u64(),
-        };
+        let seeds = seeds(&mut rng);
         let p = partition_with(&eq, seeds).expect("partition");
         assert!(p.on_surface, "{seeds:?}");
         assert_eq!((p.rank, p.position_rank), (7, 7), "{seeds:?}");

@@ -293,11 +293,7 @@ impl Graph {
 
     fn intern(&mut self, node: Node) -> Id {
         let hash = hash_of(&node);
-        let nodes = &self.nodes;
-        if let Some(&(_, id)) = self
-            .index
-            .find(hash, |&(h, id)| h == hash && nodes[id.index()] == node)
-        {
+        if let Some(id) = self.find_hashed(hash, &node) {
             return id;
         }
         let id = Id(u32::try_from(self.nodes.len()).expect("expression graph exceeds 2^32 nodes"));
@@ -308,7 +304,11 @@ impl Graph {
 
     /// The id of `node` if the arena holds it.
     fn find(&self, node: &Node) -> Option<Id> {
-        let hash = hash_of(node);
+        self.find_hashed(hash_of(node), node)
+    }
+
+    /// [`Graph::find`] with the node's hash given.
+    fn find_hashed(&self, hash: u64, node: &Node) -> Option<Id> {
         self.index
             .find(hash, |&(h, id)| {
                 h == hash && self.nodes[id.index()] == *node
