@@ -30,7 +30,7 @@
 use super::in_base::{turning, InBaseRows};
 use crate::bodies::free;
 use crate::bodies::point_motion::{point_motion, PathColumn, PointMotion};
-use crate::bodies::spatial::{self, Spatial, V3};
+use crate::bodies::spatial::{self, cross, Spatial, V3};
 use crate::expr::diff::Differentiator;
 use crate::expr::{Graph, Id, Sym};
 
@@ -276,10 +276,6 @@ fn accumulate(g: &mut Graph, sums: &mut Vec<(usize, V3)>, coordinate: usize, v: 
         Some((_, total)) => *total = spatial::add(g, *total, v),
         None => sums.push((coordinate, v)),
     }
-}
-
-fn cross(g: &mut Graph, a: V3, b: V3) -> V3 {
-    spatial::cross(g, a, b)
 }
 
 /// [`Base`] of the free base whose quaternion's `w` is `w`.
