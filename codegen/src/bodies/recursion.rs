@@ -25,11 +25,20 @@ fn joint_state(g: &mut Graph, body: &Body) -> JointState {
 /// `Xᵢ m`: a motion vector of the parent's frame in the body's frame.
 fn motion_to_child(g: &mut Graph, body: &Body, js: JointState, m: Spatial) -> Spatial {
     let p = &body.placement;
-    // The joint frame: ω' = Rᵀ ω, v' = Rᵀ (v + ω × p).
+    // The joint frame: ω' = Rᵀ ω, v' = Rᵀ (v + ω × p). Through a rotation
+    // that mixes components, the sums are held on either side (see
+    // [`spatial::mixes`]).
+    let mixes = spatial::mixes(g, &p.rotation);
     let w = spatial::mat_t_vec(g, &p.rotation, m.angular);
     let shifted = spatial::cross(g, m.angular, p.translation);
     let v = spatial::add(g, m.linear, shifted);
-    let v = spatial::mat_t_vec(g, &p.rotation, v);
+    let (w, v) = if mixes {
+        let v = spatial::hold3(g, v);
+        let v = spatial::mat_t_vec(g, &p.rotation, v);
+        (spatial::hold3(g, w), spatial::hold3(g, v))
+    } else {
+        (w, spatial::mat_t_vec(g, &p.rotation, v))
+    };
     // Then the joint's own: v'' = R_Jᵀ (v' + ω' × p_J).
     let v = match js.slide(g) {
         Some(offset) => {
@@ -52,8 +61,16 @@ fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Sp
         None => n,
     };
     let p = &body.placement;
-    let force = spatial::mat_vec(g, &p.rotation, force);
-    let n = spatial::mat_vec(g, &p.rotation, n);
+    let (n, force) = if spatial::mixes(g, &p.rotation) {
+        // Held on either side of the rotation (see [`spatial::mixes`]).
+        let (n, force) = (spatial::hold3(g, n), spatial::hold3(g, force));
+        let force = spatial::mat_vec(g, &p.rotation, force);
+        let n = spatial::mat_vec(g, &p.rotation, n);
+        (n, spatial::hold3(g, force))
+    } else {
+        let force = spatial::mat_vec(g, &p.rotation, force);
+        (spatial::mat_vec(g, &p.rotation, n), force)
+    };
     let moment = spatial::cross(g, p.translation, force);
     Spatial {
         angular: spatial::add(g, n, moment),
@@ -249,6 +266,12 @@ fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inert
         None => turned,
     };
     let p = &body.placement;
+    let in_joint = if spatial::mixes(g, &p.rotation) {
+        // Held before the rotation (see [`spatial::mixes`]).
+        in_joint.held(g)
+    } else {
+        in_joint
+    };
     in_joint.to_parent(g, &p.rotation, p.translation)
 }
 
