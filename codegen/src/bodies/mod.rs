@@ -254,13 +254,6 @@ pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
             None => Placement::identity(g),
         };
         let joint_frame = parent.then(g, &d.placement);
-        // Held before the joint turns it where the placement's rotation
-        // mixes components (see [`spatial::mixes`]).
-        let joint_frame = if spatial::mixes(g, &d.placement.rotation) {
-            joint_frame.held(g)
-        } else {
-            joint_frame
-        };
         let motion = joint_motion(g, d);
         let world = joint_frame.then(g, &motion);
         frames.push(world.held(g));
