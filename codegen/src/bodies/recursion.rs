@@ -313,6 +313,7 @@ fn composite_rigid_body(
     velocity: bool,
 ) -> (Vec<Vec<Id>>, Vec<Inertia>) {
     let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
+    let composite = composites(g, tree, &states);
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
     let columns: Vec<Vec<(usize, Spatial)>> = if velocity {
@@ -324,14 +325,7 @@ fn composite_rigid_body(
             .map(|(_, &js)| subspace(g, js))
             .collect()
     };
-    // One backward pass: each body's columns are built as soon as its
-    // composite is whole (its children, later in the order, added), and
-    // the composite then joins its parent's. The code is written in the
-    // order the graph's nodes are made, so a composite is read close to
-    // where it is computed instead of all of them being live at once.
-    let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
-    for i in (0..tree.bodies.len()).rev() {
-        let own = &columns[i];
+    for (i, own) in columns.iter().enumerate() {
         for &(ci, s) in own {
             let mut force = composite[i].apply(g, s).held(g);
             for &(ck, sk) in own {
@@ -350,10 +344,6 @@ fn composite_rigid_body(
                     accumulate(g, &mut m[cj][ci], mij);
                 }
             }
-        }
-        if let Some(p) = tree.bodies[i].parent {
-            let moved = inertia_to_parent(g, &tree.bodies[i], states[i], &composite[i]);
-            composite[p] = composite[p].add(g, &moved).held(g);
         }
     }
     (m, composite)
