@@ -507,6 +507,9 @@ impl Inertia {
         let half_m = g.mul2(half, m);
         let s = scale(g, half_m, p);
         let s = add(g, rh, s);
+        // Held: each component is read by three entries and by `p·s`,
+        // which would otherwise each multiply its terms one by one.
+        let s = hold3(g, s);
         let turned = mat_mul(g, r, &self.rotational);
         let ps = dot(g, p, s);
         let two = g.int(2);
