@@ -219,7 +219,8 @@ impl Graph {
     /// then). Any other sum is made primitive (coprime integer coefficients,
     /// the leading one positive) and its content joins the coefficient, so
     /// that g·(2y − 2z) and g·(−2y + 2z) become ±2·g·(y − z) and collect,
-    /// while 4·a + b stays as it is. Exact rational content only.
+    /// while 4·a + b stays as it is. Exact rational content only, and a
+    /// small one ([`small_ratio`]).
     fn sum_content(&mut self, id: Id, e: Num) -> Option<(Num, Id)> {
         let Node::Add(terms, c0) = self.node(id) else {
             return None;
@@ -230,8 +231,14 @@ impl Graph {
         }
         let content = crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
             .map(|c| if terms[0].1.is_negative() { -c } else { c });
-        let content = content.unwrap_or(Num::ONE);
-        if content.is_one() || !matches!(content, Num::Rational(..)) {
+        let content = match content {
+            Some(c) if small_ratio(c) => c,
+            // A large content stays in the sum; only its sign leaves, so
+            // that a sum and its negation still collect.
+            Some(c) if c.is_negative() => Num::MINUS_ONE,
+            _ => return None,
+        };
+        if content.is_one() {
             return None;
         }
         let inv = content.recip();
@@ -397,4 +404,15 @@ impl Graph {
             Node::Func(f, args) => self.apply(f, args),
         }
     }
+}
+
+/// Whether `c` is a ratio of integers below 2³² (2, ½, ¾, …): the content
+/// a sum gives up to the surrounding product. The content of decimals
+/// read from a file (a URDF's masses times its lengths) is rather 10⁻³⁰ or
+/// so, with coefficients near 10²⁵ left in the sum: two constants at the
+/// edge of `f32`'s range, and a multiplication more where the sum is read,
+/// where the sum kept whole has neither.
+fn small_ratio(c: Num) -> bool {
+    const BOUND: u128 = 1 << 32;
+    matches!(c, Num::Rational(p, q) if p.unsigned_abs() < BOUND && q.unsigned_abs() < BOUND)
 }

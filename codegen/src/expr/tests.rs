@@ -113,3 +113,49 @@ fn pythagorean_identity() {
     let mixed = g.add(&[s2, cy2]);
     assert!(matches!(g.node(mixed), Node::Add(..)));
 }
+
+/// A sum as a factor gives up its content where that is a small ratio,
+/// and only its sign where it is not: coefficients that are products of
+/// decimals (a URDF's inertias and lengths) have contents like 10⁻³⁰, which
+/// would leave constants near 10²⁵ in the sum and 10⁻³⁰ outside it, both
+/// at the edge of `f32`'s range.
+#[test]
+fn contents_leave_a_sum_only_when_small() {
+    let mut g = Graph::new();
+    let (x, y, z) = xyz(&mut g);
+    // g·(2y − 2z) and g·(−2y + 2z) collect: the content ±2 leaves.
+    let (two, minus_two) = (Num::int(2), Num::int(-2));
+    let d = g.linear_combination([(y, two), (z, minus_two)]);
+    let nd = g.linear_combination([(y, minus_two), (z, two)]);
+    let (p, n) = (g.mul2(x, d), g.mul2(x, nd));
+    let zero = g.int(0);
+    same!(g, g.add2(p, n), zero);
+    let diff = g.sub(y, z);
+    let xd = g.mul2(x, diff);
+    same!(g, p, g.scale(xd, two));
+    // Products of decimals: 3.4145541730514034e-5 and 1.5112051994379560e-4
+    // as exact rationals (their content is 10⁻³⁰ times an integer).
+    let a = Num::ratio(34_145_541_730_514_034, 1_000_000_000_000_000_000_000);
+    let b = Num::ratio(151_120_519_943_795_600, 1_000_000_000_000_000_000_000);
+    let decimals = g.linear_combination([(y, a), (z, b)]);
+    let product = g.mul2(x, decimals);
+    let Node::Mul(factors) = g.node(product).clone() else {
+        panic!("x times a sum is a product: {:?}", g.node(product));
+    };
+    assert!(
+        factors.iter().any(|&(f, _)| f == decimals),
+        "the sum stays whole in the product: {:?}",
+        g.node(product)
+    );
+    let constants: Vec<f64> = g.constants().map(Num::to_f64).collect();
+    let extreme: Vec<f64> = constants
+        .iter()
+        .copied()
+        .filter(|v| *v != 0.0 && !(1e-12..=1e12).contains(&v.abs()))
+        .collect();
+    assert!(extreme.is_empty(), "constants out of range: {extreme:?}");
+    // Its negation collects with it all the same: only the sign leaves.
+    let minus = g.neg(decimals);
+    let negated = g.mul2(x, minus);
+    same!(g, g.add2(product, negated), zero);
+}
