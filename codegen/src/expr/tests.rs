@@ -133,8 +133,8 @@ fn contents_leave_a_sum_only_when_small() {
     let diff = g.sub(y, z);
     let xd = g.mul2(x, diff);
     same!(g, p, g.scale(xd, two));
-    // Products of decimals: 3.4145541730514034e-5 and 1.5112051994379560e-4
-    // as exact rationals (their content is 10⁻³⁰ times an integer).
+    // Products of decimals, as a URDF's inertias and lengths give, exact
+    // (their content is 2·10⁻²¹).
     let a = Num::ratio(34_145_541_730_514_034, 1_000_000_000_000_000_000_000);
     let b = Num::ratio(151_120_519_943_795_600, 1_000_000_000_000_000_000_000);
     let decimals = g.linear_combination([(y, a), (z, b)]);
