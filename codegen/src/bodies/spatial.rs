@@ -86,8 +86,9 @@ pub fn mat_vec(g: &mut Graph, m: &M3, v: V3) -> V3 {
     [0, 1, 2].map(|i| dot(g, m[i], v))
 }
 
-/// Whether `m` mixes components: some entry is neither 0 nor ±1, so that
-/// each component of `m v` is a sum of products. Its input is then worth
+/// Whether `m` mixes components: some entry is not the constant 0, 1 or
+/// −1 (a symbolic entry counts), so that each component of `m v` is a sum
+/// of products. Its input is then worth
 /// holding ([`hold3`]): a sum fed through such a matrix is otherwise
 /// distributed into every component, and again into whatever reads them.
 pub fn mixes(g: &Graph, m: &M3) -> bool {
