@@ -242,9 +242,13 @@ impl<'a> Surface<'a> {
     /// inconsistent system the minimum-norm steps wander, and a
     /// convergent run improves at nearly every step.
     fn converge(&self, s: &mut StateValues, level: Level, free: &[usize]) -> bool {
-        let (residual, rows): (&Tape, Vec<usize>) = match level {
-            Level::Position => (&self.phi, self.positions.clone()),
-            _ => (&self.velocity, (0..self.eq.a.len()).collect()),
+        let every: Vec<usize>;
+        let (residual, rows): (&Tape, &[usize]) = match level {
+            Level::Position => (&self.phi, &self.positions),
+            _ => {
+                every = (0..self.eq.a.len()).collect();
+                (&self.velocity, &every)
+            }
         };
         let mut best = f64::INFINITY;
         let mut since = 0;
@@ -289,6 +293,9 @@ impl<'a> Surface<'a> {
     /// (a point's target), and the state need only reach `φ = 0`, which
     /// Newton on the exact `∂φ/∂q` then finishes.
     fn parameter_columns(&self, s: &StateValues, free: &[usize]) -> Vec<Vec<f64>> {
+        if free.is_empty() {
+            return Vec::new();
+        }
         let mut columns = vec![vec![0.0; free.len()]; self.positions.len()];
         for (k, &p) in free.iter().enumerate() {
             let h = 1e-6 * s.params[p].abs().max(1.0);
