@@ -11,6 +11,10 @@ use constrained_codegen::{expand_with, Options};
 
 /// An eight-joint chain of full inertias off their origins, its axes
 /// cycling through z, y, x, y; joint `turned` (1-based) placed with `rpy`.
+/// Each joint sits on the one axis that is neither its own nor its
+/// parent's, where sliding frames along their axes (the dynamics' frames
+/// are, where that empties a translation) finds nothing to empty: the
+/// chain with a turned frame and the one without differ in the turn only.
 fn chain(turned: usize, rpy: [f64; 3]) -> String {
     let axes = [
         "[0.0, 0.0, 1.0]",
@@ -18,6 +22,15 @@ fn chain(turned: usize, rpy: [f64; 3]) -> String {
         "[1.0, 0.0, 0.0]",
         "[0.0, 1.0, 0.0]",
     ];
+    let axis = |k: usize| [2, 1, 0, 1][(k - 1) % 4];
+    let xyz = |k: usize| {
+        let own = axis(k);
+        let parent = if k == 1 { own } else { axis(k - 1) };
+        let free = (0..3).find(|&c| c != own && c != parent).unwrap_or(0);
+        let mut p = [0.0; 3];
+        p[free] = 0.2;
+        format!("[{:?}, {:?}, {:?}]", p[0], p[1], p[2])
+    };
     let inputs: Vec<String> = (1..=8).map(|k| format!("u{k}")).collect();
     let mut bodies = String::new();
     for k in 1..=8 {
@@ -32,10 +45,11 @@ fn chain(turned: usize, rpy: [f64; 3]) -> String {
             String::new()
         };
         bodies.push_str(&format!(
-            "l{k} {{ {parent} joint: revolute(q{k}, {axis}), xyz: [0.1, 0.2, 0.3], {turn}
+            "l{k} {{ {parent} joint: revolute(q{k}, {axis}), xyz: {xyz}, {turn}
                 mass: 1.{k}, com: [0.01, 0.02, -0.03],
                 inertia: [[0.01, 0.001, 0.002], [0.001, 0.02, 0.003], [0.002, 0.003, 0.03]] }},",
             axis = axes[(k - 1) % 4],
+            xyz = xyz(k),
         ));
     }
     format!(

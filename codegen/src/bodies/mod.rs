@@ -10,7 +10,9 @@
 //! - [`derivatives`]: `∂τ/∂q` and `∂τ/∂q̇` of inverse dynamics by recursions
 //!   in world axes;
 //! - [`point_motion`]: by the same recursions, a point's acceleration under
-//!   a free base and its partials by the joints between.
+//!   a free base and its partials by the joints between;
+//! - [`slide`]: the dynamics' frames slid along their joints' axes where
+//!   that empties translations.
 //!
 //! Every quantity of a body is kept in the body's own frame, so a joint
 //! contributes its own rotation only and the constant placements, whose
@@ -26,6 +28,7 @@ pub(crate) mod kinematics;
 pub(crate) mod point_motion;
 pub(crate) mod recursion;
 pub(crate) mod reference;
+pub(crate) mod slide;
 pub(crate) mod spatial;
 
 use crate::expr::{Graph, Id};
@@ -124,6 +127,9 @@ pub struct Body {
     pub joint: Joint,
     /// Its inertia and that of every body fixed to it, about its origin.
     pub inertia: Inertia,
+    /// How far its frame is slid along its joint's axis from the frame
+    /// described ([`slide`]); `None`: not slid.
+    pub slid: Option<Id>,
 }
 
 /// What `parent` stands for once the bodies fixed to the world at its own
@@ -181,6 +187,7 @@ impl Tree {
                         placement,
                         joint,
                         inertia: d.inertia,
+                        slid: None,
                     });
                     frames.push((Some(bodies.len() - 1), Placement::identity(g)));
                 }

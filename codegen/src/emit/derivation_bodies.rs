@@ -171,6 +171,14 @@ pub fn text(
             joint(body, coordinates, p)
         );
         placement(w, body, p);
+        if let Some(t) = body.slid {
+            let _ = writeln!(
+                w,
+                "    its frame slid by {} along the axis from the one described, where fewer \
+                 translations are nonzero (the joint's motion commutes with the slide)",
+                p.print(t)
+            );
+        }
         let m = &body.inertia;
         let _ = writeln!(
             w,

@@ -195,7 +195,7 @@ impl Lowerer<'_> {
             Source::Bodies(..) | Source::Urdf(..) => {
                 let gravity = self.gravity(sections.gravity);
                 let tree = crate::bodies::Tree::new(self.graph, &described, gravity);
-                let d = crate::bodies::recursion::dynamics(self.graph, &tree, n);
+                let (tree, d) = crate::bodies::slide::dynamics(self.graph, tree, n);
                 (d.mass.clone(), None, Some((tree, d)))
             }
             Source::Missing => (Vec::new(), None, None),

@@ -1,0 +1,378 @@
+//! Each joint's frame slid along its own axis where that zeroes a
+//! translation the recursions multiply by.
+//!
+//! A body's frame may move by `t a` along its joint's axis `a` without
+//! changing anything the joint coordinates see: the joint's rotation about
+//! `a` (or translation or screw along it) commutes with that translation,
+//! so the body's joint frame moves to `p + t R a` in its parent, its
+//! inertia and its children's frames are taken about the new origin (`h −
+//! m t a`, `pₖ − t a`), and `M`, the bias forces and `τ` are the same
+//! functions of `q`, `q̇` and `q̈`. Denavit and Hartenberg choose their
+//! frames on the common normals for the same reason. A translation that
+//! points along a coordinate axis costs two products in every cross
+//! product `p × f` that carries a column of `M` or a body's force through
+//! it, one along two axes five and a dense one nine; sliding a frame can
+//! empty a component of its own translation or of a child's.
+//!
+//! Only the dynamics' tree slides ([`dynamics`]): the quantities taken
+//! from it are functions of the coordinates alone. Frames, points and the
+//! centre of mass are placed from the bodies as described.
+
+use super::joint::JointKind;
+use super::spatial::{self, V3};
+use super::{Body, Dynamics, Tree};
+use crate::expr::{Graph, Id};
+
+/// `M`, the bias forces and `τ` of `tree` from whichever of the tree and
+/// its slid copy ([`slid`]) gives them in fewer operations (the slid one
+/// only where it gives fewer), and that tree.
+pub fn dynamics(g: &mut Graph, tree: Tree, n: usize) -> (Tree, Dynamics) {
+    let plain = super::recursion::dynamics(g, &tree, n);
+    let Some(moved) = slid(g, &tree) else {
+        return (tree, plain);
+    };
+    let other = super::recursion::dynamics(g, &moved, n);
+    if operations(g, &other) < operations(g, &plain) {
+        (moved, other)
+    } else {
+        (tree, plain)
+    }
+}
+
+/// The operations of `M`, the bias forces and `τ`: what an `acceleration`
+/// and an `inverse_dynamics` compute.
+fn operations(g: &Graph, d: &Dynamics) -> usize {
+    let roots: Vec<Id> = d
+        .mass
+        .iter()
+        .flatten()
+        .chain(&d.bias)
+        .chain(&d.inverse)
+        .copied()
+        .collect();
+    crate::expr::squares::operations(g, &roots)
+}
+
+/// How a body's frame may slide: its joint's axis along coordinate axis
+/// `axis` of its own frame (`sign` ±1) and along coordinate axis `image`
+/// of its parent's, through its placement's rotation (`image_sign`).
+#[derive(Clone, Copy, Debug)]
+struct Along {
+    axis: usize,
+    sign: Id,
+    image: usize,
+    image_sign: Id,
+}
+
+/// The coordinate axis `v` points along and its sign, where `v` is `±eₖ`
+/// exactly.
+fn unit(g: &Graph, v: V3) -> Option<(usize, Id)> {
+    let mut found = None;
+    for (k, &x) in v.iter().enumerate() {
+        let value = g.as_num(x)?;
+        if value.is_zero() {
+            continue;
+        }
+        if found.is_some() || !(value.is_one() || (-value).is_one()) {
+            return None;
+        }
+        found = Some((k, x));
+    }
+    found
+}
+
+/// Whether body `i` may slide: a joint of one axis that commutes with a
+/// translation along it, that axis and its image in the parent along
+/// coordinate axes, and its own and its children's translations constants.
+fn along(g: &mut Graph, bodies: &[Body], children: &[usize], i: usize) -> Option<Along> {
+    let body = &bodies[i];
+    match body.joint.kind {
+        JointKind::Revolute | JointKind::Prismatic | JointKind::Helical { .. } => {}
+        JointKind::Quaternion => return None,
+    }
+    let constant = |g: &Graph, v: &V3| v.iter().all(|&x| g.as_num(x).is_some());
+    if !constant(g, &body.placement.translation)
+        || children
+            .iter()
+            .any(|&k| !constant(g, &bodies[k].placement.translation))
+    {
+        return None;
+    }
+    let (axis, sign) = unit(g, body.joint.axis)?;
+    let image = spatial::mat_vec(g, &body.placement.rotation, body.joint.axis);
+    let (image, image_sign) = unit(g, image)?;
+    Some(Along {
+        axis,
+        sign,
+        image,
+        image_sign,
+    })
+}
+
+/// Cross products with a translation of 0, 1, 2 or 3 nonzero components
+/// cost 0, 2, 5 and 9 operations.
+fn cross_cost(g: &Graph, p: V3) -> usize {
+    [0, 2, 5, 9][p.iter().filter(|&&x| !g.is_zero(x)).count()]
+}
+
+/// The tree with frames slid where that makes the translations cheaper by
+/// [`cross_cost`], weighted by how many columns of `M` cross each (a
+/// body's subtree, and two for the bias forces; none for a body on the
+/// world, whose placement nothing carries across); `None` where no frame
+/// moves or where sliding would change a free base.
+pub fn slid(g: &mut Graph, tree: &Tree) -> Option<Tree> {
+    let bodies = &tree.bodies;
+    let count = bodies.len();
+    let mut children = vec![Vec::new(); count];
+    for (i, b) in bodies.iter().enumerate() {
+        if let Some(p) = b.parent {
+            children.get_mut(p)?.push(i);
+        }
+    }
+    let mut size = vec![1usize; count];
+    for i in (0..count).rev() {
+        if let Some(p) = bodies[i].parent {
+            size[p] += size[i];
+        }
+    }
+    let weight: Vec<usize> = (0..count)
+        .map(|i| bodies[i].parent.map_or(0, |_| size[i] + 2))
+        .collect();
+    let along: Vec<Option<Along>> = (0..count)
+        .map(|i| along(g, bodies, &children[i], i))
+        .collect();
+    let zero = g.int(0);
+    let mut slide = vec![zero; count];
+    // A body's translation with its parent's and its own slide.
+    let translation = |g: &mut Graph, slide: &[Id], k: usize| -> V3 {
+        let mut p = bodies[k].placement.translation;
+        if let Some(a) = bodies[k].parent.and_then(|j| along[j].map(|a| (j, a))) {
+            let (j, a) = a;
+            let by = g.mul2(slide[j], a.sign);
+            p[a.axis] = g.sub(p[a.axis], by);
+        }
+        if let Some(a) = along[k] {
+            let by = g.mul2(slide[k], a.image_sign);
+            p[a.image] = g.add2(p[a.image], by);
+        }
+        p
+    };
+    let local = |g: &mut Graph, slide: &[Id], i: usize| -> usize {
+        std::iter::once(i)
+            .chain(children[i].iter().copied())
+            .map(|k| {
+                let p = translation(g, slide, k);
+                weight[k] * cross_cost(g, p)
+            })
+            .sum()
+    };
+    // Each sweep moves a frame only where that lowers the cost, which
+    // is bounded below; a few sweeps settle the chains that exist.
+    for _ in 0..4 {
+        let mut moved = false;
+        for i in 0..count {
+            let Some(a) = along[i] else { continue };
+            // The slides that empty the component along the axis of the
+            // body's own translation or of a child's.
+            let mut candidates = vec![zero];
+            let own = translation(
+                g,
+                &{
+                    let mut s = slide.clone();
+                    s[i] = zero;
+                    s
+                },
+                i,
+            );
+            let t = g.mul2(own[a.image], a.image_sign);
+            candidates.push(g.neg(t));
+            for &k in &children[i] {
+                let mut s = slide.clone();
+                s[i] = zero;
+                let p = translation(g, &s, k);
+                candidates.push(g.mul2(p[a.axis], a.sign));
+            }
+            let mut best = (local(g, &slide, i), slide[i]);
+            for t in candidates {
+                let mut s = slide.clone();
+                s[i] = t;
+                let cost = local(g, &s, i);
+                if cost < best.0 {
+                    best = (cost, t);
+                }
+            }
+            if best.1 != slide[i] {
+                slide[i] = best.1;
+                moved = true;
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+    if slide.iter().all(|&t| g.is_zero(t)) {
+        return None;
+    }
+    let mut out = tree.clone();
+    for k in 0..count {
+        out.bodies[k].placement.translation = translation(g, &slide, k);
+        if let Some(a) = along[k].filter(|_| !g.is_zero(slide[k])) {
+            // The contents about the new origin, `t a` from the old: the
+            // old frame sits at `−t a` in the new one.
+            let mut back = spatial::zero(g);
+            let by = g.mul2(slide[k], a.sign);
+            back[a.axis] = g.neg(by);
+            let identity = spatial::identity(g);
+            out.bodies[k].inertia = bodies[k].inertia.to_parent(g, &identity, back);
+            out.bodies[k].slid = Some(slide[k]);
+        }
+    }
+    let bases = |g: &Graph, t: &[Body]| -> Vec<Option<usize>> {
+        (0..count)
+            .map(|i| super::free::free_base_in_tree(g, t, i))
+            .collect()
+    };
+    (bases(g, &out.bodies) == bases(g, bodies)).then_some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bodies::joint::Joint;
+    use crate::bodies::spatial::Inertia;
+    use crate::bodies::Placement;
+    use crate::expr::num::Num;
+    use crate::expr::Sym;
+
+    /// A branched tree of exact decimals: a revolute joint about z on the
+    /// world, a prismatic one along y below it placed a right angle about
+    /// x, then two revolute ones about x and y, each translation with a
+    /// component along its joint's axis.
+    fn tree(g: &mut Graph) -> Tree {
+        let n = |g: &mut Graph, x: i128| g.num(Num::ratio(x, 1000));
+        let (zero, one) = (g.int(0), g.int(1));
+        let minus = g.int(-1);
+        let e = |k: usize| {
+            let mut v = [zero; 3];
+            v[k] = one;
+            v
+        };
+        let quarter_x = [[one, zero, zero], [zero, zero, minus], [zero, one, zero]];
+        let identity = spatial::identity(g);
+        let specs: [(Option<usize>, JointKind, usize, M3Spec, [i128; 3]); 4] = [
+            (
+                None,
+                JointKind::Revolute,
+                2,
+                M3Spec::Identity,
+                [30, 40, 333],
+            ),
+            (
+                Some(0),
+                JointKind::Prismatic,
+                1,
+                M3Spec::QuarterX,
+                [0, -316, 50],
+            ),
+            (
+                Some(1),
+                JointKind::Revolute,
+                0,
+                M3Spec::Identity,
+                [82, 20, -10],
+            ),
+            (
+                Some(1),
+                JointKind::Revolute,
+                1,
+                M3Spec::Identity,
+                [-40, 384, 25],
+            ),
+        ];
+        let bodies = specs
+            .iter()
+            .enumerate()
+            .map(|(i, &(parent, kind, axis, rotation, xyz))| {
+                let k = i as i128;
+                let mass = n(g, 1200 + 100 * k);
+                let com = [n(g, 13 + k), n(g, -27), n(g, 41 - 5 * k)];
+                let about = [[310, 7, -3], [7, 388, 8], [-3, 8, 428]].map(|r| r.map(|x| n(g, x)));
+                Body {
+                    name: format!("b{i}"),
+                    parent,
+                    placement: Placement {
+                        rotation: match rotation {
+                            M3Spec::Identity => identity,
+                            M3Spec::QuarterX => quarter_x,
+                        },
+                        translation: xyz.map(|x| n(g, x)),
+                    },
+                    joint: Joint::new(kind, i, e(axis)),
+                    inertia: Inertia::from_com(g, mass, com, &about),
+                    slid: None,
+                }
+            })
+            .collect();
+        let gravity = [zero, zero, n(g, -9810)];
+        Tree { bodies, gravity }
+    }
+
+    #[derive(Clone, Copy)]
+    enum M3Spec {
+        Identity,
+        QuarterX,
+    }
+
+    fn values(g: &Graph, d: &Dynamics) -> Vec<f64> {
+        let roots: Vec<Id> = d
+            .mass
+            .iter()
+            .flatten()
+            .chain(&d.bias)
+            .chain(&d.inverse)
+            .copied()
+            .collect();
+        g.eval(&roots, &|s| match s {
+            Sym::Coord(k) => 0.4 - 0.3 * k as f64,
+            Sym::Vel(k) => 0.7 + 0.2 * k as f64,
+            Sym::Accel(k) => -0.5 + 0.35 * k as f64,
+            _ => 0.0,
+        })
+    }
+
+    /// The slid tree empties translations, keeps every joint's motion and
+    /// costs fewer operations, and `M`, the bias forces and `τ` are the
+    /// same numbers.
+    #[test]
+    fn sliding_keeps_the_dynamics_and_empties_translations() {
+        let mut g = Graph::new();
+        let plain = tree(&mut g);
+        let moved = slid(&mut g, &plain).expect("translations along the axes");
+        let zeros = |t: &Tree| {
+            t.bodies
+                .iter()
+                .flat_map(|b| b.placement.translation)
+                .filter(|&x| g.is_zero(x))
+                .count()
+        };
+        assert!(zeros(&moved) > zeros(&plain), "no translation emptied");
+        let (a, b) = (
+            recursion_dynamics(&mut g, &plain),
+            recursion_dynamics(&mut g, &moved),
+        );
+        let (want, got) = (values(&g, &a), values(&g, &b));
+        for (w, x) in want.iter().zip(&got) {
+            assert!(
+                (w - x).abs() <= 1e-13 * w.abs().max(1.0),
+                "{want:?} {got:?}"
+            );
+        }
+        assert!(operations(&g, &b) < operations(&g, &a));
+        let (kept, _) = dynamics(&mut g, plain, 4);
+        assert!(kept.bodies.iter().any(|b| b.slid.is_some()));
+    }
+
+    fn recursion_dynamics(g: &mut Graph, t: &Tree) -> Dynamics {
+        crate::bodies::recursion::dynamics(g, t, 4)
+    }
+}
