@@ -12,7 +12,10 @@
 //! points along a coordinate axis costs two products in every cross
 //! product `p × f` that carries a column of `M` or a body's force through
 //! it, one along two axes five and a dense one nine; sliding a frame can
-//! empty a component of its own translation or of a child's.
+//! empty a component of its own translation or of a child's. A slide that
+//! empties one component by filling another further down the chain can
+//! lower that count and still make slower code (more values live at once,
+//! more of them spilled), so a frame slides only where it fills none.
 //!
 //! Only the dynamics' tree slides ([`dynamics`]): the quantities taken
 //! from it are functions of the coordinates alone. Frames, points and the
@@ -118,8 +121,9 @@ fn cross_cost(g: &Graph, p: V3) -> usize {
 /// The tree with frames slid where that makes the translations cheaper by
 /// [`cross_cost`], weighted by how many columns of `M` cross each (a
 /// body's subtree, and two for the bias forces; none for a body on the
-/// world, whose placement nothing carries across); `None` where no frame
-/// moves or where sliding would change a free base.
+/// world, whose placement nothing carries across), and makes no zero
+/// component of a translation nonzero; `None` where no frame moves or
+/// where sliding would change a free base.
 pub fn slid(g: &mut Graph, tree: &Tree) -> Option<Tree> {
     let bodies = &tree.bodies;
     let count = bodies.len();
@@ -166,6 +170,16 @@ pub fn slid(g: &mut Graph, tree: &Tree) -> Option<Tree> {
             })
             .sum()
     };
+    // Whether sliding body `i` from `slide` to `other` makes a component
+    // of its translation or a child's nonzero that was zero.
+    let fills = |g: &mut Graph, slide: &[Id], other: &[Id], i: usize| -> bool {
+        std::iter::once(i)
+            .chain(children[i].iter().copied())
+            .any(|k| {
+                let (before, after) = (translation(g, slide, k), translation(g, other, k));
+                (0..3).any(|c| g.is_zero(before[c]) && !g.is_zero(after[c]))
+            })
+    };
     // Each sweep moves a frame only where that lowers the cost, which
     // is bounded below; a few sweeps settle the chains that exist.
     for _ in 0..4 {
@@ -197,7 +211,7 @@ pub fn slid(g: &mut Graph, tree: &Tree) -> Option<Tree> {
                 let mut s = slide.clone();
                 s[i] = t;
                 let cost = local(g, &s, i);
-                if cost < best.0 {
+                if cost < best.0 && !fills(g, &slide, &s, i) {
                     best = (cost, t);
                 }
             }
@@ -247,7 +261,9 @@ mod tests {
     /// A branched tree of exact decimals: a revolute joint about z on the
     /// world, a prismatic one along y below it placed a right angle about
     /// x, then two revolute ones about x and y, each translation with a
-    /// component along its joint's axis.
+    /// component along its joint's axis, and below the one about x another
+    /// about y on a translation without an x component, which emptying the
+    /// x of its parent's translation would fill.
     fn tree(g: &mut Graph) -> Tree {
         let n = |g: &mut Graph, x: i128| g.num(Num::ratio(x, 1000));
         let (zero, one) = (g.int(0), g.int(1));
@@ -259,7 +275,7 @@ mod tests {
         };
         let quarter_x = [[one, zero, zero], [zero, zero, minus], [zero, one, zero]];
         let identity = spatial::identity(g);
-        let specs: [(Option<usize>, JointKind, usize, M3Spec, [i128; 3]); 4] = [
+        let specs: [(Option<usize>, JointKind, usize, M3Spec, [i128; 3]); 5] = [
             (
                 None,
                 JointKind::Revolute,
@@ -287,6 +303,13 @@ mod tests {
                 1,
                 M3Spec::Identity,
                 [-40, 384, 25],
+            ),
+            (
+                Some(2),
+                JointKind::Revolute,
+                1,
+                M3Spec::Identity,
+                [0, 50, 30],
             ),
         ];
         let bodies = specs
@@ -356,6 +379,14 @@ mod tests {
                 .count()
         };
         assert!(zeros(&moved) > zeros(&plain), "no translation emptied");
+        for (before, after) in plain.bodies.iter().zip(&moved.bodies) {
+            let (b, a) = (before.placement.translation, after.placement.translation);
+            assert!(
+                (0..3).all(|c| !g.is_zero(b[c]) || g.is_zero(a[c])),
+                "`{}`: a zero component filled",
+                before.name
+            );
+        }
         let (a, b) = (
             recursion_dynamics(&mut g, &plain),
             recursion_dynamics(&mut g, &moved),
@@ -368,11 +399,11 @@ mod tests {
             );
         }
         assert!(operations(&g, &b) < operations(&g, &a));
-        let (kept, _) = dynamics(&mut g, plain, 4);
+        let (kept, _) = dynamics(&mut g, plain, 5);
         assert!(kept.bodies.iter().any(|b| b.slid.is_some()));
     }
 
     fn recursion_dynamics(g: &mut Graph, t: &Tree) -> Dynamics {
-        crate::bodies::recursion::dynamics(g, t, 4)
+        crate::bodies::recursion::dynamics(g, t, 5)
     }
 }
