@@ -275,7 +275,7 @@ mod tests {
         };
         let quarter_x = [[one, zero, zero], [zero, zero, minus], [zero, one, zero]];
         let identity = spatial::identity(g);
-        let specs: [(Option<usize>, JointKind, usize, M3Spec, [i128; 3]); 5] = [
+        let specs: [Spec; 5] = [
             (
                 None,
                 JointKind::Revolute,
@@ -339,6 +339,10 @@ mod tests {
         let gravity = [zero, zero, n(g, -9810)];
         Tree { bodies, gravity }
     }
+
+    /// A body: its parent, joint kind, axis, placement's rotation and
+    /// translation in thousandths.
+    type Spec = (Option<usize>, JointKind, usize, M3Spec, [i128; 3]);
 
     #[derive(Clone, Copy)]
     enum M3Spec {
