@@ -110,128 +110,164 @@ fn cross_cost(g: &Graph, p: V3) -> usize {
 /// component of a translation nonzero; `None` where no frame moves or
 /// where sliding would change a free base.
 pub fn slid(g: &mut Graph, tree: &Tree) -> Option<Tree> {
-    let bodies = &tree.bodies;
-    let count = bodies.len();
-    let mut children = vec![Vec::new(); count];
-    for (i, b) in bodies.iter().enumerate() {
-        if let Some(p) = b.parent {
-            children.get_mut(p)?.push(i);
-        }
+    let slider = Slider::new(g, &tree.bodies)?;
+    let slide = slider.settle(g);
+    if slide.iter().all(|&t| g.is_zero(t)) {
+        return None;
     }
-    let mut size = vec![1usize; count];
-    for i in (0..count).rev() {
-        if let Some(p) = bodies[i].parent {
-            size[p] += size[i];
+    let out = slider.apply(g, tree, &slide);
+    let bases = |g: &Graph, t: &[Body]| -> Vec<Option<usize>> {
+        (0..t.len())
+            .map(|i| super::free::free_base_in_tree(g, t, i))
+            .collect()
+    };
+    (bases(g, &out.bodies) == bases(g, &tree.bodies)).then_some(out)
+}
+
+/// What the choice of slides reads of a tree: each body's children, the
+/// weight of its translation and how it may slide.
+struct Slider<'t> {
+    bodies: &'t [Body],
+    children: Vec<Vec<usize>>,
+    weight: Vec<usize>,
+    along: Vec<Option<Along>>,
+}
+
+impl<'t> Slider<'t> {
+    fn new(g: &mut Graph, bodies: &'t [Body]) -> Option<Slider<'t>> {
+        let count = bodies.len();
+        let mut children = vec![Vec::new(); count];
+        for (i, b) in bodies.iter().enumerate() {
+            if let Some(p) = b.parent {
+                children.get_mut(p)?.push(i);
+            }
         }
+        // Parents come before their children: one pass from the leaves.
+        let mut size = vec![1usize; count];
+        for i in (0..count).rev() {
+            if let Some(p) = bodies[i].parent {
+                size[p] += size[i];
+            }
+        }
+        let weight = (0..count)
+            .map(|i| bodies[i].parent.map_or(0, |_| size[i] + 2))
+            .collect();
+        let along = (0..count)
+            .map(|i| along(g, bodies, &children[i], i))
+            .collect();
+        Some(Slider {
+            bodies,
+            children,
+            weight,
+            along,
+        })
     }
-    let weight: Vec<usize> = (0..count)
-        .map(|i| bodies[i].parent.map_or(0, |_| size[i] + 2))
-        .collect();
-    let along: Vec<Option<Along>> = (0..count)
-        .map(|i| along(g, bodies, &children[i], i))
-        .collect();
-    let zero = g.int(0);
-    let mut slide = vec![zero; count];
-    // A body's translation with its parent's and its own slide.
-    let translation = |g: &mut Graph, slide: &[Id], k: usize| -> V3 {
-        let mut p = bodies[k].placement.translation;
-        if let Some(a) = bodies[k].parent.and_then(|j| along[j].map(|a| (j, a))) {
-            let (j, a) = a;
+
+    /// Body `i` and its children: the translations its slide moves.
+    fn family(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
+        std::iter::once(i).chain(self.children[i].iter().copied())
+    }
+
+    /// Body `k`'s translation with its parent's and its own slide.
+    fn translation(&self, g: &mut Graph, slide: &[Id], k: usize) -> V3 {
+        let mut p = self.bodies[k].placement.translation;
+        let parent = self.bodies[k].parent;
+        if let Some((j, a)) = parent.and_then(|j| self.along[j].map(|a| (j, a))) {
             let by = g.mul2(slide[j], a.sign);
             p[a.axis] = g.sub(p[a.axis], by);
         }
-        if let Some(a) = along[k] {
+        if let Some(a) = self.along[k] {
             let by = g.mul2(slide[k], a.image_sign);
             p[a.image] = g.add2(p[a.image], by);
         }
         p
-    };
-    let local = |g: &mut Graph, slide: &[Id], i: usize| -> usize {
-        std::iter::once(i)
-            .chain(children[i].iter().copied())
+    }
+
+    /// The weighted cost of the translations body `i`'s slide moves.
+    fn cost(&self, g: &mut Graph, slide: &[Id], i: usize) -> usize {
+        self.family(i)
             .map(|k| {
-                let p = translation(g, slide, k);
-                weight[k] * cross_cost(g, p)
+                let p = self.translation(g, slide, k);
+                self.weight[k] * cross_cost(g, p)
             })
             .sum()
-    };
-    // Whether sliding body `i` from `slide` to `other` makes a component
-    // of its translation or a child's nonzero that was zero.
-    let fills = |g: &mut Graph, slide: &[Id], other: &[Id], i: usize| -> bool {
-        std::iter::once(i)
-            .chain(children[i].iter().copied())
-            .any(|k| {
-                let (before, after) = (translation(g, slide, k), translation(g, other, k));
-                (0..3).any(|c| g.is_zero(before[c]) && !g.is_zero(after[c]))
-            })
-    };
-    // Each sweep moves a frame only where that lowers the cost, which
-    // is bounded below; a few sweeps settle the chains that exist.
-    for _ in 0..4 {
-        let mut moved = false;
-        for i in 0..count {
-            let Some(a) = along[i] else { continue };
-            // The slides that empty the component along the axis of the
-            // body's own translation or of a child's.
-            let mut candidates = vec![zero];
-            let own = translation(
-                g,
-                &{
-                    let mut s = slide.clone();
-                    s[i] = zero;
-                    s
-                },
-                i,
-            );
-            let t = g.mul2(own[a.image], a.image_sign);
-            candidates.push(g.neg(t));
-            for &k in &children[i] {
-                let mut s = slide.clone();
-                s[i] = zero;
-                let p = translation(g, &s, k);
-                candidates.push(g.mul2(p[a.axis], a.sign));
-            }
-            let mut best = (local(g, &slide, i), slide[i]);
-            for t in candidates {
-                let mut s = slide.clone();
-                s[i] = t;
-                let cost = local(g, &s, i);
-                if cost < best.0 && !fills(g, &slide, &s, i) {
-                    best = (cost, t);
+    }
+
+    /// Whether sliding body `i` as `other` has it makes a component of
+    /// its translation or a child's nonzero that is zero under `slide`.
+    fn fills(&self, g: &mut Graph, slide: &[Id], other: &[Id], i: usize) -> bool {
+        self.family(i).any(|k| {
+            let before = self.translation(g, slide, k);
+            let after = self.translation(g, other, k);
+            (0..3).any(|c| g.is_zero(before[c]) && !g.is_zero(after[c]))
+        })
+    }
+
+    /// Body `i`'s slides worth trying: none, and each that empties the
+    /// component along its axis of its own translation or of a child's.
+    fn candidates(&self, g: &mut Graph, slide: &[Id], i: usize, a: Along) -> Vec<Id> {
+        let zero = g.int(0);
+        let mut unslid = slide.to_vec();
+        unslid[i] = zero;
+        let own = self.translation(g, &unslid, i);
+        let t = g.mul2(own[a.image], a.image_sign);
+        let mut out = vec![zero, g.neg(t)];
+        for &k in &self.children[i] {
+            let p = self.translation(g, &unslid, k);
+            out.push(g.mul2(p[a.axis], a.sign));
+        }
+        out
+    }
+
+    /// Each body's slide: sweeps that move a frame only where that lowers
+    /// the cost and fills nothing. The cost is bounded below, and a few
+    /// sweeps settle the chains that exist.
+    fn settle(&self, g: &mut Graph) -> Vec<Id> {
+        let zero = g.int(0);
+        let mut slide = vec![zero; self.bodies.len()];
+        for _ in 0..4 {
+            let mut moved = false;
+            for i in 0..slide.len() {
+                let Some(a) = self.along[i] else { continue };
+                let mut best = (self.cost(g, &slide, i), slide[i]);
+                for t in self.candidates(g, &slide, i, a) {
+                    let mut other = slide.clone();
+                    other[i] = t;
+                    let cost = self.cost(g, &other, i);
+                    if cost < best.0 && !self.fills(g, &slide, &other, i) {
+                        best = (cost, t);
+                    }
+                }
+                if best.1 != slide[i] {
+                    slide[i] = best.1;
+                    moved = true;
                 }
             }
-            if best.1 != slide[i] {
-                slide[i] = best.1;
-                moved = true;
+            if !moved {
+                break;
             }
         }
-        if !moved {
-            break;
+        slide
+    }
+
+    /// `tree` with `slide` applied: translations moved, and each slid
+    /// body's inertia about its new origin.
+    fn apply(&self, g: &mut Graph, tree: &Tree, slide: &[Id]) -> Tree {
+        let mut out = tree.clone();
+        for (k, body) in out.bodies.iter_mut().enumerate() {
+            body.placement.translation = self.translation(g, slide, k);
+            if let Some(a) = self.along[k].filter(|_| !g.is_zero(slide[k])) {
+                // The old frame sits at `−t a` in the new one.
+                let mut back = spatial::zero(g);
+                let by = g.mul2(slide[k], a.sign);
+                back[a.axis] = g.neg(by);
+                let identity = spatial::identity(g);
+                body.inertia = self.bodies[k].inertia.to_parent(g, &identity, back);
+                body.slid = Some(slide[k]);
+            }
         }
+        out
     }
-    if slide.iter().all(|&t| g.is_zero(t)) {
-        return None;
-    }
-    let mut out = tree.clone();
-    for k in 0..count {
-        out.bodies[k].placement.translation = translation(g, &slide, k);
-        if let Some(a) = along[k].filter(|_| !g.is_zero(slide[k])) {
-            // The contents about the new origin, `t a` from the old: the
-            // old frame sits at `−t a` in the new one.
-            let mut back = spatial::zero(g);
-            let by = g.mul2(slide[k], a.sign);
-            back[a.axis] = g.neg(by);
-            let identity = spatial::identity(g);
-            out.bodies[k].inertia = bodies[k].inertia.to_parent(g, &identity, back);
-            out.bodies[k].slid = Some(slide[k]);
-        }
-    }
-    let bases = |g: &Graph, t: &[Body]| -> Vec<Option<usize>> {
-        (0..count)
-            .map(|i| super::free::free_base_in_tree(g, t, i))
-            .collect()
-    };
-    (bases(g, &out.bodies) == bases(g, bodies)).then_some(out)
 }
 
 #[cfg(test)]
@@ -242,6 +278,45 @@ mod tests {
     use crate::bodies::Placement;
     use crate::expr::num::Num;
     use crate::expr::Sym;
+
+    /// The bodies of [`tree`].
+    const SPECS: [Spec; 5] = [
+        (
+            None,
+            JointKind::Revolute,
+            2,
+            M3Spec::Identity,
+            [30, 40, 333],
+        ),
+        (
+            Some(0),
+            JointKind::Prismatic,
+            1,
+            M3Spec::QuarterX,
+            [0, -316, 50],
+        ),
+        (
+            Some(1),
+            JointKind::Revolute,
+            0,
+            M3Spec::Identity,
+            [82, 20, -10],
+        ),
+        (
+            Some(1),
+            JointKind::Revolute,
+            1,
+            M3Spec::Identity,
+            [-40, 384, 25],
+        ),
+        (
+            Some(2),
+            JointKind::Revolute,
+            1,
+            M3Spec::Identity,
+            [0, 50, 30],
+        ),
+    ];
 
     /// A branched tree of exact decimals: a revolute joint about z on the
     /// world, a prismatic one along y below it placed a right angle about
@@ -260,44 +335,7 @@ mod tests {
         };
         let quarter_x = [[one, zero, zero], [zero, zero, minus], [zero, one, zero]];
         let identity = spatial::identity(g);
-        let specs: [Spec; 5] = [
-            (
-                None,
-                JointKind::Revolute,
-                2,
-                M3Spec::Identity,
-                [30, 40, 333],
-            ),
-            (
-                Some(0),
-                JointKind::Prismatic,
-                1,
-                M3Spec::QuarterX,
-                [0, -316, 50],
-            ),
-            (
-                Some(1),
-                JointKind::Revolute,
-                0,
-                M3Spec::Identity,
-                [82, 20, -10],
-            ),
-            (
-                Some(1),
-                JointKind::Revolute,
-                1,
-                M3Spec::Identity,
-                [-40, 384, 25],
-            ),
-            (
-                Some(2),
-                JointKind::Revolute,
-                1,
-                M3Spec::Identity,
-                [0, 50, 30],
-            ),
-        ];
-        let bodies = specs
+        let bodies = SPECS
             .iter()
             .enumerate()
             .map(|(i, &(parent, kind, axis, rotation, xyz))| {
