@@ -373,29 +373,25 @@ mod tests {
         QuarterX,
     }
 
-    /// The operations of `M`, the bias forces and `τ`.
-    fn operations(g: &Graph, d: &Dynamics) -> usize {
-        let roots: Vec<Id> = d
-            .mass
+    /// `M`, the bias forces and `τ`, entry by entry.
+    fn roots(d: &Dynamics) -> Vec<Id> {
+        d.mass
             .iter()
             .flatten()
             .chain(&d.bias)
             .chain(&d.inverse)
             .copied()
-            .collect();
-        crate::expr::squares::operations(g, &roots)
+            .collect()
     }
 
+    /// The operations of `M`, the bias forces and `τ`.
+    fn operations(g: &Graph, d: &Dynamics) -> usize {
+        crate::expr::squares::operations(g, &roots(d))
+    }
+
+    /// Their values at one state.
     fn values(g: &Graph, d: &Dynamics) -> Vec<f64> {
-        let roots: Vec<Id> = d
-            .mass
-            .iter()
-            .flatten()
-            .chain(&d.bias)
-            .chain(&d.inverse)
-            .copied()
-            .collect();
-        g.eval(&roots, &|s| match s {
+        g.eval(&roots(d), &|s| match s {
             Sym::Coord(k) => 0.4 - 0.3 * k as f64,
             Sym::Vel(k) => 0.7 + 0.2 * k as f64,
             Sym::Accel(k) => -0.5 + 0.35 * k as f64,
