@@ -51,6 +51,7 @@ mod reduced_tangent;
 mod rigid_body;
 mod robustness;
 mod rotations;
+mod slid_frames;
 mod spherical;
 mod stick_slip;
 mod urdf_as_written;
