@@ -16,20 +16,18 @@ use constrained_codegen::{expand_with, Options};
 /// are, where that empties a translation) finds nothing to empty: the
 /// chain with a turned frame and the one without differ in the turn only.
 fn chain(turned: usize, rpy: [f64; 3]) -> String {
-    let axes = [
-        "[0.0, 0.0, 1.0]",
-        "[0.0, 1.0, 0.0]",
-        "[1.0, 0.0, 0.0]",
-        "[0.0, 1.0, 0.0]",
-    ];
     let axis = |k: usize| [2, 1, 0, 1][(k - 1) % 4];
+    // `value` along coordinate axis `c`, as the DSL writes a vector.
+    let along = |c: usize, value: f64| {
+        let mut p = [0.0; 3];
+        p[c] = value;
+        format!("[{:?}, {:?}, {:?}]", p[0], p[1], p[2])
+    };
     let xyz = |k: usize| {
         let own = axis(k);
         let parent = if k == 1 { own } else { axis(k - 1) };
         let free = (0..3).find(|&c| c != own && c != parent).unwrap_or(0);
-        let mut p = [0.0; 3];
-        p[free] = 0.2;
-        format!("[{:?}, {:?}, {:?}]", p[0], p[1], p[2])
+        along(free, 0.2)
     };
     let inputs: Vec<String> = (1..=8).map(|k| format!("u{k}")).collect();
     let mut bodies = String::new();
@@ -48,7 +46,7 @@ fn chain(turned: usize, rpy: [f64; 3]) -> String {
             "l{k} {{ {parent} joint: revolute(q{k}, {axis}), xyz: {xyz}, {turn}
                 mass: 1.{k}, com: [0.01, 0.02, -0.03],
                 inertia: [[0.01, 0.001, 0.002], [0.001, 0.02, 0.003], [0.002, 0.003, 0.03]] }},",
-            axis = axes[(k - 1) % 4],
+            axis = along(axis(k), 1.0),
             xyz = xyz(k),
         ));
     }

@@ -64,6 +64,17 @@ impl JointKind {
         }
     }
 
+    /// Whether the joint's motion commutes with a translation along its
+    /// axis (a turn about it, a slide or a screw along it), so that its
+    /// child's frame may move along the axis without changing the dynamics
+    /// ([`super::slide`]).
+    pub fn commutes_along_axis(self) -> bool {
+        match self {
+            JointKind::Revolute | JointKind::Prismatic | JointKind::Helical { .. } => true,
+            JointKind::Quaternion => false,
+        }
+    }
+
     /// Whether the joint turns its child about its axis.
     fn turns_about_axis(self) -> bool {
         matches!(self, JointKind::Revolute | JointKind::Helical { .. })

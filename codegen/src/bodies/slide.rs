@@ -17,11 +17,11 @@
 //! lower that count and still make slower code (more values live at once,
 //! more of them spilled), so a frame slides only where it fills none.
 //!
-//! Only the dynamics' tree slides ([`dynamics`]): the quantities taken
-//! from it are functions of the coordinates alone. Frames, points and the
-//! centre of mass are placed from the bodies as described.
+//! Only what is a function of the coordinates alone is computed on a slid
+//! tree: the dynamics ([`dynamics`]) and the rate of the total momentum
+//! (`super::kinematics`). Frames, points and the centre of mass are placed
+//! from the bodies as described.
 
-use super::joint::JointKind;
 use super::spatial::{self, V3};
 use super::{Body, Dynamics, Tree};
 use crate::expr::{Graph, Id};
@@ -29,9 +29,8 @@ use crate::expr::{Graph, Id};
 /// `M`, the bias forces and `τ` of `tree` with its frames slid
 /// ([`slid`]), and that tree. A slide only empties components of
 /// translations and fills none, so no cross product it touches gains a
-/// product: on the 41 files of example-robot-data where some frame slides,
-/// 33 cost fewer operations and 8 as many, none more. Costing both trees'
-/// recursions to choose would take the macro's time twice over for that.
+/// product, and the slid tree is taken without costing both trees'
+/// recursions, which would run them twice.
 pub fn dynamics(g: &mut Graph, tree: Tree, n: usize) -> (Tree, Dynamics) {
     let tree = slid(g, &tree).unwrap_or(tree);
     let d = super::recursion::dynamics(g, &tree, n);
@@ -72,9 +71,8 @@ fn unit(g: &Graph, v: V3) -> Option<(usize, Id)> {
 /// mass and first moment constants.
 fn along(g: &mut Graph, bodies: &[Body], children: &[usize], i: usize) -> Option<Along> {
     let body = &bodies[i];
-    match body.joint.kind {
-        JointKind::Revolute | JointKind::Prismatic | JointKind::Helical { .. } => {}
-        JointKind::Quaternion => return None,
+    if !body.joint.kind.commutes_along_axis() {
+        return None;
     }
     let constant = |g: &Graph, v: &V3| v.iter().all(|&x| g.as_num(x).is_some());
     if !constant(g, &body.placement.translation)
@@ -273,7 +271,7 @@ impl<'t> Slider<'t> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bodies::joint::Joint;
+    use crate::bodies::joint::{Joint, JointKind};
     use crate::bodies::spatial::Inertia;
     use crate::bodies::Placement;
     use crate::expr::num::Num;
