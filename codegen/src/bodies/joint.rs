@@ -76,7 +76,7 @@ impl JointKind {
     }
 
     /// Whether the joint turns its child about its axis.
-    fn turns_about_axis(self) -> bool {
+    pub(super) fn turns_about_axis(self) -> bool {
         matches!(self, JointKind::Revolute | JointKind::Helical { .. })
     }
 }
@@ -103,6 +103,10 @@ pub struct Joint {
     pub axis: V3,
     /// `Some`: the joint has no coordinate of its own.
     pub mimic: Option<Mimic>,
+    /// `Some(θ₀)`: a constant turn about the axis added to the joint's
+    /// angle, `R_J = R(θ₀ + qᵢ)`: its joint frame's turn about the same
+    /// axis folded in ([`super::turn`]). `None` for a joint as described.
+    pub turn: Option<Id>,
 }
 
 impl Joint {
@@ -113,6 +117,7 @@ impl Joint {
             coordinate,
             axis,
             mimic: None,
+            turn: None,
         }
     }
 
@@ -133,6 +138,13 @@ impl Joint {
         let q = match self.mimic {
             Some(m) => mimic_value(&number(m.multiplier), &names.join(""), &number(m.offset)),
             None => names.join(""),
+        };
+        let q = match self.turn {
+            Some(t) => format!(
+                "{q}, turned by {q} + {} (its joint frame's constant turn about the axis folded in)",
+                number(t)
+            ),
+            None => q,
         };
         let axis = vector(self.axis);
         match self.kind {
@@ -172,6 +184,9 @@ pub struct JointState {
     joint: Joint,
     /// The joint's value `qᵢ` (`m q + o` for a mimic).
     pub value: Id,
+    /// The angle it turns its child by: `value`, plus a folded turn
+    /// ([`Joint::turn`]).
+    angle: Id,
     /// `sin qᵢ`, `cos qᵢ` for a joint that turns about its axis.
     sin_cos: (Id, Id),
     /// A quaternion joint's coordinates and `R(q)`.
@@ -194,8 +209,12 @@ impl JointState {
 
     /// The joint held at the value `value`: a mimic of a locked joint.
     pub fn at(g: &mut Graph, joint: Joint, value: Id) -> JointState {
+        let angle = match joint.turn {
+            Some(t) if joint.kind.turns_about_axis() => g.add2(value, t),
+            _ => value,
+        };
         let sin_cos = if joint.kind.turns_about_axis() {
-            spatial::sin_cos(g, value)
+            spatial::sin_cos(g, angle)
         } else {
             (g.int(0), g.int(1))
         };
@@ -206,6 +225,7 @@ impl JointState {
         JointState {
             joint,
             value,
+            angle,
             sin_cos,
             quaternion,
         }
@@ -339,7 +359,7 @@ impl JointState {
         let rotation = match self.quaternion {
             Some((_, r)) => r,
             None if self.joint.kind.turns_about_axis() => {
-                spatial::axis_angle(g, self.joint.axis, self.value)
+                spatial::axis_angle(g, self.joint.axis, self.angle)
             }
             None => spatial::identity(g),
         };

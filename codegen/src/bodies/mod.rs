@@ -30,6 +30,7 @@ pub(crate) mod recursion;
 pub(crate) mod reference;
 pub(crate) mod slide;
 pub(crate) mod spatial;
+pub(crate) mod turn;
 
 use crate::expr::{Graph, Id};
 pub use joint::{Joint, JointKind, Mimic};

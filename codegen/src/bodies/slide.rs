@@ -32,6 +32,9 @@ use crate::expr::{Graph, Id};
 /// product, and the slid tree is taken without costing both trees'
 /// recursions, which would run them twice.
 pub fn dynamics(g: &mut Graph, tree: Tree, n: usize) -> (Tree, Dynamics) {
+    // Turns folded first: a frame no longer turned about its axis slides
+    // where its axis's image in the parent is then a coordinate axis.
+    let tree = super::turn::folded(g, &tree).unwrap_or(tree);
     let tree = slid(g, &tree).unwrap_or(tree);
     let d = super::recursion::dynamics(g, &tree, n);
     (tree, d)
@@ -50,7 +53,7 @@ struct Along {
 
 /// The coordinate axis `v` points along and its sign, where `v` is `±eₖ`
 /// exactly.
-fn unit(g: &Graph, v: V3) -> Option<(usize, Id)> {
+pub(super) fn unit(g: &Graph, v: V3) -> Option<(usize, Id)> {
     let mut found = None;
     for (k, &x) in v.iter().enumerate() {
         let value = g.as_num(x)?;
