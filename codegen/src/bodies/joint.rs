@@ -141,8 +141,8 @@ impl Joint {
         };
         let q = match self.turn {
             Some(t) => format!(
-                "{q}, turned by {q} + {} (its joint frame's constant turn about the axis folded in)",
-                number(t)
+                "{q}, turning its child by {} (constant turns about the axis folded in)",
+                mimic_value("1", &q, &number(t))
             ),
             None => q,
         };

@@ -469,9 +469,10 @@ fn centroidal(g: &mut Graph, composites: &Composites, c: &V3, n: usize) -> (Vec<
             accumulate(g, &mut map, k, linear.iter().chain(&angular));
         }
     }
-    // The rate does not depend on the bodies' frames: slid where that
-    // empties translations ([`super::slide`]), it costs fewer operations.
-    let slid = super::slide::slid(g, &composites.tree);
+    // The rate does not depend on the bodies' frames: turned and slid
+    // where that saves products ([`super::slide::reframed`]), it costs
+    // fewer operations.
+    let slid = super::slide::reframed(g, &composites.tree);
     let rate = super::recursion::momentum_rate(g, slid.as_ref().unwrap_or(&composites.tree), n);
     (map, about_center(g, rate, c).to_vec())
 }

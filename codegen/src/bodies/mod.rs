@@ -131,6 +131,10 @@ pub struct Body {
     /// How far its frame is slid along its joint's axis from the frame
     /// described ([`slide`]); `None`: not slid.
     pub slid: Option<Id>,
+    /// How far its frame is turned about its joint's axis from the frame
+    /// described, its child's joint frame's turn taken up
+    /// ([`turn`]); `None`: not turned.
+    pub turned: Option<Id>,
 }
 
 /// What `parent` stands for once the bodies fixed to the world at its own
@@ -189,6 +193,7 @@ impl Tree {
                         joint,
                         inertia: d.inertia,
                         slid: None,
+                        turned: None,
                     });
                     frames.push((Some(bodies.len() - 1), Placement::identity(g)));
                 }

@@ -26,18 +26,26 @@ use super::spatial::{self, V3};
 use super::{Body, Dynamics, Tree};
 use crate::expr::{Graph, Id};
 
-/// `M`, the bias forces and `τ` of `tree` with its frames slid
-/// ([`slid`]), and that tree. A slide only empties components of
-/// translations and fills none, so no cross product it touches gains a
-/// product, and the slid tree is taken without costing both trees'
-/// recursions, which would run them twice.
+/// `M`, the bias forces and `τ` of `tree` with its frames [`reframed`],
+/// and that tree. A slide only empties components of translations and
+/// fills none, so no cross product it touches gains a product, and the
+/// slid tree is taken without costing both trees' recursions, which would
+/// run them twice.
 pub fn dynamics(g: &mut Graph, tree: Tree, n: usize) -> (Tree, Dynamics) {
-    // Turns folded first: a frame no longer turned about its axis slides
-    // where its axis's image in the parent is then a coordinate axis.
-    let tree = super::turn::folded(g, &tree).unwrap_or(tree);
-    let tree = slid(g, &tree).unwrap_or(tree);
+    let tree = reframed(g, &tree).unwrap_or(tree);
     let d = super::recursion::dynamics(g, &tree, n);
     (tree, d)
+}
+
+/// `tree` with its frames' turns about their joints' axes folded into the
+/// joints' angles ([`super::turn`]), then its frames slid ([`slid`]);
+/// `None` where neither changes a frame. Turns go first: a frame no longer
+/// turned about its axis slides where its axis's image in the parent is
+/// then a coordinate axis.
+pub fn reframed(g: &mut Graph, tree: &Tree) -> Option<Tree> {
+    let folded = super::turn::folded(g, tree);
+    let base = folded.as_ref().unwrap_or(tree);
+    slid(g, base).or(folded)
 }
 
 /// How a body's frame may slide: its joint's axis along coordinate axis
@@ -357,6 +365,7 @@ mod tests {
                     joint: Joint::new(kind, i, e(axis)),
                     inertia: Inertia::from_com(g, mass, com, &about),
                     slid: None,
+                    turned: None,
                 }
             })
             .collect();

@@ -12,6 +12,16 @@
 //! about the axis it turns about (the Unitree G1's knees, by 0.1749 about
 //! `y`, and its shoulder rolls, by ∓0.27925 about `x`).
 //!
+//! A joint frame turned about its *parent's* joint axis, its parent's only
+//! child, is taken up ([`up`]): the parent's frame is turned by the same
+//! angle about its own axis instead, so that the parent's angle carries
+//! the turn, its inertia is taken in the turned axes and the child's joint
+//! frame is placed at `R_pᵀ p` with no turn (the G1's hip rolls, turned
+//! 0.1749 about `y` in the hip pitch links, which turn about `y`). The
+//! child's translation may gain a component (at most four products more
+//! in each cross product through it), where the turn cost six on every
+//! 3-vector.
+//!
 //! Decided on the constants exactly: `a` is `±eₖ`, `R_p`'s row and column
 //! `k` are `eₖ`, its other block is `[[c, −s], [s, c]]` of two numbers
 //! neither of which is zero (a right angle's turn costs nothing: its
@@ -27,13 +37,22 @@ use crate::expr::num::Num;
 use crate::expr::{Graph, Id};
 
 /// `tree` with every joint frame's turn about its joint's own axis folded
-/// into the joint's angle; `None` where no frame has one.
+/// into the joint's angle, and a single child's turn about its parent's
+/// axis taken up into the parent's ([`up`]); `None` where no frame has
+/// either.
 pub fn folded(g: &mut Graph, tree: &Tree) -> Option<Tree> {
     let mut bodies = tree.bodies.clone();
     let mut any = false;
+    for c in 0..bodies.len() {
+        any |= up(g, &mut bodies, c);
+    }
     for body in &mut bodies {
         if let Some(angle) = turn(g, body) {
-            body.joint.turn = Some(g.num(Num::Float(angle)));
+            let angle = g.num(Num::Float(angle));
+            body.joint.turn = Some(match body.joint.turn {
+                Some(t) => g.add2(t, angle),
+                None => angle,
+            });
             body.placement.rotation = spatial::identity(g);
             any = true;
         }
@@ -44,16 +63,68 @@ pub fn folded(g: &mut Graph, tree: &Tree) -> Option<Tree> {
     })
 }
 
+/// Where body `c`'s joint frame is turned about its parent's joint axis
+/// and is its parent's only child, the parent's frame turned by the same
+/// angle about its axis instead (`P' = P R`): the parent's joint angle
+/// gains it, its inertia is taken in the turned axes, and `c`'s joint
+/// frame is placed at `Rᵀ p` without a turn. Whether the parent's
+/// inertia and `c`'s translation are numbers, so that both are turned at
+/// compile time.
+fn up(g: &mut Graph, bodies: &mut [Body], c: usize) -> bool {
+    let Some(p) = bodies[c].parent else {
+        return false;
+    };
+    let only = bodies.iter().filter(|b| b.parent == Some(p)).count() == 1;
+    let parent = &bodies[p];
+    let inertia = &parent.inertia;
+    let constant = std::iter::once(&inertia.mass)
+        .chain(&inertia.first_moment)
+        .chain(inertia.rotational.iter().flatten())
+        .chain(&bodies[c].placement.translation)
+        .all(|&x| g.as_num(x).is_some());
+    if !only || !constant || !parent.joint.kind.turns_about_axis() || parent.joint.mimic.is_some() {
+        return false;
+    }
+    let Some(angle) = about(g, parent.joint.axis, &bodies[c].placement.rotation) else {
+        return false;
+    };
+    let r = bodies[c].placement.rotation;
+    let back = spatial::transpose(&r);
+    let zero = spatial::zero(g);
+    let angle = g.num(Num::Float(angle));
+    let parent = &mut bodies[p];
+    parent.joint.turn = Some(match parent.joint.turn {
+        Some(t) => g.add2(t, angle),
+        None => angle,
+    });
+    parent.turned = Some(match parent.turned {
+        Some(t) => g.add2(t, angle),
+        None => angle,
+    });
+    parent.inertia = parent.inertia.to_parent(g, &back, zero);
+    let child = &mut bodies[c];
+    child.placement.translation = spatial::mat_vec(g, &back, child.placement.translation);
+    child.placement.rotation = spatial::identity(g);
+    true
+}
+
 /// The angle `θ₀` of `body`'s joint frame's turn about its joint's axis,
 /// where the frame has one and nothing else turns it.
 fn turn(g: &Graph, body: &Body) -> Option<f64> {
     let joint = &body.joint;
-    if !joint.kind.turns_about_axis() || joint.turn.is_some() {
+    if !joint.kind.turns_about_axis() {
         return None;
     }
-    let (k, sign) = super::slide::unit(g, joint.axis)?;
+    about(g, joint.axis, &body.placement.rotation)
+}
+
+/// The angle by which `r` turns about `axis`, where `axis` is `±eₖ`, `r`'s
+/// row and column `k` are `eₖ`, and its other block is `[[c, −s], [s, c]]`
+/// of two numbers, neither zero, that an angle's rounded sine and cosine
+/// give to the last bit.
+fn about(g: &Graph, axis: spatial::V3, r: &spatial::M3) -> Option<f64> {
+    let (k, sign) = super::slide::unit(g, axis)?;
     let sign = g.as_num(sign)?.to_f64();
-    let r = &body.placement.rotation;
     let number = |id: Id| g.as_num(id);
     let exact = |id: Id, value: i64| number(id).is_some_and(|n| n == Num::int(value));
     let line_k = (0..3).all(|x| {
@@ -94,18 +165,20 @@ mod tests {
     use crate::bodies::{Dynamics, Placement};
     use crate::expr::Sym;
 
-    /// A chain of four revolute joints in thousandths: about `z` on the
+    /// A chain of five revolute joints in thousandths: about `z` on the
     /// world; about `y` in a frame turned 0.3 about `y`; about `−x` in a
     /// frame turned −0.4 about `x`; about `z` in a frame turned 0.2 about
-    /// `x`, which is not its axis.
+    /// `x`, its parent's axis and not its own; about `z` in a frame turned
+    /// 0.1 about `x`, neither its own axis nor its parent's.
     fn tree(g: &mut Graph) -> Tree {
         let n = |g: &mut Graph, x: i128| g.num(Num::ratio(x, 1000));
         let (zero, one, minus) = (g.int(0), g.int(1), g.int(-1));
-        let specs: [([i128; 3], [Id; 3], [i128; 3]); 4] = [
+        let specs: [([i128; 3], [Id; 3], [i128; 3]); 5] = [
             ([0, 0, 0], [zero, zero, one], [0, 0, 100]),
             ([0, 300, 0], [zero, one, zero], [100, 20, -300]),
             ([-400, 0, 0], [minus, zero, zero], [50, 0, -250]),
             ([200, 0, 0], [zero, zero, one], [30, -40, -120]),
+            ([100, 0, 0], [zero, zero, one], [0, 60, -80]),
         ];
         let bodies = specs
             .iter()
@@ -126,6 +199,7 @@ mod tests {
                     joint: Joint::new(JointKind::Revolute, i, axis),
                     inertia: Inertia::from_com(g, mass, com, &about),
                     slid: None,
+                    turned: None,
                 }
             })
             .collect();
@@ -139,24 +213,25 @@ mod tests {
         all.copied().collect()
     }
 
-    /// The frames turned about their joints' axes are folded, the other
-    /// kept; `M`, the bias forces and `τ` are the same numbers at several
-    /// states, and cost fewer operations.
+    /// The frames turned about their joints' axes are folded, the one
+    /// turned about its parent's taken up, the other kept; `M`, the bias
+    /// forces and `τ` are the same numbers at several states, and cost
+    /// fewer operations.
     #[test]
     fn folding_turns_keeps_the_dynamics() {
         let mut g = Graph::new();
         let plain = tree(&mut g);
-        let folded = folded(&mut g, &plain).expect("two turns about the joints' axes");
-        let turns: Vec<Option<f64>> = folded
-            .bodies
-            .iter()
-            .map(|b| b.joint.turn.and_then(|t| g.as_num(t)).map(Num::to_f64))
-            .collect();
+        let folded = folded(&mut g, &plain).expect("turns about the joints' axes");
+        let value = |id: Option<Id>| id.and_then(|t| g.as_num(t)).map(Num::to_f64);
+        let turns: Vec<Option<f64>> = folded.bodies.iter().map(|b| value(b.joint.turn)).collect();
+        let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-15);
         assert_eq!(turns[0], None);
-        assert!((turns[1].expect("folded") - 0.3).abs() < 1e-15, "{turns:?}");
-        // About `−x` by −0.4 about `x`: +0.4 about the axis.
-        assert!((turns[2].expect("folded") - 0.4).abs() < 1e-15, "{turns:?}");
-        assert_eq!(turns[3], None, "a turn about another axis is kept");
+        assert!(near(turns[1], 0.3), "{turns:?}");
+        // About `−x`: its own frame's −0.4 about `x` is +0.4 about the
+        // axis, and its child's 0.2 about `x` is −0.2.
+        assert!(near(turns[2], 0.2), "{turns:?}");
+        assert!(near(value(folded.bodies[2].turned), -0.2));
+        assert_eq!(turns[3..], [None, None], "turns about other axes are kept");
         for (i, body) in folded.bodies.iter().enumerate() {
             let is_identity = (0..3).all(|a| {
                 (0..3).all(|b| {
@@ -164,10 +239,10 @@ mod tests {
                     g.as_num(e) == Some(Num::int(i64::from(a == b)))
                 })
             });
-            assert_eq!(is_identity, i != 3, "body {i}");
+            assert_eq!(is_identity, i != 4, "body {i}");
         }
-        let a = crate::bodies::recursion::dynamics(&mut g, &plain, 4);
-        let b = crate::bodies::recursion::dynamics(&mut g, &folded, 4);
+        let a = crate::bodies::recursion::dynamics(&mut g, &plain, 5);
+        let b = crate::bodies::recursion::dynamics(&mut g, &folded, 5);
         let (ra, rb) = (roots(&a), roots(&b));
         for k in 0..5 {
             let state = |s: Sym| match s {

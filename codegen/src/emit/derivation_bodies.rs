@@ -179,6 +179,14 @@ pub fn text(
                 p.print(t)
             );
         }
+        if let Some(t) = body.turned {
+            let _ = writeln!(
+                w,
+                "    its frame turned by {} about the joint's axis from the one described, so that \
+                 its child's joint frame is not turned (the joint's angle carries the turn)",
+                p.print(t)
+            );
+        }
         let m = &body.inertia;
         let _ = writeln!(
             w,
