@@ -57,7 +57,7 @@ pub fn folded(g: &mut Graph, tree: &Tree) -> Option<Tree> {
             any = true;
         }
     }
-    any.then(|| Tree {
+    any.then_some(Tree {
         bodies,
         gravity: tree.gravity,
     })
