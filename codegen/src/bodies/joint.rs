@@ -184,9 +184,6 @@ pub struct JointState {
     joint: Joint,
     /// The joint's value `qᵢ` (`m q + o` for a mimic).
     pub value: Id,
-    /// The angle it turns its child by: `value`, plus a folded turn
-    /// ([`Joint::turn`]).
-    angle: Id,
     /// `sin qᵢ`, `cos qᵢ` for a joint that turns about its axis.
     sin_cos: (Id, Id),
     /// A quaternion joint's coordinates and `R(q)`.
@@ -209,12 +206,8 @@ impl JointState {
 
     /// The joint held at the value `value`: a mimic of a locked joint.
     pub fn at(g: &mut Graph, joint: Joint, value: Id) -> JointState {
-        let angle = match joint.turn {
-            Some(t) if joint.kind.turns_about_axis() => g.add2(value, t),
-            _ => value,
-        };
         let sin_cos = if joint.kind.turns_about_axis() {
-            spatial::sin_cos(g, angle)
+            turned_sin_cos(g, value, joint.turn)
         } else {
             (g.int(0), g.int(1))
         };
@@ -225,7 +218,6 @@ impl JointState {
         JointState {
             joint,
             value,
-            angle,
             sin_cos,
             quaternion,
         }
@@ -359,7 +351,7 @@ impl JointState {
         let rotation = match self.quaternion {
             Some((_, r)) => r,
             None if self.joint.kind.turns_about_axis() => {
-                spatial::axis_angle(g, self.joint.axis, self.angle)
+                spatial::axis_rotation(g, self.joint.axis, self.sin_cos)
             }
             None => spatial::identity(g),
         };
@@ -368,6 +360,45 @@ impl JointState {
             rotation,
             translation,
         }
+    }
+}
+
+/// `(sin, cos)` of `value + turn`. A constant turn `θ₀ = k π/2 + δ` (`k`
+/// the nearest whole number of quarter turns) is applied as `δ` inside
+/// the sine and cosine and `k` quarter turns outside, which only swap
+/// and negate them: a turn near a right angle (a URDF's `1.5708`, kept
+/// exact) then leaves the argument where the joint's own values are,
+/// inside the sine's cheapest range for small angles, where `value + θ₀`
+/// would put every state into its range reduction. `δ + k·fl(π/2)` is
+/// `θ₀` exactly (Sterbenz), so the angle differs from `value + θ₀` by
+/// `k` times the rounding of `π/2`, 6·10⁻¹⁷ each.
+fn turned_sin_cos(g: &mut Graph, value: Id, turn: Option<Id>) -> (Id, Id) {
+    let Some(theta) = turn
+        .and_then(|t| g.as_num(t))
+        .map(crate::expr::num::Num::to_f64)
+    else {
+        let angle = match turn {
+            Some(t) => g.add2(value, t),
+            None => value,
+        };
+        return spatial::sin_cos(g, angle);
+    };
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let k = (theta / quarter).round();
+    let delta = theta - k * quarter;
+    let inside = if delta == 0.0 {
+        value
+    } else {
+        let d = g.num(crate::expr::num::Num::Float(delta));
+        g.add2(value, d)
+    };
+    let (s, c) = spatial::sin_cos(g, inside);
+    // `k` is within ±4 of a turn of at most a few radians.
+    match (k as i64).rem_euclid(4) {
+        0 => (s, c),
+        1 => (c, g.neg(s)),
+        2 => (g.neg(s), g.neg(c)),
+        _ => (g.neg(c), s),
     }
 }
 

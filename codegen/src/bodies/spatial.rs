@@ -166,9 +166,9 @@ pub fn rpy(g: &mut Graph, angles: V3) -> M3 {
     mat_mul(g, &rz, &yx)
 }
 
-/// The rotation by `angle` about the unit `axis` (Rodrigues), as a matrix.
-pub fn axis_angle(g: &mut Graph, axis: V3, angle: Id) -> M3 {
-    let (s, c) = sin_cos(g, angle);
+/// The rotation about the unit `axis` by the angle of sine `s` and cosine
+/// `c` (Rodrigues), as a matrix.
+pub fn axis_rotation(g: &mut Graph, axis: V3, (s, c): (Id, Id)) -> M3 {
     let one = g.int(1);
     let v = g.sub(one, c);
     let k = skew(g, axis);

@@ -167,9 +167,10 @@ mod tests {
     use crate::bodies::{Dynamics, Placement};
     use crate::expr::Sym;
 
-    /// A chain of five revolute joints in thousandths: about `z` on the
-    /// world in a frame turned 0.5 about `z`, which costs nothing there;
-    /// about `y` in a frame turned 0.3 about `y`; about `−x` in a
+    /// A chain of five revolute joints, lengths in thousandths and angles
+    /// in millionths: about `z` on the world in a frame turned 0.5 about
+    /// `z`, which costs nothing there; about `y` in a frame turned 1.570796
+    /// about `y`, near a right angle but not one; about `−x` in a
     /// frame turned −0.4 about `x`; about `z` in a frame turned 0.2 about
     /// `x`, its parent's axis and not its own; about `z` in a frame turned
     /// 0.1 about `x`, neither its own axis nor its parent's.
@@ -177,18 +178,18 @@ mod tests {
         let n = |g: &mut Graph, x: i128| g.num(Num::ratio(x, 1000));
         let (zero, one, minus) = (g.int(0), g.int(1), g.int(-1));
         let specs: [([i128; 3], [Id; 3], [i128; 3]); 5] = [
-            ([0, 0, 500], [zero, zero, one], [0, 0, 100]),
-            ([0, 300, 0], [zero, one, zero], [100, 20, -300]),
-            ([-400, 0, 0], [minus, zero, zero], [50, 0, -250]),
-            ([200, 0, 0], [zero, zero, one], [30, -40, -120]),
-            ([100, 0, 0], [zero, zero, one], [0, 60, -80]),
+            ([0, 0, 500_000], [zero, zero, one], [0, 0, 100]),
+            ([0, 1_570_796, 0], [zero, one, zero], [100, 20, -300]),
+            ([-400_000, 0, 0], [minus, zero, zero], [50, 0, -250]),
+            ([200_000, 0, 0], [zero, zero, one], [30, -40, -120]),
+            ([100_000, 0, 0], [zero, zero, one], [0, 60, -80]),
         ];
         let bodies = specs
             .iter()
             .enumerate()
             .map(|(i, &(rpy, axis, xyz))| {
                 let k = i as i128;
-                let angles = rpy.map(|x| n(g, x));
+                let angles = rpy.map(|x| g.num(Num::ratio(x, 1_000_000)));
                 let mass = n(g, 1500 - 200 * k);
                 let com = [n(g, 21 + k), n(g, -13), n(g, -90 + 7 * k)];
                 let about = [[41, 2, -3], [2, 37, 5], [-3, 5, 12]].map(|r| r.map(|x| n(g, x)));
@@ -229,7 +230,7 @@ mod tests {
         let turns: Vec<Option<f64>> = folded.bodies.iter().map(|b| value(b.joint.turn)).collect();
         let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-15);
         assert_eq!(turns[0], None);
-        assert!(near(turns[1], 0.3), "{turns:?}");
+        assert!(near(turns[1], 1.570_796), "{turns:?}");
         // About `−x`: its own frame's −0.4 about `x` is +0.4 about the
         // axis, and its child's 0.2 about `x` is −0.2.
         assert!(near(turns[2], 0.2), "{turns:?}");
