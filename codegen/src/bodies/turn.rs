@@ -41,22 +41,9 @@ use crate::expr::{Graph, Id};
 /// axis taken up into the parent's ([`up`]); `None` where no frame has
 /// either.
 pub fn folded(g: &mut Graph, tree: &Tree) -> Option<Tree> {
-    fold(g, tree, true)
-}
-
-/// `tree` with every joint frame's turn about its joint's own axis folded
-/// into the joint's angle and no frame turned: every body's frame is the
-/// one described, so that world frames placed from the described bodies
-/// still hold for it. `None` where no frame has such a turn.
-pub fn folded_in_place(g: &mut Graph, tree: &Tree) -> Option<Tree> {
-    fold(g, tree, false)
-}
-
-/// [`folded`], taking children's turns up only where `take_up`.
-fn fold(g: &mut Graph, tree: &Tree, take_up: bool) -> Option<Tree> {
     let mut bodies = tree.bodies.clone();
     let mut any = false;
-    for c in (0..bodies.len()).filter(|_| take_up) {
+    for c in 0..bodies.len() {
         any |= up(g, &mut bodies, c);
     }
     for body in &mut bodies {
@@ -276,49 +263,5 @@ mod tests {
         }
         let ops = |d: &Dynamics| crate::expr::squares::operations(&g, &roots(d));
         assert!(ops(&b) < ops(&a), "{} against {}", ops(&b), ops(&a));
-    }
-
-    /// Folded in place, the turns about the joints' own axes go into their
-    /// angles and no frame is turned: the turn about the parent's axis
-    /// stays, and each body's composite inertia and motion columns in its
-    /// own axes (what the centre of mass and the centroidal map carry to
-    /// the world) are the same numbers at several states.
-    #[test]
-    fn folding_in_place_keeps_every_frame() {
-        let mut g = Graph::new();
-        let plain = tree(&mut g);
-        let folded = folded_in_place(&mut g, &plain).expect("turns about the joints' axes");
-        let value = |id: Option<Id>| id.and_then(|t| g.as_num(t)).map(Num::to_f64);
-        let turns: Vec<Option<f64>> = folded.bodies.iter().map(|b| value(b.joint.turn)).collect();
-        let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-15);
-        assert!(near(turns[1], 1_570_796.0 / 1e6), "{turns:?}");
-        assert!(near(turns[2], 0.4), "{turns:?}");
-        assert_eq!([turns[0], turns[3], turns[4]], [None; 3]);
-        assert!(folded.bodies.iter().all(|b| b.turned.is_none()));
-        let flat = |g: &mut Graph, tree: &Tree| -> Vec<Id> {
-            let columns = crate::bodies::recursion::composite_columns(g, tree);
-            let mut all = Vec::new();
-            for (inertia, motion) in &columns {
-                all.push(inertia.mass);
-                all.extend(inertia.first_moment);
-                all.extend(inertia.rotational.iter().flatten());
-                for (_, s) in motion {
-                    all.extend(s.angular.iter().chain(&s.linear));
-                }
-            }
-            all
-        };
-        let (ra, rb) = (flat(&mut g, &plain), flat(&mut g, &folded));
-        assert_eq!(ra.len(), rb.len());
-        for k in 0..5 {
-            let state = |s: Sym| match s {
-                Sym::Coord(i) => 0.7 * k as f64 - 1.3 + 0.37 * i as f64,
-                _ => 0.0,
-            };
-            let (want, got) = (g.eval(&ra, &state), g.eval(&rb, &state));
-            for (w, x) in want.iter().zip(&got) {
-                assert!((w - x).abs() <= 1e-13 * w.abs().max(1.0), "{w} {x}");
-            }
-        }
     }
 }
