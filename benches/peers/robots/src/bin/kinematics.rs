@@ -441,10 +441,11 @@ impl Visit for Time {
 }
 
 /// `kinematics spin ROBOT WHAT PASSES`: `PASSES` passes of `WHAT`
-/// (`centroidal_map`, `inverse_dynamics_jacobian`, `acceleration_jacobian`,
-/// `inverse_dynamics`, `mass_matrix`; anything else: the centre of mass and
-/// its Jacobian) over the robot's states and nothing else, for a profiler,
-/// as `constrained-robots spin` does for `q̈`, `M` and `τ`.
+/// (`centroidal_map`, `centroidal_map_bias`, `inverse_dynamics_jacobian`,
+/// `acceleration_jacobian`, `inverse_dynamics`, `mass_matrix`; anything
+/// else: the centre of mass and its Jacobian) over the robot's states and
+/// nothing else, for a profiler, as `constrained-robots spin` does for `q̈`,
+/// `M` and `τ`.
 struct Spin {
     rng: Rng,
     robot: String,
@@ -466,6 +467,9 @@ impl Visit for Spin {
                 match self.what.as_str() {
                     "centroidal_map" => {
                         black_box(r.centroidal(q));
+                    }
+                    "centroidal_map_bias" => {
+                        black_box(r.centroidal_bias(q, v));
                     }
                     "inverse_dynamics_jacobian" => {
                         black_box(r.tau_jacobian(q, v, black_box(&s.a)));
