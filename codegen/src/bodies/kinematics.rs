@@ -352,6 +352,9 @@ impl Composites {
     fn new(g: &mut Graph, described: &[Described], world: &[Placement]) -> Composites {
         let z = spatial::zero(g);
         let tree = super::Tree::new(g, described, z);
+        // The composites are in each body's own axes, which a turn folded
+        // into its joint's angle leaves as described.
+        let tree = super::turn::folded_in_place(g, &tree).unwrap_or(tree);
         let frames = described
             .iter()
             .zip(world)

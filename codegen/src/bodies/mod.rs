@@ -261,13 +261,14 @@ pub struct Trace {
 /// bodies in `forces` and `constraints` (`position(body, [x, y, z])`).
 pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
     let mut frames: Vec<Placement> = Vec::with_capacity(described.len());
-    for d in described {
+    for (i, d) in described.iter().enumerate() {
         let parent = match d.parent {
             Some(p) => frames[p],
             None => Placement::identity(g),
         };
-        let joint_frame = parent.then(g, &d.placement);
-        let motion = joint_motion(g, d);
+        let (placement, joint) = turn::described_folded(g, described, i);
+        let joint_frame = parent.then(g, &placement);
+        let motion = joint_motion(g, joint);
         let world = joint_frame.then(g, &motion);
         frames.push(world.held(g));
     }
@@ -280,18 +281,18 @@ pub fn world_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
 /// differentiates into matrix–vector products along the chain, where the
 /// world frames' matrix products differentiate into matrix products.
 pub fn parent_frames(g: &mut Graph, described: &[Described]) -> Vec<Placement> {
-    described
-        .iter()
-        .map(|d| {
-            let motion = joint_motion(g, d);
-            d.placement.then(g, &motion).held(g)
+    (0..described.len())
+        .map(|i| {
+            let (placement, joint) = turn::described_folded(g, described, i);
+            let motion = joint_motion(g, joint);
+            placement.then(g, &motion).held(g)
         })
         .collect()
 }
 
-/// The motion of `d`'s joint: its rotation and translation by `q`.
-fn joint_motion(g: &mut Graph, d: &Described) -> Placement {
-    match d.joint {
+/// The motion of a joint: its rotation and translation by `q`.
+fn joint_motion(g: &mut Graph, joint: Option<Joint>) -> Placement {
+    match joint {
         Some(j) => joint::JointState::new(g, j).placement(g),
         None => Placement::identity(g),
     }

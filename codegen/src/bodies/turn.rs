@@ -27,12 +27,16 @@
 //! neither of which is zero (a right angle's turn costs nothing: its
 //! zeros and ones fold), and `θ₀` is an angle whose sine and cosine,
 //! rounded as the placement's were (`crate::expr::rounded`), are `s` and
-//! `c` to the last bit. As the slides ([`super::slide`]), only the
-//! dynamics' tree is folded: frames, points and the centre of mass are
-//! placed from the bodies as described.
+//! `c` to the last bit. The frames of the bodies as described, which
+//! place frames, points and the centre of mass, fold the turns about
+//! joints' own axes too ([`described_folded`]): they are the same frames,
+//! and a function that needs both evaluates each joint's sine and cosine
+//! once. Turns taken up and the slides ([`super::slide`]) change frames,
+//! and stay in the dynamics' tree.
 
+use super::joint::Joint;
 use super::spatial;
-use super::{Body, Tree};
+use super::{Body, Described, Placement, Tree};
 use crate::expr::num::Num;
 use crate::expr::{Graph, Id};
 
@@ -41,9 +45,22 @@ use crate::expr::{Graph, Id};
 /// axis taken up into the parent's ([`up`]); `None` where no frame has
 /// either.
 pub fn folded(g: &mut Graph, tree: &Tree) -> Option<Tree> {
+    fold(g, tree, true)
+}
+
+/// `tree` with every joint frame's turn about its joint's own axis folded
+/// into the joint's angle and no frame turned: every body's frame is the
+/// one described, so that world frames placed from the described bodies
+/// still hold for it. `None` where no frame has such a turn.
+pub fn folded_in_place(g: &mut Graph, tree: &Tree) -> Option<Tree> {
+    fold(g, tree, false)
+}
+
+/// [`folded`], taking children's turns up only where `take_up`.
+fn fold(g: &mut Graph, tree: &Tree, take_up: bool) -> Option<Tree> {
     let mut bodies = tree.bodies.clone();
     let mut any = false;
-    for c in 0..bodies.len() {
+    for c in (0..bodies.len()).filter(|_| take_up) {
         any |= up(g, &mut bodies, c);
     }
     for body in &mut bodies {
@@ -106,6 +123,48 @@ fn up(g: &mut Graph, bodies: &mut [Body], c: usize) -> bool {
     child.placement.translation = spatial::mat_vec(g, &back, child.placement.translation);
     child.placement.rotation = spatial::identity(g);
     true
+}
+
+/// Described body `i`'s joint frame and joint with the frame's turn about
+/// the joint's own axis folded into the joint's angle, as [`folded`] folds
+/// the dynamics' tree: the body's frame is the same, and its angle's sine
+/// and cosine are the dynamics' own, so that a function that places
+/// frames or points (a contact's rows, the centre of mass) and runs the
+/// recursions evaluates one pair per joint. Not on a body that hangs from
+/// the world through fixed bodies only, which the tree does not fold.
+pub fn described_folded(
+    g: &mut Graph,
+    described: &[Described],
+    i: usize,
+) -> (Placement, Option<Joint>) {
+    let d = &described[i];
+    let as_described = (d.placement, d.joint);
+    let Some(joint) = d.joint.filter(|j| j.kind.turns_about_axis()) else {
+        return as_described;
+    };
+    let mut ancestor = d.parent;
+    while let Some(a) = ancestor.filter(|&a| described[a].joint.is_none()) {
+        ancestor = described[a].parent;
+    }
+    if ancestor.is_none() {
+        return as_described;
+    }
+    let Some(angle) = about(g, joint.axis, &d.placement.rotation) else {
+        return as_described;
+    };
+    let angle = g.num(Num::Float(angle));
+    let turned = Joint {
+        turn: Some(match joint.turn {
+            Some(t) => g.add2(t, angle),
+            None => angle,
+        }),
+        ..joint
+    };
+    let placement = Placement {
+        rotation: spatial::identity(g),
+        translation: d.placement.translation,
+    };
+    (placement, Some(turned))
 }
 
 /// The angle `θ₀` of `body`'s joint frame's turn about its joint's axis,
@@ -263,5 +322,143 @@ mod tests {
         }
         let ops = |d: &Dynamics| crate::expr::squares::operations(&g, &roots(d));
         assert!(ops(&b) < ops(&a), "{} against {}", ops(&b), ops(&a));
+    }
+
+    /// Folded in place, the turns about the joints' own axes go into their
+    /// angles and no frame is turned: the turn about the parent's axis
+    /// stays, and each body's composite inertia and motion columns in its
+    /// own axes (what the centre of mass and the centroidal map carry to
+    /// the world) are the same numbers at several states.
+    #[test]
+    fn folding_in_place_keeps_every_frame() {
+        let mut g = Graph::new();
+        let plain = tree(&mut g);
+        let folded = folded_in_place(&mut g, &plain).expect("turns about the joints' axes");
+        let value = |id: Option<Id>| id.and_then(|t| g.as_num(t)).map(Num::to_f64);
+        let turns: Vec<Option<f64>> = folded.bodies.iter().map(|b| value(b.joint.turn)).collect();
+        let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-15);
+        assert!(near(turns[1], 1_570_796.0 / 1e6), "{turns:?}");
+        assert!(near(turns[2], 0.4), "{turns:?}");
+        assert_eq!([turns[0], turns[3], turns[4]], [None; 3]);
+        assert!(folded.bodies.iter().all(|b| b.turned.is_none()));
+        let flat = |g: &mut Graph, tree: &Tree| -> Vec<Id> {
+            let columns = crate::bodies::recursion::composite_columns(g, tree);
+            let mut all = Vec::new();
+            for (inertia, motion) in &columns {
+                all.push(inertia.mass);
+                all.extend(inertia.first_moment);
+                all.extend(inertia.rotational.iter().flatten());
+                for (_, s) in motion {
+                    all.extend(s.angular.iter().chain(&s.linear));
+                }
+            }
+            all
+        };
+        let (ra, rb) = (flat(&mut g, &plain), flat(&mut g, &folded));
+        assert_eq!(ra.len(), rb.len());
+        for k in 0..5 {
+            let state = |s: Sym| match s {
+                Sym::Coord(i) => 0.7 * k as f64 - 1.3 + 0.37 * i as f64,
+                _ => 0.0,
+            };
+            let (want, got) = (g.eval(&ra, &state), g.eval(&rb, &state));
+            for (w, x) in want.iter().zip(&got) {
+                assert!((w - x).abs() <= 1e-13 * w.abs().max(1.0), "{w} {x}");
+            }
+        }
+    }
+
+    /// Described bodies: a joint about `z` on the world in a frame turned
+    /// 0.3 about `z`, a fixed body turned 0.2 about `x`, a joint about `y`
+    /// in a frame turned 0.4 about `y`, a joint about `x` in a frame turned
+    /// 0.5 about `z`. Only the third folds (the first hangs from the
+    /// world, the fixed body has no joint, the last turns about another
+    /// axis), and every world frame is the same numbers at several states.
+    #[test]
+    fn described_frames_fold_turns_about_their_own_axes() {
+        let mut g = Graph::new();
+        let n = |g: &mut Graph, x: i128| g.num(Num::ratio(x, 1000));
+        let (zero, one) = (g.int(0), g.int(1));
+        let specs: [([i128; 3], Option<[Id; 3]>); 4] = [
+            ([0, 0, 300], Some([zero, zero, one])),
+            ([200, 0, 0], None),
+            ([0, 400, 0], Some([zero, one, zero])),
+            ([0, 0, 500], Some([one, zero, zero])),
+        ];
+        let mut coordinate = 0;
+        let described: Vec<Described> = specs
+            .iter()
+            .enumerate()
+            .map(|(i, &(rpy, axis))| {
+                let angles = rpy.map(|x| n(&mut g, x));
+                let joint = axis.map(|axis| {
+                    coordinate += 1;
+                    Joint::new(JointKind::Revolute, coordinate - 1, axis)
+                });
+                let mass = n(&mut g, 1000);
+                let com = [zero; 3];
+                let about = [[10, 0, 0], [0, 10, 0], [0, 0, 10]].map(|r| r.map(|x| n(&mut g, x)));
+                Described {
+                    name: format!("d{i}"),
+                    parent: i.checked_sub(1),
+                    placement: Placement {
+                        rotation: spatial::rpy(&mut g, angles),
+                        translation: [n(&mut g, 100), n(&mut g, -20), n(&mut g, 50)],
+                    },
+                    joint,
+                    inertia: Inertia::from_com(&mut g, mass, com, &about),
+                }
+            })
+            .collect();
+        let folded: Vec<bool> = (0..described.len())
+            .map(|i| {
+                described_folded(&mut g, &described, i)
+                    .1
+                    .is_some_and(|j| j.turn.is_some())
+            })
+            .collect();
+        assert_eq!(folded, [false, false, true, false]);
+        let (_, joint) = described_folded(&mut g, &described, 2);
+        let turn = joint
+            .and_then(|j| j.turn)
+            .and_then(|t| g.as_num(t))
+            .map(Num::to_f64);
+        assert!(turn.is_some_and(|t| (t - 0.4).abs() < 1e-15), "{turn:?}");
+        let world = crate::bodies::world_frames(&mut g, &described);
+        let mut plain: Vec<Placement> = Vec::new();
+        for d in &described {
+            let parent = match d.parent {
+                Some(p) => plain[p],
+                None => Placement::identity(&mut g),
+            };
+            let motion = match d.joint {
+                Some(j) => crate::bodies::joint::JointState::new(&mut g, j).placement(&mut g),
+                None => Placement::identity(&mut g),
+            };
+            let joint_frame = parent.then(&mut g, &d.placement);
+            plain.push(joint_frame.then(&mut g, &motion));
+        }
+        let flat = |p: &[Placement]| -> Vec<Id> {
+            p.iter()
+                .flat_map(|p| {
+                    p.rotation
+                        .iter()
+                        .flatten()
+                        .chain(&p.translation)
+                        .copied()
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        };
+        let (want, got) = (flat(&plain), flat(&world));
+        for k in 0..5 {
+            let state = |s: Sym| match s {
+                Sym::Coord(i) => 0.8 * k as f64 - 1.9 + 0.53 * i as f64,
+                _ => 0.0,
+            };
+            for (w, x) in g.eval(&want, &state).iter().zip(&g.eval(&got, &state)) {
+                assert!((w - x).abs() <= 1e-14 * w.abs().max(1.0), "{w} {x}");
+            }
+        }
     }
 }

@@ -716,8 +716,9 @@ fn time_go1_derivatives(round: &str, cases: &[(Go1<f64>, State<f64, N>)]) {
     );
 }
 
-/// `passes` passes over `cases` calling `what` (`acceleration` or
-/// `acceleration_and_multipliers`) and nothing else: the loop that
+/// `passes` passes over `cases` calling `what` (`acceleration`,
+/// `constraint_matrices` or `acceleration_and_multipliers`) and nothing
+/// else: the loop that
 /// `benches/peers/icache.sh` runs under cachegrind, once with no pass (the
 /// set-up alone) and once with some, so that the difference is the calls'.
 pub(crate) fn spin<S, const M: usize, const K: usize>(
@@ -731,6 +732,11 @@ pub(crate) fn spin<S, const M: usize, const K: usize>(
         for (system, s) in cases {
             if what == "acceleration" {
                 let _ = black_box(ConstrainedSystem::acceleration(
+                    black_box(system),
+                    black_box(s),
+                ));
+            } else if what == "constraint_matrices" {
+                black_box(ConstrainedSystem::constraint_matrices(
                     black_box(system),
                     black_box(s),
                 ));
