@@ -59,23 +59,6 @@ struct Along {
     image_sign: Id,
 }
 
-/// The coordinate axis `v` points along and its sign, where `v` is `±eₖ`
-/// exactly.
-pub(super) fn unit(g: &Graph, v: V3) -> Option<(usize, Id)> {
-    let mut found = None;
-    for (k, &x) in v.iter().enumerate() {
-        let value = g.as_num(x)?;
-        if value.is_zero() {
-            continue;
-        }
-        if found.is_some() || !(value.is_one() || (-value).is_one()) {
-            return None;
-        }
-        found = Some((k, x));
-    }
-    found
-}
-
 /// Whether body `i` may slide: a joint of one axis that commutes with a
 /// translation along it, that axis and its image in the parent along
 /// coordinate axes, and its own and its children's translations and its
@@ -95,9 +78,9 @@ fn along(g: &mut Graph, bodies: &[Body], children: &[usize], i: usize) -> Option
     {
         return None;
     }
-    let (axis, sign) = unit(g, body.joint.axis)?;
+    let (axis, sign) = spatial::unit(g, body.joint.axis)?;
     let image = spatial::mat_vec(g, &body.placement.rotation, body.joint.axis);
-    let (image, image_sign) = unit(g, image)?;
+    let (image, image_sign) = spatial::unit(g, image)?;
     Some(Along {
         axis,
         sign,

@@ -86,6 +86,23 @@ pub fn mat_vec(g: &mut Graph, m: &M3, v: V3) -> V3 {
     [0, 1, 2].map(|i| dot(g, m[i], v))
 }
 
+/// The coordinate axis `v` points along and its sign, where `v` is `±eₖ`
+/// exactly.
+pub fn unit(g: &Graph, v: V3) -> Option<(usize, Id)> {
+    let mut found = None;
+    for (k, &x) in v.iter().enumerate() {
+        let value = g.as_num(x)?;
+        if value.is_zero() {
+            continue;
+        }
+        if found.is_some() || !(value.is_one() || (-value).is_one()) {
+            return None;
+        }
+        found = Some((k, x));
+    }
+    found
+}
+
 /// Whether `m` mixes components: some entry is not the constant 0, 1 or
 /// −1 (a symbolic entry counts), so that each component of `m v` is a sum
 /// of products. Its input is then worth

@@ -184,7 +184,7 @@ fn turn(g: &Graph, body: &Body) -> Option<f64> {
 /// of two numbers, neither zero, that an angle's rounded sine and cosine
 /// give to the last bit.
 fn about(g: &Graph, axis: spatial::V3, r: &spatial::M3) -> Option<f64> {
-    let (k, sign) = super::slide::unit(g, axis)?;
+    let (k, sign) = spatial::unit(g, axis)?;
     let sign = g.as_num(sign)?.to_f64();
     let number = |id: Id| g.as_num(id);
     let exact = |id: Id, value: i64| number(id).is_some_and(|n| n == Num::int(value));
