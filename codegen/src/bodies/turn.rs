@@ -270,6 +270,17 @@ mod tests {
         Tree { bodies, gravity }
     }
 
+    /// Each joint's constant turn, where it has one.
+    fn turns(g: &Graph, tree: &Tree) -> Vec<Option<f64>> {
+        let value = |id: Option<Id>| id.and_then(|t| g.as_num(t)).map(Num::to_f64);
+        tree.bodies.iter().map(|b| value(b.joint.turn)).collect()
+    }
+
+    /// Whether `x` is `want` to within 1e-15.
+    fn near(x: Option<f64>, want: f64) -> bool {
+        x.is_some_and(|x| (x - want).abs() < 1e-15)
+    }
+
     /// `M`, the bias forces and `τ`, entry by entry.
     fn roots(d: &Dynamics) -> Vec<Id> {
         let all = d.mass.iter().flatten().chain(&d.bias).chain(&d.inverse);
@@ -277,24 +288,28 @@ mod tests {
     }
 
     /// The frames turned about their joints' axes are folded but on the
-    /// world, the one turned about its parent's taken up, the other kept; `M`, the bias
-    /// forces and `τ` are the same numbers at several states, and cost
-    /// fewer operations.
+    /// world, the one turned about its parent's taken up, the other kept;
+    /// `M`, the bias forces and `τ` are the same numbers at several
+    /// states, and cost fewer operations.
     #[test]
     fn folding_turns_keeps_the_dynamics() {
         let mut g = Graph::new();
         let plain = tree(&mut g);
         let folded = folded(&mut g, &plain).expect("turns about the joints' axes");
-        let value = |id: Option<Id>| id.and_then(|t| g.as_num(t)).map(Num::to_f64);
-        let turns: Vec<Option<f64>> = folded.bodies.iter().map(|b| value(b.joint.turn)).collect();
-        let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-15);
+        let turns = turns(&g, &folded);
         assert_eq!(turns[0], None);
         // 1.570796: near a right angle, not one.
         assert!(near(turns[1], 1_570_796.0 / 1e6), "{turns:?}");
         // About `−x`: its own frame's −0.4 about `x` is +0.4 about the
         // axis, and its child's 0.2 about `x` is −0.2.
         assert!(near(turns[2], 0.2), "{turns:?}");
-        assert!(near(value(folded.bodies[2].turned), -0.2));
+        assert!(near(
+            folded.bodies[2]
+                .turned
+                .and_then(|t| g.as_num(t))
+                .map(Num::to_f64),
+            -0.2
+        ));
         assert_eq!(turns[3..], [None, None], "turns about other axes are kept");
         for (i, body) in folded.bodies.iter().enumerate() {
             let is_identity = (0..3).all(|a| {
@@ -334,9 +349,7 @@ mod tests {
         let mut g = Graph::new();
         let plain = tree(&mut g);
         let folded = folded_in_place(&mut g, &plain).expect("turns about the joints' axes");
-        let value = |id: Option<Id>| id.and_then(|t| g.as_num(t)).map(Num::to_f64);
-        let turns: Vec<Option<f64>> = folded.bodies.iter().map(|b| value(b.joint.turn)).collect();
-        let near = |x: Option<f64>, want: f64| x.is_some_and(|x| (x - want).abs() < 1e-15);
+        let turns = turns(&g, &folded);
         assert!(near(turns[1], 1_570_796.0 / 1e6), "{turns:?}");
         assert!(near(turns[2], 0.4), "{turns:?}");
         assert_eq!([turns[0], turns[3], turns[4]], [None; 3]);
