@@ -78,23 +78,22 @@ fn slid_frames_keep_the_dynamics_and_are_printed() {
         let q = Vector2::new(0.3 + 0.7 * x, -1.1 + 0.4 * x);
         let qd = Vector2::new(1.2 - 0.3 * x, 0.5 + 0.2 * x);
         let qdd = Vector2::new(-0.4 + 0.1 * x, 2.0 - 0.5 * x);
-        let close = |x: f64, y: f64| (x - y).abs() <= 1e-14 * x.abs().max(1.0);
         let (ma, mb) = (a.mass_matrix(&q, 0.0), b.mass_matrix(&q, 0.0));
-        assert!(
-            ma.iter().zip(mb.iter()).all(|(x, y)| close(*x, *y)),
-            "{ma} {mb}"
-        );
+        assert_close(ma.as_slice(), mb.as_slice());
         let ta = a.inverse_dynamics(&q, &qd, &qdd, 0.0).expect("finite");
         let tb = b.inverse_dynamics(&q, &qd, &qdd, 0.0).expect("finite");
-        assert!(
-            ta.iter().zip(tb.iter()).all(|(x, y)| close(*x, *y)),
-            "{ta} {tb}"
-        );
+        assert_close(ta.as_slice(), tb.as_slice());
         let qa = a.acceleration(&q, &qd, 0.0).expect("regular");
         let qb = b.acceleration(&q, &qd, 0.0).expect("regular");
-        assert!(
-            qa.iter().zip(qb.iter()).all(|(x, y)| close(*x, *y)),
-            "{qa} {qb}"
-        );
+        assert_close(qa.as_slice(), qb.as_slice());
     }
+}
+
+/// Each entry of `a` within 1e-14 of `b`'s (relative, absolute below 1).
+fn assert_close(a: &[f64], b: &[f64]) {
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-14 * x.abs().max(1.0);
+    assert!(
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| close(*x, *y)),
+        "{a:?} {b:?}"
+    );
 }

@@ -65,11 +65,7 @@ fn fold(g: &mut Graph, tree: &Tree, take_up: bool) -> Option<Tree> {
     }
     for body in &mut bodies {
         if let Some(angle) = turn(g, body) {
-            let angle = g.num(Num::Float(angle));
-            body.joint.turn = Some(match body.joint.turn {
-                Some(t) => g.add2(t, angle),
-                None => angle,
-            });
+            body.joint.turn = Some(plus(g, body.joint.turn, angle));
             body.placement.rotation = spatial::identity(g);
             any = true;
         }
@@ -108,16 +104,9 @@ fn up(g: &mut Graph, bodies: &mut [Body], c: usize) -> bool {
     let r = bodies[c].placement.rotation;
     let back = spatial::transpose(&r);
     let zero = spatial::zero(g);
-    let angle = g.num(Num::Float(angle));
     let parent = &mut bodies[p];
-    parent.joint.turn = Some(match parent.joint.turn {
-        Some(t) => g.add2(t, angle),
-        None => angle,
-    });
-    parent.turned = Some(match parent.turned {
-        Some(t) => g.add2(t, angle),
-        None => angle,
-    });
+    parent.joint.turn = Some(plus(g, parent.joint.turn, angle));
+    parent.turned = Some(plus(g, parent.turned, angle));
     parent.inertia = parent.inertia.to_parent(g, &back, zero);
     let child = &mut bodies[c];
     child.placement.translation = spatial::mat_vec(g, &back, child.placement.translation);
@@ -152,12 +141,8 @@ pub fn described_folded(
     let Some(angle) = about(g, joint.axis, &d.placement.rotation) else {
         return as_described;
     };
-    let angle = g.num(Num::Float(angle));
     let turned = Joint {
-        turn: Some(match joint.turn {
-            Some(t) => g.add2(t, angle),
-            None => angle,
-        }),
+        turn: Some(plus(g, joint.turn, angle)),
         ..joint
     };
     let placement = Placement {
@@ -165,6 +150,15 @@ pub fn described_folded(
         translation: d.placement.translation,
     };
     (placement, Some(turned))
+}
+
+/// A turn of `angle` added to the turn `turn` already carried, if any.
+fn plus(g: &mut Graph, turn: Option<Id>, angle: f64) -> Id {
+    let angle = g.num(Num::Float(angle));
+    match turn {
+        Some(t) => g.add2(t, angle),
+        None => angle,
+    }
 }
 
 /// The angle `θ₀` of `body`'s joint frame's turn about its joint's axis,
