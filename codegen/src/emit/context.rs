@@ -97,6 +97,12 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// `SMatrix::<T, rows, cols>::zeros()`.
+    pub(super) fn matrix_zeros(&self, rows: usize, cols: usize) -> TokenStream {
+        let (r, c) = (Self::dim(rows), Self::dim(cols));
+        quote!(::constrained::nalgebra::SMatrix::<T, #r, #c>::zeros())
+    }
+
     /// A matrix value from its columns (nalgebra stores columns).
     pub(super) fn matrix_value(&self, rows: usize, columns: Vec<Vec<TokenStream>>) -> TokenStream {
         let (r, c) = (Self::dim(rows), Self::dim(columns.len()));

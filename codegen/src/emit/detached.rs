@@ -60,7 +60,16 @@ pub(super) fn value(
     v: &Value,
     value: impl FnOnce(&Body) -> TokenStream,
 ) -> Detached {
-    let body = Body::new(ctx.eq, v.roots);
+    value_of(ctx, v, Body::new(ctx.eq, v.roots), value)
+}
+
+/// [`value`] from a body built for it ([`Body::storing`]).
+pub(super) fn value_of(
+    ctx: &Context,
+    v: &Value,
+    body: Body,
+    value: impl FnOnce(&Body) -> TokenStream,
+) -> Detached {
     let (name, ret) = (&v.name, &v.ret);
     let (params, args) = (ctx.params(v.inputs), ctx.args(v.inputs));
     let large = crate::expr::squares::operations(&ctx.eq.system.graph, v.roots) >= DETACH_FROM;

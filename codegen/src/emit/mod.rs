@@ -51,7 +51,7 @@ mod tokens;
 use crate::equations::Equations;
 use crate::expr::print::{shared_subexpressions, Printer, Style};
 use crate::expr::Id;
-use body::Body;
+use body::{Body, Stores};
 use context::{Context, Inputs};
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -375,9 +375,42 @@ fn matrix_function(
         ret,
         roots: &roots,
     };
-    detached::value(ctx, &v, |body| {
-        ctx.matrix_value(rows.len(), column_major(body, rows, cols))
-    })
+    // A large matrix is stored as its entries become known; a small one,
+    // whose few values the registers hold anyway, is one literal.
+    let large =
+        crate::expr::squares::operations(&ctx.eq.system.graph, &roots) >= detached::DETACH_FROM;
+    if !large {
+        return detached::value(ctx, &v, |body| {
+            ctx.matrix_value(rows.len(), column_major(body, rows, cols))
+        });
+    }
+    let (stores, value) = stored(ctx, rows);
+    let body = Body::storing(ctx.eq, stores);
+    detached::value_of(ctx, &v, body, |_| value)
+}
+
+/// The matrix `rows` (row by row) as outputs a body stores as soon as it
+/// knows each entry ([`Body::storing`]): into the local `__out0`, zeros
+/// where nothing is written, with that local as the value.
+fn stored(ctx: &Context, rows: &[Vec<Id>]) -> (Stores, TokenStream) {
+    let g = &ctx.eq.system.graph;
+    let local = Context::local("out", 0);
+    let cols = rows.first().map_or(0, Vec::len);
+    let mut places = Vec::new();
+    for j in 0..cols {
+        for (i, row) in rows.iter().enumerate() {
+            if !g.is_zero(row[j]) {
+                let (r, c) = (Context::dim(i), Context::dim(j));
+                places.push((quote!(#local.data.0[#c][#r]), row[j]));
+            }
+        }
+    }
+    let zeros = ctx.matrix_zeros(rows.len(), cols);
+    let stores = Stores {
+        local: quote! { let mut #local = #zeros; },
+        places,
+    };
+    (stores, quote!(#local))
 }
 
 /// The entries column by column: nalgebra stores columns.

@@ -81,6 +81,59 @@ impl Schedule {
             paired,
         }
     }
+
+    /// The same temporaries in the order the outputs ask for them: the
+    /// roots taken in arena order (as they were built), each one's
+    /// temporaries depth-first, operands in arena order, so that a value is
+    /// computed just before the first output that needs it. Where each
+    /// output is written out as soon as it is known (`emit::body`'s
+    /// stores), a value's registers are then free soon after it is
+    /// computed, where in arena order a whole pass (every composite
+    /// inertia) comes before any output that reads it.
+    pub fn in_demand_order(g: &Graph, roots: &[Id]) -> Schedule {
+        let arena = Schedule::new(g, roots);
+        let mut is_temporary = vec![false; g.len()];
+        for &t in &arena.temporaries {
+            is_temporary[t.index()] = true;
+        }
+        let mut ordered: Vec<Id> = roots.to_vec();
+        ordered.sort_unstable();
+        let mut seen = vec![false; g.len()];
+        let mut temporaries = Vec::with_capacity(arena.temporaries.len());
+        // Post-order without recursion (a chain's graph is deep): each
+        // node is pushed once to expand, once more to emit.
+        let mut stack: Vec<(Id, bool)> = Vec::new();
+        for root in ordered {
+            stack.push((root, false));
+            while let Some((id, expanded)) = stack.pop() {
+                if expanded {
+                    if is_temporary[id.index()] {
+                        temporaries.push(id);
+                    }
+                    continue;
+                }
+                if std::mem::replace(&mut seen[id.index()], true) {
+                    continue;
+                }
+                stack.push((id, true));
+                let mut children: Vec<Id> = g.children(id).collect();
+                children.sort_unstable();
+                // Reversed onto the stack: the first operand is expanded first.
+                stack.extend(children.into_iter().rev().map(|c| (c, false)));
+            }
+        }
+        let reachable: Vec<Id> = {
+            let mut all = temporaries.clone();
+            all.sort_unstable();
+            all
+        };
+        let sin_cos = sine_cosine_pairs(g, &reachable);
+        let paired = pair_positions(g, &temporaries, &sin_cos);
+        Schedule {
+            temporaries,
+            paired,
+        }
+    }
 }
 
 /// Each pair's first temporary (in `temporaries`' order) and its second.
@@ -120,4 +173,48 @@ fn sine_cosine_pairs(g: &Graph, nodes: &[Id]) -> Vec<(Id, Id)> {
             _ => None,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Schedule;
+    use crate::expr::{Graph, Id, Sym};
+
+    /// Two outputs whose temporaries were built in the other order: in
+    /// demand order each output's come right before it, the first
+    /// output's first; the set is the arena order's, and every temporary
+    /// still follows its operands.
+    #[test]
+    fn demand_order_puts_each_outputs_temporaries_before_the_next_outputs() {
+        let mut g = Graph::new();
+        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        // Built first, read by the second output only.
+        let late = g.add2(y, x);
+        let late_sq = g.mul2(late, late);
+        // Built second, read by the first output only.
+        let s = g.sub(x, y);
+        let s_sq = g.mul2(s, s);
+        let first = g.mul2(s_sq, s);
+        let second = g.mul2(late_sq, late);
+        let roots = [first, second];
+        let arena = Schedule::new(&g, &roots);
+        let demand = Schedule::in_demand_order(&g, &roots);
+        let sorted = |mut v: Vec<Id>| {
+            v.sort_unstable();
+            v
+        };
+        assert_eq!(
+            sorted(arena.temporaries.clone()),
+            sorted(demand.temporaries.clone())
+        );
+        assert_eq!(arena.temporaries, vec![late, s]);
+        assert_eq!(demand.temporaries, vec![s, late]);
+        for (i, &t) in demand.temporaries.iter().enumerate() {
+            for c in g.children(t) {
+                if let Some(j) = demand.temporaries.iter().position(|&u| u == c) {
+                    assert!(j < i, "{c:?} after {t:?}");
+                }
+            }
+        }
+    }
 }

@@ -61,6 +61,7 @@ fn is_function(name: &str) -> bool {
 const FREE: &[&str] = &[
     "is_finite",
     "zero",
+    "zeros",
     "one",
     "lit",
     "safe_minimum",
@@ -234,6 +235,21 @@ fn collect<'a>(
                 bindings.push(Binding { names, ops, uses });
             }
             Stmt::Expr(Expr::Block(block), _) => collect(&block.block.stmts, bindings, result)?,
+            // A value stored into its place of an output local
+            // (`crate::emit::body`'s stores): a new binding of the local
+            // that reads the old one, so that reading the local at the end
+            // counts every store.
+            Stmt::Expr(Expr::Assign(store), _) => {
+                let local = stored_local(&store.left)?;
+                let mut ops = OpCount::default();
+                let mut uses = vec![local.clone()];
+                walk(&store.right, &mut ops, &mut uses)?;
+                bindings.push(Binding {
+                    names: vec![local],
+                    ops,
+                    uses,
+                });
+            }
             Stmt::Expr(expr, _) => {
                 if let Some(call) = returned(expr) {
                     *result = Some((call, bindings.len()));
@@ -243,6 +259,17 @@ fn collect<'a>(
         }
     }
     Some(())
+}
+
+/// The local whose part `place` is (`__out.data.0[3][1]` → `__out`).
+fn stored_local(place: &Expr) -> Option<String> {
+    match place {
+        Expr::Path(p) => p.path.get_ident().map(ToString::to_string),
+        Expr::Field(f) => stored_local(&f.base),
+        Expr::Index(i) => stored_local(&i.expr),
+        Expr::Paren(p) => stored_local(&p.expr),
+        _ => None,
+    }
 }
 
 /// The statements of `let (a, b, …) = { …; (a, b, …) };`, a block of a
@@ -545,6 +572,30 @@ mod tests {
         assert_eq!(acceleration(&file).map(|o| o.total()), Some(2));
         let both = acceleration_and_multipliers(&file).expect("straight-line");
         assert_eq!((both.total(), both.div, both.neg), (5, 1, 1));
+    }
+
+    /// A method whose outputs are stored into a local as they become known
+    /// (`crate::emit::body`'s stores) counts every store the local's value
+    /// reads, and what each one needs, once.
+    #[test]
+    fn stores_into_the_returned_local_count() {
+        let file: syn::File = syn::parse_str(
+            "impl<T> S<T> { fn mass_matrix(&self, q: Q, t: T) -> R {
+                 let [[x, y]] = q.data.0;
+                 let mut __out0 = M::zeros();
+                 let __t0 = x * y;
+                 __out0.data.0[0][0] = __t0 + x;
+                 let __unused = x / y;
+                 __out0.data.0[1][0] = __t0;
+                 __out0.data.0[0][1] = __t0;
+                 __out0.data.0[1][1] = __t0 - y * y;
+                 __out0
+             } }",
+        )
+        .expect("test source parses");
+        // x·y, + x, y·y and its −: not the unused division.
+        let ops = method(&file, "mass_matrix").expect("straight-line");
+        assert_eq!((ops.total(), ops.div), (4, 0));
     }
 
     #[test]
