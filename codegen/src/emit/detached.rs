@@ -139,6 +139,30 @@ mod tests {
             .collect()
     }
 
+    /// A six-joint Panda's `M` (past `DETACH_FROM` operations) writes each
+    /// of its 36 entries into the returned local once, as soon as it is
+    /// known ([`crate::emit::body::Body::storing`]): 36 stores, no two into
+    /// one place, and the local is the value.
+    #[test]
+    fn a_large_mass_matrix_stores_each_entry_once() {
+        let expanded = crate::expand(panda("Arm", 6).parse().expect("tokens")).expect("expands");
+        let file: syn::File = syn::parse2(expanded).expect("Rust");
+        let m = crate::tools::op_count::detached_functions(&file)
+            .find(|f| f.sig.ident == "mass_matrix")
+            .expect("detached");
+        let mut places = std::collections::HashSet::new();
+        for stmt in &m.block.stmts {
+            if let syn::Stmt::Expr(syn::Expr::Assign(a), _) = stmt {
+                let place = quote::ToTokens::to_token_stream(&a.left).to_string();
+                assert!(place.starts_with("__out0 . data . 0 ["), "{place}");
+                assert!(places.insert(place.clone()), "{place} stored twice");
+            }
+        }
+        assert_eq!(places.len(), 36);
+        let tail = m.block.stmts.last().map(|s| quote::ToTokens::to_token_stream(s).to_string());
+        assert_eq!(tail.as_deref(), Some("__out0"));
+    }
+
     /// A six-joint Panda's `M` and `F` are computed in the module (each
     /// past `DETACH_FROM` operations); a two-link chain's values stay
     /// methods, and it has no module.
