@@ -405,6 +405,12 @@ fn stored(ctx: &Context, rows: &[Vec<Id>]) -> (Stores, TokenStream) {
             }
         }
     }
+    // The entries built last first: the composite-rigid-body pass builds
+    // the columns of the bodies nearest the root first, so this takes
+    // those of the bodies farthest out first, each right after its
+    // composite inertia, as Featherstone's loop from the leaves does
+    // (measured on the G1's `M`: 0.80 of the time of the order built).
+    places.sort_by_key(|&(_, id)| std::cmp::Reverse(id));
     let zeros = ctx.matrix_zeros(rows.len(), cols);
     let stores = Stores {
         local: quote! { let mut #local = #zeros; },

@@ -82,28 +82,24 @@ impl Schedule {
         }
     }
 
-    /// The same temporaries in the order the outputs ask for them: the
-    /// roots taken in arena order (as they were built), each one's
-    /// temporaries depth-first, operands in arena order, so that a value is
-    /// computed just before the first output that needs it. Where each
-    /// output is written out as soon as it is known (`emit::body`'s
-    /// stores), a value's registers are then free soon after it is
-    /// computed, where in arena order a whole pass (every composite
-    /// inertia) comes before any output that reads it.
+    /// The same temporaries in the order the outputs `roots` ask for them,
+    /// in the order given: each root's temporaries depth-first, operands
+    /// in arena order, so that a value is computed just before the first
+    /// output that needs it. Where each output is written out as soon as
+    /// it is known (`emit::body`'s stores), a value's registers are then
+    /// free soon after it is computed.
     pub fn in_demand_order(g: &Graph, roots: &[Id]) -> Schedule {
         let arena = Schedule::new(g, roots);
         let mut is_temporary = vec![false; g.len()];
         for &t in &arena.temporaries {
             is_temporary[t.index()] = true;
         }
-        let mut ordered: Vec<Id> = roots.to_vec();
-        ordered.sort_unstable();
         let mut seen = vec![false; g.len()];
         let mut temporaries = Vec::with_capacity(arena.temporaries.len());
         // Post-order without recursion (a chain's graph is deep): each
         // node is pushed once to expand, once more to emit.
         let mut stack: Vec<(Id, bool)> = Vec::new();
-        for root in ordered {
+        for &root in roots {
             stack.push((root, false));
             while let Some((id, expanded)) = stack.pop() {
                 if expanded {
