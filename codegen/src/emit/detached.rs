@@ -159,7 +159,11 @@ mod tests {
             }
         }
         assert_eq!(places.len(), 36);
-        let tail = m.block.stmts.last().map(|s| quote::ToTokens::to_token_stream(s).to_string());
+        let tail = m
+            .block
+            .stmts
+            .last()
+            .map(|s| quote::ToTokens::to_token_stream(s).to_string());
         assert_eq!(tail.as_deref(), Some("__out0"));
     }
 
