@@ -76,8 +76,8 @@ type StoresAt = HashMap<Option<usize>, Vec<(TokenStream, Id)>>;
 pub(super) struct Stores {
     /// `let mut … = …;`: the local, with zeros where nothing is written.
     pub(super) local: TokenStream,
-    /// Each output: where it is written (`__m.data.0[c][r]`) and its
-    /// expression.
+    /// Each output: where it is written (`__out0.data.0[c][r]`) and its
+    /// expression, in the order the outputs are asked for.
     pub(super) places: Vec<(TokenStream, Id)>,
 }
 
