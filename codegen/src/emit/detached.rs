@@ -24,6 +24,12 @@ use syn::Ident;
 /// smaller ones stay methods that callers may inline.
 pub(super) const DETACH_FROM: usize = 300;
 
+/// Whether the value of `roots` is large: at least [`DETACH_FROM`]
+/// operations.
+pub(super) fn large(ctx: &Context, roots: &[Id]) -> bool {
+    crate::expr::squares::operations(&ctx.eq.system.graph, roots) >= DETACH_FROM
+}
+
 /// A value method: the method on the system and, for a large one, the
 /// function it forwards to.
 pub(super) struct Detached {
@@ -72,8 +78,7 @@ pub(super) fn value_of(
 ) -> Detached {
     let (name, ret) = (&v.name, &v.ret);
     let (params, args) = (ctx.params(v.inputs), ctx.args(v.inputs));
-    let large = crate::expr::squares::operations(&ctx.eq.system.graph, v.roots) >= DETACH_FROM;
-    let (computed, function) = if large {
+    let (computed, function) = if large(ctx, v.roots) {
         let (preamble, value) = (body.detached_preamble(), value(&body));
         let module = module(ctx);
         let parameters = &ctx.eq.system.parameters;

@@ -377,9 +377,7 @@ fn matrix_function(
     };
     // A large matrix is stored as its entries become known; a small one,
     // whose few values the registers hold anyway, is one literal.
-    let large =
-        crate::expr::squares::operations(&ctx.eq.system.graph, &roots) >= detached::DETACH_FROM;
-    if !large {
+    if !detached::large(ctx, &roots) {
         return detached::value(ctx, &v, |body| {
             ctx.matrix_value(rows.len(), column_major(body, rows, cols))
         });

@@ -118,12 +118,15 @@ impl Schedule {
                 stack.extend(children.into_iter().rev().map(|c| (c, false)));
             }
         }
-        let reachable: Vec<Id> = {
-            let mut all = temporaries.clone();
-            all.sort_unstable();
-            all
-        };
-        let sin_cos = sine_cosine_pairs(g, &reachable);
+        // The arena order's pairs, placed again in this order.
+        let sin_cos: Vec<(Id, Id)> = arena
+            .paired
+            .values()
+            .filter_map(|p| match *p {
+                Paired::First { sin, cos, .. } => Some((sin, cos)),
+                Paired::Later => None,
+            })
+            .collect();
         let paired = pair_positions(g, &temporaries, &sin_cos);
         Schedule {
             temporaries,
