@@ -5,6 +5,7 @@
 //! row is weakly independent (rank decisions need a real tolerance:
 //! `constrained::rank`).
 
+use constrained::constrained_system;
 use constrained::models::*;
 use constrained::nalgebra::{SVector, Vector2, Vector3, Vector4};
 use constrained::DynamicsError;
@@ -129,5 +130,145 @@ fn redundant_double_pendulum_integrates_like_the_plain_one() {
     assert!(
         (drift_redundant - drift_plain).abs() <= 1e-3 * drift_plain,
         "drift: redundant {drift_redundant} vs plain {drift_plain}"
+    );
+}
+
+constrained_system! {
+    /// Two five-link arms (the Panda's first links, rounded) on a torso
+    /// turning about the vertical: a branched tree whose `M` couples the
+    /// arms only through the waist and is large enough to be factored as
+    /// its entries are computed. The right hand's link holds `payload`.
+    pub struct TwoArms {
+        parameters: [payload],
+        gravity: [0.0, 0.0, -9.81],
+        bodies: [
+            torso {
+                joint: revolute(waist, [0.0, 0.0, 1.0]),
+                mass: 20.0,
+                com: [0.0, 0.0, 0.2],
+                inertia: diag[0.4, 0.3, 0.2],
+            },
+            left1 {
+                parent: torso,
+                joint: revolute(left_q1, [0.0, 0.0, 1.0]),
+                xyz: [0.0, 0.25, 0.4],
+                rpy: [0.0 * PI / 2.0, 0.0, 0.0],
+                mass: 4.97,
+                com: [0.004, 0.002, -0.094],
+                inertia: [[0.70, -0.0002, 0.0086], [-0.0002, 0.70, 0.0201], [0.0086, 0.0201, 0.0092]],
+            },
+            left2 {
+                parent: left1,
+                joint: revolute(left_q2, [0.0, 0.0, 1.0]),
+                xyz: [0.0, 0.0, 0.0],
+                rpy: [-1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 0.65,
+                com: [-0.003, -0.028, 0.003],
+                inertia: [[0.0080, -0.0039, 0.0102], [-0.0039, 0.0282, 0.0007], [0.0102, 0.0007, 0.0257]],
+            },
+            left3 {
+                parent: left2,
+                joint: revolute(left_q3, [0.0, 0.0, 1.0]),
+                xyz: [0.0, -0.316, 0.0],
+                rpy: [1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 3.23,
+                com: [0.027, 0.039, -0.066],
+                inertia: [[0.0372, -0.0048, -0.0114], [-0.0048, 0.0361, -0.0128], [-0.0114, -0.0128, 0.0108]],
+            },
+            left4 {
+                parent: left3,
+                joint: revolute(left_q4, [0.0, 0.0, 1.0]),
+                xyz: [0.0825, 0.0, 0.0],
+                rpy: [1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 3.59,
+                com: [-0.053, 0.104, 0.027],
+                inertia: [[0.0260, 0.0077, -0.0013], [0.0077, 0.0196, 0.0086], [-0.0013, 0.0086, 0.0283]],
+            },
+            left5 {
+                parent: left4,
+                joint: revolute(left_q5, [0.0, 0.0, 1.0]),
+                xyz: [-0.0825, 0.384, 0.0],
+                rpy: [-1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 1.23,
+                com: [-0.012, 0.041, -0.038],
+                inertia: [[0.0356, -0.0021, -0.0040], [-0.0021, 0.0294, 0.0007], [-0.0040, 0.0007, 0.0086]],
+            },
+            right1 {
+                parent: torso,
+                joint: revolute(right_q1, [0.0, 0.0, 1.0]),
+                xyz: [0.0, -0.25, 0.4],
+                rpy: [0.0 * PI / 2.0, 0.0, 0.0],
+                mass: 4.97,
+                com: [0.004, 0.002, -0.094],
+                inertia: [[0.70, -0.0002, 0.0086], [-0.0002, 0.70, 0.0201], [0.0086, 0.0201, 0.0092]],
+            },
+            right2 {
+                parent: right1,
+                joint: revolute(right_q2, [0.0, 0.0, 1.0]),
+                xyz: [0.0, 0.0, 0.0],
+                rpy: [-1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 0.65,
+                com: [-0.003, -0.028, 0.003],
+                inertia: [[0.0080, -0.0039, 0.0102], [-0.0039, 0.0282, 0.0007], [0.0102, 0.0007, 0.0257]],
+            },
+            right3 {
+                parent: right2,
+                joint: revolute(right_q3, [0.0, 0.0, 1.0]),
+                xyz: [0.0, -0.316, 0.0],
+                rpy: [1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 3.23,
+                com: [0.027, 0.039, -0.066],
+                inertia: [[0.0372, -0.0048, -0.0114], [-0.0048, 0.0361, -0.0128], [-0.0114, -0.0128, 0.0108]],
+            },
+            right4 {
+                parent: right3,
+                joint: revolute(right_q4, [0.0, 0.0, 1.0]),
+                xyz: [0.0825, 0.0, 0.0],
+                rpy: [1.0 * PI / 2.0, 0.0, 0.0],
+                mass: 3.59,
+                com: [-0.053, 0.104, 0.027],
+                inertia: [[0.0260, 0.0077, -0.0013], [0.0077, 0.0196, 0.0086], [-0.0013, 0.0086, 0.0283]],
+            },
+            right5 {
+                parent: right4,
+                joint: revolute(right_q5, [0.0, 0.0, 1.0]),
+                xyz: [-0.0825, 0.384, 0.0],
+                rpy: [-1.0 * PI / 2.0, 0.0, 0.0],
+                mass: payload,
+                com: [-0.012, 0.041, -0.038],
+                inertia: [[0.0356, -0.0021, -0.0040], [-0.0021, 0.0294, 0.0007], [-0.0040, 0.0007, 0.0086]],
+            },
+        ],
+    }
+}
+
+/// A branched tree's `M` factored as its entries are computed (the pivots,
+/// not the entries, are checked): `M q̈ = F` against nalgebra's Cholesky
+/// solve of the generated `M` and `F`; a non-finite entry is
+/// `NonFinite` (infinite or NaN mass), a finite `M` that is not positive
+/// definite is `MassNotPositiveDefinite` (a negative mass), never NaN.
+#[test]
+fn a_branched_mass_reports_what_is_wrong() {
+    let q = SVector::<f64, 11>::from_fn(|i, _| 0.3 * i as f64 - 1.4);
+    let qd = SVector::<f64, 11>::from_fn(|i, _| 0.7 - 0.15 * i as f64);
+    let arms = TwoArms::new(1.23);
+    let qdd = arms.acceleration(&q, &qd, 0.0).expect("solves");
+    let m = arms.mass_matrix(&q, 0.0);
+    let f = arms.forces(&q, &qd, 0.0);
+    let reference = m.cholesky().expect("positive definite").solve(&f);
+    assert!(
+        (qdd - reference).norm() <= 1e-12 * reference.norm(),
+        "{qdd} vs {reference}"
+    );
+    for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+        assert_eq!(
+            TwoArms::new(bad).acceleration(&q, &qd, 0.0),
+            Err(DynamicsError::NonFinite),
+            "payload {bad}"
+        );
+    }
+    assert_eq!(
+        TwoArms::new(-40.0).acceleration(&q, &qd, 0.0),
+        Err(DynamicsError::MassNotPositiveDefinite)
     );
 }

@@ -81,9 +81,9 @@ pub(super) fn bounded(code: TokenStream, tail: &TokenStream) -> TokenStream {
 
 /// One statement of generated code, as its tokens, and the names it binds
 /// (a `let`'s, with whether each is `mut`).
-struct Statement {
-    tokens: Vec<TokenTree>,
-    binds: Vec<(Ident, bool)>,
+pub(super) struct Statement {
+    pub(super) tokens: Vec<TokenTree>,
+    pub(super) binds: Vec<(Ident, bool)>,
 }
 
 /// `code` split into statements on its tokens (parsing and printing the
@@ -91,7 +91,7 @@ struct Statement {
 /// `let` ends at its `;`, an `if` at its last block (no `else` after it),
 /// any other statement at a `;`. `None` for what does not split so (then
 /// the body is left as it is).
-fn statements(code: TokenStream) -> Option<Vec<Statement>> {
+pub(super) fn statements(code: TokenStream) -> Option<Vec<Statement>> {
     let mut out = Vec::new();
     let mut current: Vec<TokenTree> = Vec::new();
     let mut trees = code.into_iter().peekable();
@@ -154,7 +154,7 @@ fn pattern_names(tokens: TokenStream, out: &mut Vec<(Ident, bool)>) {
 }
 
 /// Every identifier in `tokens`, into `out`.
-fn idents(tokens: TokenStream, out: &mut HashSet<String>) {
+pub(super) fn idents(tokens: TokenStream, out: &mut HashSet<String>) {
     for tree in tokens {
         match tree {
             TokenTree::Ident(ident) => {

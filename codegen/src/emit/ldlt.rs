@@ -17,6 +17,7 @@
 
 mod inverse;
 mod minimum_norm;
+mod signed;
 mod suspect;
 
 pub(super) use minimum_norm::Rows;
@@ -48,6 +49,11 @@ enum Pivots {
     /// Positive, or the given statement runs (a `return` of the function's
     /// error: `M`).
     Positive(TokenStream),
+    /// Positive and finite, else the first statement runs where the pivot
+    /// is finite and the second where it is not: `M` whose entries are not
+    /// checked before (a non-finite entry makes a pivot non-finite, see
+    /// [`StructuredLdlt::mass_checked`]).
+    PositiveFinite(TokenStream, TokenStream),
     /// The saddle-point matrix (`crate::equations::saddle_point`): rows
     /// below `coordinates` positive, the multipliers' negative and `−dⱼ`
     /// above `10⁻³` times the part their coordinates gave;
@@ -109,6 +115,23 @@ impl<'a> StructuredLdlt<'a> {
             },
             pivots: Pivots::Positive(bail),
             solves,
+        }
+    }
+
+    /// `M(q)` whose entries were not checked finite: the pivots are. An
+    /// entry reaches its column's pivot (on the diagonal) or, off it, its
+    /// Schur-updated `u`, whose square enters a later pivot: with every
+    /// pivot finite and positive, every `u` and `l` is finite, and so is
+    /// every entry. A pivot that is finite and not positive runs
+    /// `not_positive`; one that is not finite, `non_finite`.
+    pub(super) fn mass_checked(
+        structure: &'a Structure,
+        (not_positive, non_finite): (TokenStream, TokenStream),
+        solves: Solves,
+    ) -> Self {
+        StructuredLdlt {
+            pivots: Pivots::PositiveFinite(not_positive, non_finite),
+            ..Self::mass(structure, TokenStream::new(), solves)
         }
     }
 
@@ -209,7 +232,7 @@ impl<'a> StructuredLdlt<'a> {
                 let tolerance = quote!(::constrained::__private::conditioning_tolerance::<T>());
                 quote! { let __tol: T = #tolerance; }
             }
-            Pivots::Positive(_) => TokenStream::new(),
+            Pivots::Positive(_) | Pivots::PositiveFinite(..) => TokenStream::new(),
         };
         for j in 0..k {
             out.extend(match &self.pivots {
@@ -262,6 +285,20 @@ impl<'a> StructuredLdlt<'a> {
                     #reciprocal
                 }
             }
+            Pivots::PositiveFinite(not_positive, non_finite) => {
+                let reciprocal = self
+                    .reciprocal(j)
+                    .then(|| quote! { let #inv = T::one() / #dj; });
+                quote! {
+                    if !(#dj > T::zero() && #dj.is_finite()) {
+                        if #dj.is_finite() {
+                            #not_positive
+                        }
+                        #non_finite
+                    }
+                    #reciprocal
+                }
+            }
         });
         out
     }
@@ -307,67 +344,6 @@ impl<'a> StructuredLdlt<'a> {
             });
         }
         out
-    }
-
-    /// Pivot `j` of the saddle-point matrix and its reciprocal. A
-    /// coordinate's must be positive. A multiplier's diagonal entry is zero,
-    /// so `−dⱼ = Σ_c uⱼ꜀²·inv꜀`: the coordinate pivots' part `own` (each
-    /// term positive), less what the earlier multipliers' (negative) pivots
-    /// took back; it must stay above `tol·own` (`tol = 10⁻³`: the test of
-    /// `S`'s pivots, `sin²θ`, for the rows eliminated so far, a thousand
-    /// times stricter than the rank tolerance, since here a row that fails
-    /// it is not dropped but handed to the dense solve with all the others).
-    fn signed_pivot(&self, j: usize, coordinates: usize, bail: &TokenStream) -> TokenStream {
-        let (l, r) = (&self.structure.fill, &self.roles);
-        let (dj, inv) = (Context::local(r.pivot, j), Context::local(r.inverse, j));
-        // `u·l` (= u²·inv, formed already): one multiplication a term
-        // fewer than `S`'s and `M`'s chain-friendly `(u·u)·inv`; a robot's
-        // saddle-point matrix is wide, not a chain.
-        let term = |c: usize| {
-            let (ujc, ljc) = (
-                Context::local2(r.update, j, c),
-                Context::local2(r.lower, j, c),
-            );
-            quote!(#ujc * #ljc)
-        };
-        let is_coordinate = |p: usize| self.structure.order[p] < coordinates;
-        if is_coordinate(j) {
-            let xjj = self.at(j, j);
-            let updates = (0..j).filter(|&c| l[j][c]).map(|c| {
-                let t = term(c);
-                quote!(- #t)
-            });
-            // Positive and at most the largest finite value: an infinite
-            // pivot's reciprocal 0 would zero its column and leave a finite,
-            // wrong answer (the entries are finite, their updates may not be).
-            let largest = quote!(::constrained::__private::largest::<T>());
-            return quote! {
-                let #dj = #xjj #(#updates)*;
-                if !(#dj > T::zero() && #dj <= #largest) {
-                    #bail
-                }
-                let #inv = T::one() / #dj;
-            };
-        }
-        let own: Vec<TokenStream> = (0..j)
-            .filter(|&c| l[j][c] && is_coordinate(c))
-            .map(term)
-            .collect();
-        let back = (0..j).filter(|&c| l[j][c] && !is_coordinate(c)).map(term);
-        let own_name = Context::local("kown", j);
-        let own = if own.is_empty() {
-            quote!(T::zero())
-        } else {
-            quote!(#(#own)+*)
-        };
-        quote! {
-            let #own_name = #own;
-            let #dj = -#own_name #(- #back)*;
-            if !(-#dj > __tol * #own_name) {
-                #bail
-            }
-            let #inv = T::one() / #dj;
-        }
     }
 
     /// Whether the factorization kept row `row` (its pivot was not

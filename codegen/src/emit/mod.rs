@@ -26,6 +26,7 @@
 mod body;
 mod chunks;
 mod context;
+mod demand;
 pub mod derivation;
 mod derivation_bodies;
 mod derivation_saddle;

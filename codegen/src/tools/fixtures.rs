@@ -208,24 +208,7 @@ pub const PANDA: [([&str; 3], i32, &str, [&str; 3], [&str; 6]); 7] = [
 /// The first `joints` links of the Panda ([`PANDA`]) as a `bodies` section,
 /// with a torque input per joint (`tau1`, …) and gravity along −z.
 pub fn panda(name: &str, joints: usize) -> String {
-    let mut bodies = String::new();
-    for (i, (xyz, roll, mass, first, inertia)) in PANDA.iter().take(joints).enumerate() {
-        let roll = f64::from(*roll);
-        let parent = if i == 0 {
-            "world".to_string()
-        } else {
-            format!("link{i}")
-        };
-        let com = first.map(|c| format!("{c} / {mass}")).join(", ");
-        let [xx, xy, xz, yy, yz, zz] = inertia;
-        bodies.push_str(&format!(
-            "        link{k} {{\n            parent: {parent},\n            joint: revolute(q{k}, [0.0, 0.0, 1.0]),\n            \
-             xyz: [{xyz}],\n            rpy: [{roll} * PI / 2.0, 0.0, 0.0],\n            mass: {mass},\n            com: [{com}],\n            \
-             inertia: [[{xx}, {xy}, {xz}], [{xy}, {yy}, {yz}], [{xz}, {yz}, {zz}]],\n        }},\n",
-            k = i + 1,
-            xyz = xyz.join(", "),
-        ));
-    }
+    let bodies = panda_links("", "world", joints, None);
     let inputs: Vec<String> = (1..=joints).map(|k| format!("tau{k}")).collect();
     format!(
         "    /// The first {joints} links of the Franka Emika Panda, from published parameters.\n    \
@@ -233,6 +216,59 @@ pub fn panda(name: &str, joints: usize) -> String {
          bodies: [\n{bodies}        ],\n        forces: [{inputs}],\n    }}",
         inputs = inputs.join(", "),
     )
+}
+
+/// Two arms of the Panda's first `joints` links ([`PANDA`]), `left` and
+/// `right`, on a torso turning about the vertical (`waist`, 20 kg, 0.4 m
+/// tall, the arms' bases 0.25 m to either side): a branched tree, whose
+/// `M` couples the arms only through the waist, so it has structural
+/// zeros. Gravity along −z, no inputs.
+pub fn two_arms(name: &str, joints: usize) -> String {
+    let mut bodies = String::from(
+        "        torso {\n            joint: revolute(waist, [0.0, 0.0, 1.0]),\n            \
+         mass: 20.0,\n            com: [0.0, 0.0, 0.2],\n            inertia: diag[0.4, 0.3, 0.2],\n        },\n",
+    );
+    bodies.push_str(&panda_links(
+        "left_",
+        "torso",
+        joints,
+        Some("0.0, 0.25, 0.4"),
+    ));
+    bodies.push_str(&panda_links(
+        "right_",
+        "torso",
+        joints,
+        Some("0.0, -0.25, 0.4"),
+    ));
+    format!(
+        "    /// Two arms of {joints} Panda links on a turning torso.\n    \
+         pub struct {name} {{\n        gravity: [0.0, 0.0, -9.81],\n        \
+         bodies: [\n{bodies}        ],\n    }}"
+    )
+}
+
+/// The Panda's first `joints` links as `bodies` entries, named
+/// `{prefix}link{k}` with coordinates `{prefix}q{k}`, the first hanging
+/// from `parent` (at `base`, where given, instead of the table's origin).
+fn panda_links(prefix: &str, parent: &str, joints: usize, base: Option<&str>) -> String {
+    let mut bodies = String::new();
+    for (i, (xyz, roll, mass, first, inertia)) in PANDA.iter().take(joints).enumerate() {
+        let roll = f64::from(*roll);
+        let (parent, xyz) = match (i, base) {
+            (0, Some(base)) => (parent.to_string(), base.to_string()),
+            (0, None) => (parent.to_string(), xyz.join(", ")),
+            _ => (format!("{prefix}link{i}"), xyz.join(", ")),
+        };
+        let com = first.map(|c| format!("{c} / {mass}")).join(", ");
+        let [xx, xy, xz, yy, yz, zz] = inertia;
+        bodies.push_str(&format!(
+            "        {prefix}link{k} {{\n            parent: {parent},\n            joint: revolute({prefix}q{k}, [0.0, 0.0, 1.0]),\n            \
+             xyz: [{xyz}],\n            rpy: [{roll} * PI / 2.0, 0.0, 0.0],\n            mass: {mass},\n            com: [{com}],\n            \
+             inertia: [[{xx}, {xy}, {xz}], [{xy}, {yy}, {yz}], [{xz}, {yz}, {zz}]],\n        }},\n",
+            k = i + 1,
+        ));
+    }
+    bodies
 }
 
 /// The quadruped of the repository's `examples/support/quadruped.rs` (a

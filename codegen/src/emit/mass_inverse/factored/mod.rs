@@ -25,6 +25,7 @@
 
 mod auxiliary;
 mod gram_form;
+mod inputs;
 pub(in crate::emit) mod jacobian;
 mod legs;
 mod saddle;
@@ -34,16 +35,16 @@ mod velocity_jacobian;
 
 pub(in crate::emit) use velocity_jacobian::velocity_jacobians;
 
-use crate::emit::body::Body;
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::ldlt::{Rows, Solves, StructuredLdlt};
 use crate::emit::solve::{checked_motion, corrected};
-use crate::emit::tokens::{concat, let_statement};
+use crate::emit::tokens::concat;
 use crate::equations::mass_inverse::Factored;
 use crate::equations::strategy::Strategy;
 use crate::expr::Id;
 use gram_form::gram_form;
+use inputs::{bind, head, inputs, Head};
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
@@ -127,16 +128,14 @@ impl<'a> FactoredSolve<'a> {
             (Some(_), Scope::Dynamics { gauss: true }) => auxiliary::dense_answer(ctx),
             _ => bail(quote!(DynamicsError::MassNotPositiveDefinite)),
         };
-        let mass = StructuredLdlt::mass(&f.mass, mass_bail, solves);
         let gram = StructuredLdlt::gram(&f.gram);
-        let inputs = inputs(ctx, f, &mass, (dynamics, extra), &bail);
-        // A semi-definite M: the auxiliary mass and forces, from M, F, A, b.
-        let auxiliary = f
-            .auxiliary
-            .is_some()
-            .then(|| auxiliary::prelude(ctx, f, &mass, dynamics, correction));
-        let factor_mass = mass.factor();
-        let head = concat([inputs, auxiliary.unwrap_or_default(), factor_mass]);
+        let (mass, head) = head(
+            ctx,
+            f,
+            (dynamics, correction, extra),
+            (solves, mass_bail),
+            &bail,
+        );
         if scope == (Scope::Dynamics { gauss: true }) && k > 0 {
             return Self::solver(ctx, f, (mass, gram), head);
         }
@@ -152,7 +151,7 @@ impl<'a> FactoredSolve<'a> {
         ctx: &'a Context,
         f: &'a Factored,
         (mass, gram): (StructuredLdlt<'a>, StructuredLdlt<'a>),
-        head: TokenStream,
+        head: Head,
         scope: Scope,
     ) -> Self {
         let k = ctx.k;
@@ -173,9 +172,8 @@ impl<'a> FactoredSolve<'a> {
         let factor_gram = gram.factor();
         let solve_gram = gram.solve(&residuals, "y", &multipliers);
         let (acceleration, force) = motion(ctx, f, &a_bound, &unconstrained, &multipliers);
-        let to_multipliers = if dynamics {
+        let to_multipliers = head.then(if dynamics {
             concat([
-                head,
                 solve_a,
                 solve_w,
                 gram_entries,
@@ -185,8 +183,8 @@ impl<'a> FactoredSolve<'a> {
                 solve_gram,
             ])
         } else {
-            concat([head, solve_w, gram_entries, factor_gram])
-        };
+            concat([solve_w, gram_entries, factor_gram])
+        });
         FactoredSolve {
             mass,
             gram,
@@ -202,7 +200,7 @@ impl<'a> FactoredSolve<'a> {
         ctx: &'a Context,
         f: &'a Factored,
         (mass, gram): (StructuredLdlt<'a>, StructuredLdlt<'a>),
-        head: TokenStream,
+        head: Head,
     ) -> Self {
         let k = ctx.k;
         let lean = gram_form(ctx, f, &mass, &gram);
@@ -218,14 +216,13 @@ impl<'a> FactoredSolve<'a> {
         let to_gram = lean.code;
         let force = constraint_force(ctx, &multipliers);
         FactoredSolve {
-            to_multipliers: concat([
-                head,
+            to_multipliers: head.then(concat([
                 to_gram,
                 corrected.unwrap_or_default(),
                 factor_gram,
                 solve_gram,
                 back,
-            ]),
+            ])),
             mass,
             gram,
             acceleration,
@@ -275,101 +272,6 @@ fn a_column(ctx: &Context, j: usize) -> Vec<Option<TokenStream>> {
 fn a_entry(r: usize, i: usize) -> TokenStream {
     let name = Context::local2("a", r, i);
     quote!(#name)
-}
-
-/// The model's expressions bound to locals ([`named_inputs`]) and checked:
-/// `M` and `F` finite (an overflowed one would be solved as a limit,
-/// 1/∞ = 0).
-fn inputs(
-    ctx: &Context,
-    f: &Factored,
-    mass: &StructuredLdlt,
-    (dynamics, extra): (bool, &[(Ident, Id)]),
-    bail: &dyn Fn(TokenStream) -> TokenStream,
-) -> TokenStream {
-    let (mut named, mass_and_forces) = named_inputs(ctx, f, mass, dynamics);
-    named.extend(extra.iter().cloned());
-    bind(ctx, &named, mass_and_forces, bail)
-}
-
-/// `named`'s expressions bound to their locals by one CSE'd body (shared
-/// between the functions that bind the same list), the first `checked` of
-/// them checked finite.
-fn bind(
-    ctx: &Context,
-    named: &[(Ident, Id)],
-    checked: usize,
-    bail: &dyn Fn(TokenStream) -> TokenStream,
-) -> TokenStream {
-    let cached = ctx.bodies.borrow().get(named).cloned();
-    let mut out = cached.unwrap_or_else(|| {
-        let roots: Vec<Id> = named.iter().map(|(_, e)| *e).collect();
-        let body = Body::new(ctx.eq, &roots);
-        let mut out = body.preamble();
-        out.extend(named.iter().map(|(name, id)| {
-            let value = body.expr(*id);
-            let_statement(name, value)
-        }));
-        ctx.bodies.borrow_mut().insert(named.to_vec(), out.clone());
-        out
-    });
-    let finite = named[..checked]
-        .iter()
-        .map(|(name, _)| quote!(#name.is_finite()));
-    let non_finite = bail(quote!(DynamicsError::NonFinite));
-    out.extend(quote! {
-        if !(#(#finite)&*) {
-            #non_finite
-        }
-    });
-    out
-}
-
-/// The locals bound from the model's expressions: `M`'s lower pattern,
-/// `F` (with `dynamics`), `A`'s nonzeros, `b` (with `dynamics`); and how
-/// many of them are `M` and `F`, which come first (the finiteness check
-/// reads them). For a semi-definite `M`, `M` and `F` under their own
-/// names and `AᵀA` ([`auxiliary::named_mass_and_forces`]).
-fn named_inputs(
-    ctx: &Context,
-    f: &Factored,
-    mass: &StructuredLdlt,
-    dynamics: bool,
-) -> (Vec<(Ident, Id)>, usize) {
-    let sys = &ctx.eq.system;
-    let (mut named, mass_and_forces) = match &f.auxiliary {
-        Some(aux) => auxiliary::named_mass_and_forces(ctx, aux, dynamics),
-        None => {
-            let mut named: Vec<(Ident, Id)> = Vec::new();
-            for i in 0..ctx.n {
-                for j in 0..=i {
-                    if f.mass.nonzero[i][j] {
-                        named.push((mass.entry(i, j), sys.mass[i][j]));
-                    }
-                }
-            }
-            if dynamics {
-                for (i, &e) in sys.forces.iter().enumerate() {
-                    named.push((Context::local("f", i), e));
-                }
-            }
-            let count = named.len();
-            (named, count)
-        }
-    };
-    for (r, row) in ctx.eq.a.iter().enumerate() {
-        for (i, &e) in row.iter().enumerate() {
-            if !sys.graph.is_zero(e) {
-                named.push((Context::local2("a", r, i), e));
-            }
-        }
-    }
-    if dynamics {
-        for (r, &e) in ctx.eq.b.iter().enumerate() {
-            named.push((Context::local("b", r), e));
-        }
-    }
-    (named, mass_and_forces)
 }
 
 /// The columns of `W = M⁻¹ Aᵀ` (locals `__w{i}_{j}`), by sparse solves

@@ -35,7 +35,7 @@ pub(super) fn solver(ctx: &Context, f: &Factored, saddle: &Structure) -> TokenSt
     // `M`'s locals are named as for its own factorization (none runs).
     let mass = StructuredLdlt::mass(&f.mass, dense.clone(), Solves::Many);
     let bail = |error: TokenStream| ctx.gauss_error(error);
-    let head = inputs(ctx, f, &mass, (true, &[]), &bail);
+    let head = inputs(ctx, f, &mass, (true, &[]), (true, &bail));
     let b: Vec<Ident> = (0..k).map(|r| Context::local("b", r)).collect();
     let prelude = match &f.auxiliary {
         Some(_) => auxiliary::prelude(ctx, f, &mass, true, true),

@@ -72,7 +72,7 @@ pub(super) fn solve<'a>(
 ) -> Solved<'a> {
     let ldlt = StructuredLdlt::saddle(&v.structure, v.coordinates.len(), dense.clone());
     let (named, checked) = named(ctx, v, &ldlt);
-    let head = bind(ctx, &named, checked, bail);
+    let head = bind(ctx, &named, 0..checked, bail);
     let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
     let correction = if v.system.in_base.is_empty() {
         corrected(&b, &[])
