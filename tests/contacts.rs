@@ -334,3 +334,37 @@ fn the_joined_bodies_velocity_solve_equals_the_dense_one() {
         "the generated solve answered every state itself"
     );
 }
+
+/// The joined bodies' saddle-point factorization reads `TᵀMT` as it is
+/// computed, with no check of its entries before: a non-finite state
+/// (a quaternion's entry infinite or NaN, which reaches `M`; a rate that
+/// is NaN, which reaches `F`) is still `NonFinite`, never a finite answer.
+#[test]
+fn the_joined_bodies_report_a_non_finite_state() {
+    use constrained::DynamicsError;
+    let sys = Joined::new();
+    let ra = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3);
+    let mut q = SVector::<f64, 14>::zeros();
+    // (w, i, j, k) per body, after its position.
+    let qa = ra.quaternion();
+    (q[3], q[4], q[5], q[6]) = (qa.w, qa.i, qa.j, qa.k);
+    (q[9], q[10]) = (-0.4, 1.0);
+    let qd = SVector::<f64, 14>::from_fn(|i, _| 0.1 * i as f64 - 0.5);
+    assert!(sys.acceleration(&q, &qd, 0.0).is_ok());
+    for bad in [f64::INFINITY, f64::NAN] {
+        let mut q_bad = q;
+        q_bad[4] = bad;
+        assert_eq!(
+            sys.acceleration(&q_bad, &qd, 0.0),
+            Err(DynamicsError::NonFinite),
+            "quaternion entry {bad}"
+        );
+        let mut qd_bad = qd;
+        qd_bad[11] = bad;
+        assert_eq!(
+            sys.acceleration(&q, &qd_bad, 0.0),
+            Err(DynamicsError::NonFinite),
+            "rate {bad}"
+        );
+    }
+}

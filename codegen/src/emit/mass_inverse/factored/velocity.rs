@@ -16,6 +16,7 @@ use super::saddle::{function, or_zero, solved};
 use super::{auxiliary, bind};
 use crate::bodies::free::G_PATTERN;
 use crate::emit::context::Context;
+use crate::emit::demand::interleaved;
 use crate::emit::ldlt::StructuredLdlt;
 use crate::emit::literal::literal;
 use crate::emit::solve::{corrected, correction_locals};
@@ -72,7 +73,20 @@ pub(super) fn solve<'a>(
 ) -> Solved<'a> {
     let ldlt = StructuredLdlt::saddle(&v.structure, v.coordinates.len(), dense.clone());
     let (named, checked) = named(ctx, v, &ldlt);
-    let head = bind(ctx, &named, 0..checked, bail);
+    // Without legs, the saddle-point factorization reads every entry of
+    // `TᵀMT` (and of `A T`) as it is computed (`interleaved`): its signed
+    // pivots, which hand a failure to `dense` (and `gauss_dense` checks
+    // `M` and `F`), check what the inputs' check did for `TᵀMT`, as
+    // `StructuredLdlt::mass_checked`'s do for `M` (a non-finite entry makes
+    // its row's pivot fail). `TᵀF` keeps its check.
+    let mass_entries = if legs.is_none() {
+        (0..v.coordinates.len())
+            .map(|i| (0..=i).filter(|&j| v.structure.nonzero[i][j]).count())
+            .sum()
+    } else {
+        0
+    };
+    let head = bind(ctx, &named, mass_entries..checked, bail);
     let b: Vec<Ident> = (0..ctx.k).map(|r| Context::local("b", r)).collect();
     let correction = if v.system.in_base.is_empty() {
         corrected(&b, &[])
@@ -122,7 +136,11 @@ pub(super) fn solve<'a>(
     let (norms, mut mu) = multipliers(ctx, v, &values, &forces);
     let norms = concat([norms, in_world(v, &mut mu), held_multipliers(v, &mut mu)]);
     Solved {
-        code: concat([head, correction, alphas, solve, recover, norms]),
+        code: if legs.is_none() {
+            interleaved(head, concat([correction, alphas, solve, recover, norms]))
+        } else {
+            concat([head, correction, alphas, solve, recover, norms])
+        },
         acceleration,
         mu,
         how,
