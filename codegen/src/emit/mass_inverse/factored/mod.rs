@@ -2,9 +2,12 @@
 //! generated code on compile-time patterns (`crate::equations::mass_inverse::Factored`):
 //!
 //! 1. `M`, `F`, `A` and `b` as one straight-line body, so that CSE shares
-//!    their subexpressions;
+//!    their subexpressions, checked finite;
 //! 2. `P M Pᵀ = L D Lᵀ` over `M`'s pattern (a pivot that is not positive
 //!    returns `MassNotPositiveDefinite`, as a Cholesky factorization fails);
+//!    for a large branched `M`, with each input computed where the
+//!    factorization first reads it and the pivots, not `M`'s entries,
+//!    checked finite ([`inputs::head`]);
 //! 3. the solver `gauss`: `Y = L⁻¹ P Aᵀ` and `z = L⁻¹ P F` by sparse
 //!    forward substitution, `S = Yᵀ D⁻¹ Y`, `r = b − Yᵀ D⁻¹ z`, `S`'s
 //!    rank-revealing `LDLᵀ` exactly as for a constant `M`
