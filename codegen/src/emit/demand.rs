@@ -9,6 +9,7 @@
 //! held, in a register or a slot of the stack, until the last is known.
 
 use super::chunks::{idents, statements, Statement};
+use super::tokens::concat;
 use proc_macro2::TokenStream;
 use std::collections::{HashMap, HashSet};
 
@@ -24,11 +25,12 @@ pub(super) fn interleaved(inputs: TokenStream, consumers: TokenStream) -> TokenS
     let (Some(inputs_split), Some(consumers_split)) =
         (statements(inputs.clone()), statements(consumers.clone()))
     else {
-        return concat(inputs, consumers);
+        return concat([inputs, consumers]);
     };
     let Some(binder) = binders(&inputs_split) else {
-        return concat(inputs, consumers);
+        return concat([inputs, consumers]);
     };
+
     let reads = |s: &Statement| {
         let mut names = HashSet::new();
         idents(s.tokens.iter().cloned().collect(), &mut names);
@@ -51,7 +53,16 @@ pub(super) fn interleaved(inputs: TokenStream, consumers: TokenStream) -> TokenS
         out.extend(inputs_split[check].tokens.iter().cloned());
     }
     for consumer in &consumers_split {
-        for first in reads(consumer) {
+        // An input whose name the consumer binds again comes before it
+        // (placed later, it would shadow the consumer's binding).
+        let mut firsts = reads(consumer);
+        firsts.extend(
+            consumer
+                .binds
+                .iter()
+                .filter_map(|(n, _)| binder.get(&n.to_string())),
+        );
+        for first in firsts {
             for i in order.place(first) {
                 out.extend(inputs_split[i].tokens.iter().cloned());
             }
@@ -64,11 +75,6 @@ pub(super) fn interleaved(inputs: TokenStream, consumers: TokenStream) -> TokenS
         }
     }
     out
-}
-
-fn concat(mut first: TokenStream, second: TokenStream) -> TokenStream {
-    first.extend(second);
-    first
 }
 
 /// The statement that binds each name, `None` where one is bound twice
@@ -209,8 +215,10 @@ mod tests {
         assert_eq!(out, expected);
     }
 
-    /// A name bound twice among the inputs leaves both parts as they are:
-    /// moving a statement could change which binding a later one reads.
+    /// A name bound twice among the inputs leaves both parts as they
+    /// are: moving a statement could change which binding a later one
+    /// reads. An input whose name a consumer binds again, unread, comes
+    /// before that consumer, which still shadows it.
     #[test]
     fn a_name_bound_twice_keeps_the_written_order() {
         let inputs = quote! {
@@ -221,5 +229,18 @@ mod tests {
         let consumers = quote! { let p = b * a; };
         let out = text(interleaved(inputs.clone(), consumers.clone()));
         assert_eq!(out, text(quote!(#inputs #consumers)));
+        let inputs = quote! {
+            let a = x * 2.0;
+            let b = x + 1.0;
+        };
+        let consumers = quote! { let p = b * 2.0; let a = p; };
+        let out = text(interleaved(inputs, consumers));
+        let expected = quote! {
+            let b = x + 1.0;
+            let p = b * 2.0;
+            let a = x * 2.0;
+            let a = p;
+        };
+        assert_eq!(out, text(expected));
     }
 }
