@@ -66,9 +66,19 @@ pub trait Finish<T: RealField + Copy, const N: usize> {
     where
         S: Generated<T, N, K>,
     {
+        outside_fast_path();
         Self::decided(motion, || least_squares(system, q, qd, t, correction))
     }
 }
+
+/// Marks the path that calls it as rarely taken: every exit through
+/// [`Finish::settle`] leaves the generated fast path, so the compiler lays
+/// those blocks out of its way and keeps the fast path's values in
+/// registers across them (a call to a `#[cold]` function is its only
+/// stable hint).
+#[cold]
+#[inline(never)]
+fn outside_fast_path() {}
 
 /// `Result<(q̈, Aᵀλ), DynamicsError>`: the fallible methods and the
 /// [`Generated`] trait.
