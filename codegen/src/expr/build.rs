@@ -219,20 +219,20 @@ impl Graph {
     /// then). Any other sum is made primitive (coprime integer coefficients,
     /// the leading one positive) and its content joins the coefficient, so
     /// that g·(2y − 2z) and g·(−2y + 2z) become ±2·g·(y − z) and collect,
-    /// while 4·a + b stays as it is. Exact rational content only, and a
-    /// small one ([`small_ratio`]).
+    /// while 4·a + b stays as it is. Exact rational content only, a small
+    /// one ([`small_ratio`]) whose power is [`moderate`].
     fn sum_content(&mut self, id: Id, e: Num) -> Option<(Num, Id)> {
         let Node::Add(terms, c0) = self.node(id) else {
             return None;
         };
         if c0.is_zero() && terms.len() == 1 {
             let (t, c) = terms[0];
-            return c.pow(e).map(|v| (v, t));
+            return c.pow(e).filter(|&v| moderate(v)).map(|v| (v, t));
         }
         let content = crate::expr::num::content(terms.iter().map(|t| t.1).chain(Some(*c0)))
             .map(|c| if terms[0].1.is_negative() { -c } else { c });
         let content = match content {
-            Some(c) if small_ratio(c) => c,
+            Some(c) if small_ratio(c) && c.pow(e).is_some_and(moderate) => c,
             // A large content stays in the sum; only its sign leaves, so
             // that a sum and its negation still collect.
             Some(c) if c.is_negative() => Num::MINUS_ONE,
@@ -412,6 +412,17 @@ impl Graph {
 /// so, with coefficients near 10²⁵ left in the sum: two constants at the
 /// edge of `f32`'s range, and a multiplication more where the sum is read,
 /// where the sum kept whole has neither.
+/// Whether a coefficient split out of a power may leave it: within
+/// `2^±64`, so that the factor left behind overflows or underflows only
+/// where the whole power comes within `2^64` of doing so. Split whatever
+/// its size, `(x + 5/4)^625` became `4^−625 · (4x + 5)^625`, `0 · ∞ = NaN`
+/// at x = 0.2, where the power is 1.4e100.
+fn moderate(v: Num) -> bool {
+    const BOUND: f64 = 18_446_744_073_709_551_616.0; // 2^64
+    let x = v.to_f64().abs();
+    (1.0 / BOUND..=BOUND).contains(&x)
+}
+
 fn small_ratio(c: Num) -> bool {
     const BOUND: u128 = 1 << 32;
     matches!(c, Num::Rational(p, q) if p.unsigned_abs() < BOUND && q.unsigned_abs() < BOUND)

@@ -159,3 +159,40 @@ fn contents_leave_a_sum_only_when_small() {
     let negated = g.mul2(x, minus);
     same!(g, g.add2(product, negated), zero);
 }
+
+/// A content leaves a sum under a power only where its power stays near 1
+/// (`2^±64`): at x = 0.2, `(x + 5/4)^625` is 1.4e100 and `x / (x + 5/4)^625`
+/// is 2.8e-102, where `4^−625 · (4x + 5)^625` made `0 · ∞ = NaN`; the
+/// same for a one-term sum, `(x/4)^625` at x = 3. A small power still
+/// splits: `(x/2 + y/2)²` is `¼ (x + y)²`.
+#[test]
+fn contents_leave_a_power_only_when_its_power_is_moderate() {
+    let mut g = Graph::new();
+    let (x, y, _) = xyz(&mut g);
+    let at = |s: Sym| match s {
+        Sym::Coord(0) => 0.2,
+        Sym::Coord(1) => 3.0,
+        _ => f64::NAN,
+    };
+    let quarter = g.num(Num::ratio(5, 4));
+    let base = g.add2(x, quarter);
+    let power = g.pown(base, Num::int(625));
+    let ratio = g.div(x, power);
+    let one_term = g.scale(y, Num::ratio(1, 4));
+    let small = g.pown(one_term, Num::int(625));
+    let values = g.eval(&[power, ratio, small], &at);
+    let truth = [
+        1.45_f64.powi(625),
+        0.2 / 1.45_f64.powi(625),
+        0.75_f64.powi(625),
+    ];
+    for (v, t) in values.iter().zip(truth) {
+        assert!((v - t).abs() <= 1e-12 * t, "{v:e} against {t:e}");
+    }
+    let half = Num::ratio(1, 2);
+    let halves = g.linear_combination([(x, half), (y, half)]);
+    let squared = g.pown(halves, Num::int(2));
+    let whole = g.add2(x, y);
+    let whole_squared = g.pown(whole, Num::int(2));
+    same!(g, squared, g.scale(whole_squared, Num::ratio(1, 4)));
+}
