@@ -263,6 +263,11 @@ ICACHE_NAMES = {"quadruped": "quadruped", "go1": "Unitree Go1 from its URDF", "f
                 "ur5": "UR5 (fixed base)", "talos": "TALOS (fixed base)", "xarm7": "xArm7 (fixed base)",
                 "kinova": "Kinova Jaco 2 (fixed base)", "g1_arms_locked": "G1, arms locked (fixed base)",
                 "g1": "G1, 29 joints (fixed base)"}
+# The Kinematics table's robots (`kinematics spin`), where a name differs.
+ICACHE_KINEMATICS_NAMES = {"panda": "Panda (Kinematics table)", "g1": "G1, 29 joints (fixed base)",
+                           "go1": "Go1, 12 joints (fixed trunk)"}
+# The Go1's Jacobians, `contacts spin go1 jacobians`, by the method's name.
+ICACHE_CALLS = {"jacobians": "acceleration_and_multiplier_jacobians"}
 
 
 def load_icache(name="icache.json"):
@@ -285,21 +290,25 @@ def icache(rows):
         "### Instruction cache, per call",
         "",
         "`bash benches/peers/icache.sh`: cachegrind on `contacts spin SYSTEM WHAT PASSES` and, for",
-        "the Robots table's robots, `constrained-robots spin ROBOT WHAT PASSES` (the states,",
-        "then only calls), each figure the difference of a run with calls and",
+        "the Robots and Kinematics tables' robots, `constrained-robots` and `kinematics spin ROBOT",
+        "WHAT PASSES` (the states, then only calls), each figure the difference of a run with calls and",
         "one without. The code run is the distinct lines of code the calls touch that the",
         "states' set-up did not (a 1 MiB L1i, where only first touches miss: a lower",
         f"bound); the misses are this machine's L1i's ({r['i1_bytes'] // 1024} KiB, {r['i1_ways']}-way, "
         f"{r['line']}-byte lines, from sysfs),",
         "over 1,000 calls. Where the code run is larger than the L1i, every line of it",
-        "misses at every call.",
+        "misses at every call. Cachegrind counts every byte a `rep movsb` copies or `rep stosb`",
+        "clears as an instruction: a call that returns large matrices by value (the",
+        "derivatives) shows their copies among its instructions.",
         "",
         "| system | call | instructions | code run | L1i misses |",
         "|---|---|---|---|---|",
     ]
     for r in rows:
         kb = r["lines"] * r["line"] / 1024
-        out.append(f"| {ICACHE_NAMES.get(r['system'], r['system'])} | `{r['what']}` | {r['instructions']:,.0f} | "
+        names = ICACHE_KINEMATICS_NAMES if r.get("binary") == "kinematics" else ICACHE_NAMES
+        what = ICACHE_CALLS.get(r["what"], r["what"])
+        out.append(f"| {names.get(r['system'], r['system'])} | `{what}` | {r['instructions']:,.0f} | "
                    f"{kb:.1f} KiB ({r['lines']:,} lines) | {r['i1_misses']:,.0f} |")
     return out
 
