@@ -406,23 +406,23 @@ impl Graph {
     }
 }
 
-/// Whether `c` is a ratio of integers below 2³² (2, ½, ¾, …): the content
-/// a sum gives up to the surrounding product. The content of decimals
-/// read from a file (a URDF's masses times its lengths) is rather 10⁻³⁰ or
-/// so, with coefficients near 10²⁵ left in the sum: two constants at the
-/// edge of `f32`'s range, and a multiplication more where the sum is read,
-/// where the sum kept whole has neither.
 /// Whether a coefficient split out of a power may leave it: within
 /// `2^±64`, so that the factor left behind overflows or underflows only
 /// where the whole power comes within `2^64` of doing so. Split whatever
 /// its size, `(x + 5/4)^625` became `4^−625 · (4x + 5)^625`, `0 · ∞ = NaN`
 /// at x = 0.2, where the power is 1.4e100.
 fn moderate(v: Num) -> bool {
-    const BOUND: f64 = 18_446_744_073_709_551_616.0; // 2^64
+    const BOUND: f64 = (1u128 << 64) as f64;
     let x = v.to_f64().abs();
     (1.0 / BOUND..=BOUND).contains(&x)
 }
 
+/// Whether `c` is a ratio of integers below 2³² (2, ½, ¾, …): the content
+/// a sum gives up to the surrounding product. The content of decimals
+/// read from a file (a URDF's masses times its lengths) is rather 10⁻³⁰ or
+/// so, with coefficients near 10²⁵ left in the sum: two constants at the
+/// edge of `f32`'s range, and a multiplication more where the sum is read,
+/// where the sum kept whole has neither.
 fn small_ratio(c: Num) -> bool {
     const BOUND: u128 = 1 << 32;
     matches!(c, Num::Rational(p, q) if p.unsigned_abs() < BOUND && q.unsigned_abs() < BOUND)
