@@ -69,18 +69,28 @@ fn the_solve_costs_no_more_than_today() {
 /// `gauss` eliminates each leg through its foot's rows (the cofactors of
 /// each foot's `J`, a determinant test per leg, the base's 6 × 6 `S`), not
 /// by the saddle-point factorization: none of its signed pivots is left.
+/// The four legs have one structural pattern, so their factor code (each
+/// `J⁻¹` after its test, its share of `S` and `r`) is written once, as a
+/// function `gauss` defines and calls per leg.
 #[test]
 fn each_leg_is_solved_through_its_foot() {
     let expanded = expand_with(quadruped(), Options { jacobians: false }).expect("it expands");
     let text = expanded.to_string();
     let gauss = &text[text.find("fn gauss <").expect("a generated gauss")..];
+    assert_eq!(gauss.matches("fn __leg_share").count(), 1, "one copy");
+    let shared = &gauss[gauss.find("fn __leg_share").expect("the shared code")..];
+    assert!(shared.contains("let __ljd0 ="), "det J, tested in it");
     for leg in 0..4 {
         assert!(
-            gauss.contains(&format!("let __ljd{leg} =")),
-            "leg {leg}'s det J"
+            gauss.contains(&format!("Some (__ljo{leg}) = __leg_share")),
+            "leg {leg}'s call"
         );
     }
-    assert!(!gauss.contains("let __ljd4 ="), "four legs");
+    assert!(!gauss.contains("__ljo4"), "four legs");
+    assert!(
+        !gauss.contains("let __ljd1 ="),
+        "no leg's factor written out"
+    );
     assert!(gauss.contains("let __bsd5 ="), "the base's six pivots");
     assert!(!gauss.contains("let __kd0 ="), "no saddle-point pivot");
 }

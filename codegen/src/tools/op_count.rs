@@ -71,6 +71,7 @@ const FREE: &[&str] = &[
     "ArrayStorage",
     "clone",
     "Some",
+    "convert",
 ];
 
 /// The operations of the `acceleration` of one expanded system: `None` when
@@ -93,7 +94,7 @@ fn solved(expanded: &syn::File, multipliers: bool) -> Option<OpCount> {
     let gauss = find_method(expanded, "gauss")?;
     let mut bindings = Vec::new();
     let mut result = None;
-    collect(&gauss.stmts, &mut bindings, &mut result)?;
+    collect(&gauss.stmts, &mut bindings, &mut result, &mut Vec::new())?;
     let (call, at) = result?;
     let mut ops = OpCount::default();
     let mut uses = Vec::new();
@@ -116,7 +117,7 @@ pub fn method(expanded: &syn::File, name: &str) -> Option<OpCount> {
     let f = find_method(expanded, name)?;
     let mut bindings = Vec::new();
     let mut result = None;
-    collect(&f.stmts, &mut bindings, &mut result)?;
+    collect(&f.stmts, &mut bindings, &mut result, &mut Vec::new())?;
     let mut ops = OpCount::default();
     let uses = match f.stmts.last()? {
         _ if bindings
@@ -216,13 +217,14 @@ fn collect<'a>(
     stmts: &'a [Stmt],
     bindings: &mut Vec<Binding>,
     result: &mut Option<(&'a syn::ExprCall, usize)>,
+    functions: &mut Vec<(String, OpCount)>,
 ) -> Option<()> {
     for stmt in stmts {
         match stmt {
             // A block of a long body (`crate::emit::chunks`): its bindings
             // are the ones the names it exports resolve to.
             Stmt::Local(local) if exported_block(local).is_some() => {
-                collect(exported_block(local)?, bindings, result)?;
+                collect(exported_block(local)?, bindings, result, functions)?;
             }
             Stmt::Local(local) => {
                 let mut names = Vec::new();
@@ -230,11 +232,22 @@ fn collect<'a>(
                 let mut ops = OpCount::default();
                 let mut uses = Vec::new();
                 if let Some(init) = &local.init {
-                    walk(&init.expr, &mut ops, &mut uses)?;
+                    // A call of a function the body defines costs that
+                    // function's operations, at every call.
+                    match nested_call(&init.expr, functions) {
+                        Some((cost, args)) => {
+                            ops.plus(&cost);
+                            walk_all(args, &mut ops, &mut uses)?;
+                        }
+                        None => walk(&init.expr, &mut ops, &mut uses)?,
+                    }
                 }
                 bindings.push(Binding { names, ops, uses });
             }
-            Stmt::Expr(Expr::Block(block), _) => collect(&block.block.stmts, bindings, result)?,
+            Stmt::Item(syn::Item::Fn(f)) => functions.push(nested_function(f)?),
+            Stmt::Expr(Expr::Block(block), _) => {
+                collect(&block.block.stmts, bindings, result, functions)?;
+            }
             // A value stored into its place of an output local
             // (`crate::emit::body`'s stores): a new binding of the local
             // that reads the old one, so that reading the local at the end
@@ -259,6 +272,39 @@ fn collect<'a>(
         }
     }
     Some(())
+}
+
+/// The name and the operations of a function defined inside a generated
+/// body (`crate::emit::mass_inverse::factored`'s legs' shared code): what
+/// its value needs, as [`method`] counts a method.
+fn nested_function(f: &syn::ItemFn) -> Option<(String, OpCount)> {
+    let mut bindings = Vec::new();
+    collect(&f.block.stmts, &mut bindings, &mut None, &mut Vec::new())?;
+    let Stmt::Expr(value, None) = f.block.stmts.last()? else {
+        return None;
+    };
+    let mut ops = OpCount::default();
+    let mut uses = Vec::new();
+    walk(value, &mut ops, &mut uses)?;
+    needed(&bindings, uses, bindings.len(), &mut ops);
+    Some((f.sig.ident.to_string(), ops))
+}
+
+/// The arguments of a call.
+type Arguments = syn::punctuated::Punctuated<Expr, syn::Token![,]>;
+
+/// A call of one of `functions`: its operations and its arguments.
+fn nested_call<'a>(
+    expr: &'a Expr,
+    functions: &[(String, OpCount)],
+) -> Option<(OpCount, &'a Arguments)> {
+    let Expr::Call(c) = expr else { return None };
+    let Expr::Path(path) = &*c.func else {
+        return None;
+    };
+    let name = path.path.segments.last()?.ident.to_string();
+    let (_, cost) = functions.iter().find(|(f, _)| *f == name)?;
+    Some((*cost, &c.args))
 }
 
 /// The local whose part `place` is (`__out.data.0[3][1]` → `__out`).
@@ -329,6 +375,12 @@ fn pattern_names(pat: &Pat, names: &mut Vec<String>) -> Option<()> {
         }
         Pat::Slice(s) => {
             for p in &s.elems {
+                pattern_names(p, names)?;
+            }
+        }
+        // `let Some(x) = … else { … }`.
+        Pat::TupleStruct(t) => {
+            for p in &t.elems {
                 pattern_names(p, names)?;
             }
         }

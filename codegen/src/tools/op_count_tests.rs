@@ -126,3 +126,54 @@ fn a_runtime_solve_has_no_count() {
     );
     assert_eq!(count("let m = self.m;"), None, "no returned acceleration");
 }
+
+/// A function the body defines (the legs' shared factor code) counts what
+/// its value needs at each call whose result the acceleration reads, and a
+/// call nothing reads counts nothing.
+#[test]
+fn a_nested_function_counts_at_every_call_that_is_read() {
+    let ops = count(
+        "let [[x, y]] = q.data.0;
+         #[inline(never)]
+         fn __leg_share<T: RealField + Copy>(__inputs: &[T; 2]) -> ::core::option::Option<[T; 2]> {
+             let __half: T = ::constrained::nalgebra::convert(0.5_f64);
+             let [__a, __b] = *__inputs;
+             let __unused = __a / __b;
+             if !(__b > __half) {
+                 return ::core::option::Option::None;
+             }
+             let __p = __a * __b;
+             ::core::option::Option::Some([__p + __half, __p])
+         }
+         let ::core::option::Option::Some(__o0) = __leg_share::<T>(&[x, y]) else {
+             return __F::settle(self, q, qd, t, correction, x);
+         };
+         let [__s0, __p0] = __o0;
+         let ::core::option::Option::Some(__o1) = __leg_share::<T>(&[x - y, y]) else {
+             return __F::settle(self, q, qd, t, correction, x);
+         };
+         let [__s1, __p1] = __o1;
+         let ::core::option::Option::Some(__o2) = __leg_share::<T>(&[x, x]) else {
+             return __F::settle(self, q, qd, t, correction, x);
+         };
+         let [__s2, __p2] = __o2;
+         __F::stands(
+             V::from_array_storage(ArrayStorage([[__s0, __p1 * __s1]])),
+             move || x,
+         )",
+    )
+    .expect("straight-line");
+    // Two calls read, each one product and one sum (not the unread
+    // division); `x − y`; the last product.
+    assert_eq!(
+        ops,
+        OpCount {
+            add: 2,
+            sub: 1,
+            mul: 3,
+            div: 0,
+            neg: 0,
+            functions: 0
+        }
+    );
+}

@@ -25,6 +25,11 @@
 //! product of its rows' lengths (the saddle's own pivot tolerance) or a
 //! pivot of `S` that is not positive hands the solve to the runtime's
 //! dense one.
+//!
+//! Where the legs have one structural pattern (a quadruped's four), their
+//! factor code is written once, as a function the solve calls per leg
+//! ([`shared`]): the same arithmetic on each leg's own entries, from a
+//! quarter of the code.
 
 use super::super::super::context::Context;
 use super::super::super::ldlt::StructuredLdlt;
@@ -36,6 +41,10 @@ use crate::numeric::sparsity::Structure;
 use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
+
+mod shared;
+
+use shared::Shared;
 
 /// Names of one leg's locals.
 fn name(role: &str, t: usize, e: usize) -> Ident {
@@ -132,11 +141,13 @@ pub(super) fn solve(
     let mut s_terms: Vec<Vec<Vec<TokenStream>>> = vec![vec![Vec::new(); 6]; 6];
     let mut r_terms: Vec<Vec<TokenStream>> = vec![Vec::new(); 6];
     let mut shares = Vec::new();
+    // Legs of one structural pattern share one copy of their factor code.
+    let shared = factor.then(|| Shared::new(legs, nr, &at, rhs)).flatten();
+    if let Some(shared) = &shared {
+        code.extend(shared.function());
+    }
     for (t, &(joints, rows)) in legs.legs.iter().enumerate() {
         let j = |i: usize, k: usize| at(nr + rows[i], joints[k]);
-        if factor {
-            code.extend(inverse(t, &j, dense, &tolerance));
-        }
         let leg = Leg {
             t,
             inverse: [0, 1, 2].map(|i| [0, 1, 2].map(|k| name("lja", t, 3 * i + k))),
@@ -146,6 +157,14 @@ pub(super) fn solve(
             base: legs.base,
             nr,
         };
+        if let Some(shared) = &shared {
+            let c = shared.call(&leg, dense, &mut code, (&mut s_terms, &mut r_terms));
+            shares.push((leg, c));
+            continue;
+        }
+        if factor {
+            code.extend(inverse(t, &j, dense, &tolerance));
+        }
         let c = share(&leg, rhs, &mut code, (&mut s_terms, &mut r_terms), factor);
         shares.push((leg, c));
     }
@@ -211,6 +230,16 @@ fn share(
 /// triangle), with `W = J⁻ᵀ Y`, `Y = M_lb − ½ M_ll J⁻¹ E`.
 fn gram_share(leg: &Leg, code: &mut TokenStream, s_terms: &mut [Vec<Vec<TokenStream>>]) {
     let (half, _) = literal(Num::Rational(1, 2));
+    gram_share_with(leg, code, s_terms, &half);
+}
+
+/// [`gram_share`] with `½` written as `half`.
+fn gram_share_with(
+    leg: &Leg,
+    code: &mut TokenStream,
+    s_terms: &mut [Vec<Vec<TokenStream>>],
+    half: &TokenStream,
+) {
     // G = M_ll J⁻¹, then Y = M_lb − ½ G E.
     let g = [0, 1, 2].map(|i| {
         [0, 1, 2].map(|k| {
