@@ -28,8 +28,8 @@
 //!
 //! Where the legs have one structural pattern (a quadruped's four), their
 //! factor code is written once, as a function the solve calls per leg
-//! ([`shared`]): the same arithmetic on each leg's own entries, from a
-//! quarter of the code.
+//! ([`shared`]): the same arithmetic on each leg's own entries, from one
+//! copy of the code instead of one per leg.
 
 use super::super::super::context::Context;
 use super::super::super::ldlt::StructuredLdlt;
