@@ -95,6 +95,31 @@ fn each_leg_is_solved_through_its_foot() {
     assert!(!gauss.contains("let __kd0 ="), "no saddle-point pivot");
 }
 
+/// Legs of different structural patterns keep their factor code written
+/// out per leg: with the front left hip turning about `z` instead of `x`,
+/// that foot's first row moves with it (a structural nonzero the others'
+/// have not), and no shared function is written.
+#[test]
+fn legs_of_different_patterns_are_written_out_each() {
+    let text = constrained_codegen::tools::fixtures::quadruped()
+        .expect("the workspace's quadruped")
+        .replace(
+            "revolute(fl_haa, [1.0, 0.0, 0.0])",
+            "revolute(fl_haa, [0.0, 0.0, 1.0])",
+        );
+    let tokens = text.parse().expect("the model is tokens");
+    let expanded = expand_with(tokens, Options { jacobians: false }).expect("it expands");
+    let text = expanded.to_string();
+    let gauss = &text[text.find("fn gauss <").expect("a generated gauss")..];
+    assert!(!gauss.contains("fn __leg_share"), "no shared function");
+    for leg in 0..4 {
+        assert!(
+            gauss.contains(&format!("let __ljd{leg} =")),
+            "leg {leg}'s det J, written out"
+        );
+    }
+}
+
 /// The velocity form (`equations::velocity`) of the saddle-point system
 /// (`equations::saddle_point`): chosen for the quadruped, with the
 /// quaternion's `α` (coordinate 3) solved from the norm's row (row 12)
