@@ -10,8 +10,10 @@
 //! private solver `gauss` are sliced backwards from the acceleration it
 //! returns (`Aᵀ λ`, the constraint force, is left out), and of a
 //! `match correction` only the `None` arm, the plain `acceleration`. A
-//! solver that calls into the runtime for its answer (a dense `M(q)`) is
-//! not straight-line and has no count.
+//! function the body defines (the legs' shared code) counts what its
+//! value needs at each call whose result is read, as the code it replaces
+//! would. A solver that calls into the runtime for its answer (a dense
+//! `M(q)`) is not straight-line and has no count.
 
 use crate::expr::{Func, POWER_METHODS};
 use syn::{Expr, Pat, Stmt};
