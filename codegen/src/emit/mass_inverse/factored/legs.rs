@@ -137,6 +137,7 @@ pub(super) fn solve(
     let at = |i: usize, j: usize| entry(i.max(j), i.min(j)).map(|e| quote!(#e));
     let mut code = TokenStream::new();
     let (tolerance, _) = literal(Num::Rational(1, 1000));
+    let half = factor.then(|| literal(Num::Rational(1, 2)).0);
     // S's entries and r: the base's own less each leg's share.
     let mut s_terms: Vec<Vec<Vec<TokenStream>>> = vec![vec![Vec::new(); 6]; 6];
     let mut r_terms: Vec<Vec<TokenStream>> = vec![Vec::new(); 6];
@@ -165,7 +166,13 @@ pub(super) fn solve(
         if factor {
             code.extend(inverse(t, &j, dense, &tolerance));
         }
-        let c = share(&leg, rhs, &mut code, (&mut s_terms, &mut r_terms), factor);
+        let c = share(
+            &leg,
+            rhs,
+            &mut code,
+            (&mut s_terms, &mut r_terms),
+            half.as_ref(),
+        );
         shares.push((leg, c));
     }
     let structure = Structure::with_order(vec![vec![true; 6]; 6], (0..6).collect());
@@ -206,35 +213,31 @@ pub(super) fn solve(
 
 /// Leg `leg`'s share: `c = J⁻¹ b` (returned), and into `S` and `r`:
 /// `S −= Eᵀ W + Wᵀ E` with `W = J⁻ᵀ Y`, `Y = M_lb − ½ M_ll J⁻¹ E` (so that
-/// `Eᵀ W = Nᵀ Y`; where `factor`), and `r −= M_lbᵀ c + Eᵀ J⁻ᵀ (f_l − M_ll c)`.
+/// `Eᵀ W = Nᵀ Y`; where it factors, `½` written as `half`), and
+/// `r −= M_lbᵀ c + Eᵀ J⁻ᵀ (f_l − M_ll c)`.
 fn share(
     leg: &Leg,
     rhs: &[Option<TokenStream>],
     code: &mut TokenStream,
     (s_terms, r_terms): (&mut [Vec<Vec<TokenStream>>], &mut [Vec<TokenStream>]),
-    factor: bool,
+    half: Option<&TokenStream>,
 ) -> [Option<Ident>; 3] {
     let b = |k: usize| rhs[leg.nr + leg.rows[k]].clone();
     let c = [0, 1, 2].map(|i| {
         let value = dot((0..3).map(|k| (leg.a(i, k), b(k))));
         bind(code, leg.name("ljc", i), value)
     });
-    if factor {
-        gram_share(leg, code, s_terms);
+    if let Some(half) = half {
+        gram_share(leg, code, s_terms, half);
     }
     residual_share(leg, rhs, &c, code, r_terms);
     c
 }
 
 /// The leg's terms of `S`, `Eᵀ W + Wᵀ E` (pushed into `s_terms`, lower
-/// triangle), with `W = J⁻ᵀ Y`, `Y = M_lb − ½ M_ll J⁻¹ E`.
-fn gram_share(leg: &Leg, code: &mut TokenStream, s_terms: &mut [Vec<Vec<TokenStream>>]) {
-    let (half, _) = literal(Num::Rational(1, 2));
-    gram_share_with(leg, code, s_terms, &half);
-}
-
-/// [`gram_share`] with `½` written as `half`.
-fn gram_share_with(
+/// triangle), with `W = J⁻ᵀ Y`, `Y = M_lb − ½ M_ll J⁻¹ E`, `½` written as
+/// `half`.
+fn gram_share(
     leg: &Leg,
     code: &mut TokenStream,
     s_terms: &mut [Vec<Vec<TokenStream>>],

@@ -1,7 +1,7 @@
 //! Legs of one structural pattern sharing one copy of their factor code
 //! ([`Shared`]).
 
-use super::{bind, dot, gram_share_with, inverse, name, residual_share, Leg};
+use super::{inverse, name, share, Leg};
 use crate::emit::context::Context;
 use crate::equations::legs::Legs;
 use proc_macro2::{Literal, TokenStream};
@@ -131,14 +131,10 @@ impl<'a> Shared<'a> {
             &quote!(return ::core::option::Option::None;),
             &quote!(__tol),
         );
-        let c = [0, 1, 2].map(|i| {
-            let value = dot((0..3).map(|k| (leg.a(i, k), rhs[9 + k].clone())));
-            bind(&mut body, leg.name("ljc", i), value)
-        });
         let mut s_terms = vec![vec![Vec::new(); 6]; 6];
         let mut r_terms = vec![Vec::new(); 6];
-        gram_share_with(&leg, &mut body, &mut s_terms, &quote!(__half));
-        residual_share(&leg, &rhs, &c, &mut body, &mut r_terms);
+        let terms = (&mut s_terms[..], &mut r_terms[..]);
+        let c = share(&leg, &rhs, &mut body, terms, Some(&quote!(__half)));
         let mut outputs: Vec<TokenStream> =
             leg.inverse.iter().flatten().map(|a| quote!(#a)).collect();
         outputs.extend(c.iter().flatten().map(|c| quote!(#c)));
