@@ -15,7 +15,8 @@
 //! (the methods measured compile to the same number of bytes). All of a
 //! function's bindings are one statement, `let [__lit0, __lit1, ..]: [T;
 //! K] = [..];`, so that they open one lexical scope however many they are
-//! (`super::chunks`).
+//! (`super::chunks`). A function defined inside a body (`__leg_share`)
+//! is an item, out of reach of the body's bindings: it binds its own.
 
 use proc_macro2::{Delimiter, Group, Ident, Span, TokenStream, TokenTree};
 use quote::{format_ident, quote};
@@ -85,6 +86,10 @@ fn count(stream: TokenStream, reads: &mut HashMap<String, usize>) {
     let tokens: Vec<TokenTree> = stream.into_iter().collect();
     let mut i = 0;
     while i < tokens.len() {
+        if let Some(end) = function_at(&tokens, i) {
+            i = end;
+            continue;
+        }
         if let Some(argument) = constant_at(&tokens, i) {
             *reads.entry(argument.to_string()).or_insert(0) += 1;
             i += LIT_PATH.len() + 1;
@@ -110,6 +115,17 @@ fn replaced(
     let mut out: Vec<TokenTree> = Vec::with_capacity(tokens.len());
     let mut i = 0;
     while i < tokens.len() {
+        // A function defined in the body (`__leg_share`) is an item, which
+        // cannot read the body's bindings: it binds its own constants (and
+        // `count` leaves its reads out of the body's).
+        if let Some(end) = function_at(&tokens, i) {
+            out.extend(tokens[i..end - 1].iter().cloned());
+            if let TokenTree::Group(g) = &tokens[end - 1] {
+                out.push(TokenTree::Group(hoisted(g)));
+            }
+            i = end;
+            continue;
+        }
         if let Some(argument) = constant_at(&tokens, i) {
             let end = i + LIT_PATH.len() + 1;
             let key = argument.to_string();
@@ -171,9 +187,74 @@ fn constant_at(tokens: &[TokenTree], i: usize) -> Option<&Group> {
     }
 }
 
+/// Where `tokens[i..]` is a function item (`fn name … { … }`), the
+/// position just past its body (the brace group at `end − 1`); `None`
+/// elsewhere.
+fn function_at(tokens: &[TokenTree], i: usize) -> Option<usize> {
+    let is_fn = matches!(&tokens[i], TokenTree::Ident(id) if id == "fn")
+        && matches!(tokens.get(i + 1), Some(TokenTree::Ident(_)));
+    if !is_fn {
+        return None;
+    }
+    let body = tokens[i..]
+        .iter()
+        .position(|t| matches!(t, TokenTree::Group(g) if g.delimiter() == Delimiter::Brace))?;
+    Some(i + body + 1)
+}
+
 /// A group with the delimiter and span of `like` around `stream`.
 fn regroup(like: &Group, stream: TokenStream) -> Group {
     let mut g = Group::new(like.delimiter(), stream);
     g.set_span(like.span());
     g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::literals;
+    use quote::quote;
+
+    /// A function defined in a body binds the constants it reads twice
+    /// itself, and the body's bindings count only the body's own reads: a
+    /// constant read once in each stays in place in both, where counted
+    /// together it was bound in the body and read in the function, which
+    /// cannot see it.
+    #[test]
+    fn a_function_in_a_body_binds_its_own_constants() {
+        let lit = |x: f64| quote!(::constrained::__private::lit::<T>(#x));
+        let (a, b, c) = (lit(1.5), lit(2.5), lit(3.5));
+        let items = quote! {
+            fn outer<T>() -> T {
+                let x = #a + #a + #c;
+                fn inner<T>() -> T { #b * #b + #c }
+                x + #b
+            }
+        };
+        let out = literals(items).to_string();
+        let (outer, inner) = out.split_once("fn inner").expect("the nested function");
+        let (inner, after) = inner.split_once('}').expect("its body");
+        // The body binds 1.5 (read twice there) and not 2.5 or 3.5 (once each).
+        assert!(
+            outer.contains(
+                "let [__lit0] : [T ; 1] = [:: constrained :: __private :: lit :: < T > (1.5f64)]"
+            ),
+            "{outer}"
+        );
+        // The function binds 2.5 and reads 3.5 in place.
+        assert!(
+            inner.contains(
+                "let [__lit0] : [T ; 1] = [:: constrained :: __private :: lit :: < T > (2.5f64)]"
+            ),
+            "{inner}"
+        );
+        assert!(
+            inner
+                .contains("__lit0 * __lit0 + :: constrained :: __private :: lit :: < T > (3.5f64)"),
+            "{inner}"
+        );
+        assert!(
+            after.contains("x + :: constrained :: __private :: lit :: < T > (2.5f64)"),
+            "{after}"
+        );
+    }
 }

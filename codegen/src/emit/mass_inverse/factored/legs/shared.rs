@@ -3,7 +3,9 @@
 
 use super::{inverse, name, share, Leg};
 use crate::emit::context::Context;
+use crate::emit::literal::literal;
 use crate::equations::legs::Legs;
+use crate::expr::num::Num;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 use syn::Ident;
@@ -125,16 +127,20 @@ impl<'a> Shared<'a> {
             nr: 9,
         };
         let j = |i: usize, k: usize| at(9 + i, k);
+        // The enclosing body's constants, written as it writes them: the
+        // function binds its own (`crate::emit::hoist`).
+        let (tolerance, _) = literal(Num::Rational(1, 1000));
+        let (half, _) = literal(Num::Rational(1, 2));
         let mut body = inverse(
             0,
             &j,
             &quote!(return ::core::option::Option::None;),
-            &quote!(__tol),
+            &tolerance,
         );
         let mut s_terms = vec![vec![Vec::new(); 6]; 6];
         let mut r_terms = vec![Vec::new(); 6];
         let terms = (&mut s_terms[..], &mut r_terms[..]);
-        let c = share(&leg, &rhs, &mut body, terms, Some(&quote!(__half)));
+        let c = share(&leg, &rhs, &mut body, terms, Some(&half));
         let mut outputs: Vec<TokenStream> =
             leg.inverse.iter().flatten().map(|a| quote!(#a)).collect();
         outputs.extend(c.iter().flatten().map(|c| quote!(#c)));
@@ -161,15 +167,11 @@ impl<'a> Shared<'a> {
             Literal::usize_unsuffixed(inputs.len()),
             Literal::usize_unsuffixed(outputs.len()),
         );
-        // The constants bound here, not through `lit::<T>`: the enclosing
-        // function binds those at its top, out of this function's reach.
         self.function = quote! {
             #[inline(never)]
             fn __leg_share<T: ::constrained::nalgebra::RealField + Copy>(
                 __inputs: &[T; #n_in],
             ) -> ::core::option::Option<[T; #n_out]> {
-                let __tol: T = ::constrained::nalgebra::convert(0.001_f64);
-                let __half: T = ::constrained::nalgebra::convert(0.5_f64);
                 let [#(#inputs),*] = *__inputs;
                 #body
                 ::core::option::Option::Some([#(#outputs),*])
