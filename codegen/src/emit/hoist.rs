@@ -29,25 +29,9 @@ pub(super) fn literals(items: TokenStream) -> TokenStream {
     let mut out: Vec<TokenTree> = Vec::with_capacity(tokens.len());
     let mut i = 0;
     while i < tokens.len() {
-        let is_fn = matches!(&tokens[i], TokenTree::Ident(id) if id == "fn")
-            && matches!(tokens.get(i + 1), Some(TokenTree::Ident(_)));
-        if is_fn {
-            // The signature up to the body; a declaration without one
-            // ends at its `;`.
-            while let Some(t) = tokens.get(i) {
-                i += 1;
-                match t {
-                    TokenTree::Group(g) if g.delimiter() == Delimiter::Brace => {
-                        out.push(TokenTree::Group(hoisted(g)));
-                        break;
-                    }
-                    TokenTree::Punct(p) if p.as_char() == ';' => {
-                        out.push(t.clone());
-                        break;
-                    }
-                    _ => out.push(t.clone()),
-                }
-            }
+        if let Some(end) = function_at(&tokens, i) {
+            function(&tokens[i..end], &mut out);
+            i = end;
             continue;
         }
         out.push(match &tokens[i] {
@@ -119,10 +103,7 @@ fn replaced(
         // cannot read the body's bindings: it binds its own constants (and
         // `count` leaves its reads out of the body's).
         if let Some(end) = function_at(&tokens, i) {
-            out.extend(tokens[i..end - 1].iter().cloned());
-            if let TokenTree::Group(g) = &tokens[end - 1] {
-                out.push(TokenTree::Group(hoisted(g)));
-            }
+            function(&tokens[i..end], &mut out);
             i = end;
             continue;
         }
@@ -187,19 +168,34 @@ fn constant_at(tokens: &[TokenTree], i: usize) -> Option<&Group> {
     }
 }
 
-/// Where `tokens[i..]` is a function item (`fn name … { … }`), the
-/// position just past its body (the brace group at `end − 1`); `None`
-/// elsewhere.
+/// Where `tokens[i..]` is a function item (`fn name … { … }`, or a
+/// declaration, which ends at its `;`), the position just past it;
+/// `None` elsewhere.
 fn function_at(tokens: &[TokenTree], i: usize) -> Option<usize> {
     let is_fn = matches!(&tokens[i], TokenTree::Ident(id) if id == "fn")
         && matches!(tokens.get(i + 1), Some(TokenTree::Ident(_)));
     if !is_fn {
         return None;
     }
-    let body = tokens[i..]
-        .iter()
-        .position(|t| matches!(t, TokenTree::Group(g) if g.delimiter() == Delimiter::Brace))?;
-    Some(i + body + 1)
+    let last = tokens[i..].iter().position(|t| match t {
+        TokenTree::Group(g) => g.delimiter() == Delimiter::Brace,
+        TokenTree::Punct(p) => p.as_char() == ';',
+        _ => false,
+    })?;
+    Some(i + last + 1)
+}
+
+/// The function item `tokens` ([`function_at`]) into `out`, its body's
+/// constants bound at its top ([`hoisted`]).
+fn function(tokens: &[TokenTree], out: &mut Vec<TokenTree>) {
+    let Some((last, signature)) = tokens.split_last() else {
+        return;
+    };
+    out.extend(signature.iter().cloned());
+    out.push(match last {
+        TokenTree::Group(g) if g.delimiter() == Delimiter::Brace => TokenTree::Group(hoisted(g)),
+        t => t.clone(),
+    });
 }
 
 /// A group with the delimiter and span of `like` around `stream`.
