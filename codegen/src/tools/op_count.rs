@@ -73,7 +73,6 @@ const FREE: &[&str] = &[
     "ArrayStorage",
     "clone",
     "Some",
-    "convert",
 ];
 
 /// The operations of the `acceleration` of one expanded system: `None` when

@@ -136,14 +136,14 @@ fn a_nested_function_counts_at_every_call_that_is_read() {
         "let [[x, y]] = q.data.0;
          #[inline(never)]
          fn __leg_share<T: RealField + Copy>(__inputs: &[T; 2]) -> ::core::option::Option<[T; 2]> {
-             let __half: T = ::constrained::nalgebra::convert(0.5_f64);
+             let [__lit0]: [T; 1] = [::constrained::__private::lit::<T>(0.5f64)];
              let [__a, __b] = *__inputs;
              let __unused = __a / __b;
-             if !(__b > __half) {
+             if !(__b > __lit0) {
                  return ::core::option::Option::None;
              }
              let __p = __a * __b;
-             ::core::option::Option::Some([__p + __half, __p])
+             ::core::option::Option::Some([__p + __lit0, __p])
          }
          let ::core::option::Option::Some(__o0) = __leg_share::<T>(&[x, y]) else {
              return __F::settle(self, q, qd, t, correction, x);
