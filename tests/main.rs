@@ -18,6 +18,7 @@ mod centroidal;
 mod contacts;
 mod dense_output;
 mod directional;
+mod dispatch;
 mod docs;
 mod energies;
 mod evaluations;

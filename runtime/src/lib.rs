@@ -12,6 +12,7 @@
 #[macro_use]
 mod methods;
 pub mod control;
+mod cpu;
 mod error;
 mod finish;
 pub mod floating;
@@ -51,6 +52,8 @@ pub use system::ConstrainedSystem;
 #[doc(hidden)]
 pub mod __private {
     //! Items used by generated code; not part of the public API.
+    #[cfg(target_arch = "x86_64")]
+    pub use crate::cpu::has_avx;
     pub use crate::finish::{
         Fallible, FallibleAcceleration, Finish, Multiplied, Total, TotalAcceleration, TotalForce,
     };

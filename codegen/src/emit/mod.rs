@@ -18,7 +18,8 @@
 //!   auxiliary mass), each with its solver, Jacobian and step; its `mod.rs` is the only `match` on the strategy.
 //!
 //! Below both: `body` (expressions to tokens), `hoist` (a method's
-//! repeated constants bound once), `detached` (a large model's values as
+//! repeated constants bound once), `dispatch` (large functions copied for
+//! `dispatch: [avx]`), `detached` (a large model's values as
 //! free functions), `chunks` (long bodies in
 //! blocks), `context` (types, names, signatures), `ldlt` (the structured
 //! factorization), `subproducts` and `reuse` (the products a body shares).
@@ -31,6 +32,7 @@ pub mod derivation;
 mod derivation_bodies;
 mod derivation_saddle;
 mod detached;
+mod dispatch;
 mod dynamics;
 mod forwards;
 mod frames;
@@ -81,9 +83,13 @@ pub fn system(eq: &Equations) -> TokenStream {
     let definition = struct_definition(sys, ctx.n, ctx.k, &derivation_doc(&derivation));
     let constants = constants(&ctx, &derivation);
 
-    // Every method's constants bound once, at its top (`hoist`).
-    let methods = hoist::literals(methods);
+    // Every method's constants bound once, at its top (`hoist`); then the
+    // large ones copied for the extensions of `dispatch` (`dispatch`).
+    let extensions = &sys.dispatch;
+    let methods = dispatch::methods(hoist::literals(methods), extensions);
     let impls = hoist::literals(quote! { #generated_impl #tangent_impl #friction_impl });
+    let impls = dispatch::items(impls, extensions);
+    let functions = functions.map(|f| dispatch::items(f, extensions));
     quote! {
         #definition
 

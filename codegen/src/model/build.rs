@@ -10,7 +10,7 @@ use super::lower::{Binding, Lowerer};
 use super::sections::Sections;
 use super::source::{source, Lowered, Source};
 use super::unilateral::Gap;
-use super::{bodies, friction_mode, urdf, Constraint, HeldBody, System};
+use super::{bodies, dispatch, friction_mode, urdf, Constraint, HeldBody, System};
 use crate::expr::{Graph, Sym};
 use crate::parse::{List, SystemInput};
 use proc_macro2::Span;
@@ -37,6 +37,8 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
     let named = std::mem::take(&mut lower.named);
     let mut written = std::mem::take(&mut lower.written);
     written.header = header;
+    let dispatch =
+        (sections.dispatch).map_or_else(Vec::new, |l| dispatch::extensions(l, &mut errors));
     let system = System {
         attrs: input.attrs.clone(),
         vis: input.vis.clone(),
@@ -58,6 +60,7 @@ pub fn check(input: &SystemInput) -> syn::Result<System> {
         unilateral: parts.unilateral,
         friction: parts.friction,
         held: parts.held,
+        dispatch,
     };
     check::check(&mut errors, &system, &written);
     errors.finish()?;

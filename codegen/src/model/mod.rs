@@ -6,7 +6,7 @@
 //! - [`lower`]: name resolution and the lowering of expressions; `source`:
 //!   where `M` comes from, and its lowering; `constraints`: the
 //!   constraints' (and `bodies`, `free`, `rotation`, `friction`,
-//!   `unilateral`, `urdf` each their section's);
+//!   `unilateral`, `urdf`, `dispatch` each their section's);
 //! - `check`: the rules on lowered expressions, one function each, and the
 //!   one `check` that applies them all;
 //! - `ctxt`: the error collector, so that every mistake is reported at once.
@@ -18,6 +18,7 @@ pub(crate) mod check;
 mod constraints;
 pub(crate) mod ctxt;
 mod derivatives;
+pub(crate) mod dispatch;
 pub(crate) mod frames;
 pub(crate) mod free;
 pub(crate) mod friction;
@@ -168,6 +169,9 @@ pub struct System {
     pub friction: Vec<friction::Entry>,
     /// The bodies held at three or more points under a free base.
     pub held: Vec<HeldBody>,
+    /// The extensions of `dispatch: [..]`: the large methods are also
+    /// compiled for each, chosen at run time (`crate::emit`).
+    pub dispatch: Vec<dispatch::Extension>,
 }
 
 /// The expressions of a system with bodies beyond `M` and `F`.

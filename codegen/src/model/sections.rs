@@ -27,6 +27,7 @@ pub(super) struct Sections<'a> {
     pub(super) friction: Option<&'a List<Expr>>,
     pub(super) frames: Option<&'a List<BodyInput>>,
     pub(super) derivatives: Option<&'a List<Ident>>,
+    pub(super) dispatch: Option<&'a List<Ident>>,
 }
 
 impl<'a> Sections<'a> {
@@ -54,6 +55,7 @@ impl<'a> Sections<'a> {
                 Section::Friction(_, l) => s.friction.replace(l).is_some(),
                 Section::Frames(_, l) => s.frames.replace(l).is_some(),
                 Section::Derivatives(_, l) => s.derivatives.replace(l).is_some(),
+                Section::Dispatch(_, l) => s.dispatch.replace(l).is_some(),
             };
             if duplicate {
                 let k = section.keyword();

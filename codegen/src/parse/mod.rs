@@ -34,6 +34,7 @@ pub mod kw {
     syn::custom_keyword!(friction);
     syn::custom_keyword!(frames);
     syn::custom_keyword!(derivatives);
+    syn::custom_keyword!(dispatch);
 }
 
 /// ```text
@@ -78,6 +79,7 @@ pub struct List<T> {
 ///          | `friction`    `:` `[` (`coulomb` `(` expr `,` expr `,` expr (`,` expr)? `)`),* `]`
 ///          | `frames`      `:` `[` body,* `]`
 ///          | `derivatives` `:` `[` Ident,* `]`
+///          | `dispatch`    `:` `[` Ident,* `]`
 /// ```
 pub enum Section {
     /// Generalised coordinates.
@@ -122,6 +124,9 @@ pub enum Section {
     /// The methods whose derivatives are generated (`inverse_dynamics`),
     /// checked by `crate::model`.
     Derivatives(Ident, List<Ident>),
+    /// The instruction-set extensions the large methods are also compiled
+    /// for, chosen at run time (`avx`), checked by `crate::model`.
+    Dispatch(Ident, List<Ident>),
 }
 
 impl Section {
@@ -146,7 +151,8 @@ impl Section {
             | Section::Unilateral(k, _)
             | Section::Friction(k, _)
             | Section::Frames(k, _)
-            | Section::Derivatives(k, _) => k,
+            | Section::Derivatives(k, _)
+            | Section::Dispatch(k, _) => k,
         }
     }
 }
@@ -228,6 +234,9 @@ impl Parse for Section {
         } else if lookahead.peek(kw::derivatives) {
             let k = keyword!(input, derivatives);
             Ok(Section::Derivatives(k, list(input, Ident::parse)?))
+        } else if lookahead.peek(kw::dispatch) {
+            let k = keyword!(input, dispatch);
+            Ok(Section::Dispatch(k, list(input, Ident::parse)?))
         } else {
             Err(lookahead.error())
         }

@@ -1,0 +1,353 @@
+//! `dispatch: [avx]`: each large function of the generated code also
+//! compiled with the extension enabled, and the copy chosen at run time.
+//!
+//! A token pass over what the other passes emitted, like `hoist`. A large
+//! function `f` keeps its signature and its body, and first asks the
+//! runtime whether the CPU has the extension; if it has, `f` returns what
+//! its copy `__avx_f` returns. The copy is the same body under
+//! `#[target_feature(enable = "avx")]`, and so is every function item
+//! nested in it (a nested item does not inherit its parent's features).
+//! A method of a trait impl cannot carry a target feature: its copy is a
+//! method of an inherent impl with the trait impl's generics. Both the
+//! check and the copies exist only on x86-64 built without AVX: built with
+//! it, the baseline is the copy. The runtime reads the CPU once
+//! (`constrained::__private::has_avx`); a call then costs one load and one
+//! branch.
+//!
+//! The copy's arithmetic is the baseline's: AVX adds encodings (three
+//! operands, so fewer register copies) and wider registers, not other
+//! roundings, and no FMA is enabled. The gain is in code size: the largest
+//! bodies hold more values than registers, and the spills and copies of
+//! the two-operand SSE2 encodings make them longer than a 32 KiB L1i.
+
+use crate::model::dispatch::Extension;
+use proc_macro2::{TokenStream, TokenTree};
+use quote::{format_ident, quote};
+use syn::visit_mut::VisitMut;
+use syn::{Block, FnArg, Generics, ImplItem, ImplItemFn, Item, ItemFn, Pat, Signature};
+
+/// The size, in tokens, from which a function is copied: about 1,300
+/// operations, 20 to 40 KB of SSE2 code. Measured on the benchmarks'
+/// robots, a copy pays where the baseline's code outgrows a 32 KiB L1i
+/// (the Panda's ∂τ, 59 KB, runs 26 % faster; the G1's `M`, 35 KB, 13 %)
+/// and not below it (the Panda's solve, 8,300 tokens; TALOS's `M`, 32
+/// KB): there it would cost compile time for nothing.
+const LARGE: usize = 10_000;
+
+/// The inherent methods `methods` (a sequence of `fn` items), each large
+/// one with its copies.
+pub(super) fn methods(methods: TokenStream, extensions: &[Extension]) -> TokenStream {
+    if extensions.is_empty() {
+        return methods;
+    }
+    let Ok(block) = syn::parse2::<syn::ItemImpl>(quote!(impl __Methods { #methods })) else {
+        return methods;
+    };
+    let mut out = TokenStream::new();
+    for item in block.items {
+        match item {
+            ImplItem::Fn(f) => match method(&f) {
+                Some((wrapper, copy)) => out.extend(quote!(#wrapper #copy)),
+                None => out.extend(quote!(#f)),
+            },
+            other => out.extend(quote!(#other)),
+        }
+    }
+    out
+}
+
+/// The items `items` (impls, modules, functions), each large function
+/// with its copies.
+pub(super) fn items(items: TokenStream, extensions: &[Extension]) -> TokenStream {
+    if extensions.is_empty() {
+        return items;
+    }
+    let Ok(file) = syn::parse2::<syn::File>(items.clone()) else {
+        return items;
+    };
+    let mut out = TokenStream::new();
+    for item in file.items {
+        out.extend(item_with_copies(item));
+    }
+    out
+}
+
+/// One item, its large functions (or methods, or a module's functions)
+/// with their copies.
+fn item_with_copies(item: Item) -> TokenStream {
+    match item {
+        Item::Fn(f) => match function(&f) {
+            Some((wrapper, copy)) => quote!(#wrapper #copy),
+            None => quote!(#f),
+        },
+        Item::Mod(mut m) => {
+            if let Some((_, content)) = m.content.take() {
+                let inner: TokenStream = content.into_iter().map(item_with_copies).collect();
+                let (attrs, vis, ident) = (&m.attrs, &m.vis, &m.ident);
+                quote!(#(#attrs)* #vis mod #ident { #inner })
+            } else {
+                quote!(#m)
+            }
+        }
+        Item::Impl(mut imp) => {
+            let mut copies = Vec::new();
+            for item in &mut imp.items {
+                if let ImplItem::Fn(f) = item {
+                    if let Some((wrapper, copy)) = method(f) {
+                        *f = wrapper;
+                        copies.push(copy);
+                    }
+                }
+            }
+            if copies.is_empty() || imp.trait_.is_none() {
+                imp.items.extend(copies.into_iter().map(ImplItem::Fn));
+                return quote!(#imp);
+            }
+            // A trait's method cannot carry a target feature: its copy is
+            // an inherent method of the same type, under the same bounds.
+            let (generics, self_ty) = (&imp.generics, &imp.self_ty);
+            let where_clause = &generics.where_clause;
+            let attrs = imp.attrs.iter().filter(|a| a.path().is_ident("allow"));
+            quote! {
+                #imp
+                #(#attrs)*
+                impl #generics #self_ty #where_clause {
+                    #(#copies)*
+                }
+            }
+        }
+        other => quote!(#other),
+    }
+}
+
+/// A large method's wrapper (its signature, the check, its body) and its
+/// copy; `None` for a small one or one whose arguments cannot be passed on.
+fn method(f: &ImplItemFn) -> Option<(ImplItemFn, ImplItemFn)> {
+    let copy_name = copy_ident(&f.sig)?;
+    if !large(&f.block) {
+        return None;
+    }
+    let call = forwarded(&f.sig, quote!(Self::#copy_name))?;
+    let mut wrapper = f.clone();
+    wrapper.block = checked(call, &f.block);
+    let mut copy = f.clone();
+    copy.vis = syn::Visibility::Inherited;
+    copy.sig.ident = copy_name;
+    copy.attrs = copy_attributes(&f.attrs);
+    featured(&mut copy.block);
+    Some((wrapper, copy))
+}
+
+/// [`method`] for a free function.
+fn function(f: &ItemFn) -> Option<(ItemFn, ItemFn)> {
+    let copy_name = copy_ident(&f.sig)?;
+    if !large(&f.block) {
+        return None;
+    }
+    let call = forwarded(&f.sig, quote!(#copy_name))?;
+    let mut wrapper = f.clone();
+    *wrapper.block = checked(call, &f.block);
+    let mut copy = f.clone();
+    copy.vis = syn::Visibility::Inherited;
+    copy.sig.ident = copy_name;
+    copy.attrs = copy_attributes(&f.attrs);
+    featured(&mut copy.block);
+    Some((wrapper, copy))
+}
+
+/// The copy's name, or `None` where the signature cannot carry a target
+/// feature (`const`, `unsafe`, `async`, `extern`).
+fn copy_ident(sig: &Signature) -> Option<syn::Ident> {
+    let plain = sig.constness.is_none()
+        && sig.unsafety.is_none()
+        && sig.asyncness.is_none()
+        && sig.abi.is_none();
+    plain.then(|| format_ident!("__avx_{}", sig.ident))
+}
+
+/// Whether `block` is worth a copy ([`LARGE`]).
+fn large(block: &Block) -> bool {
+    fn count(tokens: TokenStream, total: &mut usize) {
+        for t in tokens {
+            *total += 1;
+            if let TokenTree::Group(g) = t {
+                count(g.stream(), total);
+            }
+        }
+    }
+    let mut total = 0;
+    count(quote!(#block), &mut total);
+    total >= LARGE
+}
+
+/// The call of `callee` with the signature's own receiver, generics and
+/// arguments; `None` where an argument is a pattern rather than a name,
+/// or an `impl Trait` forbids naming the generics.
+fn forwarded(sig: &Signature, callee: TokenStream) -> Option<TokenStream> {
+    let mut args = Vec::new();
+    for input in &sig.inputs {
+        match input {
+            FnArg::Receiver(_) => args.push(quote!(self)),
+            FnArg::Typed(t) => match &*t.pat {
+                Pat::Ident(p) if p.subpat.is_none() => {
+                    if matches!(&*t.ty, syn::Type::ImplTrait(_)) {
+                        return None;
+                    }
+                    let name = &p.ident;
+                    args.push(quote!(#name));
+                }
+                _ => return None,
+            },
+        }
+    }
+    let generics = turbofish(&sig.generics);
+    Some(quote!(#callee #generics (#(#args),*)))
+}
+
+/// `::<A, B, N>` for the type and const parameters (lifetimes are
+/// inferred), or nothing.
+fn turbofish(generics: &Generics) -> TokenStream {
+    let names: Vec<&syn::Ident> = generics
+        .params
+        .iter()
+        .filter_map(|p| match p {
+            syn::GenericParam::Type(t) => Some(&t.ident),
+            syn::GenericParam::Const(c) => Some(&c.ident),
+            syn::GenericParam::Lifetime(_) => None,
+        })
+        .collect();
+    if names.is_empty() {
+        TokenStream::new()
+    } else {
+        quote!(::<#(#names),*>)
+    }
+}
+
+/// The configurations where the copies exist: x86-64 with its SSE2
+/// registers (not a soft-float target such as a kernel's), built without
+/// AVX.
+fn where_copied() -> TokenStream {
+    quote!(#[cfg(all(
+        target_arch = "x86_64",
+        target_feature = "sse2",
+        not(target_feature = "avx")
+    ))])
+}
+
+/// `body`, first returning `call` where the CPU has AVX.
+fn checked(call: TokenStream, body: &Block) -> Block {
+    let cfg = where_copied();
+    let stmts = &body.stmts;
+    syn::parse_quote! {{
+        #cfg
+        {
+            if ::constrained::__private::has_avx() {
+                // SAFETY: the CPU runs AVX and the system saves its
+                // registers, the one feature the copy is compiled with.
+                return unsafe { #call };
+            }
+        }
+        #(#stmts)*
+    }}
+}
+
+/// The copy's attributes: the original's but its docs and `inline`, then
+/// hidden, only where copied, with the feature (`inline(always)` may not
+/// carry one).
+fn copy_attributes(attrs: &[syn::Attribute]) -> Vec<syn::Attribute> {
+    let cfg = where_copied();
+    let mut kept: Vec<syn::Attribute> = attrs
+        .iter()
+        .filter(|a| !a.path().is_ident("doc") && !a.path().is_ident("inline"))
+        .cloned()
+        .collect();
+    kept.extend([
+        syn::parse_quote!(#[doc(hidden)]),
+        syn::parse_quote!(#cfg),
+        syn::parse_quote!(#[target_feature(enable = "avx")]),
+    ]);
+    kept
+}
+
+/// Every function item nested in `block` compiled with the feature too.
+fn featured(block: &mut Block) {
+    struct Nested;
+    impl VisitMut for Nested {
+        fn visit_item_fn_mut(&mut self, f: &mut ItemFn) {
+            f.attrs.retain(|a| !a.path().is_ident("inline"));
+            f.attrs
+                .push(syn::parse_quote!(#[target_feature(enable = "avx")]));
+            syn::visit_mut::visit_item_fn_mut(self, f);
+        }
+    }
+    Nested.visit_block_mut(block);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A body of `n` statements, large enough for a copy from about 1,500.
+    fn body(n: usize) -> TokenStream {
+        let statements = (0..n).map(|i| {
+            let x = format_ident!("x{i}");
+            quote!(let #x = a * b + c;)
+        });
+        quote!(#(#statements)*)
+    }
+
+    #[test]
+    fn a_large_method_calls_its_copy_where_the_cpu_has_avx() {
+        let b = body(2_000);
+        let small = body(10);
+        let input = quote! {
+            /// Docs.
+            #[inline(always)]
+            pub fn big<__F: Finish<T, 2>>(&self, q: &V, t: T) -> __F::Output {
+                fn nested<T>(x: T) -> T { x }
+                #b
+                nested(t)
+            }
+            pub fn small(&self, q: &V) -> T { #small q }
+        };
+        let out = methods(input, &[Extension::Avx]).to_string();
+        let wrapper = "if :: constrained :: __private :: has_avx () { return unsafe { Self :: __avx_big :: < __F > (self , q , t) } ; }";
+        assert!(out.contains(wrapper), "{out}");
+        assert!(out.contains("fn __avx_big < __F : Finish < T , 2 > > (& self , q : & V , t : T)"));
+        // The copy is hidden, not inline(always), and its nested function
+        // carries the feature too.
+        let copy = &out[out.find("# [doc (hidden)]").expect("a hidden copy")..];
+        assert!(copy.contains("# [target_feature (enable = \"avx\")] fn __avx_big"));
+        assert!(copy.contains("# [target_feature (enable = \"avx\")] fn nested"));
+        assert!(!copy.contains("inline (always)"));
+        assert_eq!(
+            out.matches("has_avx").count(),
+            1,
+            "the small method is left alone"
+        );
+        assert!(!out.contains("__avx_small"));
+    }
+
+    #[test]
+    fn a_trait_method_copies_into_an_inherent_impl() {
+        let b = body(2_000);
+        let input = quote! {
+            #[allow(non_snake_case)]
+            impl<T: RealField + Copy> Tangent<T, 2> for Model<T> {
+                fn tangent_rhs(&self, q: &V, out: &mut M) { #b }
+            }
+        };
+        let out = items(input, &[Extension::Avx]).to_string();
+        assert!(out.contains("Self :: __avx_tangent_rhs (self , q , out)"));
+        assert!(
+            out.contains("# [allow (non_snake_case)] impl < T : RealField + Copy > Model < T > {")
+        );
+    }
+
+    #[test]
+    fn without_extensions_the_tokens_are_untouched() {
+        let b = body(2_000);
+        let input = quote!(fn big(&self) { #b });
+        assert_eq!(methods(input.clone(), &[]).to_string(), input.to_string());
+    }
+}

@@ -1,0 +1,140 @@
+//! `dispatch: [avx]`: a system's large methods also compiled for AVX and
+//! chosen at run time. The Panda of `tests/bodies.rs` (published
+//! parameters) with a tool frame and ∂τ, written twice, once asking for
+//! the copies: the expansion has them for the methods large enough, and
+//! on a CPU with AVX (where the copies run) every answer is the plain
+//! system's bit for bit, since AVX changes the instructions' encodings
+//! and widths, not their roundings.
+
+use nalgebra::{SMatrix, SVector};
+
+/// The system's sections, handed to `$then!` after `$head` (a callback,
+/// so that the twins and the expansion read one text).
+macro_rules! panda_sections {
+    ($then:ident!($($head:tt)*)) => {
+        $then! { $($head)*
+            urdf: "data/panda_published.urdf",
+            locked: [finger_joint1, finger_joint2],
+            frames: [tool { body: hand, xyz: [0.01, -0.02, 0.1034], rpy: [0.1, -0.2, 0.3] }],
+            derivatives: [inverse_dynamics],
+        }
+    };
+}
+
+macro_rules! system {
+    ($name:ident $($sections:tt)*) => {
+        constrained::constrained_system! {
+            /// The Panda, for the dispatch test.
+            pub struct $name { $($sections)* }
+        }
+    };
+}
+
+macro_rules! text {
+    ($($sections:tt)*) => {
+        stringify!($($sections)*)
+    };
+}
+
+panda_sections!(system!(Plain));
+panda_sections!(system!(Dispatched dispatch: [avx],));
+
+/// The expansion with `dispatch: [avx]`: the methods it copies, by name.
+fn copied() -> Vec<String> {
+    let sections = panda_sections!(text!());
+    let source = format!("struct P {{ dispatch: [avx], {sections} }}");
+    let expanded = constrained_codegen::expand(source.parse().expect("tokens"))
+        .expect("the Panda expands")
+        .to_string();
+    let mut names: Vec<String> = expanded
+        .split("fn __avx_")
+        .skip(1)
+        .filter_map(|rest| rest.split_whitespace().next().map(str::to_string))
+        .collect();
+    names.sort();
+    names.dedup();
+    names
+}
+
+#[test]
+fn the_large_methods_are_copied_and_the_small_ones_are_not() {
+    let names = copied();
+    // ∂τ and the linearization's right-hand sides are the Panda's two
+    // bodies above the threshold (about 1,300 operations); `M`, τ, the
+    // solve and the rest of `acceleration_jacobian` are below it.
+    assert_eq!(names, ["inverse_dynamics_jacobian", "tangent_rhs"]);
+    let plain = panda_sections!(text!());
+    let source = format!("struct P {{ {plain} }}");
+    let expanded = constrained_codegen::expand(source.parse().expect("tokens"))
+        .expect("the Panda expands")
+        .to_string();
+    assert!(
+        !expanded.contains("has_avx"),
+        "no check without the section"
+    );
+}
+
+/// A state of the Panda's seven joints, from a seed.
+fn state(seed: u64) -> [SVector<f64, 7>; 3] {
+    let mut x = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+    let mut draw = || {
+        x = x
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+    };
+    [(); 3].map(|()| SVector::from_fn(|_, _| draw()))
+}
+
+/// Equal bit for bit, entry by entry.
+fn same_bits<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) {
+    for (x, y) in a.iter().zip(b.iter()) {
+        assert_eq!(x.to_bits(), y.to_bits(), "{x} against {y}");
+    }
+}
+
+#[test]
+fn on_a_cpu_with_avx_every_answer_is_the_plain_systems_bit_for_bit() {
+    if !std::arch::is_x86_feature_detected!("avx") {
+        eprintln!("this CPU has no AVX: the copies never run, nothing to compare");
+        return;
+    }
+    let (plain, dispatched) = (Plain::<f64>::new(), Dispatched::<f64>::new());
+    for seed in 0..20 {
+        let [q, v, a] = state(seed);
+        let (p, d) = (
+            plain
+                .inverse_dynamics_jacobian(&q, &v, &a, 0.0)
+                .expect("finite"),
+            dispatched
+                .inverse_dynamics_jacobian(&q, &v, &a, 0.0)
+                .expect("finite"),
+        );
+        same_bits(&p.0, &d.0);
+        same_bits(&p.1, &d.1);
+        let (p, d) = (
+            plain.acceleration_jacobian(&q, &v, 0.0).expect("finite"),
+            dispatched
+                .acceleration_jacobian(&q, &v, 0.0)
+                .expect("finite"),
+        );
+        same_bits(&p.dq, &d.dq);
+        same_bits(&p.dqd, &d.dqd);
+        same_bits(
+            &plain.mass_matrix(&q, 0.0),
+            &dispatched.mass_matrix(&q, 0.0),
+        );
+        let (p, d) = (
+            plain.inverse_dynamics(&q, &v, &a, 0.0).expect("finite"),
+            dispatched
+                .inverse_dynamics(&q, &v, &a, 0.0)
+                .expect("finite"),
+        );
+        same_bits(&p, &d);
+        let (p, d) = (
+            plain.acceleration(&q, &v, 0.0).expect("finite"),
+            dispatched.acceleration(&q, &v, 0.0).expect("finite"),
+        );
+        same_bits(&p, &d);
+    }
+}
