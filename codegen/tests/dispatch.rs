@@ -34,3 +34,17 @@ fn dispatch_errors_point_at_their_names() {
     let source = format!("struct P {{ {particle}, dispatch: [avx] }}");
     assert!(expand(source.parse().expect("tokens")).is_ok());
 }
+
+/// A system without a large function expands as it does without the
+/// section: no copy, no check.
+#[test]
+fn a_small_system_is_unchanged_by_the_section() {
+    let arm = "bodies: [a { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 1.0, com: [0.3, 0.0, 0.0] }], derivatives: [inverse_dynamics]";
+    let expanded = |extra: &str| {
+        let source = format!("struct R {{ {arm}{extra} }}");
+        expand(source.parse().expect("tokens"))
+            .expect("expands")
+            .to_string()
+    };
+    assert_eq!(expanded(", dispatch: [avx]"), expanded(""));
+}

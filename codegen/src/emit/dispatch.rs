@@ -44,16 +44,25 @@ pub(super) fn methods(methods: TokenStream, extensions: &[Extension]) -> TokenSt
         return methods;
     };
     let mut out = TokenStream::new();
+    let mut copied = false;
     for item in block.items {
         match item {
             ImplItem::Fn(f) => match method(&f) {
-                Some((wrapper, copy)) => out.extend(quote!(#wrapper #copy)),
+                Some((wrapper, copy)) => {
+                    copied = true;
+                    out.extend(quote!(#wrapper #copy));
+                }
                 None => out.extend(quote!(#f)),
             },
             other => out.extend(quote!(#other)),
         }
     }
-    out
+    // Nothing large: the tokens as they came, not as syn prints them.
+    if copied {
+        out
+    } else {
+        methods
+    }
 }
 
 /// The items `items` (impls, modules, functions), each large function
@@ -66,28 +75,41 @@ pub(super) fn items(items: TokenStream, extensions: &[Extension]) -> TokenStream
         return items;
     };
     let mut out = TokenStream::new();
+    let mut copied = false;
     for item in file.items {
-        out.extend(item_with_copies(item));
+        let (tokens, any) = item_with_copies(item);
+        out.extend(tokens);
+        copied |= any;
     }
-    out
+    // Nothing large: the tokens as they came, not as syn prints them.
+    if copied {
+        out
+    } else {
+        items
+    }
 }
 
 /// One item, its large functions (or methods, or a module's functions)
-/// with their copies.
-fn item_with_copies(item: Item) -> TokenStream {
+/// with their copies; and whether it has any.
+fn item_with_copies(item: Item) -> (TokenStream, bool) {
     match item {
         Item::Fn(f) => match function(&f) {
-            Some((wrapper, copy)) => quote!(#wrapper #copy),
-            None => quote!(#f),
+            Some((wrapper, copy)) => (quote!(#wrapper #copy), true),
+            None => (quote!(#f), false),
         },
         Item::Mod(mut m) => {
-            if let Some((_, content)) = m.content.take() {
-                let inner: TokenStream = content.into_iter().map(item_with_copies).collect();
-                let (attrs, vis, ident) = (&m.attrs, &m.vis, &m.ident);
-                quote!(#(#attrs)* #vis mod #ident { #inner })
-            } else {
-                quote!(#m)
+            let Some((_, content)) = m.content.take() else {
+                return (quote!(#m), false);
+            };
+            let mut inner = TokenStream::new();
+            let mut copied = false;
+            for item in content {
+                let (tokens, any) = item_with_copies(item);
+                inner.extend(tokens);
+                copied |= any;
             }
+            let (attrs, vis, ident) = (&m.attrs, &m.vis, &m.ident);
+            (quote!(#(#attrs)* #vis mod #ident { #inner }), copied)
         }
         Item::Impl(mut imp) => {
             let mut copies = Vec::new();
@@ -99,24 +121,26 @@ fn item_with_copies(item: Item) -> TokenStream {
                     }
                 }
             }
-            if copies.is_empty() || imp.trait_.is_none() {
+            let copied = !copies.is_empty();
+            if !copied || imp.trait_.is_none() {
                 imp.items.extend(copies.into_iter().map(ImplItem::Fn));
-                return quote!(#imp);
+                return (quote!(#imp), copied);
             }
             // A trait's method cannot carry a target feature: its copy is
             // an inherent method of the same type, under the same bounds.
             let (generics, self_ty) = (&imp.generics, &imp.self_ty);
             let where_clause = &generics.where_clause;
             let attrs = imp.attrs.iter().filter(|a| a.path().is_ident("allow"));
-            quote! {
+            let tokens = quote! {
                 #imp
                 #(#attrs)*
                 impl #generics #self_ty #where_clause {
                     #(#copies)*
                 }
-            }
+            };
+            (tokens, true)
         }
-        other => quote!(#other),
+        other => (quote!(#other), false),
     }
 }
 
