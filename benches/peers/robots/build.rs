@@ -52,6 +52,13 @@ const G1_ARMS: &[&str] = &[
     "right_wrist_yaw_joint",
 ];
 
+/// The section every robot here is written with: its large methods also
+/// compiled for AVX, chosen at run time (docs/dsl.md, "Run-time
+/// dispatch"). The binaries are built for plain x86-64, as Pinocchio's
+/// wheel is; `benches/peers/build_time.sh` removes the line, since its
+/// rows measure a system as written without it.
+const DISPATCH: &str = "dispatch: [avx],";
+
 const ROBOTS: &[Robot] = &[
     Robot {
         name: "PandaUrdf",
@@ -349,7 +356,7 @@ fn go1(robots: &Path, out: &Path) {
          `go1_description/urdf/go1.urdf` on a floating root joint, standing on its\n    \
          /// four feet (the foot links' origins held at `(x, y, z)` each), a motor torque per joint.\n    \
          pub struct Go1 {{\n        parameters: [{places}],\n        inputs: [{torques}],\n        \
-         urdf: {copy:?},\n        forces: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, {torques}],\n        \
+         urdf: {copy:?},\n        {DISPATCH}\n        forces: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, {torques}],\n        \
          constraints: [\n            {rows}\n        ],\n    }}\n}}\n",
         copy = copy.display().to_string(),
     );
@@ -391,7 +398,7 @@ fn g1_standing(robots: &Path, out: &Path) {
         "constrained::constrained_system! {{\n    /// The Unitree G1 of example-robot-data's \
          `g1_description/urdf/g1_29dof_rev_1_0.urdf` on a floating root joint, standing on\n    \
          /// three points of each foot (held at `(x, y, z)` each), unpowered.\n    \
-         pub struct G1Standing {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        \
+         pub struct G1Standing {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        {DISPATCH}\n        \
          constraints: [\n            {rows}\n        ],\n    }}\n}}\n\n\
          /// The points of each foot held, in its `*_ankle_roll_link`'s frame.\n\
          const SOLE_POINTS: [[f64; 3]; 3] = {G1_SOLE_POINTS:?};\n",
@@ -441,7 +448,7 @@ fn g1_flat(copy: &Path, out: &Path) {
         "constrained::constrained_system! {{\n    /// The Unitree G1 of example-robot-data's \
          `g1_description/urdf/g1_29dof_rev_1_0.urdf` on a floating root joint, standing on\n    \
          /// two flat feet (each sole held at `(x, y, z)`, its attitude at `(roll, pitch, yaw)`), unpowered.\n    \
-         pub struct G1Flat {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        \
+         pub struct G1Flat {{\n        parameters: [{places}],\n        urdf: {copy:?},\n        {DISPATCH}\n        \
          frames: [{frames}],\n        \
          constraints: [\n            {rows}\n        ],\n    }}\n}}\n\n\
          /// The sole point of each foot, in its `*_ankle_roll_link`'s frame.\n\
@@ -594,7 +601,7 @@ fn framed_system(r: &Framed, path: &str, n: usize) -> String {
     format!(
         "constrained::constrained_system! {{\n    /// {what}, from example-robot-data's \
          `{file}`; a motor torque per joint.\n    pub struct {name} {{\n        \
-         inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        \
+         inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        {DISPATCH}\n        \
          forces: [{torques}],\n        frames: [\n            {frames}\n        ],\n        \
          derivatives: [inverse_dynamics],\n    }}\n}}\n\n\
          impl Framed<{n}> for {name} {{\n    const NAME: &'static str = {short:?};\n    \
@@ -674,7 +681,7 @@ fn main() {
             out,
             "constrained::constrained_system! {{\n    /// {what}, from example-robot-data's \
              `{file}`; a motor torque per joint.\n    pub struct {name} {{\n        \
-             inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        \
+             inputs: [{torques}],\n        urdf: {path:?},\n        {locked}\n        {DISPATCH}\n        \
              forces: [{torques}],\n    }}\n}}\n\n\
              impl Urdf<{n}> for {name} {{\n    const NAME: &'static str = {short:?};\n    \
              const FILE: &'static str = {file:?};\n    \
