@@ -1,21 +1,23 @@
 //! `dispatch: [avx]`: a system's large methods also compiled for AVX and
-//! chosen at run time. The Panda of `tests/bodies.rs` (published
-//! parameters) with a tool frame and ∂τ, written twice, once asking for
-//! the copies: the expansion has them for the methods large enough, and
-//! on a CPU with AVX (where the copies run) every answer is the plain
-//! system's bit for bit, since AVX changes the instructions' encodings
-//! and widths, not their roundings.
+//! chosen at run time. The Panda of `tests/frames.rs` (`PandaTool`:
+//! published parameters, a tool frame, ∂τ) written again asking for the
+//! copies: the expansion has them for the methods large enough, and on a
+//! CPU with AVX (where the copies run) every answer is `PandaTool`'s bit
+//! for bit, since AVX changes the instructions' encodings and widths, not
+//! their roundings.
 
+use crate::frames::PandaTool;
 use nalgebra::{SMatrix, SVector};
 
-/// The system's sections, handed to `$then!` after `$head` (a callback,
-/// so that the twins and the expansion read one text).
+/// `PandaTool`'s sections (`tests/frames.rs`), handed to `$then!` after
+/// `$head`: one text for the system and for its expansion here. A change
+/// to either Panda alone fails the comparison below.
 macro_rules! panda_sections {
     ($then:ident!($($head:tt)*)) => {
         $then! { $($head)*
             urdf: "data/panda_published.urdf",
             locked: [finger_joint1, finger_joint2],
-            frames: [tool { body: hand, xyz: [0.01, -0.02, 0.1034], rpy: [0.1, -0.2, 0.3] }],
+            frames: [tool { body: hand, xyz: [0.0, 0.0, 0.1034] }],
             derivatives: [inverse_dynamics],
         }
     };
@@ -24,7 +26,7 @@ macro_rules! panda_sections {
 macro_rules! system {
     ($name:ident $($sections:tt)*) => {
         constrained::constrained_system! {
-            /// The Panda, for the dispatch test.
+            /// `PandaTool` with `dispatch: [avx]`.
             pub struct $name { $($sections)* }
         }
     };
@@ -36,7 +38,6 @@ macro_rules! text {
     };
 }
 
-panda_sections!(system!(Plain));
 panda_sections!(system!(Dispatched dispatch: [avx],));
 
 /// The expansion with `dispatch: [avx]`: the methods it copies, by name.
@@ -99,7 +100,7 @@ fn on_a_cpu_with_avx_every_answer_is_the_plain_systems_bit_for_bit() {
         eprintln!("this CPU has no AVX: the copies never run, nothing to compare");
         return;
     }
-    let (plain, dispatched) = (Plain::<f64>::new(), Dispatched::<f64>::new());
+    let (plain, dispatched) = (PandaTool::<f64>::new(), Dispatched::<f64>::new());
     for seed in 0..20 {
         let [q, v, a] = state(seed);
         let (p, d) = (
