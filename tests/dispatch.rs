@@ -4,7 +4,8 @@
 //! copies: the expansion has them for the methods large enough, and on a
 //! CPU with AVX (where the copies run) every answer is `PandaTool`'s bit
 //! for bit, since AVX changes the instructions' encodings and widths, not
-//! their roundings.
+//! their roundings; and a system with nothing large expands as it does
+//! without the section.
 
 use crate::frames::PandaTool;
 use nalgebra::{SMatrix, SVector};
@@ -138,4 +139,18 @@ fn on_a_cpu_with_avx_every_answer_is_the_plain_systems_bit_for_bit() {
         );
         same_bits(&p, &d);
     }
+}
+
+/// A system without a large function expands as it does without the
+/// section: no copy, no check.
+#[test]
+fn a_small_system_is_unchanged_by_the_section() {
+    let arm = "bodies: [a { joint: revolute(q1, [0.0, 0.0, 1.0]), mass: 1.0, com: [0.3, 0.0, 0.0] }], derivatives: [inverse_dynamics]";
+    let expanded = |extra: &str| {
+        let source = format!("struct R {{ {arm}{extra} }}");
+        constrained_codegen::expand(source.parse().expect("tokens"))
+            .expect("expands")
+            .to_string()
+    };
+    assert_eq!(expanded(", dispatch: [avx]"), expanded(""));
 }

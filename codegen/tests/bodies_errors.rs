@@ -1,4 +1,6 @@
-//! The `bodies` section's refusals, each spanned and saying why.
+//! The refusals of the `bodies` section and of the sections beside it
+//! (`right_angles_within`, `derivatives`, `dispatch`), each spanned and
+//! saying why.
 
 use constrained_codegen::expand;
 
@@ -257,19 +259,7 @@ fn derivatives_errors_point_at_their_names() {
     ];
     for (names, at, why) in cases {
         let source = format!("struct R {{ {arm}, derivatives: [{names}] }}");
-        let tokens: proc_macro2::TokenStream = source.parse().expect("tokens");
-        let Err(errors) = expand(tokens) else {
-            panic!("accepted: {names}")
-        };
-        let hit = errors.into_iter().find(|e| e.to_string().contains(why));
-        let Some(e) = hit else {
-            panic!("no error saying {why:?} for {names}")
-        };
-        assert_eq!(
-            Some(e.span().start().column),
-            source.rfind(at),
-            "{why}: spanned at the wrong token in {source}"
-        );
+        assert_error_at(&source, at, why);
     }
     let source = "struct R { coordinates: [x], mass: diag[1.0], derivatives: [inverse_dynamics] }";
     let message = expand(source.parse().expect("tokens"))
@@ -292,4 +282,44 @@ fn derivatives_errors_point_at_their_names() {
             .contains("fn inverse_dynamics_jacobian")
     };
     assert!(has(&with) && !has(&without));
+}
+
+/// Expanding `source` fails with an error saying `why`, spanned at the
+/// last `at` of the source (one line: its column is its offset).
+fn assert_error_at(source: &str, at: &str, why: &str) {
+    let tokens: proc_macro2::TokenStream = source.parse().expect("tokens");
+    let Err(errors) = expand(tokens) else {
+        panic!("accepted: {source}")
+    };
+    let hit = errors.into_iter().find(|e| e.to_string().contains(why));
+    let Some(e) = hit else {
+        panic!("no error saying {why:?} for {source}")
+    };
+    assert_eq!(
+        Some(e.span().start().column),
+        source.rfind(at),
+        "{why}: spanned at the wrong token in {source}"
+    );
+}
+
+/// The `dispatch` section's refusals, each at its name: an extension it
+/// does not know and a repeated one. Any system may ask, not only a tree
+/// (the copies and their answers are tested in `tests/dispatch.rs`).
+#[test]
+fn dispatch_errors_point_at_their_names() {
+    let particle = "coordinates: [x], mass: diag[1.0]";
+    let cases = [
+        (
+            "avx512",
+            "avx512",
+            "no dispatch on `avx512`: expected one of `avx`",
+        ),
+        ("avx, avx", "avx]", "`avx` is named twice"),
+    ];
+    for (names, at, why) in cases {
+        let source = format!("struct P {{ {particle}, dispatch: [{names}] }}");
+        assert_error_at(&source, at, why);
+    }
+    let source = format!("struct P {{ {particle}, dispatch: [avx] }}");
+    assert!(expand(source.parse().expect("tokens")).is_ok());
 }

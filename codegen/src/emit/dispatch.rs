@@ -24,7 +24,10 @@ use crate::model::dispatch::Extension;
 use proc_macro2::{TokenStream, TokenTree};
 use quote::{format_ident, quote};
 use syn::visit_mut::VisitMut;
-use syn::{Block, FnArg, Generics, ImplItem, ImplItemFn, Item, ItemFn, Pat, Signature};
+use syn::{
+    Attribute, Block, FnArg, Generics, ImplItem, ImplItemFn, Item, ItemFn, Pat, Signature,
+    Visibility,
+};
 
 /// The size, in tokens, from which a function is copied: about 1,300
 /// operations, 20 to 40 KB of SSE2 code. Measured on the benchmarks'
@@ -47,7 +50,7 @@ pub(super) fn methods(methods: TokenStream, extensions: &[Extension]) -> TokenSt
     let mut copied = false;
     for item in block.items {
         match item {
-            ImplItem::Fn(f) => match method(&f) {
+            ImplItem::Fn(f) => match with_copy(&f, true) {
                 Some((wrapper, copy)) => {
                     copied = true;
                     out.extend(quote!(#wrapper #copy));
@@ -93,7 +96,7 @@ pub(super) fn items(items: TokenStream, extensions: &[Extension]) -> TokenStream
 /// with their copies; and whether it has any.
 fn item_with_copies(item: Item) -> (TokenStream, bool) {
     match item {
-        Item::Fn(f) => match function(&f) {
+        Item::Fn(f) => match with_copy(&f, false) {
             Some((wrapper, copy)) => (quote!(#wrapper #copy), true),
             None => (quote!(#f), false),
         },
@@ -115,7 +118,7 @@ fn item_with_copies(item: Item) -> (TokenStream, bool) {
             let mut copies = Vec::new();
             for item in &mut imp.items {
                 if let ImplItem::Fn(f) = item {
-                    if let Some((wrapper, copy)) = method(f) {
+                    if let Some((wrapper, copy)) = with_copy(f, true) {
                         *f = wrapper;
                         copies.push(copy);
                     }
@@ -144,38 +147,57 @@ fn item_with_copies(item: Item) -> (TokenStream, bool) {
     }
 }
 
-/// A large method's wrapper (its signature, the check, its body) and its
-/// copy; `None` for a small one or one whose arguments cannot be passed on.
-fn method(f: &ImplItemFn) -> Option<(ImplItemFn, ImplItemFn)> {
-    let copy_name = copy_ident(&f.sig)?;
-    if !large(&f.block) {
-        return None;
-    }
-    let call = forwarded(&f.sig, quote!(Self::#copy_name))?;
-    let mut wrapper = f.clone();
-    wrapper.block = checked(call, &f.block);
-    let mut copy = f.clone();
-    copy.vis = syn::Visibility::Inherited;
-    copy.sig.ident = copy_name;
-    copy.attrs = copy_attributes(&f.attrs);
-    featured(&mut copy.block);
-    Some((wrapper, copy))
+/// The parts of a function item the pass reads and rewrites.
+trait FunctionItem: Clone {
+    fn parts(
+        &mut self,
+    ) -> (
+        &mut Vec<Attribute>,
+        &mut Visibility,
+        &mut Signature,
+        &mut Block,
+    );
 }
 
-/// [`method`] for a free function.
-fn function(f: &ItemFn) -> Option<(ItemFn, ItemFn)> {
-    let copy_name = copy_ident(&f.sig)?;
-    if !large(&f.block) {
+/// [`FunctionItem`] for a method and for a free function, whose fields
+/// are named alike.
+macro_rules! function_item {
+    ($($item:ty),*) => {$(
+        impl FunctionItem for $item {
+            fn parts(
+                &mut self,
+            ) -> (&mut Vec<Attribute>, &mut Visibility, &mut Signature, &mut Block) {
+                (&mut self.attrs, &mut self.vis, &mut self.sig, &mut self.block)
+            }
+        }
+    )*};
+}
+
+function_item!(ImplItemFn, ItemFn);
+
+/// A large function's wrapper (its signature, the check, its body) and
+/// its copy, called as `Self::__avx_f` from a method; `None` for a small
+/// one or one whose arguments cannot be passed on.
+fn with_copy<F: FunctionItem>(f: &F, method: bool) -> Option<(F, F)> {
+    let mut wrapper = f.clone();
+    let (_, _, sig, block) = wrapper.parts();
+    let name = copy_ident(sig)?;
+    if !large(block) {
         return None;
     }
-    let call = forwarded(&f.sig, quote!(#copy_name))?;
-    let mut wrapper = f.clone();
-    *wrapper.block = checked(call, &f.block);
+    let callee = if method {
+        quote!(Self::#name)
+    } else {
+        quote!(#name)
+    };
+    let checked = checked(forwarded(sig, callee)?, block);
+    *block = checked;
     let mut copy = f.clone();
-    copy.vis = syn::Visibility::Inherited;
-    copy.sig.ident = copy_name;
-    copy.attrs = copy_attributes(&f.attrs);
-    featured(&mut copy.block);
+    let (attrs, vis, sig, block) = copy.parts();
+    *vis = Visibility::Inherited;
+    sig.ident = name;
+    *attrs = copy_attributes(attrs);
+    featured(block);
     Some((wrapper, copy))
 }
 
@@ -278,9 +300,9 @@ fn checked(call: TokenStream, body: &Block) -> Block {
 /// The copy's attributes: the original's but its docs and `inline`, then
 /// hidden, only where copied, with the feature (`inline(always)` may not
 /// carry one).
-fn copy_attributes(attrs: &[syn::Attribute]) -> Vec<syn::Attribute> {
+fn copy_attributes(attrs: &[Attribute]) -> Vec<Attribute> {
     let cfg = where_copied();
-    let mut kept: Vec<syn::Attribute> = attrs
+    let mut kept: Vec<Attribute> = attrs
         .iter()
         .filter(|a| !a.path().is_ident("doc") && !a.path().is_ident("inline"))
         .cloned()
@@ -311,7 +333,8 @@ fn featured(block: &mut Block) {
 mod tests {
     use super::*;
 
-    /// A body of `n` statements, large enough for a copy from about 1,500.
+    /// A body of `n` statements of eight tokens, large enough for a copy
+    /// from 1,250.
     fn body(n: usize) -> TokenStream {
         let statements = (0..n).map(|i| {
             let x = format_ident!("x{i}");
