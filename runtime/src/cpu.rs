@@ -1,25 +1,20 @@
 //! Which instruction-set extensions the CPU running the program has, for
 //! the copies of generated methods that `dispatch: [..]` asks for: read
-//! once, then a relaxed atomic load per call.
+//! once, then a relaxed atomic load per call. x86-64 only (`lib.rs`).
 
-#[cfg(target_arch = "x86_64")]
 use core::sync::atomic::{AtomicU8, Ordering};
 
 /// Not yet read.
-#[cfg(target_arch = "x86_64")]
 const UNKNOWN: u8 = 0;
 /// Read: the CPU and the operating system support AVX.
-#[cfg(target_arch = "x86_64")]
 const YES: u8 = 1;
 /// Read: one of them does not.
-#[cfg(target_arch = "x86_64")]
 const NO: u8 = 2;
 
 /// Whether the CPU runs AVX instructions and the operating system saves
 /// their registers: the condition under which a method compiled with
 /// `#[target_feature(enable = "avx")]` may be called. Two threads that
 /// read it first both detect it; they store the same answer.
-#[cfg(target_arch = "x86_64")]
 #[inline]
 pub fn has_avx() -> bool {
     static STATE: AtomicU8 = AtomicU8::new(UNKNOWN);
@@ -38,7 +33,6 @@ pub fn has_avx() -> bool {
 /// system has enabled `XGETBV` (OSXSAVE, ECX bit 27); `XCR0` then says
 /// whether the system saves the SSE (bit 1) and AVX (bit 2) registers on
 /// a context switch. All three are needed (Intel SDM, vol. 1, 14.3).
-#[cfg(target_arch = "x86_64")]
 #[cold]
 fn detect_avx() -> bool {
     const OSXSAVE: u32 = 1 << 27;
@@ -60,14 +54,13 @@ fn detect_avx() -> bool {
 /// # Safety
 /// The caller has read OSXSAVE in CPUID leaf 1: without it `XGETBV` is
 /// an invalid instruction.
-#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "xsave")]
 unsafe fn xcr0() -> u64 {
     // SAFETY: as the function's contract says.
     unsafe { core::arch::x86_64::_xgetbv(0) }
 }
 
-#[cfg(all(test, target_arch = "x86_64"))]
+#[cfg(test)]
 mod tests {
     #[test]
     fn avx_is_what_the_standard_library_detects() {

@@ -12,6 +12,7 @@
 #[macro_use]
 mod methods;
 pub mod control;
+#[cfg(target_arch = "x86_64")]
 mod cpu;
 mod error;
 mod finish;
