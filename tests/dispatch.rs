@@ -7,7 +7,7 @@
 //! their roundings; and a system with nothing large expands as it does
 //! without the section.
 
-use crate::frames::PandaTool;
+use crate::frames::{numbers, PandaTool};
 use nalgebra::{SMatrix, SVector};
 
 /// `PandaTool`'s sections (`tests/frames.rs`), handed to `$then!` after
@@ -76,18 +76,6 @@ fn the_large_methods_are_copied_and_the_small_ones_are_not() {
     );
 }
 
-/// A state of the Panda's seven joints, from a seed.
-fn state(seed: u64) -> [SVector<f64, 7>; 3] {
-    let mut x = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
-    let mut draw = || {
-        x = x
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (x >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
-    };
-    [(); 3].map(|()| SVector::from_fn(|_, _| draw()))
-}
-
 /// Equal bit for bit, entry by entry.
 fn same_bits<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) {
     for (x, y) in a.iter().zip(b.iter()) {
@@ -102,8 +90,9 @@ fn on_a_cpu_with_avx_every_answer_is_the_plain_systems_bit_for_bit() {
         return;
     }
     let (plain, dispatched) = (PandaTool::<f64>::new(), Dispatched::<f64>::new());
-    for seed in 0..20 {
-        let [q, v, a] = state(seed);
+    let mut next = numbers(77);
+    for _ in 0..20 {
+        let [q, v, a] = [(); 3].map(|()| SVector::<f64, 7>::from_fn(|_, _| next()));
         let (p, d) = (
             plain
                 .inverse_dynamics_jacobian(&q, &v, &a, 0.0)
