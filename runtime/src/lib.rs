@@ -60,8 +60,8 @@ pub mod __private {
     };
     pub use crate::gauss_dense::gauss_dense;
     pub use crate::generated::{
-        all_finite, half_precision, largest, lit, signum, step, unscaled_bound, Generated, Motion,
-        Reaction,
+        all_finite, half_precision, largest, lit, signum, step, unscaled_bound, unstride,
+        Generated, Motion, Reaction,
     };
     pub use crate::linearize::Tangent;
     pub use crate::rank::{

@@ -32,9 +32,11 @@ fn params(ctx: &Context, args: Args) -> TokenStream {
     }
 }
 
-/// One method returning `value`: a vector, a scalar, or a pair of n × n
-/// matrices.
-fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value) -> TokenStream {
+/// The method of the row `e`, returning `value`: a vector, a scalar, or a
+/// pair of n × n matrices.
+fn method(ctx: &Context, e: &Evaluation, value: &Value) -> TokenStream {
+    let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());
+    let doc = e.doc;
     let entries: Vec<Id> = match value {
         Value::Vector(entries) => entries.clone(),
         Value::Scalar(e) => vec![*e],
@@ -44,8 +46,9 @@ fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value
     let preamble = body.preamble();
     let scalar = matches!(value, Value::Scalar(_));
     let pair = matches!(value, Value::Matrices(_));
-    let (value, ok) = tokens(ctx, &body, value);
-    let params = params(ctx, args);
+    let apart = e.strided && super::detached::large(ctx, &entries);
+    let (value, ok) = tokens(ctx, &body, value, apart);
+    let params = params(ctx, e.args);
     if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
@@ -83,10 +86,24 @@ fn method(ctx: &Context, name: TokenStream, doc: &str, args: Args, value: &Value
     }
 }
 
-/// The value's expression and its type.
-fn tokens(ctx: &Context, body: &Body, value: &Value) -> (TokenStream, TokenStream) {
+/// A large vector's value, its entries written two slots apart and read
+/// back by the runtime's `unstride`, so that LLVM's SLP vectorizer does
+/// not pair the expressions of adjacent entries: in recursive
+/// Newton–Euler those are different bodies' forces, alike in shape only,
+/// and the pairing cost shuffles at their leaves (1,464 of them in the
+/// G1's `inverse_dynamics`, built for plain x86-64; `unstride` says why).
+fn strided(ctx: &Context, body: &Body, entries: &[Id]) -> TokenStream {
+    let values = entries.iter().map(|&e| body.expr(e));
+    let unstride = ctx.private(quote!(unstride));
+    quote!(#unstride([#([#values, T::zero()]),*]))
+}
+
+/// The value's expression and its type; a vector's entries returned
+/// `apart` ([`strided`]) or as one literal.
+fn tokens(ctx: &Context, body: &Body, value: &Value, apart: bool) -> (TokenStream, TokenStream) {
     match value {
         Value::Scalar(e) => (body.expr(*e), quote!(T)),
+        Value::Vector(entries) if apart => (strided(ctx, body, entries), ctx.vector(entries.len())),
         Value::Vector(entries) => (
             ctx.vector_value(entries.iter().map(|&e| body.expr(e))),
             ctx.vector(entries.len()),
@@ -126,6 +143,11 @@ pub struct Evaluation {
     /// Its value, where the system has the method: the entries of a
     /// vector, or the one entry of a scalar.
     value: fn(&Equations) -> Option<Value>,
+    /// Whether a large vector value is returned through `unstride`
+    /// ([`strided`]): recursive Newton–Euler's joint forces, whose
+    /// adjacent entries are unrelated bodies' (measured; the others'
+    /// adjacent entries may be alike, as `M q̇`'s rows).
+    strided: bool,
 }
 
 /// What an [`Evaluation`] returns.
@@ -154,6 +176,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
               `forces: [u1, ..]` as the joints' torques, `u = τ` gives `q̈ = qdd` \
               where no constraint acts.",
         value: |eq| Some(Value::Vector(eq.system.bodies.as_ref()?.inverse.clone())),
+        strided: true,
     },
     Evaluation {
         name: "inverse_dynamics_jacobian",
@@ -168,6 +191,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
               `R(q/|q|)`. Generated where `derivatives: [inverse_dynamics]` \
               asks for it.",
         value: |eq| Some(Value::Matrices(eq.inverse_jacobian.clone()?)),
+        strided: false,
     },
     Evaluation {
         name: "gravity_forces",
@@ -177,6 +201,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
               bodies still against gravity (Pinocchio's \
               `computeGeneralizedGravity`; `inverse_dynamics` at `q̇ = q̈ = 0`).",
         value: |eq| Some(Value::Vector(eq.system.bodies.as_ref()?.gravity.clone())),
+        strided: true,
     },
     Evaluation {
         name: "kinetic_energy",
@@ -184,6 +209,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
         forwarded: true,
         doc: " The kinetic energy `T(q, q̇, t)`.",
         value: |eq| Some(Value::Scalar(eq.system.energy?.kinetic)),
+        strided: false,
     },
     Evaluation {
         name: "potential_energy",
@@ -191,6 +217,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
         forwarded: true,
         doc: " The potential energy `V(q, t)` (gravity's for bodies, and `potential_energy` as written; 0 where neither is given).",
         value: |eq| Some(Value::Scalar(eq.system.energy?.potential)),
+        strided: false,
     },
     Evaluation {
         name: "energy",
@@ -198,6 +225,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
         forwarded: true,
         doc: " The total energy `T + V`, conserved where no other force acts.",
         value: |eq| Some(Value::Scalar(eq.system.energy?.total)),
+        strided: false,
     },
     Evaluation {
         name: "generalized_momentum",
@@ -206,6 +234,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
         doc: " The generalized momentum `p = M(q, t) q̇` (`∂T/∂q̇` for a \
               kinetic energy quadratic in `q̇`), without forming `M`.",
         value: |eq| Some(Value::Vector(eq.momentum.clone())),
+        strided: false,
     },
 ];
 
@@ -227,9 +256,8 @@ pub(super) fn value_type(ctx: &Context, name: &str) -> Option<TokenStream> {
 pub(super) fn methods(ctx: &Context) -> TokenStream {
     let mut out = TokenStream::new();
     for e in EVALUATIONS {
-        let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());
         if let Some(value) = (e.value)(ctx.eq) {
-            out.extend(method(ctx, quote!(#name), e.doc, e.args, &value));
+            out.extend(method(ctx, e, &value));
         }
     }
     out
@@ -238,6 +266,41 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
 #[cfg(test)]
 mod tests {
     use super::{Args, EVALUATIONS};
+    use crate::tools::fixtures::{panda, two_arms};
+    use crate::{expand_with, Options};
+
+    /// The text of the generated method `name` (up to the next method),
+    /// in an expansion written without spaces.
+    fn method_text<'a>(expansion: &'a str, name: &str) -> &'a str {
+        let start = expansion
+            .find(&format!("pubfn{name}("))
+            .unwrap_or_else(|| panic!("no method {name}"));
+        let rest = &expansion[start + 1..];
+        &rest[..rest.find("pubfn").unwrap_or(rest.len())]
+    }
+
+    /// Recursive Newton–Euler's joint forces of a large model leave
+    /// through `unstride`, and nothing else does: not the momentum `M q̇`
+    /// (whose adjacent rows are alike, so that pairing them pays), and not
+    /// a small model's forces, which its registers hold anyway.
+    #[test]
+    fn newton_eulers_forces_alone_are_returned_apart() {
+        let expand = |source: String| {
+            let tokens = source.parse().expect("the fixture is tokens");
+            let expanded = expand_with(tokens, Options { jacobians: false }).expect("it expands");
+            expanded.to_string().replace(' ', "")
+        };
+        let large = expand(two_arms("Arms", 7));
+        for name in ["inverse_dynamics", "gravity_forces"] {
+            assert!(method_text(&large, name).contains("unstride(["), "{name}");
+        }
+        assert!(!method_text(&large, "generalized_momentum").contains("unstride"));
+        let small = expand(panda("Shoulder", 2));
+        assert!(
+            !small.contains("unstride"),
+            "a one-joint arm's are one literal"
+        );
+    }
 
     /// Every evaluation method has a row of the table of generated items
     /// in `docs/generated.md`, with its arguments as generated.

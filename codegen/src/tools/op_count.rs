@@ -73,6 +73,7 @@ const FREE: &[&str] = &[
     "ArrayStorage",
     "clone",
     "Some",
+    "unstride",
 ];
 
 /// The operations of the `acceleration` of one expanded system: `None` when

@@ -17,4 +17,6 @@ mod scalar;
 pub use equations::{Generated, Motion, Reaction};
 pub(crate) use mass::auxiliary_mass;
 pub use mass::effective_mass;
-pub use scalar::{all_finite, half_precision, largest, lit, signum, step, unscaled_bound};
+pub use scalar::{
+    all_finite, half_precision, largest, lit, signum, step, unscaled_bound, unstride,
+};

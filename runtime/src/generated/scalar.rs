@@ -1,7 +1,7 @@
 //! The scalar functions generated code calls: literals as `T`, the
 //! branch-free finiteness bound, and the DSL's `signum` and unit step.
 
-use nalgebra::RealField;
+use nalgebra::{RealField, SVector};
 
 /// Converts a compile-time `f64` literal of generated code into the scalar `T`.
 ///
@@ -82,4 +82,35 @@ pub fn step<T: RealField + Copy>(x: T) -> T {
 #[inline]
 pub fn all_finite<T: RealField + Copy>(m: &[T]) -> bool {
     m.iter().fold(true, |ok, x| ok & x.is_finite())
+}
+
+/// The vector of `strided`'s first slots: how a large generated
+/// evaluation returns its entries, each written two slots apart and the
+/// array passed through `black_box` first. LLVM's SLP vectorizer starts
+/// from stores to adjacent addresses and pairs the expressions they store;
+/// the adjacent joint forces of recursive Newton–Euler are different
+/// bodies' forces, alike in shape only, so pairing them buys two lanes of
+/// unrelated work for shuffles at every leaf. Apart, and hidden, the
+/// stores seed nothing. The values are the same bits either way.
+#[inline(always)]
+pub fn unstride<T: RealField + Copy, const N: usize>(strided: [[T; 2]; N]) -> SVector<T, N> {
+    let strided = core::hint::black_box(strided);
+    let mut out = [T::zero(); N];
+    for (o, [first, _]) in out.iter_mut().zip(strided) {
+        *o = first;
+    }
+    SVector::from_array_storage(nalgebra::ArrayStorage([out]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unstride;
+
+    #[test]
+    fn unstride_takes_each_pairs_first_in_order() {
+        let v = unstride([[1.5_f64, 9.0], [-2.0, 9.0], [0.25, 9.0]]);
+        assert_eq!(v.as_slice(), &[1.5, -2.0, 0.25]);
+        let empty: [[f32; 2]; 0] = [];
+        assert_eq!(unstride(empty).len(), 0);
+    }
 }
