@@ -85,15 +85,19 @@ pub fn all_finite<T: RealField + Copy>(m: &[T]) -> bool {
 }
 
 /// The vector of `strided`'s first slots: how a large generated
-/// evaluation returns its entries, each written two slots apart and the
-/// array passed through `black_box` first. LLVM's SLP vectorizer starts
-/// from stores to adjacent addresses and pairs the expressions they store;
-/// the adjacent joint forces of recursive Newton–Euler are different
-/// bodies' forces, alike in shape only, so pairing them buys two lanes of
-/// unrelated work for shuffles at every leaf. Apart, and hidden, the
-/// stores seed nothing. The values are the same bits either way.
+/// evaluation returns its entries, each written two slots apart and, on
+/// x86, the array passed through `black_box` first. LLVM's SLP vectorizer
+/// starts from stores to adjacent addresses and pairs the expressions they
+/// store; the adjacent joint forces of recursive Newton–Euler are
+/// different bodies' forces, alike in shape only, so pairing them buys two
+/// lanes of unrelated work for shuffles at every leaf. Apart, and hidden,
+/// the stores seed nothing. On other targets, where this was not
+/// measured (a Cortex-M4F has no vector unit to mislead), the array is not
+/// hidden and the compiler keeps its values in registers as from a
+/// literal. The values are the same bits either way.
 #[inline(always)]
 pub fn unstride<T: RealField + Copy, const N: usize>(strided: [[T; 2]; N]) -> SVector<T, N> {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
     let strided = core::hint::black_box(strided);
     let mut out = [T::zero(); N];
     for (o, [first, _]) in out.iter_mut().zip(strided) {
