@@ -298,7 +298,7 @@ mod tests {
         let small = expand(panda("Shoulder", 2));
         assert!(
             !small.contains("unstride"),
-            "a one-joint arm's are one literal"
+            "a two-joint arm's are one literal"
         );
     }
 
