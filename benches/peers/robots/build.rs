@@ -694,7 +694,9 @@ fn main() {
              #[inline(always)]\n    fn mass(&self, q: &Vector<{n}>) -> Matrix<{n}> {{\n        \
              self.mass_matrix(q, 0.0).value()\n    }}\n    \
              #[inline(always)]\n    fn tau(&self, q: &Vector<{n}>, v: &Vector<{n}>, a: &Vector<{n}>) -> Vector<{n}> {{\n        \
-             self.inverse_dynamics(q, v, a, 0.0).value()\n    }}\n}}\n",
+             self.inverse_dynamics(q, v, a, 0.0).value()\n    }}\n    \
+             #[inline(always)]\n    fn forces_of(&self, q: &Vector<{n}>, v: &Vector<{n}>) -> Vector<{n}> {{\n        \
+             self.forces(q, v, 0.0).value()\n    }}\n}}\n",
             what = r.what,
             file = r.file,
             name = r.name,

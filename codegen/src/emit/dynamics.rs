@@ -92,7 +92,7 @@ fn method(ctx: &Context, e: &Evaluation, value: &Value) -> TokenStream {
 /// Newton–Euler those are different bodies' forces, alike in shape only,
 /// and the pairing cost shuffles at their leaves (1,464 of them in the
 /// G1's `inverse_dynamics`, built for plain x86-64; `unstride` says why).
-fn strided(ctx: &Context, body: &Body, entries: &[Id]) -> TokenStream {
+pub(super) fn strided(ctx: &Context, body: &Body, entries: &[Id]) -> TokenStream {
     let values = entries.iter().map(|&e| body.expr(e));
     let unstride = ctx.private(quote!(unstride));
     quote!(#unstride([#([#values, T::zero()]),*]))
@@ -266,23 +266,27 @@ pub(super) fn methods(ctx: &Context) -> TokenStream {
 #[cfg(test)]
 mod tests {
     use super::{Args, EVALUATIONS};
-    use crate::tools::fixtures::{panda, two_arms};
+    use crate::tools::fixtures::{joint_angle_pendulum, panda, two_arms};
     use crate::{expand_with, Options};
 
     /// The text of the generated method `name` (up to the next method),
-    /// in an expansion written without spaces.
+    /// in an expansion written without spaces; `name<T` for the detached
+    /// function in the system's module.
     fn method_text<'a>(expansion: &'a str, name: &str) -> &'a str {
+        let open = if name.ends_with("<T") { "" } else { "(" };
         let start = expansion
-            .find(&format!("pubfn{name}("))
+            .find(&format!("pubfn{name}{open}"))
             .unwrap_or_else(|| panic!("no method {name}"));
         let rest = &expansion[start + 1..];
         &rest[..rest.find("pubfn").unwrap_or(rest.len())]
     }
 
     /// Recursive Newton–Euler's joint forces of a large model leave
-    /// through `unstride`, and nothing else does: not the momentum `M q̇`
-    /// (whose adjacent rows are alike, so that pairing them pays), and not
-    /// a small model's forces, which its registers hold anyway.
+    /// through `unstride` (`τ`, `g(q)`, and bodies' `F`, detached into the
+    /// system's module), and nothing else does: not the momentum `M q̇`
+    /// (whose adjacent rows are alike, so that pairing them pays), not the
+    /// `F` of a model without bodies, and not a small model's forces,
+    /// which its registers hold anyway.
     #[test]
     fn newton_eulers_forces_alone_are_returned_apart() {
         let expand = |source: String| {
@@ -294,7 +298,14 @@ mod tests {
         for name in ["inverse_dynamics", "gravity_forces"] {
             assert!(method_text(&large, name).contains("unstride(["), "{name}");
         }
+        assert!(method_text(&large, "forces<T").contains("unstride(["));
         assert!(!method_text(&large, "generalized_momentum").contains("unstride"));
+        let energies = expand(joint_angle_pendulum("Pendulum", 8));
+        assert!(method_text(&energies, "forces<T").contains("from_array_storage"));
+        assert!(
+            !energies.contains("unstride"),
+            "no bodies: F is one literal"
+        );
         let small = expand(panda("Shoulder", 2));
         assert!(
             !small.contains("unstride"),

@@ -147,13 +147,24 @@ fn model_values(ctx: &Context) -> Vec<detached::Detached> {
         &sys.mass,
         ctx.n,
     );
-    let forces = quote!(forces);
-    let forces = vector_function(
-        ctx,
-        forces,
-        " The impressed forces `F(q, q̇, t)`.",
-        &sys.forces,
-    );
+    let forces = detached::Value {
+        name: quote!(forces),
+        doc: " The impressed forces `F(q, q̇, t)`.",
+        inputs: Inputs::States,
+        ret: ctx.vector(sys.forces.len()),
+        roots: &sys.forces,
+    };
+    // Bodies' `F` is recursive Newton–Euler's bias (and the inputs), whose
+    // adjacent entries are different bodies' forces: as `inverse_dynamics`,
+    // returned apart where it is large (`dynamics::strided`).
+    let apart = sys.bodies.is_some() && detached::large(ctx, &sys.forces);
+    let forces = detached::value(ctx, &forces, |body| {
+        if apart {
+            dynamics::strided(ctx, body, &sys.forces)
+        } else {
+            ctx.vector_value(sys.forces.iter().map(|&e| body.expr(e)))
+        }
+    });
     let phi: Vec<Id> = sys.constraints.iter().map(|c| c.phi).collect();
     let residual = vector_function(
         ctx,

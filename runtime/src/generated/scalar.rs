@@ -1,7 +1,7 @@
 //! The scalar functions generated code calls: literals as `T`, the
 //! branch-free finiteness bound, and the DSL's `signum` and unit step;
-//! and `unstride`, through which a large `inverse_dynamics` returns its
-//! joint forces.
+//! and `unstride`, through which a large `inverse_dynamics` (or bodies'
+//! `forces`) returns its joint forces.
 
 use nalgebra::{RealField, SVector};
 

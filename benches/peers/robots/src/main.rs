@@ -55,6 +55,9 @@ trait Urdf<const N: usize>: Sized {
     fn qdd(&self, q: &Vector<N>, v: &Vector<N>) -> Vector<N>;
     fn mass(&self, q: &Vector<N>) -> Matrix<N>;
     fn tau(&self, q: &Vector<N>, v: &Vector<N>, a: &Vector<N>) -> Vector<N>;
+    /// `F(q, q̇)` with the torques `with_torques` gave: `forces`, which
+    /// Pinocchio's peers do not time (`spin` only).
+    fn forces_of(&self, q: &Vector<N>, v: &Vector<N>) -> Vector<N>;
 }
 
 /// Something done to every robot (`robots`, which build.rs writes).
@@ -236,8 +239,9 @@ impl Visit for Time {
 }
 
 /// `constrained-robots spin ROBOT WHAT PASSES`: `PASSES` passes of `WHAT`
-/// (`acceleration`, `mass_matrix` or `inverse_dynamics`) over the robot's
-/// states and nothing else, for cachegrind (`benches/peers/icache.sh`).
+/// (`acceleration`, `mass_matrix`, `inverse_dynamics` or `forces`) over
+/// the robot's states and nothing else, for cachegrind
+/// (`benches/peers/icache.sh`) and for timing two builds against each other.
 struct Spin {
     rng: Rng,
     robot: String,
@@ -258,6 +262,9 @@ impl Visit for Spin {
                 match self.what.as_str() {
                     "mass_matrix" => {
                         black_box(&black_box(system).mass(black_box(&s.q)));
+                    }
+                    "forces" => {
+                        black_box(&black_box(system).forces_of(black_box(&s.q), black_box(&s.v)));
                     }
                     "inverse_dynamics" => {
                         black_box(&black_box(system).tau(
