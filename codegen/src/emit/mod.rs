@@ -147,30 +147,23 @@ fn model_values(ctx: &Context) -> Vec<detached::Detached> {
         &sys.mass,
         ctx.n,
     );
-    let forces = detached::Value {
-        name: quote!(forces),
-        doc: " The impressed forces `F(q, q̇, t)`.",
-        inputs: Inputs::States,
-        ret: ctx.vector(sys.forces.len()),
-        roots: &sys.forces,
-    };
     // Bodies' `F` is recursive Newton–Euler's bias (and the inputs), whose
     // adjacent entries are different bodies' forces: as `inverse_dynamics`,
     // returned apart where it is large (`dynamics::strided`).
-    let apart = sys.bodies.is_some() && detached::large(ctx, &sys.forces);
-    let forces = detached::value(ctx, &forces, |body| {
-        if apart {
-            dynamics::strided(ctx, body, &sys.forces)
-        } else {
-            ctx.vector_value(sys.forces.iter().map(|&e| body.expr(e)))
-        }
-    });
+    let forces = vector_function(
+        ctx,
+        quote!(forces),
+        " The impressed forces `F(q, q̇, t)`.",
+        &sys.forces,
+        sys.bodies.is_some(),
+    );
     let phi: Vec<Id> = sys.constraints.iter().map(|c| c.phi).collect();
     let residual = vector_function(
         ctx,
         quote!(constraint_residual),
         " The constraint residuals `φ(q, q̇, t)`; zero on the constraint manifold.",
         &phi,
+        false,
     );
     let velocity_residual = vector_function(
         ctx,
@@ -179,6 +172,7 @@ fn model_values(ctx: &Context) -> Vec<detached::Detached> {
          itself for a velocity-level one; zero on consistent states. Its \
          Jacobian in `q̇` is `A` (used by stabilization and projection).",
         &eq.velocity_constraints,
+        false,
     );
     vec![mass, forces, residual, velocity_residual]
 }
@@ -357,11 +351,14 @@ fn derivation_doc(derivation: &str) -> String {
     format!("\n# Derivation\n\n```text\n{derivation}```")
 }
 
+/// A method of the states returning the vector `entries`; with `apart`,
+/// returned through `unstride` where it is large ([`dynamics::strided`]).
 fn vector_function(
     ctx: &Context,
     name: TokenStream,
     doc: &str,
     entries: &[Id],
+    apart: bool,
 ) -> detached::Detached {
     let ret = ctx.vector(entries.len());
     let v = detached::Value {
@@ -371,8 +368,13 @@ fn vector_function(
         ret,
         roots: entries,
     };
+    let apart = apart && detached::large(ctx, entries);
     detached::value(ctx, &v, |body| {
-        ctx.vector_value(entries.iter().map(|&e| body.expr(e)))
+        if apart {
+            dynamics::strided(ctx, body, entries)
+        } else {
+            ctx.vector_value(entries.iter().map(|&e| body.expr(e)))
+        }
     })
 }
 
