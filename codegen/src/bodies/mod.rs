@@ -12,7 +12,9 @@
 //! - [`point_motion`]: by the same recursions, a point's acceleration under
 //!   a free base and its partials by the joints between;
 //! - [`slide`]: the dynamics' frames slid along their joints' axes where
-//!   that empties translations.
+//!   that empties translations;
+//! - [`world_mass`]: `M` formed in world axes instead, kept where the
+//!   bodies' frames are placed by dense rotations and that is the cheaper.
 //!
 //! Every quantity of a body is kept in the body's own frame, so a joint
 //! contributes its own rotation only and the constant placements, whose
@@ -31,6 +33,7 @@ pub(crate) mod reference;
 pub(crate) mod slide;
 pub(crate) mod spatial;
 pub(crate) mod turn;
+pub(crate) mod world_mass;
 
 use crate::expr::{Graph, Id};
 pub use joint::{Joint, JointKind, Mimic};
@@ -217,9 +220,14 @@ impl Tree {
 pub struct Dynamics {
     /// `M(q)` by the composite-rigid-body algorithm, n × n, symmetric.
     pub mass: Vec<Vec<Id>>,
+    /// Whether `mass` was formed in world axes ([`world_mass`]), where
+    /// that costs fewer operations than in the bodies' own.
+    pub mass_in_world: bool,
     /// With quaternion joints, `Tᵀ M T`: `M` in the velocity coordinates of
     /// [`free`] (each quaternion's `w` row and column zero).
     pub velocity_mass: Option<Vec<Vec<Id>>>,
+    /// Whether `velocity_mass` was formed in world axes.
+    pub velocity_mass_in_world: bool,
     /// With quaternion joints, `Tᵀ c`: the bias forces in the same
     /// unknowns.
     pub velocity_bias: Option<Vec<Id>>,

@@ -18,7 +18,7 @@ use super::spatial::{self, Center, Inertia, Spatial};
 use super::{Body, Dynamics, Trace, Tree};
 use crate::expr::{Graph, Id, Sym};
 
-fn joint_state(g: &mut Graph, body: &Body) -> JointState {
+pub(super) fn joint_state(g: &mut Graph, body: &Body) -> JointState {
     JointState::new(g, body.joint)
 }
 
@@ -278,7 +278,7 @@ fn inertia_to_parent(g: &mut Graph, body: &Body, js: JointState, inertia: &Inert
 /// Each body's composite inertia (its own and its descendants'), about
 /// its origin in its axes: the backward pass of the composite-rigid-body
 /// algorithm, through the joints' own transforms.
-fn composites(g: &mut Graph, tree: &Tree, states: &[JointState]) -> Vec<Inertia> {
+pub(super) fn composites(g: &mut Graph, tree: &Tree, states: &[JointState]) -> Vec<Inertia> {
     let mut composite: Vec<Inertia> = tree.bodies.iter().map(|b| b.inertia).collect();
     for (i, body) in tree.bodies.iter().enumerate().rev() {
         if let Some(p) = body.parent {
@@ -302,29 +302,55 @@ pub fn composite_columns(g: &mut Graph, tree: &Tree) -> Vec<(Inertia, Vec<(usize
         .collect()
 }
 
-/// The composite-rigid-body algorithm: `M(q)`, n × n, and each body's
-/// composite inertia. With `velocity`, each quaternion joint's columns are
-/// those of [`super::free::velocity_subspace`], and the matrix is
-/// `Tᵀ M T` ([`super::free`]).
+/// The composite-rigid-body algorithm: `M(q)`, n × n, each body's
+/// composite inertia, and whether `M` is the one formed in world axes
+/// (`super::world_mass`, where that costs fewer operations). With
+/// `velocity`, each quaternion joint's columns are those of
+/// [`super::free::velocity_subspace`], and the matrix is `Tᵀ M T`
+/// ([`super::free`]).
 fn composite_rigid_body(
     g: &mut Graph,
     tree: &Tree,
     n: usize,
     velocity: bool,
-) -> (Vec<Vec<Id>>, Vec<Inertia>) {
+) -> (Vec<Vec<Id>>, Vec<Inertia>, bool) {
     let states: Vec<JointState> = tree.bodies.iter().map(|b| joint_state(g, b)).collect();
     let composite = composites(g, tree, &states);
+    let columns = mass_columns(g, tree, &states, velocity);
+    let local = local_mass(g, tree, (&states, &composite), &columns, n);
+    match super::world_mass::cheaper(g, tree, (&states, &columns), &local) {
+        Some(world) => (world, composite, true),
+        None => (local, composite, false),
+    }
+}
+
+/// Each body's joint columns in its own axes: its joint's, or with
+/// `velocity` those of the velocity form ([`velocity_columns`]).
+pub(super) fn mass_columns(
+    g: &mut Graph,
+    tree: &Tree,
+    states: &[JointState],
+    velocity: bool,
+) -> Vec<Vec<(usize, Spatial)>> {
+    if velocity {
+        velocity_columns(g, tree, states)
+    } else {
+        states.iter().map(|&js| subspace(g, js)).collect()
+    }
+}
+
+/// `M` in the bodies' own axes: `Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ` and, carrying `Iᶜᵢ Sᵢ`
+/// through each joint towards the root, `Mⱼᵢ = Sⱼᵀ ʲXᵢ* Iᶜᵢ Sᵢ` for each
+/// ancestor `j`.
+pub(super) fn local_mass(
+    g: &mut Graph,
+    tree: &Tree,
+    (states, composite): (&[JointState], &[Inertia]),
+    columns: &[Vec<(usize, Spatial)>],
+    n: usize,
+) -> Vec<Vec<Id>> {
     let zero = g.int(0);
     let mut m = vec![vec![zero; n]; n];
-    let columns: Vec<Vec<(usize, Spatial)>> = if velocity {
-        velocity_columns(g, tree, &states)
-    } else {
-        tree.bodies
-            .iter()
-            .zip(&states)
-            .map(|(_, &js)| subspace(g, js))
-            .collect()
-    };
     for (i, own) in columns.iter().enumerate() {
         for &(ci, s) in own {
             let mut force = composite[i].apply(g, s).held(g);
@@ -346,7 +372,7 @@ fn composite_rigid_body(
             }
         }
     }
-    (m, composite)
+    m
 }
 
 /// Each body's columns in the velocity form's unknowns
@@ -473,12 +499,14 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
         gravity: true,
     };
     let bias = newton_euler(g, tree, n, all);
-    let (mass, composite) = composite_rigid_body(g, tree, n, false);
+    let (mass, composite, mass_in_world) = composite_rigid_body(g, tree, n, false);
     let has_quaternion = tree
         .bodies
         .iter()
         .any(|b| b.joint.kind == JointKind::Quaternion);
-    let velocity_mass = has_quaternion.then(|| composite_rigid_body(g, tree, n, true).0);
+    let velocity = has_quaternion.then(|| composite_rigid_body(g, tree, n, true));
+    let velocity_mass_in_world = velocity.as_ref().is_some_and(|v| v.2);
+    let velocity_mass = velocity.map(|v| v.0);
     let velocity_bias = has_quaternion.then(|| velocity_bias(g, tree, n, &bias.f));
     let trace = (0..tree.bodies.len())
         .map(|i| Trace {
@@ -513,7 +541,9 @@ pub fn dynamics(g: &mut Graph, tree: &Tree, n: usize) -> Dynamics {
     let (kinetic, potential) = energies(g, tree);
     Dynamics {
         mass,
+        mass_in_world,
         velocity_mass,
+        velocity_mass_in_world,
         velocity_bias,
         bias: bias.tau,
         inverse,

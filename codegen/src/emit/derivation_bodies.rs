@@ -136,6 +136,29 @@ fn labelled(i: usize, t: &Trace) -> Vec<(Id, String)> {
     out
 }
 
+/// How `M` is formed: carried through the joints in the bodies' own axes,
+/// or in world axes where that costs fewer operations
+/// (`crate::bodies::world_mass`), for `M` and for its velocity form.
+fn mass_statement((plain, velocity): (bool, bool)) -> &'static str {
+    match (plain, velocity) {
+        (false, false) => "Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i.",
+        (true, true) => {
+            "M in world axes, where frames placed by dense rotations make that the cheaper (its velocity form too): \
+             each body's frame oXᵢ = oX_λ λXᵢ, its columns Sᵢʷ = oXᵢ Sᵢ, composites Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ \
+             (not the Iᶜᵢ below),  Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ for j = i and each ancestor j of i."
+        }
+        (true, false) => {
+            "M in world axes, where frames placed by dense rotations make that the cheaper (its velocity form in the bodies' own): \
+             each body's frame oXᵢ = oX_λ λXᵢ, its columns Sᵢʷ = oXᵢ Sᵢ, composites Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ \
+             (not the Iᶜᵢ below),  Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ for j = i and each ancestor j of i."
+        }
+        (false, true) => {
+            "Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i; its velocity form in world axes, \
+             where that is the cheaper: Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ with each body's frame oXᵢ, Sᵢʷ = oXᵢ Sᵢ and Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ."
+        }
+    }
+}
+
 /// The part per body, before `M` and `F`.
 pub fn text(
     w: &mut String,
@@ -154,8 +177,9 @@ pub fn text(
          a body's own Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ, where fewer operations, about its centre of mass c (Ī_C there):  ċᵢ = vᵢ.v + ωᵢ × c,\n  \
          c̈ᵢ = aᵢ.v̇ + ω̇ᵢ × c + ωᵢ × ċᵢ,  Lᵢ = Ī_C ωᵢ,  force m c̈ᵢ,  moment Ī_C ω̇ᵢ + ωᵢ × Lᵢ + c × m c̈ᵢ;\n  \
          composite rigid body:  Iᶜᵢ = Iᵢ + Σ_children iX_jᵀ Iᶜⱼ iX_j  (mass m, first moment h = m c, rotational Ī about the origin),\n  \
-         Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i.\n  \
-         Sums are named once below and by name wherever they recur."
+         {}\n  \
+         Sums are named once below and by name wherever they recur.",
+        mass_statement(bodies.mass_in_world)
     );
     for (i, (body, t)) in bodies.tree.iter().zip(&bodies.trace).enumerate() {
         let s = subscript(i + 1);

@@ -280,6 +280,24 @@ impl Graph {
         self.nodes.is_empty()
     }
 
+    /// Forgets every node made after the graph had `len` nodes, as if they
+    /// had never been made: an alternative built only to be costed leaves
+    /// no trace, so that what is built next is interned, and named, as it
+    /// would have been without it. Ids of the forgotten nodes must not be
+    /// used again.
+    pub fn truncate(&mut self, len: usize) {
+        while self.nodes.len() > len {
+            let Some(node) = self.nodes.pop() else {
+                break;
+            };
+            let id = Id(self.nodes.len() as u32);
+            let hash = hash_of(&node);
+            if let Ok(entry) = self.index.find_entry(hash, |&(h, i)| h == hash && i == id) {
+                entry.remove();
+            }
+        }
+    }
+
     /// The sum `−s` when the graph holds it, for a sum `s`: a square of
     /// `s` is the square of `−s`, which the derivation prints by the name
     /// `−s` may have (`dt(px)²` rather than its negated expansion).

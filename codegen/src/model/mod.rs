@@ -201,6 +201,9 @@ pub struct BodyTerms {
     /// With quaternion joints, `M` in their velocity coordinates
     /// (`crate::bodies::Dynamics::velocity_mass`).
     pub velocity_mass: Option<Vec<Vec<Id>>>,
+    /// Which of `M` and its velocity form were formed in world axes
+    /// (`crate::bodies::world_mass`), for the derivation.
+    pub mass_in_world: (bool, bool),
     /// With quaternion joints, the bias forces in the same unknowns
     /// (`crate::bodies::Dynamics::velocity_bias`).
     pub velocity_bias: Option<Vec<Id>>,

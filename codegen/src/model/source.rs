@@ -267,6 +267,7 @@ impl Lowerer<'_> {
             gravity_vector: tree.gravity,
             tree: tree.bodies,
             velocity_mass: dynamics.velocity_mass,
+            mass_in_world: (dynamics.mass_in_world, dynamics.velocity_mass_in_world),
             velocity_bias: dynamics.velocity_bias,
             kinematics: self.kinematics.take(),
             inverse_derivatives: false,
