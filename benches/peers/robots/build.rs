@@ -124,6 +124,17 @@ const ROBOTS: &[Robot] = &[
         mimic: false,
         what: "The Unitree G1 (29 joints), fixed base",
     },
+    // IIT's iCub as its exporter wrote it: every frame turned by `1.5708`
+    // (not π/2) and the axes carrying `6e-17` leftovers, so that no
+    // placement is sparse and `M` is formed in world axes.
+    Robot {
+        name: "IcubUrdf",
+        short: "icub",
+        file: "icub_description/robots/icub_reduced.urdf",
+        locked: &[],
+        mimic: false,
+        what: "IIT's iCub (icub_reduced, 29 joints), fixed base",
+    },
     Robot {
         name: "PandaMimicUrdf",
         short: "panda_mimic",
