@@ -14,6 +14,7 @@
 //! `qᵢ`. A quaternion joint has four columns in `Sᵢ` ([`super::free`]).
 
 use super::joint::{JointKind, JointState};
+pub(super) use super::spatial::accumulate;
 use super::spatial::{self, Center, Inertia, Spatial};
 use super::{Body, Dynamics, Trace, Tree};
 use crate::expr::{Graph, Id, Sym};
@@ -81,12 +82,6 @@ fn force_to_parent(g: &mut Graph, body: &Body, js: JointState, f: Spatial) -> Sp
 /// `Sᵢ`: the joint's motion subspace, one motion vector per coordinate.
 fn subspace(g: &mut Graph, js: JointState) -> Vec<(usize, Spatial)> {
     js.columns(g)
-}
-
-/// `x ← x + y`, where `x` starts at 0: a coordinate that several joints
-/// move (a mimic's) sums their parts.
-pub(super) fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
-    *x = if g.is_zero(*x) { y } else { g.add2(*x, y) };
 }
 
 /// `Σₖ Sₖ xₖ` for the joint's coordinates' velocities or accelerations.
@@ -318,7 +313,7 @@ fn composite_rigid_body(
     let composite = composites(g, tree, &states);
     let columns = mass_columns(g, tree, &states, velocity);
     let local = local_mass(g, tree, (&states, &composite), &columns, n);
-    match super::world_mass::cheaper(g, tree, (&states, &columns), &local) {
+    match super::world_mass::cheaper(g, tree, &states, &columns, &local) {
         Some(world) => (world, composite, true),
         None => (local, composite, false),
     }

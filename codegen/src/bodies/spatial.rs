@@ -213,6 +213,12 @@ pub fn rotate(g: &mut Graph, axis: V3, (s, c): (Id, Id), v: V3) -> V3 {
     add(g, sum, turned)
 }
 
+/// `x ← x + y`, where `x` starts at 0: a coordinate that several joints
+/// move (a mimic's) sums their parts.
+pub fn accumulate(g: &mut Graph, x: &mut Id, y: Id) {
+    *x = if g.is_zero(*x) { y } else { g.add2(*x, y) };
+}
+
 /// A motion vector `[ω; v]` (angular velocity, velocity of the frame's
 /// origin) or a force vector `[n; f]` (moment about the origin, force).
 #[derive(Clone, Copy, Debug)]
