@@ -16,6 +16,12 @@ use constrained_codegen::{expand_with, Options};
 /// are, where that empties a translation) finds nothing to empty: the
 /// chain with a turned frame and the one without differ in the turn only.
 fn chain(turned: usize, rpy: [f64; 3]) -> String {
+    chain_of(8, |k| (k == turned).then_some(rpy))
+}
+
+/// [`chain`] of `n` joints, joint `k` (1-based) placed with `rpy(k)`
+/// where that is some.
+fn chain_of(n: usize, rpy: impl Fn(usize) -> Option<[f64; 3]>) -> String {
     let axis = |k: usize| [2, 1, 0, 1][(k - 1) % 4];
     // `value` along coordinate axis `c`, as the DSL writes a vector.
     let along = |c: usize, value: f64| {
@@ -29,18 +35,17 @@ fn chain(turned: usize, rpy: [f64; 3]) -> String {
         let free = (0..3).find(|&c| c != own && c != parent).unwrap_or(0);
         along(free, 0.2)
     };
-    let inputs: Vec<String> = (1..=8).map(|k| format!("u{k}")).collect();
+    let inputs: Vec<String> = (1..=n).map(|k| format!("u{k}")).collect();
     let mut bodies = String::new();
-    for k in 1..=8 {
+    for k in 1..=n {
         let parent = if k == 1 {
             String::new()
         } else {
             format!("parent: l{},", k - 1)
         };
-        let turn = if k == turned {
-            format!("rpy: [{:?}, {:?}, {:?}],", rpy[0], rpy[1], rpy[2])
-        } else {
-            String::new()
+        let turn = match rpy(k) {
+            Some(r) => format!("rpy: [{:?}, {:?}, {:?}],", r[0], r[1], r[2]),
+            None => String::new(),
         };
         bodies.push_str(&format!(
             "l{k} {{ {parent} joint: revolute(q{k}, {axis}), xyz: {xyz}, {turn}
@@ -90,4 +95,41 @@ fn a_turned_joint_frame_costs_its_rotations_once() {
             "joint {turned} turned: τ costs {tau} operations, {plain_tau} unturned"
         );
     }
+}
+
+/// The derivation of a system given as tokens.
+fn derivation(source: &str) -> String {
+    let tokens: proc_macro2::TokenStream = source.parse().expect("the chain is tokens");
+    let eq = constrained_codegen::analyse_with(tokens, Options { jacobians: false })
+        .expect("the chain is analysed");
+    constrained_codegen::emit::derivation::text(&eq, &eq.partition)
+}
+
+/// Every frame of a 24-joint chain turned as an exported URDF turns them
+/// (`1.5708`, not π/2, and angles about two axes at once): `M` is formed
+/// in world axes, which costs fewer operations there, the columns being
+/// carried through many dense rotations the other way
+/// (`bodies::world_mass`; on twelve joints the bodies' own axes still
+/// win), and the derivation says so. With one frame
+/// turned the bodies' own axes stay the cheaper, and the derivation
+/// states the recursion through the joints.
+#[test]
+// 1.5708 is the exporter's number, 3.7e-6 rad from π/2: not the constant.
+#[allow(clippy::approx_constant)]
+fn mass_in_world_axes_where_every_frame_is_turned() {
+    let exported =
+        |k: usize| Some([[1.5708, 0.0, 0.3], [0.0, -0.7, 1.1], [0.4, 1.5708, 0.0]][k % 3]);
+    let world = "M in world axes";
+    let through_joints = "Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i.";
+    let text = derivation(&chain_of(24, exported));
+    assert!(
+        text.contains(world) && !text.contains(through_joints),
+        "{text}"
+    );
+    let rpy = [0.27931, 5.4949e-05, -0.00019159];
+    let text = derivation(&chain(5, rpy));
+    assert!(
+        text.contains(through_joints) && !text.contains(world),
+        "{text}"
+    );
 }

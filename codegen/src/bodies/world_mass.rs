@@ -1,10 +1,10 @@
 //! `M(q)` by the composite-rigid-body algorithm in world axes, as
 //! Pinocchio's `crba` forms it: each body's frame in the world `(Rᵢ, oᵢ)`,
-//! its inertia there, the composites `Iᶜᵢ` summed in world axes about the
-//! world's origin (no transform from child to parent), each joint's motion
-//! columns in world axes `Sᵢʷ = [Rᵢ s_ω; Rᵢ s_v + oᵢ × Rᵢ s_ω]`, and
-//! `Mⱼᵢ = Sⱼʷᵀ Iᶜᵢ Sᵢʷ` for `j` an ancestor of `i` or `i` itself: six
-//! products a pair of joints.
+//! its inertia there, the composites `Iᶜᵢʷ` summed in world axes about
+//! the world's origin (no transform from child to parent), each joint's
+//! motion columns in world axes `Sᵢʷ = [Rᵢ s_ω; Rᵢ s_v + oᵢ × Rᵢ s_ω]`,
+//! and `Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ` for `j` an ancestor of `i` or `i` itself:
+//! six products a pair of joints.
 //!
 //! The recursion in the bodies' own axes (`super::recursion`) carries
 //! `Iᶜᵢ Sᵢ` through every joint between `i` and `j` instead, which costs

@@ -139,23 +139,20 @@ fn labelled(i: usize, t: &Trace) -> Vec<(Id, String)> {
 /// How `M` is formed: carried through the joints in the bodies' own axes,
 /// or in world axes where that costs fewer operations
 /// (`crate::bodies::world_mass`), for `M` and for its velocity form.
-fn mass_statement((plain, velocity): (bool, bool)) -> &'static str {
+fn mass_statement((plain, velocity): (bool, bool)) -> String {
+    const THROUGH: &str = "Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i";
+    const WORLD: &str = "each body's frame oXᵢ = oX_λ λXᵢ, its columns Sᵢʷ = oXᵢ Sᵢ, \
+         composites Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ (not the Iᶜᵢ below),  \
+         Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ for j = i and each ancestor j of i";
+    const WHERE: &str =
+        "M in world axes, where frames placed by dense rotations make that the cheaper";
     match (plain, velocity) {
-        (false, false) => "Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i.",
-        (true, true) => {
-            "M in world axes, where frames placed by dense rotations make that the cheaper (its velocity form too): \
-             each body's frame oXᵢ = oX_λ λXᵢ, its columns Sᵢʷ = oXᵢ Sᵢ, composites Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ \
-             (not the Iᶜᵢ below),  Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ for j = i and each ancestor j of i."
-        }
-        (true, false) => {
-            "M in world axes, where frames placed by dense rotations make that the cheaper (its velocity form in the bodies' own): \
-             each body's frame oXᵢ = oX_λ λXᵢ, its columns Sᵢʷ = oXᵢ Sᵢ, composites Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ \
-             (not the Iᶜᵢ below),  Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ for j = i and each ancestor j of i."
-        }
-        (false, true) => {
-            "Mᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ,  Mⱼᵢ = Sⱼᵀ jX_iᵀ … Iᶜᵢ Sᵢ for each ancestor j of i; its velocity form in world axes, \
-             where that is the cheaper: Mⱼᵢ = Sⱼʷᵀ Iᶜᵢʷ Sᵢʷ with each body's frame oXᵢ, Sᵢʷ = oXᵢ Sᵢ and Iᶜᵢʷ = oXᵢ⁻ᵀ Iᵢ oXᵢ⁻¹ + Σ_children Iᶜⱼʷ."
-        }
+        (false, false) => format!("{THROUGH}."),
+        (true, true) => format!("{WHERE} (its velocity form too): {WORLD}."),
+        (true, false) => format!("{WHERE} (its velocity form in the bodies' own axes): {WORLD}."),
+        (false, true) => format!(
+            "{THROUGH}; its velocity form in world axes, where that is the cheaper: {WORLD}."
+        ),
     }
 }
 
