@@ -42,8 +42,8 @@
 
 use super::columns::{constant, in_frame, varying, Column};
 use super::joint::JointState;
-use super::recursion::accumulate;
 use super::reference::reference_frames;
+use super::spatial::accumulate;
 use super::spatial::{self, Inertia, Spatial, M3, V3};
 use super::{Body, Placement, Tree};
 use crate::expr::{Graph, Id};

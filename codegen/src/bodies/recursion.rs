@@ -14,7 +14,7 @@
 //! `qᵢ`. A quaternion joint has four columns in `Sᵢ` ([`super::free`]).
 
 use super::joint::{JointKind, JointState};
-pub(super) use super::spatial::accumulate;
+use super::spatial::accumulate;
 use super::spatial::{self, Center, Inertia, Spatial};
 use super::{Body, Dynamics, Trace, Tree};
 use crate::expr::{Graph, Id, Sym};

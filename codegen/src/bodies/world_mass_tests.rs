@@ -73,24 +73,45 @@ fn described(g: &mut Graph, free: bool, square: bool) -> (Vec<Described>, usize)
     (out, coordinate + 12)
 }
 
+/// The tree of [`described`], its joints' states, its columns (with
+/// `velocity`, the velocity form's) and `M` in the bodies' own axes.
+struct Built {
+    tree: Tree,
+    states: Vec<JointState>,
+    columns: Vec<Vec<(usize, Spatial)>>,
+    local: Vec<Vec<Id>>,
+    n: usize,
+}
+
+fn build(g: &mut Graph, free: bool, square: bool, velocity: bool) -> Built {
+    let (described, n) = described(g, free, square);
+    let gravity = spatial::zero(g);
+    let tree = Tree::new(g, &described, gravity);
+    let states: Vec<JointState> = tree
+        .bodies
+        .iter()
+        .map(|b| recursion::joint_state(g, b))
+        .collect();
+    let composite = recursion::composites(g, &tree, &states);
+    let columns = recursion::mass_columns(g, &tree, &states, velocity);
+    let local = recursion::local_mass(g, &tree, (&states, &composite), &columns, n);
+    Built {
+        tree,
+        states,
+        columns,
+        local,
+        n,
+    }
+}
+
 /// Both forms of `M` (and of `M` in the velocity form's unknowns),
 /// entry by entry, and the graph.
 fn both(free: bool, square: bool, velocity: bool) -> (Graph, Vec<Id>, Vec<Id>) {
     let mut g = Graph::new();
-    let (described, n) = described(&mut g, free, square);
-    let gravity = spatial::zero(&mut g);
-    let tree = Tree::new(&mut g, &described, gravity);
-    let states: Vec<JointState> = tree
-        .bodies
-        .iter()
-        .map(|b| recursion::joint_state(&mut g, b))
-        .collect();
-    let composite = recursion::composites(&mut g, &tree, &states);
-    let columns = recursion::mass_columns(&mut g, &tree, &states, velocity);
-    let local = recursion::local_mass(&mut g, &tree, (&states, &composite), &columns, n);
-    let world = mass(&mut g, &tree, &states, &columns, n);
+    let b = build(&mut g, free, square, velocity);
+    let world = mass(&mut g, &b.tree, &b.states, &b.columns, b.n);
     let flat = |m: Vec<Vec<Id>>| m.into_iter().flatten().collect();
-    (g, flat(local), flat(world))
+    (g, flat(b.local), flat(world))
 }
 
 /// The two forms agree to rounding at several states.
@@ -142,17 +163,13 @@ fn world_axes_give_the_same_matrix_on_a_free_base() {
 fn the_cheaper_form_is_kept_and_the_other_leaves_no_trace() {
     for square in [true, false] {
         let mut g = Graph::new();
-        let (described, n) = described(&mut g, false, square);
-        let gravity = spatial::zero(&mut g);
-        let tree = Tree::new(&mut g, &described, gravity);
-        let states: Vec<JointState> = tree
-            .bodies
-            .iter()
-            .map(|b| recursion::joint_state(&mut g, b))
-            .collect();
-        let composite = recursion::composites(&mut g, &tree, &states);
-        let columns = recursion::mass_columns(&mut g, &tree, &states, false);
-        let local = recursion::local_mass(&mut g, &tree, (&states, &composite), &columns, n);
+        let Built {
+            tree,
+            states,
+            columns,
+            local,
+            n,
+        } = build(&mut g, false, square, false);
         let before = g.clone();
         let world = cheaper(&mut g, &tree, &states, &columns, &local);
         assert_eq!(world.is_some(), !square, "square {square}");
