@@ -17,6 +17,14 @@
 //! `acceleration_jacobian` recomputes `sin_cos(θ)` in its tangent
 //! right-hand sides), but inlined into a larger body such as the
 //! four-bar's `acceleration` it makes the whole call markedly slower.
+//! Nor by one branch-free evaluation of all of a function's angles at
+//! once (each reduced by its nearest multiple of π/2, both kernels, the
+//! quadrant chosen by bit masks, vectorized across the angles): it halves
+//! the time per angle where the quadrants are random (7.3 ns against
+//! 14.8 ns), but where the angles change little from call to call, as a
+//! controller's and a simulation's do, libm's branches are predicted, and
+//! in place the batch made the UR5's `mass_matrix` 5 % and the G1's
+//! `acceleration` 16 % slower.
 
 use core::any::Any;
 use nalgebra::RealField;
