@@ -19,13 +19,12 @@
 //! four-bar's `acceleration` it makes the whole call markedly slower.
 //! Nor by one branch-free evaluation of all of a function's angles at
 //! once (each reduced by its nearest multiple of π/2, both kernels, the
-//! quadrant chosen by bit masks, vectorized across the angles): it halves
-//! the time per angle where the quadrants are random (7.3 ns against
-//! 14.8 ns), but where the angles change little from call to call, as a
-//! controller's and a simulation's do, libm's branches are predicted, and
-//! in place the batch made the UR5's `mass_matrix` 5 % and the G1's
-//! `acceleration` 16 % slower (of the arms' and the G1's `M`, `τ` and
-//! `q̈`, only the Panda's `inverse_dynamics` ran faster).
+//! quadrant chosen by bit masks, vectorized across the angles): that is
+//! faster only where the quadrants vary unpredictably. Where the angles
+//! change little from call to call, as a controller's and a simulation's
+//! do, libm's branches are predicted and its short paths skip work the
+//! batch always does, so in place the batch made most of the arms' and
+//! the G1's `M`, `τ` and `q̈` slower.
 
 use core::any::Any;
 use nalgebra::RealField;

@@ -20,22 +20,14 @@
 //! bodies hold more values than registers, and the spills and copies of
 //! the two-operand SSE2 encodings make them longer than a 32 KiB L1i.
 //!
-//! FMA is not a further extension. With the terms of each sum fused in
-//! pairs (`fma(a, b, c·d) + fma(e, f, g·h)`, under `avx,fma`), the large
-//! solves ran 5–13 % faster (the G1's `acceleration`, the flat-footed
-//! G1's and the Go1's `acceleration_and_multipliers`) but the recursions
-//! of the derivatives 4–10 % slower (the G1's and the Panda's
-//! `inverse_dynamics_jacobian`, the G1's `acceleration_jacobian`): a
-//! multiply-add overwrites its addend, so more values are copied and
-//! spilled, and the G1's `∂τ` compiled 5 % larger. Folded into one chain
-//! of multiply-adds per sum, the G1's `acceleration` ran 16 % faster and
-//! its `inverse_dynamics` 25 % slower (the chain's every step waits for
-//! a multiply-add's latency, longer than an add's). Fused only into
-//! another product (`fma(a, b, c·d)`, never into a named value, which the
-//! multiply-add would overwrite), the G1's `inverse_dynamics` ran 9 %
-//! faster, but its `∂τ` still 11 % slower and the fixed-trunk Go1's 33 %.
-//! And the answers would not be the baseline's bit for bit, which the
-//! copies promise.
+//! FMA is not a further extension. Fusing products into the sums they
+//! feed speeds the large solves, whose updates accumulate into values
+//! read once, but slows the recursions of the derivatives, which reuse
+//! their values: a multiply-add overwrites its addend, so more values are
+//! copied and spilled and the code grows; folding a whole sum into one
+//! chain of multiply-adds also lengthens its dependency chain (a
+//! multiply-add waits longer than an add). And its answers would not be
+//! the baseline's bit for bit, which the copies promise.
 
 use crate::model::dispatch::Extension;
 use proc_macro2::{TokenStream, TokenTree};
