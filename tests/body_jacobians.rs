@@ -187,6 +187,8 @@ constrained::constrained_system! {
     /// recursions' `M q̈`, and sparse, so they take the per-column form.
     /// A torque at each joint, three of them scaled: `∂q̈/∂u` is `M⁻¹`'s
     /// columns, which the Jacobian reads from `M⁻¹` formed block by block.
+    /// With `inverse_dynamics`' derivatives, written in place (sixteen
+    /// coordinates).
     pub struct FourArms {
         inputs: [u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, u16],
         bodies: [
@@ -208,6 +210,7 @@ constrained::constrained_system! {
             a3l3 { parent: a3l2, joint: revolute(q16, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, 0.15], mass: 0.5, com: [0.0, 0.0, 0.07], inertia: diag[0.004, 0.004, 0.002] },
         ],
         forces: [u1, -u2, 2.5 * u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, -0.5 * u16],
+        derivatives: [inverse_dynamics],
     }
 }
 

@@ -12,6 +12,7 @@
 //! central differences of `inverse_dynamics`, and on a planar two-link arm
 //! against its Coriolis, centrifugal and gravity terms written by hand.
 
+use crate::body_jacobians::FourArms;
 use crate::frames::{numbers, relative, states, three_link_arm, FloatingLeg, FramedArm, PandaTool};
 use constrained::constrained_system;
 use constrained::nalgebra::{Matrix3, Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
@@ -332,15 +333,96 @@ fn inverse_dynamics_jacobian_agrees_with_differences() {
         },
         73,
     );
+    // Sixteen coordinates: the pair written in place, through `_to`.
+    let arms = four_arms();
+    let on_arms = inverse_dynamics_differences(
+        |q, qd, qdd| arms.inverse_dynamics(q, qd, qdd, 0.0).expect("finite"),
+        |q, qd, qdd| {
+            let mut out = (
+                SMatrix::from_element(f64::NAN),
+                SMatrix::from_element(f64::NAN),
+            );
+            arms.inverse_dynamics_jacobian_to(q, qd, qdd, 0.0, &mut out)
+                .expect("finite");
+            out
+        },
+        79,
+    );
     for (name, (a, b)) in [
         ("arm", on_arm),
         ("floating leg", on_leg),
         ("panda", on_panda),
+        ("four arms", on_arms),
     ] {
         println!("{name}: ∂τ/∂q within {a:.1e}, ∂τ/∂q̇ within {b:.1e} of differences");
     }
-    for (a, b) in [on_arm, on_leg, on_panda] {
-        assert!(a <= 1e-7 && b <= 1e-7, "{on_arm:?} {on_leg:?} {on_panda:?}");
+    for (a, b) in [on_arm, on_leg, on_panda, on_arms] {
+        assert!(
+            a <= 1e-7 && b <= 1e-7,
+            "{on_arm:?} {on_leg:?} {on_panda:?} {on_arms:?}"
+        );
+    }
+}
+
+/// The four arms of `body_jacobians`, each joint driven.
+fn four_arms() -> FourArms<f64> {
+    let u: [f64; 16] = core::array::from_fn(|i| 0.1 * i as f64 - 0.7);
+    FourArms::new(
+        u[0], u[1], u[2], u[3], u[4], u[5], u[6], u[7], u[8], u[9], u[10], u[11], u[12], u[13],
+        u[14], u[15],
+    )
+}
+
+/// `inverse_dynamics_jacobian_to` writes the method's answer, bit for bit,
+/// into every entry of a pair that held anything (here NaN), whether the
+/// pair is written in place (the four arms' sixteen coordinates: the
+/// structural nonzeros into zeros) or stored from one literal (the
+/// Panda's seven); and its `Err` is the method's.
+#[test]
+fn inverse_dynamics_jacobian_to_writes_the_methods_answer_into_any_pair() {
+    fn same<const N: usize>(
+        method: Result<(SMatrix<f64, N, N>, SMatrix<f64, N, N>), constrained::DynamicsError>,
+        to: impl FnOnce(
+            &mut (SMatrix<f64, N, N>, SMatrix<f64, N, N>),
+        ) -> Result<(), constrained::DynamicsError>,
+    ) {
+        let mut out = (
+            SMatrix::from_element(f64::NAN),
+            SMatrix::from_element(f64::NAN),
+        );
+        let written = to(&mut out);
+        match method {
+            Ok((dq, dqd)) => {
+                assert_eq!(written, Ok(()));
+                for (a, b) in dq
+                    .iter()
+                    .chain(dqd.iter())
+                    .zip(out.0.iter().chain(out.1.iter()))
+                {
+                    assert_eq!(a.to_bits(), b.to_bits(), "{a} against {b}");
+                }
+            }
+            Err(e) => assert_eq!(written, Err(e)),
+        }
+    }
+    let (arms, panda) = (four_arms(), PandaTool::<f64>::new());
+    let mut next = numbers(83);
+    for i in 0..12 {
+        let [q, qd, qdd] = [(); 3].map(|()| SVector::<f64, 16>::from_fn(|_, _| next()));
+        // Some states overflow, so that the `Err` is compared too.
+        let qd = if i % 4 == 3 { qd * 1e200 } else { qd };
+        assert_eq!(
+            arms.inverse_dynamics_jacobian(&q, &qd, &qdd, 0.0).is_err(),
+            i % 4 == 3,
+            "state {i}"
+        );
+        same(arms.inverse_dynamics_jacobian(&q, &qd, &qdd, 0.0), |out| {
+            arms.inverse_dynamics_jacobian_to(&q, &qd, &qdd, 0.0, out)
+        });
+        let [q, qd, qdd] = [q, qd, qdd].map(|v| v.fixed_rows::<7>(0).into_owned());
+        same(panda.inverse_dynamics_jacobian(&q, &qd, &qdd, 0.0), |out| {
+            panda.inverse_dynamics_jacobian_to(&q, &qd, &qdd, 0.0, out)
+        });
     }
 }
 

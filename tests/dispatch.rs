@@ -61,10 +61,18 @@ fn copied() -> Vec<String> {
 #[test]
 fn the_large_methods_are_copied_and_the_small_ones_are_not() {
     let names = copied();
-    // ∂τ and the linearization's right-hand sides are the Panda's two
-    // bodies above the threshold (about 1,300 operations); `M`, τ, the
-    // solve and the rest of `acceleration_jacobian` are below it.
-    assert_eq!(names, ["inverse_dynamics_jacobian", "tangent_rhs"]);
+    // ∂τ (returned, and stored into `out` by `_to`) and the
+    // linearization's right-hand sides are the Panda's bodies above the
+    // threshold (about 1,300 operations); `M`, τ, the solve and the rest
+    // of `acceleration_jacobian` are below it.
+    assert_eq!(
+        names,
+        [
+            "inverse_dynamics_jacobian",
+            "inverse_dynamics_jacobian_to",
+            "tangent_rhs"
+        ]
+    );
     let plain = panda_sections!(text!());
     let source = format!("struct P {{ {plain} }}");
     let expanded = constrained_codegen::expand(source.parse().expect("tokens"))
@@ -103,6 +111,12 @@ fn on_a_cpu_with_avx_every_answer_is_the_plain_systems_bit_for_bit() {
         );
         same_bits(&p.0, &d.0);
         same_bits(&p.1, &d.1);
+        let mut kept = (SMatrix::<f64, 7, 7>::zeros(), SMatrix::<f64, 7, 7>::zeros());
+        dispatched
+            .inverse_dynamics_jacobian_to(&q, &v, &a, 0.0, &mut kept)
+            .expect("finite");
+        same_bits(&p.0, &kept.0);
+        same_bits(&p.1, &kept.1);
         let (p, d) = (
             plain.acceleration_jacobian(&q, &v, 0.0).expect("finite"),
             dispatched

@@ -4,16 +4,16 @@
 //! run of the standing quadruped (`examples/support/quadruped.rs`: a
 //! floating base, four feet on the ground) under a joint-space PD
 //! controller, with projection (tolerance 1e-12) keeping its feet within
-//! 1e-9 m of their places. So do 1.8 × 10⁵ calls of a named frame's
+//! 1e-9 m of their places. So do 2.2 × 10⁵ calls of a named frame's
 //! kinematics and the centroidal momentum (`frames: [..]`) and of the
-//! derivatives of inverse dynamics.
+//! derivatives of inverse dynamics, returned and into a kept pair.
 //! Runs without the test harness so that no other thread allocates
 //! meanwhile; prints a summary line the test runners understand.
 
 use constrained::control::{discretize, lqr_gain};
 use constrained::integrate::{Direction, Event, Events, StepOutcome};
 use constrained::models::{CartPole, DoublePendulum};
-use constrained::nalgebra::{Matrix1, Matrix4, Vector2, Vector4};
+use constrained::nalgebra::{Matrix1, Matrix2, Matrix4, Vector2, Vector4};
 use constrained::{DormandPrince45, Rk4, SemiImplicitEuler, Stabilization, State};
 use std::alloc::{GlobalAlloc, Layout, System};
 
@@ -43,12 +43,14 @@ constrained::constrained_system! {
     }
 }
 
-/// 1.8 × 10⁵ calls of the tip's placement, Jacobian, velocity and bias, of
+/// 2.2 × 10⁵ calls of the tip's placement, Jacobian, velocity and bias, of
 /// the centre of mass's Jacobian and velocity, of the centroidal map and
-/// its bias, and of the derivatives of inverse dynamics: their allocations
+/// its bias, and of the derivatives of inverse dynamics (returned, and into
+/// a pair kept across the calls): their allocations
 /// and the call count.
 fn frame_calls() -> (usize, usize) {
     let arm = FramedArm::<f64>::new();
+    let mut pair = (Matrix2::zeros(), Matrix2::zeros());
     count(|| {
         let mut calls = 0;
         for i in 0..20_000 {
@@ -64,8 +66,10 @@ fn frame_calls() -> (usize, usize) {
             let dag = arm.centroidal_map_bias(&q, &qd, 0.0);
             let dtau = arm.inverse_dynamics_jacobian(&q, &qd, &qd, 0.0);
             let both = arm.center_of_mass_and_jacobian(&q, 0.0);
-            std::hint::black_box((&placed, &j, &v, &b, &c, &cd, &ag, &dag, &dtau, &both));
-            calls += 10;
+            let kept = arm.inverse_dynamics_jacobian_to(&q, &qd, &qd, 0.0, &mut pair);
+            std::hint::black_box((&placed, &j, &v, &b, &c, &cd, &ag, &dag, &dtau, &both, &kept));
+            std::hint::black_box(&pair);
+            calls += 11;
         }
         calls
     })

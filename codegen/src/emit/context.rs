@@ -138,6 +138,19 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// `Ok(())` where every entry of `value` (written in place) is
+    /// finite, else `Err(NonFinite)`.
+    pub(super) fn finite_or_error_in_place(&self, value: TokenStream) -> TokenStream {
+        let non_finite = self.path(quote!(DynamicsError::NonFinite));
+        quote! {
+            if #value.is_finite() {
+                ::core::result::Result::Ok(())
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        }
+    }
+
     /// `Result<ok, ::constrained::error>`.
     pub(super) fn result(&self, ok: TokenStream, error: TokenStream) -> TokenStream {
         let error = self.path(error);

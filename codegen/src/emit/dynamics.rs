@@ -32,33 +32,41 @@ fn params(ctx: &Context, args: Args) -> TokenStream {
     }
 }
 
+/// The names of the arguments a method takes, as they are passed on.
+fn args(args: Args) -> TokenStream {
+    match args {
+        Args::Positions => quote! { q, t },
+        Args::States => quote! { q, qd, t },
+        Args::Accelerations => quote! { q, qd, qdd, t },
+    }
+}
+
 /// The method of the row `e`, returning `value`: a vector, a scalar, or a
 /// pair of n × n matrices.
 fn method(ctx: &Context, e: &Evaluation, value: &Value) -> TokenStream {
+    let flat = match value {
+        Value::Vector(entries) => Flat::Vector(entries),
+        Value::Scalar(e) => Flat::Scalar(*e),
+        Value::Matrices(pair) => return matrices_method(ctx, e, pair),
+    };
     let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());
     let doc = e.doc;
-    let entries: Vec<Id> = match value {
-        Value::Vector(entries) => entries.clone(),
-        Value::Scalar(e) => vec![*e],
-        Value::Matrices(pair) => pair.iter().flatten().flatten().copied().collect(),
+    let entries: Vec<Id> = match flat {
+        Flat::Vector(entries) => entries.to_vec(),
+        Flat::Scalar(e) => vec![e],
     };
     let body = Body::new(ctx.eq, &entries);
     let preamble = body.preamble();
-    let scalar = matches!(value, Value::Scalar(_));
-    let pair = matches!(value, Value::Matrices(_));
     let apart = e.strided && super::detached::large(ctx, &entries);
-    let (value, ok) = tokens(ctx, &body, value, apart);
+    let (value, ok) = tokens(ctx, &body, flat, apart);
     let params = params(ctx, e.args);
     if ctx.eq.mass_inverse.fallible() {
         let ret = ctx.result(ok, quote!(DynamicsError));
         let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
         let all = ctx.private(quote!(all_finite));
-        let finite = if scalar {
-            quote!(__value.is_finite())
-        } else if pair {
-            quote!(#all(__value.0.as_slice()) & #all(__value.1.as_slice()))
-        } else {
-            quote!(#all(__value.as_slice()))
+        let finite = match flat {
+            Flat::Scalar(_) => quote!(__value.is_finite()),
+            Flat::Vector(_) => quote!(#all(__value.as_slice())),
         };
         let doc = format!("{doc}\n\n`Err(NonFinite)` where a value is not finite (as `acceleration`, this system's methods return `Result`).");
         quote! {
@@ -86,6 +94,248 @@ fn method(ctx: &Context, e: &Evaluation, value: &Value) -> TokenStream {
     }
 }
 
+/// From this many coordinates a pair of n × n matrices is written in
+/// place ([`matrices_method`]); below, it is one literal. Measured on the
+/// benchmarks' robots: in place, the G1's (29) `∂τ` and the fixed-trunk
+/// Go1's (12) run faster, the Panda's (7) slower, where the stores and the
+/// finiteness check's reads of them come too close together for the
+/// loads to be served from the stores.
+const IN_PLACE_FROM: usize = 12;
+
+/// The method of a pair of n × n matrices (`inverse_dynamics_jacobian`)
+/// and its `_to` form, which writes the pair into the caller's `out`.
+///
+/// A `Result` built from a local is a copy of it (rustc places a returned
+/// local in the caller's slot only when it is the whole value), and the
+/// pair is 2n² entries, most of them structural zeros. From
+/// [`IN_PLACE_FROM`] coordinates the body is a method of its own,
+/// `__{name}_into`, that writes the structural nonzeros into a pair that
+/// holds zeros and says whether every entry is finite: the `_to` form
+/// zeroes `out` (one `memset`) and passes it, so that nothing is copied;
+/// the method passes a local, returned as its value. The body is also the
+/// function the dispatch copies (`super::dispatch`), so that its copy
+/// writes where the caller reads. Below, the body is the method's, its
+/// value one literal, and the `_to` form stores that value.
+fn matrices_method(ctx: &Context, e: &Evaluation, pair: &[Vec<Vec<Id>>; 2]) -> TokenStream {
+    let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());
+    let to = quote::format_ident!("{}_to", e.name);
+    let matrix = ctx.matrix(pair[0].len(), pair[0].len());
+    let pair_type = quote!((#matrix, #matrix));
+    let params = params(ctx, e.args);
+    let fallible = ctx.eq.mass_inverse.fallible();
+    let (ret, to_ret, doc) = if fallible {
+        (
+            ctx.result(pair_type.clone(), quote!(DynamicsError)),
+            ctx.result(quote!(()), quote!(DynamicsError)),
+            format!("{}\n\n`Err(NonFinite)` where a value is not finite (as `acceleration`, this system's methods return `Result`).", e.doc),
+        )
+    } else {
+        (pair_type.clone(), quote!(()), e.doc.to_string())
+    };
+    let to_doc = format!(
+        " [`{0}`](Self::{0}) written into `out`, every entry, for a caller \
+         that keeps the pair from call to call (as Pinocchio keeps its \
+         `Data`): nothing is returned by value, so nothing is copied.{1}",
+        e.name,
+        if fallible {
+            " `Err` as the method; `out` then holds what was computed."
+        } else {
+            ""
+        }
+    );
+    let Bodies {
+        method,
+        to: to_body,
+        into,
+    } = if pair[0].len() < IN_PLACE_FROM {
+        literal(ctx, pair, fallible)
+    } else {
+        in_place(ctx, e, pair, &pair_type, fallible)
+    };
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        pub fn #name(&self, #params) -> #ret {
+            #method
+        }
+        #[doc = #to_doc]
+        #[inline]
+        pub fn #to(&self, #params, out: &mut #pair_type) -> #to_ret {
+            #to_body
+        }
+        #into
+    }
+}
+
+/// The bodies of a pair's method and of its `_to` form, and the method
+/// they share, if any.
+struct Bodies {
+    method: TokenStream,
+    to: TokenStream,
+    into: TokenStream,
+}
+
+/// The pair as one literal (below [`IN_PLACE_FROM`] coordinates), in the
+/// method and again in `_to`, which stores it into `out`: a call of the
+/// method would copy its `Result`'s pair into `out` (`memcpy`), whose
+/// speed depends on where the two fall in their pages.
+fn literal(ctx: &Context, pair: &[Vec<Vec<Id>>; 2], fallible: bool) -> Bodies {
+    let n = pair[0].len();
+    let entries: Vec<Id> = pair.iter().flatten().flatten().copied().collect();
+    let body = Body::new(ctx.eq, &entries);
+    let preamble = body.preamble();
+    let [a, b] = pair.each_ref().map(|rows| {
+        let columns = (0..n)
+            .map(|c| rows.iter().map(|row| body.expr(row[c])).collect())
+            .collect();
+        ctx.matrix_value(n, columns)
+    });
+    if !fallible {
+        return Bodies {
+            method: quote! { #preamble (#a, #b) },
+            to: quote! { #preamble *out = (#a, #b); },
+            into: TokenStream::new(),
+        };
+    }
+    let all = ctx.private(quote!(all_finite));
+    let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+    // Over the structural nonzeros only: a literal zero is known finite,
+    // and each entry checked costs a subtraction and an addition.
+    let nonzeros = places(ctx, pair).into_iter().map(|(place, _)| place);
+    let finite = quote!(#all(&[#(#nonzeros),*]));
+    Bodies {
+        method: quote! {
+            #preamble
+            let __value = (#a, #b);
+            if #finite {
+                ::core::result::Result::Ok(__value)
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        },
+        to: quote! {
+            #preamble
+            let __value = (#a, #b);
+            let __finite = #finite;
+            *out = __value;
+            if __finite {
+                ::core::result::Result::Ok(())
+            } else {
+                ::core::result::Result::Err(#non_finite)
+            }
+        },
+        into: TokenStream::new(),
+    }
+}
+
+/// The pair written in place (from [`IN_PLACE_FROM`] coordinates): the
+/// body is `__{name}_into`, which both forms call, `_to` with `out`
+/// zeroed, the method with a local of zeros.
+fn in_place(
+    ctx: &Context,
+    e: &Evaluation,
+    pair: &[Vec<Vec<Id>>; 2],
+    pair_type: &TokenStream,
+    fallible: bool,
+) -> Bodies {
+    let (params, args) = (params(ctx, e.args), args(e.args));
+    let into = quote::format_ident!("__{}_into", e.name);
+    let zeros = ctx.matrix_zeros(pair[0].len(), pair[0].len());
+    let stores = stores(ctx, pair);
+    let all = ctx.private(quote!(all_finite));
+    let non_finite = ctx.path(quote!(DynamicsError::NonFinite));
+    let (check, returns) = if fallible {
+        (
+            quote!(#all(__value.0.as_slice()) & #all(__value.1.as_slice())),
+            quote!(-> bool),
+        )
+    } else {
+        (TokenStream::new(), TokenStream::new())
+    };
+    let call = |target: TokenStream, value: TokenStream| {
+        if fallible {
+            quote! {
+                if self.#into(#args, #target) {
+                    ::core::result::Result::Ok(#value)
+                } else {
+                    ::core::result::Result::Err(#non_finite)
+                }
+            }
+        } else {
+            quote! {
+                self.#into(#args, #target);
+                #value
+            }
+        }
+    };
+    let (method_call, to_call) = (
+        call(quote!(&mut __value), quote!(__value)),
+        call(quote!(out), quote!(())),
+    );
+    Bodies {
+        method: quote! {
+            let mut __value = (#zeros, #zeros);
+            #method_call
+        },
+        // Entry by entry over each storage, which compiles to a `memset`
+        // each (nalgebra's `fill`, or one loop over both chained, to a
+        // loop of scalar stores).
+        to: quote! {
+            for __x in out.0.as_mut_slice() {
+                *__x = T::zero();
+            }
+            for __x in out.1.as_mut_slice() {
+                *__x = T::zero();
+            }
+            #to_call
+        },
+        into: quote! {
+            /// The body of the method without `_into`: the structural
+            /// nonzeros written into `__value`, which holds zeros.
+            #[doc(hidden)]
+            #[inline]
+            fn #into(&self, #params, __value: &mut #pair_type) #returns {
+                #stores
+                #check
+            }
+        },
+    }
+}
+
+/// The structural nonzeros of `pair` stored into `__value` after the
+/// body that computes them: the values held until the end, as a literal
+/// holds them (stored as soon as each is known instead, the G1's `∂τ`
+/// ran slower).
+fn stores(ctx: &Context, pair: &[Vec<Vec<Id>>; 2]) -> TokenStream {
+    let places = places(ctx, pair);
+    let roots: Vec<Id> = places.iter().map(|&(_, id)| id).collect();
+    let body = Body::new(ctx.eq, &roots);
+    let preamble = body.preamble();
+    let stores = places.iter().map(|(place, id)| {
+        let value = body.expr(*id);
+        quote!(#place = #value;)
+    });
+    quote! { #preamble #(#stores)* }
+}
+
+/// The structural nonzeros of `pair`, each with its place in `__value`.
+fn places(ctx: &Context, pair: &[Vec<Vec<Id>>; 2]) -> Vec<(TokenStream, Id)> {
+    let g = &ctx.eq.system.graph;
+    let mut places = Vec::new();
+    for (m, rows) in pair.iter().enumerate() {
+        let m = syn::Index::from(m);
+        for c in 0..rows.len() {
+            for (r, row) in rows.iter().enumerate() {
+                if !g.is_zero(row[c]) {
+                    let (rl, cl) = (Context::dim(r), Context::dim(c));
+                    places.push((quote!(__value.#m.data.0[#cl][#rl]), row[c]));
+                }
+            }
+        }
+    }
+    places
+}
+
 /// A large vector's value, its entries written two slots apart and read
 /// back by the runtime's `unstride`, so that LLVM's SLP vectorizer does
 /// not pair the expressions of adjacent entries: in recursive
@@ -98,30 +348,25 @@ pub(super) fn strided(ctx: &Context, body: &Body, entries: &[Id]) -> TokenStream
     quote!(#unstride([#([#values, T::zero()]),*]))
 }
 
+/// A value of one vector or one scalar: what [`tokens`] writes.
+#[derive(Clone, Copy)]
+enum Flat<'v> {
+    /// `SVector<T, len>`.
+    Vector(&'v [Id]),
+    /// `T`.
+    Scalar(Id),
+}
+
 /// The value's expression and its type; a vector's entries returned
 /// `apart` ([`strided`]) or as one literal.
-fn tokens(ctx: &Context, body: &Body, value: &Value, apart: bool) -> (TokenStream, TokenStream) {
+fn tokens(ctx: &Context, body: &Body, value: Flat, apart: bool) -> (TokenStream, TokenStream) {
     match value {
-        Value::Scalar(e) => (body.expr(*e), quote!(T)),
-        Value::Vector(entries) if apart => (strided(ctx, body, entries), ctx.vector(entries.len())),
-        Value::Vector(entries) => (
+        Flat::Scalar(e) => (body.expr(e), quote!(T)),
+        Flat::Vector(entries) if apart => (strided(ctx, body, entries), ctx.vector(entries.len())),
+        Flat::Vector(entries) => (
             ctx.vector_value(entries.iter().map(|&e| body.expr(e))),
             ctx.vector(entries.len()),
         ),
-        Value::Matrices(pair) => {
-            let [a, b] = pair.each_ref().map(|rows| {
-                let cols = rows.first().map_or(0, Vec::len);
-                let columns = (0..cols)
-                    .map(|c| rows.iter().map(|row| body.expr(row[c])).collect())
-                    .collect();
-                (
-                    ctx.matrix_value(rows.len(), columns),
-                    ctx.matrix(rows.len(), cols),
-                )
-            });
-            let ((va, ta), (vb, tb)) = (a, b);
-            (quote!((#va, #vb)), quote!((#ta, #tb)))
-        }
     }
 }
 

@@ -21,7 +21,7 @@
 //! for every column.
 
 use super::context::{Context, Inputs};
-use super::mass_inverse;
+use super::mass_inverse::{self, JacobianBody};
 use super::tangent;
 use crate::equations::partition::Partition;
 use proc_macro2::TokenStream;
@@ -65,6 +65,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
             #finite
         },
     );
+    let (body, in_place) = in_place(ctx, body, &jacobians, &params, &args);
     let parts = Public {
         params,
         args,
@@ -82,8 +83,79 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
     quote! {
         #reduced
         #jacobian_methods
+        #in_place
         #linearize_methods
         #multipliers
+    }
+}
+
+/// The body of the Jacobian methods (a `Result<Jacobians, _>`), and
+/// `acceleration_jacobian_to` with the private method it calls: where the
+/// strategy writes in place (`JacobianBody::InPlace`), its body is that
+/// method, which the others call with the caller's `out` or a local of
+/// zeros; else `_to` stores the value. A `Result` returned by value is a
+/// copy of its `Jacobians` (rustc builds it from the local, then moves
+/// it): `_to` does not copy where the strategy writes in place.
+fn in_place(
+    ctx: &Context,
+    body: JacobianBody,
+    jacobians: &TokenStream,
+    params: &TokenStream,
+    args: &TokenStream,
+) -> (TokenStream, TokenStream) {
+    let result = ctx.result(quote!(()), quote!(DynamicsError));
+    let doc = " [`try_acceleration_jacobian`](Self::try_acceleration_jacobian) \
+               written into `out`, every entry, for a caller that keeps the \
+               Jacobians from call to call (as Pinocchio keeps its `Data`): \
+               where the solve writes in place, nothing is copied out of a \
+               `Result`. `Err` as that method; `out` then holds what was \
+               computed.";
+    match body {
+        JacobianBody::Value(body) => {
+            let to = quote! {
+                #[doc = #doc]
+                #[inline]
+                pub fn acceleration_jacobian_to(&self, #params, out: &mut #jacobians) -> #result {
+                    *out = self.try_acceleration_jacobian(#args)?;
+                    ::core::result::Result::Ok(())
+                }
+            };
+            (body, to)
+        }
+        JacobianBody::InPlace(body) => {
+            let zeros = ctx.jacobians_zero().0;
+            let value = quote! {
+                let mut __jac = #zeros;
+                self.__acceleration_jacobian_into(#args, &mut __jac)?;
+                ::core::result::Result::Ok(__jac)
+            };
+            // A loop over each storage compiles to one `memset` each.
+            let to = quote! {
+                #[doc = #doc]
+                #[inline]
+                pub fn acceleration_jacobian_to(&self, #params, out: &mut #jacobians) -> #result {
+                    for __x in out.dq.as_mut_slice() {
+                        *__x = T::zero();
+                    }
+                    for __x in out.dqd.as_mut_slice() {
+                        *__x = T::zero();
+                    }
+                    for __x in out.du.as_mut_slice() {
+                        *__x = T::zero();
+                    }
+                    self.__acceleration_jacobian_into(#args, out)
+                }
+
+                /// The Jacobian methods' body: the Jacobians written into
+                /// `__jac`, which holds zeros.
+                #[doc(hidden)]
+                #[inline]
+                fn __acceleration_jacobian_into(&self, #params, __jac: &mut #jacobians) -> #result {
+                    #body
+                }
+            };
+            (value, to)
+        }
     }
 }
 

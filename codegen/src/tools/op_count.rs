@@ -114,9 +114,11 @@ fn solved(expanded: &syn::File, multipliers: bool) -> Option<OpCount> {
 
 /// The operations of a straight-line generated method that is not a solver
 /// (`inverse_dynamics`, `mass_matrix`, …): its value is its tail expression,
-/// or the `__value` it checks for finiteness.
+/// or the `__value` it checks for finiteness; for one whose body writes
+/// into its caller's value (`__{name}_into`), that body's.
 pub fn method(expanded: &syn::File, name: &str) -> Option<OpCount> {
-    let f = find_method(expanded, name)?;
+    let f =
+        find_method(expanded, &format!("__{name}_into")).or_else(|| find_method(expanded, name))?;
     let mut bindings = Vec::new();
     let mut result = None;
     collect(&f.stmts, &mut bindings, &mut result, &mut Vec::new())?;

@@ -43,21 +43,37 @@ pub(super) fn solver(ctx: &Context) -> TokenStream {
 /// `try_acceleration_jacobian` where `acceleration` is total); `dense` is
 /// the runtime's solve, as an expression of the same type (the whole body
 /// where the strategy has no Jacobian of its own).
-pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> TokenStream {
+pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> JacobianBody {
     match &ctx.eq.mass_inverse {
-        MassInverse::Symbolic(d) => symbolic::jacobian::jacobian(ctx, d, dense),
-        MassInverse::Factored(f) => factored::jacobian::jacobian(ctx, f, dense),
-        MassInverse::Auxiliary(f) => match factored::velocity_jacobians(ctx, f) {
-            Some((_, name)) => {
-                let args = ctx.args(super::context::Inputs::States);
-                quote! {
-                    let (__j, _) = self.#name(#args, false)?;
-                    ::core::result::Result::Ok(__j)
+        MassInverse::Symbolic(d) => {
+            JacobianBody::Value(symbolic::jacobian::jacobian(ctx, d, dense))
+        }
+        MassInverse::Factored(f) => {
+            JacobianBody::InPlace(factored::jacobian::jacobian(ctx, f, dense))
+        }
+        MassInverse::Auxiliary(f) => {
+            JacobianBody::Value(match factored::velocity_jacobians(ctx, f) {
+                Some((_, name)) => {
+                    let args = ctx.args(super::context::Inputs::States);
+                    quote! {
+                        let (__j, _) = self.#name(#args, false)?;
+                        ::core::result::Result::Ok(__j)
+                    }
                 }
-            }
-            None => dense.clone(),
-        },
+                None => dense.clone(),
+            })
+        }
     }
+}
+
+/// The body of `acceleration_jacobian` a strategy emits.
+pub(super) enum JacobianBody {
+    /// A `Result<Jacobians, DynamicsError>`.
+    Value(TokenStream),
+    /// A `Result<(), DynamicsError>` that writes the Jacobians into
+    /// `__jac: &mut Jacobians`, which holds zeros: called with the caller's
+    /// own, nothing is copied out of a `Result` (`acceleration_jacobian_to`).
+    InPlace(TokenStream),
 }
 
 /// The private methods behind `acceleration_and_multiplier_jacobians`
@@ -91,6 +107,16 @@ fn adopt_dense(dense: &TokenStream) -> TokenStream {
     quote! {
         match { #dense } {
             ::core::result::Result::Ok(__dense) => __jac = __dense,
+            ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
+        }
+    }
+}
+
+/// [`adopt_dense`] where `__jac` is a `&mut` ([`JacobianBody::InPlace`]).
+fn adopt_dense_in_place(dense: &TokenStream) -> TokenStream {
+    quote! {
+        match { #dense } {
+            ::core::result::Result::Ok(__dense) => *__jac = __dense,
             ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
         }
     }

@@ -22,7 +22,7 @@ use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::literal::literal;
-use crate::emit::mass_inverse::adopt_dense;
+use crate::emit::mass_inverse::adopt_dense_in_place;
 use crate::emit::tangent::{column_rows, constant_columns, index, NamedTerms};
 use crate::equations::mass_inverse::Factored;
 use proc_macro2::{Literal, TokenStream};
@@ -33,8 +33,9 @@ use syn::Ident;
 /// (`(n + k)²` a nonzero column) stay under this; above, the loop.
 const STRAIGHT_LINE_BUDGET: usize = 4096;
 
-/// The body of `acceleration_jacobian` for a configuration-dependent `M`;
-/// `dense` (the runtime's solve) answers where the rank decision is suspect.
+/// The body of `acceleration_jacobian` for a configuration-dependent `M`,
+/// written into `__jac: &mut Jacobians` (which holds zeros); `dense` (the
+/// runtime's solve) answers where the rank decision is suspect.
 pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> TokenStream {
     let named = NamedTerms::new(ctx).filter(|t| straight_line_cost(ctx, t) <= STRAIGHT_LINE_BUDGET);
     let extra = named.as_ref().map_or(&[][..], |t| &t.named[..]);
@@ -54,7 +55,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     );
     let solve = if ctx.k > 0 {
         let suspect = gauss.gram.suspect(ctx.generic_rank);
-        let adopt = adopt_dense(dense);
+        let adopt = adopt_dense_in_place(dense);
         quote! {
             if #suspect {
                 #adopt
@@ -66,10 +67,8 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     } else {
         quote! { #qdd #columns }
     };
-    let jacobians_zero = ctx.jacobians_zero().0;
-    let finite = ctx.finite_or_error(quote!(__jac));
+    let finite = ctx.finite_or_error_in_place(quote!(__jac));
     let tail = quote! {
-        let mut __jac = #jacobians_zero;
         #solve
         #finite
     };
