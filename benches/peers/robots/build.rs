@@ -524,6 +524,12 @@ const WHOLE: &[(&str, &str, &str, &str)] = &[
         "self.inverse_dynamics_jacobian(q, v, a, 0.0).value()",
     ),
     (
+        "tau_jacobian_to",
+        "q: &Vector<N>, v: &Vector<N>, a: &Vector<N>, out: &mut (Matrix<N>, Matrix<N>)",
+        "()",
+        "self.inverse_dynamics_jacobian_to(q, v, a, 0.0, out).value()",
+    ),
+    (
         "mass",
         "q: &Vector<N>",
         "Matrix<N>",
@@ -534,6 +540,12 @@ const WHOLE: &[(&str, &str, &str, &str)] = &[
         "q: &Vector<N>, v: &Vector<N>",
         "Jacobians<f64, N, N>",
         "self.acceleration_jacobian(q, v, 0.0).value()",
+    ),
+    (
+        "derivatives_to",
+        "q: &Vector<N>, v: &Vector<N>, out: &mut Jacobians<f64, N, N>",
+        "()",
+        "self.acceleration_jacobian_to(q, v, 0.0, out).value()",
     ),
 ];
 

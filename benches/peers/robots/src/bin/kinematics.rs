@@ -88,9 +88,19 @@ trait Framed<const N: usize>: Sized {
     /// `inverse_dynamics` and `inverse_dynamics_jacobian`.
     fn tau(&self, q: &Vector<N>, v: &Vector<N>, a: &Vector<N>) -> Vector<N>;
     fn tau_jacobian(&self, q: &Vector<N>, v: &Vector<N>, a: &Vector<N>) -> (Matrix<N>, Matrix<N>);
+    /// `inverse_dynamics_jacobian_to`: the same into `out`.
+    fn tau_jacobian_to(
+        &self,
+        q: &Vector<N>,
+        v: &Vector<N>,
+        a: &Vector<N>,
+        out: &mut (Matrix<N>, Matrix<N>),
+    );
     fn mass(&self, q: &Vector<N>) -> Matrix<N>;
     /// `acceleration_jacobian`, `∂q̈/∂u` being `∂q̈/∂τ`.
     fn derivatives(&self, q: &Vector<N>, v: &Vector<N>) -> Jacobians<f64, N, N>;
+    /// `acceleration_jacobian_to`: the same into `out`.
+    fn derivatives_to(&self, q: &Vector<N>, v: &Vector<N>, out: &mut Jacobians<f64, N, N>);
 }
 
 /// Something done to every robot (`framed`, which build.rs writes).
@@ -330,7 +340,7 @@ impl Visit for Write {
 fn per_state<R, const N: usize>(
     systems: &[R],
     samples: &[Sample<N>],
-    call: impl Fn(&R, &Sample<N>),
+    mut call: impl FnMut(&R, &Sample<N>),
 ) -> f64 {
     median_ns(|| {
         for (system, s) in systems.iter().zip(samples) {
@@ -357,25 +367,25 @@ fn frame_times<R: Framed<N>, const N: usize>(
         (
             "frame_placement",
             per_state(systems, samples, |r, s| {
-                black_box(r.placement(0, black_box(&s.q)));
+                black_box(&r.placement(0, black_box(&s.q)));
             }),
         ),
         (
             "frame_jacobian",
             per_state(systems, samples, |r, s| {
-                black_box(r.jacobian(0, black_box(&s.q)));
+                black_box(&r.jacobian(0, black_box(&s.q)));
             }),
         ),
         (
             "frame_acceleration_bias",
             per_state(systems, samples, |r, s| {
-                black_box(r.bias(0, black_box(&s.q), black_box(&s.v)));
+                black_box(&r.bias(0, black_box(&s.q), black_box(&s.v)));
             }),
         ),
         (
             "center_of_mass_and_jacobian",
             per_state(systems, samples, |r, s| {
-                black_box(r.com_and_jacobian(black_box(&s.q)));
+                black_box(&r.com_and_jacobian(black_box(&s.q)));
             }),
         ),
     ]
@@ -386,35 +396,43 @@ fn whole_times<R: Framed<N>, const N: usize>(
     systems: &[R],
     samples: &[Sample<N>],
 ) -> [(&'static str, f64); 5] {
+    let mut pair = (Matrix::<N>::zeros(), Matrix::<N>::zeros());
+    let mut jacobians = Jacobians::<f64, N, N>::zeros();
     [
         (
             "center_of_mass_velocity",
             per_state(systems, samples, |r, s| {
-                black_box(r.com_velocity(black_box(&s.q), black_box(&s.v)));
+                black_box(&r.com_velocity(black_box(&s.q), black_box(&s.v)));
             }),
         ),
         (
             "centroidal_map",
             per_state(systems, samples, |r, s| {
-                black_box(r.centroidal(black_box(&s.q)));
+                black_box(&r.centroidal(black_box(&s.q)));
             }),
         ),
         (
             "centroidal_map_bias",
             per_state(systems, samples, |r, s| {
-                black_box(r.centroidal_bias(black_box(&s.q), black_box(&s.v)));
+                black_box(&r.centroidal_bias(black_box(&s.q), black_box(&s.v)));
             }),
         ),
         (
             "inverse_dynamics_jacobian",
+            // Into one pair kept from call to call, as Pinocchio's
+            // `computeRNEADerivatives` writes into its `Data`: returned by
+            // value, the 2n² entries would be copied out of the `Result`.
             per_state(systems, samples, |r, s| {
-                black_box(&r.tau_jacobian(black_box(&s.q), black_box(&s.v), black_box(&s.a)));
+                r.tau_jacobian_to(black_box(&s.q), black_box(&s.v), black_box(&s.a), &mut pair);
+                black_box(&pair);
             }),
         ),
         (
             "acceleration_jacobian",
+            // Into Jacobians kept from call to call, as `_to` above.
             per_state(systems, samples, |r, s| {
-                black_box(&r.derivatives(black_box(&s.q), black_box(&s.v)));
+                r.derivatives_to(black_box(&s.q), black_box(&s.v), &mut jacobians);
+                black_box(&jacobians);
             }),
         ),
     ]
@@ -461,30 +479,34 @@ impl Visit for Spin {
             return;
         }
         let systems: Vec<R> = samples.iter().map(|s| R::with_torques(&s.tau)).collect();
+        let mut pair = (Matrix::<N>::zeros(), Matrix::<N>::zeros());
+        let mut jacobians = Jacobians::<f64, N, N>::zeros();
         for _ in 0..self.passes {
             for (r, s) in systems.iter().zip(&samples) {
                 let (r, q, v) = (black_box(r), black_box(&s.q), black_box(&s.v));
                 match self.what.as_str() {
                     "centroidal_map" => {
-                        black_box(r.centroidal(q));
+                        black_box(&r.centroidal(q));
                     }
                     "centroidal_map_bias" => {
-                        black_box(r.centroidal_bias(q, v));
+                        black_box(&r.centroidal_bias(q, v));
                     }
                     "inverse_dynamics_jacobian" => {
-                        black_box(r.tau_jacobian(q, v, black_box(&s.a)));
+                        r.tau_jacobian_to(q, v, black_box(&s.a), &mut pair);
+                        black_box(&pair);
                     }
                     "acceleration_jacobian" => {
-                        black_box(r.derivatives(q, v));
+                        r.derivatives_to(q, v, &mut jacobians);
+                        black_box(&jacobians);
                     }
                     "inverse_dynamics" => {
-                        black_box(r.tau(q, v, black_box(&s.a)));
+                        black_box(&r.tau(q, v, black_box(&s.a)));
                     }
                     "mass_matrix" => {
-                        black_box(r.mass(q));
+                        black_box(&r.mass(q));
                     }
                     _ => {
-                        black_box(r.com_and_jacobian(q));
+                        black_box(&r.com_and_jacobian(q));
                     }
                 }
             }
