@@ -22,9 +22,14 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 target=$(cargo metadata --format-version 1 --no-deps |
     python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
-contacts=$target/release/contacts
-robots=$target/release/constrained-robots
-kinematics=$target/release/kinematics
+# The robots' crate is outside the workspace: run.sh's `cargo run
+# --manifest-path` builds it into its own target directory, the workspace's
+# only where CARGO_TARGET_DIR is set.
+bins=$(cargo metadata --format-version 1 --no-deps --manifest-path benches/peers/robots/Cargo.toml |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+contacts=$bins/release/contacts
+robots=$bins/release/constrained-robots
+kinematics=$bins/release/kinematics
 out=$target/benchmarks/icache.json
 if ! command -v valgrind > /dev/null; then
   echo "   no valgrind: no instruction-cache report" >&2
