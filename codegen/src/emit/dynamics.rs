@@ -97,9 +97,10 @@ fn method(ctx: &Context, e: &Evaluation, value: &Value) -> TokenStream {
 /// From this many coordinates a pair of n × n matrices is written in
 /// place ([`matrices_method`]); below, it is one literal. Measured on the
 /// benchmarks' robots: in place, the G1's (29) `∂τ` and the fixed-trunk
-/// Go1's (12) run faster, the Panda's (7) slower, where the stores and the
-/// finiteness check's reads of them come too close together for the
-/// loads to be served from the stores.
+/// Go1's (12) run faster, the Panda's (7) slower in both orders of the
+/// stores tried. Why is not established; a candidate is the finiteness
+/// check's vector loads right behind the scalar stores of a short body,
+/// which the stores cannot serve.
 const IN_PLACE_FROM: usize = 12;
 
 /// The method of a pair of n × n matrices (`inverse_dynamics_jacobian`)
@@ -111,7 +112,8 @@ const IN_PLACE_FROM: usize = 12;
 /// [`IN_PLACE_FROM`] coordinates the body is a method of its own,
 /// `__{name}_into`, that writes the structural nonzeros into a pair that
 /// holds zeros and says whether every entry is finite: the `_to` form
-/// zeroes `out` (one `memset`) and passes it, so that nothing is copied;
+/// zeroes `out` (a `memset` a matrix) and passes it, so that nothing is
+/// copied;
 /// the method passes a local, returned as its value. The body is also the
 /// function the dispatch copies (`super::dispatch`), so that its copy
 /// writes where the caller reads. Below, the body is the method's, its
