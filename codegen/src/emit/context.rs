@@ -125,26 +125,14 @@ impl<'a> Context<'a> {
         )
     }
 
-    /// `Ok(value)` where every entry of the local `value` (a
-    /// `Jacobians`) is finite, else `Err(NonFinite)`.
-    pub(super) fn finite_or_error(&self, value: TokenStream) -> TokenStream {
-        let non_finite = self.path(quote!(DynamicsError::NonFinite));
-        quote! {
-            if #value.is_finite() {
-                ::core::result::Result::Ok(#value)
-            } else {
-                ::core::result::Result::Err(#non_finite)
-            }
-        }
-    }
-
-    /// `Ok(())` where every entry of `value` (written in place) is
+    /// `Ok(ok)` where every entry of `value` (a `Jacobians`: the local
+    /// returned as `ok`, or one written in place, `ok` being `()`) is
     /// finite, else `Err(NonFinite)`.
-    pub(super) fn finite_or_error_in_place(&self, value: TokenStream) -> TokenStream {
+    pub(super) fn finite_or_error(&self, value: TokenStream, ok: TokenStream) -> TokenStream {
         let non_finite = self.path(quote!(DynamicsError::NonFinite));
         quote! {
             if #value.is_finite() {
-                ::core::result::Result::Ok(())
+                ::core::result::Result::Ok(#ok)
             } else {
                 ::core::result::Result::Err(#non_finite)
             }

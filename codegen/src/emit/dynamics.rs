@@ -113,10 +113,9 @@ const IN_PLACE_FROM: usize = 12;
 /// `__{name}_into`, that writes the structural nonzeros into a pair that
 /// holds zeros and says whether every entry is finite: the `_to` form
 /// zeroes `out` (a `memset` a matrix) and passes it, so that nothing is
-/// copied;
-/// the method passes a local, returned as its value. The body is also the
-/// function the dispatch copies (`super::dispatch`), so that its copy
-/// writes where the caller reads. Below, the body is the method's, its
+/// copied; the method passes a local, returned as its value. The body is
+/// also the function the dispatch copies (`super::dispatch`), so that its
+/// copy writes where the caller reads. Below, the body is the method's, its
 /// value one literal, and the `_to` form stores that value.
 fn matrices_method(ctx: &Context, e: &Evaluation, pair: &[Vec<Vec<Id>>; 2]) -> TokenStream {
     let name = syn::Ident::new(e.name, proc_macro2::Span::call_site());

@@ -51,7 +51,7 @@ pub(super) fn methods(ctx: &Context, partition: &Partition) -> TokenStream {
         ctx.call_gauss("Total", none)
     };
     let k_lit = Context::dim(ctx.k);
-    let finite = ctx.finite_or_error(quote!(__j));
+    let finite = ctx.finite_or_error(quote!(__j), quote!(__j));
     // The one body, a `Result`: `acceleration_jacobian`'s where
     // `acceleration` can fail, else `try_acceleration_jacobian`'s, which
     // the total `acceleration_jacobian` turns into NaN entries.

@@ -101,22 +101,14 @@ pub(super) fn step(ctx: &Context) -> TokenStream {
     step::method(ctx, &body)
 }
 
-/// `__jac` replaced by the runtime's dense solve `dense` (a `Result`), its
-/// error returned: where a strategy's rank decision is suspect.
-fn adopt_dense(dense: &TokenStream) -> TokenStream {
+/// `target` (`__jac`, or `*__jac` where it is a `&mut`:
+/// [`JacobianBody::InPlace`]) replaced by the runtime's dense solve
+/// `dense` (a `Result`), its error returned: where a strategy's rank
+/// decision is suspect.
+fn adopt_dense(dense: &TokenStream, target: TokenStream) -> TokenStream {
     quote! {
         match { #dense } {
-            ::core::result::Result::Ok(__dense) => __jac = __dense,
-            ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
-        }
-    }
-}
-
-/// [`adopt_dense`] where `__jac` is a `&mut` ([`JacobianBody::InPlace`]).
-fn adopt_dense_in_place(dense: &TokenStream) -> TokenStream {
-    quote! {
-        match { #dense } {
-            ::core::result::Result::Ok(__dense) => *__jac = __dense,
+            ::core::result::Result::Ok(__dense) => #target = __dense,
             ::core::result::Result::Err(__e) => return ::core::result::Result::Err(__e),
         }
     }

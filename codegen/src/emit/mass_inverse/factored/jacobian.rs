@@ -22,7 +22,7 @@ use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::literal::literal;
-use crate::emit::mass_inverse::adopt_dense_in_place;
+use crate::emit::mass_inverse::adopt_dense;
 use crate::emit::tangent::{column_rows, constant_columns, index, NamedTerms};
 use crate::equations::mass_inverse::Factored;
 use proc_macro2::{Literal, TokenStream};
@@ -55,7 +55,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     );
     let solve = if ctx.k > 0 {
         let suspect = gauss.gram.suspect(ctx.generic_rank);
-        let adopt = adopt_dense_in_place(dense);
+        let adopt = adopt_dense(dense, quote!(*__jac));
         quote! {
             if #suspect {
                 #adopt
@@ -67,7 +67,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream
     } else {
         quote! { #qdd #columns }
     };
-    let finite = ctx.finite_or_error_in_place(quote!(__jac));
+    let finite = ctx.finite_or_error(quote!(__jac), quote!(()));
     let tail = quote! {
         #solve
         #finite

@@ -49,7 +49,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     // A `Result` whether or not `acceleration` can fail: the body is
     // `try_acceleration_jacobian`'s for a total system, and a derivative
     // that does not exist or overflows is an `Err` there too.
-    let value = ctx.finite_or_error(quote!(__jac));
+    let value = ctx.finite_or_error(quote!(__jac), quote!(__jac));
     let to_multipliers = &gauss.to_multipliers;
     let unscaled = unscaled_multipliers(d, &gauss);
     if k == 0 {
@@ -70,7 +70,7 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     // the caller wants it (a returned local assigned on two paths, or a
     // second local, costs a copy of the whole Jacobian: 32 KiB at 32 links).
     let suspect = suspect(ctx, d, &gauss);
-    let adopt = adopt_dense(dense);
+    let adopt = adopt_dense(dense, quote!(__jac));
     quote! {
         #to_multipliers
         let mut __jac = #jacobians_zero;
