@@ -2,7 +2,7 @@
 //! expressions (for the parentheses the emitter writes).
 
 use crate::expr::num::Num;
-use proc_macro2::{Literal, TokenStream};
+use proc_macro2::{Delimiter, Group, Literal, TokenStream, TokenTree};
 use quote::quote;
 
 /// Binding strength of emitted Rust expressions, for parentheses.
@@ -15,6 +15,14 @@ pub(crate) enum Prec {
 }
 
 /// A constant of type `T`.
+///
+/// Other than zero and one, a constant is written as a mark that
+/// `super::hoist` turns into Rust: its `f64` literal alone in an invisible
+/// (`Delimiter::None`) group, a token no other emitted code contains. The
+/// call it becomes, `::constrained::__private::lit::<T>(0.5f64)`, is
+/// fifteen tokens, and the bodies of a large model read tens of thousands
+/// of constants: every stream a constant passes through before the hoist
+/// would copy all fifteen.
 pub(crate) fn literal(n: Num) -> (TokenStream, Prec) {
     if n.is_zero() {
         return (quote!(T::zero()), Prec::Atom);
@@ -23,8 +31,11 @@ pub(crate) fn literal(n: Num) -> (TokenStream, Prec) {
         return (quote!(T::one()), Prec::Atom);
     }
     let value = Literal::f64_suffixed(n.to_f64());
-    (
-        quote!(::constrained::__private::lit::<T>(#value)),
-        Prec::Atom,
-    )
+    let mark = Group::new(Delimiter::None, TokenTree::Literal(value).into());
+    (TokenTree::Group(mark).into(), Prec::Atom)
+}
+
+/// The Rust a constant's mark ([`literal`]) stands for: `value` as a `T`.
+pub(super) fn literal_call(value: TokenStream) -> TokenStream {
+    quote!(::constrained::__private::lit::<T>(#value))
 }
