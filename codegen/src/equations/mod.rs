@@ -485,7 +485,8 @@ fn cheaper_bias(
     partials: &[Id],
     structured: &[Id],
 ) -> Vec<Id> {
-    let mut context = pieces(mass, forces, a);
+    // What each candidate adds to the context is what it costs beyond it.
+    let mut counted = crate::expr::squares::Counted::new(g, &pieces(mass, forces, a));
     let mut chosen = Vec::with_capacity(partials.len());
     for (&old, &new) in partials.iter().zip(structured) {
         let f_old = factorer.factor(g, old);
@@ -493,19 +494,13 @@ fn cheaper_bias(
             (old, f_old)
         } else {
             let f_new = factorer.factor(g, new);
-            let mut cost = |g: &crate::expr::Graph, id: Id| {
-                context.push(id);
-                let ops = crate::expr::squares::operations(g, &context);
-                context.pop();
-                ops
-            };
-            if cost(g, f_new) < cost(g, f_old) {
+            if counted.extra(g, f_new) < counted.extra(g, f_old) {
                 (new, f_new)
             } else {
                 (old, f_old)
             }
         };
-        context.push(factored);
+        counted.add(g, factored);
         chosen.push(pick);
     }
     chosen

@@ -408,20 +408,27 @@ impl Graph {
 
     /// The nodes reachable from `roots`, in arena (topological) order.
     pub fn reachable(&self, roots: &[Id]) -> Vec<Id> {
-        let mut seen = vec![false; self.nodes.len()];
-        let mut stack: Vec<Id> = roots.to_vec();
         let mut found = Vec::new();
-        while let Some(id) = stack.pop() {
-            if std::mem::replace(&mut seen[id.index()], true) {
-                continue;
-            }
-            found.push(id);
-            stack.extend(self.children(id));
-        }
+        self.visit_reachable(roots, |id| found.push(id));
         // Arena order is topological; sorting what was found costs its own
         // size, not the graph's (many small walks of a robot's large graph).
         found.sort_unstable();
         found
+    }
+
+    /// Calls `visit` once for each node `roots` reach (themselves
+    /// included), in no particular order: for a fold that needs none, such
+    /// as a count, without [`Graph::reachable`]'s list and sort.
+    pub fn visit_reachable(&self, roots: &[Id], mut visit: impl FnMut(Id)) {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.index()], true) {
+                continue;
+            }
+            visit(id);
+            stack.extend(self.children(id));
+        }
     }
 
     /// Evaluates `roots` in `f64` with the variables given by `env` (once:

@@ -387,6 +387,17 @@ impl Num {
     }
 
     fn powi(self, e: i64) -> Option<Num> {
+        // A nonzero rational whose power fits `i128`, as most do, without
+        // the big-integer arithmetic below (the same value: `n/d` is
+        // reduced, so `nᵏ/dᵏ` is too).
+        if let (Num::Rational(n, d), Ok(k)) = (self, u32::try_from(e.unsigned_abs())) {
+            if let (true, Some(pn), Some(pd)) = (n != 0, n.checked_pow(k), d.checked_pow(k)) {
+                if pn != i128::MIN {
+                    let value = Num::Rational(pn, pd);
+                    return Some(if e < 0 { value.recip() } else { value });
+                }
+            }
+        }
         // `powf` with the exact integer (to 2⁵³): `powi(e as i32)` wrapped
         // 4294967295 to −1 and folded 2^4294967295 to 0.5.
         let Some(x) = self.exact() else {
@@ -480,6 +491,23 @@ mod tests {
         assert_eq!(Num::parse_decimal("2.5E+2"), Some(Num::Rational(250, 1)));
         assert_eq!(Num::parse_decimal("1e300"), Some(Num::Float(1e300)));
         assert_eq!(Num::parse_decimal("x"), None);
+    }
+
+    /// Integer powers of rationals are exact and reduced, with their sign,
+    /// on either side of `i128`: a power that fits is a `Rational`, one
+    /// that does not is a `Big`.
+    #[test]
+    fn integer_powers_are_exact_across_i128() {
+        let power = |n: i128, d: i128, e: i128| Num::ratio(n, d).pow(Num::Rational(e, 1));
+        assert_eq!(power(-3, 4, 5), Some(Num::Rational(-243, 1024)));
+        assert_eq!(power(2, 3, -3), Some(Num::Rational(27, 8)));
+        assert_eq!(power(-2, 3, -3), Some(Num::Rational(-27, 8)));
+        assert_eq!(power(5, 7, 0), Some(Num::ONE));
+        assert_eq!(power(2, 1, 126), Some(Num::Rational(1 << 126, 1)));
+        assert_eq!(power(-2, 1, 127), Some(Num::Rational(i128::MIN, 1)));
+        let big = power(3, 1, 100).expect("exact");
+        assert!(matches!(big, Num::Big(_)), "{big:?}");
+        assert_eq!(big * power(3, 1, -100).expect("exact"), Num::ONE);
     }
 
     #[test]

@@ -335,10 +335,64 @@ fn lagrange_reduction(entries: &[(usize, usize, Num)]) -> Option<Vec<Square>> {
 /// integer power `n` `|n| − 1` (and a division when negative), a function
 /// one.
 pub fn operations(g: &Graph, roots: &[Id]) -> usize {
-    g.reachable(roots)
-        .into_iter()
-        .map(|id| node_operations(g, id))
-        .sum()
+    let mut total = 0;
+    g.visit_reachable(roots, |id| total += node_operations(g, id));
+    total
+}
+
+/// Operations counted as roots join what the code computes, each node
+/// once, as [`operations`] counts them: what one more root adds is the
+/// operations of the nodes it reaches that nothing counted reaches. So
+/// comparing candidates against a large context (a robot's `M`, `F` and
+/// `A`) walks the candidates, not the context again for each.
+pub struct Counted {
+    seen: Vec<bool>,
+}
+
+impl Counted {
+    /// The nodes `roots` reach, counted.
+    pub fn new(g: &Graph, roots: &[Id]) -> Counted {
+        let mut counted = Counted {
+            seen: vec![false; g.len()],
+        };
+        counted.mark(g, roots);
+        counted
+    }
+
+    /// The operations `root` would add to what is counted:
+    /// `operations(context + [root]) − operations(context)`.
+    pub fn extra(&mut self, g: &Graph, root: Id) -> usize {
+        let marked = self.mark(g, &[root]);
+        let total = marked.iter().map(|&id| node_operations(g, id)).sum();
+        for id in marked {
+            self.seen[id.index()] = false;
+        }
+        total
+    }
+
+    /// `root` counted from now on.
+    pub fn add(&mut self, g: &Graph, root: Id) {
+        self.mark(g, &[root]);
+    }
+
+    /// Marks the nodes `roots` reach that were not marked, and lists them.
+    /// Nodes made since (the graph only grows) start unmarked: no older
+    /// node reaches them.
+    fn mark(&mut self, g: &Graph, roots: &[Id]) -> Vec<Id> {
+        if self.seen.len() < g.len() {
+            self.seen.resize(g.len(), false);
+        }
+        let mut stack: Vec<Id> = roots.to_vec();
+        let mut marked = Vec::new();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut self.seen[id.index()], true) {
+                continue;
+            }
+            marked.push(id);
+            stack.extend(g.children(id));
+        }
+        marked
+    }
 }
 
 /// The arithmetic operations of node `id` alone, its operands computed
@@ -405,6 +459,41 @@ mod tests {
         assert_eq!(result, expected, "{:?}", g.node(result));
         assert!((value(&g, result) - value(&g, form)).abs() < 1e-14);
         assert!(operations(&g, &[result]) + 5 <= operations(&g, &[form]));
+    }
+
+    /// What a root adds to the counted context is the difference of the
+    /// counts with and without it, whether it shares nodes with the
+    /// context, with nodes made after the context was counted, or not;
+    /// asking leaves the count as it was, adding it changes it.
+    #[test]
+    fn a_roots_extra_operations_are_the_difference_of_the_counts() {
+        let mut g = Graph::new();
+        let (x, y, z) = (
+            g.sym(Sym::Coord(0)),
+            g.sym(Sym::Coord(1)),
+            g.sym(Sym::Vel(0)),
+        );
+        let s = g.func(Func::Sin, x);
+        let xy = g.mul(&[x, y, s]);
+        let context = [g.add2(xy, z)];
+        let mut counted = Counted::new(&g, &context);
+        let shared = g.mul(&[xy, z, z]);
+        let shared = g.scale(shared, Num::int(3));
+        let c = g.func(Func::Cos, y);
+        let apart = g.add(&[c, y, z]);
+        for root in [shared, apart, xy] {
+            let with: Vec<Id> = context.iter().copied().chain([root]).collect();
+            let difference = operations(&g, &with) - operations(&g, &context);
+            assert_eq!(counted.extra(&g, root), difference);
+            assert_eq!(counted.extra(&g, root), difference, "asked twice");
+        }
+        assert!(counted.extra(&g, shared) > 0);
+        assert_eq!(counted.extra(&g, xy), 0);
+        counted.add(&g, shared);
+        let both = g.add2(shared, apart);
+        let all = [context[0], shared, both];
+        let difference = operations(&g, &all) - operations(&g, &[context[0], shared]);
+        assert_eq!(counted.extra(&g, both), difference);
     }
 
     #[test]
