@@ -14,8 +14,8 @@
 # maps per impact (benches/impact.rs);
 # PEERS=0 skips them, and a failure there leaves their rows out without
 # stopping the rest). Benchmarks run pinned to one core where taskset exists.
-# Took 52 minutes on 2026-12-02 (two cores, other builds on the second;
-# Pinocchio's templates already compiled, which takes minutes more).
+# Takes half an hour to an hour on two cores (Pinocchio's templates,
+# when not yet compiled, take minutes more).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Outputs go to cargo's target directory (CARGO_TARGET_DIR when set).

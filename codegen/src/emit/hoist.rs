@@ -4,8 +4,9 @@
 //! The emitter marks a constant where it is used (`super::literal`), and
 //! this pass writes each mark out: as the name it is bound to, or, read
 //! once, as the call `::constrained::__private::lit::<T>(0.5f64)` in
-//! place. A large model's methods read tens of thousands of constants: 31,538 in the
-//! standing G1's expansion, 3,385 distinct within their function. Each is
+//! place. A large model's methods read tens of thousands of constants:
+//! 31,538 in the standing G1's expansion, 3,385 distinct within their
+//! function. Each is
 //! a call of a generic function that the compiler type-checks,
 //! borrow-checks and lowers on its own, a basic block of every later pass;
 //! bound once, they leave the passes a tenth of the calls: a binary that
@@ -35,8 +36,8 @@ pub(super) fn literals(items: TokenStream) -> TokenStream {
 /// A token tree taken apart by value, once, for the two walks over a
 /// body (counting its constants, then replacing them). The walks cannot
 /// read a `TokenStream` in place: iterating one whose tokens a `Group`
-/// still shares copies every token, and those copies (each identifier
-/// and literal its own allocation) were most of this pass's cost.
+/// still shares copies every token, each identifier and literal its own
+/// allocation, which would be most of this pass's cost.
 enum Tree {
     /// Where a tree was, after it was moved out to be emitted.
     Moved,

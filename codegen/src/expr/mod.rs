@@ -419,8 +419,18 @@ impl Graph {
     /// Calls `visit` once for each node `roots` reach (themselves
     /// included), in no particular order: for a fold that needs none, such
     /// as a count, without [`Graph::reachable`]'s list and sort.
-    pub fn visit_reachable(&self, roots: &[Id], mut visit: impl FnMut(Id)) {
-        let mut seen = vec![false; self.nodes.len()];
+    pub fn visit_reachable(&self, roots: &[Id], visit: impl FnMut(Id)) {
+        self.visit_unseen(roots, &mut vec![false; self.nodes.len()], visit);
+    }
+
+    /// Calls `visit` once for each node `roots` reach that `seen` does not
+    /// mark, and marks it. `seen` is indexed by `Id` and grows to the
+    /// graph's size: a node made after it was last used starts unmarked,
+    /// as no older node reaches it.
+    pub fn visit_unseen(&self, roots: &[Id], seen: &mut Vec<bool>, mut visit: impl FnMut(Id)) {
+        if seen.len() < self.nodes.len() {
+            seen.resize(self.nodes.len(), false);
+        }
         let mut stack: Vec<Id> = roots.to_vec();
         while let Some(id) = stack.pop() {
             if std::mem::replace(&mut seen[id.index()], true) {

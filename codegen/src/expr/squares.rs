@@ -376,21 +376,9 @@ impl Counted {
     }
 
     /// Marks the nodes `roots` reach that were not marked, and lists them.
-    /// Nodes made since (the graph only grows) start unmarked: no older
-    /// node reaches them.
     fn mark(&mut self, g: &Graph, roots: &[Id]) -> Vec<Id> {
-        if self.seen.len() < g.len() {
-            self.seen.resize(g.len(), false);
-        }
-        let mut stack: Vec<Id> = roots.to_vec();
         let mut marked = Vec::new();
-        while let Some(id) = stack.pop() {
-            if std::mem::replace(&mut self.seen[id.index()], true) {
-                continue;
-            }
-            marked.push(id);
-            stack.extend(g.children(id));
-        }
+        g.visit_unseen(roots, &mut self.seen, |id| marked.push(id));
         marked
     }
 }
