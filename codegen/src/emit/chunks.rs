@@ -51,15 +51,18 @@ pub(super) fn bounded(code: TokenStream, tail: &TokenStream) -> TokenStream {
             out.extend(tokens);
             break;
         }
-        // The names bound here, last binding first wins, in binding order.
-        let mut bound: Vec<(Ident, bool)> = Vec::new();
-        for stmt in *chunk {
-            for (name, mutable) in &stmt.binds {
-                bound.retain(|(b, _)| b != name);
-                bound.push((name.clone(), *mutable));
-            }
-        }
-        bound.retain(|(name, _)| later[c].contains(&name.to_string()));
+        // The names bound here and read later, each at its last binding
+        // (which decides its `mut`), in binding order: found from the end,
+        // so that a name rebound many times is not searched for each time.
+        let mut seen: HashSet<String> = HashSet::new();
+        let mut bound: Vec<(Ident, bool)> = (chunk.iter().rev())
+            .flat_map(|stmt| stmt.binds.iter().rev())
+            .filter_map(|(name, mutable)| {
+                let text = name.to_string();
+                (later[c].contains(&text) && seen.insert(text)).then(|| (name.clone(), *mutable))
+            })
+            .collect();
+        bound.reverse();
         let names = bound.iter().map(|(name, _)| name);
         let patterns = bound.iter().map(|(name, mutable)| {
             if *mutable {
