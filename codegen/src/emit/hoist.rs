@@ -26,10 +26,18 @@ use quote::{format_ident, quote};
 use std::collections::HashMap;
 
 /// `items` with every function body's constants bound at its top
-/// ([`hoisted`]); the other tokens as they are.
+/// ([`hoisted`]); the other tokens as they are, but for a constant's mark
+/// outside any function, which nothing binds: written out in place.
 pub(super) fn literals(items: TokenStream) -> TokenStream {
     let mut out = Vec::new();
-    items_into(taken_apart(items), &mut out);
+    let none_bound = HashMap::new();
+    replaced(
+        taken_apart(items),
+        &none_bound,
+        &mut HashMap::new(),
+        &mut Vec::new(),
+        &mut out,
+    );
     out.into_iter().collect()
 }
 
@@ -77,28 +85,6 @@ fn put_back(tree: Tree, out: &mut Vec<TokenTree>) {
     }
 }
 
-/// `trees` into `out`: each function item with its body's constants
-/// bound ([`function`]), every other group searched for function items.
-fn items_into(mut trees: Vec<Tree>, out: &mut Vec<TokenTree>) {
-    let mut i = 0;
-    while i < trees.len() {
-        if let Some(end) = function_at(&trees, i) {
-            function(&mut trees[i..end], out);
-            i = end;
-            continue;
-        }
-        match std::mem::replace(&mut trees[i], Tree::Moved) {
-            Tree::Group(delimiter, span, children) => {
-                let mut inner = Vec::with_capacity(children.len());
-                items_into(children, &mut inner);
-                out.push(regroup(delimiter, span, inner));
-            }
-            other => put_back(other, out),
-        }
-        i += 1;
-    }
-}
-
 /// A function body with each constant it reads more than once replaced
 /// by `__lit{k}`, in the order they first appear, bound by one statement
 /// before the rest. A constant read once stays where it is: binding it
@@ -114,7 +100,7 @@ fn hoisted(body: Vec<Tree>) -> Vec<TokenTree> {
         return stream;
     }
     let (idents, values): (Vec<Ident>, Vec<TokenStream>) = bound.into_iter().unzip();
-    let length = proc_macro2::Literal::usize_unsuffixed(idents.len());
+    let length = Literal::usize_unsuffixed(idents.len());
     let binding = quote! {
         let [#(#idents),*]: [T; #length] = [#(#values),*];
     };

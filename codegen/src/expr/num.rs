@@ -391,11 +391,12 @@ impl Num {
         // the big-integer arithmetic below (the same value: `n/d` is
         // reduced, so `nᵏ/dᵏ` is too).
         if let (Num::Rational(n, d), Ok(k)) = (self, u32::try_from(e.unsigned_abs())) {
-            if let (true, Some(pn), Some(pd)) = (n != 0, n.checked_pow(k), d.checked_pow(k)) {
-                if pn != i128::MIN {
+            match (n.checked_pow(k), d.checked_pow(k)) {
+                (Some(pn), Some(pd)) if n != 0 && pn != i128::MIN => {
                     let value = Num::Rational(pn, pd);
                     return Some(if e < 0 { value.recip() } else { value });
                 }
+                _ => {}
             }
         }
         // `powf` with the exact integer (to 2⁵³): `powi(e as i32)` wrapped
