@@ -188,19 +188,6 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
     (forces, rhs)
 }
 
-/// Per column of the per-column form, which rows of `F̃` can be nonzero
-/// and whether any of `b̃` can (the structural zeros `tangent_rhs` leaves
-/// out); `None` for the directional form, whose one set of terms says
-/// nothing of a column's.
-pub(super) fn column_rows(ctx: &Context) -> Option<Vec<(Vec<bool>, bool)>> {
-    let patterns = column_patterns(ctx)?;
-    let rows = patterns
-        .into_iter()
-        .map(|(f, b)| (f, b.contains(&true)))
-        .collect();
-    Some(rows)
-}
-
 /// Per column of the per-column form, which rows of `F̃` and which of `b̃`
 /// can be nonzero; `None` for the directional form.
 pub(super) fn column_patterns(ctx: &Context) -> Option<Vec<(Vec<bool>, Vec<bool>)>> {

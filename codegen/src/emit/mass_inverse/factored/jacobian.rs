@@ -10,22 +10,24 @@
 //! identically zero costs nothing). A larger one, or the directional form, runs one loop
 //! over the columns of `tangent_rhs` (the code the runtime's dense solve
 //! calls too), which grows with `n + k` rather than with the columns; in
-//! the per-column form each column's solve there runs over the blocks of
-//! `M` its right-hand side touches (a fixed base's branches), and a
+//! the per-column form each column's solve there reads its right-hand
+//! side's structural nonzeros only (a fixed base's leg touches its own
+//! block of `M`, an arm's joint leaves the other arm's rows zero), and a
 //! structurally zero column is skipped. Without constraints, where inputs
 //! enter `F` with constant factors (torques), `M⁻¹` is formed once when
 //! that is cheaper than solving for their columns ([`unit_columns`]):
 //! those columns are read from it, and the loop's columns are products
 //! with it.
 
+use super::groups::{dispatch, Dispatch, Pattern};
 use super::{accelerations, residual_code, FactoredSolve};
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;
 use crate::emit::literal::literal;
 use crate::emit::mass_inverse::adopt_dense;
-use crate::emit::tangent::{column_rows, constant_columns, index, NamedTerms};
+use crate::emit::tangent::{column_patterns, constant_columns, index, NamedTerms};
 use crate::equations::mass_inverse::Factored;
-use proc_macro2::{Literal, TokenStream};
+use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
@@ -156,9 +158,10 @@ fn straight_line(
 
 /// The columns solved in one loop over the right-hand sides `tangent_rhs`
 /// writes (the code the runtime's dense solve calls too), into `__jac`.
-/// Where `M` is block diagonal (a fixed base's branches) or columns are
-/// structurally zero, each column's solve runs over the blocks its `F̃`
-/// touches only ([`groups`]), chosen by a constant table of the columns.
+/// Where columns are sparse (a fixed base's branches, a leg's joint) or
+/// structurally zero, each column's solve reads its `F̃`'s nonzeros only
+/// ([`patterns`]), columns of one pattern sharing one copy of it
+/// ([`super::groups`]), chosen by a constant table of the columns.
 fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
     let (n_l, k_l) = (Context::dim(n), Context::dim(k));
@@ -166,21 +169,20 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let (qdd_vector, lam) = (vector(ctx, "qdd", n), vector(ctx, "lam", k));
     let (unit, inverse) = unit_columns(ctx, gauss);
-    let groups = groups(ctx, gauss, &unit);
     // With `M⁻¹` formed, every column is a product with it: independent
     // sums, where the solves are chains of dependent steps.
     let solve = |rows: &[bool]| match &inverse {
         Some(inverse) => column_product(&inverse.x, rows),
         None => column_solve(ctx, f, gauss, rows),
     };
-    let unpack = unpack(ctx, groups.as_ref());
     let pairs = quote!(__fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs));
     let (inverse_code, writes) = inverse
         .as_ref()
         .map(|i| (i.code.clone(), i.writes.clone()))
         .unwrap_or_default();
-    let each = match groups {
+    let each = match patterns(ctx, &unit) {
         None => {
+            let unpack = unpack(ctx, None);
             let solve = solve(&vec![true; n]);
             quote! {
                 for ((__f, __r), __out) in #pairs {
@@ -189,23 +191,18 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
                 }
             }
         }
-        Some(groups) => {
-            let table = groups.of_column.iter().map(|&g| Literal::u16_unsuffixed(g));
-            let arms = groups.rows.iter().enumerate().map(|(id, rows)| {
-                let id = Literal::usize_unsuffixed(id);
-                let solve = solve(rows);
-                quote!(#id => { #solve })
-            });
+        Some(patterns) => {
+            let Dispatch {
+                table,
+                arms,
+                patterns,
+            } = dispatch(&patterns, &|p: &Pattern| solve(&p.0));
+            let unpack = unpack(ctx, Some(&patterns));
             quote! {
-                const __GROUPS: [u16; #d_l] = [#(#table),*];
+                #table
                 for (((__f, __r), __out), __g) in #pairs.zip(__GROUPS) {
                     #unpack
-                    match __g {
-                        #(#arms)*
-                        // A structurally zero column, or one written from
-                        // `M⁻¹` after the loop: `__out` holds zeros.
-                        _ => {}
-                    }
+                    #arms
                 }
             }
         }
@@ -225,10 +222,10 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
 
 /// The loop body's first lines: a column's `F̃` into `__jf{i}` (`_` for a
 /// row no group reads) and its `b̃` into `__jb{r}`.
-fn unpack(ctx: &Context, groups: Option<&Groups>) -> TokenStream {
+fn unpack(ctx: &Context, groups: Option<&[Pattern]>) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
     let fv = (0..n).map(|i| {
-        let read = groups.is_none_or(|groups| groups.rows.iter().any(|rows| rows[i]));
+        let read = groups.is_none_or(|groups| groups.iter().any(|p| p.0[i]));
         let name = Context::local("jf", i);
         if read {
             quote!(#name)
@@ -358,48 +355,24 @@ fn column_solve(ctx: &Context, f: &Factored, gauss: &FactoredSolve, rows: &[bool
     }
 }
 
-/// The loop's columns grouped by the rows their solves read.
-struct Groups {
-    /// Each column's group; `rows.len()` for a structurally zero column
-    /// or one [`unit_columns`] writes.
-    of_column: Vec<u16>,
-    /// Each group's rows: the blocks of `M` its columns' `F̃` touch.
-    rows: Vec<Vec<bool>>,
-}
-
-/// The columns of the per-column form grouped by the blocks of `M` their
-/// `F̃` touches (`M⁻¹` keeps a block's right-hand side in the block); `None`
-/// where every column reads every row (one block, no zero column) or the
-/// form is directional (a column's rows unknown).
-fn groups(ctx: &Context, gauss: &FactoredSolve, skip: &[bool]) -> Option<Groups> {
-    let columns = column_rows(ctx)?;
-    let blocks = gauss.mass.blocks();
+/// Each column's pattern for the dispatch: the rows of `F̃` its solve
+/// reads (its structural nonzeros: an arm's joint leaves the other arm's
+/// rows zero, though `M⁻¹` couples both arms through the waist) and
+/// whether it has a `b̃`, every row of which the solve reads; all-false
+/// for a structurally zero column or one [`unit_columns`] writes. `None`
+/// where every column reads every row or the form is directional (a
+/// column's rows unknown).
+fn patterns(ctx: &Context, skip: &[bool]) -> Option<Vec<Pattern>> {
     let n = ctx.n;
-    let mut rows: Vec<Vec<bool>> = Vec::new();
-    let mut of_column: Vec<Option<usize>> = Vec::with_capacity(columns.len());
-    for (c, (f, b)) in columns.iter().enumerate() {
-        let touched: Vec<bool> = (0..n)
-            .map(|i| (0..n).any(|j| f[j] && blocks[j] == blocks[i]))
-            .collect();
-        if skip.get(c).copied().unwrap_or(false) || (!b && !touched.contains(&true)) {
-            of_column.push(None);
-            continue;
-        }
-        let id = match rows.iter().position(|r| *r == touched) {
-            Some(id) => id,
-            None => {
-                rows.push(touched);
-                rows.len() - 1
+    let patterns: Vec<Pattern> = (column_patterns(ctx)?.into_iter().enumerate())
+        .map(|(c, (f, b))| {
+            if skip.get(c).copied().unwrap_or(false) {
+                (vec![false; n], vec![false])
+            } else {
+                (f, vec![b.contains(&true)])
             }
-        };
-        of_column.push(Some(id));
-    }
-    let every = of_column.iter().all(Option::is_some)
-        && matches!(&rows[..], [only] if only.iter().all(|&r| r));
-    let zero = u16::try_from(rows.len()).ok()?;
-    let of_column = of_column
-        .into_iter()
-        .map(|g| g.map_or(Some(zero), |g| u16::try_from(g).ok()))
-        .collect::<Option<Vec<u16>>>()?;
-    (!every).then_some(Groups { of_column, rows })
+        })
+        .collect();
+    let every = patterns.iter().all(|p| p.0.iter().all(|&r| r));
+    (!every).then_some(patterns)
 }

@@ -28,6 +28,7 @@
 
 mod auxiliary;
 mod gram_form;
+mod groups;
 mod inputs;
 pub(in crate::emit) mod jacobian;
 mod legs;

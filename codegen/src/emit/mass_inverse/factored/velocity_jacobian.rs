@@ -26,6 +26,7 @@
 //! three or more points (its points' `λ` not unique) keeps the runtime's
 //! solve.
 
+use super::groups::{dispatch, Dispatch, Pattern};
 use super::legs;
 use super::saddle::{or_zero, solved};
 use super::velocity::{self, accelerations, free_rotation, in_world, multipliers};
@@ -39,7 +40,7 @@ use crate::equations::mass_inverse::Factored;
 use crate::equations::strategy::Strategy;
 use crate::equations::velocity::Velocity;
 use crate::expr::num::Num;
-use proc_macro2::{Literal, TokenStream};
+use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
@@ -200,7 +201,7 @@ fn dense_method(
 /// The loop over the columns of `tangent_rhs`: each column's solve
 /// specialized to the rows its right-hand side can touch (a leg's joint
 /// moves its own foot's rows and the base's forces only), the columns
-/// grouped by those patterns ([`groups`]) and dispatched by a constant
+/// grouped by those patterns ([`super::groups`]) and dispatched by a constant
 /// table; a structurally zero column is skipped (its outputs stay zero).
 fn looped(
     ctx: &Context,
@@ -220,95 +221,13 @@ fn looped(
             }
         };
     };
-    // Each distinct pattern's code once: its cost decides the groups, and
-    // a group's is its arm.
-    let mut codes: Vec<(&Pattern, TokenStream)> = Vec::new();
-    for p in &patterns {
-        if !codes.iter().any(|(q, _)| *q == p) {
-            codes.push((p, each(p)));
-        }
-    }
-    let code_of = |p: &Pattern| codes.iter().find(|(q, _)| *q == p).map(|(_, c)| c.clone());
-    let cost = |p: &Pattern| code_of(p).map_or(0, |c| operations(&c));
-    let (groups, of_column) = groups(&patterns, &cost);
-    let zero = groups.len();
-    let table = of_column
-        .iter()
-        .map(|g| Literal::usize_unsuffixed(g.unwrap_or(zero)));
-    let count = Literal::usize_unsuffixed(of_column.len());
-    let arms = groups.iter().enumerate().map(|(id, pattern)| {
-        let id = Literal::usize_unsuffixed(id);
-        let body = code_of(pattern).unwrap_or_default();
-        quote!(#id => { #body })
-    });
+    let Dispatch { table, arms, .. } = dispatch(&patterns, &each);
     quote! {
-        const __GROUPS: [u16; #count] = [#(#table),*];
+        #table
         for ((((__f, __r), __out), __lout), __g) in __pairs.zip(__GROUPS) {
-            match __g {
-                #(#arms)*
-                // A structurally zero column: its outputs hold zeros.
-                _ => {}
-            }
+            #arms
         }
     }
-}
-
-/// Which rows of `F̃` and of `b̃` a column's right-hand side can touch.
-type Pattern = (Vec<bool>, Vec<bool>);
-
-/// The arithmetic operators of some code: the estimated cost of a
-/// column's solve.
-fn operations(code: &TokenStream) -> usize {
-    let text = code.to_string();
-    [" * ", " + ", " - ", " / "]
-        .iter()
-        .map(|op| text.matches(op).count())
-        .sum()
-}
-
-/// The columns' groups: each distinct nonzero pattern, solved by the
-/// cheapest group whose pattern covers it where that costs at most a
-/// quarter more than its own (a motor torque's column by its leg's), so
-/// that few copies of the solve are emitted. Returns each group's pattern
-/// and each column's group (`None`: structurally zero).
-fn groups(
-    patterns: &[Pattern],
-    cost: &dyn Fn(&Pattern) -> usize,
-) -> (Vec<Pattern>, Vec<Option<usize>>) {
-    let nonzero = |p: &Pattern| p.0.contains(&true) || p.1.contains(&true);
-    let mut distinct: Vec<(&Pattern, usize)> = Vec::new();
-    for p in patterns.iter().filter(|p| nonzero(p)) {
-        if !distinct.iter().any(|(q, _)| *q == p) {
-            distinct.push((p, cost(p)));
-        }
-    }
-    // The dearest first: a pattern's covering groups exist when it is placed.
-    distinct.sort_by_key(|d| std::cmp::Reverse(d.1));
-    let covers = |q: &Pattern, p: &Pattern| {
-        let within = |a: &[bool], b: &[bool]| a.iter().zip(b).all(|(&x, &y)| !x || y);
-        within(&p.0, &q.0) && within(&p.1, &q.1)
-    };
-    let mut groups: Vec<(Pattern, usize)> = Vec::new();
-    let mut group_of: Vec<(&Pattern, usize)> = Vec::new();
-    for (p, c) in distinct {
-        let cheapest = (groups.iter().enumerate())
-            .filter(|(_, (q, qc))| covers(q, p) && 4 * *qc <= 5 * c)
-            .min_by_key(|(_, (_, qc))| *qc)
-            .map(|(id, _)| id);
-        let id = cheapest.unwrap_or_else(|| {
-            groups.push((p.clone(), c));
-            groups.len() - 1
-        });
-        group_of.push((p, id));
-    }
-    let of_column = patterns
-        .iter()
-        .map(|p| {
-            let found = group_of.iter().find(|(q, _)| *q == p);
-            found.map(|&(_, id)| id)
-        })
-        .collect();
-    (groups.into_iter().map(|(p, _)| p).collect(), of_column)
 }
 
 /// The loop's body for the columns of `pattern`: column `__f` (`F̃`),
