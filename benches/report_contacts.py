@@ -247,7 +247,8 @@ def section(rows, ns):
     ] + notes + [
         "",
         "Times are per state (the median of 31 batches over the 20 states), both sides",
-        "pinned to one core, in 3 alternating rounds (ours, then Pinocchio's); the",
+        "pinned to one core, in 5 alternating rounds (ours, then Pinocchio's), each a",
+        "fresh copy of each side's program (as the Robots rows' are); the",
         "ratio is the median of the rounds' ratios (their range in brackets). Unlike the",
         "other peers' rows these are the thread's CPU time (`CLOCK_THREAD_CPUTIME_ID` on",
         "both sides): on the shared machine the wall time of the same call moved 10×",
