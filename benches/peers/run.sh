@@ -138,10 +138,10 @@ ours=$(cargo metadata --format-version 1 --no-deps --manifest-path "$here/robots
 # each side's program: the kernel gives a new file new pages, and where a
 # call's code outgrows the L1 instruction cache (the G1's derivatives: 200
 # KiB and more) its time depends on where those pages fall in the
-# physically indexed caches. Byte-identical copies of one binary measured
-# the G1's ∂τ at 5.49 and 6.41 µs and the Go1's ∂q̈ at 1.36 and 1.71 µs,
-# each steady within its copy; the median over fresh copies is the time a
-# user's build can expect, where one copy's is a single draw.
+# physically indexed caches: byte-identical copies of one binary time the
+# G1's and the Go1's derivatives up to a fifth apart, each copy steady
+# within itself. The median over fresh copies is the time a user's build
+# can expect, where one copy's is a single draw.
 ROUNDS=5
 fresh() {
   local program=$1 round=$2
