@@ -214,6 +214,36 @@ constrained::constrained_system! {
     }
 }
 
+constrained::constrained_system! {
+    /// A torso on two waist joints carrying two arms of seven joints, on a
+    /// fixed base, a torque at each joint: one block of `M`, in which an
+    /// arm joint's column of `∂τ` is zero in the other arm's rows, so the
+    /// Jacobian's products with `M⁻¹` group the columns by those patterns
+    /// (the waist's, each arm's) rather than by the block.
+    pub struct TwoArmedTorso {
+        inputs: [u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, u16],
+        bodies: [
+            waist { joint: revolute(q1, [0.0, 0.0, 1.0]), xyz: [0.0, 0.0, 0.8], mass: 4.0, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            torso { parent: waist, joint: revolute(q2, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, 0.1], mass: 6.0, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l1 { parent: torso, joint: revolute(q3, [0.0, 1.0, 0.0]), xyz: [0.0, 0.18, 0.3], mass: 0.9, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l2 { parent: l1, joint: revolute(q4, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.8, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l3 { parent: l2, joint: revolute(q5, [0.0, 0.0, 1.0]), xyz: [0.0, 0.0, -0.12], mass: 0.7, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l4 { parent: l3, joint: revolute(q6, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.6, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l5 { parent: l4, joint: revolute(q7, [0.0, 0.0, 1.0]), xyz: [0.0, 0.0, -0.12], mass: 0.5, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l6 { parent: l5, joint: revolute(q8, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.4, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            l7 { parent: l6, joint: revolute(q9, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.3, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r1 { parent: torso, joint: revolute(q10, [0.0, 1.0, 0.0]), xyz: [0.0, -0.18, 0.3], mass: 0.9, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r2 { parent: r1, joint: revolute(q11, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.8, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r3 { parent: r2, joint: revolute(q12, [0.0, 0.0, 1.0]), xyz: [0.0, 0.0, -0.12], mass: 0.7, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r4 { parent: r3, joint: revolute(q13, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.6, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r5 { parent: r4, joint: revolute(q14, [0.0, 0.0, 1.0]), xyz: [0.0, 0.0, -0.12], mass: 0.5, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r6 { parent: r5, joint: revolute(q15, [0.0, 1.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.4, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+            r7 { parent: r6, joint: revolute(q16, [1.0, 0.0, 0.0]), xyz: [0.0, 0.0, -0.12], mass: 0.3, com: [0.0, 0.0, 0.06], inertia: diag[0.003, 0.003, 0.0015] },
+        ],
+        forces: [u1, u2, u3, u4, u5, u6, u7, u8, u9, u10, u11, u12, u13, u14, u15, u16],
+    }
+}
+
 /// `‖a − b‖∞` against the scale of `b` (at least 1).
 fn relative<const N: usize>(a: &SMatrix<f64, N, N>, b: &SMatrix<f64, N, N>) -> f64 {
     (a - b).amax() / b.amax().max(1.0)
@@ -333,6 +363,14 @@ fn tree_jacobians_agree_with_dual_numbers_and_differences() {
         16,
         0,
         29
+    );
+    agrees!(
+        "torso with two arms (products, per column, a pattern per arm)",
+        sixteen!(TwoArmedTorso<f64>, u),
+        sixteen!(TwoArmedTorso<Dual64>, u.map(Dual64::from)),
+        16,
+        0,
+        37
     );
     agrees!(
         "driven arm",
