@@ -143,17 +143,13 @@ ours=$(cargo metadata --format-version 1 --no-deps --manifest-path "$here/robots
 # within itself. The median over fresh copies is the time a user's build
 # can expect, where one copy's is a single draw.
 ROUNDS=5
-fresh() {
-  local program=$1 round=$2
-  local copy="$out/fresh-$(basename "$program")-$round"
-  cp "$program" "$copy" && echo "$copy"
-}
-# `fresh`'s copy of PROGRAM run pinned with the rest of the arguments, then
-# removed.
+# `run_fresh PROGRAM ROUND ARGS…`: a fresh copy of PROGRAM run pinned with
+# ARGS, then removed.
 run_fresh() {
-  local program=$1 round=$2 copy code=0
+  local program=$1 round=$2 code=0
   shift 2
-  copy=$(fresh "$program" "$round") || return 1
+  local copy="$out/fresh-$(basename "$program")-$round"
+  cp "$program" "$copy" || return 1
   "${pin[@]}" "$copy" "$@" || code=1
   rm -f "$copy"
   return $code
