@@ -323,21 +323,16 @@ fn momentum_by_entries(g: &mut crate::expr::Graph, mass: &[Vec<Id>]) -> Vec<Id> 
 
 /// `∂τ/∂q` and `∂τ/∂q̇` of the bodies' inverse dynamics: by the recursions
 /// of `crate::bodies::derivatives`, each subtree on the world in the
-/// cheapest of its candidate frames ([`chains`]), where they cost fewer
-/// operations than the partials of `τ`'s expressions
-/// ([`partials_of_tau`]), else those partials. Both are exact; the
-/// partials of a short leg touch three bodies each, which the recursions
-/// match once each leg is in its own hip's axes.
+/// cheapest of its candidate frames ([`chains`], [`worth_trying`]). The
+/// partials of `τ`'s own expressions, exact too, cost more on every tree
+/// tried (a short leg's touch three bodies each, which the recursions
+/// match once the leg is in its own hip's axes), so they are not built.
 fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> [Vec<Vec<Id>>; 2] {
     let tree = crate::bodies::Tree {
         bodies: bodies.tree.clone(),
         gravity: bodies.gravity_vector,
     };
     let n = bodies.inverse.len();
-    let cost = |g: &crate::expr::Graph, m: &[Vec<Vec<Id>>; 2]| {
-        let roots: Vec<Id> = m.iter().flatten().flatten().copied().collect();
-        crate::expr::squares::operations(g, &roots)
-    };
     let chains = chains(&tree);
     // Each subtree on the world takes the cheapest of its candidate
     // frames; the subtrees' entries are apart, so each is costed on its
@@ -346,12 +341,18 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
     let mut best: Vec<(usize, Option<usize>)> = vec![(usize::MAX, None); chains.len()];
     let mut built = Vec::with_capacity(depth + 1);
     for d in 0..=depth {
+        if !chains.iter().any(|c| worth_trying(g, &tree, c, d)) {
+            continue;
+        }
         let references: Vec<usize> = chains
             .iter()
             .filter_map(|c| c.get(d.checked_sub(1)?).copied())
             .collect();
         let m = crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references);
         for (k, chain) in chains.iter().enumerate() {
+            if !worth_trying(g, &tree, chain, d) {
+                continue;
+            }
             let rows = subtree_rows(&tree, chain[0], n);
             let roots: Vec<Id> = m
                 .iter()
@@ -359,7 +360,7 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
                 .collect();
             let ops = crate::expr::squares::operations(g, &roots);
             let reference = d.checked_sub(1).and_then(|i| chain.get(i).copied());
-            if ops < best[k].0 && (d == 0 || reference.is_some()) {
+            if ops < best[k].0 {
                 best[k] = (ops, reference);
             }
         }
@@ -367,14 +368,43 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
     }
     let references: Vec<usize> = best.iter().filter_map(|&(_, r)| r).collect();
     // Built already where every subtree chose the same depth.
-    let recursions = match built.into_iter().find(|(r, _)| *r == references) {
+    match built.into_iter().find(|(r, _)| *r == references) {
         Some((_, m)) => m,
         None => crate::bodies::derivatives::inverse_dynamics_jacobian(g, &tree, n, &references),
-    };
-    // The partials are built only while they may still cost less: their
-    // count grows with every column, so past the recursions' they lose.
-    let budget = cost(g, &recursions);
-    partials_of_tau(g, bodies, budget).unwrap_or(recursions)
+    }
+}
+
+/// Whether `chain`'s subtree is costed in the frame at depth `d` (0: the
+/// world's, else `chain[d - 1]`'s): not where the chain's next body slides
+/// straight ([`slides_straight`]) from it. That body's frame is this one
+/// moved along the slide, so every position below reads the slide's
+/// coordinate in this frame and none does in that one: the free base's
+/// first three frames and the world's each cost more than its last
+/// slide's on every tree tried.
+fn worth_trying(
+    g: &crate::expr::Graph,
+    tree: &crate::bodies::Tree,
+    chain: &[usize],
+    d: usize,
+) -> bool {
+    d <= chain.len()
+        && chain
+            .get(d)
+            .is_none_or(|&next| !slides_straight(g, &tree.bodies[next]))
+}
+
+/// Whether `body` moves on a prismatic joint of its own placed without a
+/// turn: its frame is its parent's translated.
+fn slides_straight(g: &crate::expr::Graph, body: &crate::bodies::Body) -> bool {
+    let unturned = body.placement.rotation.iter().enumerate().all(|(i, row)| {
+        row.iter().enumerate().all(|(j, &e)| {
+            g.as_num(e)
+                .is_some_and(|v| if i == j { v.is_one() } else { v.is_zero() })
+        })
+    });
+    matches!(body.joint.kind, crate::bodies::JointKind::Prismatic)
+        && body.joint.mimic.is_none()
+        && unturned
 }
 
 /// For each body on the world, the bodies down the single chain from it,
@@ -382,9 +412,8 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
 /// tried in besides the world's. The first links of an arm and a free
 /// base after its three slides (the Panda's `∂τ` in 4,344 operations where
 /// the world's axes took 5,411, the floating Go1's in 14,718 where they
-/// took 18,185, the fixed-trunk Go1's legs each in their hip's 1,882 where
-/// the partials took 4,888); once a subtree branches, no one body's frame
-/// spares the others' coordinates.
+/// took 18,185); once a subtree branches, no one body's frame spares the
+/// others' coordinates.
 fn chains(tree: &crate::bodies::Tree) -> Vec<Vec<usize>> {
     let children =
         |at: usize| (0..tree.bodies.len()).filter(move |&i| tree.bodies[i].parent == Some(at));
@@ -418,47 +447,6 @@ fn subtree_rows(tree: &crate::bodies::Tree, root: usize, n: usize) -> Vec<usize>
     rows.sort_unstable();
     rows.dedup();
     rows
-}
-
-/// `∂τ/∂q` and `∂τ/∂q̇` of `τ(q, q̇, q̈)`, row by row: exact partials of the recursion's own
-/// expressions, which memoised share each body's derivatives among the
-/// coordinates' rows. `None` unless they cost fewer than `budget`
-/// operations (the recursions' count), and as soon as they reach it: a
-/// robot's partials are many times that, and building them whole took a
-/// tenth of its expansion.
-fn partials_of_tau(
-    g: &mut crate::expr::Graph,
-    bodies: &BodyTerms,
-    budget: usize,
-) -> Option<[Vec<Vec<Id>>; 2]> {
-    let tau = &bodies.inverse;
-    let n = tau.len();
-    if n == 0 {
-        return None;
-    }
-    let mut d = Differentiator::new();
-    let by = [Sym::Coord as fn(usize) -> Sym, Sym::Vel];
-    let mut columns: Vec<Vec<Id>> = Vec::with_capacity(2 * n);
-    let mut next_check = 1;
-    for column in 0..2 * n {
-        let variable = by[column / n](column % n);
-        columns.push(tau.iter().map(|&t| d.partial(g, t, variable)).collect());
-        // Counted at 1, 2, 4, … columns and at the last: a sum over the
-        // nodes reached, which only grows as columns are added.
-        if columns.len() == next_check || column + 1 == 2 * n {
-            next_check *= 2;
-            let roots: Vec<Id> = columns.iter().flatten().copied().collect();
-            if crate::expr::squares::operations(g, &roots) >= budget {
-                return None;
-            }
-        }
-    }
-    let entry = |half: usize, row: usize, k: usize| columns[half * n + k][row];
-    Some([0, 1].map(|half| {
-        (0..n)
-            .map(|row| (0..n).map(|k| entry(half, row, k)).collect())
-            .collect()
-    }))
 }
 
 /// The entries of `M`, `A` and `F`: what the code computes beside `b`.

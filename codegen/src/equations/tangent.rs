@@ -104,8 +104,7 @@ impl Tangent {
 }
 
 /// Inverse dynamics' derivatives (by the recursions of
-/// `crate::bodies::derivatives` or the partials of `τ`, whichever is
-/// cheaper), for a tree whose `M` is factored: with
+/// `crate::bodies::derivatives`), for a tree whose `M` is factored: with
 /// `τ = M q̈ + c` and `F = Q − ∂V/∂q − c`, the tangents' `∂F/∂v − (∂M/∂v) q̈`
 /// is `∂(Q − ∂V/∂q)/∂v − ∂τ/∂v` at the solved `q̈`, so that neither `M`'s
 /// entries nor `c`'s expressions are differentiated.
