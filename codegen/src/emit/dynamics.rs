@@ -430,9 +430,7 @@ pub const EVALUATIONS: &[Evaluation] = &[
         forwarded: false,
         doc: " The derivatives of inverse dynamics, `(∂τ/∂q, ∂τ/∂q̇)`, n × n each, \
               exact (built at compile time by the recursions of Pinocchio's \
-              `computeRNEADerivatives`, or as the partials of the recursion's \
-              own expressions where those cost fewer operations; \
-              `∂τ/∂q̈` is `mass_matrix`). Columns of a quaternion joint are by \
+              `computeRNEADerivatives`; `∂τ/∂q̈` is `mass_matrix`). Columns of a quaternion joint are by \
               its four coordinates and their rates, the rotation being \
               `R(q/|q|)`. Generated where `derivatives: [inverse_dynamics]` \
               asks for it.",
