@@ -35,9 +35,20 @@ pub(super) struct TangentTerms<'a> {
 
 impl<'a> TangentTerms<'a> {
     pub(super) fn new(ctx: &'a Context) -> Self {
+        Self::scaled(ctx, None)
+    }
+
+    /// [`TangentTerms::new`] for a solve of the rows scaled by `scales`
+    /// (`Â = D A`, `λ = D λ̃`): each `b̃` row comes scaled by its `D`, and
+    /// `F̃` reads `__lams{r}`, the solve's own `λ̃`, where `∂A/∂v` is a
+    /// constant. A constant and its row's scale then multiply once, at
+    /// compile time (`2 · ½`: a chain's rod rows, whose `A` is twice the
+    /// rod, scaled by ½), where scaling `λ` and `b̃` in code multiplied
+    /// twice in every column.
+    pub(super) fn scaled(ctx: &'a Context, scales: Option<&[Num]>) -> Self {
         let (sets, directional) = sets(ctx);
         let body = Body::new(ctx.eq, &roots(ctx, &sets));
-        let (forces, rhs) = terms(ctx, &sets, &|e| body.expr(e));
+        let (forces, rhs) = terms(ctx, &sets, &|e| body.expr(e), scales);
         TangentTerms {
             body,
             forces,
@@ -132,42 +143,32 @@ fn roots(ctx: &Context, sets: &[&Derivatives]) -> Vec<Id> {
 type Terms = (Vec<Vec<Option<TokenStream>>>, Vec<Vec<Option<TokenStream>>>);
 
 /// `F̃` and `b̃` of each set, contracted with `__qdd{i}` and `__lam{r}`,
-/// each derivative written by `expr`.
-fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream) -> Terms {
+/// each derivative written by `expr`; with `scales`, row `r`'s `b̃`
+/// scaled by `scales[r]` and `F̃`'s constant coefficients of `λ` folded
+/// with it onto `__lams{r}` ([`TangentTerms::scaled`]).
+fn terms(
+    ctx: &Context,
+    sets: &[&Derivatives],
+    expr: &dyn Fn(Id) -> TokenStream,
+    scales: Option<&[Num]>,
+) -> Terms {
     let (n, k) = (ctx.n, ctx.k);
     let g = &ctx.eq.system.graph;
     let qdd: Vec<_> = (0..n).map(|i| Context::local("qdd", i)).collect();
     let lam: Vec<_> = (0..k).map(|r| Context::local("lam", r)).collect();
-    // A term is `(negative, tokens)`; a derivative that is ±1
-    // multiplies by nothing, a negative constant flips the sign.
-    let times = |e: Id, x: &syn::Ident, negative: bool| -> (bool, TokenStream) {
-        match g.as_num(e) {
-            Some(c) if c.is_one() => (negative, quote!(#x)),
-            Some(c) if (-c).is_one() => (!negative, quote!(#x)),
-            Some(c) => {
-                let magnitude = literal(if c.is_negative() { -c } else { c }).0;
-                (negative != c.is_negative(), quote!(#magnitude * #x))
-            }
-            None => {
-                let e = expr(e);
-                (negative, quote!((#e) * #x))
-            }
-        }
-    };
-    // Each entry's own derivative (`∂F/∂v`, `∂b/∂v`) as its first term.
-    let own = |values: &[Id]| -> Vec<Vec<(bool, TokenStream)>> {
-        let term = |e: Id| (!g.is_zero(e)).then(|| (false, expr(e)));
-        values
-            .iter()
-            .map(|&e| term(e).into_iter().collect())
-            .collect()
-    };
+    let solved: Vec<_> = (0..k).map(|r| Context::local("lams", r)).collect();
+    let scale = |r: usize| scales.map_or(Num::int(1), |s| s[r]);
     let mut forces = Vec::with_capacity(sets.len());
     let mut rhs = Vec::with_capacity(sets.len());
     for d in sets {
-        let mut f = own(&d.forces);
+        // Each entry's own derivative (`∂F/∂v`, `∂b/∂v`) as its first term.
+        let mut f: Vec<Vec<(bool, TokenStream)>> = d
+            .forces
+            .iter()
+            .map(|&e| own(g, e, expr).into_iter().collect())
+            .collect();
         for &(i, j, e) in &d.mass {
-            f[i].push(times(e, &qdd[j], true));
+            f[i].push(times(g, e, &qdd[j], true, expr));
         }
         for (i, &e) in d.mass_times.iter().enumerate() {
             if !g.is_zero(e) {
@@ -177,15 +178,126 @@ fn terms(ctx: &Context, sets: &[&Derivatives], expr: &dyn Fn(Id) -> TokenStream)
                 f[i].push((true, quote!((#e))));
             }
         }
-        let mut b = own(&d.b);
+        // Row `r`'s terms of `b̃`: in a scaled row, those whose coefficient
+        // is a number carry the scale in it, the others are summed under
+        // it; an unscaled row's are in order.
+        let mut constant: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
+        let mut other: Vec<Vec<(bool, TokenStream)>> = Vec::with_capacity(k);
+        for (r, &e) in d.b.iter().enumerate() {
+            // A sum of numeric multiples takes the scale into them.
+            match distributed(g, e, scale(r), expr) {
+                Some(terms) => constant[r].extend(terms),
+                None => other.push(own(g, e, expr).into_iter().collect()),
+            }
+            other.resize_with(r + 1, Vec::new);
+        }
         for &(r, i, e) in &d.a {
-            f[i].push(times(e, &lam[r], false));
-            b[r].push(times(e, &qdd[i], true));
+            let s = scale(r);
+            match (g.as_num(e), s.is_one()) {
+                (Some(c), false) => {
+                    f[i].push(times_number(c * s, &solved[r], false));
+                    constant[r].push(times_number(c * s, &qdd[i], true));
+                }
+                _ => {
+                    f[i].push(times(g, e, &lam[r], false, expr));
+                    other[r].push(times(g, e, &qdd[i], true, expr));
+                }
+            }
         }
         forces.push(f.into_iter().map(signed_sum).collect());
-        rhs.push(b.into_iter().map(signed_sum).collect());
+        let b = other
+            .into_iter()
+            .zip(constant)
+            .enumerate()
+            .map(|(r, (other, constant))| {
+                let s = scale(r);
+                let scaled = signed_sum(other).map(|sum| match s.is_one() {
+                    true => (false, sum),
+                    false => {
+                        let (s, _) = literal(s);
+                        (false, quote!(#s * (#sum)))
+                    }
+                });
+                signed_sum(scaled.into_iter().chain(constant))
+            });
+        rhs.push(b.collect());
     }
     (forces, rhs)
+}
+
+/// `∂F/∂v` or `∂b/∂v` as a first term, `None` where a structural zero.
+fn own(
+    g: &crate::expr::Graph,
+    e: Id,
+    expr: &dyn Fn(Id) -> TokenStream,
+) -> Option<(bool, TokenStream)> {
+    (!g.is_zero(e)).then(|| (false, expr(e)))
+}
+
+/// `e · x` as a signed term (`negative`: subtracted).
+fn times(
+    g: &crate::expr::Graph,
+    e: Id,
+    x: &syn::Ident,
+    negative: bool,
+    expr: &dyn Fn(Id) -> TokenStream,
+) -> (bool, TokenStream) {
+    match g.as_num(e) {
+        Some(c) => times_number(c, x, negative),
+        None => {
+            let e = expr(e);
+            (negative, quote!((#e) * #x))
+        }
+    }
+}
+
+/// `s · e` as signed terms where `s` is not 1 and `e` is a sum
+/// `Σ cᵢ·tᵢ + c₀`: `Σ (s cᵢ)·tᵢ + s c₀`, each coefficient folded at
+/// compile time. `None` otherwise.
+fn distributed(
+    g: &crate::expr::Graph,
+    e: Id,
+    s: Num,
+    expr: &dyn Fn(Id) -> TokenStream,
+) -> Option<Vec<(bool, TokenStream)>> {
+    let crate::expr::Node::Add(terms, c0) = g.node(e) else {
+        return None;
+    };
+    if s.is_one() {
+        return None;
+    }
+    let mut out: Vec<(bool, TokenStream)> = terms
+        .iter()
+        .map(|&(t, c)| {
+            // A term written as more than one token is bracketed, as a
+            // factor and under a sign.
+            let t = expr(t);
+            let t = match t.clone().into_iter().nth(1) {
+                Some(_) => quote!((#t)),
+                None => t,
+            };
+            times_number(c * s, &t, false)
+        })
+        .collect();
+    if !c0.is_zero() {
+        let c = *c0 * s;
+        let magnitude = literal(if c.is_negative() { -c } else { c }).0;
+        out.push((c.is_negative(), magnitude));
+    }
+    Some(out)
+}
+
+/// `c · x` as a signed term: a coefficient of ±1 multiplies by nothing, a
+/// negative one flips the sign.
+fn times_number(c: Num, x: &impl ToTokens, negative: bool) -> (bool, TokenStream) {
+    if c.is_one() {
+        (negative, quote!(#x))
+    } else if (-c).is_one() {
+        (!negative, quote!(#x))
+    } else {
+        let magnitude = literal(if c.is_negative() { -c } else { c }).0;
+        (negative != c.is_negative(), quote!(#magnitude * #x))
+    }
 }
 
 /// Per column of the per-column form, which rows of `F̃` and which of `b̃`
@@ -196,7 +308,7 @@ pub(super) fn column_patterns(ctx: &Context) -> Option<Vec<(Vec<bool>, Vec<bool>
         return None;
     }
     // Any tokens do: only which terms exist is read.
-    let (forces, rhs) = terms(ctx, &sets, &|_| quote!(x));
+    let (forces, rhs) = terms(ctx, &sets, &|_| quote!(x), None);
     let rows = forces
         .iter()
         .zip(&rhs)
@@ -271,7 +383,7 @@ impl NamedTerms {
             (None, Some(name)) => quote!(#name),
             (None, None) => unreachable!("every derivative the terms read is named"),
         };
-        let (forces, rhs) = terms(ctx, &sets, &expr);
+        let (forces, rhs) = terms(ctx, &sets, &expr, None);
         Some(NamedTerms { named, forces, rhs })
     }
 }

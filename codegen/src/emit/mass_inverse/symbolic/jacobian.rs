@@ -27,6 +27,7 @@ use crate::emit::mass_inverse::adopt_dense;
 use crate::emit::tangent::{index, TangentTerms};
 use crate::equations::mass_inverse::Symbolic;
 use crate::equations::tangent::Form;
+use crate::expr::num::Num;
 use crate::expr::{Graph, Id};
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -43,7 +44,11 @@ pub(in crate::emit) fn jacobian(ctx: &Context, d: &Symbolic, dense: &TokenStream
     let k = ctx.k;
     let gauss = SymbolicSolve::new(ctx, d, &column_constants(ctx, d), false);
     let (constants, qdd) = constants(ctx, d, &gauss);
-    let (tangent_preamble, columns) = straight_line_columns(ctx, d);
+    // The rows' scales fold into `b̃` and into `F̃`'s constant coefficients
+    // of `λ̃` (`TangentTerms::scaled`) where `λ = D λ̃`; a common mass
+    // would stand between them.
+    let scales = d.common_mass.is_none().then_some(d.scale.as_slice());
+    let (tangent_preamble, columns) = straight_line_columns(ctx, d, scales);
     let k_l = Context::dim(k);
     let (jacobians_zero, d_l) = ctx.jacobians_zero();
     // A `Result` whether or not `acceleration` can fail: the body is
@@ -105,12 +110,17 @@ fn column_constants(ctx: &Context, d: &Symbolic) -> Vec<Id> {
 
 /// The tangent terms' preamble and the straight-line part of every column
 /// ([`column`]), each in a scope of its own.
-fn straight_line_columns(ctx: &Context, d: &Symbolic) -> (TokenStream, TokenStream) {
-    let terms = TangentTerms::new(ctx);
+fn straight_line_columns(
+    ctx: &Context,
+    d: &Symbolic,
+    scales: Option<&[Num]>,
+) -> (TokenStream, TokenStream) {
+    let terms = TangentTerms::scaled(ctx, scales);
     let preamble = terms.body.preamble();
     let mut columns = TokenStream::new();
+    let scaled = scales.is_some();
     for (c, (f, b)) in terms.forces.iter().zip(&terms.rhs).enumerate() {
-        columns.extend(column(ctx, d, c, f, b));
+        columns.extend(column(ctx, d, c, (f, b), scaled));
     }
     (preamble, columns)
 }
@@ -196,8 +206,8 @@ fn column(
     ctx: &Context,
     d: &Symbolic,
     c: usize,
-    f: &[Option<TokenStream>],
-    b: &[Option<TokenStream>],
+    (f, b): (&[Option<TokenStream>], &[Option<TokenStream>]),
+    scaled: bool,
 ) -> TokenStream {
     let n = ctx.n;
     let g = &ctx.eq.system.graph;
@@ -218,7 +228,12 @@ fn column(
     }
     let (free, a_nonzero) = free_acceleration(g, d, &f_nonzero, &quote!(__jac.#part.data.0[#ccl]));
     code.extend(free);
-    code.extend(constraint_rhs(g, d, &a_nonzero, b, &quote!(__rs[#cl])));
+    code.extend(constraint_rhs(
+        g,
+        d,
+        (&a_nonzero, b, scaled),
+        &quote!(__rs[#cl]),
+    ));
     quote! {{ #code }}
 }
 
@@ -255,13 +270,12 @@ fn free_acceleration(
 }
 
 /// `b̃ᵥ − A aᵥ`, the right-hand side of `S μᵥ`, written into `out`: `b̃ᵥ`
-/// (`b`) scaled by `D` to match the scaled rows `Â`, over the nonzeros of
-/// `Â` and of `aᵥ` (`a_nonzero`).
+/// (`b`) scaled by `D` to match the scaled rows `Â` (unless `scaled`: the
+/// terms were), over the nonzeros of `Â` and of `aᵥ` (`a_nonzero`).
 fn constraint_rhs(
     g: &Graph,
     d: &Symbolic,
-    a_nonzero: &[usize],
-    b: &[Option<TokenStream>],
+    (a_nonzero, b, scaled): (&[usize], &[Option<TokenStream>], bool),
     out: &TokenStream,
 ) -> TokenStream {
     let mut code = TokenStream::new();
@@ -275,7 +289,7 @@ fn constraint_rhs(
             })
             .collect();
         let b = b[j].as_ref().map(|b| {
-            if d.scale[j].is_one() {
+            if scaled || d.scale[j].is_one() {
                 b.clone()
             } else {
                 let (s, _) = literal(d.scale[j]);
@@ -305,6 +319,9 @@ fn unscaled_multipliers(d: &Symbolic, gauss: &SymbolicSolve) -> Vec<TokenStream>
         .filter(|(_, s)| !s.is_one() || mass.is_some())
         .map(|(j, s)| {
             let lam = Context::local("lam", j);
+            // The solve's own `λ̃`, which the scaled terms read.
+            let solved = Context::local("lams", j);
+            let keep = mass.is_none().then(|| quote! { let #solved = #lam; });
             let value = match (s.is_one(), &mass) {
                 (true, Some(m)) => quote!(#m * #lam),
                 (false, Some(m)) => {
@@ -316,7 +333,7 @@ fn unscaled_multipliers(d: &Symbolic, gauss: &SymbolicSolve) -> Vec<TokenStream>
                     quote!(#s * #lam)
                 }
             };
-            quote! { let #lam = #value; }
+            quote! { #keep let #lam = #value; }
         })
         .collect()
 }
