@@ -43,8 +43,7 @@ impl<'a> TangentTerms<'a> {
     /// `F̃` reads `__lams{r}`, the solve's own `λ̃`, where `∂A/∂v` is a
     /// constant. A constant and its row's scale then multiply once, at
     /// compile time (`2 · ½`: a chain's rod rows, whose `A` is twice the
-    /// rod, scaled by ½), where scaling `λ` and `b̃` in code multiplied
-    /// twice in every column.
+    /// rod, scaled by ½), not twice in every column's code.
     pub(super) fn scaled(ctx: &'a Context, scales: Option<&[Num]>) -> Self {
         let (sets, directional) = sets(ctx);
         let body = Body::new(ctx.eq, &roots(ctx, &sets));

@@ -378,8 +378,8 @@ fn inverse_dynamics_jacobian(g: &mut crate::expr::Graph, bodies: &BodyTerms) -> 
 /// world's, else `chain[d - 1]`'s): not where the chain's next body slides
 /// straight ([`slides_straight`]) from it. That body's frame is this one
 /// moved along the slide, so every position below reads the slide's
-/// coordinate in this frame and none does in that one: the free base's
-/// first three frames and the world's each cost more than its last
+/// coordinate in this frame and none does in that one: a free base's
+/// world frame and its first two slides' each cost more than its last
 /// slide's on every tree tried.
 fn worth_trying(
     g: &crate::expr::Graph,
