@@ -181,15 +181,16 @@ fn terms(
         // is a number carry the scale in it, the others are summed under
         // it; an unscaled row's are in order.
         let mut constant: Vec<Vec<(bool, TokenStream)>> = vec![Vec::new(); k];
-        let mut other: Vec<Vec<(bool, TokenStream)>> = Vec::with_capacity(k);
-        for (r, &e) in d.b.iter().enumerate() {
-            // A sum of numeric multiples takes the scale into them.
-            match distributed(g, e, scale(r), expr) {
-                Some(terms) => constant[r].extend(terms),
-                None => other.push(own(g, e, expr).into_iter().collect()),
-            }
-            other.resize_with(r + 1, Vec::new);
-        }
+        // A sum of numeric multiples takes the scale into its coefficients.
+        let mut other: Vec<Vec<(bool, TokenStream)>> = (d.b.iter().enumerate())
+            .map(|(r, &e)| match distributed(g, e, scale(r), expr) {
+                Some(terms) => {
+                    constant[r] = terms;
+                    Vec::new()
+                }
+                None => own(g, e, expr).into_iter().collect(),
+            })
+            .collect();
         for &(r, i, e) in &d.a {
             let s = scale(r);
             match (g.as_num(e), s.is_one()) {
