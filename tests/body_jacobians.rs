@@ -440,3 +440,84 @@ fn torque_columns_are_the_inverse_mass_matrix_scaled() {
     println!("four arms: ∂q̈/∂u against M⁻¹ B {worst:.1e}");
     assert!(worst <= 1e-12, "∂q̈/∂u is {worst:e} from M⁻¹ B");
 }
+
+/// `acceleration_jacobian_to` writes every entry itself: into an output
+/// that holds an earlier answer's leftovers (NaN in every entry here) it
+/// writes, bit for bit, what `try_acceleration_jacobian` returns, at ten
+/// random states. Across the solves that write in place (straight-line
+/// columns with and without rows, structurally zero columns, the
+/// per-column loop whose torque columns are read from `M⁻¹`, the
+/// directional loop) and those that return a value (a floating base's
+/// auxiliary mass, the legs' solve).
+#[test]
+fn the_jacobian_written_into_a_used_output_is_the_returned_one() {
+    use constrained::models::{CartPole, DoublePendulumAngles, ParallelogramFourBarAngles};
+    use constrained::Jacobians;
+    macro_rules! same {
+        ($name:literal, $system:expr, $n:literal, $nu:literal, $seed:literal) => {{
+            let system = $system;
+            let mut next = numbers($seed);
+            let mut out = Jacobians::<f64, $n, $nu>::zeros();
+            for _ in 0..10 {
+                let q = SVector::<f64, $n>::from_fn(|_, _| next() * 0.6);
+                let qd = SVector::<f64, $n>::from_fn(|_, _| next());
+                let value = system
+                    .try_acceleration_jacobian(&q, &qd, 0.0)
+                    .expect(concat!($name, ": the Jacobian"));
+                out.dq.fill(f64::NAN);
+                out.dqd.fill(f64::NAN);
+                out.du.fill(f64::NAN);
+                system
+                    .acceleration_jacobian_to(&q, &qd, 0.0, &mut out)
+                    .expect(concat!($name, ": the Jacobian written into `out`"));
+                let bits = |j: &Jacobians<f64, $n, $nu>| {
+                    (j.dq.iter().chain(j.dqd.iter()).chain(j.du.iter()))
+                        .map(|x| x.to_bits())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&out), bits(&value), "{}", $name);
+            }
+        }};
+    }
+    let u: [f64; 16] = std::array::from_fn(|k| 0.1 * (k as f64) - 0.7);
+    same!(
+        "cart-pole",
+        CartPole::<f64>::new(1.0, 0.3, 0.8, 9.81, 0.5),
+        2,
+        1,
+        41
+    );
+    same!(
+        "double pendulum",
+        DoublePendulumAngles::<f64>::new(1.0, 0.7, 1.1, 0.9, 9.81),
+        2,
+        0,
+        43
+    );
+    same!(
+        "four-bar in link angles",
+        ParallelogramFourBarAngles::<f64>::new(1.0, 0.1, 1.0, 2.0, 9.81),
+        3,
+        0,
+        47
+    );
+    same!("twisted chain", sixteen!(TwistedChain<f64>, u), 16, 16, 53);
+    same!("four arms", sixteen!(FourArms<f64>, u), 16, 16, 59);
+    same!(
+        "torso with two arms",
+        sixteen!(TwoArmedTorso<f64>, u),
+        16,
+        16,
+        61
+    );
+    same!("driven arm", DrivenArm::<f64>::new(0.7, -0.4), 4, 2, 67);
+    same!("Panda", PandaTool::<f64>::new(), 7, 0, 71);
+    same!("floating leg", FloatingLeg::<f64>::new(), 8, 0, 73);
+    same!(
+        "one leg, foot held",
+        OnWorld::<f64>::new(0.19, 0.15, 0.4, -0.3, 0.2),
+        10,
+        3,
+        79
+    );
+}

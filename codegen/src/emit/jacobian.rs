@@ -108,8 +108,9 @@ fn in_place(
                written into `out`, every entry, for a caller that keeps the \
                Jacobians from call to call (as Pinocchio keeps its `Data`): \
                where the solve writes in place, nothing is copied out of a \
-               `Result`. `Err` as that method; `out` then holds what was \
-               computed.";
+               `Result`. `Err` as that method; `out` then holds no \
+               Jacobian of this call (its entries may be an earlier \
+               call's).";
     match body {
         JacobianBody::Value(body) => {
             let to = quote! {
@@ -129,25 +130,17 @@ fn in_place(
                 self.__acceleration_jacobian_into(#args, &mut __jac)?;
                 ::core::result::Result::Ok(__jac)
             };
-            // A loop over each storage compiles to one `memset` each.
+            // The body writes every entry, zeros included: `out` is not
+            // cleared first, which would store the whole Jacobian twice.
             let to = quote! {
                 #[doc = #doc]
                 #[inline]
                 pub fn acceleration_jacobian_to(&self, #params, out: &mut #jacobians) -> #result {
-                    for __x in out.dq.as_mut_slice() {
-                        *__x = T::zero();
-                    }
-                    for __x in out.dqd.as_mut_slice() {
-                        *__x = T::zero();
-                    }
-                    for __x in out.du.as_mut_slice() {
-                        *__x = T::zero();
-                    }
                     self.__acceleration_jacobian_into(#args, out)
                 }
 
                 /// The Jacobian methods' body: the Jacobians written into
-                /// `__jac`, which holds zeros.
+                /// `__jac`, every entry.
                 #[doc(hidden)]
                 #[inline]
                 fn __acceleration_jacobian_into(&self, #params, __jac: &mut #jacobians) -> #result {

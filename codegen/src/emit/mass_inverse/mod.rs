@@ -71,8 +71,9 @@ pub(super) enum JacobianBody {
     /// A `Result<Jacobians, DynamicsError>`.
     Value(TokenStream),
     /// A `Result<(), DynamicsError>` that writes the Jacobians into
-    /// `__jac: &mut Jacobians`, which holds zeros: called with the caller's
-    /// own, nothing is copied out of a `Result` (`acceleration_jacobian_to`).
+    /// `__jac: &mut Jacobians`, every entry: called with the caller's own,
+    /// nothing is copied out of a `Result` and nothing is cleared first
+    /// (`acceleration_jacobian_to`).
     InPlace(TokenStream),
 }
 

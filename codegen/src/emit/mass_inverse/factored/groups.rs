@@ -15,15 +15,19 @@ pub(super) struct Dispatch {
     /// `const __GROUPS: [u16; columns] = [..];`, a structurally zero
     /// column's entry past the last group.
     pub table: TokenStream,
-    /// `match __g { 0 => {..} .. _ => {} }`.
+    /// `match __g { 0 => {..} .. _ => {..} }`.
     pub arms: TokenStream,
     /// The groups' patterns, in arm order.
     pub patterns: Vec<Pattern>,
 }
 
 /// The dispatch of the columns of `patterns` (an all-false pattern: a
-/// structurally zero column, skipped), `each` a pattern's code.
-pub(super) fn dispatch(patterns: &[Pattern], each: &dyn Fn(&Pattern) -> TokenStream) -> Dispatch {
+/// structurally zero column, whose arm is `zero_arm`), `each` a pattern's code.
+pub(super) fn dispatch(
+    patterns: &[Pattern],
+    each: &dyn Fn(&Pattern) -> TokenStream,
+    zero_arm: &TokenStream,
+) -> Dispatch {
     // Each distinct pattern's code once: its cost decides the groups, and
     // a group's is its arm.
     let mut codes: Vec<(&Pattern, TokenStream)> = Vec::new();
@@ -50,9 +54,8 @@ pub(super) fn dispatch(patterns: &[Pattern], each: &dyn Fn(&Pattern) -> TokenStr
         arms: quote! {
             match __g {
                 #(#arms)*
-                // A structurally zero column, or one written elsewhere:
-                // its outputs hold zeros.
-                _ => {}
+                // A structurally zero column, or one written elsewhere.
+                _ => { #zero_arm }
             }
         },
         patterns: groups,

@@ -36,8 +36,9 @@ use syn::Ident;
 const STRAIGHT_LINE_BUDGET: usize = 4096;
 
 /// The body of `acceleration_jacobian` for a configuration-dependent `M`,
-/// written into `__jac: &mut Jacobians` (which holds zeros); `dense` (the
-/// runtime's solve) answers where the rank decision is suspect.
+/// written into `__jac: &mut Jacobians`, every entry (the caller's own
+/// may hold anything); `dense` (the runtime's solve) answers where the
+/// rank decision is suspect.
 pub(in crate::emit) fn jacobian(ctx: &Context, f: &Factored, dense: &TokenStream) -> TokenStream {
     let named = NamedTerms::new(ctx).filter(|t| straight_line_cost(ctx, t) <= STRAIGHT_LINE_BUDGET);
     let extra = named.as_ref().map_or(&[][..], |t| &t.named[..]);
@@ -120,7 +121,8 @@ fn destination(ctx: &Context, c: usize) -> (TokenStream, proc_macro2::Literal) {
 }
 
 /// Every column with a structural nonzero solved straight-line over its
-/// nonzeros, into `__jac` (which holds zeros).
+/// nonzeros, and every column of `__jac` written (zeros where the column
+/// is structurally zero).
 fn straight_line(
     ctx: &Context,
     f: &Factored,
@@ -129,7 +131,13 @@ fn straight_line(
 ) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
     let mut out = TokenStream::new();
-    for c in (0..terms.forces.len()).filter(|&c| nonzero_column(terms, c)) {
+    for c in 0..terms.forces.len() {
+        let (matrix, column) = destination(ctx, c);
+        if !nonzero_column(terms, c) {
+            let n_l = Context::dim(n);
+            out.extend(quote!(__jac.#matrix.data.0[#column] = [T::zero(); #n_l];));
+            continue;
+        }
         let u: Vec<Ident> = (0..n).map(|i| Context::local2("ju", c, i)).collect();
         let (solve_u, u_bound) = gauss
             .mass
@@ -144,14 +152,10 @@ fn straight_line(
         let mu: Vec<Ident> = (0..k).map(|j| Context::local2("jmu", c, j)).collect();
         let (solve_mu, mu_bound) = gauss.gram.solve_sparse(&r, &format!("jz{c}x"), &mu);
         out.extend([solve_u, residuals, solve_mu]);
-        let (matrix, column) = destination(ctx, c);
-        let column_values = accelerations(f, (&u_bound, &u), (&mu_bound, &mu));
-        for (i, value) in column_values.into_iter().enumerate() {
-            if let Some(value) = value {
-                let row = index(i);
-                out.extend(quote!(__jac.#matrix.data.0[#column][#row] = #value;));
-            }
-        }
+        let values = accelerations(f, (&u_bound, &u), (&mu_bound, &mu))
+            .into_iter()
+            .map(|v| v.unwrap_or_else(|| quote!(T::zero())));
+        out.extend(quote!(__jac.#matrix.data.0[#column] = [#(#values),*];));
     }
     out
 }
@@ -180,6 +184,10 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
         .as_ref()
         .map(|i| (i.code.clone(), i.writes.clone()))
         .unwrap_or_default();
+    // `__jac` is the caller's (`acceleration_jacobian_to`): every column
+    // is written, a structurally zero one (or one `writes` fills after the
+    // loop) with zeros.
+    let zero_column = quote!(*__out = [T::zero(); #n_l];);
     let each = match patterns(ctx, &unit) {
         None => {
             let unpack = unpack(ctx, None);
@@ -196,7 +204,7 @@ fn looped(ctx: &Context, f: &Factored, gauss: &FactoredSolve) -> TokenStream {
                 table,
                 arms,
                 patterns,
-            } = dispatch(&patterns, &|p: &Pattern| solve(&p.0));
+            } = dispatch(&patterns, &|p: &Pattern| solve(&p.0), &zero_column);
             let unpack = unpack(ctx, Some(&patterns));
             quote! {
                 #table

@@ -221,7 +221,8 @@ fn looped(
             }
         };
     };
-    let Dispatch { table, arms, .. } = dispatch(&patterns, &each);
+    // A structurally zero column's outputs keep the zeros they start with.
+    let Dispatch { table, arms, .. } = dispatch(&patterns, &each, &TokenStream::new());
     quote! {
         #table
         for ((((__f, __r), __out), __lout), __g) in __pairs.zip(__GROUPS) {
