@@ -26,7 +26,7 @@ TARGETS = {("quadruped", "acceleration"): 5, ("five_bar", "acceleration"): 5,
 PEERS = ("constraintDynamics", "lcaba")
 OURS = ("acceleration", "acceleration_and_multipliers")
 # Issue 49's derivatives on contacts: our Jacobians of q̈ and λ
-# (`acceleration_and_multiplier_jacobians`)
+# (`acceleration_and_multiplier_jacobians_to`, into kept outputs)
 # against `computeConstraintDynamicsDerivatives` (after the
 # `constraintDynamics` it needs), and the ratio wanted.
 DERIVATIVES = ("go1", "acceleration_and_multiplier_jacobians", "constraint_dynamics_derivatives", 3)
@@ -168,7 +168,7 @@ def section(rows, ns):
         r = ratios(rows, system, ours, theirs)
         ratio = f"{_median(r):.2f}× ({min(r):.2f}–{max(r):.2f})" if r else "–"
         name = dict((x[0], x[3]) for x in SYSTEMS)[system]
-        table.append(f"| {name} | `acceleration_and_multiplier_jacobians` / "
+        table.append(f"| {name} | `acceleration_and_multiplier_jacobians_to` / "
                      f"`constraintDynamics` + `computeConstraintDynamicsDerivatives` | "
                      f"{ns(_median([x['ns'] for x in mine]))} | {ns(_median(timed)) if timed else 'disagreed'} | "
                      f"{ratio} |")
@@ -242,7 +242,8 @@ def section(rows, ns):
         "velocity in its own axes held; `benches/peers/robots/src/go1_derivatives.rs`),",
         "checked against central differences of our `q̈` and `λ` so turned (to 1e-6), and",
         "compared with `computeConstraintDynamicsDerivatives`; the conversion is not",
-        "timed:",
+        "timed, and the timed calls write into outputs the harness keeps from call to",
+        "call (`acceleration_and_multiplier_jacobians_to`), as Pinocchio keeps its `Data`:",
         "",
     ] + notes + [
         "",
@@ -268,7 +269,7 @@ ICACHE_NAMES = {"quadruped": "quadruped", "go1": "Unitree Go1 from its URDF", "f
 ICACHE_KINEMATICS_NAMES = {"panda": "Panda (Kinematics table)", "g1": "G1, 29 joints (fixed base)",
                            "go1": "Go1, 12 joints (fixed trunk)"}
 # The Go1's Jacobians, `contacts spin go1 jacobians`, by the method's name.
-ICACHE_CALLS = {"jacobians": "acceleration_and_multiplier_jacobians"}
+ICACHE_CALLS = {"jacobians": "acceleration_and_multiplier_jacobians_to"}
 
 
 def load_icache(name="icache.json"):

@@ -521,3 +521,64 @@ fn the_jacobian_written_into_a_used_output_is_the_returned_one() {
         79
     );
 }
+
+/// `acceleration_and_multiplier_jacobians_to` likewise: into outputs
+/// filled with NaN it writes, bit for bit, what
+/// `acceleration_and_multiplier_jacobians` returns, at ten random states,
+/// where the velocity form solves the tangent systems in place (the legs'
+/// solve, a floating base's saddle point) and where the runtime solves them.
+#[test]
+fn the_multiplier_jacobians_written_into_used_outputs_are_the_returned_ones() {
+    use constrained::linearize::MultiplierJacobians;
+    use constrained::models::ParallelogramFourBarAngles;
+    use constrained::Jacobians;
+    macro_rules! same {
+        ($name:literal, $system:expr, $n:literal, $k:literal, $nu:literal, $seed:literal) => {{
+            let system = $system;
+            let mut next = numbers($seed);
+            let mut out = Jacobians::<f64, $n, $nu>::zeros();
+            let mut lambdas = MultiplierJacobians::<f64, $n, $k, $nu>::zeros();
+            for _ in 0..10 {
+                let q = SVector::<f64, $n>::from_fn(|_, _| next() * 0.6);
+                let qd = SVector::<f64, $n>::from_fn(|_, _| next());
+                let (jac, lj) = system
+                    .acceleration_and_multiplier_jacobians(&q, &qd, 0.0)
+                    .expect(concat!($name, ": the Jacobians"));
+                out.dq.fill(f64::NAN);
+                out.dqd.fill(f64::NAN);
+                out.du.fill(f64::NAN);
+                lambdas.dq.fill(f64::NAN);
+                lambdas.dqd.fill(f64::NAN);
+                lambdas.du.fill(f64::NAN);
+                system
+                    .acceleration_and_multiplier_jacobians_to(&q, &qd, 0.0, &mut out, &mut lambdas)
+                    .expect(concat!($name, ": the Jacobians written into the outputs"));
+                let bits = |j: &Jacobians<f64, $n, $nu>,
+                            l: &MultiplierJacobians<f64, $n, $k, $nu>| {
+                    (j.dq.iter().chain(j.dqd.iter()).chain(j.du.iter()))
+                        .chain(l.dq.iter().chain(l.dqd.iter()).chain(l.du.iter()))
+                        .map(|x| x.to_bits())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&out, &lambdas), bits(&jac, &lj), "{}", $name);
+            }
+        }};
+    }
+    same!(
+        "one leg, foot held",
+        OnWorld::<f64>::new(0.19, 0.15, 0.4, -0.3, 0.2),
+        10,
+        4,
+        3,
+        83
+    );
+    same!("floating leg", FloatingLeg::<f64>::new(), 8, 1, 0, 89);
+    same!(
+        "four-bar in link angles",
+        ParallelogramFourBarAngles::<f64>::new(1.0, 0.1, 1.0, 2.0, 9.81),
+        3,
+        2,
+        0,
+        97
+    );
+}

@@ -168,7 +168,7 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
     let accelerations = ctx.path(quote!(Jacobians<T, #n_lit, #nu_lit>));
     let error = ctx.path(quote!(DynamicsError));
     let params = &parts.params;
-    let (private, only_body, both_body) = multiplier_bodies(ctx, &parts.args, motion);
+    let (private, only_body, both_body, to_body) = multiplier_bodies(ctx, &parts.args, motion);
     let how = if private.is_empty() {
         "solved densely"
     } else {
@@ -182,6 +182,15 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
         " `Err(NotDifferentiable)` where the rows are not independent".into(),
         " (`λ` is then not unique); `Err` where `acceleration` is, or an".into(),
         " entry is not finite.".into(),
+    ];
+    let to_doc = [
+        " [`acceleration_and_multiplier_jacobians`](Self::acceleration_and_multiplier_jacobians)"
+            .to_string(),
+        " written into `out` and `lambdas`, every entry, for a caller that".into(),
+        " keeps them from call to call (as Pinocchio keeps its `Data`): where".into(),
+        " the velocity form solves the tangent systems, nothing is copied out".into(),
+        " of a `Result`. `Err` as that method; `out` and `lambdas` then hold".into(),
+        " no Jacobian of this call (their entries may be an earlier call's).".into(),
     ];
     let both_doc = [
         " The Jacobians of `q̈` and of the multipliers `λ` from one".to_string(),
@@ -209,19 +218,30 @@ fn multiplier_jacobian(ctx: &Context, parts: &Public, motion: &TokenStream) -> T
         ) -> ::core::result::Result<(#accelerations, #multipliers), #error> {
             #both_body
         }
+        #(#[doc = #to_doc])*
+        #[inline]
+        pub fn acceleration_and_multiplier_jacobians_to(
+            &self,
+            #params,
+            out: &mut #accelerations,
+            lambdas: &mut #multipliers,
+        ) -> ::core::result::Result<(), #error> {
+            #to_body
+        }
     }
 }
 
-/// The private methods the two entry points call (none for the runtime's
-/// solve) and their two bodies: the velocity form solves the tangent
-/// systems through its own factors; elsewhere the runtime solves them
-/// densely after `motion`.
+/// The private methods the entry points call (none for the runtime's
+/// solve) and their three bodies (`multiplier_jacobian`,
+/// `acceleration_and_multiplier_jacobians` and its `_to` form): the
+/// velocity form solves the tangent systems through its own factors, in
+/// place; elsewhere the runtime solves them densely after `motion`.
 fn multiplier_bodies(
     ctx: &Context,
     args: &TokenStream,
     motion: &TokenStream,
-) -> (TokenStream, TokenStream, TokenStream) {
-    if let Some((private, name)) = mass_inverse::multiplier_jacobians(ctx) {
+) -> (TokenStream, TokenStream, TokenStream, TokenStream) {
+    if let Some((private, name, into)) = mass_inverse::multiplier_jacobians(ctx) {
         return (
             private,
             quote! {
@@ -229,6 +249,7 @@ fn multiplier_bodies(
                 ::core::result::Result::Ok(__l)
             },
             quote!(self.#name(#args, true)),
+            quote!(self.#into(#args, true, out, lambdas)),
         );
     }
     let (n, nu) = (ctx.n, ctx.eq.system.inputs);
@@ -249,6 +270,10 @@ fn multiplier_bodies(
         quote! {
             let __motion = #motion;
             #both::<T, Self, #n_lit, #k_lit, #nu_lit, #d_lit>(self, #args, __motion)
+        },
+        quote! {
+            (*out, *lambdas) = self.acceleration_and_multiplier_jacobians(#args)?;
+            ::core::result::Result::Ok(())
         },
     )
 }

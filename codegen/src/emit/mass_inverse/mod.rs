@@ -79,11 +79,13 @@ pub(super) enum JacobianBody {
 
 /// The private methods behind `acceleration_and_multiplier_jacobians`
 /// where the strategy solves the tangent systems itself (the velocity
-/// form's), and the name of the one to call with `(q, qd, t,
-/// multipliers)`; `None` where the runtime's dense solve does.
-pub(super) fn multiplier_jacobians(ctx: &Context) -> Option<(TokenStream, syn::Ident)> {
+/// form's), the name of the one to call with `(q, qd, t, multipliers)`,
+/// and of the one that also takes the outputs to write into; `None`
+/// where the runtime's dense solve does.
+pub(super) fn multiplier_jacobians(ctx: &Context) -> Option<(TokenStream, syn::Ident, syn::Ident)> {
     match &ctx.eq.mass_inverse {
-        MassInverse::Auxiliary(f) => factored::velocity_jacobians(ctx, f),
+        MassInverse::Auxiliary(f) => factored::velocity_jacobians(ctx, f)
+            .map(|(private, name)| (private, name, factored::velocity_jacobians_into())),
         MassInverse::Symbolic(_) | MassInverse::Factored(_) => None,
     }
 }

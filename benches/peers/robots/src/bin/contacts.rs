@@ -50,10 +50,11 @@ mod model;
 
 use clock::median_ns;
 use constrained::floating::FreeMotion;
+use constrained::linearize::MultiplierJacobians;
 use constrained::multipliers::Multipliers;
 use constrained::nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 use constrained::stabilize::project;
-use constrained::{ConstrainedSystem, State};
+use constrained::{ConstrainedSystem, Jacobians, State};
 use model::{Quadruped, FOOT_OFFSET, HIPS, N};
 
 include!(concat!(env!("OUT_DIR"), "/go1.rs"));
@@ -694,20 +695,24 @@ where
     }
 }
 
-/// Times the Go1's `acceleration_and_multiplier_jacobians` (per state; in
-/// our coordinates, the conversion to Pinocchio's not included), against
+/// Times the Go1's `acceleration_and_multiplier_jacobians_to` (per state;
+/// in our coordinates, the conversion to Pinocchio's not included), against
 /// `computeConstraintDynamicsDerivatives`; one JSON line.
 fn time_go1_derivatives(round: &str, cases: &[(Go1<f64>, State<f64, N>)]) {
+    // Into outputs kept from call to call, as Pinocchio keeps its `Data`
+    // (and the Kinematics table's `acceleration_jacobian_to`): the 13 KB
+    // pair of Jacobians is neither cleared nor copied out of a `Result`.
+    let (mut jac, mut lambdas) = (Jacobians::zeros(), MultiplierJacobians::zeros());
     let both = median_ns(|| {
         for (system, s) in cases {
-            // By reference, as `constrained-robots` keeps its answers: moved
-            // into `black_box`, the 13 KB pair of Jacobians would be copied
-            // by the harness, where Pinocchio's stay in its `Data`.
-            black_box(&black_box(system).acceleration_and_multiplier_jacobians(
+            let answer = black_box(system).acceleration_and_multiplier_jacobians_to(
                 black_box(&s.q),
                 black_box(&s.qd),
                 s.t,
-            ));
+                &mut jac,
+                &mut lambdas,
+            );
+            black_box((&answer, &jac, &lambdas));
         }
     });
     println!(
@@ -752,7 +757,7 @@ pub(crate) fn spin<S, const M: usize, const K: usize>(
 
 /// `contacts spin SYSTEM WHAT PASSES`: the states of `SYSTEM` (as `time`
 /// makes them), then [`spin`]; for the Go1, `WHAT` may also be
-/// `jacobians` (`acceleration_and_multiplier_jacobians`) or
+/// `jacobians` (`acceleration_and_multiplier_jacobians_to`) or
 /// `qdd_jacobian` (`acceleration_jacobian`), for a profiler.
 fn spin_system(system: &str, what: &str, passes: usize) {
     match system {
@@ -765,12 +770,20 @@ fn spin_system(system: &str, what: &str, passes: usize) {
             let mut own = Rng(48);
             let cases: Vec<_> = (0..STATES).map(|_| go1_state(&mut own)).collect();
             if what == "qdd_jacobian" || what == "jacobians" {
+                let (mut jac, mut lambdas) = (Jacobians::zeros(), MultiplierJacobians::zeros());
                 for _ in 0..passes {
                     for (system, s) in &cases {
                         let (system, q, qd) =
                             (black_box(system), black_box(&s.q), black_box(&s.qd));
                         if what == "jacobians" {
-                            black_box(&system.acceleration_and_multiplier_jacobians(q, qd, s.t));
+                            let answer = system.acceleration_and_multiplier_jacobians_to(
+                                q,
+                                qd,
+                                s.t,
+                                &mut jac,
+                                &mut lambdas,
+                            );
+                            black_box((&answer, &jac, &lambdas));
                         } else {
                             black_box(&system.acceleration_jacobian(q, qd, s.t));
                         }

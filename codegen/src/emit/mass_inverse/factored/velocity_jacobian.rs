@@ -67,6 +67,12 @@ fn name() -> Ident {
     Ident::new("__velocity_jacobians", proc_macro2::Span::call_site())
 }
 
+/// The name of the private method that writes [`name`]'s answer into the
+/// caller's outputs.
+pub(in crate::emit) fn into_name() -> Ident {
+    Ident::new("__velocity_jacobians_into", proc_macro2::Span::call_site())
+}
+
 /// Whether [`method`] applies: no body held at three or more points.
 fn applies(v: &Velocity) -> bool {
     v.system.held.is_empty()
@@ -88,8 +94,13 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let result = quote!(::core::result::Result<(#jacobians, #lambdas), #error>);
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
     let name = name();
+    let into = into_name();
     let dense_name = Ident::new("__velocity_jacobians_dense", proc_macro2::Span::call_site());
-    let dense = quote! { return self.#dense_name(#args, multipliers); };
+    let dense = quote! {
+        let (__dj, __dl) = self.#dense_name(#args, multipliers)?;
+        (*__jac, *__lj) = (__dj, __dl);
+        return ::core::result::Result::Ok(());
+    };
     let bail = |_: TokenStream| dense.clone();
     let solved = velocity::solve(ctx, v, legs, &dense, &bail);
     let qdd: Vec<Ident> = (0..n).map(|i| Context::local("qdd", i)).collect();
@@ -100,7 +111,8 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
         quote!(-(#m))
     });
     let columns = looped(ctx, v, legs, &solved.ldlt, &dense);
-    let outputs = outputs(ctx, &lambdas_zero, &columns);
+    let jacobians_zero = ctx.jacobians_zero().0;
+    let outputs = outputs(ctx, &columns);
     let tangent = ctx.private(quote!(Tangent<T, #n_l, #k_l, #d_l>));
     let (fs, rs) = (ctx.matrix(n, 2 * n + nu), ctx.matrix(k, 2 * n + nu));
     let correction = ctx.correction_type();
@@ -110,12 +122,29 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
         ctx.vector_value(lam.iter().map(|x| quote!(#x))),
     );
     let dense_method = dense_method(ctx, &dense_name, &params, &result, &lambdas_zero);
+    let into_result = quote!(::core::result::Result<(), #error>);
     quote! {
         /// `(∂q̈, ∂λ)` through the velocity form's factors (`∂λ` zeros
         /// unless `multipliers`); the runtime's dense solve where a check
         /// of the factorization fails.
-        #[allow(clippy::too_many_lines, clippy::many_single_char_names)]
+        #[inline]
         fn #name(&self, #params, multipliers: bool) -> #result {
+            let (mut __jac, mut __lj) = (#jacobians_zero, #lambdas_zero);
+            self.#into(#args, multipliers, &mut __jac, &mut __lj)?;
+            ::core::result::Result::Ok((__jac, __lj))
+        }
+
+        /// The same `(∂q̈, ∂λ)` written into `__jac` and, where
+        /// `multipliers`, `__lj`, every entry (the caller's own may hold
+        /// anything).
+        #[allow(clippy::too_many_lines, clippy::many_single_char_names)]
+        fn #into(
+            &self,
+            #params,
+            multipliers: bool,
+            __jac: &mut #jacobians,
+            __lj: &mut #lambdas,
+        ) -> #into_result {
             let correction: #correction = ::core::option::Option::None;
             #body
             #( let #qdd = #acc; )*
@@ -137,15 +166,11 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     }
 }
 
-/// The outputs `__jac` and `__lj` (`lambdas_zero` the zeros of `∂λ`'s
-/// struct), each column written by the loop `columns` over `__pairs`,
-/// then checked finite.
-fn outputs(ctx: &Context, lambdas_zero: &TokenStream, columns: &TokenStream) -> TokenStream {
-    let jacobians_zero = ctx.jacobians_zero().0;
+/// The outputs `__jac` and `__lj` (the caller's), each column written by
+/// the loop `columns` over `__pairs`, then checked finite.
+fn outputs(ctx: &Context, columns: &TokenStream) -> TokenStream {
     let error = ctx.path(quote!(DynamicsError));
     quote! {
-        let mut __jac = #jacobians_zero;
-        let mut __lj = #lambdas_zero;
         {
             let __outs = __jac.dq.data.0.iter_mut()
                 .chain(__jac.dqd.data.0.iter_mut())
@@ -156,8 +181,8 @@ fn outputs(ctx: &Context, lambdas_zero: &TokenStream, columns: &TokenStream) -> 
             let __pairs = __fs.data.0.iter().zip(__rs.data.0.iter()).zip(__outs).zip(__louts);
             #columns
         }
-        if __jac.is_finite() && __lj.is_finite() {
-            ::core::result::Result::Ok((__jac, __lj))
+        if __jac.is_finite() && (!multipliers || __lj.is_finite()) {
+            ::core::result::Result::Ok(())
         } else {
             ::core::result::Result::Err(#error::NonFinite)
         }
@@ -202,7 +227,7 @@ fn dense_method(
 /// specialized to the rows its right-hand side can touch (a leg's joint
 /// moves its own foot's rows and the base's forces only), the columns
 /// grouped by those patterns ([`super::groups`]) and dispatched by a constant
-/// table; a structurally zero column is skipped (its outputs stay zero).
+/// table; a structurally zero column is written as zeros.
 fn looped(
     ctx: &Context,
     v: &Velocity,
@@ -221,8 +246,16 @@ fn looped(
             }
         };
     };
-    // A structurally zero column's outputs keep the zeros they start with.
-    let Dispatch { table, arms, .. } = dispatch(&patterns, &each, &TokenStream::new());
+    // The outputs are the caller's: a structurally zero column is written
+    // as zeros.
+    let (n_l, k_l) = (Context::dim(n), Context::dim(k));
+    let zero = quote! {
+        *__out = [T::zero(); #n_l];
+        if multipliers {
+            *__lout = [T::zero(); #k_l];
+        }
+    };
+    let Dispatch { table, arms, .. } = dispatch(&patterns, &each, &zero);
     quote! {
         #table
         for ((((__f, __r), __out), __lout), __g) in __pairs.zip(__GROUPS) {
