@@ -205,9 +205,12 @@ fn main() {
             std::hint::black_box((&j, &r, &dl));
             let cart_pole = CartPole::new(1.0, 0.3, 0.8, 9.81, 0.1 * f64::from(i % 5));
             let q = Vector2::new(0.1, 2.9);
-            let j = cart_pole
+            let mut j = cart_pole
                 .acceleration_jacobian(&q, &q, 0.0)
                 .expect("jacobian");
+            cart_pole
+                .acceleration_jacobian_to(&q, &q, 0.0, &mut j)
+                .expect("jacobian, in place");
             let (a, b) = cart_pole.linearize(&q, &q, 0.0).expect("linearize");
             std::hint::black_box((&j, &a, &b));
             calls += 4;
@@ -319,6 +322,17 @@ fn quadruped_standing() -> (usize, usize, f64) {
                     .acceleration_and_multiplier_jacobians(&s.q, &s.qd, s.t)
                     .expect("the quadruped's Jacobians");
                 std::hint::black_box(&both);
+                // And into the outputs the controller keeps.
+                let (mut jac, mut lambdas) = both;
+                sys.acceleration_and_multiplier_jacobians_to(
+                    &s.q,
+                    &s.qd,
+                    s.t,
+                    &mut jac,
+                    &mut lambdas,
+                )
+                .expect("the quadruped's Jacobians, in place");
+                std::hint::black_box((&jac, &lambdas));
             }
         }
         steps
