@@ -53,7 +53,7 @@ pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> JacobianBody {
         }
         MassInverse::Auxiliary(f) => {
             JacobianBody::Value(match factored::velocity_jacobians(ctx, f) {
-                Some((_, name)) => {
+                Some((_, name, _)) => {
                     let args = ctx.args(super::context::Inputs::States);
                     quote! {
                         let (__j, _) = self.#name(#args, false)?;
@@ -84,8 +84,7 @@ pub(super) enum JacobianBody {
 /// where the runtime's dense solve does.
 pub(super) fn multiplier_jacobians(ctx: &Context) -> Option<(TokenStream, syn::Ident, syn::Ident)> {
     match &ctx.eq.mass_inverse {
-        MassInverse::Auxiliary(f) => factored::velocity_jacobians(ctx, f)
-            .map(|(private, name)| (private, name, factored::velocity_jacobians_into())),
+        MassInverse::Auxiliary(f) => factored::velocity_jacobians(ctx, f),
         MassInverse::Symbolic(_) | MassInverse::Factored(_) => None,
     }
 }

@@ -130,11 +130,11 @@ fn straight_line(
     terms: &NamedTerms,
 ) -> TokenStream {
     let (n, k) = (ctx.n, ctx.k);
+    let n_l = Context::dim(n);
     let mut out = TokenStream::new();
     for c in 0..terms.forces.len() {
         let (matrix, column) = destination(ctx, c);
         if !nonzero_column(terms, c) {
-            let n_l = Context::dim(n);
             out.extend(quote!(__jac.#matrix.data.0[#column] = [T::zero(); #n_l];));
             continue;
         }

@@ -37,9 +37,7 @@ pub(in crate::emit) mod step;
 mod velocity;
 mod velocity_jacobian;
 
-pub(in crate::emit) use velocity_jacobian::{
-    into_name as velocity_jacobians_into, velocity_jacobians,
-};
+pub(in crate::emit) use velocity_jacobian::velocity_jacobians;
 
 use crate::emit::chunks::bounded;
 use crate::emit::context::Context;

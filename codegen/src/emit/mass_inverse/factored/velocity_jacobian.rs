@@ -47,11 +47,12 @@ use syn::Ident;
 /// The private methods that solve the tangent systems through the
 /// velocity form's factors (the module docs), where `gauss` solves that
 /// form and no body is held at three or more points; the name of the one
-/// that answers `(∂q̈, ∂λ)`.
+/// that answers `(∂q̈, ∂λ)`, and of the one that writes them into the
+/// caller's outputs.
 pub(in crate::emit) fn velocity_jacobians(
     ctx: &Context,
     f: &Factored,
-) -> Option<(TokenStream, Ident)> {
+) -> Option<(TokenStream, Ident, Ident)> {
     let strategy = ctx.eq.strategy();
     let v = f.velocity.as_ref().filter(|v| applies(v))?;
     let legs = match strategy {
@@ -59,7 +60,7 @@ pub(in crate::emit) fn velocity_jacobians(
         Strategy::VelocitySaddle => None,
         _ => return None,
     };
-    Some((method(ctx, v, legs), name()))
+    Some((method(ctx, v, legs), name(), into_name()))
 }
 
 /// The name of the private method [`method`] emits.
@@ -69,7 +70,7 @@ fn name() -> Ident {
 
 /// The name of the private method that writes [`name`]'s answer into the
 /// caller's outputs.
-pub(in crate::emit) fn into_name() -> Ident {
+fn into_name() -> Ident {
     Ident::new("__velocity_jacobians_into", proc_macro2::Span::call_site())
 }
 
