@@ -51,18 +51,22 @@ pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> JacobianBody {
         MassInverse::Factored(f) => {
             JacobianBody::InPlace(factored::jacobian::jacobian(ctx, f, dense))
         }
-        MassInverse::Auxiliary(f) => {
-            JacobianBody::Value(match factored::velocity_jacobians(ctx, f) {
-                Some((_, name, _)) => {
-                    let args = ctx.args(super::context::Inputs::States);
-                    quote! {
-                        let (__j, _) = self.#name(#args, false)?;
-                        ::core::result::Result::Ok(__j)
-                    }
-                }
-                None => dense.clone(),
-            })
-        }
+        MassInverse::Auxiliary(f) => match factored::velocity_jacobians(ctx, f) {
+            // The velocity form writes `∂q̈` into the caller's `__jac`; its
+            // `∂λ`, not asked for, goes to a local.
+            Some((_, _, into)) => {
+                let args = ctx.args(super::context::Inputs::States);
+                let (n, k) = (Context::dim(ctx.n), Context::dim(ctx.k));
+                let nu = Context::dim(ctx.eq.system.inputs);
+                let lambdas =
+                    ctx.path(quote!(linearize::MultiplierJacobians::<T, #n, #k, #nu>::zeros()));
+                JacobianBody::InPlace(quote! {
+                    let mut __lj = #lambdas;
+                    self.#into(#args, false, __jac, &mut __lj)
+                })
+            }
+            None => JacobianBody::Value(dense.clone()),
+        },
     }
 }
 
