@@ -444,11 +444,12 @@ fn torque_columns_are_the_inverse_mass_matrix_scaled() {
 /// `acceleration_jacobian_to` writes every entry itself: into an output
 /// that holds an earlier answer's leftovers (NaN in every entry here) it
 /// writes, bit for bit, what `try_acceleration_jacobian` returns, at ten
-/// random states. Across the solves that write in place (straight-line
+/// random states. Across the solves that write in place: straight-line
 /// columns with and without rows, structurally zero columns, the
 /// per-column loop whose torque columns are read from `M⁻¹`, the
-/// directional loop) and those that return a value (a floating base's
-/// auxiliary mass, the legs' solve).
+/// directional loop, and a floating base's velocity form (its saddle
+/// point, and the legs' solve of a leg whose foot is held), which `_to`
+/// runs for `∂q̈` alone.
 #[test]
 fn the_jacobian_written_into_a_used_output_is_the_returned_one() {
     use constrained::models::{CartPole, DoublePendulumAngles, ParallelogramFourBarAngles};
