@@ -114,6 +114,14 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// `MultiplierJacobians::<T, n, k, m>::zeros()`: the zeros of `∂λ`'s
+    /// struct.
+    pub(super) fn multiplier_jacobians_zero(&self) -> TokenStream {
+        let (n_l, k_l) = (Self::dim(self.n), Self::dim(self.k));
+        let nu_l = Self::dim(self.eq.system.inputs);
+        self.path(quote!(linearize::MultiplierJacobians::<T, #n_l, #k_l, #nu_l>::zeros()))
+    }
+
     /// `Jacobians::<T, n, m>::zeros()`, and the number of Jacobian columns
     /// `2n + m` as a literal.
     pub(super) fn jacobians_zero(&self) -> (TokenStream, Literal) {

@@ -245,10 +245,10 @@ fn multiplier_bodies(
         return (
             private,
             quote! {
-                let (_, __l) = self.#name(#args, true)?;
+                let (_, __l) = self.#name(#args)?;
                 ::core::result::Result::Ok(__l)
             },
-            quote!(self.#name(#args, true)),
+            quote!(self.#name(#args)),
             quote!(self.#into(#args, true, out, lambdas)),
         );
     }

@@ -56,10 +56,7 @@ pub(super) fn jacobian(ctx: &Context, dense: &TokenStream) -> JacobianBody {
             // `∂λ`, not asked for, goes to a local.
             Some((_, _, into)) => {
                 let args = ctx.args(super::context::Inputs::States);
-                let (n, k) = (Context::dim(ctx.n), Context::dim(ctx.k));
-                let nu = Context::dim(ctx.eq.system.inputs);
-                let lambdas =
-                    ctx.path(quote!(linearize::MultiplierJacobians::<T, #n, #k, #nu>::zeros()));
+                let lambdas = ctx.multiplier_jacobians_zero();
                 JacobianBody::InPlace(quote! {
                     let mut __lj = #lambdas;
                     self.#into(#args, false, __jac, &mut __lj)
@@ -83,8 +80,9 @@ pub(super) enum JacobianBody {
 
 /// The private methods behind `acceleration_and_multiplier_jacobians`
 /// where the strategy solves the tangent systems itself (the velocity
-/// form's), the name of the one to call with `(q, qd, t, multipliers)`,
-/// and of the one that also takes the outputs to write into; `None`
+/// form's), the name of the one to call with `(q, qd, t)`, which answers
+/// both, and of the one that also takes whether `∂λ` is asked for and the
+/// outputs to write into; `None`
 /// where the runtime's dense solve does.
 pub(super) fn multiplier_jacobians(ctx: &Context) -> Option<(TokenStream, syn::Ident, syn::Ident)> {
     match &ctx.eq.mass_inverse {

@@ -79,8 +79,9 @@ fn applies(v: &Velocity) -> bool {
     v.system.held.is_empty()
 }
 
-/// The private methods `__velocity_jacobians(q, qd, t, multipliers)`,
-/// returning `(∂q̈, ∂λ)` (`∂λ` zeros unless `multipliers`), and its
+/// The private methods `__velocity_jacobians(q, qd, t)`, returning
+/// `(∂q̈, ∂λ)`, `__velocity_jacobians_into`, which writes them (`∂λ` only
+/// where `multipliers`) into the caller's outputs, and their
 /// fallback `__velocity_jacobians_dense`, the runtime's solve after
 /// `gauss`'s motion.
 fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
@@ -89,8 +90,7 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let d_l = Context::dim(2 * n + nu);
     let jacobians = ctx.path(quote!(Jacobians<T, #n_l, #nu_l>));
     let lambdas = ctx.path(quote!(linearize::MultiplierJacobians<T, #n_l, #k_l, #nu_l>));
-    let lambdas_zero =
-        ctx.path(quote!(linearize::MultiplierJacobians::<T, #n_l, #k_l, #nu_l>::zeros()));
+    let lambdas_zero = ctx.multiplier_jacobians_zero();
     let error = ctx.path(quote!(DynamicsError));
     let result = quote!(::core::result::Result<(#jacobians, #lambdas), #error>);
     let (params, args) = (ctx.params(Inputs::States), ctx.args(Inputs::States));
@@ -125,13 +125,12 @@ fn method(ctx: &Context, v: &Velocity, legs: Option<&Legs>) -> TokenStream {
     let dense_method = dense_method(ctx, &dense_name, &params, &result, &lambdas_zero);
     let into_result = quote!(::core::result::Result<(), #error>);
     quote! {
-        /// `(∂q̈, ∂λ)` through the velocity form's factors (`∂λ` zeros
-        /// unless `multipliers`); the runtime's dense solve where a check
-        /// of the factorization fails.
+        /// `(∂q̈, ∂λ)` through the velocity form's factors; the runtime's
+        /// dense solve where a check of the factorization fails.
         #[inline]
-        fn #name(&self, #params, multipliers: bool) -> #result {
+        fn #name(&self, #params) -> #result {
             let (mut __jac, mut __lj) = (#jacobians_zero, #lambdas_zero);
-            self.#into(#args, multipliers, &mut __jac, &mut __lj)?;
+            self.#into(#args, true, &mut __jac, &mut __lj)?;
             ::core::result::Result::Ok((__jac, __lj))
         }
 
