@@ -13,7 +13,8 @@
 //! the per-column form each column's solve there reads its right-hand
 //! side's structural nonzeros only (a fixed base's leg touches its own
 //! block of `M`, an arm's joint leaves the other arm's rows zero), and a
-//! structurally zero column is skipped. Without constraints, where inputs
+//! structurally zero column is solved for nothing, only written as zeros.
+//! Without constraints, where inputs
 //! enter `F` with constant factors (torques), `M⁻¹` is formed once when
 //! that is cheaper than solving for their columns ([`unit_columns`]):
 //! those columns are read from it, and the loop's columns are products
