@@ -65,6 +65,10 @@ pub(super) struct Body<'a> {
     /// output's place and root by the position of the last temporary its
     /// expression reads (`None`: none).
     stores: Option<(TokenStream, StoresAt)>,
+    /// Whether the body is large enough that its time follows the size of
+    /// its code: there a sum writes each magnitude its terms share once
+    /// (`c·(a − b)` for `c·a − c·b`; `arithmetic::LARGE_BODY` says why).
+    shares_magnitudes: bool,
 }
 
 /// Each output's place and root, by the position of the last temporary
@@ -129,6 +133,7 @@ impl<'a> Body<'a> {
             .enumerate()
             .map(|(i, &id)| (id, Context::local("t", i)))
             .collect();
+        let shares_magnitudes = reachable.len() >= arithmetic::LARGE_BODY;
         let needs_multipliers = multiplier_nodes(g, &reachable);
         let temp_products = TempProducts::new(g, &schedule);
         let reciprocals = reciprocal_names(g, &reachable, &schedule.temporaries);
@@ -162,7 +167,15 @@ impl<'a> Body<'a> {
             used,
             temp_names,
             stores: None,
+            shares_magnitudes,
         }
+    }
+
+    /// The body with every term of a sum scaled by its own magnitude,
+    /// however large the body (`arithmetic::LARGE_BODY`).
+    pub(super) fn magnitudes_apart(mut self) -> Self {
+        self.shares_magnitudes = false;
+        self
     }
 
     /// The stores of the outputs that become known at `position` (`None`:

@@ -1,5 +1,6 @@
 //! How a [`Body`] writes sums and products: signs without multiplications
-//! by ±1, a negated sum factor in place of a unary minus, reused temporary
+//! by ±1, a negated sum factor in place of a unary minus, in a large body
+//! each magnitude that terms share written once, reused temporary
 //! products and shared sub-products, reciprocals and unrolled powers.
 
 use super::{literal, Body, Prec};
@@ -12,6 +13,20 @@ use crate::expr::{signed_parts, Id, Node};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
+/// A part of a sum as it is written: whether it is subtracted, and its
+/// tokens.
+type Signed = (bool, TokenStream);
+
+/// The size, in nodes of the graph it reads, from which a body's time
+/// follows the size of its code rather than its longest chain of
+/// operations: such a body's code outgrows the L1 instruction cache and
+/// streams from L2 on every call (the G1's `q̈`, `∂τ` and `tangent_rhs`),
+/// so that every instruction removed is time saved. Below it the code
+/// stays in L1 and a sum's dependency chain decides: the 32-link chain's
+/// `q̈` (about a thousand operations) ran slower with its magnitudes
+/// shared.
+pub(super) const LARGE_BODY: usize = 4096;
+
 impl Body<'_> {
     /// `Σ cᵢ·tᵢ + c₀` as `a + b - 2·c + …`: subtraction for negative
     /// coefficients, no multiplication by ±1.
@@ -23,17 +38,20 @@ impl Body<'_> {
     /// a positive part first (no unary minus while one exists), and where
     /// every part is negative, one product's sum factor negated instead
     /// (`−ż·(g − α)` is `ż·(α − g)`). A shared rational content is not
-    /// factored out (`2·(a − b·c)`), nor a shared magnitude (`c·(a − b)`
-    /// for `c·a − c·b`): once the rows of `A` are scaled it saves few
-    /// operations, and the longer dependency chain it makes costs the
-    /// chains more time than the fewer operations save elsewhere
-    /// (`scripts/compare_acceleration.sh` compares two revisions' code).
+    /// factored out (`2·(a − b·c)`), nor, in a body below [`LARGE_BODY`],
+    /// a shared magnitude (`c·(a − b)` for `c·a − c·b`): once the rows of
+    /// `A` are scaled it saves few operations, and the longer dependency
+    /// chain it makes costs the chains more time than the fewer operations
+    /// save elsewhere (`scripts/compare_acceleration.sh` compares two
+    /// revisions' code). In a larger body the magnitudes are shared
+    /// ([`Body::shared_magnitudes`]).
     fn signed_sum(&self, terms: &[(Id, Num)], c0: Num, negate: bool) -> (TokenStream, Prec) {
-        let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(terms, c0)
+        let (groups, terms) = self.shared_magnitudes(terms, negate);
+        let mut parts: Vec<(Option<Id>, Num, bool, Option<usize>)> = signed_parts(&terms, c0)
             .into_iter()
             .map(|(t, m, negative)| (t, m, negative != negate, None))
             .collect();
-        if parts.iter().all(|p| p.2) {
+        if parts.iter().all(|p| p.2) && groups.iter().all(|g| g.0) {
             let flip = parts
                 .iter()
                 .enumerate()
@@ -47,43 +65,106 @@ impl Body<'_> {
             let positive = parts.remove(first);
             parts.insert(0, positive);
         }
-        let terms = parts.iter().map(|&(term, magnitude, negative, flipped)| {
-            let value = match term {
-                Some(t) => {
-                    let (tokens, prec) = match (flipped, self.graph.node(t)) {
-                        (Some(which), Node::Mul(factors)) => self.product(factors, Some(which)),
-                        _ => self.operand(t),
-                    };
-                    let at_least = if magnitude.is_one() {
-                        Prec::Product
-                    } else {
-                        Prec::Unary
-                    };
-                    let t = if prec < at_least {
-                        parenthesized(tokens)
-                    } else {
-                        tokens
-                    };
-                    if magnitude.is_one() {
-                        t
-                    } else {
-                        let mut lit = self.literal(magnitude);
-                        lit.extend(quote!(*));
-                        lit.extend(t);
-                        lit
-                    }
-                }
-                None => self.literal(magnitude),
-            };
-            (negative, value)
-        });
-        let out = signed_sum(terms).unwrap_or_default();
-        let prec = match parts.as_slice() {
-            [(Some(_), m, true, _)] if m.is_one() => Prec::Unary,
-            [(Some(_), _, _, _)] => Prec::Product,
+        let prec = match (parts.as_slice(), groups.as_slice()) {
+            ([(Some(_), m, true, _)], []) if m.is_one() => Prec::Unary,
+            ([(Some(_), _, _, _)], []) => Prec::Product,
+            ([], [(true, _)]) => Prec::Unary,
+            ([], [(false, _)]) => Prec::Product,
             _ => Prec::Sum,
         };
-        (out, prec)
+        let mut items: Vec<Signed> = parts
+            .iter()
+            .map(|&(term, magnitude, negative, flipped)| {
+                (negative, self.scaled_part(term, magnitude, flipped))
+            })
+            .collect();
+        items.extend(groups);
+        if let Some(first) = items.iter().position(|p| !p.0) {
+            let positive = items.remove(first);
+            items.insert(0, positive);
+        }
+        (signed_sum(items).unwrap_or_default(), prec)
+    }
+
+    /// One part of a sum, `c·t` (or `t` where `c` is one, or `c` alone),
+    /// with the factor `flipped` of a product written negated.
+    fn scaled_part(&self, term: Option<Id>, magnitude: Num, flipped: Option<usize>) -> TokenStream {
+        let Some(t) = term else {
+            return self.literal(magnitude);
+        };
+        let (tokens, prec) = match (flipped, self.graph.node(t)) {
+            (Some(which), Node::Mul(factors)) => self.product(factors, Some(which)),
+            _ => self.operand(t),
+        };
+        let at_least = if magnitude.is_one() {
+            Prec::Product
+        } else {
+            Prec::Unary
+        };
+        let t = if prec < at_least {
+            parenthesized(tokens)
+        } else {
+            tokens
+        };
+        if magnitude.is_one() {
+            t
+        } else {
+            let mut lit = self.literal(magnitude);
+            lit.extend(quote!(*));
+            lit.extend(t);
+            lit
+        }
+    }
+
+    /// In a body of [`LARGE_BODY`] nodes or more, the terms whose
+    /// magnitude (other than one) two or more terms share, each such group
+    /// written once as `c·(±a ± b …)` with its sign (negative where every
+    /// term of it is), in the order the magnitudes first occur; and the
+    /// terms left. Elsewhere, no group and every term.
+    fn shared_magnitudes(
+        &self,
+        terms: &[(Id, Num)],
+        negate: bool,
+    ) -> (Vec<Signed>, Vec<(Id, Num)>) {
+        if !self.shares_magnitudes || terms.len() < 2 {
+            return (Vec::new(), terms.to_vec());
+        }
+        let magnitude = |c: Num| if c.is_negative() { -c } else { c };
+        let mut shared: Vec<Num> = Vec::new();
+        for (i, &(_, c)) in terms.iter().enumerate() {
+            let m = magnitude(c);
+            let again = terms[i + 1..].iter().any(|&(_, d)| magnitude(d) == m);
+            if !m.is_one() && again && !shared.contains(&m) {
+                shared.push(m);
+            }
+        }
+        let groups = shared
+            .iter()
+            .map(|&m| {
+                let members: Vec<(Id, bool)> = terms
+                    .iter()
+                    .filter(|&&(_, c)| magnitude(c) == m)
+                    .map(|&(t, c)| (t, c.is_negative() != negate))
+                    .collect();
+                // Every member negative: the group is, and its sum is not.
+                let negative = members.iter().all(|&(_, n)| n);
+                let inner: Vec<(Id, Num)> = members
+                    .iter()
+                    .map(|&(t, n)| (t, if n != negative { -Num::ONE } else { Num::ONE }))
+                    .collect();
+                let (sum, _) = self.signed_sum(&inner, Num::ZERO, false);
+                let mut lit = self.literal(m);
+                lit.extend(quote!(*));
+                lit.extend(parenthesized(sum));
+                (negative, lit)
+            })
+            .collect();
+        let rest = terms
+            .iter()
+            .filter(|&&(_, c)| !shared.contains(&magnitude(c)))
+            .copied()
+            .collect();
+        (groups, rest)
     }
 
     /// For a product inlined into a sum, the position of a factor that is
@@ -233,4 +314,52 @@ fn fraction(num: Vec<TokenStream>, den: Vec<TokenStream>) -> (TokenStream, Prec)
         parenthesized(d)
     });
     (numerator, Prec::Product)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Body;
+    use crate::expr::num::Num;
+    use crate::expr::Sym;
+    use crate::tools::fixtures::planar_chain;
+    use crate::{analyse_with, Options};
+
+    /// `2.5·x − 2.5·y + 3·x·y − 3·y² + 7·x²`: a large body writes each
+    /// shared magnitude once and keeps the lone `7` where it is; a small
+    /// one (or one kept apart) writes every term with its own, as before.
+    /// A group whose terms are all negative is subtracted whole.
+    #[test]
+    fn a_large_body_writes_each_shared_magnitude_once() {
+        let tokens = planar_chain("Chain", 2)
+            .parse()
+            .expect("the fixture is tokens");
+        let mut eq = analyse_with(tokens, Options { jacobians: false }).expect("it analyses");
+        let g = &mut eq.system.graph;
+        let (x, y) = (g.sym(Sym::Coord(0)), g.sym(Sym::Coord(1)));
+        let (xy, yy, xx) = (g.mul2(x, y), g.mul2(y, y), g.mul2(x, x));
+        let half = Num::ratio(5, 2);
+        let sum = g.linear_combination([
+            (x, half),
+            (y, -half),
+            (xy, Num::int(3)),
+            (yy, Num::int(-3)),
+            (xx, Num::int(7)),
+        ]);
+        let negative = g.linear_combination([(x, -half), (y, -half), (xx, Num::int(7))]);
+        let text = |body: &Body| body.expr(sum).to_string().replace(' ', "");
+        let apart = text(&Body::new(&eq, &[sum]));
+        assert_eq!(
+            apart,
+            "2.5f64*x1-2.5f64*y1+7f64*(x1*x1)-3f64*(y1*y1)+3f64*(x1*y1)"
+        );
+        let mut large = Body::new(&eq, &[sum]);
+        large.shares_magnitudes = true;
+        assert_eq!(
+            text(&large),
+            "7f64*(x1*x1)+2.5f64*(x1-y1)+3f64*(x1*y1-y1*y1)"
+        );
+        let negative_text = large.expr(negative).to_string().replace(' ', "");
+        assert_eq!(negative_text, "7f64*(x1*x1)-2.5f64*(x1+y1)");
+        assert_eq!(text(&large.magnitudes_apart()), apart);
+    }
 }
