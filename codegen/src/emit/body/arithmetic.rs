@@ -12,6 +12,7 @@ use crate::expr::num::Num;
 use crate::expr::{signed_parts, Id, Node};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
+use std::collections::HashMap;
 
 /// A part of a sum as it is written: whether it is subtracted, and its
 /// tokens.
@@ -61,10 +62,6 @@ impl Body<'_> {
                 parts[i].3 = Some(factor);
             }
         }
-        if let Some(first) = parts.iter().position(|p| !p.2) {
-            let positive = parts.remove(first);
-            parts.insert(0, positive);
-        }
         let prec = match (parts.as_slice(), groups.as_slice()) {
             ([(Some(_), m, true, _)], []) if m.is_one() => Prec::Unary,
             ([(Some(_), _, _, _)], []) => Prec::Product,
@@ -79,6 +76,8 @@ impl Body<'_> {
             })
             .collect();
         items.extend(groups);
+        // A positive part first, so that no unary minus is written while
+        // one exists.
         if let Some(first) = items.iter().position(|p| !p.0) {
             let positive = items.remove(first);
             items.insert(0, positive);
@@ -130,41 +129,59 @@ impl Body<'_> {
             return (Vec::new(), terms.to_vec());
         }
         let magnitude = |c: Num| if c.is_negative() { -c } else { c };
-        let mut shared: Vec<Num> = Vec::new();
-        for (i, &(_, c)) in terms.iter().enumerate() {
+        let mut count: HashMap<Num, usize> = HashMap::new();
+        for &(_, c) in terms {
+            *count.entry(magnitude(c)).or_default() += 1;
+        }
+        // Each shared magnitude's terms, with whether each is subtracted,
+        // in the order the magnitudes first occur.
+        let mut groups: Vec<(Num, Vec<(Id, bool)>)> = Vec::new();
+        let mut group_of: HashMap<Num, usize> = HashMap::new();
+        let mut rest = Vec::new();
+        for &(t, c) in terms {
             let m = magnitude(c);
-            let again = terms[i + 1..].iter().any(|&(_, d)| magnitude(d) == m);
-            if !m.is_one() && again && !shared.contains(&m) {
-                shared.push(m);
+            if m.is_one() || count.get(&m).is_none_or(|&k| k < 2) {
+                rest.push((t, c));
+                continue;
+            }
+            let i = *group_of.entry(m).or_insert_with(|| {
+                groups.push((m, Vec::new()));
+                groups.len() - 1
+            });
+            if let Some((_, members)) = groups.get_mut(i) {
+                members.push((t, c.is_negative() != negate));
             }
         }
-        let groups = shared
+        let groups = groups
             .iter()
-            .map(|&m| {
-                let members: Vec<(Id, bool)> = terms
-                    .iter()
-                    .filter(|&&(_, c)| magnitude(c) == m)
-                    .map(|&(t, c)| (t, c.is_negative() != negate))
-                    .collect();
-                // Every member negative: the group is, and its sum is not.
-                let negative = members.iter().all(|&(_, n)| n);
-                let inner: Vec<(Id, Num)> = members
-                    .iter()
-                    .map(|&(t, n)| (t, if n != negative { -Num::ONE } else { Num::ONE }))
-                    .collect();
-                let (sum, _) = self.signed_sum(&inner, Num::ZERO, false);
-                let mut lit = self.literal(m);
-                lit.extend(quote!(*));
-                lit.extend(parenthesized(sum));
-                (negative, lit)
-            })
-            .collect();
-        let rest = terms
-            .iter()
-            .filter(|&&(_, c)| !shared.contains(&magnitude(c)))
-            .copied()
+            .map(|(m, members)| self.shared_group(*m, members))
             .collect();
         (groups, rest)
+    }
+
+    /// `c·(±a ± b …)` for the terms `members` (each with whether it is
+    /// subtracted) of magnitude `c`: subtracted whole where every member
+    /// is, so that its sum starts with an addition.
+    fn shared_group(&self, magnitude: Num, members: &[(Id, bool)]) -> Signed {
+        let negative = members.iter().all(|&(_, n)| n);
+        let inner: Vec<(Id, Num)> = members
+            .iter()
+            .map(|&(t, n)| {
+                (
+                    t,
+                    if n != negative {
+                        Num::MINUS_ONE
+                    } else {
+                        Num::ONE
+                    },
+                )
+            })
+            .collect();
+        let (sum, _) = self.signed_sum(&inner, Num::ZERO, false);
+        let mut lit = self.literal(magnitude);
+        lit.extend(quote!(*));
+        lit.extend(parenthesized(sum));
+        (negative, lit)
     }
 
     /// For a product inlined into a sum, the position of a factor that is
