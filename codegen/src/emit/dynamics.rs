@@ -309,8 +309,8 @@ fn in_place(
 /// ran slower). Each term keeps its own magnitude
 /// ([`Body::magnitudes_apart`]): the entries are sums of products
 /// `c·a·b − c·d·e` that LLVM's SLP vectorizer multiplies by `c` as one
-/// packed pair, and written `c·(a·b − d·e)` the G1's `∂τ` took 5 % longer
-/// for 6 % fewer operations.
+/// packed pair: written `c·(a·b − d·e)`, the G1's `∂τ` ran slower with
+/// fewer operations.
 fn stores(ctx: &Context, pair: &[Vec<Vec<Id>>; 2]) -> TokenStream {
     let places = places(ctx, pair);
     let roots: Vec<Id> = places.iter().map(|&(_, id)| id).collect();
