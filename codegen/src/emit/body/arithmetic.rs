@@ -344,7 +344,10 @@ mod tests {
     /// `2.5·x − 2.5·y + 3·x·y − 3·y² + 7·x²`: a large body writes each
     /// shared magnitude once and keeps the lone `7` where it is; a small
     /// one (or one kept apart) writes every term with its own, as before.
-    /// A group whose terms are all negative is subtracted whole.
+    /// A group whose terms are all negative is subtracted whole. This pins
+    /// the form; the values of a body large enough to group (the
+    /// quadruped's `tangent_rhs`) are checked against the runtime's dense
+    /// solve and central differences in `tests/velocity_jacobians.rs`.
     #[test]
     fn a_large_body_writes_each_shared_magnitude_once() {
         let tokens = planar_chain("Chain", 2)
